@@ -1,0 +1,326 @@
+"""The dialect-neutral intermediate representation every reader lowers to.
+
+A program is a stream of :class:`Block` objects, one per source block, each holding the
+operations that block commands, **in the order the control executes them** (feed mode,
+feed, spindle speed, tool, spindle, coolant, plane, units, compensation, cycles, distance
+mode, work offset, motion, stops, as LinuxCNC and the ISO manuals order a block). The
+interpreter runs blocks one by one; control flow (jumps, loops, calls) names its target and
+the interpreter resolves it through the reader, so straight-line code is never held whole.
+
+Values inside operations are :data:`Expr` trees, not numbers: a word may read a parameter
+the program computes at run time. Expressions are evaluated by the interpreter against
+the machine state; literal numbers are plain ``float`` for speed.
+
+Operations (all carry the ``span`` of the words they came from):
+
+==================  =====================================================================
+``SetModal``        a modal group changes: plane, units, distance, feed mode, path mode,
+                    cycle return level, spindle speed mode, arc centre mode
+``Move``            motion: ``kind`` is rapid / linear / arc_cw / arc_cw / thread, or
+                    ``None`` for "the modal motion" (ISO blocks that only carry axis words;
+                    with a canned cycle modal this drills a hole). ``targets`` maps axis
+                    letters to values as written (absolute or incremental per the modal
+                    distance mode, unless listed in ``incremental``); ``arc`` carries
+                    centre offsets or a radius; ``words`` the other address words of the
+                    block (R, Q, P, L, K, comma words) that a modal cycle consumes
+``Dwell``           a pause, in seconds or spindle revolutions
+``CutterComp``      radius compensation left / right / auto / off, with its register
+``LengthOffset``    tool length offset plus / minus / off, with its register
+``WorkOffset``      selects a work coordinate system (G54.., or a numbered one)
+``CoordinateShift`` sets a coordinate shift without motion (G92, G52, datum shifts)
+``ReferenceReturn`` returns to a machine reference point through an intermediate point
+``MachineMove``     a one-shot move in machine coordinates (G53)
+``SetFeed``         feed rate word
+``SetSpindleSpeed`` spindle speed word (or a speed clamp)
+``Spindle``         spindle start cw / ccw, stop, orient
+``Coolant``         coolant on (flood, mist, through-tool) / off
+``ToolSelect``      a tool number is selected (T word); ``offset`` for lathe T0101 forms
+``ToolChange``      the selected tool goes into the spindle (M06)
+``CycleDefine``     a modal canned cycle becomes active with its data (G81, CYCL DEF ..)
+``CycleCancel``     the modal canned cycle ends (G80)
+``CycleCall``       a one-shot cycle runs now (lathe G70-G79, G12/G13)
+``Assign``          a parameter is assigned
+``Jump``            go to a label / sequence number, optionally under a condition
+``LoopStart``       ``WHILE [cond] DO m``: a loop head with an id
+``LoopEnd``         ``END m``: back to the matching loop head
+``Conditional``     ``IF [cond] THEN ops``
+``Call``            subprogram / macro call with repeat count and arguments
+``Return``          end of a subprogram, optionally to a sequence number
+``Stop``            program stop, optional stop, program end
+``Alarm``           the program raises an alarm on purpose (#3000)
+``Deferred``        a block whose codes are computed (``G#3``): resolved at run time
+``Unsupported``     a construct that reads fine but is not modelled; checks that depend
+                    on what it does answer ``unknown``
+==================  =====================================================================
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Union
+
+from .source import Span
+
+# --------------------------------------------------------------------------- expressions
+
+
+@dataclass(frozen=True, slots=True)
+class Var:
+    """A parameter reference. ``name`` is a str ("#1", "Q5") or an Expr for indirect
+    references (``#[#1+1]``), resolved to a name by the interpreter."""
+
+    name: "str | Expr"
+    span: Span | None = None
+
+
+@dataclass(frozen=True, slots=True)
+class Unary:
+    op: str  # "-" or "+"
+    operand: "Expr"
+
+
+@dataclass(frozen=True, slots=True)
+class Binary:
+    op: str  # + - * / MOD AND OR XOR EQ NE GT GE LT LE
+    left: "Expr"
+    right: "Expr"
+
+
+@dataclass(frozen=True, slots=True)
+class Func:
+    name: str  # SIN COS TAN ASIN ACOS ATAN ATAN2 SQRT ABS ROUND FIX FUP LN EXP ...
+    args: tuple["Expr", ...]
+    span: Span | None = None
+
+
+@dataclass(frozen=True, slots=True)
+class IncrementCount:
+    """A number written without a decimal point, in least input increments: its length
+    depends on the units in force when it runs (``X1000`` = 1 mm in G21, 0.1 in in G20),
+    so the interpreter scales it. ``kind`` is ``length`` or ``feed``."""
+
+    count: float
+    kind: str = "length"
+
+
+Expr = Union[float, Var, Unary, Binary, Func, IncrementCount]
+
+
+# --------------------------------------------------------------------------- operations
+
+
+@dataclass(slots=True)
+class Op:
+    span: Span
+
+
+@dataclass(slots=True)
+class SetModal(Op):
+    group: str  # plane, units, distance, feed_mode, path_mode, cycle_return, spindle_mode, arc_distance
+    value: str
+
+
+@dataclass(slots=True)
+class Move(Op):
+    kind: str | None  # rapid, linear, arc_cw, arc_ccw, thread; None = modal motion
+    targets: dict[str, Expr]
+    arc: dict[str, Expr] | None = None  # I/J/K centre offsets or {"R": radius}
+    words: dict[str, Expr] = field(default_factory=dict)
+    incremental: frozenset[str] = frozenset()  # axes written incrementally (U/W forms, IX..)
+    word_spans: dict[str, Span] = field(default_factory=dict)
+
+
+@dataclass(slots=True)
+class Dwell(Op):
+    seconds: Expr | None
+    revolutions: Expr | None = None
+
+
+@dataclass(slots=True)
+class CutterComp(Op):
+    side: str  # left, right, auto, off
+    register: Expr | None = None
+
+
+@dataclass(slots=True)
+class LengthOffset(Op):
+    mode: str  # plus, minus, off
+    register: Expr | None = None
+    moves_axis: bool = True  # ISO: a G43/G49 block without Z still moves Z by the change
+
+
+@dataclass(slots=True)
+class WorkOffset(Op):
+    name: str  # "G54", "G54.1 P3", "G55" ...
+
+
+@dataclass(slots=True)
+class CoordinateShift(Op):
+    kind: str  # set_position (G92), local (G52), data (G10)
+    values: dict[str, Expr]
+    words: dict[str, Expr] = field(default_factory=dict)
+
+
+@dataclass(slots=True)
+class ReferenceReturn(Op):
+    which: str  # "home" (G28), "secondary" (G30), "from_reference" (G29), "check" (G27)
+    via: dict[str, Expr]
+    words: dict[str, Expr] = field(default_factory=dict)
+
+
+@dataclass(slots=True)
+class MachineMove(Op):
+    targets: dict[str, Expr]
+
+
+@dataclass(slots=True)
+class SetFeed(Op):
+    value: Expr
+
+
+@dataclass(slots=True)
+class SetSpindleSpeed(Op):
+    value: Expr
+    clamp: bool = False
+
+
+@dataclass(slots=True)
+class Spindle(Op):
+    state: str  # cw, ccw, off, orient
+
+
+@dataclass(slots=True)
+class Coolant(Op):
+    state: str  # flood, mist, through, off
+
+
+@dataclass(slots=True)
+class ToolSelect(Op):
+    number: Expr
+    offset: Expr | None = None  # lathe Tttoo: the offset register selected with the tool
+
+
+@dataclass(slots=True)
+class ToolChange(Op):
+    pass
+
+
+@dataclass(slots=True)
+class CycleDefine(Op):
+    cycle: str  # a cycle model id, e.g. "iso.G81"
+    params: dict[str, Expr]
+    param_spans: dict[str, Span] = field(default_factory=dict)
+
+
+@dataclass(slots=True)
+class CycleCancel(Op):
+    pass
+
+
+@dataclass(slots=True)
+class CycleCall(Op):
+    cycle: str
+    params: dict[str, Expr]
+    param_spans: dict[str, Span] = field(default_factory=dict)
+
+
+@dataclass(slots=True)
+class Assign(Op):
+    target: Var
+    value: Expr
+
+
+@dataclass(slots=True)
+class Jump(Op):
+    target: Expr  # a sequence number / label
+    condition: Expr | None = None
+
+
+@dataclass(slots=True)
+class LoopStart(Op):
+    loop_id: int
+    condition: Expr
+
+
+@dataclass(slots=True)
+class LoopEnd(Op):
+    loop_id: int
+
+
+@dataclass(slots=True)
+class Conditional(Op):
+    condition: Expr
+    then: list[Op]
+
+
+@dataclass(slots=True)
+class Call(Op):
+    kind: str  # subprogram (M98), local (M97: by sequence number), macro (G65)
+    program: Expr
+    repeat: Expr = 1.0
+    arguments: dict[str, Expr] = field(default_factory=dict)
+    start_label: Expr | None = None  # M98 H: start at a sequence number
+
+
+@dataclass(slots=True)
+class Return(Op):
+    to_label: Expr | None = None
+
+
+@dataclass(slots=True)
+class Stop(Op):
+    kind: str  # stop (M00), optional (M01), end (M02/M30)
+
+
+@dataclass(slots=True)
+class Alarm(Op):
+    number: Expr
+    message: str
+
+
+@dataclass(slots=True)
+class Deferred(Op):
+    """A block whose meaning depends on a value known only at run time (``G#3``, ``M#5``):
+    the interpreter evaluates ``exprs`` and calls ``resolve(values)`` for the real ops, or
+    treats the block as unsupported when a value is symbolic."""
+
+    exprs: tuple
+    resolve: object  # Callable[[tuple[float, ...]], tuple[list[Op], list[Note]]]
+
+
+@dataclass(slots=True)
+class Unsupported(Op):
+    what: str
+    affects: tuple[str, ...] = ()  # state the construct may change: "position", "offsets"...
+
+
+# --------------------------------------------------------------------------- blocks
+
+
+@dataclass(slots=True)
+class Note:
+    """A finding the reader or lowering makes about a block's text (a syntax error, an
+    unknown code, two codes of one group): a rule id from ``rules/`` and a message."""
+
+    rule: str
+    message: str
+    span: Span
+
+
+@dataclass(slots=True)
+class Block:
+    """One source block: its line, label, the operations it commands, and enough of its
+    text position to quote it. ``program`` is the program number / name it belongs to."""
+
+    line: int
+    start_column: int  # 1-based
+    end_column: int  # exclusive
+    ops: list[Op]
+    label: float | None = None  # N number
+    skippable: bool = False  # '/' block delete
+    comments: tuple[tuple[str, Span], ...] = ()
+    program_start: str | None = None  # this block starts program O1234
+    notes: list[Note] = field(default_factory=list)
+
+    @property
+    def span(self) -> Span:
+        return Span(self.line, self.start_column, self.line, self.end_column)

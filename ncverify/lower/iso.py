@@ -1,0 +1,397 @@
+"""Lowering of ISO blocks (Fanuc-style, Mitsubishi E60, Haas) to IR blocks.
+
+What a code means comes from the profile's :class:`~ncverify.tables.CodeTable`; this module
+only knows how ISO distributes a block's words among the codes in it (which letters a
+G65 call, a G10 data setting or a canned cycle consumes) and the order a block executes in.
+"""
+from __future__ import annotations
+
+from .. import ir
+from ..read.iso import ReadBlock, Statement, Word
+from ..source import Span
+from ..tables import CodeTable, code_key
+
+# Execution order inside one block (after LinuxCNC's and the ISO manuals' order).
+_FEED, _TOOL, _SPINDLE, _DWELL, _MODAL, _OFFSET, _MOTION, _CALL, _STOP = range(9)
+_STAGES = 9
+
+_CALL_LETTERS = {"P", "L", "H", "Q"}
+_CYCLE_WORDS = {"R", "Q", "P", "L", "K", "F", ",R", ",S", ",I", ",J", "I", "J", "D", "E", "A", "M"}
+
+
+class IsoLowering:
+    """Lowers :class:`ReadBlock` objects for one profile and machine type."""
+
+    def __init__(self, table: CodeTable, least_input_increment: float | None = None):
+        self.table = table
+        increment = table.settings.get("least_input_increment", 0.0)
+        self.increment = increment if least_input_increment is None else least_input_increment
+        self.feed_increment = table.settings.get("feed_per_rev_increment", 0.0)
+        self.scaled_letters = frozenset(table.words["length"]) | frozenset(table.words["angle"])
+        self.axis_letters = frozenset(table.words["axes"])
+        self.twins = dict(table.words.get("incremental_twins", {}))
+        self.max_m_words = int(table.settings.get("m_words_per_block", 4))
+        self.lathe = table.machine == "lathe"
+
+    # ------------------------------------------------------------------ entry point
+
+    def lower(self, read: ReadBlock, path: str | None = None) -> ir.Block:
+        block = ir.Block(read.line, read.start + 1, read.end + 1, [], skippable=read.skip)
+        block.comments = tuple((text, Span.on_line(read.line, start, end, path)) for text, start, end in read.comments)
+        if read.problem:
+            block.notes.append(ir.Note("core.syntax", read.problem.message, self._span(read, read.problem.start, read.problem.end, path)))
+            return block
+        if read.percent:
+            return block
+        words: list[Word] = []
+        for item in read.items:
+            if isinstance(item, Statement):
+                self._lower_statement(block, item, read, path)
+            else:
+                words.append(item)
+        if words:
+            self._lower_words(block, read, words, path)
+        return block
+
+    @staticmethod
+    def _span(read: ReadBlock, start: int, end: int, path: str | None) -> Span:
+        return Span(read.line, start + 1, read.line, end + 1, path)
+
+    # ------------------------------------------------------------------ macro statements
+
+    def _lower_statement(self, block: ir.Block, item: Statement, read: ReadBlock, path) -> None:
+        span = self._span(read, item.start, item.end, path)
+        kind = item.kind
+        if kind == "assign":
+            block.ops.append(self._assignment(item.target, item.value, span, block))
+        elif kind == "if_goto":
+            block.ops.append(ir.Jump(span, item.value, item.condition))
+        elif kind == "goto":
+            block.ops.append(ir.Jump(span, item.value))
+        elif kind == "if_then":
+            block.ops.append(ir.Conditional(span, item.condition, [self._assignment(item.target, item.value, span, block)]))
+        elif kind == "while":
+            block.ops.append(ir.LoopStart(span, item.number, item.condition))
+        elif kind == "end":
+            block.ops.append(ir.LoopEnd(span, item.number))
+
+    @staticmethod
+    def _assignment(target: ir.Var, value: ir.Expr, span: Span, block: ir.Block) -> ir.Op:
+        if target.name == "#3000":
+            message = block.comments[0][0].strip() if block.comments else ""
+            return ir.Alarm(span, value, message)
+        return ir.Assign(span, target, value)
+
+    # ------------------------------------------------------------------ address words
+
+    def _lower_words(self, block: ir.Block, read: ReadBlock, words: list[Word], path) -> None:
+        stages: list[list[ir.Op]] = [[] for _ in range(_STAGES)]
+        codes: list[tuple[dict, Word]] = []
+        m_words: list[Word] = []
+        rest: dict[str, Word] = {}
+        dynamic: list[Word] = []
+        for word in words:
+            letter = word.letter
+            if word.value is None and letter != "G":
+                block.notes.append(ir.Note("core.syntax", f"address {letter} has no value", self._span(read, word.start, word.end, path)))
+                continue
+            if letter == "G":
+                if word.value is not None and not isinstance(word.value, float):
+                    dynamic.append(word)
+                    continue
+                entry = self.table.g_code(word.value or 0.0)
+                if entry is None:
+                    block.notes.append(ir.Note("core.unknown-code", f"G{code_key(word.value or 0.0)} is not a code of this control ({self.table.profile} {self.table.machine}); its effect is not modelled", self._span(read, word.start, word.end, path)))
+                    stages[_MOTION].append(ir.Unsupported(self._span(read, word.start, word.end, path), f"G{code_key(word.value or 0.0)}", ("position",)))
+                    continue
+                if word.value is None:
+                    block.notes.append(ir.Note("core.bare-g", "a bare 'G' is read as G00: this block moves at rapid", self._span(read, word.start, word.end, path)))
+                codes.append((entry, word))
+            elif letter == "M":
+                if not isinstance(word.value, float):
+                    dynamic.append(word)
+                    continue
+                m_words.append(word)
+            elif letter == "N":
+                block.label = word.value if isinstance(word.value, float) else None
+            elif letter == "O":
+                block.program_start = f"O{int(word.value)}" if isinstance(word.value, float) else None
+            else:
+                if letter in rest:
+                    block.notes.append(ir.Note("core.duplicate-address", f"address {letter} appears twice in the block; the control uses one of them (alarm on most controls)", self._span(read, word.start, word.end, path)))
+                rest[letter] = word
+        if dynamic:
+            self._defer(block, read, words, dynamic, path)
+            return
+        codes = self._last_of_each_group(block, read, codes, path)
+        self._lower_m_words(block, read, m_words, stages, rest, path)
+        self._lower_codes(block, read, codes, rest, stages, path)
+        for stage in stages:
+            block.ops.extend(stage)
+
+    def _defer(self, block: ir.Block, read: ReadBlock, words: list[Word], dynamic: list[Word], path) -> None:
+        """``G#3`` / ``M#5``: lower again once the interpreter knows the values."""
+
+        def resolve(values: tuple[float, ...]) -> tuple[list[ir.Op], list[ir.Note]]:
+            substituted = {id(word): value for word, value in zip(dynamic, values)}
+            concrete = [
+                Word(word.letter, substituted[id(word)], False, word.start, word.end) if id(word) in substituted else word
+                for word in words
+            ]
+            again = ReadBlock(read.line, read.start, read.end, concrete, read.comments, read.skip)
+            lowered = self.lower(again, path)
+            return lowered.ops, lowered.notes
+
+        span = self._span(read, dynamic[0].start, dynamic[-1].end, path)
+        block.ops.append(ir.Deferred(span, tuple(word.value for word in dynamic), resolve))
+        block.label = next((w.value for w in words if w.letter == "N" and isinstance(w.value, float)), None)
+
+    def _last_of_each_group(self, block, read, codes, path):
+        """Several G codes of one modal group in a block: the last one wins (seed L1386)."""
+        by_group: dict[str, tuple[dict, Word]] = {}
+        for entry, word in codes:
+            group = entry["group"]
+            if group != "00" and group in by_group:
+                earlier = by_group[group][1]
+                block.notes.append(ir.Note(
+                    "core.same-group-codes",
+                    f"G{code_key(earlier.value or 0.0)} and G{code_key(word.value or 0.0)} are in the same modal group; the control keeps only the last, G{code_key(word.value or 0.0)}",
+                    self._span(read, earlier.start, word.end, path),
+                ))
+            by_group[group if group != "00" else f"00-{id(word)}"] = (entry, word)
+        kept = {id(word) for _, word in by_group.values()}
+        return [(entry, word) for entry, word in codes if id(word) in kept]
+
+    # ------------------------------------------------------------------ M words
+
+    def _lower_m_words(self, block, read, m_words, stages, rest, path) -> None:
+        if len(m_words) > self.max_m_words:
+            dropped = m_words[: len(m_words) - self.max_m_words]
+            block.notes.append(ir.Note(
+                "core.too-many-m-codes",
+                f"{len(m_words)} M codes in one block; this control takes at most {self.max_m_words} and ignores "
+                + ", ".join(f"M{code_key(w.value)}" for w in dropped),
+                self._span(read, dropped[0].start, dropped[-1].end, path),
+            ))
+            m_words = m_words[-self.max_m_words :]
+        for word in m_words:
+            span = self._span(read, word.start, word.end, path)
+            entry = self.table.m_code(word.value)
+            if entry is None:
+                continue  # machine-specific M codes (clamps, doors, chip conveyor): no modelled effect
+            effect = entry["effect"]
+            if effect == "spindle":
+                stages[_SPINDLE].append(ir.Spindle(span, entry["state"]))
+            elif effect == "coolant":
+                stages[_SPINDLE].append(ir.Coolant(span, entry["state"]))
+            elif effect == "tool_change":
+                stages[_TOOL].append(ir.ToolChange(span))
+            elif effect == "stop":
+                stages[_STOP].append(ir.Stop(span, entry["kind"]))
+            elif effect == "call":
+                stages[_CALL].append(self._call(entry["kind"], span, rest, read, path))
+            elif effect == "return":
+                target = self._pop(rest, "P")
+                stages[_STOP].append(ir.Return(span, target))
+
+    def _call(self, kind: str, span: Span, rest: dict, read, path) -> ir.Call:
+        program = self._pop(rest, "P")
+        repeat = self._pop(rest, "L", 1.0)
+        start = self._pop(rest, "H") if kind == "subprogram" else None
+        if program is None:
+            program = -1.0
+        return ir.Call(span, kind, program, repeat, {}, start)
+
+    @staticmethod
+    def _pop(rest: dict, letter: str, default=None):
+        word = rest.pop(letter, None)
+        return default if word is None else word.value
+
+    # ------------------------------------------------------------------ G codes and axes
+
+    def _lower_codes(self, block, read, codes, rest, stages, path) -> None:
+        motion_kind = None
+        motion_span = None
+        consumer = None  # the code that takes the block's non-modal words
+        for entry, word in codes:
+            span = self._span(read, word.start, word.end, path)
+            effect = entry["effect"]
+            if effect == "move":
+                motion_kind = entry["kind"]
+                motion_span = span
+            elif effect == "modal":
+                stages[_MODAL].append(ir.SetModal(span, entry["modal"], entry["value"]))
+            elif effect == "comp":
+                stages[_MODAL].append(ir.CutterComp(span, entry["side"], None))
+            elif effect == "length":
+                stages[_MODAL].append(ir.LengthOffset(span, entry["mode"], None))
+            elif effect == "work_offset":
+                name = f"G{code_key(word.value)}"
+                if name == "G54.1":
+                    number = self._pop(rest, "P")
+                    name = f"G54.1 P{code_key(number)}" if isinstance(number, float) else name
+                stages[_OFFSET].append(ir.WorkOffset(span, name))
+            elif effect == "cycle_cancel":
+                stages[_MODAL].append(ir.CycleCancel(span))
+            elif effect == "none":
+                continue
+            else:
+                consumer = (entry, word, span)
+        self._lower_registers(rest, stages, read, path, consumer)
+        self._lower_feed_speed_tool(rest, stages, read, path, consumer)
+        if consumer is not None:
+            self._lower_consumer(consumer, rest, stages, read, path, block)
+        self._lower_motion(motion_kind, motion_span, rest, stages, read, path, block)
+
+    def _lower_registers(self, rest, stages, read, path, consumer) -> None:
+        """D and H without a G41/G43 in the block change the register of the active mode."""
+        if consumer is not None and consumer[0]["effect"] in ("macro_call", "cycle_call"):
+            return
+        modal_ops = stages[_MODAL]
+        for letter, op_type in (("D", ir.CutterComp), ("H", ir.LengthOffset)):
+            word = rest.pop(letter, None)
+            if word is None:
+                continue
+            for op in modal_ops:
+                if isinstance(op, op_type):
+                    op.register = self._value(word)
+                    break
+            else:
+                span = self._span(read, word.start, word.end, path)
+                modal_ops.append(op_type(span, "keep", self._value(word)))
+
+    def _lower_feed_speed_tool(self, rest, stages, read, path, consumer) -> None:
+        if consumer is not None and consumer[0]["effect"] == "macro_call":
+            return
+        word = rest.pop("F", None)
+        if word is not None:
+            value = word.value
+            if isinstance(value, float) and not word.has_point and self.feed_increment:
+                value = ir.IncrementCount(value, "feed")
+            stages[_FEED].append(ir.SetFeed(self._span(read, word.start, word.end, path), value))
+        word = rest.pop("S", None)
+        if word is not None:
+            clamp = consumer is not None and consumer[0].get("spindle_clamp", False)
+            stages[_FEED].append(ir.SetSpindleSpeed(self._span(read, word.start, word.end, path), word.value, clamp))
+        word = rest.pop("T", None)
+        if word is not None:
+            stages[_FEED].append(self._tool_select(word, read, path))
+
+    def _tool_select(self, word: Word, read, path) -> ir.ToolSelect:
+        span = self._span(read, word.start, word.end, path)
+        value = word.value
+        if not self.lathe or not isinstance(value, float):
+            return ir.ToolSelect(span, value)
+        digits = word.end - word.start - 1
+        if value >= 100 or digits >= 3:
+            return ir.ToolSelect(span, float(int(value) // 100), float(int(value) % 100))
+        return ir.ToolSelect(span, value, value)
+
+    def _lower_consumer(self, consumer, rest, stages, read, path, block) -> None:
+        entry, word, span = consumer
+        effect = entry["effect"]
+        if effect == "dwell":
+            stages[_DWELL].append(ir.Dwell(span, self._dwell_seconds(rest)))
+        elif effect == "shift":
+            values = self._take_axes(rest)
+            extra = {letter: self._value(w) for letter, w in rest.items()}
+            rest.clear()
+            stages[_OFFSET].append(ir.CoordinateShift(span, entry["kind"], values, extra))
+        elif effect == "reference":
+            values = self._take_axes(rest)
+            extra = {letter: self._value(w) for letter, w in rest.items()}
+            rest.clear()
+            stages[_MOTION].append(ir.ReferenceReturn(span, entry["kind"], values, extra))
+        elif effect == "machine_move":
+            stages[_MOTION].append(ir.MachineMove(span, self._take_axes(rest)))
+        elif effect == "macro_call":
+            program = self._pop(rest, "P")
+            repeat = self._pop(rest, "L", 1.0)
+            arguments = {letter: self._value(w) for letter, w in rest.items()}
+            rest.clear()
+            stages[_CALL].append(ir.Call(span, "macro", -1.0 if program is None else program, repeat, arguments))
+        elif effect in ("cycle", "cycle_call"):
+            params, spans = self._cycle_params(rest, read, path, entry["cycle"])
+            op_type = ir.CycleDefine if effect == "cycle" else ir.CycleCall
+            stages[_MOTION].append(op_type(span, entry["cycle"], params, spans))
+        elif effect == "unsupported":
+            stages[_MOTION].append(ir.Unsupported(span, f"G{code_key(word.value)} ({entry['meaning']})", tuple(entry.get("affects", ()))))
+            block.notes.append(ir.Note("core.unsupported-code", f"G{code_key(word.value)} ({entry['meaning']}) is read but not modelled; checks that depend on its motion answer unknown", span))
+            rest.clear()
+
+    def _cycle_params(self, rest, read, path, cycle_id) -> tuple[dict, dict]:
+        """The words a cycle takes. For a modal hole cycle the hole position (the plane
+        axes) stays behind for the Move; a one-shot cycle takes every word."""
+        model = self.table.cycles.get(cycle_id, {})
+        declared = model.get("params", {})
+        one_shot = "infeed" not in model and "shape" in model
+        params, spans = {}, {}
+        for letter in list(rest):
+            if one_shot or letter in declared or letter in _CYCLE_WORDS and letter not in self.axis_letters:
+                if not one_shot and letter in self.axis_letters and letter not in ("Z", "X", "W", "U") and letter not in declared:
+                    continue
+                word = rest.pop(letter)
+                params[letter] = self._value(word)
+                spans[letter] = self._span(read, word.start, word.end, path)
+        return params, spans
+
+    def _lower_motion(self, motion_kind, motion_span, rest, stages, read, path, block) -> None:
+        targets: dict[str, ir.Expr] = {}
+        spans: dict[str, Span] = {}
+        incremental = set()
+        arc: dict[str, ir.Expr] = {}
+        words: dict[str, ir.Expr] = {}
+        for letter, word in rest.items():
+            value = self._value(word)
+            spans[letter] = self._span(read, word.start, word.end, path)
+            if letter in self.twins:
+                axis = self.twins[letter]
+                if axis in rest:
+                    block.notes.append(ir.Note("core.conflicting-addresses", f"{axis} and {letter} both give the {axis} end point; the control uses one of them (alarm on most controls)", spans[letter]))
+                targets[axis] = value
+                incremental.add(axis)
+                spans[axis] = spans[letter]
+            elif letter in self.axis_letters:
+                targets[letter] = value
+            elif letter in ("I", "J", "K", "R") and (motion_kind in ("arc_cw", "arc_ccw") or motion_kind is None):
+                arc[letter] = value
+                words[letter] = value
+            else:
+                words[letter] = value
+        if motion_span is None and not (targets or arc or words):
+            return
+        if motion_span is None:
+            first, *_, last = [*spans.values(), *spans.values()]
+            motion_span = first.cover(last)
+        stages[_MOTION].append(ir.Move(motion_span, motion_kind, targets, arc or None, words, frozenset(incremental), spans))
+
+    # ------------------------------------------------------------------ values
+
+    def _value(self, word: Word) -> ir.Expr:
+        value = word.value
+        if self.increment and isinstance(value, float) and not word.has_point and word.letter.lstrip(",") in self.scaled_letters:
+            return ir.IncrementCount(value, "length")
+        return value
+
+    def _dwell_seconds(self, rest: dict) -> ir.Expr | None:
+        """G04 X/U are seconds (scaled like lengths when written without a point); P is
+        milliseconds, or seconds when written with a decimal point (Haas)."""
+        for letter in ("X", "U"):
+            word = rest.pop(letter, None)
+            if word is not None:
+                return self._value(word)
+        word = rest.pop("P", None)
+        if word is None:
+            return None
+        if word.has_point or not isinstance(word.value, float):
+            return word.value
+        return word.value / 1000.0
+
+    def _take_axes(self, rest: dict) -> dict[str, ir.Expr]:
+        values = {}
+        for letter in list(rest):
+            if letter in self.axis_letters:
+                word = rest.pop(letter)
+                axis = self.twins.get(letter, letter)
+                values[axis] = self._value(word)
+        return values

@@ -1,0 +1,1 @@
+"""Stage 1, read: program text to per-dialect block syntax. One module per dialect family."""

@@ -1,0 +1,30 @@
+"""Analysis settings. The same names serve the CLI flags and, later, ``ncverify.toml``'s
+``[settings]`` table."""
+from __future__ import annotations
+
+from dataclasses import dataclass, field, replace
+from pathlib import Path
+
+
+@dataclass(frozen=True)
+class Settings:
+    dialect: str | None = None  # None: detect from the text
+    profile: str | None = None  # ISO profile; None: detect, else mitsubishi-e60
+    machine: str | None = None  # "mill" / "lathe"; None: detect, else mill
+    loop_bound: int = 10_000  # iterations of one loop, calls of one subprogram, jumps
+    call_depth: int = 16  # nested subprogram / macro calls
+    max_paths: int = 64  # paths explored when a branch depends on a free parameter
+    least_input_increment: float | None = None  # None: the profile's value
+    subprogram_path: tuple[Path, ...] = ()
+    max_file_bytes: int = 1 << 30
+    max_findings_per_rule: int = 200
+    extensions: tuple[str, ...] = (
+        ".nc", ".ngc", ".cnc", ".tap", ".gcode", ".iso", ".txt", ".mpf", ".spf",
+        ".h", ".i", ".pim", ".pit", ".min", ".eia", ".din", ".ptp", ".mpr", "",
+    )
+    fail_on: str = "error"
+    fail_on_unknown: bool = False
+    disabled_rules: frozenset[str] = field(default_factory=frozenset)
+
+    def with_(self, **changes) -> "Settings":
+        return replace(self, **changes)

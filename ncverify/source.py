@@ -1,0 +1,138 @@
+"""Program text as the checker sees it: a byte buffer read line by line from any offset.
+
+Programs are read as bytes so that the interpreter can jump (GOTO, M98, WHILE) by byte
+offset without keeping decoded lines in memory; straight-line code is streamed. Columns
+are counted in characters of the decoded line, 1-based, end exclusive, as the JSON
+contract says.
+"""
+from __future__ import annotations
+
+import mmap
+import re
+from dataclasses import dataclass
+from pathlib import Path
+
+
+@dataclass(frozen=True, slots=True)
+class Span:
+    """A 1-based source range; ``end_column`` is exclusive. ``path`` is set only when the
+    span lies in another file than the one being checked (a subprogram file)."""
+
+    line: int
+    column: int
+    end_line: int
+    end_column: int
+    path: str | None = None
+
+    @classmethod
+    def on_line(cls, line: int, start: int, end: int, path: str | None = None) -> "Span":
+        """Span of characters ``start:end`` (0-based, end exclusive) of one line."""
+        return cls(line, start + 1, line, end + 1, path)
+
+    def cover(self, other: "Span") -> "Span":
+        """The smallest span holding both (same file assumed)."""
+        first = min((self.line, self.column), (other.line, other.column))
+        last = max((self.end_line, self.end_column), (other.end_line, other.end_column))
+        return Span(first[0], first[1], last[0], last[1], self.path)
+
+
+def decode_line(raw: bytes) -> str:
+    """Decode one line; programs are UTF-8 or a legacy 8-bit code page, comments may be
+    Chinese. Undecodable bytes become U+FFFD so that columns stay meaningful."""
+    try:
+        return raw.decode("utf-8")
+    except UnicodeDecodeError:
+        return raw.decode("utf-8", errors="replace")
+
+
+_LINE_END = re.compile(rb"\r?\n|\r")
+
+
+class ProgramSource:
+    """One program file's bytes, addressed by byte offset.
+
+    ``buffer`` is an mmap for files on disk and bytes for text handed in by the API or
+    stdin, so a long file is never copied into Python objects whole.
+    """
+
+    def __init__(self, buffer: bytes | mmap.mmap, name: str, path: Path | None = None):
+        self.buffer = buffer
+        self.name = name
+        self.path = path
+        self._line_cache: dict[int, int] = {0: 1}
+
+    @classmethod
+    def from_text(cls, text: str, name: str = "<text>") -> "ProgramSource":
+        return cls(text.encode("utf-8"), name)
+
+    @classmethod
+    def from_bytes(cls, data: bytes, name: str) -> "ProgramSource":
+        return cls(data, name)
+
+    @classmethod
+    def open(cls, path: Path) -> "ProgramSource":
+        with path.open("rb") as handle:
+            size = path.stat().st_size
+            if size == 0:
+                return cls(b"", str(path), path)
+            buffer = mmap.mmap(handle.fileno(), 0, access=mmap.ACCESS_READ)
+        return cls(buffer, str(path), path)
+
+    def __len__(self) -> int:
+        return len(self.buffer)
+
+    def line_number_at(self, offset: int) -> int:
+        """1-based line number of the line starting at ``offset`` (memoised per offset)."""
+        cached = self._line_cache.get(offset)
+        if cached is None:
+            cached = self.buffer.count(b"\n", 0, offset) + 1
+            if len(self._line_cache) < 100_000:
+                self._line_cache[offset] = cached
+        return cached
+
+    def lines_from(self, offset: int = 0, line_number: int | None = None):
+        """Yield ``(line_number, start_offset, next_offset, raw_bytes)`` from ``offset`` on.
+
+        Line ends are LF, CRLF or a lone CR; the yielded bytes exclude them.
+        """
+        buffer = self.buffer
+        size = len(buffer)
+        number = self.line_number_at(offset) if line_number is None else line_number
+        find = buffer.find
+        while offset < size:
+            newline = find(b"\n", offset)
+            end = size if newline < 0 else newline
+            raw = buffer[offset:end]
+            next_offset = end + 1
+            if raw.endswith(b"\r"):
+                raw = raw[:-1]
+            if b"\r" in raw:
+                yield from self._split_lone_cr(number, offset, raw)
+                number += raw.count(b"\r")
+            else:
+                yield number, offset, next_offset, raw
+            number += 1
+            offset = next_offset
+
+    @staticmethod
+    def _split_lone_cr(number: int, offset: int, raw: bytes):
+        """Old Mac line ends: a lone CR separates lines too."""
+        parts = raw.split(b"\r")
+        for index, part in enumerate(parts):
+            yield number + index, offset, offset + len(part) + 1, part
+            offset += len(part) + 1
+
+    def line_text(self, line_number: int) -> str:
+        """The decoded text of one line (for quoting a block in a report)."""
+        offset = 0
+        for _ in range(line_number - 1):
+            newline = self.buffer.find(b"\n", offset)
+            if newline < 0:
+                return ""
+            offset = newline + 1
+        end = self.buffer.find(b"\n", offset)
+        raw = self.buffer[offset : len(self.buffer) if end < 0 else end]
+        return decode_line(raw.rstrip(b"\r"))
+
+    def head(self, size: int = 65536) -> str:
+        return decode_line(bytes(self.buffer[:size]))
