@@ -6,9 +6,11 @@ G65 call, a G10 data setting or a canned cycle consumes) and the order a block e
 """
 from __future__ import annotations
 
+import re
+
 from .. import ir
-from ..read.iso import ReadBlock, Statement, Word
-from ..source import Span
+from ..read.iso import ReadBlock, Statement, Word, read_line
+from ..source import Span, decode_line
 from ..tables import CodeTable, code_key
 
 # Execution order inside one block (after LinuxCNC's and the ISO manuals' order).
@@ -360,9 +362,8 @@ class IsoLowering:
                 words[letter] = value
         if motion_span is None and not (targets or arc or words):
             return
-        if motion_span is None:
-            first, *_, last = [*spans.values(), *spans.values()]
-            motion_span = first.cover(last)
+        for word_span in spans.values():
+            motion_span = word_span if motion_span is None else motion_span.cover(word_span)
         stages[_MOTION].append(ir.Move(motion_span, motion_kind, targets, arc or None, words, frozenset(incremental), spans))
 
     # ------------------------------------------------------------------ values
@@ -395,3 +396,40 @@ class IsoLowering:
                 axis = self.twins.get(letter, letter)
                 values[axis] = self._value(word)
         return values
+
+
+# ---------------------------------------------------------------------- front end
+
+_PROGRAM_START = re.compile(rb"(?mi)^[ \t]*(?:%[ \t]*)?(?:N\d+[ \t]*)?[O:][ \t]*(\d+)")
+_PROGRAM_END = re.compile(rb"(?i)M0*(?:2|30)(?![0-9.])")
+
+
+class IsoFrontend:
+    """What the interpreter asks of a dialect: blocks of a line, where programs start, and
+    where a sequence number may be. Programs are ``O`` numbers; labels are ``N`` numbers."""
+
+    dialect = "iso"
+
+    def __init__(self, lowering: IsoLowering):
+        self.lowering = lowering
+
+    def blocks(self, raw: bytes, line: int, path: str | None) -> list[ir.Block]:
+        text = decode_line(raw)
+        return [self.lowering.lower(read, path) for read in read_line(text, line)]
+
+    def programs(self, buffer) -> list[tuple[str, int]]:
+        """``(name, offset of its first line)`` for every program header in the buffer."""
+        return [(f"O{int(match.group(1))}", match.start()) for match in _PROGRAM_START.finditer(buffer)]
+
+    def has_program_end(self, buffer, start: int, end: int) -> bool:
+        return _PROGRAM_END.search(buffer, start, end) is not None
+
+    def program_name(self, number: float) -> str:
+        return f"O{int(number)}"
+
+    def label_offsets(self, buffer, label: float):
+        """Offsets of lines that may carry sequence number ``label`` (the interpreter
+        confirms by reading the line)."""
+        pattern = re.compile(rb"(?mi)^[^\n(]*?N0*" + str(int(label)).encode() + rb"(?![0-9.])")
+        for match in pattern.finditer(buffer):
+            yield match.start()

@@ -1,0 +1,418 @@
+"""Stage 4, check: rules read the interpreted trace and report findings.
+
+Rule *definitions* (id, category, default severity, page, parameter constraints) are data
+in ``rules/``; rule *logic* that needs more than a constraint is a class in
+``ncverify/checks/`` registered with :func:`rule`. The :class:`Checker` is the
+interpreter's observer: it hands each trace event to the rules that handle it.
+"""
+from __future__ import annotations
+
+import ast
+import math
+import tomllib
+from dataclasses import dataclass, field
+from functools import cache
+from pathlib import Path
+
+import z3
+
+from . import values
+from .diagnostics import CATEGORIES, Diagnostic, Severity, Status
+from .resources import data_dir
+from .source import Span
+from .values import Condition, Sym
+
+# --------------------------------------------------------------------------- definitions
+
+
+@dataclass(frozen=True)
+class Constraint:
+    cycles: tuple[str, ...]
+    when: str
+    message: str
+    tree: ast.Expression
+
+
+@dataclass(frozen=True)
+class RuleDefinition:
+    id: str
+    category: str
+    severity: Severity
+    summary: str
+    page: str
+    path: Path
+    dialect: str = "iso"
+    example_settings: dict = field(default_factory=dict)
+    constraints: tuple[Constraint, ...] = ()
+
+    def section(self, title: str) -> str:
+        """The text of one ``## title`` section of the page."""
+        marker = f"## {title}"
+        if marker not in self.page:
+            return ""
+        text = self.page.split(marker, 1)[1]
+        return text.split("\n## ", 1)[0].strip()
+
+    def example(self, title: str) -> str:
+        """The program in the ```nc fence of a section."""
+        text = self.section(title)
+        if "```" not in text:
+            return ""
+        body = text.split("```", 2)[1]
+        return body.split("\n", 1)[1] if "\n" in body else ""
+
+
+class RuleFileError(ValueError):
+    pass
+
+
+def parse_rule_file(path: Path) -> RuleDefinition:
+    text = path.read_text(encoding="utf-8")
+    if not text.startswith("+++"):
+        raise RuleFileError(f"{path}: a rule file starts with a +++ TOML front matter block")
+    try:
+        _, front, page = text.split("+++", 2)
+        meta = tomllib.loads(front)
+    except (ValueError, tomllib.TOMLDecodeError) as error:
+        raise RuleFileError(f"{path}: {error}") from error
+    expected = f"{path.parent.name}.{path.stem}"
+    if meta.get("id") != expected:
+        raise RuleFileError(f"{path}: id {meta.get('id')!r} does not match the file's place ({expected!r})")
+    if meta.get("category") not in CATEGORIES:
+        raise RuleFileError(f"{path}: category {meta.get('category')!r} is not in the contract's list")
+    constraints = tuple(
+        Constraint(tuple(item["cycles"]), item["when"], item["message"], ast.parse(item["when"], mode="eval"))
+        for item in meta.get("constraint", [])
+    )
+    return RuleDefinition(
+        id=meta["id"], category=meta["category"], severity=Severity(meta["severity"]), summary=meta["summary"],
+        page=page.strip(), path=path, dialect=meta.get("dialect", "iso"),
+        example_settings=meta.get("example_settings", {}), constraints=constraints,
+    )
+
+
+@cache
+def rule_definitions() -> dict[str, RuleDefinition]:
+    root = data_dir("rules")
+    definitions = {}
+    for path in sorted(root.glob("*/*.md")):
+        definition = parse_rule_file(path)
+        definitions[definition.id] = definition
+    return definitions
+
+
+# --------------------------------------------------------------------------- rule logic registry
+
+_RULE_CLASSES: list[type] = []
+
+
+def rule(*ids: str):
+    """Register a rule class reporting the given rule ids."""
+
+    def register(cls):
+        cls.ids = ids
+        _RULE_CLASSES.append(cls)
+        return cls
+
+    return register
+
+
+def implemented_rule_ids() -> set[str]:
+    from . import checks  # noqa: F401  (registers the rule classes)
+
+    ids = {rule_id for cls in _RULE_CLASSES for rule_id in cls.ids}
+    ids |= {definition.id for definition in rule_definitions().values() if definition.constraints}
+    return ids | _REPORTED_FROM_TRACE
+
+
+# Rules reported straight from reader/lowering notes and interpreter faults.
+_REPORTED_FROM_TRACE = {
+    "core.syntax", "core.unknown-code", "core.unsupported-code", "core.bare-g", "core.same-group-codes",
+    "core.too-many-m-codes", "core.duplicate-address", "core.label-not-found", "core.program-not-found",
+    "core.arithmetic-domain", "core.undefined-variable", "core.loop-bound", "core.call-depth", "core.macro-alarm",
+    "core.program-end-missing", "core.m99-in-main", "core.path-limit", "core.duplicate-label",
+    "core.repeat-count-range", "core.shape-order",
+}
+
+
+class Rule:
+    """Base of rule classes. Override the event methods a rule needs; per-path memory goes
+    in ``state.rule_state`` so that forked paths do not share it."""
+
+    ids: tuple[str, ...] = ()
+
+    def __init__(self, checker: "Checker"):
+        self.checker = checker
+        self.report = checker.report
+
+    def segment(self, segment, state): ...
+
+    def hole(self, hole, state): ...
+
+    def cycle_run(self, run, state): ...
+
+    def change(self, change, state): ...
+
+
+# --------------------------------------------------------------------------- judging symbolic values
+
+
+@dataclass(frozen=True)
+class Verdict:
+    status: Status
+    witness: dict[str, float] = field(default_factory=dict)
+    reason: str | None = None
+
+
+def judge(hazard: "bool | Condition", path_condition: list, timeout_s: float = 5.0) -> Verdict | None:
+    """Does the hazard occur? ``None`` when it certainly does not (concrete False)."""
+    if hazard is True:
+        return Verdict(Status.VIOLATED)
+    if hazard is False:
+        return None
+    solver = z3.Solver()
+    solver.set("timeout", int(timeout_s * 1000))
+    for condition in path_condition:
+        if isinstance(condition, Condition):
+            solver.add(condition.term)
+    solver.add(hazard.term)
+    answer = solver.check()
+    if answer == z3.unsat:
+        return Verdict(Status.PROVED)
+    if answer == z3.sat:
+        model = solver.model()
+        witness = {}
+        for declaration in model.decls():
+            value = model[declaration]
+            if z3.is_rational_value(value):
+                witness[declaration.name()] = float(value.numerator_as_long()) / float(value.denominator_as_long())
+            elif z3.is_algebraic_value(value):
+                witness[declaration.name()] = float(value.approx(10).as_decimal(10).rstrip("?"))
+        return Verdict(Status.VIOLATED, {k: v for k, v in witness.items() if "~" not in k})
+    return Verdict(Status.UNKNOWN, reason=f"the solver gave no answer within {timeout_s:g} s ({solver.reason_unknown()})")
+
+
+def hazard(op: str, a, b) -> "bool | Condition":
+    """``a op b`` as a hazard condition, with ISO relation names or symbols."""
+    symbol = {"<": "LT", "<=": "LE", ">": "GT", ">=": "GE", "==": "EQ", "!=": "NE"}.get(op, op)
+    return values.compare(symbol, a, b)
+
+
+def show(value) -> str:
+    """A value as a machinist reads it: 12.5, or the expression for a symbolic one."""
+    if type(value) is float:
+        return f"{value:.4f}".rstrip("0").rstrip(".") if math.isfinite(value) else str(value)
+    if isinstance(value, Sym):
+        return str(z3.simplify(value.term))
+    return str(value)
+
+
+# --------------------------------------------------------------------------- the observer
+
+
+class Checker:
+    """Collects findings from the trace: dedups them, caps them per rule, applies the
+    configured severities and disabled rules."""
+
+    def __init__(self, settings, context: dict, severity_overrides: dict | None = None):
+        from . import checks  # noqa: F401
+
+        self.settings = settings
+        self.context = context  # register limits, machine type: what the rules may assume
+        self.definitions = rule_definitions()
+        self.severity_overrides = severity_overrides or {}
+        self.diagnostics: list[Diagnostic] = []
+        self._seen: set = set()
+        self._per_rule: dict[str, int] = {}
+        self.truncated: dict[str, int] = {}
+        self.path_condition: list = []
+        rules = [cls(self) for cls in _RULE_CLASSES if not set(cls.ids) <= settings.disabled_rules]
+        self.rules = rules
+        self._segment = _handlers(rules, "segment")
+        self._hole = _handlers(rules, "hole") + [self._constraints_on_hole]
+        self._cycle_run = _handlers(rules, "cycle_run") + [self._constraints_on_run]
+        self._change = _handlers(rules, "change")
+        self._constraints = [
+            (definition, constraint)
+            for definition in self.definitions.values()
+            for constraint in definition.constraints
+            if definition.id not in settings.disabled_rules
+        ]
+
+    # -- events from the interpreter
+    def segment(self, segment, state) -> None:
+        for handler in self._segment:
+            handler(segment, state)
+
+    def hole(self, hole, state) -> None:
+        for handler in self._hole:
+            handler(hole, state)
+
+    def cycle_run(self, run, state) -> None:
+        for handler in self._cycle_run:
+            handler(run, state)
+
+    def change(self, change, state) -> None:
+        for handler in self._change:
+            handler(change, state)
+
+    def note(self, note) -> None:
+        self.report(note.rule, note.span, note.message)
+
+    def fault(self, fault) -> None:
+        self.report(fault.rule, fault.span, fault.message, Status(fault.status), fault.reason)
+
+    # -- reporting
+    def report(self, rule_id: str, span: Span, message: str, status: Status = Status.VIOLATED,
+               reason: str | None = None, witness: dict | None = None) -> None:
+        if rule_id in self.settings.disabled_rules:
+            return
+        definition = self.definitions.get(rule_id)
+        if definition is None:
+            raise KeyError(f"rule {rule_id} has no definition in rules/")
+        if definition.category in self.settings.disabled_rules:
+            return
+        key = (rule_id, span.path, span.line, span.column, message)
+        if key in self._seen:
+            return
+        self._seen.add(key)
+        count = self._per_rule.get(rule_id, 0) + 1
+        self._per_rule[rule_id] = count
+        if count > self.settings.max_findings_per_rule:
+            self.truncated[rule_id] = self.truncated.get(rule_id, 0) + 1
+            return
+        severity = self._severity(definition)
+        if status is Status.PROVED:
+            severity = Severity.INFO
+        self.diagnostics.append(Diagnostic(rule_id, definition.category, severity, span, message, status, reason, witness or {}))
+
+    def report_verdict(self, rule_id: str, span: Span, message: str, verdict: Verdict | None, state) -> None:
+        """Report a judged hazard: violated with its witness, unknown with the reason, or a
+        ``proved`` entry when symbolic values were shown safe."""
+        if verdict is None:
+            return
+        if verdict.status is Status.PROVED:
+            message = f"proved impossible for every value of the free parameters: {message}"
+        self.report(rule_id, span, message, verdict.status, verdict.reason, verdict.witness)
+
+    def _severity(self, definition: RuleDefinition) -> Severity:
+        override = self.severity_overrides.get(definition.id) or self.severity_overrides.get(definition.category)
+        return Severity(override) if override else definition.severity
+
+    # -- constraints from rules/
+    def _constraints_on_hole(self, hole, state) -> None:
+        names = dict(hole.params)
+        names.update(initial=hole.initial, r_point=hole.r_point, bottom=hole.bottom)
+        if hole.r_point is not None and hole.bottom is not None:
+            names["depth"] = values.sub(hole.r_point, hole.bottom)
+        self._apply_constraints(hole.cycle, names, hole.param_spans, hole.span, state)
+
+    def _constraints_on_run(self, run, state) -> None:
+        self._apply_constraints(run.cycle, dict(run.params), run.param_spans, run.span, state)
+
+    def _apply_constraints(self, cycle: str, names: dict, spans: dict, span: Span, state) -> None:
+        for definition, constraint in self._constraints:
+            if cycle not in constraint.cycles:
+                continue
+            outcome = evaluate_constraint(constraint.tree, names)
+            verdict = judge(outcome, state.path_condition)
+            if verdict is None:
+                continue
+            where = _first_span(constraint.tree, spans) or span
+            self.report_verdict(definition.id, where, _format_message(constraint.message, names), verdict, state)
+
+
+def _handlers(rules: list[Rule], name: str) -> list:
+    return [getattr(instance, name) for instance in rules if getattr(type(instance), name) is not getattr(Rule, name)]
+
+
+def _first_span(tree: ast.Expression, spans: dict) -> Span | None:
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Name) and node.id in spans:
+            return spans[node.id]
+    return None
+
+
+def _format_message(message: str, names: dict) -> str:
+    class Shown(dict):
+        def __missing__(self, key):
+            return "(not given)"
+
+    return message.format_map(Shown({key: show(value) for key, value in names.items() if value is not None}))
+
+
+# --------------------------------------------------------------------------- constraint expressions
+
+_RELATIONS = {ast.Lt: "LT", ast.LtE: "LE", ast.Gt: "GT", ast.GtE: "GE", ast.Eq: "EQ", ast.NotEq: "NE"}
+
+
+class _Missing(Exception):
+    pass
+
+
+def evaluate_constraint(tree: ast.Expression, names: dict) -> "bool | Condition":
+    """True (or a condition) when the parameters are wrong; a missing name makes the
+    comparison it sits in false."""
+    return _truth(_guarded(tree.body, names))
+
+
+def _truth(value):
+    return value if isinstance(value, (bool, Condition)) else values.truth(value)
+
+
+def _eval(node, names):
+    if isinstance(node, ast.BoolOp):
+        op = "AND" if isinstance(node.op, ast.And) else "OR"
+        result = _guarded(node.values[0], names)
+        for operand in node.values[1:]:
+            result = values.logical(op, _truth(result), _truth(_guarded(operand, names)))
+        return result
+    if isinstance(node, ast.UnaryOp):
+        operand = _eval(node.operand, names)
+        if isinstance(node.op, ast.Not):
+            return values.negate(_truth(operand))
+        return values.neg(operand)
+    if isinstance(node, ast.Compare):
+        left = _eval(node.left, names)
+        result = True
+        for operator, right_node in zip(node.ops, node.comparators):
+            right = _eval(right_node, names)
+            step = values.compare(_RELATIONS[type(operator)], left, right)
+            result = values.logical("AND", result, step) if result is not True else step
+            left = right
+        return result
+    if isinstance(node, ast.BinOp):
+        left, right = _eval(node.left, names), _eval(node.right, names)
+        operation = {ast.Add: values.add, ast.Sub: values.sub, ast.Mult: values.mul, ast.Div: values.div}[type(node.op)]
+        return operation(left, right)
+    if isinstance(node, ast.Call) and isinstance(node.func, ast.Name):
+        if node.func.id == "missing":
+            return names.get(node.args[0].id) is None
+        arguments = [_eval(arg, names) for arg in node.args]
+        if node.func.id == "abs":
+            return values.absolute(arguments[0])
+        if node.func.id in ("min", "max"):
+            return _min_max(node.func.id, arguments)
+        if node.func.id == "digits":
+            return float(len(str(int(abs(arguments[0]))))) if type(arguments[0]) is float else values.fresh("digits")
+    if isinstance(node, ast.Name):
+        value = names.get(node.id)
+        if value is None:
+            raise _Missing(node.id)
+        return value
+    if isinstance(node, ast.Constant) and isinstance(node.value, (int, float)):
+        return float(node.value)
+    raise ValueError(f"not allowed in a constraint: {ast.dump(node)}")
+
+
+def _guarded(node, names):
+    try:
+        return _eval(node, names)
+    except _Missing:
+        return False
+
+
+def _min_max(name, arguments):
+    if all(type(argument) is float for argument in arguments):
+        return min(arguments) if name == "min" else max(arguments)
+    return values.fresh(name)

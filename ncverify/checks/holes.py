@@ -1,0 +1,99 @@
+"""Rules on the holes canned cycles make: levels, parameters, spindle."""
+from __future__ import annotations
+
+from .. import values
+from ..check import Rule, hazard, judge, rule, show
+
+
+def _code(cycle: str) -> str:
+    return cycle.rsplit(".", 1)[-1]
+
+
+@rule("core.cycle-missing-parameter")
+class MissingParameter(Rule):
+    def hole(self, hole, state):
+        if hole.missing:
+            meanings = ", ".join(f"{letter} ({hole.model['params'][letter]['meaning']})" for letter in hole.missing)
+            self.report("core.cycle-missing-parameter", hole.span, f"{_code(hole.cycle)} makes a hole without {meanings}: the control alarms or drills with the value left from earlier")
+
+
+@rule("core.cycle-depth-sign", "core.cycle-zero-depth", "core.cycle-r-above-initial")
+class HoleLevels(Rule):
+    def hole(self, hole, state):
+        bottom, r_point, initial = hole.bottom, hole.r_point, hole.initial
+        if bottom is None or r_point is None or hole.model.get("r_incremental"):
+            return
+        code, axis = _code(hole.cycle), hole.drill_axis
+        span = hole.param_spans.get(axis, hole.span)
+        report = self.checker.report_verdict
+        if hole.model.get("infeed") == "back_bore":
+            report("core.cycle-depth-sign", span, f"{code} back boring: the top of the bore {axis}{show(bottom)} is not above the start level R{show(r_point)}; "
+                   "R must lie below the part and Z above it", judge(hazard("<=", bottom, r_point), state.path_condition), state)
+            return
+        report("core.cycle-zero-depth", span, f"{code}: hole bottom {axis}{show(bottom)} equals the R point: the cycle cuts nothing",
+               judge(hazard("==", bottom, r_point), state.path_condition), state)
+        report("core.cycle-depth-sign", span, f"{code}: hole bottom {axis}{show(bottom)} is above the R point {show(r_point)}: the tool would feed upward out of the part and rapid back down",
+               judge(hazard(">", bottom, r_point), state.path_condition), state)
+        if initial is not None:
+            report("core.cycle-r-above-initial", hole.param_spans.get("R", hole.span),
+                   f"{code}: R point {show(r_point)} is above the initial level {show(initial)}: the tool moves between holes below the R plane",
+                   judge(hazard(">", r_point, initial), state.path_condition), state)
+
+
+@rule("core.peck-depth")
+class PeckDepth(Rule):
+    def hole(self, hole, state):
+        if hole.model.get("infeed", "").startswith("peck") and not hole.model.get("r_incremental"):
+            depth = hole.params.get("Q")
+            if depth is not None:
+                self.checker.report_verdict("core.peck-depth", hole.param_spans.get("Q", hole.span), f"{_code(hole.cycle)}: peck depth Q{show(depth)} is not positive: the control alarms",
+                                            judge(hazard("<=", depth, 0.0), state.path_condition), state)
+
+
+@rule("core.dwell-fraction")
+class DwellFraction(Rule):
+    def hole(self, hole, state):
+        dwell = hole.params.get("P")
+        if type(dwell) is float and dwell != int(dwell):
+            self.report("core.dwell-fraction", hole.param_spans.get("P", hole.span), f"{_code(hole.cycle)}: dwell P{show(dwell)} has a fraction, which the cycle ignores: it dwells P{int(dwell)}")
+
+
+@rule("core.tapping-spindle-direction")
+class TappingSpindle(Rule):
+    def hole(self, hole, state):
+        expected = hole.model.get("spindle_before")
+        if expected is None or state.spindle == expected or hole.params.get(",R") == 1.0 and state.spindle != "off":
+            return
+        wanted = "M03 (clockwise)" if expected == "cw" else "M04 (counter-clockwise)"
+        actual = {"off": "stopped", "cw": "clockwise (M03)", "ccw": "counter-clockwise (M04)"}[state.spindle]
+        self.report("core.tapping-spindle-direction", hole.span, f"{_code(hole.cycle)} tapping needs the spindle running {wanted}, but it is {actual}: the tap strips the thread or breaks")
+
+
+@rule("core.css-without-clamp")
+class SurfaceSpeedWithoutClamp(Rule):
+    def segment(self, segment, state):
+        if state.modal.get("spindle_mode") != "surface_speed" or state.spindle_clamp is not None:
+            return
+        if self.checker.context["machine"] != "lathe" or state.rule_state.get("css-clamp"):
+            return
+        state.rule_state["css-clamp"] = True
+        self.report("core.css-without-clamp", segment.span, "constant surface speed (G96) with no spindle speed clamp (G92 S / G50 S): near X0 the spindle runs up to its maximum")
+
+
+@rule("core.lathe-cycle-parameters")
+class LatheCycleParameters(Rule):
+    """G76's packed P word (mmrraa) on its first block; the plain limits are constraints."""
+
+    def cycle_run(self, run, state):
+        if not run.cycle.endswith("G76") or not run.first_block:
+            return
+        packed = run.params.get("first_P")
+        if type(packed) is not float:
+            return
+        number = int(packed)
+        cuts, chamfer, angle = number // 10000, number // 100 % 100, number % 100
+        span = run.param_spans.get("P", run.span)
+        if packed != number or number > 999999:
+            self.report("core.lathe-cycle-parameters", span, f"G76 P{show(packed)} is not six digits mmrraa (cuts, chamfer, angle)")
+        elif angle > 90:
+            self.report("core.lathe-cycle-parameters", span, f"G76 P{number:06d}: tool angle {angle} is above 90 degrees (cuts {cuts}, chamfer {chamfer / 10:g} leads)")

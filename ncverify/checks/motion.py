@@ -1,0 +1,111 @@
+"""Rules on motion: feed, spindle, radius compensation, arcs, units, reference returns."""
+from __future__ import annotations
+
+from .. import values
+from ..check import Rule, hazard, judge, rule, show
+
+_CUTTING = frozenset({"feed", "arc", "thread"})
+
+
+@rule("core.feed-missing")
+class FeedMissing(Rule):
+    def segment(self, segment, state):
+        if segment.kind not in _CUTTING:
+            return
+        feed = state.feed
+        memory = state.rule_state
+        if memory.get("feed-missing") is feed and "feed-missing" in memory:
+            return
+        memory["feed-missing"] = feed
+        what = "cycle infeed" if segment.cycle else "cutting move"
+        if feed is None:
+            self.report("core.feed-missing", segment.span, f"{what} with no feed rate: no F word since the program started (E60 alarm P62)")
+            return
+        verdict = judge(hazard("<=", feed, 0.0), state.path_condition)
+        self.checker.report_verdict("core.feed-missing", segment.span, f"{what} at feed F{show(feed)}: the axes would not move (feed zero or negative)", verdict, state)
+
+
+@rule("core.spindle-off-cutting")
+class SpindleOffCutting(Rule):
+    def segment(self, segment, state):
+        if segment.kind not in _CUTTING or state.spindle != "off" or segment.role == "contour":
+            return
+        if state.rule_state.get("spindle-off-reported"):
+            return
+        state.rule_state["spindle-off-reported"] = True
+        self.report("core.spindle-off-cutting", segment.span, "cutting move while the spindle is stopped (no M03/M04 since the start or since the last M05): the tool rubs or breaks")
+
+    def change(self, change, state):
+        if change.what == "spindle":
+            state.rule_state.pop("spindle-off-reported", None)
+
+
+@rule("core.comp-on-arc")
+class CompensationOnArc(Rule):
+    """The first in-plane move after G41/G42/G40 must be a straight line."""
+
+    def change(self, change, state):
+        if change.what == "cutter_comp" and change.old != change.new:
+            state.rule_state["comp-transition"] = (change.new, change.span)
+
+    def segment(self, segment, state):
+        pending = state.rule_state.get("comp-transition")
+        if pending is None or segment.role != "programmed":
+            return
+        first, second, _normal = state.plane_axes
+        if not any(segment.start.get(axis) is not segment.end.get(axis) for axis in (first, second)) and segment.kind != "arc":
+            return
+        del state.rule_state["comp-transition"]
+        if segment.kind == "arc":
+            side, span = pending
+            what = "cancelled (G40)" if side == "off" else f"switched on ({'G41' if side == 'left' else 'G42' if side == 'right' else 'G46'})"
+            self.report("core.comp-on-arc", segment.span, f"radius compensation is {what} at line {span.line} and the first move after it is an arc: "
+                        "the control needs a straight G00/G01 move to build up or remove the offset (alarm)")
+
+
+@rule("core.comp-active-at-end")
+class CompensationAtEnd(Rule):
+    def change(self, change, state):
+        if change.what == "end" and change.new == "end" and state.comp_side not in ("off", None):
+            self.report("core.comp-active-at-end", change.span, f"radius compensation ({'G41' if state.comp_side == 'left' else 'G42' if state.comp_side == 'right' else 'G46'}) is still on at the program end: the next program starts with an offset it did not ask for")
+
+
+@rule("core.arc-geometry")
+class ArcGeometry(Rule):
+    tolerance = 0.01
+
+    def segment(self, segment, state):
+        arc = segment.arc
+        if arc is None:
+            return
+        if arc.radius_word is not None:
+            if arc.chord is None:
+                return
+            verdict = judge(hazard("<", values.absolute(arc.radius_word), values.sub(values.mul(arc.chord, 0.5), 1e-6)), state.path_condition)
+            self.checker.report_verdict("core.arc-geometry", segment.span, f"arc radius R{show(arc.radius_word)} is smaller than half the distance to the end point ({show(values.mul(arc.chord, 0.5))}): no such arc exists (alarm)", verdict, state)
+            return
+        if arc.start_radius is None or arc.end_radius is None:
+            return
+        difference = values.absolute(values.sub(arc.start_radius, arc.end_radius))
+        verdict = judge(hazard(">", difference, self.tolerance), state.path_condition)
+        self.checker.report_verdict("core.arc-geometry", segment.span, f"the end point is not on the arc: radius {show(arc.start_radius)} at the start, {show(arc.end_radius)} at the end (I/J/K are measured from the start point to the centre)", verdict, state)
+
+
+@rule("core.inch-metric-switch")
+class InchMetricSwitch(Rule):
+    def change(self, change, state):
+        if change.what == "units" and state.motion_seen:
+            self.report("core.inch-metric-switch", change.span, f"units change from {change.old} to {change.new} after motion was programmed: every later coordinate, feed and offset is read in {change.new}")
+
+
+@rule("core.g28-absolute")
+class ReferenceReturnThroughWork(Rule):
+    def change(self, change, state):
+        if change.what != "reference_return" or state.modal.get("distance") != "absolute":
+            return
+        via = change.old or {}
+        level = via.get("Z")
+        if level is None:
+            return
+        verdict = judge(hazard("<=", level, 0.0), state.path_condition)
+        self.checker.report_verdict("core.g28-absolute", change.span, f"{'G28' if change.new == 'home' else 'G30'} in G90 goes first to work Z{show(level)} at rapid: the tool passes through the work surface level (write G91 G28 Z0.)", verdict, state)

@@ -1,0 +1,66 @@
+"""Rules on tools and offset registers."""
+from __future__ import annotations
+
+from ..check import Rule, rule, show
+
+
+@rule("core.d-register-range", "core.h-register-range", "core.tool-number-range")
+class RegisterRanges(Rule):
+    def change(self, change, state):
+        limits = self.checker.context
+        if change.what == "cutter_comp" and change.register is not None and state.comp_side in ("left", "right", "auto"):
+            self._check_range("core.d-register-range", "D", change, 1.0, limits["d_register_max"])
+        elif change.what == "length_offset" and change.register is not None:
+            self._check_range("core.h-register-range", "H", change, 0.0, limits["h_register_max"])
+        elif change.what == "tool_select" and type(change.new) is float and not 0 <= change.new <= limits["tool_number_max"]:
+            self.report("core.tool-number-range", change.span, f"tool number T{show(change.new)} is outside 0-{limits['tool_number_max']:g} on this control")
+
+    def _check_range(self, rule_id, letter, change, low, high):
+        value = change.register
+        if type(value) is float and not low <= value <= high:
+            self.report(rule_id, change.span, f"offset register {letter}{show(value)} is outside {low:g}-{high:g} on this control: alarm")
+
+
+@rule("core.g12-missing-d")
+class CircleCuttingRegister(Rule):
+    def cycle_run(self, run, state):
+        if run.model.get("shape") != "circle":
+            return
+        register = run.params.get("D")
+        if register is None:
+            self.report("core.g12-missing-d", run.span, f"{run.cycle.rsplit('.', 1)[-1]} circle cutting has no D offset register: the control alarms")
+        elif type(register) is float and not 1 <= register <= self.checker.context["d_register_max"]:
+            self.report("core.d-register-range", run.param_spans.get("D", run.span), f"offset register D{show(register)} is outside 1-{self.checker.context['d_register_max']:g} on this control: alarm")
+
+
+@rule("core.length-offset-mismatch")
+class LengthOffsetMismatch(Rule):
+    def change(self, change, state):
+        if change.what != "length_offset" or self.checker.context["machine"] == "lathe":
+            return
+        register, tool = change.register, state.tool_in_spindle
+        if type(register) is not float or type(tool) is not float or register == 0 or register == tool:
+            return
+        self.report("core.length-offset-mismatch", change.span, f"tool T{show(tool)} is in the spindle but the length offset is H{show(register)}: Z is off by the difference of the two tool lengths")
+
+
+@rule("core.no-length-offset")
+class NoLengthOffset(Rule):
+    def change(self, change, state):
+        if change.what == "tool_change":
+            state.rule_state.pop("no-length-offset", None)
+
+    def segment(self, segment, state):
+        if segment.kind == "rapid" or not state.tool_changed or state.length_mode != "off":
+            return
+        if self.checker.context["machine"] == "lathe" or state.rule_state.get("no-length-offset"):
+            return
+        state.rule_state["no-length-offset"] = True
+        self.report("core.no-length-offset", segment.span, f"tool T{show(state.tool_in_spindle)} cuts with no length offset (no G43 H since the tool change): Z positions ignore the tool's length")
+
+
+@rule("core.cycle-modal-at-tool-change")
+class CycleModalAtToolChange(Rule):
+    def change(self, change, state):
+        if change.what == "tool_change" and state.cycle is not None:
+            self.report("core.cycle-modal-at-tool-change", change.span, f"canned cycle {state.cycle.cycle.rsplit('.', 1)[-1]} is still active at the tool change (no G80): the next block with X/Y/Z drills with the new tool")

@@ -1,0 +1,333 @@
+"""Canned cycles expanded into the motion they make (part of the interpret stage).
+
+Hole cycles follow the seven operations of the ISO model (E60 seed L2026-2046): rapid to
+the hole at the current level, rapid to the R point, infeed to the bottom, the bottom
+actions, retract to R, and under G98 rapid to the initial level. Back boring (G87) rapids
+to R below the part and feeds up. The cycle's levels are reported as a :class:`Hole`
+before its segments, so rules can judge bottom vs R point vs initial level.
+
+Lathe compound cycles (G70-G73) take their shape from the blocks between the P and Q
+sequence numbers; the shape is read, not executed, and its moves are reported as
+``contour`` segments. After every lathe cycle the tool is back at the cycle's start point.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from . import ir, values
+from .trace import CycleRun, Hole
+from .values import VACANT
+
+_SHAPE_BLOCK_LIMIT = 10_000
+
+
+@dataclass(slots=True)
+class ActiveCycle:
+    """The modal canned cycle: its model, its data so far and the initial level."""
+
+    cycle: str
+    model: dict
+    params: dict
+    param_spans: dict
+    initial: object  # the drilling-axis level when the cycle mode began
+
+
+class CycleRunner:
+    def __init__(self, interpreter):
+        self.interp = interpreter
+
+    # ------------------------------------------------------------------ helpers
+
+    @property
+    def state(self):
+        return self.interp.state
+
+    def _model(self, cycle: str) -> dict:
+        return self.interp.cycle_models.get(cycle, {})
+
+    def _evaluate_all(self, exprs: dict, span) -> dict:
+        evaluated = {}
+        for letter, expr in exprs.items():
+            value = self.interp.evaluate(expr, span)
+            if value is not VACANT:
+                evaluated[letter] = value
+        return evaluated
+
+    def _drill_axis(self, model: dict) -> str:
+        return model.get("drill_axis") or self.state.plane_axes[2]
+
+    def _rapid_to(self, targets: dict, span, block, role: str, cycle: str, kind: str = "rapid") -> None:
+        state = self.state
+        start = dict(state.position)
+        changed = False
+        for axis, value in targets.items():
+            if value is not None and state.position.get(axis) is not value:
+                state.position[axis] = value
+                changed = True
+        if changed:
+            self.interp._emit(kind, start, span, block, role, cycle)
+
+    # ------------------------------------------------------------------ modal hole cycles
+
+    def define(self, op: ir.CycleDefine, block):
+        state = self.state
+        model = self._model(op.cycle)
+        axis = self._drill_axis(model)
+        if state.cycle is None:
+            initial = state.position.get(axis)
+        else:
+            initial = state.cycle.initial
+        params = self._evaluate_all(op.params, op.span)
+        state.cycle_data.update(params)
+        spans = dict(state.cycle.param_spans) if state.cycle else {}
+        spans.update(op.param_spans)
+        state.cycle = ActiveCycle(op.cycle, model, state.cycle_data, spans, initial)
+        has_move = any(isinstance(later, ir.Move) for later in block.ops[block.ops.index(op) + 1 :])
+        if not has_move and (params.keys() & {axis, "R"}):
+            return self._holes(op.span, block, {}, frozenset(), None)
+        return None
+
+    def modal_hole(self, op: ir.Move, block):
+        """A block with position or hole data while a cycle is modal makes a hole."""
+        state = self.state
+        cycle = state.cycle
+        model = cycle.model
+        if model.get("shape") == "box":
+            return self._box(op, block)
+        axis = self._drill_axis(model)
+        data = self._evaluate_all(op.words, op.span)
+        positioning = dict(op.targets)
+        if axis in positioning:
+            bottom_expr = positioning.pop(axis)
+            bottom = self.interp.evaluate(bottom_expr, op.span)
+            if bottom is not VACANT:
+                data[_bottom_letter(axis, op, self.interp.twins)] = bottom
+        for letter, span in op.word_spans.items():
+            cycle.param_spans[letter] = span
+        state.cycle_data.update(data)
+        if not positioning and not data:
+            return None
+        return self._holes(op.span, block, positioning, op.incremental, op)
+
+    def _holes(self, span, block, positioning: dict, incremental, op):
+        state = self.state
+        cycle = state.cycle
+        repeat = state.cycle_data.pop("L", None)
+        if repeat is None:
+            repeat = state.cycle_data.pop("K", 1.0)
+        if type(repeat) is not float:
+            self.interp._unsupported_here(span, "a hole repeat count that depends on a free parameter")
+            return None
+        if not 0 <= repeat <= 9999:
+            self.interp._fault("core.repeat-count-range", span, f"repeat count {repeat:g} is outside 0-9999")
+            return None
+        for _ in range(int(repeat)):
+            targets = self.interp._targets(positioning, incremental, span)
+            self._make_hole(cycle, span, block, targets)
+        return None
+
+    def _make_hole(self, cycle, span, block, targets: dict) -> None:
+        interp = self.interp
+        state = self.state
+        model = cycle.model
+        axis = self._drill_axis(model)
+        data = state.cycle_data
+        incremental = state.modal.get("distance") == "incremental"
+        initial = cycle.initial
+        r_point, bottom = self._levels(model, axis, data, initial, incremental)
+        required = [letter for letter, spec in model.get("params", {}).items() if spec.get("required")]
+        missing = tuple(letter for letter in required if letter not in data and not _has_twin(letter, data, interp.twins))
+        if model.get("r_incremental"):
+            missing = tuple(letter for letter in missing if letter != "R")
+        hole_position = dict(state.position)
+        hole_position.update(targets)
+        hole = Hole(cycle.cycle, model, span, block, axis, hole_position, initial, r_point, bottom, dict(data), dict(cycle.param_spans), missing)
+        interp.observer.hole(hole, state)
+        if missing or bottom is None:
+            state.position.update(targets)
+            return
+        name = cycle.cycle
+        self._rapid_to(targets, span, block, "between-holes", name)
+        if model.get("infeed") == "back_bore":
+            self._rapid_to({axis: r_point}, span, block, "approach", name)
+            self._rapid_to({axis: bottom}, span, block, "infeed", name, "feed")
+            self._rapid_to({axis: initial}, span, block, "retract", name)
+            return
+        self._rapid_to({axis: r_point}, span, block, "approach", name)
+        self._rapid_to({axis: bottom}, span, block, "infeed", name, "feed")
+        retract_kind = "feed" if model.get("retract") == "feed" else "rapid"
+        self._rapid_to({axis: r_point}, span, block, "retract", name, retract_kind)
+        if state.modal.get("cycle_return") != "r_point" and initial is not None:
+            self._rapid_to({axis: initial}, span, block, "retract", name)
+
+    def _levels(self, model: dict, axis: str, data: dict, initial, incremental: bool):
+        """R point and bottom on the drilling axis (seed L2059 and the lathe table L2890)."""
+        bottom_letter = axis
+        twin = next((t for t, a in self.interp.twins.items() if a == axis), None)
+        r_word = data.get("R")
+        if model.get("r_incremental"):
+            return self._lathe_levels(axis, data, initial, twin)
+        if r_word is None or initial is None and incremental:
+            r_point = None if r_word is None else r_word
+        else:
+            r_point = values.add(initial, r_word) if incremental else r_word
+        bottom_word = data.get(bottom_letter)
+        if bottom_word is None or r_point is None:
+            return r_point, None if bottom_word is None or incremental else bottom_word
+        bottom = values.add(r_point, bottom_word) if incremental else bottom_word
+        return r_point, bottom
+
+    def _lathe_levels(self, axis, data, initial, twin):
+        if initial is None:
+            return None, None
+        incremental_bottom = data.get(twin) if twin else None
+        absolute_bottom = data.get(axis)
+        r_distance = values.absolute(data.get("R", 0.0))
+        if incremental_bottom is not None:
+            toward = -1.0 if _is_negative(incremental_bottom) else 1.0
+        elif absolute_bottom is not None:
+            toward = -1.0 if _is_negative(values.sub(absolute_bottom, initial)) else 1.0
+        else:
+            return None, None
+        r_point = values.add(initial, values.mul(r_distance, toward))
+        bottom = values.add(r_point, incremental_bottom) if incremental_bottom is not None else absolute_bottom
+        return r_point, bottom
+
+    # ------------------------------------------------------------------ lathe box cycles
+
+    def _box(self, op: ir.Move, block):
+        """G77/G78/G79 (Fanuc list-A G90/G92/G94): rapid in, cut, feed out, rapid back."""
+        state = self.state
+        cycle = state.cycle
+        data = self._evaluate_all(op.words, op.span)
+        state.cycle_data.update(data)
+        targets = self.interp._targets(op.targets, op.incremental, op.span)
+        if not targets:
+            return None
+        start = dict(state.position)
+        x_end, z_end = targets.get("X", start.get("X")), targets.get("Z", start.get("Z"))
+        face = cycle.cycle.endswith("G79")
+        name = cycle.cycle
+        cut = "thread" if cycle.model.get("thread") else "feed"
+        interp = self.interp
+        interp.observer.cycle_run(CycleRun(name, cycle.model, op.span, block, dict(state.cycle_data), dict(op.word_spans)), state)
+        first, second = ({"Z": z_end}, {"X": x_end}) if face else ({"X": x_end}, {"Z": z_end})
+        self._rapid_to(first, op.span, block, "approach", name)
+        self._rapid_to(second, op.span, block, "infeed", name, cut)
+        back_first = {"Z": start.get("Z")} if face else {"X": start.get("X")}
+        self._rapid_to(back_first, op.span, block, "retract", name, "feed")
+        self._rapid_to({"X": start.get("X"), "Z": start.get("Z")}, op.span, block, "retract", name)
+        return None
+
+    # ------------------------------------------------------------------ one-shot cycles
+
+    def call(self, op: ir.CycleCall, block):
+        state = self.state
+        model = self._model(op.cycle)
+        params = self._evaluate_all(op.params, op.span)
+        shape = model.get("shape")
+        if shape == "circle":
+            return self._circle(op, block, model, params)
+        first_block = bool(model.get("two_blocks")) and self._is_first_block(model, params)
+        stored = state.lathe_cycle_data.setdefault(op.cycle, {})
+        if first_block:
+            stored.clear()
+            stored.update({f"first_{letter}": value for letter, value in params.items()})
+            self.interp.observer.cycle_run(CycleRun(op.cycle, model, op.span, block, dict(stored), dict(op.param_spans), True), state)
+            return None
+        merged = dict(stored)
+        merged.update(params)
+        self.interp.observer.cycle_run(CycleRun(op.cycle, model, op.span, block, merged, dict(op.param_spans)), state)
+        start = dict(state.position)
+        if shape == "contour":
+            self._contour(op, block, params)
+        elif shape in ("groove", "thread"):
+            self._straight_cycle(op, block, params, "thread" if shape == "thread" else "feed")
+        state.position.update({axis: value for axis, value in start.items()})
+        return None
+
+    @staticmethod
+    def _is_first_block(model: dict, params: dict) -> bool:
+        """The first block of a two-block cycle carries only the first-block letters
+        (G71 U R, G76 P R): the second one has P/Q or an end point."""
+        return bool(params) and set(params) <= set(model.get("first_block", ())) and not (params.keys() & {"X", "Z"})
+
+    def _straight_cycle(self, op, block, params, cut: str) -> None:
+        targets = {}
+        for axis, twin in (("X", "U"), ("Z", "W")):
+            if axis in params:
+                targets[axis] = params[axis]
+            elif twin in params and self.state.position.get(axis) is not None:
+                targets[axis] = values.add(self.state.position[axis], params[twin])
+        if targets:
+            self._rapid_to(targets, op.span, block, "infeed", op.cycle, cut)
+
+    def _contour(self, op: ir.CycleCall, block, params: dict) -> None:
+        """Report the finishing shape between sequence numbers P and Q as contour moves."""
+        interp = self.interp
+        first, last = params.get("P"), params.get("Q")
+        if type(first) is not float or type(last) is not float:
+            return
+        start = interp.find_label(first, op.param_spans.get("P", op.span))
+        end = interp.find_label(last, op.param_spans.get("Q", op.span))
+        if (end.offset, end.block_index) < (start.offset, start.block_index):
+            interp._fault("core.shape-order", op.span, f"the shape's first block N{first:g} comes after its last block N{last:g}: the control alarms")
+            return
+        self._walk_shape(op, block, start, end)
+
+    def _walk_shape(self, op, block, start, end) -> None:
+        interp = self.interp
+        state = self.state
+        source = start.source
+        path = None if source is interp.source else source.name
+        count = 0
+        for line_number, offset, _next, raw in source.lines_from(start.offset):
+            if offset > end.offset:
+                return
+            for index, shape_block in enumerate(interp.frontend.blocks(raw, line_number, path)):
+                if offset == start.offset and index < start.block_index:
+                    continue
+                count += 1
+                if count > _SHAPE_BLOCK_LIMIT:
+                    return
+                if any(isinstance(shape_op, ir.Return) for shape_op in shape_block.ops):
+                    return
+                for shape_op in shape_block.ops:
+                    if isinstance(shape_op, ir.SetModal) and shape_op.group in ("distance", "plane"):
+                        state.modal[shape_op.group] = shape_op.value
+                    if isinstance(shape_op, ir.Move) and shape_op.targets:
+                        targets = interp._targets(shape_op.targets, shape_op.incremental, shape_op.span)
+                        self._rapid_to(targets, shape_op.span, shape_block, "contour", op.cycle, "feed")
+                if offset == end.offset and index >= end.block_index:
+                    return
+
+    def _circle(self, op: ir.CycleCall, block, model: dict, params: dict):
+        """G12/G13: out from the centre, a full circle, back to the centre."""
+        state = self.state
+        self.interp.observer.cycle_run(CycleRun(op.cycle, model, op.span, block, params, dict(op.param_spans)), state)
+        radius = params.get("I")
+        first, _second, _normal = state.plane_axes
+        centre = state.position.get(first)
+        if radius is None or centre is None:
+            return None
+        out = values.add(centre, values.absolute(radius))
+        self._rapid_to({first: out}, op.span, block, "infeed", op.cycle, "feed")
+        self._rapid_to({first: centre}, op.span, block, "retract", op.cycle, "feed")
+        return None
+
+
+def _bottom_letter(axis: str, op: ir.Move, twins: dict) -> str:
+    if axis in op.incremental:
+        for twin, target in twins.items():
+            if target == axis:
+                return twin
+    return axis
+
+
+def _has_twin(letter: str, data: dict, twins: dict) -> bool:
+    return any(target == letter and twin in data for twin, target in twins.items())
+
+
+def _is_negative(value) -> bool:
+    low, high = values.interval(value)
+    return high < 0 or (low < 0 and high <= 0)

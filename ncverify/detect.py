@@ -1,0 +1,112 @@
+"""Which language a text is in, told from the text alone, with a confidence.
+
+Each dialect has signature patterns with weights (data below: regexes over the first
+64 KiB). The best score wins; the confidence is its share of all scores, lowered when
+little evidence was found. Texts that are not CNC programs at all (binary data, C or
+Python source) are recognised so that a directory walk can skip them with a note.
+"""
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass
+
+DIALECTS = ("iso", "heidenhain", "sinumerik", "fagor")
+
+_SIGNATURES: dict[str, list[tuple[str, float]]] = {
+    "heidenhain": [
+        (r"(?im)^\s*\d*\s*BEGIN\s+PGM\b", 8), (r"(?im)^\s*\d*\s*END\s+PGM\b", 6), (r"(?im)\bTOOL\s+CALL\b", 4),
+        (r"(?im)\bCYCL\s+DEF\b", 4), (r"(?im)\bBLK\s+FORM\b", 4), (r"(?im)^\s*\d+\s+L\s+[XYZIR]", 2),
+        (r"(?im)\bFMAX\b", 2), (r"(?im)\bLBL\s+\d", 2), (r"(?im)\bFN\s+\d+\s*:", 2),
+    ],
+    "sinumerik": [
+        (r"(?im)^%_N_\w+_(?:MPF|SPF)", 8), (r"(?im)\bCYCLE\d{2,3}\s*\(", 5), (r"(?im)\bDEF\s+(?:REAL|INT|BOOL|STRING|CHAR|AXIS|FRAME)\b", 4),
+        (r"(?im)\bGOTO[FB]\b", 3), (r"(?im)\bMSG\s*\(", 3), (r"(?im)\bWORKPIECE\s*\(", 4), (r"(?im)\$TC_DP", 3),
+        (r"(?im)\bT\s*=\s*\"", 3), (r"(?im)\b(?:ENDIF|ENDWHILE|ENDFOR|ENDLOOP)\b", 3), (r"(?im)\bCR\s*=", 2),
+        (r"(?im)\b(?:POCKET[1-4]|SLOT[12]|LONGHOLE|HOLES[12])\s*\(", 5), (r"(?im)\bM17\b", 1), (r"(?im)\b(?:AC|IC)\s*\(", 2),
+    ],
+    "fagor": [
+        (r"(?im)#(?:MCALL|PCALL|CALL|MDOFF|LATHECY|MILLCY|TOOL\s+AX)\b", 6), (r"(?im)\$(?:IF|GOTO|WHILE|FOR|SWITCH|ELSE|ENDIF)\b", 5),
+        (r"(?im)\bG16[0-5]\b", 4), (r"(?im)\bG21[0-2]\b", 3), (r"(?im)\(RPT\s+N", 5), (r"(?im)\bV\.[A-Z]\.", 4),
+    ],
+    "iso": [
+        (r"(?m)^\s*%\s*$", 2), (r"(?im)^\s*(?:N\d+\s*)?O\d+", 4), (r"(?im)\bG0?[0-3](?![0-9.])\s*[XYZUW]", 2),
+        (r"(?im)\bM(?:30|0?2|0?6)(?![0-9])", 2), (r"(?im)\bG(?:4[0-4]|49|5[4-9]|8[0-9]|9[0-9]|7[0-6])(?![0-9])", 2),
+        (r"(?im)#\d+\s*=", 3), (r"(?im)\bIF\s*\[", 3), (r"(?im)\bWH(?:ILE)?\s*\[", 3), (r"(?im)\bM98\s*P", 3),
+        (r"(?im)\bG65\s*P", 3), (r"(?im)^\s*N\d+\s*G\d", 2), (r"(?im)\bT\d+\s*M0?6\b", 2), (r"(?im)\bG\d+\s*X-?\d*\.\d*\s*Y", 1), (r"(?im)(?<![A-Z])[GM]\d+", 1),
+    ],
+}
+
+_NOT_A_PROGRAM = [
+    (r"(?m)^\s*#\s*(?:include|define|ifndef|ifdef|endif|pragma)\b", "C or C++ source"),
+    (r"(?m)^\s*(?:def|class|import|from)\s+\w+.*:?\s*$", "Python source"),
+    (r"(?m)^\s*(?:public|private|static)?\s*(?:int|void|char|struct|typedef)\s+\w+", "C or C++ source"),
+    (r"(?s)^\s*[{\[]\s*\"", "JSON data"),
+    (r"(?s)^\s*<\?xml|^\s*<html", "XML or HTML"),
+]
+
+_HAAS = re.compile(r"(?im)\b(?:G187|G103|G47|M97|G154|HAAS)\b")
+_MITSUBISHI = re.compile(r"(?im)(?:,[IJR]\s*-?\d|\bG1[23]\s*I[-.\d]+\s*D\d|\bG7[789]\b)")
+_LATHE = [
+    (re.compile(r"(?im)\bT\d{4}\b"), 3), (re.compile(r"(?im)\bG7[0-6]\s*P\d+\s*Q\d+"), 4), (re.compile(r"(?im)\bG96\b"), 2),
+    (re.compile(r"(?im)\bG50\s*S"), 2), (re.compile(r"(?im)\bG76\s*P\d{6}"), 3), (re.compile(r"(?im)\b[UW]-?\d*\.\d*"), 1),
+    (re.compile(r"(?im)\bG9[89]\b.*\bX"), 1), (re.compile(r"(?im)\bG18\b"), 1), (re.compile(r"(?im)\bG7[0-3]\s*U"), 3),
+]
+_MILL = [
+    (re.compile(r"(?im)\bY-?\d*\.?\d"), 2), (re.compile(r"(?im)\bG4[34]\s*[HZ]"), 3), (re.compile(r"(?im)\bG8[1-9]\b"), 1),
+    (re.compile(r"(?im)\bG17\b"), 1), (re.compile(r"(?im)\bG5[4-9]\b"), 1), (re.compile(r"(?im)\bM0?6\b"), 2),
+]
+
+
+@dataclass(frozen=True)
+class Detection:
+    dialect: str | None  # None: not a CNC program
+    confidence: float
+    reason: str = ""
+    profile: str | None = None
+    machine: str | None = None
+
+
+def detect(head: str, raw_head: bytes = b"") -> Detection:
+    if _looks_binary(raw_head or head.encode("utf-8", "replace")):
+        return Detection(None, 1.0, "binary data, not a CNC program")
+    for pattern, what in _NOT_A_PROGRAM:
+        if re.search(pattern, head) and not re.search(r"(?im)^\s*(?:N\d+\s*)?G\d", head):
+            return Detection(None, 0.9, f"looks like {what}, not a CNC program")
+    scores = {dialect: sum(weight * min(len(re.findall(pattern, head)), 3) for pattern, weight in signatures)
+              for dialect, signatures in _SIGNATURES.items()}
+    best = max(scores, key=scores.get)
+    total = sum(scores.values())
+    if scores[best] == 0:
+        return Detection(None, 0.5, "no G-code, Klartext or SINUMERIK/Fagor statements found")
+    confidence = scores[best] / total * min(1.0, scores[best] / 10.0)
+    if best != "iso":
+        return Detection(best, round(confidence, 2))
+    return Detection("iso", round(confidence, 2), profile=detect_iso_profile(head), machine=detect_machine(head))
+
+
+def detect_iso_profile(head: str) -> str:
+    if _HAAS.search(head):
+        return "haas"
+    if _MITSUBISHI.search(head):
+        return "mitsubishi-e60"
+    return "mitsubishi-e60"
+
+
+def detect_machine(head: str) -> str | None:
+    lathe = sum(weight * min(len(pattern.findall(head)), 3) for pattern, weight in _LATHE)
+    mill = sum(weight * min(len(pattern.findall(head)), 3) for pattern, weight in _MILL)
+    if lathe >= 4 and lathe > mill:
+        return "lathe"
+    if mill > 0:
+        return "mill"
+    return None
+
+
+def _looks_binary(raw: bytes) -> bool:
+    sample = raw[:8192]
+    if not sample:
+        return False
+    if b"\x00" in sample:
+        return True
+    control = sum(1 for byte in sample if byte < 32 and byte not in (9, 10, 12, 13, 26))
+    return control / len(sample) > 0.05

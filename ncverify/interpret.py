@@ -1,0 +1,1051 @@
+"""Stage 3, interpret: run the IR on an abstract machine and stream the trace to the rules.
+
+The machine state holds the position of every axis, every modal group, the active tool and
+offsets, spindle, coolant, the modal canned cycle and the call stack. Values are floats
+where known and :class:`~ncverify.values.Sym` where they depend on a free parameter.
+
+Control flow follows the program: jumps, loops and calls are resolved through the dialect
+front end by byte offset, so straight-line code streams and memory does not grow with it.
+A branch whose condition depends on free parameters forks the path (up to
+``Settings.max_paths``); every loop, jump chain and call nest is bounded, and hitting a
+bound is a finding, never a hang.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from . import ir, values
+from .cycles import ActiveCycle, CycleRunner
+from .settings import Settings
+from .source import ProgramSource, Span
+from .trace import Arc, Change, Fault, Segment
+from .values import VACANT, Condition, DomainError, Sym
+
+_ARC_KINDS = {"arc_cw": "cw", "arc_ccw": "ccw"}
+_SEGMENT_KIND = {"rapid": "rapid", "linear": "feed", "arc_cw": "arc", "arc_ccw": "arc", "thread": "thread"}
+_PLANES = {"xy": ("X", "Y", "Z"), "zx": ("Z", "X", "Y"), "yz": ("Y", "Z", "X")}
+# Fanuc argument specification I: G65 letters to local variables.
+_ARGUMENT_VARIABLES = {
+    "A": 1, "B": 2, "C": 3, "I": 4, "J": 5, "K": 6, "D": 7, "E": 8, "F": 9, "H": 11, "M": 13,
+    "Q": 17, "R": 18, "S": 19, "T": 20, "U": 21, "V": 22, "W": 23, "X": 24, "Y": 25, "Z": 26,
+}
+
+
+class PathEnd(Exception):
+    """The current path stops (program end, alarm, bound hit)."""
+
+
+# ------------------------------------------------------------------------- machine state
+
+
+@dataclass(slots=True)
+class Position:
+    """Where execution is: a line's offset in a source and the block / op inside it."""
+
+    source: ProgramSource
+    offset: int
+    block_index: int = 0
+    op_index: int = 0
+
+
+@dataclass(slots=True)
+class Frame:
+    """A subprogram or macro call on the stack."""
+
+    kind: str  # main, subprogram, macro, local
+    program: str
+    source: ProgramSource
+    start: int  # offset of the program's first line
+    return_to: Position | None
+    repeats_left: int = 0
+    local_variables: dict | None = None  # a macro's own #1-#33; None shares the caller's
+
+
+@dataclass(slots=True)
+class LoopFrame:
+    loop_id: int
+    head: Position
+    iterations: int = 0
+
+
+@dataclass(slots=True)
+class MachineState:
+    position: dict = field(default_factory=dict)
+    modal: dict = field(default_factory=dict)
+    feed: object = None
+    spindle_speed: object = None
+    spindle_clamp: object = None
+    spindle: str = "off"
+    coolant: str = "off"
+    comp_side: str = "off"
+    comp_register: object = None
+    length_mode: str = "off"
+    length_register: object = None
+    tool_selected: object = None
+    tool_in_spindle: object = None
+    tool_offset: object = None
+    tool_changed: bool = False
+    cycle: ActiveCycle | None = None
+    cycle_data: dict = field(default_factory=dict)
+    lathe_cycle_data: dict = field(default_factory=dict)
+    motion_seen: bool = False
+    global_variables: dict = field(default_factory=dict)
+    local_variables: dict = field(default_factory=dict)
+    frames: list = field(default_factory=list)
+    loops: list = field(default_factory=list)
+    jump_counts: dict = field(default_factory=dict)
+    path_condition: list = field(default_factory=list)
+    last_reference_via: dict = field(default_factory=dict)
+    rule_state: dict = field(default_factory=dict)  # per-path memory of the rules
+
+    def fork(self) -> "MachineState":
+        twin = MachineState(**{name: getattr(self, name) for name in self.__slots__})
+        for name in ("position", "modal", "cycle_data", "lathe_cycle_data", "global_variables", "jump_counts", "last_reference_via", "rule_state"):
+            setattr(twin, name, dict(getattr(self, name)))
+        twin.local_variables = dict(self.local_variables)
+        twin.frames = [Frame(**{n: getattr(f, n) for n in f.__slots__}) for f in self.frames]
+        twin.loops = [LoopFrame(l.loop_id, l.head, l.iterations) for l in self.loops]
+        twin.path_condition = list(self.path_condition)
+        return twin
+
+    @property
+    def plane_axes(self) -> tuple[str, str, str]:
+        return _PLANES[self.modal["plane"]]
+
+
+# ------------------------------------------------------------------------- interpreter
+
+
+class Interpreter:
+    """Runs one program (and the subprograms it calls) and reports to ``observer``.
+
+    ``observer`` receives ``segment``, ``hole``, ``cycle_run``, ``change``, ``fault`` and
+    ``note`` calls (see :mod:`ncverify.check`)."""
+
+    def __init__(self, source: ProgramSource, frontend, observer, settings: Settings, *, power_on: dict,
+                 cycle_models: dict, twins: dict, machine: str = "mill", increment: float = 0.0,
+                 feed_increment: float = 0.0, library=None):
+        self.cycle_models = cycle_models
+        self.twins = twins
+        self.source = source
+        self.frontend = frontend
+        self.observer = observer
+        self.settings = settings
+        self.power_on = dict(power_on)
+        self.machine = machine
+        self.increment = increment
+        self.feed_increment = feed_increment
+        self.library = library
+        self.cycles = CycleRunner(self)
+        self.programs: dict[int, dict[str, int]] = {}
+        self.line_cache: dict[tuple[int, int], list[ir.Block]] = {}
+        self.label_cache: dict[tuple[int, str, float], list[int]] = {}
+        self.visited: list[tuple[ProgramSource, int, int]] = []
+        self.paths_started = 0
+        self.blocks_run = 0
+        self.free_parameters: dict[str, Sym] = {}
+        self.state = MachineState()
+        self._handlers = {
+            ir.SetModal: self._set_modal, ir.Move: self._move, ir.Dwell: self._nothing,
+            ir.CutterComp: self._cutter_comp, ir.LengthOffset: self._length_offset,
+            ir.WorkOffset: self._work_offset, ir.CoordinateShift: self._coordinate_shift,
+            ir.ReferenceReturn: self._reference_return, ir.MachineMove: self._machine_move,
+            ir.SetFeed: self._set_feed, ir.SetSpindleSpeed: self._set_spindle_speed,
+            ir.Spindle: self._spindle, ir.Coolant: self._coolant, ir.ToolSelect: self._tool_select,
+            ir.ToolChange: self._tool_change, ir.CycleDefine: self._cycle_define,
+            ir.CycleCancel: self._cycle_cancel, ir.CycleCall: self._cycle_call, ir.Assign: self._assign,
+            ir.Jump: self._jump, ir.LoopStart: self._loop_start, ir.LoopEnd: self._loop_end,
+            ir.Conditional: self._conditional, ir.Call: self._call, ir.Return: self._return,
+            ir.Stop: self._stop, ir.Alarm: self._alarm, ir.Deferred: self._deferred,
+            ir.Unsupported: self._unsupported,
+        }
+
+    # ------------------------------------------------------------------ running
+
+    def run(self) -> None:
+        main_name, main_start = self._main_program()
+        state = self.state
+        state.modal = dict(self.power_on)
+        state.frames = [Frame("main", main_name, self.source, main_start, None)]
+        worklist = [(state, Position(self.source, main_start))]
+        while worklist:
+            self.state, position = worklist.pop()
+            self.paths_started += 1
+            self._forks = worklist
+            try:
+                self._run_path(position)
+            except PathEnd:
+                pass
+        self._sweep_unvisited()
+
+    def _main_program(self) -> tuple[str, int]:
+        programs = self._program_index(self.source)
+        if not programs:
+            return "main", 0
+        names = list(programs)
+        buffer = self.source.buffer
+        offsets = sorted(programs.values()) + [len(buffer)]
+        for name in names:
+            start = programs[name]
+            end = offsets[offsets.index(start) + 1]
+            if self.frontend.has_program_end(buffer, start, end):
+                return name, (0 if start == offsets[0] else start)
+        return names[0], 0
+
+    def _program_index(self, source: ProgramSource) -> dict[str, int]:
+        key = id(source)
+        if key not in self.programs:
+            index: dict[str, int] = {}
+            for name, offset in self.frontend.programs(source.buffer):
+                index.setdefault(name, offset)
+            self.programs[key] = index
+        return self.programs[key]
+
+    def _run_path(self, position: Position) -> None:
+        while True:
+            position = self._run_from(position)
+
+    def _run_from(self, position: Position) -> Position:
+        """Run blocks from ``position`` until control transfers; return the new position."""
+        source = position.source
+        first_block, first_op = position.block_index, position.op_index
+        streak_start = position.offset
+        cache = self._should_cache()
+        frontend_blocks = self.frontend.blocks
+        path = None if source is self.source else source.name
+        self._line_source = source
+        for line_number, offset, next_offset, raw in source.lines_from(position.offset):
+            blocks = self._blocks(source, offset, line_number, raw, path, cache, frontend_blocks)
+            self._line_offset = offset
+            for block_index in range(first_block, len(blocks)):
+                self._block_index = block_index
+                transfer = self._execute_block(blocks[block_index], first_op)
+                first_op = 0
+                if transfer is not None:
+                    self.visited.append((source, streak_start, next_offset))
+                    return transfer
+            first_block = 0
+        self.visited.append((source, streak_start, len(source)))
+        self._ran_off_the_end(source)
+        raise PathEnd
+
+    def _should_cache(self) -> bool:
+        return bool(self.state.loops) or len(self.state.frames) > 1
+
+    def _blocks(self, source, offset, line_number, raw, path, cache, frontend_blocks):
+        if cache or self.state.loops:
+            key = (id(source), offset)
+            blocks = self.line_cache.get(key)
+            if blocks is None:
+                blocks = frontend_blocks(raw, line_number, path)
+                if len(self.line_cache) > 20_000:
+                    self.line_cache.clear()
+                self.line_cache[key] = blocks
+            return blocks
+        return frontend_blocks(raw, line_number, path)
+
+    def _execute_block(self, block: ir.Block, first_op: int):
+        """Run one block's operations; returns a Position when control transfers."""
+        state = self.state
+        if block.program_start and first_op == 0:
+            frame = state.frames[-1]
+            if frame.start != self._line_offset and not (frame.start == 0 and self._is_first_program(self._line_source, self._line_offset)):
+                self._program_ran_into_next(block, frame)
+        if block.notes:
+            for note in block.notes:
+                self.observer.note(note)
+        self.blocks_run += 1
+        if self.blocks_run > self.settings.loop_bound * 2000:
+            self._fault("core.loop-bound", block.span, f"analysis stopped after {self.blocks_run:,} blocks on this path", "unknown",
+                        "the program runs longer than the analysis budget (loop bound x 2000 blocks)")
+            raise PathEnd
+        self._block = block
+        ops = block.ops
+        handlers = self._handlers
+        for op_index in range(first_op, len(ops)):
+            self._op_index = op_index
+            transfer = handlers[type(ops[op_index])](ops[op_index], block)
+            if transfer is not None:
+                return transfer
+        return None
+
+    def _is_first_program(self, source: ProgramSource, offset: int) -> bool:
+        programs = self._program_index(source)
+        return bool(programs) and min(programs.values()) == offset
+
+    # ------------------------------------------------------------------ reporting helpers
+
+    def _fault(self, rule: str, span: Span, message: str, status: str = "violated", reason: str | None = None) -> None:
+        self.observer.fault(Fault(rule, span, message, status, reason))
+
+    def _change(self, what: str, span: Span, block, old=None, new=None, register=None) -> None:
+        self.observer.change(Change(what, span, block, old, new, register), self.state)
+
+    # ------------------------------------------------------------------ expressions
+
+    def evaluate(self, expr, span: Span | None = None):
+        """Value of an IR expression; VACANT passes through (callers decide what it means)."""
+        kind = type(expr)
+        if kind is float:
+            return expr
+        if kind is ir.IncrementCount:
+            return self._scale_increment(expr)
+        if kind is int:
+            return float(expr)
+        if kind is ir.Var:
+            return self.read_variable(expr, span)
+        if kind is ir.Unary:
+            operand = self._arithmetic_operand(self.evaluate(expr.operand, span), expr.operand, span)
+            return values.neg(operand)
+        if kind is ir.Binary:
+            return self._binary(expr, span)
+        if kind is ir.Func:
+            arguments = [self._arithmetic_operand(self.evaluate(arg, span), arg, span) for arg in expr.args]
+            try:
+                return values.call(expr.name, arguments)
+            except DomainError as error:
+                self._domain_error(str(error), span)
+        raise TypeError(f"not an expression: {expr!r}")
+
+    def _scale_increment(self, expr: ir.IncrementCount) -> float:
+        if expr.kind == "feed":
+            per_rev = self.state.modal.get("feed_mode") == "per_revolution"
+            return expr.count * self.feed_increment if per_rev and self.feed_increment else expr.count
+        scale = self.increment / 10.0 if self.state.modal.get("units") == "inch" else self.increment
+        return expr.count * scale
+
+    def _binary(self, expr: ir.Binary, span):
+        op = expr.op
+        left = self.evaluate(expr.left, span)
+        right = self.evaluate(expr.right, span)
+        if op in values.COMPARISONS:
+            if left is VACANT or right is VACANT:
+                return self._compare_vacant(op, left, right)
+            return values.compare(op, left, right)
+        if op in ("AND", "OR", "XOR"):
+            return values.logical(op, left, right)
+        left = self._arithmetic_operand(left, expr.left, span)
+        right = self._arithmetic_operand(right, expr.right, span)
+        try:
+            if op == "+":
+                return values.add(left, right)
+            if op == "-":
+                return values.sub(left, right)
+            if op == "*":
+                return values.mul(left, right)
+            if op == "/":
+                return values.div(left, right)
+            if op == "MOD":
+                return values.modulo(left, right)
+        except DomainError as error:
+            self._domain_error(str(error), span)
+        raise ValueError(f"unknown operator {op}")
+
+    @staticmethod
+    def _compare_vacant(op: str, left, right) -> bool:
+        """Fanuc: vacant equals only vacant in EQ/NE; elsewhere it counts as 0."""
+        if op in ("EQ", "NE"):
+            same = (left is VACANT) == (right is VACANT) and (left is VACANT or left == right)
+            return same if op == "EQ" else not same
+        left = 0.0 if left is VACANT else left
+        right = 0.0 if right is VACANT else right
+        return values.compare(op, left, right)
+
+    def _arithmetic_operand(self, value, expr, span):
+        if value is VACANT:
+            name = expr.name if isinstance(expr, ir.Var) else "a variable"
+            where = expr.span if isinstance(expr, ir.Var) and expr.span else span or self._block.span
+            self._fault("core.undefined-variable", where, f"{name} is vacant (never set, not passed as an argument); the control computes with 0")
+            return 0.0
+        if isinstance(value, (bool, Condition)):
+            return 1.0 if value is True else 0.0 if value is False else values.fresh("condition", 0.0, 1.0)
+        return value
+
+    def _domain_error(self, message: str, span) -> None:
+        self._fault("core.arithmetic-domain", span or self._block.span, f"{message}: the control stops with a calculation alarm")
+        raise PathEnd
+
+    def variable_name(self, var: ir.Var, span=None) -> str:
+        if isinstance(var.name, str):
+            return var.name
+        index = self.evaluate(var.name, span)
+        if type(index) is not float:
+            self._unsupported_here(var.span or span, "a variable whose number depends on a free parameter")
+            raise PathEnd
+        return f"#{int(round(index))}"
+
+    def read_variable(self, var: ir.Var, span=None):
+        name = self.variable_name(var, span)
+        number = int(name[1:]) if name[1:].isdigit() else None
+        state = self.state
+        if number == 0:
+            return VACANT
+        if number is not None and 1 <= number <= 33:
+            if name in state.local_variables:
+                return state.local_variables[name]
+            if self._in_macro():
+                return VACANT
+            return self._free_parameter(name)
+        if name in state.global_variables:
+            return state.global_variables[name]
+        system = self._system_variable(number)
+        if system is not None:
+            return system
+        return self._free_parameter(name)
+
+    def _in_macro(self) -> bool:
+        return any(frame.kind == "macro" for frame in self.state.frames)
+
+    def _free_parameter(self, name: str) -> Sym:
+        parameter = self.free_parameters.get(name)
+        if parameter is None:
+            parameter = values.parameter(name)
+            self.free_parameters[name] = parameter
+        return parameter
+
+    def _system_variable(self, number: int | None):
+        """The system variables the state can answer; the rest stay free parameters."""
+        if number is None or number < 1000:
+            return None
+        state = self.state
+        if number == 4109:
+            return state.feed if state.feed is not None else 0.0
+        if number == 4119:
+            return state.spindle_speed if state.spindle_speed is not None else 0.0
+        if number == 4120:
+            return state.tool_in_spindle if state.tool_in_spindle is not None else VACANT
+        if 5001 <= number <= 5003:
+            axis = "XYZ"[number - 5001]
+            value = state.position.get(axis)
+            return value if value is not None else values.fresh(f"#{number}")
+        return None
+
+    def write_variable(self, var: ir.Var, value, span=None) -> None:
+        name = self.variable_name(var, span)
+        number = int(name[1:]) if name[1:].isdigit() else None
+        if isinstance(value, (bool, Condition)):
+            value = 1.0 if value is True else 0.0 if value is False else values.fresh("condition", 0.0, 1.0)
+        if number is not None and 1 <= number <= 33:
+            self.state.local_variables[name] = value
+        else:
+            self.state.global_variables[name] = value
+
+    def condition(self, expr, span) -> "bool | Condition":
+        value = self.evaluate(expr, span)
+        if value is VACANT:
+            return False
+        return values.truth(value)
+
+    # ------------------------------------------------------------------ branching
+
+    def _decide(self, condition, span, resume_true, resume_false) -> bool:
+        """Decide a branch. A symbolic condition forks: this path takes ``True`` (and its
+        path condition records it), a copy takes ``False`` from ``resume_false``."""
+        if type(condition) is bool:
+            return condition
+        if self.paths_started + len(self._forks) >= self.settings.max_paths:
+            self._fault("core.path-limit", span, f"the branch depends on {', '.join(sorted(_condition_parameters(condition)))}; "
+                        f"more than {self.settings.max_paths} paths: this branch was not explored both ways", "unknown",
+                        "path budget exhausted (max_paths)")
+            raise PathEnd
+        twin = self.state.fork()
+        twin.path_condition.append(values.negate(condition))
+        self._forks.append((twin, resume_false))
+        self.state.path_condition.append(condition)
+        return True
+
+    def _next_position(self) -> Position:
+        return self._current_position(self._op_index + 1)
+
+    def _current_position(self, op_index: int) -> Position:
+        return Position(self._line_source, self._line_offset, self._block_index, op_index)
+
+    # ------------------------------------------------------------------ op handlers: state
+
+    def _nothing(self, op, block):
+        return None
+
+    def _set_modal(self, op: ir.SetModal, block):
+        state = self.state
+        old = state.modal.get(op.group)
+        state.modal[op.group] = op.value
+        if op.group == "units" and old != op.value:
+            self._change("units", op.span, block, old, op.value)
+        return None
+
+    def _cutter_comp(self, op: ir.CutterComp, block):
+        state = self.state
+        register = self._register(op.register, op.span)
+        old = state.comp_side
+        if op.side != "keep":
+            state.comp_side = op.side
+        if register is not None:
+            state.comp_register = register
+        self._change("cutter_comp", op.span, block, old, state.comp_side, register)
+        return None
+
+    def _length_offset(self, op: ir.LengthOffset, block):
+        state = self.state
+        register = self._register(op.register, op.span)
+        old = state.length_mode
+        if op.mode != "keep":
+            state.length_mode = op.mode
+        if register is not None:
+            state.length_register = register
+            if register == 0.0:
+                state.length_mode = "off"
+        if op.mode == "off":
+            state.length_register = None
+        self._change("length_offset", op.span, block, old, state.length_mode, register)
+        return None
+
+    def _register(self, expr, span):
+        if expr is None:
+            return None
+        value = self.evaluate(expr, span)
+        return None if value is VACANT else value
+
+    def _work_offset(self, op: ir.WorkOffset, block):
+        self.state.modal["work_offset"] = op.name
+        return None
+
+    def _set_feed(self, op: ir.SetFeed, block):
+        value = self.evaluate(op.value, op.span)
+        if value is not VACANT:
+            self.state.feed = value
+        return None
+
+    def _set_spindle_speed(self, op: ir.SetSpindleSpeed, block):
+        value = self.evaluate(op.value, op.span)
+        if value is VACANT:
+            return None
+        if op.clamp:
+            self.state.spindle_clamp = value
+        else:
+            self.state.spindle_speed = value
+        return None
+
+    def _spindle(self, op: ir.Spindle, block):
+        state = self.state
+        old = state.spindle
+        if op.state != "orient":
+            state.spindle = op.state
+        self._change("spindle", op.span, block, old, op.state)
+        return None
+
+    def _coolant(self, op: ir.Coolant, block):
+        self.state.coolant = op.state
+        return None
+
+    def _tool_select(self, op: ir.ToolSelect, block):
+        state = self.state
+        number = self.evaluate(op.number, op.span)
+        state.tool_selected = number
+        self._change("tool_select", op.span, block, None, number)
+        if op.offset is not None:
+            offset = self.evaluate(op.offset, op.span)
+            state.tool_in_spindle = number
+            state.tool_offset = offset
+            state.tool_changed = True
+            self._change("tool_change", op.span, block, None, number, offset)
+        return None
+
+    def _tool_change(self, op: ir.ToolChange, block):
+        state = self.state
+        old = state.tool_in_spindle
+        state.tool_in_spindle = state.tool_selected
+        state.tool_changed = True
+        self._change("tool_change", op.span, block, old, state.tool_in_spindle)
+        return None
+
+    def _unsupported(self, op: ir.Unsupported, block):
+        if "position" in op.affects:
+            for axis in list(self.state.position):
+                self.state.position[axis] = None
+        return None
+
+    def _unsupported_here(self, span, what: str) -> None:
+        self._fault("core.unsupported-code", span, f"{what} is not modelled; the rest of this path is not analysed", "unknown", what)
+
+    # ------------------------------------------------------------------ coordinates
+
+    def _target(self, axis: str, value, incremental: bool):
+        """Absolute end coordinate of ``axis`` for a written value."""
+        if incremental or self.state.modal.get("distance") == "incremental":
+            current = self.state.position.get(axis)
+            return None if current is None else values.add(current, value)
+        return value
+
+    def _targets(self, written: dict, incremental_axes, span) -> dict:
+        targets = {}
+        for axis, expr in written.items():
+            value = self.evaluate(expr, span)
+            if value is VACANT:
+                continue  # a vacant variable makes the address absent (Fanuc)
+            targets[axis] = self._target(axis, value, axis in incremental_axes)
+        return targets
+
+    def _coordinate_shift(self, op: ir.CoordinateShift, block):
+        if op.kind == "set_position":
+            for axis, expr in op.values.items():
+                value = self.evaluate(expr, op.span)
+                if value is not VACANT:
+                    self.state.position[axis] = value
+            speed = op.words.get("S")
+            if speed is not None:
+                self.state.spindle_clamp = self.evaluate(speed, op.span)
+        elif op.kind == "local":
+            for axis, expr in op.values.items():
+                current = self.state.position.get(axis)
+                shift = self.evaluate(expr, op.span)
+                if current is not None and shift is not VACANT:
+                    self.state.position[axis] = values.sub(current, shift)
+        return None
+
+    def _reference_return(self, op: ir.ReferenceReturn, block):
+        state = self.state
+        if op.which == "check":
+            return None
+        if op.which == "from_reference":
+            via = state.last_reference_via
+            start = dict(state.position)
+            for axis, value in via.items():
+                state.position[axis] = value
+            self._emit("rapid", start, op.span, block, "reference")
+            targets = self._targets(op.via, frozenset(), op.span)
+            start = dict(state.position)
+            state.position.update(targets)
+            self._emit("rapid", start, op.span, block, "reference")
+            return None
+        targets = self._targets(op.via, frozenset(), op.span)
+        start = dict(state.position)
+        state.position.update(targets)
+        state.last_reference_via = dict(targets)
+        self._emit("rapid", start, op.span, block, "reference")
+        self._change("reference_return", op.span, block, dict(op_values(op.via, self, op.span)), op.which, None)
+        for axis in targets:
+            state.position[axis] = None  # at the machine reference point: unknown in work coordinates
+        return None
+
+    def _machine_move(self, op: ir.MachineMove, block):
+        for axis in op.targets:
+            self.state.position[axis] = None
+        return None
+
+    # ------------------------------------------------------------------ motion
+
+    def _move(self, op: ir.Move, block):
+        state = self.state
+        if op.kind is not None:
+            if state.cycle is not None and op.kind != "thread":
+                self._cancel_cycle()
+            state.modal["motion"] = op.kind
+        elif state.cycle is not None:
+            return self.cycles.modal_hole(op, block)
+        kind = state.modal.get("motion", "rapid")
+        targets = self._targets(op.targets, op.incremental, op.span)
+        if not targets and not op.arc:
+            return None
+        state.motion_seen = True
+        start = dict(state.position)
+        state.position.update(targets)
+        arc = self._arc(op, kind, start) if kind in _ARC_KINDS else None
+        self._emit(_SEGMENT_KIND[kind], start, op.span, block, "programmed", None, arc)
+        return None
+
+    def _emit(self, kind: str, start: dict, span, block, role: str = "programmed", cycle: str | None = None, arc: Arc | None = None) -> None:
+        self.observer.segment(Segment(kind, start, dict(self.state.position), span, block, role, cycle, arc), self.state)
+
+    def _arc(self, op: ir.Move, kind: str, start: dict) -> Arc:
+        state = self.state
+        first, second, normal = state.plane_axes
+        scale_first = 0.5 if self.machine == "lathe" and first == "X" else 1.0
+        scale_second = 0.5 if self.machine == "lathe" and second == "X" else 1.0
+        s1, s2 = start.get(first), start.get(second)
+        e1, e2 = state.position.get(first), state.position.get(second)
+        direction = _ARC_KINDS[kind]
+        arc_words = op.arc or {}
+        radius_expr = arc_words.get("R")
+        if None in (s1, s2, e1, e2):
+            return Arc(direction, (first, second, normal), None, None, None)
+        s1, s2, e1, e2 = _scaled(s1, scale_first), _scaled(s2, scale_second), _scaled(e1, scale_first), _scaled(e2, scale_second)
+        if radius_expr is not None:
+            radius = self.evaluate(radius_expr, op.span)
+            if radius is VACANT:
+                return Arc(direction, (first, second, normal), None, None, None)
+            return Arc(direction, (first, second, normal), None, None, None, radius, _distance(s1, s2, e1, e2))
+        centre_letters = {"X": "I", "Y": "J", "Z": "K"}
+        offset1 = self.evaluate(arc_words.get(centre_letters[first], 0.0), op.span)
+        offset2 = self.evaluate(arc_words.get(centre_letters[second], 0.0), op.span)
+        offset1 = 0.0 if offset1 is VACANT else offset1
+        offset2 = 0.0 if offset2 is VACANT else offset2
+        if state.modal.get("arc_distance") == "absolute":
+            c1, c2 = offset1, offset2
+        else:
+            c1, c2 = values.add(s1, offset1), values.add(s2, offset2)
+        start_radius = _distance(s1, s2, c1, c2)
+        end_radius = _distance(e1, e2, c1, c2)
+        return Arc(direction, (first, second, normal), (c1, c2), start_radius, end_radius)
+
+    # ------------------------------------------------------------------ cycles
+
+    def _cycle_define(self, op: ir.CycleDefine, block):
+        return self.cycles.define(op, block)
+
+    def _cycle_cancel(self, op: ir.CycleCancel, block):
+        self._cancel_cycle()
+        return None
+
+    def _cancel_cycle(self) -> None:
+        self.state.cycle = None
+        self.state.cycle_data = {}
+
+    def _cycle_call(self, op: ir.CycleCall, block):
+        return self.cycles.call(op, block)
+
+    # ------------------------------------------------------------------ macro statements
+
+    def _assign(self, op: ir.Assign, block):
+        value = self.evaluate(op.value, op.span)
+        self.write_variable(op.target, value, op.span)
+        return None
+
+    def _alarm(self, op: ir.Alarm, block):
+        number = self.evaluate(op.number, op.span)
+        shown = f"{number:g}" if type(number) is float else "?"
+        text = f" ({op.message})" if op.message else ""
+        self._fault("core.macro-alarm", op.span, f"the program raises macro alarm #3000={shown}{text}: the control stops here")
+        raise PathEnd
+
+    def _conditional(self, op: ir.Conditional, block):
+        condition = self.condition(op.condition, op.span)
+        if self._decide(condition, op.span, None, self._next_position()):
+            for inner in op.then:
+                transfer = self._handlers[type(inner)](inner, block)
+                if transfer is not None:
+                    return transfer
+        return None
+
+    def _jump(self, op: ir.Jump, block):
+        if op.condition is not None:
+            condition = self.condition(op.condition, op.span)
+            if not self._decide(condition, op.span, None, self._next_position()):
+                return None
+        target = self.evaluate(op.target, op.span)
+        if type(target) is not float:
+            self._unsupported_here(op.span, "a jump whose target depends on a free parameter")
+            raise PathEnd
+        position = self.find_label(target, op.span)
+        self._count_jump(position, op.span, f"GOTO {target:g}")
+        return position
+
+    def _count_jump(self, position: Position, span, what: str) -> None:
+        key = (id(position.source), position.offset, position.block_index)
+        counts = self.state.jump_counts
+        counts[key] = counts.get(key, 0) + 1
+        if counts[key] > self.settings.loop_bound:
+            self._fault("core.loop-bound", span, f"{what} was taken {self.settings.loop_bound:,} times without the loop ending; the rest of this path is not analysed",
+                        "unknown", f"loop bound {self.settings.loop_bound} reached")
+            raise PathEnd
+
+    def _loop_start(self, op: ir.LoopStart, block):
+        condition = self.condition(op.condition, op.span)
+        head = self._current_position(self._op_index)
+        state = self.state
+        frame = next((loop for loop in state.loops if loop.loop_id == op.loop_id and loop.head == head), None)
+        if self._decide(condition, op.span, None, self._skip_marker(op)):
+            if frame is None:
+                state.loops.append(LoopFrame(op.loop_id, head))
+            return None
+        return self._exit_loop(op, frame)
+
+    def _skip_marker(self, op: ir.LoopStart) -> Position:
+        """Where the False side of a symbolic WHILE resumes: after the matching END."""
+        return self._find_loop_end(op.loop_id, op.span)
+
+    def _exit_loop(self, op: ir.LoopStart, frame):
+        if frame is not None:
+            self.state.loops.remove(frame)
+        return self._find_loop_end(op.loop_id, op.span)
+
+    def _loop_end(self, op: ir.LoopEnd, block):
+        state = self.state
+        for frame in reversed(state.loops):
+            if frame.loop_id == op.loop_id:
+                frame.iterations += 1
+                if frame.iterations >= self.settings.loop_bound:
+                    self._fault("core.loop-bound", op.span, f"WHILE ... DO{op.loop_id} ran {self.settings.loop_bound:,} times without its condition becoming false; "
+                                "the rest of this path is not analysed", "unknown", f"loop bound {self.settings.loop_bound} reached")
+                    raise PathEnd
+                return frame.head
+        self._fault("core.label-not-found", op.span, f"END{op.loop_id} has no matching WHILE ... DO{op.loop_id} before it")
+        return None
+
+    def _find_loop_end(self, loop_id: int, span) -> Position:
+        source = self._line_source
+        depth = 0
+        path = None if source is self.source else source.name
+        start_offset, start_block = self._line_offset, self._block_index + 1
+        for line_number, offset, _next, raw in source.lines_from(start_offset):
+            blocks = self.frontend.blocks(raw, line_number, path)
+            for index in range(start_block if offset == start_offset else 0, len(blocks)):
+                for op in blocks[index].ops:
+                    if isinstance(op, ir.LoopStart) and op.loop_id == loop_id:
+                        depth += 1
+                    elif isinstance(op, ir.LoopEnd) and op.loop_id == loop_id:
+                        if depth == 0:
+                            return Position(source, offset, index + 1)
+                        depth -= 1
+        self._fault("core.label-not-found", span, f"DO{loop_id} has no matching END{loop_id}: the control alarms when the loop ends")
+        raise PathEnd
+
+    # ------------------------------------------------------------------ labels and programs
+
+    def find_label(self, label: float, span, source: ProgramSource | None = None, frame: Frame | None = None) -> Position:
+        frame = frame or self.state.frames[-1]
+        source = source or frame.source
+        key = (id(source), frame.program, label)
+        found = self.label_cache.get(key)
+        if found is None:
+            found = self._scan_label(source, frame, label)
+            self.label_cache[key] = found
+        if not found:
+            self._fault("core.label-not-found", span, f"sequence number N{label:g} is not in program {frame.program}: the control alarms here")
+            raise PathEnd
+        if len(found) > 1:
+            self.observer.fault(Fault("core.duplicate-label", span, f"N{label:g} appears {len(found)} times in {frame.program}; the jump goes to the first one after the current block"))
+        current = self._line_offset if source is self._line_source else -1
+        after = [position for position in found if position.offset > current]
+        return (after or found)[0]
+
+    def _scan_label(self, source: ProgramSource, frame: Frame, label: float) -> list[Position]:
+        start, end = self._program_bounds(source, frame.start)
+        path = None if source is self.source else source.name
+        found = []
+        for offset in self.frontend.label_offsets(source.buffer, label):
+            if not start <= offset < end:
+                continue
+            line_number = source.line_number_at(offset)
+            newline = source.buffer.find(b"\n", offset)
+            raw = bytes(source.buffer[offset : len(source.buffer) if newline < 0 else newline]).rstrip(b"\r")
+            for index, block in enumerate(self.frontend.blocks(raw, line_number, path)):
+                if block.label == label:
+                    found.append(Position(source, offset, index))
+        return found
+
+    def _program_bounds(self, source: ProgramSource, start: int) -> tuple[int, int]:
+        offsets = sorted(self._program_index(source).values())
+        later = [offset for offset in offsets if offset > start]
+        return start, (later[0] if later else len(source))
+
+    def _find_program(self, number: float, span) -> tuple[ProgramSource, int] | None:
+        name = self.frontend.program_name(number)
+        for source in (self._line_source, self.source):
+            offset = self._program_index(source).get(name)
+            if offset is not None:
+                return source, offset
+        if self.library is not None:
+            found = self.library.find(name)
+            if found is not None:
+                source = found
+                offset = self._program_index(source).get(name, 0)
+                return source, offset
+        return None
+
+    # ------------------------------------------------------------------ calls
+
+    def _call(self, op: ir.Call, block):
+        state = self.state
+        repeat = self.evaluate(op.repeat, op.span)
+        repeat = 1 if repeat is VACANT else repeat
+        if type(repeat) is not float:
+            self._unsupported_here(op.span, "a call whose repeat count depends on a free parameter")
+            raise PathEnd
+        if not 0 <= repeat <= 9999:
+            self._fault("core.repeat-count-range", op.span, f"repeat count L{repeat:g} is outside 0-9999")
+        if repeat < 1:
+            return None
+        if op.kind == "local":
+            return self._local_call(op, block, int(repeat))
+        program = self.evaluate(op.program, op.span)
+        if type(program) is not float or program < 0:
+            self._fault("core.program-not-found", op.span, "the call names no program number (P missing)")
+            return None
+        found = self._find_program(program, op.span)
+        if found is None:
+            where = " or on the subprogram path" if self.settings.subprogram_path else " (give its folder with --subprogram-path)"
+            self._fault("core.program-not-found", op.span, f"program {self.frontend.program_name(program)} called here is not in this file{where}: the control alarms")
+            return None
+        source, start = found
+        if len(state.frames) > self.settings.call_depth:
+            self._fault("core.call-depth", op.span, f"calls nest deeper than {self.settings.call_depth} levels (recursion through {self.frontend.program_name(program)}?): the control alarms")
+            raise PathEnd
+        local_variables = None
+        if op.kind == "macro":
+            local_variables = self._macro_arguments(op)
+        frame = Frame(op.kind, self.frontend.program_name(program), source, start, self._next_position(), int(repeat) - 1)
+        if local_variables is not None:
+            frame.local_variables = state.local_variables
+            state.local_variables = local_variables
+        state.frames.append(frame)
+        self._change("call", op.span, block, None, frame.program)
+        entry = Position(source, start)
+        if op.start_label is not None:
+            label = self.evaluate(op.start_label, op.span)
+            if type(label) is float:
+                return self.find_label(label, op.span, source, frame)
+        return entry
+
+    def _macro_arguments(self, op: ir.Call) -> dict:
+        arguments = {}
+        for letter, expr in op.arguments.items():
+            number = _ARGUMENT_VARIABLES.get(letter)
+            if number is None:
+                self._fault("core.syntax", op.span, f"address {letter} cannot pass a G65 argument")
+                continue
+            value = self.evaluate(expr, op.span)
+            if value is not VACANT:
+                arguments[f"#{number}"] = value
+        return arguments
+
+    def _local_call(self, op: ir.Call, block, repeat: int):
+        label = self.evaluate(op.program, op.span)
+        if type(label) is not float:
+            self._fault("core.label-not-found", op.span, "M97 names no sequence number (P missing)")
+            return None
+        current = self.state.frames[-1]
+        target = self.find_label(label, op.span)
+        frame = Frame("local", current.program, current.source, current.start, self._next_position(), repeat - 1)
+        frame.local_variables = None
+        self.state.frames.append(frame)
+        frame.start = target.offset
+        return target
+
+    def _return(self, op: ir.Return, block):
+        state = self.state
+        frame = state.frames[-1]
+        if frame.kind == "main":
+            self._fault("core.m99-in-main", op.span, "M99 in the main program restarts it from the top: it repeats without end (bar feeder loop?)")
+            self._program_end(op.span, block, "m99")
+        if frame.repeats_left > 0:
+            frame.repeats_left -= 1
+            self._count_jump(Position(frame.source, frame.start), op.span, f"the repeat of {frame.program}")
+            return Position(frame.source, frame.start)
+        state.frames.pop()
+        if frame.local_variables is not None:
+            state.local_variables = frame.local_variables
+        self._change("return", op.span, block, frame.program, None)
+        if op.to_label is not None:
+            label = self.evaluate(op.to_label, op.span)
+            if type(label) is float:
+                return self.find_label(label, op.span)
+        return frame.return_to
+
+    def _stop(self, op: ir.Stop, block):
+        self._change("stop", op.span, block, None, op.kind)
+        if op.kind == "end":
+            self._program_end(op.span, block, "end")
+        return None
+
+    def _program_end(self, span, block, how: str):
+        self._change("end", span, block, None, how)
+        raise PathEnd
+
+    def _ran_off_the_end(self, source: ProgramSource) -> None:
+        frame = self.state.frames[-1]
+        last_line = max(source.line_number_at(len(source)) - (1 if source.buffer[-1:] == b"\n" else 0), 1) if len(source) else 1
+        span = Span(last_line, 1, last_line, 1, None if source is self.source else source.name)
+        what = "M99" if frame.kind != "main" else "M02/M30"
+        self._fault("core.program-end-missing", span, f"{frame.program if frame.program != 'main' else 'the program'} ends without {what}: the control stops at the end of the text with the spindle and coolant as they are")
+        self._change("end", span, None, None, "eof")
+
+    def _program_ran_into_next(self, block: ir.Block, frame: Frame) -> None:
+        what = "M99" if frame.kind != "main" else "M02/M30"
+        self._fault("core.program-end-missing", block.span, f"{frame.program if frame.program != 'main' else 'the program'} runs into program {block.program_start} without {what}")
+        self._change("end", block.span, block, None, "eof")
+        raise PathEnd
+
+    # ------------------------------------------------------------------ computed codes
+
+    def _deferred(self, op: ir.Deferred, block):
+        resolved = []
+        for expr in op.exprs:
+            value = self.evaluate(expr, op.span)
+            if type(value) is not float:
+                self._unsupported_here(op.span, "a G/M code computed from a free parameter")
+                raise PathEnd
+            resolved.append(value)
+        ops, notes = op.resolve(tuple(resolved))
+        for note in notes:
+            self.observer.note(note)
+        for inner in ops:
+            transfer = self._handlers[type(inner)](inner, block)
+            if transfer is not None:
+                return transfer
+        return None
+
+    # ------------------------------------------------------------------ unread text
+
+    def _sweep_unvisited(self) -> None:
+        """Read the lines no path reached, for their syntax findings only."""
+        by_source: dict[int, tuple[ProgramSource, list]] = {}
+        for source, start, end in self.visited:
+            by_source.setdefault(id(source), (source, []))[1].append((start, end))
+        by_source.setdefault(id(self.source), (self.source, []))
+        for source, ranges in by_source.values():
+            path = None if source is self.source else source.name
+            for start, end in _gaps(sorted(ranges), len(source)):
+                for line_number, offset, _next, raw in source.lines_from(start):
+                    if offset >= end:
+                        break
+                    for block in self.frontend.blocks(raw, line_number, path):
+                        for note in block.notes:
+                            self.observer.note(note)
+
+
+def op_values(written: dict, interpreter: "Interpreter", span) -> dict:
+    """The values of words as written (not made absolute)."""
+    evaluated = {}
+    for axis, expr in written.items():
+        value = interpreter.evaluate(expr, span)
+        if value is not VACANT:
+            evaluated[axis] = value
+    return evaluated
+
+
+def _gaps(ranges: list[tuple[int, int]], size: int):
+    position = 0
+    for start, end in ranges:
+        if start > position:
+            yield position, start
+        position = max(position, end)
+    if position < size:
+        yield position, size
+
+
+def _scaled(value, scale: float):
+    return value if scale == 1.0 else values.mul(value, scale)
+
+
+def _distance(a1, a2, b1, b2):
+    d1, d2 = values.sub(a1, b1), values.sub(a2, b2)
+    if type(d1) is float and type(d2) is float:
+        return math.hypot(d1, d2)
+    return values.fresh("radius", 0.0, values.INF)
+
+
+def _condition_parameters(condition: Condition) -> set[str]:
+    import z3
+
+    found = set()
+
+    def walk(term):
+        if z3.is_const(term) and term.decl().kind() == z3.Z3_OP_UNINTERPRETED:
+            found.add(str(term))
+        for child in term.children():
+            walk(child)
+
+    walk(condition.term)
+    return found or {"a free parameter"}

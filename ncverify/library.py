@@ -1,0 +1,52 @@
+"""Subprograms in separate files: found by program number on the subprogram search path."""
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+from .source import ProgramSource
+
+_FIRST_PROGRAM = re.compile(rb"(?mi)^[ \t]*(?:%[ \t]*)?(?:N\d+[ \t]*)?[O:][ \t]*(\d+)")
+_MAX_FILES = 5000
+
+
+class SubprogramLibrary:
+    """Indexes the files of the search folders by file name (``O1000.nc``, ``1000``) and by
+    the program numbers in their first 4 KiB; files are opened only when called."""
+
+    def __init__(self, folders: list[Path], extensions: tuple[str, ...]):
+        self.folders = [folder for folder in folders if folder.is_dir()]
+        self.extensions = {extension.lower() for extension in extensions}
+        self._index: dict[str, Path] | None = None
+        self._open: dict[Path, ProgramSource] = {}
+
+    def find(self, name: str) -> ProgramSource | None:
+        if self._index is None:
+            self._index = self._build_index()
+        path = self._index.get(name)
+        if path is None:
+            return None
+        if path not in self._open:
+            self._open[path] = ProgramSource.open(path)
+        return self._open[path]
+
+    def _build_index(self) -> dict[str, Path]:
+        index: dict[str, Path] = {}
+        count = 0
+        for folder in self.folders:
+            for path in sorted(folder.iterdir()):
+                if count >= _MAX_FILES or not path.is_file() or path.suffix.lower() not in self.extensions:
+                    continue
+                count += 1
+                stem = path.stem.upper()
+                digits = stem.lstrip("O")
+                if digits.isdigit():
+                    index.setdefault(f"O{int(digits)}", path)
+                try:
+                    with path.open("rb") as handle:
+                        head = handle.read(4096)
+                except OSError:
+                    continue
+                for match in _FIRST_PROGRAM.finditer(head):
+                    index.setdefault(f"O{int(match.group(1))}", path)
+        return index

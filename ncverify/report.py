@@ -1,0 +1,152 @@
+"""Stage 5, report: findings as text, JSON (the contract, ``version: 1``) and SARIF 2.1.0."""
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+from . import __version__
+from .api import FileResult
+from .check import rule_definitions
+from .diagnostics import Severity, Status
+
+_SARIF_LEVEL = {Severity.ERROR: "error", Severity.WARNING: "warning", Severity.INFO: "note"}
+SARIF_SCHEMA = "https://docs.oasis-open.org/sarif/sarif/v2.1.0/errata01/os/schemas/sarif-schema-2.1.0.json"
+
+
+def summary(results: list[FileResult], errors: list[str]) -> dict:
+    diagnostics = [d for result in results for d in result.diagnostics]
+    return {
+        "files": len(results),
+        "checked": sum(1 for result in results if result.skipped is None and result.dialect is not None),
+        "skipped": sum(1 for result in results if result.skipped is not None),
+        "unreadable": len(errors),
+        "error": sum(1 for d in diagnostics if d.severity is Severity.ERROR and d.status is Status.VIOLATED),
+        "warning": sum(1 for d in diagnostics if d.severity is Severity.WARNING and d.status is Status.VIOLATED),
+        "info": sum(1 for d in diagnostics if d.severity is Severity.INFO and d.status is Status.VIOLATED),
+        "unknown": sum(1 for d in diagnostics if d.status is Status.UNKNOWN),
+        "proved": sum(1 for d in diagnostics if d.status is Status.PROVED),
+        "blocks": sum(result.blocks for result in results),
+    }
+
+
+def to_json(results: list[FileResult], errors: list[str]) -> dict:
+    document = {"version": 1, "files": [result.to_json() for result in results], "summary": summary(results, errors)}
+    if errors:
+        document["errors"] = list(errors)
+    return document
+
+
+def render_json(results: list[FileResult], errors: list[str]) -> str:
+    return json.dumps(to_json(results, errors), indent=2, ensure_ascii=False)
+
+
+# --------------------------------------------------------------------------- text
+
+
+class _Quoter:
+    """Quotes source lines for the text report, reading each file once."""
+
+    def __init__(self):
+        self._lines: dict[str, list[str]] = {}
+
+    def line(self, path: str, number: int) -> str:
+        lines = self._lines.get(path)
+        if lines is None:
+            try:
+                raw = Path(path).read_bytes() if Path(path).is_file() else b""
+            except OSError:
+                raw = b""
+            lines = raw.decode("utf-8", errors="replace").splitlines() if len(raw) < 50_000_000 else []
+            self._lines[path] = lines
+        return lines[number - 1] if 0 < number <= len(lines) else ""
+
+
+def render_text(results: list[FileResult], errors: list[str], texts: dict[str, str] | None = None) -> str:
+    quoter = _Quoter()
+    out: list[str] = []
+    for result in results:
+        if result.skipped:
+            out.append(f"{result.path}: note: skipped: {result.skipped}")
+            continue
+        for d in result.diagnostics:
+            path = d.span.path or result.path
+            status = "" if d.status is Status.VIOLATED else f" [{d.status.value}{': ' + d.reason if d.reason else ''}]"
+            witness = "" if not d.witness else " (for example " + ", ".join(f"{name}={value:g}" for name, value in sorted(d.witness.items())) + ")"
+            out.append(f"{path}:{d.span.line}:{d.span.column}: {d.severity.value} {d.rule}: {d.message}{witness}{status}")
+            source_line = texts[path].splitlines()[d.span.line - 1] if texts and path in texts and d.span.line <= len(texts[path].splitlines()) else quoter.line(path, d.span.line)
+            if source_line.strip():
+                out.append(f"    {d.span.line:>5} | {source_line.rstrip()}")
+                if d.span.end_line == d.span.line and d.span.end_column > d.span.column:
+                    out.append("          | " + " " * (d.span.column - 1) + "^" * (d.span.end_column - d.span.column))
+        for rule_id, count in sorted(result.truncated.items()):
+            out.append(f"{result.path}: note: {count} more {rule_id} findings not shown")
+    for error in errors:
+        out.append(f"error: {error}")
+    totals = summary(results, errors)
+    out.append(
+        f"{totals['checked']} file(s) checked, {totals['skipped']} skipped: {totals['error']} error(s), {totals['warning']} warning(s), "
+        f"{totals['info']} note(s), {totals['unknown']} unknown, {totals['proved']} proved"
+    )
+    return "\n".join(out)
+
+
+# --------------------------------------------------------------------------- SARIF
+
+
+def render_sarif(results: list[FileResult], errors: list[str]) -> str:
+    definitions = rule_definitions()
+    used = sorted({d.rule for result in results for d in result.diagnostics})
+    index = {rule_id: position for position, rule_id in enumerate(used)}
+    rules = [_sarif_rule(definitions[rule_id]) for rule_id in used]
+    sarif_results = [_sarif_result(result, d, index) for result in results for d in result.diagnostics]
+    run = {
+        "tool": {"driver": {"name": "ncverify", "version": __version__, "informationUri": "https://github.com/ncverify/ncverify", "rules": rules}},
+        "columnKind": "unicodeCodePoints",
+        "results": sarif_results,
+        "invocations": [{
+            "executionSuccessful": not errors,
+            "toolExecutionNotifications": [{"level": "error", "message": {"text": error}} for error in errors],
+        }],
+    }
+    return json.dumps({"$schema": SARIF_SCHEMA, "version": "2.1.0", "runs": [run]}, indent=2, ensure_ascii=False)
+
+
+def _sarif_rule(definition) -> dict:
+    return {
+        "id": definition.id,
+        "name": definition.id.split(".", 1)[1].replace("-", " "),
+        "shortDescription": {"text": definition.summary},
+        "fullDescription": {"text": definition.section("What it checks") or definition.summary},
+        "help": {"text": definition.page, "markdown": definition.page},
+        "defaultConfiguration": {"level": _SARIF_LEVEL[definition.severity]},
+        "properties": {"category": definition.category, "tags": [definition.category]},
+    }
+
+
+def _sarif_result(result: FileResult, d, index: dict) -> dict:
+    uri = Path(d.span.path or result.path).as_posix()
+    entry = {
+        "ruleId": d.rule,
+        "ruleIndex": index[d.rule],
+        "level": _SARIF_LEVEL[d.severity],
+        "message": {"text": d.message},
+        "locations": [{
+            "physicalLocation": {
+                "artifactLocation": {"uri": uri},
+                "region": {"startLine": d.span.line, "startColumn": d.span.column, "endLine": d.span.end_line, "endColumn": max(d.span.end_column, d.span.column)},
+            }
+        }],
+        "properties": {"category": d.category, "status": d.status.value},
+    }
+    if d.status is Status.PROVED:
+        entry["kind"] = "pass"
+        entry["level"] = "none"
+    elif d.status is Status.UNKNOWN:
+        entry["kind"] = "review"
+    if d.reason:
+        entry["properties"]["reason"] = d.reason
+    if d.witness:
+        entry["properties"]["witness"] = dict(d.witness)
+    return entry
+
+

@@ -1,0 +1,99 @@
+"""What the interpreter reports as it runs, and what rules read: the interpreted trace.
+
+Rules never see program text. They see motion segments (programmed ones and the ones a
+cycle makes), holes made by canned cycles, state changes, faults the interpreter itself
+detects (a jump to a missing label, a domain error), and the machine state at that moment.
+Events stream: nothing here is kept after the rules have looked at it.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from . import ir
+from .source import Span
+from .values import Value
+
+
+@dataclass(slots=True)
+class Arc:
+    """Geometry of a circular segment in its plane: ``centre`` on the plane's two axes."""
+
+    direction: str  # cw / ccw
+    plane: tuple[str, str, str]  # first axis, second axis, normal axis
+    centre: tuple[Value, Value] | None
+    start_radius: Value | None
+    end_radius: Value | None
+    radius_word: Value | None = None  # the R word, when the arc was given by radius
+    chord: Value | None = None  # start-to-end distance in the plane (R form)
+
+
+@dataclass(slots=True)
+class Segment:
+    """One straight or circular move. Positions are in the program's work coordinates;
+    an axis whose position is unknown (before the first absolute move, after a reference
+    return) is ``None``. ``role`` says where it came from: ``programmed``, or a cycle's
+    ``approach`` / ``infeed`` / ``retract`` / ``between-holes`` / ``contour`` / ``shift``."""
+
+    kind: str  # rapid, feed, arc, thread
+    start: dict[str, Value | None]
+    end: dict[str, Value | None]
+    span: Span
+    block: ir.Block
+    role: str = "programmed"
+    cycle: str | None = None
+    arc: Arc | None = None
+
+
+@dataclass(slots=True)
+class Hole:
+    """A hole a canned cycle makes, with its levels resolved along the drilling axis."""
+
+    cycle: str
+    model: dict
+    span: Span
+    block: ir.Block
+    drill_axis: str
+    position: dict[str, Value | None]
+    initial: Value | None
+    r_point: Value | None
+    bottom: Value | None
+    params: dict[str, Value]
+    param_spans: dict[str, Span] = field(default_factory=dict)
+    missing: tuple[str, ...] = ()
+
+
+@dataclass(slots=True)
+class CycleRun:
+    """A one-shot cycle (lathe G70-G76, G12/G13) with its resolved parameters."""
+
+    cycle: str
+    model: dict
+    span: Span
+    block: ir.Block
+    params: dict[str, Value]
+    param_spans: dict[str, Span] = field(default_factory=dict)
+    first_block: bool = False
+
+
+@dataclass(slots=True)
+class Fault:
+    """A finding the interpreter makes itself (missing label, domain error, bound hit)."""
+
+    rule: str
+    span: Span
+    message: str
+    status: str = "violated"
+    reason: str | None = None
+
+
+@dataclass(slots=True)
+class Change:
+    """A state change rules watch: ``what`` is ``tool_change``, ``cutter_comp``,
+    ``length_offset``, ``units``, ``spindle``, ``stop``, ``end``, ``call``..."""
+
+    what: str
+    span: Span
+    block: ir.Block | None
+    old: object = None
+    new: object = None
+    register: Value | None = None

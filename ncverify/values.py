@@ -1,0 +1,318 @@
+"""Values of the abstract interpreter: a ``float`` where the value is known, a :class:`Sym`
+where it depends on a parameter the program never assigns.
+
+A Sym carries a Z3 term (for the proofs) and an interval (for cheap decisions): most
+questions - is this depth negative? is this feed zero? - are settled by the interval
+without calling the solver. Concrete arithmetic never touches Z3. Transcendental functions
+of symbolic values become fresh Z3 variables bounded by the function's range, which
+over-approximates soundly: everything the program can do is still included.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import z3
+
+INF = math.inf
+
+
+class DomainError(ArithmeticError):
+    """An operation outside its domain (division by zero, SQRT of a negative ...)."""
+
+
+@dataclass(frozen=True, slots=True)
+class Sym:
+    term: z3.ArithRef
+    low: float = -INF
+    high: float = INF
+    exact: bool = True  # False once an approximation (a transcendental) entered the term
+
+    def __repr__(self) -> str:
+        return f"Sym({self.term}, [{self.low}, {self.high}])"
+
+    @property
+    def parameters(self) -> set[str]:
+        return {str(node) for node in _leaves(self.term)}
+
+
+class Vacant:
+    """The ISO macro "null" value of a variable that was never set (``#0``)."""
+
+    _instance = None
+
+    def __new__(cls):
+        if cls._instance is None:
+            cls._instance = super().__new__(cls)
+        return cls._instance
+
+    def __repr__(self) -> str:
+        return "<vacant>"
+
+
+VACANT = Vacant()
+Value = float | Sym
+
+
+def _leaves(term):
+    if z3.is_const(term) and term.decl().kind() == z3.Z3_OP_UNINTERPRETED:
+        yield term
+        return
+    for child in term.children():
+        yield from _leaves(child)
+
+
+def parameter(name: str, low: float = -INF, high: float = INF) -> Sym:
+    """A free parameter, e.g. ``#1`` read before any assignment."""
+    return Sym(z3.Real(name), low, high)
+
+
+_fresh_counter = [0]
+
+
+def fresh(label: str, low: float = -INF, high: float = INF) -> Sym:
+    """An unknown value that no parameter names (a position after G28, a probe result)."""
+    _fresh_counter[0] += 1
+    return Sym(z3.Real(f"{label}~{_fresh_counter[0]}"), low, high, exact=False)
+
+
+def term_of(value: Value) -> z3.ArithRef:
+    return value.term if isinstance(value, Sym) else z3.RealVal(repr(float(value)) if math.isfinite(value) else "0")
+
+
+def interval(value: Value) -> tuple[float, float]:
+    return (value.low, value.high) if isinstance(value, Sym) else (value, value)
+
+
+def is_concrete(value) -> bool:
+    return type(value) is float
+
+
+# --------------------------------------------------------------------------- arithmetic
+
+
+def _mul_interval(a, b):
+    products = [x * y for x in a for y in b if not (math.isinf(x) and y == 0 or math.isinf(y) and x == 0)]
+    return (min(products), max(products)) if products else (-INF, INF)
+
+
+def _sym(term, low, high, *operands) -> Sym:
+    exact = all(operand.exact for operand in operands if isinstance(operand, Sym))
+    return Sym(term, low, high, exact)
+
+
+def add(a: Value, b: Value) -> Value:
+    if type(a) is float and type(b) is float:
+        return a + b
+    (al, ah), (bl, bh) = interval(a), interval(b)
+    return _sym(term_of(a) + term_of(b), al + bl, ah + bh, a, b)
+
+
+def sub(a: Value, b: Value) -> Value:
+    if type(a) is float and type(b) is float:
+        return a - b
+    (al, ah), (bl, bh) = interval(a), interval(b)
+    return _sym(term_of(a) - term_of(b), al - bh, ah - bl, a, b)
+
+
+def mul(a: Value, b: Value) -> Value:
+    if type(a) is float and type(b) is float:
+        return a * b
+    low, high = _mul_interval(interval(a), interval(b))
+    return _sym(term_of(a) * term_of(b), low, high, a, b)
+
+
+def div(a: Value, b: Value) -> Value:
+    if type(b) is float:
+        if b == 0.0:
+            raise DomainError("division by zero")
+        if type(a) is float:
+            return a / b
+        return mul(a, 1.0 / b)
+    bl, bh = interval(b)
+    if bl <= 0.0 <= bh:
+        low, high = -INF, INF
+    else:
+        low, high = _mul_interval(interval(a), (1.0 / bh, 1.0 / bl))
+    return _sym(term_of(a) / term_of(b), low, high, a, b)
+
+
+def neg(a: Value) -> Value:
+    if type(a) is float:
+        return -a
+    return _sym(-a.term, -a.high, -a.low, a)
+
+
+def absolute(a: Value) -> Value:
+    if type(a) is float:
+        return abs(a)
+    low, high = a.low, a.high
+    bounds = (0.0 if low <= 0.0 <= high else min(abs(low), abs(high)), max(abs(low), abs(high)))
+    return _sym(z3.If(a.term >= 0, a.term, -a.term), bounds[0], bounds[1], a)
+
+
+# Functions of one argument: concrete implementation, domain check, and the range used to
+# bound a fresh variable when the argument is symbolic.
+def _check(condition: bool, message: str) -> None:
+    if not condition:
+        raise DomainError(message)
+
+
+def _sqrt(x):
+    _check(x >= 0, f"SQRT of a negative number ({x:g})")
+    return math.sqrt(x)
+
+
+def _ln(x):
+    _check(x > 0, f"LN of {x:g} (needs a positive number)")
+    return math.log(x)
+
+
+def _asin(x):
+    _check(-1 <= x <= 1, f"ASIN of {x:g} (outside -1..1)")
+    return math.degrees(math.asin(x))
+
+
+def _acos(x):
+    _check(-1 <= x <= 1, f"ACOS of {x:g} (outside -1..1)")
+    return math.degrees(math.acos(x))
+
+
+def _tan(x):
+    _check(abs(math.cos(math.radians(x))) > 1e-12, f"TAN of {x:g} degrees (infinite)")
+    return math.tan(math.radians(x))
+
+
+def _exp(x):
+    _check(x < 700, f"EXP of {x:g} overflows")
+    return math.exp(x)
+
+
+def _round_half_away(x):
+    return float(math.floor(abs(x) + 0.5) * (1 if x >= 0 else -1))
+
+
+_FUNCTIONS = {
+    "SIN": (lambda x: math.sin(math.radians(x)), (-1.0, 1.0)),
+    "COS": (lambda x: math.cos(math.radians(x)), (-1.0, 1.0)),
+    "TAN": (_tan, (-INF, INF)),
+    "ASIN": (_asin, (-90.0, 90.0)),
+    "ACOS": (_acos, (0.0, 180.0)),
+    "ATAN": (lambda x: math.degrees(math.atan(x)), (-90.0, 90.0)),
+    "SQRT": (_sqrt, (0.0, INF)),
+    "LN": (_ln, (-INF, INF)),
+    "EXP": (_exp, (0.0, INF)),
+    "ROUND": (_round_half_away, (-INF, INF)),
+    "FIX": (lambda x: float(math.floor(x) if x >= 0 else math.ceil(x)), (-INF, INF)),
+    "FUP": (lambda x: float(math.ceil(x) if x >= 0 else math.floor(x)), (-INF, INF)),
+    "BIN": (lambda x: x, (-INF, INF)),
+    "BCD": (lambda x: x, (-INF, INF)),
+}
+
+
+def call(name: str, args: list[Value]) -> Value:
+    if name == "ABS":
+        return absolute(args[0])
+    if name == "ATAN2":
+        y, x = args
+        if type(y) is float and type(x) is float:
+            _check(not (y == 0 and x == 0), "ATAN of 0/0")
+            return math.degrees(math.atan2(y, x)) % 360.0
+        return fresh("ATAN", 0.0, 360.0)
+    implementation, (low, high) = _FUNCTIONS[name]
+    argument = args[0]
+    if type(argument) is float:
+        try:
+            return float(implementation(argument))
+        except OverflowError as error:
+            raise DomainError(f"{name} of {argument:g} overflows") from error
+    if name == "SQRT":
+        _check(argument.high >= 0, f"SQRT of a negative number (at most {argument.high:g})")
+    if name == "LN":
+        _check(argument.high > 0, f"LN of a number that is at most {argument.high:g}")
+    return fresh(name, low, high)
+
+
+def known_functions() -> set[str]:
+    return set(_FUNCTIONS) | {"ABS", "ATAN2"}
+
+
+# --------------------------------------------------------------------------- logic
+
+_COMPARE = {
+    "EQ": lambda a, b: a == b,
+    "NE": lambda a, b: a != b,
+    "GT": lambda a, b: a > b,
+    "GE": lambda a, b: a >= b,
+    "LT": lambda a, b: a < b,
+    "LE": lambda a, b: a <= b,
+}
+COMPARISONS = frozenset(_COMPARE)
+
+
+@dataclass(frozen=True, slots=True)
+class Condition:
+    """A branch condition that depends on free parameters."""
+
+    term: z3.BoolRef
+
+
+def compare(op: str, a: Value, b: Value) -> "bool | Condition":
+    if type(a) is float and type(b) is float:
+        return _COMPARE[op](a, b)
+    (al, ah), (bl, bh) = interval(a), interval(b)
+    decided = _decide_by_interval(op, al, ah, bl, bh)
+    if decided is not None:
+        return decided
+    return Condition(_COMPARE[op](term_of(a), term_of(b)))
+
+
+def _decide_by_interval(op, al, ah, bl, bh) -> bool | None:
+    if op in ("LT", "GE"):
+        if ah < bl:
+            return op == "LT"
+        if al >= bh:
+            return op == "GE"
+    elif op in ("GT", "LE"):
+        if al > bh:
+            return op == "GT"
+        if ah <= bl:
+            return op == "LE"
+    elif op in ("EQ", "NE"):
+        if ah < bl or al > bh:
+            return op == "NE"
+    return None
+
+
+def truth(value) -> "bool | Condition":
+    """Truth of a numeric value used as a condition (non-zero is true)."""
+    if isinstance(value, (bool, Condition)):
+        return value
+    return compare("NE", value, 0.0)
+
+
+def logical(op: str, a, b) -> "bool | Condition | float":
+    """AND / OR / XOR: logical on conditions, bitwise on integers (ISO macro semantics)."""
+    if isinstance(a, (bool, Condition)) or isinstance(b, (bool, Condition)):
+        a, b = truth(a), truth(b)
+        if type(a) is bool and type(b) is bool:
+            return {"AND": a and b, "OR": a or b, "XOR": a != b}[op]
+        ta = a.term if isinstance(a, Condition) else z3.BoolVal(a)
+        tb = b.term if isinstance(b, Condition) else z3.BoolVal(b)
+        return Condition({"AND": z3.And, "OR": z3.Or, "XOR": z3.Xor}[op](ta, tb))
+    if type(a) is float and type(b) is float:
+        ia, ib = int(a), int(b)
+        return float({"AND": ia & ib, "OR": ia | ib, "XOR": ia ^ ib}[op])
+    return fresh(op)
+
+
+def negate(condition: "bool | Condition") -> "bool | Condition":
+    return (not condition) if type(condition) is bool else Condition(z3.Not(condition.term))
+
+
+def modulo(a: Value, b: Value) -> Value:
+    if type(a) is float and type(b) is float:
+        if b == 0.0:
+            raise DomainError("MOD by zero")
+        return math.fmod(a, b)
+    return fresh("MOD")
