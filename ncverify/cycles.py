@@ -58,13 +58,10 @@ class CycleRunner:
 
     def _rapid_to(self, targets: dict, span, block, role: str, cycle: str, kind: str = "rapid") -> None:
         state = self.state
-        start = dict(state.position)
-        changed = False
-        for axis, value in targets.items():
-            if value is not None and state.position.get(axis) is not value:
-                state.position[axis] = value
-                changed = True
-        if changed:
+        start = state.position
+        changes = {axis: value for axis, value in targets.items() if value is not None and start.get(axis) is not value}
+        if changes:
+            state.move_to(changes)
             self.interp._emit(kind, start, span, block, role, cycle)
 
     # ------------------------------------------------------------------ modal hole cycles
@@ -102,8 +99,7 @@ class CycleRunner:
             bottom = self.interp.evaluate(bottom_expr, op.span)
             if bottom is not VACANT:
                 data[_bottom_letter(axis, op, self.interp.twins)] = bottom
-        for letter, span in op.word_spans.items():
-            cycle.param_spans[letter] = span
+        cycle.param_spans.update(op.word_spans())
         state.cycle_data.update(data)
         if not positioning and not data:
             return None
@@ -144,7 +140,7 @@ class CycleRunner:
         hole = Hole(cycle.cycle, model, span, block, axis, hole_position, initial, r_point, bottom, dict(data), dict(cycle.param_spans), missing)
         interp.observer.hole(hole, state)
         if missing or bottom is None:
-            state.position.update(targets)
+            state.move_to(targets)
             return
         name = cycle.cycle
         self._rapid_to(targets, span, block, "between-holes", name)
@@ -204,13 +200,13 @@ class CycleRunner:
         targets = self.interp._targets(op.targets, op.incremental, op.span)
         if not targets:
             return None
-        start = dict(state.position)
+        start = state.position
         x_end, z_end = targets.get("X", start.get("X")), targets.get("Z", start.get("Z"))
         face = cycle.cycle.endswith("G79")
         name = cycle.cycle
         cut = "thread" if cycle.model.get("thread") else "feed"
         interp = self.interp
-        interp.observer.cycle_run(CycleRun(name, cycle.model, op.span, block, dict(state.cycle_data), dict(op.word_spans)), state)
+        interp.observer.cycle_run(CycleRun(name, cycle.model, op.span, block, dict(state.cycle_data), op.word_spans()), state)
         first, second = ({"Z": z_end}, {"X": x_end}) if face else ({"X": x_end}, {"Z": z_end})
         self._rapid_to(first, op.span, block, "approach", name)
         self._rapid_to(second, op.span, block, "infeed", name, cut)
@@ -235,15 +231,13 @@ class CycleRunner:
             stored.update({f"first_{letter}": value for letter, value in params.items()})
             self.interp.observer.cycle_run(CycleRun(op.cycle, model, op.span, block, dict(stored), dict(op.param_spans), True), state)
             return None
-        merged = dict(stored)
-        merged.update(params)
-        self.interp.observer.cycle_run(CycleRun(op.cycle, model, op.span, block, merged, dict(op.param_spans)), state)
-        start = dict(state.position)
+        self.interp.observer.cycle_run(CycleRun(op.cycle, model, op.span, block, params, dict(op.param_spans)), state)
+        start = state.position
         if shape == "contour":
             self._contour(op, block, params)
         elif shape in ("groove", "thread"):
             self._straight_cycle(op, block, params, "thread" if shape == "thread" else "feed")
-        state.position.update({axis: value for axis, value in start.items()})
+        state.move_to(start)
         return None
 
     @staticmethod

@@ -110,6 +110,10 @@ class MachineState:
         twin.path_condition = list(self.path_condition)
         return twin
 
+    def move_to(self, updates: dict) -> None:
+        """Positions are copy-on-write: segments keep the dicts they were given."""
+        self.position = {**self.position, **updates}
+
     @property
     def plane_axes(self) -> tuple[str, str, str]:
         return _PLANES[self.modal["plane"]]
@@ -211,25 +215,27 @@ class Interpreter:
         """Run blocks from ``position`` until control transfers; return the new position."""
         source = position.source
         first_block, first_op = position.block_index, position.op_index
-        streak_start = position.offset
         cache = self._should_cache()
         frontend_blocks = self.frontend.blocks
         path = None if source is self.source else source.name
         self._line_source = source
-        for line_number, offset, next_offset, raw in source.lines_from(position.offset):
-            blocks = self._blocks(source, offset, line_number, raw, path, cache, frontend_blocks)
-            self._line_offset = offset
-            for block_index in range(first_block, len(blocks)):
-                self._block_index = block_index
-                transfer = self._execute_block(blocks[block_index], first_op)
-                first_op = 0
-                if transfer is not None:
-                    self.visited.append((source, streak_start, next_offset))
-                    return transfer
-            first_block = 0
-        self.visited.append((source, streak_start, len(source)))
-        self._ran_off_the_end(source)
-        raise PathEnd
+        streak_end = position.offset
+        try:
+            for line_number, offset, next_offset, raw in source.lines_from(position.offset):
+                blocks = self._blocks(source, offset, line_number, raw, path, cache, frontend_blocks)
+                self._line_offset = offset
+                streak_end = next_offset
+                for block_index in range(first_block, len(blocks)):
+                    self._block_index = block_index
+                    transfer = self._execute_block(blocks[block_index], first_op)
+                    first_op = 0
+                    if transfer is not None:
+                        return transfer
+                first_block = 0
+            self._ran_off_the_end(source)
+            raise PathEnd
+        finally:
+            self.visited.append((source, position.offset, streak_end))
 
     def _should_cache(self) -> bool:
         return bool(self.state.loops) or len(self.state.frames) > 1
@@ -562,8 +568,7 @@ class Interpreter:
 
     def _unsupported(self, op: ir.Unsupported, block):
         if "position" in op.affects:
-            for axis in list(self.state.position):
-                self.state.position[axis] = None
+            self.state.move_to(dict.fromkeys(self.state.position))
         return None
 
     def _unsupported_here(self, span, what: str) -> None:
@@ -589,19 +594,16 @@ class Interpreter:
 
     def _coordinate_shift(self, op: ir.CoordinateShift, block):
         if op.kind == "set_position":
-            for axis, expr in op.values.items():
-                value = self.evaluate(expr, op.span)
-                if value is not VACANT:
-                    self.state.position[axis] = value
+            self.state.move_to(op_values(op.values, self, op.span))
             speed = op.words.get("S")
             if speed is not None:
                 self.state.spindle_clamp = self.evaluate(speed, op.span)
         elif op.kind == "local":
-            for axis, expr in op.values.items():
+            shifted = {}
+            for axis, shift in op_values(op.values, self, op.span).items():
                 current = self.state.position.get(axis)
-                shift = self.evaluate(expr, op.span)
-                if current is not None and shift is not VACANT:
-                    self.state.position[axis] = values.sub(current, shift)
+                shifted[axis] = None if current is None else values.sub(current, shift)
+            self.state.move_to(shifted)
         return None
 
     def _reference_return(self, op: ir.ReferenceReturn, block):
@@ -609,54 +611,60 @@ class Interpreter:
         if op.which == "check":
             return None
         if op.which == "from_reference":
-            via = state.last_reference_via
-            start = dict(state.position)
-            for axis, value in via.items():
-                state.position[axis] = value
+            start = state.position
+            state.move_to(state.last_reference_via)
             self._emit("rapid", start, op.span, block, "reference")
-            targets = self._targets(op.via, frozenset(), op.span)
-            start = dict(state.position)
-            state.position.update(targets)
+            start = state.position
+            state.move_to(self._targets(op.via, frozenset(), op.span))
             self._emit("rapid", start, op.span, block, "reference")
             return None
         targets = self._targets(op.via, frozenset(), op.span)
-        start = dict(state.position)
-        state.position.update(targets)
+        start = state.position
+        state.move_to(targets)
         state.last_reference_via = dict(targets)
         self._emit("rapid", start, op.span, block, "reference")
-        self._change("reference_return", op.span, block, dict(op_values(op.via, self, op.span)), op.which, None)
-        for axis in targets:
-            state.position[axis] = None  # at the machine reference point: unknown in work coordinates
+        self._change("reference_return", op.span, block, op_values(op.via, self, op.span), op.which, None)
+        state.move_to(dict.fromkeys(targets))  # at the machine reference point: unknown in work coordinates
         return None
 
     def _machine_move(self, op: ir.MachineMove, block):
-        for axis in op.targets:
-            self.state.position[axis] = None
+        self.state.move_to(dict.fromkeys(op.targets))
         return None
 
     # ------------------------------------------------------------------ motion
 
     def _move(self, op: ir.Move, block):
         state = self.state
-        if op.kind is not None:
-            if state.cycle is not None and op.kind != "thread":
+        kind = op.kind
+        if kind is not None:
+            if state.cycle is not None and kind != "thread":
                 self._cancel_cycle()
-            state.modal["motion"] = op.kind
+            state.modal["motion"] = kind
         elif state.cycle is not None:
             return self.cycles.modal_hole(op, block)
-        kind = state.modal.get("motion", "rapid")
-        targets = self._targets(op.targets, op.incremental, op.span)
-        if not targets and not op.arc:
+        else:
+            kind = state.modal["motion"]
+        if not op.targets and not op.arc:
             return None
+        start = state.position
+        end = dict(start)
+        incremental = state.modal["distance"] == "incremental"
+        for axis, expr in op.targets.items():
+            value = expr if type(expr) is float else self.evaluate(expr, op.span)
+            if value is VACANT:
+                continue  # a vacant variable makes the address absent (Fanuc)
+            if incremental or axis in op.incremental:
+                current = start.get(axis)
+                value = None if current is None else values.add(current, value)
+            end[axis] = value
+        state.position = end
         state.motion_seen = True
-        start = dict(state.position)
-        state.position.update(targets)
         arc = self._arc(op, kind, start) if kind in _ARC_KINDS else None
-        self._emit(_SEGMENT_KIND[kind], start, op.span, block, "programmed", None, arc)
+        self.observer.segment(Segment(_SEGMENT_KIND[kind], start, end, op.span, block, "programmed", None, arc), state)
         return None
 
     def _emit(self, kind: str, start: dict, span, block, role: str = "programmed", cycle: str | None = None, arc: Arc | None = None) -> None:
-        self.observer.segment(Segment(kind, start, dict(self.state.position), span, block, role, cycle, arc), self.state)
+        self.observer.segment(Segment(kind, start, self.state.position, span, block, role, cycle, arc), self.state)
 
     def _arc(self, op: ir.Move, kind: str, start: dict) -> Arc:
         state = self.state

@@ -126,7 +126,17 @@ class Move(Op):
     arc: dict[str, Expr] | None = None  # I/J/K centre offsets or {"R": radius}
     words: dict[str, Expr] = field(default_factory=dict)
     incremental: frozenset[str] = frozenset()  # axes written incrementally (U/W forms, IX..)
-    word_spans: dict[str, Span] = field(default_factory=dict)
+    word_columns: dict[str, tuple[int, int]] = field(default_factory=dict)  # 0-based, in span's line
+
+    def word_span(self, letter: str) -> Span:
+        """Where a word of this move is written (built on demand: moves are many)."""
+        columns = self.word_columns.get(letter)
+        if columns is None:
+            return self.span
+        return Span(self.span.line, columns[0] + 1, self.span.line, columns[1] + 1, self.span.path)
+
+    def word_spans(self) -> dict[str, Span]:
+        return {letter: self.word_span(letter) for letter in self.word_columns}
 
 
 @dataclass(slots=True)

@@ -333,26 +333,29 @@ class IsoLowering:
                 if not one_shot and letter in self.axis_letters and letter not in ("Z", "X", "W", "U") and letter not in declared:
                     continue
                 word = rest.pop(letter)
-                params[letter] = self._value(word)
+                kind = declared.get(letter, {}).get("kind")
+                params[letter] = word.value if kind in ("code", "count") else self._value(word)
                 spans[letter] = self._span(read, word.start, word.end, path)
         return params, spans
 
     def _lower_motion(self, motion_kind, motion_span, rest, stages, read, path, block) -> None:
         targets: dict[str, ir.Expr] = {}
         spans: dict[str, Span] = {}
+        columns: dict[str, tuple[int, int]] = {}
         incremental = set()
         arc: dict[str, ir.Expr] = {}
         words: dict[str, ir.Expr] = {}
         for letter, word in rest.items():
             value = self._value(word)
             spans[letter] = self._span(read, word.start, word.end, path)
+            columns[letter] = (word.start, word.end)
             if letter in self.twins:
                 axis = self.twins[letter]
                 if axis in rest:
-                    block.notes.append(ir.Note("core.conflicting-addresses", f"{axis} and {letter} both give the {axis} end point; the control uses one of them (alarm on most controls)", spans[letter]))
+                    block.notes.append(ir.Note("core.duplicate-address", f"{axis} and {letter} both give the {axis} end point; the control uses one of them (alarm on most controls)", spans[letter]))
                 targets[axis] = value
                 incremental.add(axis)
-                spans[axis] = spans[letter]
+                columns[axis] = columns[letter]
             elif letter in self.axis_letters:
                 targets[letter] = value
             elif letter in ("I", "J", "K", "R") and (motion_kind in ("arc_cw", "arc_ccw") or motion_kind is None):
@@ -364,7 +367,7 @@ class IsoLowering:
             return
         for word_span in spans.values():
             motion_span = word_span if motion_span is None else motion_span.cover(word_span)
-        stages[_MOTION].append(ir.Move(motion_span, motion_kind, targets, arc or None, words, frozenset(incremental), spans))
+        stages[_MOTION].append(ir.Move(motion_span, motion_kind, targets, arc or None, words, frozenset(incremental), columns))
 
     # ------------------------------------------------------------------ values
 
@@ -400,6 +403,17 @@ class IsoLowering:
 
 # ---------------------------------------------------------------------- front end
 
+_PLAIN_MOTION = re.compile(rb"[ \t]*(?:[NGXYZABCF][ \t]*[+-]?(?:\d+\.?\d*|\.\d+)[ \t]*)+")
+_PLAIN_WORD_BYTES = re.compile(rb"([NGXYZABCF])[ \t]*([+-]?(?:\d+\.?\d*|\.\d+))")
+_LETTERS = {ord(letter): letter for letter in "NGXYZABCF"}
+_NUMBER_BYTES = rb"([+-]?(?:\d+\.?\d*|\.\d+))"
+# Nearly all CAM output writes its words in this order; one match reads the whole block.
+_CANONICAL_LETTERS = ("N", "G", "X", "Y", "Z", "F")
+_CANONICAL = re.compile(
+    rb"[ \t]*(?:N(\d+)[ \t]*)?(?:G(0?[0-3])(?![0-9.])[ \t]*)?(?:X" + _NUMBER_BYTES + rb"[ \t]*)?(?:Y" + _NUMBER_BYTES
+    + rb"[ \t]*)?(?:Z" + _NUMBER_BYTES + rb"[ \t]*)?(?:F" + _NUMBER_BYTES + rb"[ \t]*)?"
+)
+_FAST_MOTION = {0.0: "rapid", 1.0: "linear", 2.0: "arc_cw", 3.0: "arc_ccw"}
 _PROGRAM_START = re.compile(rb"(?mi)^[ \t]*(?:%[ \t]*)?(?:N\d+[ \t]*)?[O:][ \t]*(\d+)")
 _PROGRAM_END = re.compile(rb"(?i)M0*(?:2|30)(?![0-9.])")
 
@@ -414,8 +428,59 @@ class IsoFrontend:
         self.lowering = lowering
 
     def blocks(self, raw: bytes, line: int, path: str | None) -> list[ir.Block]:
+        if _PLAIN_MOTION.fullmatch(raw):
+            block = self._plain_motion(raw, line, path)
+            if block is not None:
+                return [block]
         text = decode_line(raw)
         return [self.lowering.lower(read, path) for read in read_line(text, line)]
+
+    def _plain_motion(self, raw: bytes, line: int, path: str | None) -> ir.Block | None:
+        """The fast path: ``[N..] [G0-G3] axis words [F..]`` straight to IR, without
+        reader objects. Returns None when the block needs the general lowering."""
+        canonical = _CANONICAL.fullmatch(raw)
+        if canonical is not None:
+            words = [(letter, value, regs) for letter, value, regs in zip(_CANONICAL_LETTERS, canonical.groups(), canonical.regs[1:]) if value is not None]
+        else:
+            words = [(_LETTERS[match.group(1)[0]], match.group(2), match.span(2)) for match in _PLAIN_WORD_BYTES.finditer(raw)]
+        lowering = self.lowering
+        increment = lowering.increment
+        label = kind = move_start = feed_op = None
+        move_end = 0
+        targets = {}
+        columns = {}
+        for letter, text, (value_start, value_end) in words:
+            start = raw.rindex(letter.encode(), 0, value_start)
+            if letter == "N":
+                label = float(text)
+            elif letter == "G":
+                if kind is not None:
+                    return None
+                kind = _FAST_MOTION.get(float(text))
+                if kind is None:
+                    return None
+                move_start = start if move_start is None else min(move_start, start)
+                move_end = max(move_end, value_end)
+            elif letter == "F":
+                feed = ir.IncrementCount(float(text), "feed") if lowering.feed_increment and b"." not in text else float(text)
+                feed_op = ir.SetFeed(Span(line, start + 1, line, value_end + 1, path), feed)
+            elif letter in lowering.axis_letters and letter not in lowering.twins and letter not in targets:
+                targets[letter] = ir.IncrementCount(float(text), "length") if increment and b"." not in text else float(text)
+                columns[letter] = (start, value_end)
+                if move_start is None or start < move_start:
+                    move_start = start
+                move_end = max(move_end, value_end)
+            else:
+                return None
+        stripped = raw.strip()
+        first = raw.index(stripped[:1]) if stripped else 0
+        block = ir.Block(line, first + 1, first + len(stripped) + 1, [], label=label)
+        if feed_op is not None:
+            block.ops.append(feed_op)
+        if move_start is not None:
+            span = Span(line, move_start + 1, line, move_end + 1, path)
+            block.ops.append(ir.Move(span, kind, targets, None, {}, frozenset(), columns))
+        return block
 
     def programs(self, buffer) -> list[tuple[str, int]]:
         """``(name, offset of its first line)`` for every program header in the buffer."""

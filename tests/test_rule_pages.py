@@ -1,0 +1,39 @@
+"""Every rule page is a contract: its Example triggers the rule, its fix does not."""
+from __future__ import annotations
+
+import pytest
+
+from ncverify import Settings, check_text
+from ncverify.check import implemented_rule_ids, rule_definitions
+
+DEFINITIONS = sorted(rule_definitions().values(), key=lambda definition: definition.id)
+
+
+def _run(definition, title):
+    program = definition.example(title)
+    assert program.strip(), f"{definition.id}: the page has no program under '{title}'"
+    dialect = None if definition.dialect == "auto" else definition.dialect
+    settings = Settings(dialect=dialect, **definition.example_settings)
+    return check_text(program, f"{definition.id}.nc", settings)
+
+
+@pytest.mark.parametrize("definition", DEFINITIONS, ids=lambda d: d.id)
+def test_example_triggers_the_rule(definition):
+    result = _run(definition, "Example")
+    assert definition.id in {d.rule for d in result.diagnostics}, [(d.rule, d.line if hasattr(d, "line") else d.span.line, d.message) for d in result.diagnostics]
+
+
+@pytest.mark.parametrize("definition", DEFINITIONS, ids=lambda d: d.id)
+def test_fixed_example_does_not_trigger_the_rule(definition):
+    result = _run(definition, "Use instead")
+    assert definition.id not in {d.rule for d in result.diagnostics}, [(d.rule, d.span.line, d.message) for d in result.diagnostics]
+
+
+@pytest.mark.parametrize("definition", DEFINITIONS, ids=lambda d: d.id)
+def test_page_has_every_section(definition):
+    for title in ("What it checks", "Why it matters", "Example", "Use instead"):
+        assert definition.section(title), f"{definition.id}: missing section '{title}'"
+
+
+def test_every_page_has_an_implementation_and_every_implementation_a_page():
+    assert implemented_rule_ids() == set(rule_definitions())
