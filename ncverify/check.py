@@ -147,6 +147,8 @@ class Rule:
 
     def segment(self, segment, state): ...
 
+    def motion_run(self, run, state): ...
+
     def hole(self, hole, state): ...
 
     def cycle_run(self, run, state): ...
@@ -229,6 +231,8 @@ class Checker:
         rules = [cls(self) for cls in _RULE_CLASSES if not set(cls.ids) <= settings.disabled_rules]
         self.rules = rules
         self._segment = _handlers(rules, "segment")
+        self._motion_run = _handlers(rules, "motion_run")
+        self._segment_only = [instance.segment for instance in rules if _overrides(instance, "segment") and not _overrides(instance, "motion_run")]
         self._hole = _handlers(rules, "hole") + [self._constraints_on_hole]
         self._cycle_run = _handlers(rules, "cycle_run") + [self._constraints_on_run]
         self._change = _handlers(rules, "change")
@@ -243,6 +247,15 @@ class Checker:
     def segment(self, segment, state) -> None:
         for handler in self._segment:
             handler(segment, state)
+
+    def motion_run(self, run, state) -> None:
+        for handler in self._motion_run:
+            handler(run, state)
+        if self._segment_only:
+            for index in range(len(run)):
+                segment = run.segment(index)
+                for handler in self._segment_only:
+                    handler(segment, state)
 
     def hole(self, hole, state) -> None:
         for handler in self._hole:
@@ -322,8 +335,12 @@ class Checker:
             self.report_verdict(definition.id, where, _format_message(constraint.message, names), verdict, state)
 
 
+def _overrides(instance: Rule, name: str) -> bool:
+    return getattr(type(instance), name) is not getattr(Rule, name)
+
+
 def _handlers(rules: list[Rule], name: str) -> list:
-    return [getattr(instance, name) for instance in rules if getattr(type(instance), name) is not getattr(Rule, name)]
+    return [getattr(instance, name) for instance in rules if _overrides(instance, name)]
 
 
 def _first_span(tree: ast.Expression, spans: dict) -> Span | None:

@@ -14,13 +14,14 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from pathlib import Path
+
+import numpy
 
 from . import ir, values
 from .cycles import ActiveCycle, CycleRunner
 from .settings import Settings
 from .source import ProgramSource, Span
-from .trace import Arc, Change, Fault, Segment
+from .trace import Arc, Change, Fault, MotionRun, Segment
 from .values import VACANT, Condition, DomainError, Sym
 
 _ARC_KINDS = {"arc_cw": "cw", "arc_ccw": "ccw"}
@@ -212,19 +213,30 @@ class Interpreter:
             position = self._run_from(position)
 
     def _run_from(self, position: Position) -> Position:
-        """Run blocks from ``position`` until control transfers; return the new position."""
+        """Run blocks from ``position`` until control transfers; return the new position.
+        After a streak of plain blocks, the rest of the streak is run as one batch."""
         source = position.source
         first_block, first_op = position.block_index, position.op_index
         cache = self._should_cache()
         frontend_blocks = self.frontend.blocks
+        is_plain = self.frontend.is_plain
         path = None if source is self.source else source.name
         self._line_source = source
         streak_end = position.offset
+        plain_streak = 0
         try:
-            for line_number, offset, next_offset, raw in source.lines_from(position.offset):
+            lines = source.lines_from(position.offset)
+            for line_number, offset, next_offset, raw in lines:
+                if plain_streak >= _BATCH_AFTER and is_plain(raw) and self._batch_allowed():
+                    plain_streak = 0
+                    run = self.frontend.plain_run(source.buffer, offset, line_number)
+                    if run is not None and self._execute_run(run, source, path):
+                        streak_end = run.end_offset
+                        return Position(source, run.end_offset) if run.end_offset < len(source) else self._end_of_text(source)
                 blocks = self._blocks(source, offset, line_number, raw, path, cache, frontend_blocks)
                 self._line_offset = offset
                 streak_end = next_offset
+                plain_streak = plain_streak + 1 if len(blocks) == 1 and is_plain(raw) else 0
                 for block_index in range(first_block, len(blocks)):
                     self._block_index = block_index
                     transfer = self._execute_block(blocks[block_index], first_op)
@@ -232,10 +244,79 @@ class Interpreter:
                     if transfer is not None:
                         return transfer
                 first_block = 0
-            self._ran_off_the_end(source)
-            raise PathEnd
+            return self._end_of_text(source)
         finally:
             self.visited.append((source, position.offset, streak_end))
+
+    def _end_of_text(self, source: ProgramSource):
+        self._ran_off_the_end(source)
+        raise PathEnd
+
+    # ------------------------------------------------------------------ batches of plain blocks
+
+    def _batch_allowed(self) -> bool:
+        state = self.state
+        return (not self.settings.per_block_only and state.cycle is None and not state.loops
+                and state.modal.get("motion") in ir.MoveRun.KINDS and not isinstance(state.feed, Sym)
+                and not any(isinstance(value, Sym) for value in state.position.values()))
+
+    def _execute_run(self, run: ir.MoveRun, source: ProgramSource, path) -> bool:
+        """Run a batch of plain blocks with arrays; False leaves it to the per-block path."""
+        state = self.state
+        axes = run.axes
+        start_point = numpy.array([_as_float(state.position.get(axis)) for axis in axes])
+        kinds = _forward_fill(run.kinds.astype(numpy.float64), -1, float(ir.MoveRun.KINDS.index(state.modal["motion"])))
+        scale = self.increment / 10.0 if state.modal.get("units") == "inch" else self.increment
+        written = ~numpy.isnan(run.values)
+        values = numpy.where(run.scaled, run.values * scale, run.values)
+        if state.modal.get("distance") == "incremental":
+            points = start_point + numpy.cumsum(numpy.nan_to_num(values), axis=0)
+        else:
+            points = numpy.vstack([_forward_fill(values[:, column], None, start_point[column]) for column in range(len(axes))]).T
+        feeds = run.feeds
+        if state.modal.get("feed_mode") == "per_revolution" and self.feed_increment:
+            feeds = numpy.where(run.feed_scaled, feeds * self.feed_increment, feeds)
+        feeds = _forward_fill(feeds, None, _as_float(state.feed))
+        moving = numpy.flatnonzero(written.any(axis=1))
+        self.blocks_run += run.blocks
+        segment_points = numpy.vstack([start_point, points[moving]])
+        segment_kinds = kinds[moving].astype(numpy.int8)
+        others = {axis: value for axis, value in state.position.items() if axis not in axes}
+        block_of = self._run_block_reader(run, source, path)
+
+        def span(index: int) -> Span:
+            block = block_of(index)
+            moves = [op for op in block.ops if isinstance(op, ir.Move)]
+            return moves[0].span if moves else block.span
+
+        def segment(index: int) -> Segment:
+            start = dict(others, **{axis: _as_value(v) for axis, v in zip(axes, segment_points[index])})
+            end = dict(others, **{axis: _as_value(v) for axis, v in zip(axes, segment_points[index + 1])})
+            kind = "rapid" if segment_kinds[index] == 0 else "feed"
+            return Segment(kind, start, end, span(index), block_of(index))
+
+        if len(moving):
+            self.observer.motion_run(MotionRun(axes, segment_points, segment_kinds, feeds[moving], written[moving], span, segment), state)
+        final = points[-1]
+        state.position = dict(state.position, **{axis: _as_value(value) for axis, value in zip(axes, final)})
+        state.modal["motion"] = ir.MoveRun.KINDS[int(kinds[-1])]
+        if not numpy.isnan(feeds[-1]):
+            state.feed = float(feeds[-1])
+        state.motion_seen = state.motion_seen or bool(len(moving))
+        return True
+
+    def _run_block_reader(self, run: ir.MoveRun, source: ProgramSource, path):
+        """Re-reads one block of a run, for a report's span (rare, so not kept)."""
+
+        def block_of(index: int) -> ir.Block:
+            rows = numpy.flatnonzero(~numpy.isnan(run.values).all(axis=1))
+            row = int(rows[index])
+            offset = int(run.line_offsets[row])
+            end = source.buffer.find(b"\n", offset)
+            raw = bytes(source.buffer[offset : len(source.buffer) if end < 0 else end]).rstrip(b"\r")
+            return self.frontend.blocks(raw, run.first_line + row, path)[0]
+
+        return block_of
 
     def _should_cache(self) -> bool:
         return bool(self.state.loops) or len(self.state.frames) > 1
@@ -1021,6 +1102,27 @@ def op_values(written: dict, interpreter: "Interpreter", span) -> dict:
         if value is not VACANT:
             evaluated[axis] = value
     return evaluated
+
+
+_BATCH_AFTER = 8  # plain blocks in a row before the rest of the streak is read as a batch
+
+
+def _as_float(value) -> float:
+    return math.nan if value is None else float(value)
+
+
+def _as_value(value: float):
+    return None if math.isnan(value) else float(value)
+
+
+def _forward_fill(column, empty, initial: float):
+    """Carry the last written value down a column; ``empty`` marks unwritten entries
+    (None: NaN). Entries before the first written one get ``initial``."""
+    missing = numpy.isnan(column) if empty is None else column == empty
+    index = numpy.where(missing, 0, numpy.arange(1, len(column) + 1))
+    numpy.maximum.accumulate(index, out=index)
+    padded = numpy.concatenate(([initial], numpy.where(missing, numpy.nan, column)))
+    return padded[index]
 
 
 def _gaps(ranges: list[tuple[int, int]], size: int):

@@ -49,6 +49,8 @@ Operations (all carry the ``span`` of the words they came from):
 ``Stop``            program stop, optional stop, program end
 ``Alarm``           the program raises an alarm on purpose (#3000)
 ``Deferred``        a block whose codes are computed (``G#3``): resolved at run time
+``MoveRun``         (not an op) a batch of consecutive plain blocks - feed word, motion
+                    code, literal axis words - that the interpreter runs at once
 ``Unsupported``     a construct that reads fine but is not modelled; checks that depend
                     on what it does answer ``unknown``
 ==================  =====================================================================
@@ -301,6 +303,33 @@ class Deferred(Op):
 class Unsupported(Op):
     what: str
     affects: tuple[str, ...] = ()  # state the construct may change: "position", "offsets"...
+
+
+@dataclass(slots=True)
+class MoveRun:
+    """Consecutive plain blocks read in one go: each row is ``[SetFeed] Move(kind, targets)``
+    with literal numbers. Straight-line CAM code is millions of such blocks; reading and
+    running them as arrays is what makes the checker fast. ``kinds`` is -1 for "modal",
+    else an index into ``KINDS``; missing words are NaN; ``scaled`` marks numbers written
+    without a decimal point (least input increments)."""
+
+    KINDS = ("rapid", "linear")
+
+    source_offset: int
+    end_offset: int
+    first_line: int
+    line_offsets: object  # numpy int64 (rows,)
+    kinds: object  # numpy int8 (rows,)
+    axes: tuple[str, ...]
+    values: object  # numpy float64 (rows, len(axes))
+    scaled: object  # numpy bool (rows, len(axes))
+    feeds: object  # numpy float64 (rows,)
+    feed_scaled: object  # numpy bool (rows,)
+    blocks: int = 0  # rows that hold at least one word (empty lines are not blocks)
+
+    @property
+    def rows(self) -> int:
+        return len(self.kinds)
 
 
 # --------------------------------------------------------------------------- blocks

@@ -25,6 +25,7 @@ class Settings:
     fail_on: str = "error"
     fail_on_unknown: bool = False
     disabled_rules: frozenset[str] = field(default_factory=frozenset)
+    per_block_only: bool = False  # tests: run plain blocks one by one, to compare with batches
 
     def with_(self, **changes) -> "Settings":
         return replace(self, **changes)

@@ -45,6 +45,26 @@ class Segment:
 
 
 @dataclass(slots=True)
+class MotionRun:
+    """Many straight segments at once (a batch of plain blocks): ``points[0]`` is where the
+    run starts, ``points[k + 1]`` where segment ``k`` ends, NaN where unknown; ``kinds[k]``
+    is 0 for rapid, 1 for feed; ``feeds[k]`` the feed in force (NaN: none); ``written[k]``
+    which axes segment ``k``'s block wrote. ``span(k)`` and ``segment(k)`` build the
+    per-segment objects on demand, for reports and for rules without a run handler."""
+
+    axes: tuple[str, ...]
+    points: object
+    kinds: object
+    feeds: object
+    written: object
+    span: object  # Callable[[int], Span]
+    segment: object  # Callable[[int], Segment]
+
+    def __len__(self) -> int:
+        return len(self.kinds)
+
+
+@dataclass(slots=True)
 class Hole:
     """A hole a canned cycle makes, with its levels resolved along the drilling axis."""
 

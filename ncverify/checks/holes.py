@@ -72,12 +72,20 @@ class TappingSpindle(Rule):
 @rule("core.css-without-clamp")
 class SurfaceSpeedWithoutClamp(Rule):
     def segment(self, segment, state):
-        if state.modal.get("spindle_mode") != "surface_speed" or state.spindle_clamp is not None:
-            return
-        if self.checker.context["machine"] != "lathe" or state.rule_state.get("css-clamp"):
-            return
+        if self._applies(state):
+            self._report(segment.span, state)
+
+    def motion_run(self, run, state):
+        if self._applies(state):
+            self._report(run.span(0), state)
+
+    def _applies(self, state) -> bool:
+        return (state.modal.get("spindle_mode") == "surface_speed" and state.spindle_clamp is None
+                and self.checker.context["machine"] == "lathe" and not state.rule_state.get("css-clamp"))
+
+    def _report(self, span, state):
         state.rule_state["css-clamp"] = True
-        self.report("core.css-without-clamp", segment.span, "constant surface speed (G96) with no spindle speed clamp (G92 S / G50 S): near X0 the spindle runs up to its maximum")
+        self.report("core.css-without-clamp", span, "constant surface speed (G96) with no spindle speed clamp (G92 S / G50 S): near X0 the spindle runs up to its maximum")
 
 
 @rule("core.lathe-cycle-parameters")

@@ -1,28 +1,61 @@
 """Rules on motion: feed, spindle, radius compensation, arcs, units, reference returns."""
 from __future__ import annotations
 
+import math
+
+import numpy
+
 from .. import values
 from ..check import Rule, hazard, judge, rule, show
 
 _CUTTING = frozenset({"feed", "arc", "thread"})
+_FEED = 1  # MotionRun kind code of a feed segment
+
+
+def _same_feed(a, b) -> bool:
+    return a is b or (type(a) is float and type(b) is float and a == b)
 
 
 @rule("core.feed-missing")
 class FeedMissing(Rule):
+    """Reported at the first cutting move of each feed value that is missing or not
+    positive (one finding per mistake, not one per block)."""
+
     def segment(self, segment, state):
         if segment.kind not in _CUTTING:
             return
-        feed = state.feed
-        memory = state.rule_state
-        if memory.get("feed-missing") is feed and "feed-missing" in memory:
+        self._check(state.feed, segment.span, "cycle infeed" if segment.cycle else "cutting move", state)
+
+    def motion_run(self, run, state):
+        cutting = numpy.flatnonzero(run.kinds == _FEED)
+        if not len(cutting):
             return
-        memory["feed-missing"] = feed
-        what = "cycle infeed" if segment.cycle else "cutting move"
+        feeds = run.feeds[cutting]
+        previous = numpy.concatenate(([numpy.inf], feeds[:-1]))
+        changed = ~((feeds == previous) | (numpy.isnan(feeds) & numpy.isnan(previous)))
+        invalid = numpy.isnan(feeds) | (feeds <= 0)
+        memory = state.rule_state
+        first_feed = None if math.isnan(feeds[0]) else float(feeds[0])
+        if "feed-missing" in memory and _same_feed(memory["feed-missing"], first_feed):
+            changed[0] = False
+        for index in numpy.flatnonzero(changed & invalid):
+            feed = None if math.isnan(feeds[index]) else float(feeds[index])
+            memory["feed-missing"] = feed
+            self._check(feed, run.span(int(cutting[index])), "cutting move", state, remember=False)
+        last = feeds[-1]
+        memory["feed-missing"] = None if math.isnan(last) else float(last)
+
+    def _check(self, feed, span, what, state, remember=True):
+        memory = state.rule_state
+        if remember:
+            if "feed-missing" in memory and _same_feed(memory["feed-missing"], feed):
+                return
+            memory["feed-missing"] = feed
         if feed is None:
-            self.report("core.feed-missing", segment.span, f"{what} with no feed rate: no F word since the program started (E60 alarm P62)")
+            self.report("core.feed-missing", span, f"{what} with no feed rate: no F word since the program started (E60 alarm P62)")
             return
         verdict = judge(hazard("<=", feed, 0.0), state.path_condition)
-        self.checker.report_verdict("core.feed-missing", segment.span, f"{what} at feed F{show(feed)}: the axes would not move (feed zero or negative)", verdict, state)
+        self.checker.report_verdict("core.feed-missing", span, f"{what} at feed F{show(feed)}: the axes would not move (feed zero or negative)", verdict, state)
 
 
 @rule("core.spindle-off-cutting")
@@ -30,10 +63,20 @@ class SpindleOffCutting(Rule):
     def segment(self, segment, state):
         if segment.kind not in _CUTTING or state.spindle != "off" or segment.role == "contour":
             return
+        self._report_once(segment.span, state)
+
+    def motion_run(self, run, state):
+        if state.spindle != "off" or state.rule_state.get("spindle-off-reported"):
+            return
+        cutting = numpy.flatnonzero(run.kinds == _FEED)
+        if len(cutting):
+            self._report_once(run.span(int(cutting[0])), state)
+
+    def _report_once(self, span, state):
         if state.rule_state.get("spindle-off-reported"):
             return
         state.rule_state["spindle-off-reported"] = True
-        self.report("core.spindle-off-cutting", segment.span, "cutting move while the spindle is stopped (no M03/M04 since the start or since the last M05): the tool rubs or breaks")
+        self.report("core.spindle-off-cutting", span, "cutting move while the spindle is stopped (no M03/M04 since the start or since the last M05): the tool rubs or breaks")
 
     def change(self, change, state):
         if change.what == "spindle":
@@ -47,6 +90,14 @@ class CompensationOnArc(Rule):
     def change(self, change, state):
         if change.what == "cutter_comp" and change.old != change.new:
             state.rule_state["comp-transition"] = (change.new, change.span)
+
+    def motion_run(self, run, state):
+        """Runs hold straight moves only: the first one in the plane settles the transition."""
+        if "comp-transition" not in state.rule_state:
+            return
+        plane = [run.axes.index(axis) for axis in state.plane_axes[:2] if axis in run.axes]
+        if plane and run.written[:, plane].any():
+            del state.rule_state["comp-transition"]
 
     def segment(self, segment, state):
         pending = state.rule_state.get("comp-transition")
@@ -73,6 +124,9 @@ class CompensationAtEnd(Rule):
 @rule("core.arc-geometry")
 class ArcGeometry(Rule):
     tolerance = 0.01
+
+    def motion_run(self, run, state):
+        """Runs hold no arcs."""
 
     def segment(self, segment, state):
         arc = segment.arc

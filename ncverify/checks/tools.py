@@ -1,6 +1,8 @@
 """Rules on tools and offset registers."""
 from __future__ import annotations
 
+import numpy
+
 from ..check import Rule, rule, show
 
 
@@ -51,12 +53,21 @@ class NoLengthOffset(Rule):
             state.rule_state.pop("no-length-offset", None)
 
     def segment(self, segment, state):
-        if segment.kind == "rapid" or not state.tool_changed or state.length_mode != "off":
-            return
-        if self.checker.context["machine"] == "lathe" or state.rule_state.get("no-length-offset"):
-            return
+        if segment.kind != "rapid" and self._applies(state):
+            self._report(segment.span, state)
+
+    def motion_run(self, run, state):
+        cutting = numpy.flatnonzero(run.kinds == 1)
+        if len(cutting) and self._applies(state):
+            self._report(run.span(int(cutting[0])), state)
+
+    def _applies(self, state) -> bool:
+        return (state.tool_changed and state.length_mode == "off" and self.checker.context["machine"] != "lathe"
+                and not state.rule_state.get("no-length-offset"))
+
+    def _report(self, span, state):
         state.rule_state["no-length-offset"] = True
-        self.report("core.no-length-offset", segment.span, f"tool T{show(state.tool_in_spindle)} cuts with no length offset (no G43 H since the tool change): Z positions ignore the tool's length")
+        self.report("core.no-length-offset", span, f"tool T{show(state.tool_in_spindle)} cuts with no length offset (no G43 H since the tool change): Z positions ignore the tool's length")
 
 
 @rule("core.cycle-modal-at-tool-change")
