@@ -12,6 +12,7 @@ import numpy
 
 from .. import ir
 from ..read.iso import ReadBlock, Statement, Word, read_line
+from ..read.iso_runs import read_plain_run
 from ..source import Span, decode_line
 from ..tables import CodeTable, code_key
 
@@ -416,58 +417,8 @@ _CANONICAL = re.compile(
     + rb"[ \t]*)?(?:Z" + _NUMBER_BYTES + rb"[ \t]*)?(?:F" + _NUMBER_BYTES + rb"[ \t]*)?"
 )
 _FAST_MOTION = {0.0: "rapid", 1.0: "linear", 2.0: "arc_cw", 3.0: "arc_ccw"}
-# Byte classes for the array reader of plain runs.
-_RUN_LETTERS = b"NGXYZF"
-_OTHER, _LETTER, _DIGIT, _DOT, _SIGN, _BLANK, _NEWLINE = range(7)
-_BYTE_CLASS = numpy.zeros(256, dtype=numpy.int8)
-_BYTE_CLASS[list(_RUN_LETTERS)] = _LETTER
-_BYTE_CLASS[list(b"0123456789")] = _DIGIT
-_BYTE_CLASS[ord(".")] = _DOT
-_BYTE_CLASS[list(b"+-")] = _SIGN
-_BYTE_CLASS[list(b" \t\r")] = _BLANK
-_BYTE_CLASS[ord("\n")] = _NEWLINE
-_LETTER_COLUMN = numpy.zeros(256, dtype=numpy.int64)
-_LETTER_COLUMN[list(_RUN_LETTERS)] = numpy.arange(len(_RUN_LETTERS))
-
-
-def _first_bad_position(codes, classes, letters, newlines) -> int:
-    """Offset of the first byte that breaks the plain-run form (or ``len(codes)``): a
-    character outside the form, a letter not followed directly by its number, a sign
-    inside a number, two points in one number, or one letter twice in a line. Numbers
-    that are still malformed ("X-" alone) make the parse count differ, and the caller
-    then falls back to the per-block path."""
-    bad = [numpy.flatnonzero(classes == _OTHER)[:1]]
-    numeric = (classes >= _DIGIT) & (classes <= _SIGN)
-    number_starts = numpy.flatnonzero(numeric[1:] & ~numeric[:-1]) + 1
-    if numeric[:1].any():
-        bad.append(numpy.zeros(1, dtype=numpy.int64))
-    expected = letters + 1
-    count = min(len(number_starts), len(expected))
-    mismatch = numpy.flatnonzero(number_starts[:count] != expected[:count])[:1]
-    bad.append(expected[mismatch])
-    bad.append(expected[count : count + 1])
-    bad.append(number_starts[count : count + 1])
-    signs = numpy.flatnonzero(classes == _SIGN)
-    bad.append(signs[~numpy.isin(signs, expected)][:1])
-    dots = numpy.flatnonzero(classes == _DOT)
-    owners = numpy.searchsorted(letters, dots, side="right") - 1
-    bad.append(dots[1:][owners[1:] == owners[:-1]][:1])
-    if len(letters):
-        keys = numpy.searchsorted(newlines, letters) * len(_RUN_LETTERS) + _LETTER_COLUMN[codes[letters]]
-        bad.append(letters[numpy.bincount(keys)[keys] > 1][:1])
-    candidates = [int(found[0]) for found in bad if len(found)]
-    return min(candidates) if candidates else len(codes)
-
-
-def _token_has_dot(classes, letters, stop: int):
-    dots = numpy.flatnonzero(classes[:stop] == _DOT)
-    owner = numpy.searchsorted(letters, dots, side="right") - 1
-    has_dot = numpy.zeros(len(letters), dtype=bool)
-    has_dot[owner[owner >= 0]] = True
-    return has_dot
-
-
-_PROGRAM_START = re.compile(rb"(?mi)^[ \t]*(?:%[ \t]*)?(?:N\d+[ \t]*)?[O:][ \t]*(\d+)")
+_PROGRAM_START = re.compile(rb"(?i)[ \t]*(?:%[ \t]*)?(?:N\d+[ \t]*)?[O:][ \t]*(\d+)")
+_PROGRAM_LETTER = re.compile(rb"[Oo:][ \t]*\d")
 _PROGRAM_END = re.compile(rb"(?i)M0*(?:2|30)(?![0-9.])")
 
 
@@ -539,64 +490,36 @@ class IsoFrontend:
         """Could this line be part of a :class:`ir.MoveRun`?"""
         return _PLAIN_MOTION.fullmatch(raw) is not None
 
-    def plain_run(self, buffer, offset: int, line: int, limit: int = 1 << 22) -> ir.MoveRun | None:
-        """The plain blocks from ``offset`` on, read as arrays; None when fewer than 16.
-
-        A plain block here is ``N G0/G1 X Y Z F`` words in any order, each letter once,
-        numbers right after their letter. Bytes are classified with a lookup table; any
-        line with another character or a malformed word ends the run, so what is read
-        here is exactly what the per-block fast path would read (a property test checks).
-        """
+    def plain_run(self, buffer, offset: int, line: int, limit: int = 1 << 20) -> ir.MoveRun | None:
+        """The plain blocks from ``offset`` on as one :class:`ir.MoveRun` (see
+        :mod:`ncverify.read.iso_runs`); None when the streak is short."""
         if self.lowering.twins or "X" not in self.lowering.axis_letters:
             return None
         end = min(len(buffer), offset + limit)
         chunk = bytes(buffer[offset:end])
         if end < len(buffer):
             chunk = chunk[: chunk.rfind(b"\n") + 1]
-        if len(chunk) < 64:
+        run = read_plain_run(chunk)
+        if run is None:
             return None
-        codes = numpy.frombuffer(chunk, dtype=numpy.uint8)
-        classes = _BYTE_CLASS[codes]
-        letters = numpy.flatnonzero(classes == _LETTER)
-        newlines = numpy.flatnonzero(classes == _NEWLINE)
-        stop = _first_bad_position(codes, classes, letters, newlines)
-        letters = letters[letters < stop]
-        try:
-            numbers = numpy.fromstring(bytes(numpy.where(classes[:stop] == _LETTER, 32, codes[:stop]).astype(numpy.uint8)), sep=" ")
-        except ValueError:
-            return None  # a malformed number: the per-block path reports it
-        if len(numbers) != len(letters):
-            return None
-        motion_words = codes[letters] == ord("G")
-        odd_motion = letters[motion_words][(numbers[motion_words] != 0.0) & (numbers[motion_words] != 1.0)]
-        if odd_motion.size:
-            keep = letters < odd_motion[0]
-            stop, letters, numbers = int(odd_motion[0]), letters[keep], numbers[keep]
-        if stop < len(chunk):
-            before = newlines[newlines < stop]
-            stop = int(before[-1]) + 1 if before.size else 0
-            keep = letters < stop
-            letters, numbers = letters[keep], numbers[keep]
-        newlines = newlines[newlines < stop]
-        line_count = len(newlines) + (0 if stop == 0 or chunk[stop - 1 : stop] == b"\n" else 1)
-        if line_count < 16:
-            return None
-        rows = numpy.searchsorted(newlines, letters)
-        columns = _LETTER_COLUMN[codes[letters]]
-        table = numpy.full((line_count, len(_RUN_LETTERS)), numpy.nan)
-        table[rows, columns] = numbers
-        pointless = numpy.zeros(table.shape, dtype=bool)
-        pointless[rows, columns] = ~_token_has_dot(classes, letters, stop)
+        table, pointless = run.table, run.pointless
         motion = table[:, 1]
         kinds = numpy.where(numpy.isnan(motion), -1, motion).astype(numpy.int8)
-        starts = numpy.concatenate(([0], newlines + 1))[:line_count] + offset
-        return ir.MoveRun(offset, offset + stop, line, starts, kinds, ("X", "Y", "Z"), table[:, 2:5],
+        return ir.MoveRun(offset, offset + run.length, line, run.line_starts + offset, kinds, ("X", "Y", "Z"), table[:, 2:5],
                           pointless[:, 2:5] & bool(self.lowering.increment), table[:, 5],
-                          pointless[:, 5] & bool(self.lowering.feed_increment), int(numpy.unique(rows).size))
+                          pointless[:, 5] & bool(self.lowering.feed_increment), run.blocks)
 
     def programs(self, buffer) -> list[tuple[str, int]]:
-        """``(name, offset of its first line)`` for every program header in the buffer."""
-        return [(f"O{int(match.group(1))}", match.start()) for match in _PROGRAM_START.finditer(buffer)]
+        """``(name, offset of its first line)`` for every program header in the buffer.
+        Candidates are found by their letter, then the line's start is checked (a scan
+        anchored at every line start costs a second per million lines)."""
+        found = []
+        for candidate in _PROGRAM_LETTER.finditer(buffer):
+            line_start = buffer.rfind(b"\n", 0, candidate.start()) + 1
+            match = _PROGRAM_START.match(buffer, line_start)
+            if match is not None and match.end(1) >= candidate.end() and (not found or found[-1][1] != line_start):
+                found.append((f"O{int(match.group(1))}", line_start))
+        return found
 
     def has_program_end(self, buffer, start: int, end: int) -> bool:
         return _PROGRAM_END.search(buffer, start, end) is not None

@@ -1,0 +1,137 @@
+"""Array reader for streaks of plain ISO blocks (``N G0/G1 X Y Z F``), the bulk of CAM
+output. A chunk of text is classified byte by byte with a lookup table; words, numbers and
+lines are found with numpy, and numbers are parsed exactly: the digits make an integer
+mantissa below 2**53 that is divided by an exact power of ten, which IEEE division rounds
+correctly, so every value equals what ``float(text)`` gives.
+
+The first line that is not plain ends the run (the per-block reader takes it from there),
+so what is read here is exactly what the per-block reader would read.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy
+
+LETTERS = b"NGXYZF"  # columns of the table, in this order
+_OTHER, _LETTER, _DIGIT, _DOT, _SIGN, _BLANK, _NEWLINE = range(7)
+_BYTE_CLASS = numpy.zeros(256, dtype=numpy.int8)
+_BYTE_CLASS[list(LETTERS)] = _LETTER
+_BYTE_CLASS[list(b"0123456789")] = _DIGIT
+_BYTE_CLASS[ord(".")] = _DOT
+_BYTE_CLASS[list(b"+-")] = _SIGN
+_BYTE_CLASS[list(b" \t\r")] = _BLANK
+_BYTE_CLASS[ord("\n")] = _NEWLINE
+_COLUMN = numpy.zeros(256, dtype=numpy.int64)
+_COLUMN[list(LETTERS)] = numpy.arange(len(LETTERS))
+_POWERS_OF_TEN = 10.0 ** numpy.arange(23)
+_MAX_DIGITS = 15  # mantissas stay below 2**53
+_MOTION_CODES = (0.0, 1.0)
+
+
+@dataclass(slots=True)
+class PlainRun:
+    """``table[line, column]``: the number of letter ``LETTERS[column]`` on each line (NaN
+    when absent); ``pointless`` marks numbers written without a decimal point."""
+
+    table: numpy.ndarray
+    pointless: numpy.ndarray
+    line_starts: numpy.ndarray  # offsets relative to the chunk
+    length: int  # bytes read
+    blocks: int  # lines holding at least one word
+
+
+class _Chunk:
+    """The byte positions of one chunk, found once."""
+
+    def __init__(self, chunk: bytes):
+        self.codes = numpy.frombuffer(chunk, dtype=numpy.uint8)
+        self.classes = _BYTE_CLASS[self.codes]
+        self.letters = numpy.flatnonzero(self.classes == _LETTER)
+        self.newlines = numpy.flatnonzero(self.classes == _NEWLINE)
+        self.digits = numpy.flatnonzero(self.classes == _DIGIT)
+        self.dots = numpy.flatnonzero(self.classes == _DOT)
+        self.digit_owner = numpy.searchsorted(self.letters, self.digits, side="right") - 1
+        self.dot_owner = numpy.searchsorted(self.letters, self.dots, side="right") - 1
+
+    def first_bad_position(self) -> int:
+        """The first byte that breaks the form: a character outside it, a letter not
+        followed directly by its number, a sign inside a number, a number with two points,
+        no digit or too many digits, or one letter twice in a line."""
+        classes, letters = self.classes, self.letters
+        bad = [numpy.flatnonzero(classes == _OTHER)[:1]]
+        numeric = (classes >= _DIGIT) & (classes <= _SIGN)
+        number_starts = numpy.flatnonzero(numeric[1:] & ~numeric[:-1]) + 1
+        if numeric[:1].any():
+            bad.append(numpy.zeros(1, dtype=numpy.int64))
+        expected = letters + 1
+        count = min(len(number_starts), len(expected))
+        bad.append(expected[numpy.flatnonzero(number_starts[:count] != expected[:count])[:1]])
+        bad.append(expected[count : count + 1])
+        bad.append(number_starts[count : count + 1])
+        signs = numpy.flatnonzero(classes == _SIGN)
+        bad.append(signs[classes[numpy.maximum(signs - 1, 0)] != _LETTER][:1])
+        bad.append(self.dots[1:][self.dot_owner[1:] == self.dot_owner[:-1]][:1])
+        if len(letters):
+            digit_counts = numpy.bincount(self.digit_owner[self.digit_owner >= 0], minlength=len(letters))
+            bad.append(letters[(digit_counts == 0) | (digit_counts > _MAX_DIGITS)][:1])
+            keys = self.line_of(letters) * len(LETTERS) + _COLUMN[self.codes[letters]]
+            bad.append(letters[numpy.bincount(keys)[keys] > 1][:1])
+        found = [int(position[0]) for position in bad if len(position)]
+        return min(found) if found else len(self.codes)
+
+    def line_of(self, positions):
+        return numpy.searchsorted(self.newlines, positions)
+
+    def numbers(self, stop: int):
+        """The number after each letter before ``stop``, and whether it has a point."""
+        letters = self.letters[self.letters < stop]
+        digits_kept = self.digits < stop
+        digits, owner = self.digits[digits_kept], self.digit_owner[digits_kept]
+        dots_kept = self.dots < stop
+        dots, dot_owner = self.dots[dots_kept], self.dot_owner[dots_kept]
+        count = len(letters)
+        per_token = numpy.bincount(owner, minlength=count)
+        first = numpy.concatenate(([0], numpy.cumsum(per_token)[:-1]))
+        rank = per_token[owner] - 1 - (numpy.arange(len(digits)) - first[owner])
+        mantissa = numpy.bincount(owner, weights=(self.codes[digits] - 48) * _POWERS_OF_TEN[rank], minlength=count)
+        no_point = numpy.iinfo(numpy.int64).max
+        point = numpy.full(count, no_point)
+        point[dot_owner] = dots
+        decimals = numpy.bincount(owner, weights=digits > point[owner], minlength=count).astype(numpy.int64)
+        values = mantissa / _POWERS_OF_TEN[decimals]
+        minus = numpy.flatnonzero(self.codes[:stop] == ord("-"))
+        values[numpy.searchsorted(letters, minus, side="right") - 1] *= -1.0
+        return letters, values, point != no_point
+
+
+def read_plain_run(chunk: bytes, minimum_lines: int = 16) -> PlainRun | None:
+    """Read the plain lines at the start of ``chunk`` (whole lines only); None when
+    fewer than ``minimum_lines``."""
+    if len(chunk) < minimum_lines * 4:
+        return None
+    found = _Chunk(chunk)
+    stop = found.first_bad_position()
+    letters, values, has_point = found.numbers(stop)
+    motion = found.codes[letters] == ord("G")
+    odd_motion = letters[motion][numpy.isin(values[motion], _MOTION_CODES, invert=True)]
+    if odd_motion.size:
+        stop = int(odd_motion[0])
+    if stop < len(chunk):
+        before = found.newlines[found.newlines < stop]
+        stop = int(before[-1]) + 1 if before.size else 0
+    kept = letters < stop
+    letters, values, has_point = letters[kept], values[kept], has_point[kept]
+    newlines = found.newlines[found.newlines < stop]
+    line_count = len(newlines) + (0 if stop == 0 or chunk[stop - 1 : stop] == b"\n" else 1)
+    if line_count < minimum_lines:
+        return None
+    rows = numpy.searchsorted(newlines, letters)
+    columns = _COLUMN[found.codes[letters]]
+    table = numpy.full((line_count, len(LETTERS)), numpy.nan)
+    table[rows, columns] = values
+    pointless = numpy.zeros(table.shape, dtype=bool)
+    pointless[rows, columns] = ~has_point
+    line_starts = numpy.concatenate(([0], newlines + 1))[:line_count]
+    blocks = int(numpy.count_nonzero(numpy.diff(rows)) + 1) if len(rows) else 0
+    return PlainRun(table, pointless, line_starts, stop, blocks)

@@ -1,0 +1,49 @@
+"""Straight-line code runs in batches (numpy arrays); every finding, span and block count
+must be the same as running the blocks one by one."""
+from __future__ import annotations
+
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from ncverify import Settings, check_text
+
+_NUMBER = st.one_of(
+    st.floats(-500, 500, allow_nan=False).map(lambda value: f"{value:.3f}"),
+    st.integers(-50_000, 50_000).map(str),
+    st.integers(-9, 9).map(lambda value: f"{value}."),
+)
+_AXIS_WORDS = st.lists(st.sampled_from("XYZ"), unique=True, max_size=3).flatmap(
+    lambda axes: st.tuples(*[_NUMBER.map(lambda number, axis=axis: axis + number) for axis in axes])
+)
+_PLAIN_BLOCK = st.tuples(
+    st.one_of(st.none(), st.integers(1, 9999).map(lambda n: f"N{n}")),
+    st.one_of(st.none(), st.sampled_from(["G0", "G1", "G00", "G01"])),
+    _AXIS_WORDS,
+    st.one_of(st.none(), st.sampled_from(["F200.", "F0", "F50", "F1200."])),
+).flatmap(lambda parts: st.permutations([p for p in (parts[0], parts[1], *parts[2], parts[3]) if p]).map(" ".join))
+_OTHER_BLOCK = st.sampled_from(
+    ["G91", "G90", "M05", "M03", "G41 D1", "G40", "F0", "G20", "G21", "(WALL)", "", "G02 X1. Y1. R5.", "G1", "T2 M06", "G43 H02", "G49"]
+)
+_BODY = st.lists(st.one_of(_PLAIN_BLOCK, _PLAIN_BLOCK, _PLAIN_BLOCK, _OTHER_BLOCK), min_size=20, max_size=120)
+
+
+def _program(body: list[str], header: list[str]) -> str:
+    return "\n".join(["O1000", "G21 G90 G17 G54", "T1 M06", *header, *body, "M30"]) + "\n"
+
+
+@settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(body=_BODY, header=st.lists(st.sampled_from(["G43 H01 Z50.", "S1000 M03", "F300."]), unique=True))
+def test_batched_and_block_by_block_runs_report_the_same(body, header):
+    program = _program(body, header)
+    batched = check_text(program)
+    one_by_one = check_text(program, settings=Settings(per_block_only=True))
+    assert [(d.rule, d.span, d.message) for d in batched.diagnostics] == [(d.rule, d.span, d.message) for d in one_by_one.diagnostics]
+    assert batched.blocks == one_by_one.blocks
+
+
+def test_a_long_plain_program_is_run_in_batches_and_finds_the_missing_feed():
+    body = [f"G1 X{i * 0.1:.3f} Y{(i % 7) * 0.5:.3f}" for i in range(2000)]
+    program = "\n".join(["O1000", "G21 G90 G54", "S1000 M03", "G0 X0. Y0.", *body, "M30"]) + "\n"
+    result = check_text(program)
+    assert [(d.rule, d.span.line) for d in result.diagnostics] == [("core.feed-missing", 5)]
+    assert result.blocks == 2005
