@@ -30,6 +30,7 @@ class ActiveCycle:
     params: dict
     param_spans: dict
     initial: object  # the drilling-axis level when the cycle mode began
+    definition: object = None  # span of the cycle's G code
 
 
 class CycleRunner:
@@ -78,7 +79,7 @@ class CycleRunner:
         state.cycle_data.update(params)
         spans = dict(state.cycle.param_spans) if state.cycle else {}
         spans.update(op.param_spans)
-        state.cycle = ActiveCycle(op.cycle, model, state.cycle_data, spans, initial)
+        state.cycle = ActiveCycle(op.cycle, model, state.cycle_data, spans, initial, op.span)
         has_move = any(isinstance(later, ir.Move) for later in block.ops[block.ops.index(op) + 1 :])
         if not has_move and (params.keys() & {axis, "R"}):
             return self._holes(op.span, block, {}, frozenset(), None)
@@ -137,7 +138,7 @@ class CycleRunner:
             missing = tuple(letter for letter in missing if letter != "R")
         hole_position = dict(state.position)
         hole_position.update(targets)
-        hole = Hole(cycle.cycle, model, span, block, axis, hole_position, initial, r_point, bottom, dict(data), dict(cycle.param_spans), missing)
+        hole = Hole(cycle.cycle, model, span, block, axis, hole_position, initial, r_point, bottom, dict(data), dict(cycle.param_spans), missing, cycle.definition)
         interp.observer.hole(hole, state)
         if missing or bottom is None:
             state.move_to(targets)

@@ -80,6 +80,7 @@ class Hole:
     params: dict[str, Value]
     param_spans: dict[str, Span] = field(default_factory=dict)
     missing: tuple[str, ...] = ()
+    definition: Span | None = None  # the block that made the cycle modal
 
 
 @dataclass(slots=True)

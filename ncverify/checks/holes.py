@@ -9,12 +9,21 @@ def _code(cycle: str) -> str:
     return cycle.rsplit(".", 1)[-1]
 
 
+def _first_time(state, rule_id: str, hole) -> bool:
+    """One finding per cycle definition, not one per hole it makes."""
+    key = (rule_id, hole.definition)
+    if key in state.rule_state:
+        return False
+    state.rule_state[key] = True
+    return True
+
+
 @rule("core.cycle-missing-parameter")
 class MissingParameter(Rule):
     def hole(self, hole, state):
-        if hole.missing:
+        if hole.missing and _first_time(state, "core.cycle-missing-parameter", hole):
             meanings = ", ".join(f"{letter} ({hole.model['params'][letter]['meaning']})" for letter in hole.missing)
-            self.report("core.cycle-missing-parameter", hole.span, f"{_code(hole.cycle)} makes a hole without {meanings}: the control alarms or drills with the value left from earlier")
+            self.report("core.cycle-missing-parameter", hole.definition or hole.span, f"{_code(hole.cycle)} makes holes without {meanings}: the control alarms at the first hole")
 
 
 @rule("core.cycle-depth-sign", "core.cycle-zero-depth", "core.cycle-r-above-initial")
@@ -63,6 +72,8 @@ class TappingSpindle(Rule):
     def hole(self, hole, state):
         expected = hole.model.get("spindle_before")
         if expected is None or state.spindle == expected or hole.params.get(",R") == 1.0 and state.spindle != "off":
+            return
+        if not _first_time(state, "core.tapping-spindle-direction", hole):
             return
         wanted = "M03 (clockwise)" if expected == "cw" else "M04 (counter-clockwise)"
         actual = {"off": "stopped", "cw": "clockwise (M03)", "ccw": "counter-clockwise (M04)"}[state.spindle]
