@@ -48,6 +48,9 @@ class IsoLowering:
             return block
         if read.percent:
             return block
+        if read.directive:
+            block.notes.append(ir.Note("core.unsupported-code", f"'{read.directive}' is a simulator or editor directive, not G-code; ignored (a real control alarms)", block.span))
+            return block
         words: list[Word] = []
         for item in read.items:
             if isinstance(item, Statement):

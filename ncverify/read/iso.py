@@ -63,6 +63,7 @@ class ReadBlock:
     skip: bool = False
     problem: SyntaxProblem | None = None
     percent: bool = False  # a '%' tape mark line
+    directive: str | None = None  # a simulator / editor directive line ($Inches, #region)
 
 
 _UPPER = str.maketrans("abcdefghijklmnopqrstuvwxyz", "ABCDEFGHIJKLMNOPQRSTUVWXYZ")
@@ -70,6 +71,11 @@ _NUMBER = r"[+-]?(?:\d+\.?\d*|\.\d+)"
 _PLAIN_CODE = re.compile(rf"[ \t]*(?:[A-Z][ \t]*{_NUMBER}[ \t]*)*")
 _PLAIN_WORD = re.compile(rf"([A-Z])[ \t]*({_NUMBER})")
 _COMMENT = re.compile(r"\([^)]*\)")
+# A line of a CNC simulator's or editor's own ($Inches, $AddRegPart, #region): not G-code.
+_DIRECTIVE = re.compile(r"\$[A-Z]|#[A-Z]")
+# After ';' (end of block), prose rather than words is a comment (Mastercam, Mach3 posts):
+# a lower-case letter, or a word of several letters that is no macro keyword.
+_FREE_TEXT = re.compile(r"[^;(]*[a-z]|\s*(?!(?:IF|GOTO|WHILE|WH|END|DO|THEN)(?![A-Za-z]))[A-Za-z]{2,}")
 
 
 def read_line(text: str, line: int, force_grammar: bool = False) -> list[ReadBlock]:
@@ -78,6 +84,9 @@ def read_line(text: str, line: int, force_grammar: bool = False) -> list[ReadBlo
     stripped = code.strip()
     if not stripped:
         return []
+    if _DIRECTIVE.match(stripped):
+        start = code.index(stripped[0])
+        return [ReadBlock(line, start, start + len(stripped), [], directive=text.strip())]
     if stripped.startswith("%"):
         start = code.index("%")
         rest = code[start + 1 :]
@@ -122,6 +131,9 @@ def _read_segments(code: str, text: str, line: int, force_grammar: bool) -> list
                 blocks.append(_read_block(code, text, line, segment_start, position, comments, force_grammar))
             comments = []
             segment_start = position + 1
+            if _FREE_TEXT.match(text, segment_start):
+                blocks.append(ReadBlock(line, position, length, [], [(text[segment_start:].strip(), position, length)]))
+                return blocks
         position += 1
     if code[segment_start:].strip() or comments:
         blocks.append(_read_block(code, text, line, segment_start, length, comments, force_grammar))
@@ -168,7 +180,7 @@ def _parse_with_grammar(block: ReadBlock, segment: str, offset: int) -> None:
         return
     items = _ToItems(offset, block.line).transform(tree)
     block.skip = any(item == "SKIP" for item in items)
-    block.items = [item for item in items if item != "SKIP" and not isinstance(item, tuple)]
+    block.items = [item for item in items if item not in ("SKIP", "MARK") and not isinstance(item, tuple)]
 
 
 def _describe(error: UnexpectedInput, segment: str, offset: int) -> SyntaxProblem:
@@ -230,6 +242,11 @@ class _ToItems(Transformer):
             return Word(letter, None, False, start, end)
         value, has_point = children[1]
         return Word(letter, value, has_point, start, end)
+
+    @v_args(meta=True)
+    def program_mark(self, meta, children):
+        start, end = self._cols(meta)
+        return Word("O", float(children[0]) if children else None, False, start, end) if children else "MARK"
 
     @v_args(meta=True)
     def comma_word(self, meta, children):
