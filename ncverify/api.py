@@ -38,6 +38,7 @@ class FileResult:
     paths: int = 0
     truncated: dict[str, int] = field(default_factory=dict)
     free_parameters: list[str] = field(default_factory=list)
+    least_input_increment: float | None = None
 
     def to_json(self) -> dict:
         entry = {"path": self.path, "dialect": self.dialect, "dialect_confidence": self.dialect_confidence}
@@ -45,6 +46,8 @@ class FileResult:
             entry["profile"] = self.profile
         if self.machine:
             entry["machine"] = self.machine
+        if self.least_input_increment is not None:
+            entry["least_input_increment"] = self.least_input_increment
         if self.skipped:
             entry["skipped"] = self.skipped
         entry["diagnostics"] = [diagnostic.to_json() for diagnostic in self.diagnostics]
@@ -107,14 +110,17 @@ def _detection(source: ProgramSource, settings: Settings) -> Detection:
     if found.dialect is None and "binary" in found.reason:
         return found
     profile = settings.profile or found.profile or "mitsubishi-e60"
-    return Detection(settings.dialect, 1.0, "", profile if settings.dialect == "iso" else None, found.machine)
+    return Detection(settings.dialect, 1.0, "", profile if settings.dialect == "iso" else None, found.machine, found.whole_units)
 
 
 def _run_iso(source: ProgramSource, settings: Settings, detection: Detection, result: FileResult) -> None:
     profile = settings.profile or detection.profile or "mitsubishi-e60"
     machine = settings.machine or detection.machine or "mill"
     table = iso_table(profile, machine)
-    lowering = IsoLowering(table, settings.least_input_increment)
+    increment = settings.least_input_increment
+    if increment is None and detection.whole_units:
+        increment = 0.0
+    lowering = IsoLowering(table, increment)
     context = {
         "machine": machine,
         "d_register_max": float(table.settings.get("d_register_max", 99)),
@@ -133,6 +139,7 @@ def _run_iso(source: ProgramSource, settings: Settings, detection: Detection, re
     )
     interpreter.run()
     result.profile, result.machine = profile, machine
+    result.least_input_increment = lowering.increment
     result.diagnostics = sorted(checker.diagnostics, key=Diagnostic.sort_key)
     result.truncated = dict(checker.truncated)
     result.blocks = interpreter.blocks_run

@@ -131,7 +131,7 @@ _REPORTED_FROM_TRACE = {
     "core.too-many-m-codes", "core.duplicate-address", "core.label-not-found", "core.program-not-found",
     "core.arithmetic-domain", "core.undefined-variable", "core.loop-bound", "core.call-depth", "core.macro-alarm",
     "core.program-end-missing", "core.m99-in-main", "core.path-limit", "core.duplicate-label",
-    "core.repeat-count-range", "core.shape-order", "core.dialect-unsupported",
+    "core.repeat-count-range", "core.shape-order", "core.dialect-unsupported", "core.decimal-point",
 }
 
 

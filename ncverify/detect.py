@@ -64,6 +64,7 @@ class Detection:
     reason: str = ""
     profile: str | None = None
     machine: str | None = None
+    whole_units: bool = False  # integer coordinates are meant as whole mm/inch
 
 
 def detect(head: str, raw_head: bytes = b"") -> Detection:
@@ -81,7 +82,8 @@ def detect(head: str, raw_head: bytes = b"") -> Detection:
     confidence = scores[best] / total * min(1.0, scores[best] / 10.0)
     if best != "iso":
         return Detection(best, round(confidence, 2))
-    return Detection("iso", round(confidence, 2), profile=detect_iso_profile(head), machine=detect_machine(head))
+    return Detection("iso", round(confidence, 2), profile=detect_iso_profile(head), machine=detect_machine(head),
+                     whole_units=integers_look_whole(head))
 
 
 def detect_iso_profile(head: str) -> str:
@@ -90,6 +92,25 @@ def detect_iso_profile(head: str) -> str:
     if _MITSUBISHI.search(head):
         return "mitsubishi-e60"
     return "mitsubishi-e60"
+
+
+_INTEGER_LENGTH = re.compile(r"(?<![A-Z#\[])[XYZUWIJKR][ \t]*-?(\d+)(?![\d.])")
+_POINT_LENGTH = re.compile(r"(?<![A-Z#\[])[XYZUWIJKR][ \t]*-?\d*\.\d*")
+
+
+def integers_look_whole(head: str) -> bool:
+    """Do integer coordinates mean whole units? Controls with a least input increment read
+    ``X8`` as 0.008 mm. A program where small integers are a good share of the coordinates
+    (``X-1.4 Z8``, ``X 100 ... J -9.68``, or no decimal points at all) was written for
+    whole units; programs in increments write large integers (``X-270000``), and a lone
+    ``Z5`` among decimal values is a forgotten point (rule ``core.decimal-point``)."""
+    code = re.sub(r"\([^)]*\)", "", head.upper())
+    integers = [len(match.group(1)) for match in _INTEGER_LENGTH.finditer(code)]
+    points = sum(1 for _ in _POINT_LENGTH.finditer(code))
+    if not integers:
+        return False
+    mostly_small = sum(1 for digits in integers if digits <= 3) >= 0.8 * len(integers)
+    return mostly_small and (points == 0 or len(integers) >= 0.25 * (len(integers) + points))
 
 
 def detect_machine(head: str) -> str | None:

@@ -100,6 +100,7 @@ class MachineState:
     path_condition: list = field(default_factory=list)
     last_reference_via: dict = field(default_factory=dict)
     rule_state: dict = field(default_factory=dict)  # per-path memory of the rules
+    feed_inherited: bool = False  # a called program checked alone: its caller set the feed
 
     def fork(self) -> "MachineState":
         twin = MachineState(**{name: getattr(self, name) for name in self.__slots__})
@@ -170,10 +171,15 @@ class Interpreter:
     # ------------------------------------------------------------------ running
 
     def run(self) -> None:
-        main_name, main_start = self._main_program()
+        main_name, main_start, called = self._main_program()
         state = self.state
         state.modal = dict(self.power_on)
-        state.frames = [Frame("main", main_name, self.source, main_start, None)]
+        state.frames = [Frame("called" if called else "main", main_name, self.source, main_start, None)]
+        if called:
+            state.spindle = "inherited"
+            state.feed_inherited = True
+        for note in self.frontend.file_notes(self.source):
+            self.observer.note(note)
         worklist = [(state, Position(self.source, main_start))]
         while worklist:
             self.state, position = worklist.pop()
@@ -185,19 +191,22 @@ class Interpreter:
                 pass
         self._sweep_unvisited()
 
-    def _main_program(self) -> tuple[str, int]:
+    def _main_program(self) -> tuple[str, int, bool]:
+        """The program to run: the first one that is not a subprogram (M99 and no M02/M30);
+        when every program in the file is a subprogram, the first, run as a called program
+        whose feed and spindle come from a caller we cannot see."""
         programs = self._program_index(self.source)
         if not programs:
-            return "main", 0
-        names = list(programs)
+            return "main", 0, False
         buffer = self.source.buffer
         offsets = sorted(programs.values()) + [len(buffer)]
+        names = sorted(programs, key=programs.get)
         for name in names:
             start = programs[name]
             end = offsets[offsets.index(start) + 1]
-            if self.frontend.has_program_end(buffer, start, end):
-                return name, (0 if start == offsets[0] else start)
-        return names[0], 0
+            if not self.frontend.is_subprogram(buffer, start, end):
+                return name, (0 if start == offsets[0] else start), False
+        return names[0], 0, True
 
     def _program_index(self, source: ProgramSource) -> dict[str, int]:
         key = id(source)
@@ -925,8 +934,11 @@ class Interpreter:
         return found
 
     def _program_bounds(self, source: ProgramSource, start: int) -> tuple[int, int]:
+        """The program that begins at ``start`` runs to the next program header; a main
+        program read from the top of the file owns the first header too."""
         offsets = sorted(self._program_index(source).values())
-        later = [offset for offset in offsets if offset > start]
+        own_header = offsets[0] if offsets and start <= offsets[0] else start
+        later = [offset for offset in offsets if offset > own_header]
         return start, (later[0] if later else len(source))
 
     def _find_program(self, number: float, span) -> tuple[ProgramSource, int] | None:
@@ -1015,6 +1027,8 @@ class Interpreter:
     def _return(self, op: ir.Return, block):
         state = self.state
         frame = state.frames[-1]
+        if frame.kind == "called":
+            self._program_end(op.span, block, "return")
         if frame.kind == "main":
             self._fault("core.m99-in-main", op.span, "M99 in the main program restarts it from the top: it repeats without end (bar feeder loop?)")
             self._program_end(op.span, block, "m99")
@@ -1046,12 +1060,12 @@ class Interpreter:
         frame = self.state.frames[-1]
         last_line = max(source.line_number_at(len(source)) - (1 if source.buffer[-1:] == b"\n" else 0), 1) if len(source) else 1
         span = Span(last_line, 1, last_line, 1, None if source is self.source else source.name)
-        what = "M99" if frame.kind != "main" else "M02/M30"
+        what = "M02/M30" if frame.kind == "main" else "M99"
         self._fault("core.program-end-missing", span, f"{frame.program if frame.program != 'main' else 'the program'} ends without {what}: the control stops at the end of the text with the spindle and coolant as they are")
         self._change("end", span, None, None, "eof")
 
     def _program_ran_into_next(self, block: ir.Block, frame: Frame) -> None:
-        what = "M99" if frame.kind != "main" else "M02/M30"
+        what = "M02/M30" if frame.kind == "main" else "M99"
         self._fault("core.program-end-missing", block.span, f"{frame.program if frame.program != 'main' else 'the program'} runs into program {block.program_start} without {what}")
         self._change("end", block.span, block, None, "eof")
         raise PathEnd

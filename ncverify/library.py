@@ -31,7 +31,11 @@ class SubprogramLibrary:
         return self._open[path]
 
     def _build_index(self) -> dict[str, Path]:
-        index: dict[str, Path] = {}
+        """A file whose first program is O1000 wins over one that only holds O1000 further
+        down, which wins over a file merely named 1000."""
+        first: dict[str, Path] = {}
+        later: dict[str, Path] = {}
+        named: dict[str, Path] = {}
         count = 0
         for folder in self.folders:
             for path in sorted(folder.iterdir()):
@@ -41,12 +45,12 @@ class SubprogramLibrary:
                 stem = path.stem.upper()
                 digits = stem.lstrip("O")
                 if digits.isdigit():
-                    index.setdefault(f"O{int(digits)}", path)
+                    named.setdefault(f"O{int(digits)}", path)
                 try:
                     with path.open("rb") as handle:
                         head = handle.read(4096)
                 except OSError:
                     continue
-                for match in _FIRST_PROGRAM.finditer(head):
-                    index.setdefault(f"O{int(match.group(1))}", path)
-        return index
+                for position, match in enumerate(_FIRST_PROGRAM.finditer(head)):
+                    (first if position == 0 else later).setdefault(f"O{int(match.group(1))}", path)
+        return {**named, **later, **first}

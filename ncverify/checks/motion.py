@@ -52,7 +52,8 @@ class FeedMissing(Rule):
                 return
             memory["feed-missing"] = feed
         if feed is None:
-            self.report("core.feed-missing", span, f"{what} with no feed rate: no F word since the program started (E60 alarm P62)")
+            if not state.feed_inherited:
+                self.report("core.feed-missing", span, f"{what} with no feed rate: no F word since the program started (E60 alarm P62)")
             return
         verdict = judge(hazard("<=", feed, 0.0), state.path_condition)
         self.checker.report_verdict("core.feed-missing", span, f"{what} at feed F{show(feed)}: the axes would not move (feed zero or negative)", verdict, state)

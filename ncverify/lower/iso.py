@@ -422,7 +422,9 @@ _CANONICAL = re.compile(
 _FAST_MOTION = {0.0: "rapid", 1.0: "linear", 2.0: "arc_cw", 3.0: "arc_ccw"}
 _PROGRAM_START = re.compile(rb"(?i)[ \t]*(?:%[ \t]*)?(?:N\d+[ \t]*)?[O:][ \t]*(\d+)")
 _PROGRAM_LETTER = re.compile(rb"[Oo:][ \t]*\d")
+_SMALL_INTEGER_WORD = re.compile(rb"(?<![A-Za-z#\[])[XYZUWIJKRxyzuwijkr][ \t]*-?[1-9]\d{0,2}(?![\d.])")
 _PROGRAM_END = re.compile(rb"(?i)M0*(?:2|30)(?![0-9.])")
+_RETURN = re.compile(rb"(?i)M99(?![0-9.])")
 
 
 class IsoFrontend:
@@ -489,6 +491,26 @@ class IsoFrontend:
             block.ops.append(ir.Move(span, kind, targets, None, {}, frozenset(), columns))
         return block
 
+    def file_notes(self, source) -> list[ir.Note]:
+        """Findings about the file as a whole: the first small integer coordinate read in
+        least input increments (``Z5`` = 0.005 mm), once per file."""
+        if not self.lowering.increment:
+            return []
+        path = None
+        for candidate in list(_SMALL_INTEGER_WORD.finditer(source.buffer))[:50]:
+            line_start = source.buffer.rfind(b"\n", 0, candidate.start()) + 1
+            line_end = source.buffer.find(b"\n", candidate.start())
+            raw = bytes(source.buffer[line_start : len(source.buffer) if line_end < 0 else line_end]).rstrip(b"\r")
+            line = source.line_number_at(line_start)
+            for read in read_line(decode_line(raw), line):
+                for word in read.items:
+                    if isinstance(word, Word) and word.start == candidate.start() - line_start and isinstance(word.value, float) and not word.has_point:
+                        scale = self.lowering.increment
+                        message = (f"{word.letter}{word.value:g} has no decimal point, so this control reads it in least input increments: "
+                                   f"{word.value * scale:g} mm (or {word.value * scale / 10:g} in), not {word.value:g}; write {word.letter}{word.value:g}. if whole units are meant")
+                        return [ir.Note("core.decimal-point", message, Span(line, word.start + 1, line, word.end + 1, path))]
+        return []
+
     def is_plain(self, raw: bytes) -> bool:
         """Could this line be part of a :class:`ir.MoveRun`?"""
         return _PLAIN_MOTION.fullmatch(raw) is not None
@@ -524,8 +546,9 @@ class IsoFrontend:
                 found.append((f"O{int(match.group(1))}", line_start))
         return found
 
-    def has_program_end(self, buffer, start: int, end: int) -> bool:
-        return _PROGRAM_END.search(buffer, start, end) is not None
+    def is_subprogram(self, buffer, start: int, end: int) -> bool:
+        """Does the program text between the offsets end with M99 and never with M02/M30?"""
+        return _PROGRAM_END.search(buffer, start, end) is None and _RETURN.search(buffer, start, end) is not None
 
     def program_name(self, number: float) -> str:
         return f"O{int(number)}"
