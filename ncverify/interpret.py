@@ -536,9 +536,10 @@ class Interpreter:
 
     # ------------------------------------------------------------------ branching
 
-    def _decide(self, condition, span, resume_true, resume_false) -> bool:
+    def _decide(self, condition, span, resume_false) -> bool:
         """Decide a branch. A symbolic condition forks: this path takes ``True`` (and its
-        path condition records it), a copy takes ``False`` from ``resume_false``."""
+        path condition records it), a copy takes ``False`` from ``resume_false()`` (a
+        callable, since finding that position can mean reading ahead)."""
         if type(condition) is bool:
             return condition
         if self.paths_started + len(self._forks) >= self.settings.max_paths:
@@ -548,7 +549,7 @@ class Interpreter:
             raise PathEnd
         twin = self.state.fork()
         twin.path_condition.append(values.negate(condition))
-        self._forks.append((twin, resume_false))
+        self._forks.append((twin, resume_false()))
         self.state.path_condition.append(condition)
         return True
 
@@ -819,7 +820,7 @@ class Interpreter:
 
     def _conditional(self, op: ir.Conditional, block):
         condition = self.condition(op.condition, op.span)
-        if self._decide(condition, op.span, None, self._next_position()):
+        if self._decide(condition, op.span, self._next_position):
             for inner in op.then:
                 transfer = self._handlers[type(inner)](inner, block)
                 if transfer is not None:
@@ -829,7 +830,7 @@ class Interpreter:
     def _jump(self, op: ir.Jump, block):
         if op.condition is not None:
             condition = self.condition(op.condition, op.span)
-            if not self._decide(condition, op.span, None, self._next_position()):
+            if not self._decide(condition, op.span, self._next_position):
                 return None
         target = self.evaluate(op.target, op.span)
         if type(target) is not float:
@@ -853,15 +854,11 @@ class Interpreter:
         head = self._current_position(self._op_index)
         state = self.state
         frame = next((loop for loop in state.loops if loop.loop_id == op.loop_id and loop.head == head), None)
-        if self._decide(condition, op.span, None, self._skip_marker(op)):
+        if self._decide(condition, op.span, lambda: self._find_loop_end(op.loop_id, op.span)):
             if frame is None:
                 state.loops.append(LoopFrame(op.loop_id, head))
             return None
         return self._exit_loop(op, frame)
-
-    def _skip_marker(self, op: ir.LoopStart) -> Position:
-        """Where the False side of a symbolic WHILE resumes: after the matching END."""
-        return self._find_loop_end(op.loop_id, op.span)
 
     def _exit_loop(self, op: ir.LoopStart, frame):
         if frame is not None:

@@ -425,6 +425,7 @@ _PROGRAM_LETTER = re.compile(rb"[Oo:][ \t]*\d")
 _SMALL_INTEGER_WORD = re.compile(rb"(?<![A-Za-z#\[])[XYZUWIJKRxyzuwijkr][ \t]*-?[1-9]\d{0,2}(?![\d.])")
 _PROGRAM_END = re.compile(rb"(?i)M0*(?:2|30)(?![0-9.])")
 _RETURN = re.compile(rb"(?i)M99(?![0-9.])")
+_SETUP = re.compile(rb"(?i)(?<![A-Z])(?:M0*6|G5[4-9])(?![0-9])")
 
 
 class IsoFrontend:
@@ -461,6 +462,8 @@ class IsoFrontend:
         for letter, text, (value_start, value_end) in words:
             start = raw.rindex(letter.encode(), 0, value_start)
             if letter == "N":
+                if label is not None:
+                    return None
                 label = float(text)
             elif letter == "G":
                 if kind is not None:
@@ -471,6 +474,8 @@ class IsoFrontend:
                 move_start = start if move_start is None else min(move_start, start)
                 move_end = max(move_end, value_end)
             elif letter == "F":
+                if feed_op is not None:
+                    return None
                 feed = ir.IncrementCount(float(text), "feed") if lowering.feed_increment and b"." not in text else float(text)
                 feed_op = ir.SetFeed(Span(line, start + 1, line, value_end + 1, path), feed)
             elif letter in lowering.axis_letters and letter not in lowering.twins and letter not in targets:
@@ -547,8 +552,11 @@ class IsoFrontend:
         return found
 
     def is_subprogram(self, buffer, start: int, end: int) -> bool:
-        """Does the program text between the offsets end with M99 and never with M02/M30?"""
-        return _PROGRAM_END.search(buffer, start, end) is None and _RETURN.search(buffer, start, end) is not None
+        """Is the program between the offsets a subprogram: it returns with M99, never ends
+        with M02/M30, and sets up no tool or work offset of its own (a main program that
+        loops with M99, as on a bar feeder, does)?"""
+        return (_PROGRAM_END.search(buffer, start, end) is None and _RETURN.search(buffer, start, end) is not None
+                and _SETUP.search(buffer, start, end) is None)
 
     def program_name(self, number: float) -> str:
         return f"O{int(number)}"
