@@ -131,6 +131,10 @@ class IsoLowering:
         if dynamic:
             self._defer(block, read, words, dynamic, path)
             return
+        for twin, axis in self.twins.items():
+            if twin in rest and axis in rest:
+                word = rest[twin]
+                block.notes.append(ir.Note("core.duplicate-address", f"{axis} and {twin} both give the {axis} end point; the control uses one of them (alarm on most controls)", self._span(read, word.start, word.end, path)))
         codes = self._last_of_each_group(block, read, codes, path)
         self._lower_m_words(block, read, m_words, stages, rest, path)
         self._lower_codes(block, read, codes, rest, stages, path)
@@ -357,8 +361,6 @@ class IsoLowering:
             columns[letter] = (word.start, word.end)
             if letter in self.twins:
                 axis = self.twins[letter]
-                if axis in rest:
-                    block.notes.append(ir.Note("core.duplicate-address", f"{axis} and {letter} both give the {axis} end point; the control uses one of them (alarm on most controls)", spans[letter]))
                 targets[axis] = value
                 incremental.add(axis)
                 columns[axis] = columns[letter]
