@@ -164,15 +164,18 @@ class CycleRunner:
         r_word = data.get("R")
         if model.get("r_incremental"):
             return self._lathe_levels(axis, data, initial, twin)
-        if r_word is None or initial is None and incremental:
-            r_point = None if r_word is None else r_word
+        if r_word is None:
+            r_point = None
+        elif incremental:  # G91: R from the initial level, Z from the R point
+            r_point = None if initial is None else values.add(initial, r_word)
         else:
-            r_point = values.add(initial, r_word) if incremental else r_word
+            r_point = r_word
         bottom_word = data.get(bottom_letter)
-        if bottom_word is None or r_point is None:
-            return r_point, None if bottom_word is None or incremental else bottom_word
-        bottom = values.add(r_point, bottom_word) if incremental else bottom_word
-        return r_point, bottom
+        if bottom_word is None:
+            return r_point, None
+        if incremental:
+            return r_point, None if r_point is None else values.add(r_point, bottom_word)
+        return r_point, bottom_word
 
     def _lathe_levels(self, axis, data, initial, twin):
         if initial is None:

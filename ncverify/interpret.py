@@ -151,6 +151,7 @@ class Interpreter:
         self.visited: list[tuple[ProgramSource, int, int]] = []
         self.paths_started = 0
         self.blocks_run = 0
+        self.block_budget = settings.loop_bound * 2000 + source.line_number_at(len(source))
         self.free_parameters: dict[str, Sym] = {}
         self.state = MachineState()
         self._handlers = {
@@ -239,7 +240,8 @@ class Interpreter:
                 if plain_streak >= _BATCH_AFTER and is_plain(raw) and self._batch_allowed():
                     plain_streak = 0
                     run = self.frontend.plain_run(source.buffer, offset, line_number)
-                    if run is not None and self._execute_run(run, source, path):
+                    if run is not None:
+                        self._execute_run(run, source, path)
                         streak_end = run.end_offset
                         return Position(source, run.end_offset) if run.end_offset < len(source) else self._end_of_text(source)
                 blocks = self._blocks(source, offset, line_number, raw, path, cache, frontend_blocks)
@@ -269,8 +271,8 @@ class Interpreter:
                 and state.modal.get("motion") in ir.MoveRun.KINDS and not isinstance(state.feed, Sym)
                 and not any(isinstance(value, Sym) for value in state.position.values()))
 
-    def _execute_run(self, run: ir.MoveRun, source: ProgramSource, path) -> bool:
-        """Run a batch of plain blocks with arrays; False leaves it to the per-block path."""
+    def _execute_run(self, run: ir.MoveRun, source: ProgramSource, path) -> None:
+        """Run a batch of plain blocks with arrays (the per-block path's twin)."""
         state = self.state
         axes = run.axes
         start_point = numpy.array([_as_float(state.position.get(axis)) for axis in axes])
@@ -312,7 +314,6 @@ class Interpreter:
         if not numpy.isnan(feeds[-1]):
             state.feed = float(feeds[-1])
         state.motion_seen = state.motion_seen or bool(len(moving))
-        return True
 
     def _run_block_reader(self, run: ir.MoveRun, source: ProgramSource, path):
         """Re-reads one block of a run, for a report's span (rare, so not kept)."""
@@ -353,9 +354,9 @@ class Interpreter:
             for note in block.notes:
                 self.observer.note(note)
         self.blocks_run += 1
-        if self.blocks_run > self.settings.loop_bound * 2000:
-            self._fault("core.loop-bound", block.span, f"analysis stopped after {self.blocks_run:,} blocks on this path", "unknown",
-                        "the program runs longer than the analysis budget (loop bound x 2000 blocks)")
+        if self.blocks_run > self.block_budget:
+            self._fault("core.loop-bound", block.span, f"analysis stopped after {self.blocks_run:,} blocks", "unknown",
+                        "the program runs longer than the analysis budget (its length plus loop bound x 2000 blocks)")
             raise PathEnd
         self._block = block
         ops = block.ops
