@@ -45,6 +45,7 @@ _NOT_A_PROGRAM = [
 ]
 
 _HAAS = re.compile(r"(?im)\b(?:G187|G103|G47|M97|G154|HAAS)\b")
+_FANUC_LATHE = re.compile(r"(?im)\bG50\s*S\d|\bG9[024]\s*[XUZW]")
 _MITSUBISHI = re.compile(r"(?im)(?:,[IJR]\s*-?\d|\bG1[23]\s*I[-.\d]+\s*D\d|\bG7[789]\b)")
 _LATHE = [
     (re.compile(r"(?im)\bT\d{4}\b"), 3), (re.compile(r"(?im)\bG7[0-6]\s*P\d+\s*Q\d+"), 4), (re.compile(r"(?im)\bG96\b"), 2),
@@ -82,15 +83,20 @@ def detect(head: str, raw_head: bytes = b"") -> Detection:
     confidence = scores[best] / total * min(1.0, scores[best] / 10.0)
     if best != "iso":
         return Detection(best, round(confidence, 2))
-    return Detection("iso", round(confidence, 2), profile=detect_iso_profile(head), machine=detect_machine(head),
+    machine = detect_machine(head)
+    return Detection("iso", round(confidence, 2), profile=detect_iso_profile(head, machine), machine=machine,
                      whole_units=integers_look_whole(head))
 
 
-def detect_iso_profile(head: str) -> str:
+def detect_iso_profile(head: str, machine: str | None = None) -> str:
+    """Haas by its own codes; a lathe program clamping the spindle with G50 S uses the
+    Fanuc list-A codes (Mitsubishi clamps with G92 S); otherwise the E60 reference."""
     if _HAAS.search(head):
         return "haas"
     if _MITSUBISHI.search(head):
         return "mitsubishi-e60"
+    if machine == "lathe" and _FANUC_LATHE.search(head):
+        return "fanuc"
     return "mitsubishi-e60"
 
 

@@ -707,15 +707,16 @@ class Interpreter:
             state.move_to(state.last_reference_via)
             self._emit("rapid", start, op.span, block, "reference")
             start = state.position
-            state.move_to(self._targets(op.via, frozenset(), op.span))
+            state.move_to(self._targets(op.via, op.incremental, op.span))
             self._emit("rapid", start, op.span, block, "reference")
             return None
-        targets = self._targets(op.via, frozenset(), op.span)
+        targets = self._targets(op.via, op.incremental, op.span)
         start = state.position
         state.move_to(targets)
         state.last_reference_via = dict(targets)
         self._emit("rapid", start, op.span, block, "reference")
-        self._change("reference_return", op.span, block, op_values(op.via, self, op.span), op.which, None)
+        written_absolute = {axis: expr for axis, expr in op.via.items() if axis not in op.incremental}
+        self._change("reference_return", op.span, block, op_values(written_absolute, self, op.span), op.which, None)
         state.move_to(dict.fromkeys(targets))  # at the machine reference point: unknown in work coordinates
         return None
 

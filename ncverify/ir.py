@@ -177,6 +177,7 @@ class ReferenceReturn(Op):
     which: str  # "home" (G28), "secondary" (G30), "from_reference" (G29), "check" (G27)
     via: dict[str, Expr]
     words: dict[str, Expr] = field(default_factory=dict)
+    incremental: frozenset[str] = frozenset()  # axes of ``via`` written incrementally (U/W)
 
 
 @dataclass(slots=True)

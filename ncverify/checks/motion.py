@@ -143,7 +143,11 @@ class ArcGeometry(Rule):
             return
         difference = values.absolute(values.sub(arc.start_radius, arc.end_radius))
         verdict = judge(hazard(">", difference, self.tolerance), state.path_condition)
-        self.checker.report_verdict("core.arc-geometry", segment.span, f"the end point is not on the arc: radius {show(arc.start_radius)} at the start, {show(arc.end_radius)} at the end (I/J/K are measured from the start point to the centre)", verdict, state)
+        if arc.start_radius == 0.0:
+            message = "arc with no centre: I/J/K are all zero or missing and no R is given, so the centre is the start point (is G02/G03 still modal where a G01 was meant?)"
+        else:
+            message = f"the end point is not on the arc: radius {show(arc.start_radius)} at the start, {show(arc.end_radius)} at the end (I/J/K are measured from the start point to the centre)"
+        self.checker.report_verdict("core.arc-geometry", segment.span, message, verdict, state)
 
 
 @rule("core.inch-metric-switch")

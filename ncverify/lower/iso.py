@@ -163,7 +163,7 @@ class IsoLowering:
         by_group: dict[str, tuple[dict, Word]] = {}
         for entry, word in codes:
             group = entry["group"]
-            if group != "00" and group in by_group:
+            if group != "00" and group in by_group and by_group[group][1].value != word.value:
                 earlier = by_group[group][1]
                 block.notes.append(ir.Note(
                     "core.same-group-codes",
@@ -310,16 +310,17 @@ class IsoLowering:
             rest.clear()
             stages[_OFFSET].append(ir.CoordinateShift(span, entry["kind"], values, extra))
         elif effect == "reference":
+            incremental = frozenset(self.twins[letter] for letter in rest if letter in self.twins)
             values = self._take_axes(rest)
             extra = {letter: self._value(w) for letter, w in rest.items()}
             rest.clear()
-            stages[_MOTION].append(ir.ReferenceReturn(span, entry["kind"], values, extra))
+            stages[_MOTION].append(ir.ReferenceReturn(span, entry["kind"], values, extra, incremental))
         elif effect == "machine_move":
             stages[_MOTION].append(ir.MachineMove(span, self._take_axes(rest)))
         elif effect == "macro_call":
             program = self._pop(rest, "P")
             repeat = self._pop(rest, "L", 1.0)
-            arguments = {letter: self._value(w) for letter, w in rest.items()}
+            arguments = {letter: w.value for letter, w in rest.items()}  # passed as written: the macro decides units
             rest.clear()
             stages[_CALL].append(ir.Call(span, "macro", -1.0 if program is None else program, repeat, arguments))
         elif effect in ("cycle", "cycle_call"):
