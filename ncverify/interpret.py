@@ -259,6 +259,23 @@ class Interpreter:
         finally:
             self.visited.append((source, position.offset, streak_end))
 
+    def _closes_tape(self, source: ProgramSource, offset: int) -> bool:
+        marks = self._tape_marks(source)
+        return offset in marks and marks.index(offset) % 2 == 1
+
+    def _tape_marks(self, source: ProgramSource) -> list[int]:
+        key = ("tape", id(source))
+        if key not in self.programs:
+            self.programs[key] = self.frontend.tape_marks(source.buffer)
+        return self.programs[key]
+
+    def _off_tape(self, source: ProgramSource) -> list[tuple[int, int]]:
+        """Text after a closing '%' and before the next opening one: no control reads it."""
+        marks = self._tape_marks(source)
+        closings = marks[1::2]
+        openings = marks[2::2] + [len(source)]
+        return [(closing, opening) for closing, opening in zip(closings, openings)]
+
     def _end_of_text(self, source: ProgramSource):
         self._ran_off_the_end(source)
         raise PathEnd
@@ -353,6 +370,8 @@ class Interpreter:
         if block.notes:
             for note in block.notes:
                 self.observer.note(note)
+        if block.tape_mark and self._closes_tape(self._line_source, self._line_offset):
+            self._end_of_text(self._line_source)
         self.blocks_run += 1
         if self.blocks_run > self.block_budget:
             self._fault("core.loop-bound", block.span, f"analysis stopped after {self.blocks_run:,} blocks", "unknown",
@@ -1098,7 +1117,7 @@ class Interpreter:
         by_source.setdefault(id(self.source), (self.source, []))
         for source, ranges in by_source.values():
             path = None if source is self.source else source.name
-            for start, end in _gaps(sorted(ranges), len(source)):
+            for start, end in _gaps(sorted(ranges + self._off_tape(source)), len(source)):
                 for line_number, offset, _next, raw in source.lines_from(start):
                     if offset >= end:
                         break

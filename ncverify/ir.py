@@ -359,6 +359,7 @@ class Block:
     skippable: bool = False  # '/' block delete
     comments: tuple[tuple[str, Span], ...] = ()
     program_start: str | None = None  # this block starts program O1234
+    tape_mark: bool = False  # a '%' line: the start or the end of the tape
     notes: list[Note] = field(default_factory=list)
 
     @property

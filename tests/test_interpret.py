@@ -214,8 +214,6 @@ def test_g81_with_l_in_g91_drills_a_row_of_holes_a_pitch_apart():
     assert probed(result) == 30.0
 
 
-@pytest.mark.xfail(reason="BUG: K, the Fanuc repeat count of a canned cycle, is scaled as a length (K3 = 0.003, "
-                          "plus a core.decimal-point finding), so G91 G81 ... K3 drills no hole", strict=True)
 def test_g81_with_k_on_fanuc_drills_k_holes_a_pitch_apart():
     result = drill("""
         G91 G99 G81 X10. Z-7. R-48. F100. K3

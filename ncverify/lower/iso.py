@@ -47,6 +47,7 @@ class IsoLowering:
             block.notes.append(ir.Note("core.syntax", read.problem.message, self._span(read, read.problem.start, read.problem.end, path)))
             return block
         if read.percent:
+            block.tape_mark = True
             return block
         if read.directive:
             block.notes.append(ir.Note("core.unsupported-code", f"'{read.directive}' is a simulator or editor directive, not G-code; ignored (a real control alarms)", block.span))
@@ -344,7 +345,7 @@ class IsoLowering:
                 if not one_shot and letter in self.axis_letters and letter not in ("Z", "X", "W", "U") and letter not in declared:
                     continue
                 word = rest.pop(letter)
-                kind = declared.get(letter, {}).get("kind")
+                kind = declared.get(letter, {}).get("kind") or ("count" if letter in ("L", "K") else None)
                 params[letter] = word.value if kind in ("code", "count") else self._value(word)
                 spans[letter] = self._span(read, word.start, word.end, path)
         return params, spans
@@ -428,6 +429,7 @@ _PROGRAM_LETTER = re.compile(rb"[Oo:][ \t]*\d")
 _SMALL_INTEGER_WORD = re.compile(rb"(?<![A-Za-z#\[])[XYZUWIJKRxyzuwijkr][ \t]*-?[1-9]\d{0,2}(?![\d.])")
 _PROGRAM_END = re.compile(rb"(?i)M0*(?:2|30)(?![0-9.])")
 _RETURN = re.compile(rb"(?i)M99(?![0-9.])")
+_TAPE_MARK = re.compile(rb"(?m)^[ \t]*%")
 _SETUP = re.compile(rb"(?i)(?<![A-Z])(?:M0*6|G5[4-9])(?![0-9])")
 
 
@@ -553,6 +555,11 @@ class IsoFrontend:
             if match is not None and match.end(1) >= candidate.end() and (not found or found[-1][1] != line_start):
                 found.append((f"O{int(match.group(1))}", line_start))
         return found
+
+    def tape_marks(self, buffer) -> list[int]:
+        """Offsets of the '%' lines: text between a closing mark and the next opening one
+        is not part of any program."""
+        return [match.start() for match in _TAPE_MARK.finditer(buffer)]
 
     def is_subprogram(self, buffer, start: int, end: int) -> bool:
         """Is the program between the offsets a subprogram: it returns with M99, never ends

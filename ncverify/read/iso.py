@@ -173,6 +173,10 @@ def _parser() -> Lark:
 
 
 def _parse_with_grammar(block: ReadBlock, segment: str, offset: int) -> None:
+    too_complex = _too_complex(segment)
+    if too_complex:
+        block.problem = SyntaxProblem(too_complex, offset, offset + len(segment.rstrip()))
+        return
     try:
         tree = _parser().parse(segment)
     except UnexpectedInput as error:
@@ -183,7 +187,33 @@ def _parse_with_grammar(block: ReadBlock, segment: str, offset: int) -> None:
     block.items = [item for item in items if item not in ("SKIP", "MARK") and not isinstance(item, tuple)]
 
 
+_MAX_NESTING = 100
+_MAX_OPERATORS = 200
+_OPERATOR = re.compile(r"[-+*/]|AND|OR|XOR|MOD|EQ|NE|GT|GE|LT|LE")
+
+
+def _too_complex(segment: str) -> str | None:
+    """Controls nest brackets a few levels deep (Fanuc: 5); an expression far beyond what
+    any control takes is refused here rather than parsed recursively."""
+    depth = deepest = 0
+    for char in segment:
+        if char == "[":
+            depth += 1
+            deepest = max(deepest, depth)
+        elif char == "]":
+            depth -= 1
+    if deepest > _MAX_NESTING:
+        return f"brackets nested {deepest} deep: no control accepts that (Fanuc allows 5)"
+    operators = len(_OPERATOR.findall(segment))
+    if operators > _MAX_OPERATORS:
+        return f"an expression with {operators} operators is too long for a control's block buffer"
+    return None
+
+
 def _describe(error: UnexpectedInput, segment: str, offset: int) -> SyntaxProblem:
+    if segment.count("[") > segment.count("]"):
+        opening = segment.rfind("[")
+        return SyntaxProblem("'[' is not closed: the expression needs its ']'", offset + opening, offset + len(segment.rstrip()))
     column = max(getattr(error, "column", 1) or 1, 1) - 1
     if isinstance(error, UnexpectedEOF) or column >= len(segment):
         stripped = segment.rstrip()
