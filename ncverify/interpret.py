@@ -593,30 +593,30 @@ class Interpreter:
         return None
 
     def _cutter_comp(self, op: ir.CutterComp, block):
-        state = self.state
-        register = self._register(op.register, op.span)
-        old = state.comp_side
-        if op.side != "keep":
-            state.comp_side = op.side
-        if register is not None:
-            state.comp_register = register
-        self._change("cutter_comp", op.span, block, old, state.comp_side, register)
+        old, register = self._switch_offset(op.side, op.register, op.span, "comp_side", "comp_register")
+        self._change("cutter_comp", op.span, block, old, self.state.comp_side, register)
         return None
 
     def _length_offset(self, op: ir.LengthOffset, block):
+        old, register = self._switch_offset(op.mode, op.register, op.span, "length_mode", "length_register")
         state = self.state
-        register = self._register(op.register, op.span)
-        old = state.length_mode
-        if op.mode != "keep":
-            state.length_mode = op.mode
-        if register is not None:
-            state.length_register = register
-            if register == 0.0:
-                state.length_mode = "off"
+        if register == 0.0:
+            state.length_mode = "off"  # H0 cancels like G49 (seed L1830)
         if op.mode == "off":
             state.length_register = None
         self._change("length_offset", op.span, block, old, state.length_mode, register)
         return None
+
+    def _switch_offset(self, mode: str, register_expr, span, mode_field: str, register_field: str):
+        """G40-G42 and G43/G44/G49: a new mode ("keep" leaves it) and a new register."""
+        state = self.state
+        old = getattr(state, mode_field)
+        register = self._register(register_expr, span)
+        if mode != "keep":
+            setattr(state, mode_field, mode)
+        if register is not None:
+            setattr(state, register_field, register)
+        return old, register
 
     def _register(self, expr, span):
         if expr is None:
