@@ -9,11 +9,14 @@ import os
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from . import annotations
 from .check import Checker
 from .detect import Detection, detect
 from .diagnostics import Diagnostic, Severity, Status, Suppressed
 from .interpret import Interpreter
+from .context import Context
 from .library import SubprogramLibrary
+from .project import ConfigError, find_project_file, load_project
 from .lower.iso import IsoFrontend, IsoLowering
 from .settings import Settings
 from .source import ProgramSource, Span
@@ -62,9 +65,9 @@ class FileResult:
         return sum(1 for d in self.diagnostics if d.severity is severity and d.status is not Status.UNKNOWN)
 
 
-def check_text(text: str, path: str = "<text>", settings: Settings | None = None) -> FileResult:
-    """Check a program given as text."""
-    return check_source(ProgramSource.from_text(text, path), settings or Settings())
+def check_text(text: str, path: str = "<text>", settings: Settings | None = None, project: Context | None = None) -> FileResult:
+    """Check a program given as text; ``project`` is the project-file context, if any."""
+    return check_source(ProgramSource.from_text(text, path), settings or Settings(), project)
 
 
 def check_file(path: str | os.PathLike, settings: Settings | None = None) -> FileResult:
@@ -83,10 +86,17 @@ def check_file(path: str | os.PathLike, settings: Settings | None = None) -> Fil
         source = ProgramSource.open(file_path)
     except OSError as error:
         raise InputError(f"{path}: cannot read: {error.strerror or error}") from error
-    return check_source(source, settings)
+    return check_source(source, settings, project_for(file_path, settings))
 
 
-def check_source(source: ProgramSource, settings: Settings) -> FileResult:
+def project_for(program: Path | None, settings: Settings) -> Context | None:
+    """The project file's context: ``settings.config`` if given, else ``ncverify.toml``
+    found upward from the program. Raises :class:`ConfigError` for a broken file."""
+    path = settings.config or find_project_file(program)
+    return load_project(path) if path is not None else None
+
+
+def check_source(source: ProgramSource, settings: Settings, project: Context | None = None) -> FileResult:
     detection = _detection(source, settings)
     result = FileResult(source.name, detection.dialect, detection.confidence, profile=detection.profile, machine=detection.machine)
     if detection.dialect is None:
@@ -98,8 +108,21 @@ def check_source(source: ProgramSource, settings: Settings) -> FileResult:
                        Status.UNKNOWN, f"no reader for the {detection.dialect} dialect yet")
         result.diagnostics = checker.diagnostics
         return result
-    _run_iso(source, settings, detection, result)
+    settings = _with_project_settings(settings, project)
+    _run_iso(source, settings, detection, result, project or Context())
+    _confirm_witnesses(source, settings, detection, result, project or Context())
     return result
+
+
+def _with_project_settings(settings: Settings, project: Context | None) -> Settings:
+    """``[settings]`` of the project file, where the command line left the default."""
+    if project is None:
+        return settings
+    defaults = Settings()
+    changes = {key: value for key, value in project.settings.items()
+               if hasattr(settings, key) and getattr(settings, key) == getattr(defaults, key)}
+    changes["disabled_rules"] = settings.disabled_rules | frozenset(project.disabled)
+    return settings.with_(**changes)
 
 
 def _detection(source: ProgramSource, settings: Settings) -> Detection:
@@ -113,34 +136,69 @@ def _detection(source: ProgramSource, settings: Settings) -> Detection:
     return Detection(settings.dialect, 1.0, "", profile if settings.dialect == "iso" else None, found.machine, found.whole_units)
 
 
-def _run_iso(source: ProgramSource, settings: Settings, detection: Detection, result: FileResult) -> None:
+def _confirm_witnesses(source, settings, detection, result: FileResult, project: Context) -> None:
+    """Replay every witness concretely: pin the free parameters to its values, run the
+    program again, and keep the finding only if the same rule fires at the same place. A
+    witness that does not reproduce is a modelling gap; the finding becomes ``unknown``."""
+    by_witness: dict[tuple, list[Diagnostic]] = {}
+    for diagnostic in result.diagnostics:
+        if diagnostic.status is Status.VIOLATED and diagnostic.witness:
+            by_witness.setdefault(tuple(sorted(diagnostic.witness.items())), []).append(diagnostic)
+    for witness, diagnostics in by_witness.items():
+        replay = FileResult(result.path, result.dialect, result.dialect_confidence)
+        _run_iso(source, settings, detection, replay, project, pins=dict(witness))
+        reproduced = {(d.rule, d.span) for d in replay.diagnostics if d.status is Status.VIOLATED}
+        for diagnostic in diagnostics:
+            if (diagnostic.rule, diagnostic.span) not in reproduced:
+                diagnostic.status = Status.UNKNOWN
+                diagnostic.reason = ("the solver's counterexample " + ", ".join(f"{name}={value:g}" for name, value in witness)
+                                     + " did not reproduce when the program was run with those values: not verified either way")
+
+
+def _run_iso(source: ProgramSource, settings: Settings, detection: Detection, result: FileResult, project: Context,
+             pins: dict | None = None) -> None:
     profile = settings.profile or detection.profile or "mitsubishi-e60"
-    machine = settings.machine or detection.machine or "mill"
+    machine = settings.machine or project.machine.kind or detection.machine or "mill"
     table = iso_table(profile, machine)
     increment = settings.least_input_increment
     if increment is None and detection.whole_units:
         increment = 0.0
     lowering = IsoLowering(table, increment)
-    context = {
+    frontend = IsoFrontend(lowering)
+    found = annotations.collect(source, frontend)
+    context = found.context.layered_over(project)
+    limits = {
         "machine": machine,
         "d_register_max": float(table.settings.get("d_register_max", 99)),
         "h_register_max": float(table.settings.get("h_register_max", 99)),
         "tool_number_max": float(table.settings.get("tool_number_max", 9999)),
+        "stock": context.stock,
+        "tools": context.tools,
+        "travel": context.machine.travel,
+        "work_offsets": context.machine.work_offsets,
+        "max_spindle": context.machine.max_spindle,
+        "max_feed": context.machine.max_feed,
+        "rapid_path": settings.rapid_path,
+        "solver_timeout_s": settings.solver_timeout_s,
     }
-    checker = Checker(settings, context)
+    checker = Checker(settings, limits, context.severity, found.suppressions)
+    for note in found.notes:
+        checker.note(note)
     folders = list(settings.subprogram_path)
     if source.path is not None:
         folders.append(source.path.parent)
     library = SubprogramLibrary(folders, settings.extensions)
     interpreter = Interpreter(
-        source, IsoFrontend(lowering), checker, settings, power_on=table.power_on, cycle_models=table.cycles,
+        source, frontend, checker, settings, power_on=table.power_on, cycle_models=table.cycles,
         twins=dict(table.words.get("incremental_twins", {})), machine=machine, increment=lowering.increment,
-        feed_increment=lowering.feed_increment, library=library,
+        feed_increment=lowering.feed_increment, library=library, assumptions=context.assumptions, pins=pins,
     )
     interpreter.run()
+    checker.finish()
     result.profile, result.machine = profile, machine
     result.least_input_increment = lowering.increment
     result.diagnostics = sorted(checker.diagnostics, key=Diagnostic.sort_key)
+    result.suppressed = checker.suppressed
     result.truncated = dict(checker.truncated)
     result.blocks = interpreter.blocks_run
     result.paths = interpreter.paths_started

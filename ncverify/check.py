@@ -17,7 +17,7 @@ from pathlib import Path
 import z3
 
 from . import values
-from .diagnostics import CATEGORIES, Diagnostic, Severity, Status
+from .diagnostics import CATEGORIES, Diagnostic, Severity, Status, Suppressed
 from .resources import data_dir
 from .source import Span
 from .values import Condition, Sym
@@ -155,6 +155,8 @@ class Rule:
 
     def change(self, change, state): ...
 
+    def finish(self): ...
+
 
 # --------------------------------------------------------------------------- judging symbolic values
 
@@ -195,9 +197,14 @@ def judge(hazard: "bool | Condition", path_condition: list, timeout_s: float = 5
 
 
 def hazard(op: str, a, b) -> "bool | Condition":
-    """``a op b`` as a hazard condition, with ISO relation names or symbols."""
+    """``a op b`` as a hazard condition, with ISO relation names or symbols. When a value
+    is symbolic the answer stays a condition even if intervals decide it, so that the
+    verdict is ``proved`` (or ``violated`` with a witness) rather than silence."""
     symbol = {"<": "LT", "<=": "LE", ">": "GT", ">=": "GE", "==": "EQ", "!=": "NE"}.get(op, op)
-    return values.compare(symbol, a, b)
+    outcome = values.compare(symbol, a, b)
+    if type(outcome) is bool and (isinstance(a, Sym) or isinstance(b, Sym)):
+        return Condition(z3.BoolVal(outcome))
+    return outcome
 
 
 def show(value) -> str:
@@ -216,11 +223,13 @@ class Checker:
     """Collects findings from the trace: dedups them, caps them per rule, applies the
     configured severities and disabled rules."""
 
-    def __init__(self, settings, context: dict, severity_overrides: dict | None = None):
+    def __init__(self, settings, context: dict, severity_overrides: dict | None = None, suppressions: dict | None = None):
         from . import checks  # noqa: F401
 
         self.settings = settings
-        self.context = context  # register limits, machine type: what the rules may assume
+        self.context = context  # register limits, machine type, stock, tools, travel: what rules may assume
+        self.suppressions = suppressions or {}  # line -> rule ids / categories from "ignore" annotations
+        self.suppressed: list[Suppressed] = []
         self.definitions = rule_definitions()
         self.severity_overrides = severity_overrides or {}
         self.diagnostics: list[Diagnostic] = []
@@ -236,12 +245,18 @@ class Checker:
         self._hole = _handlers(rules, "hole") + [self._constraints_on_hole]
         self._cycle_run = _handlers(rules, "cycle_run") + [self._constraints_on_run]
         self._change = _handlers(rules, "change")
+        self._finish = _handlers(rules, "finish")
         self._constraints = [
             (definition, constraint)
             for definition in self.definitions.values()
             for constraint in definition.constraints
             if definition.id not in settings.disabled_rules
         ]
+
+    def finish(self) -> None:
+        """After every path: rules that report what was never seen (missing context)."""
+        for handler in self._finish:
+            handler()
 
     # -- events from the interpreter
     def segment(self, segment, state) -> None:
@@ -289,6 +304,10 @@ class Checker:
         if key in self._seen:
             return
         self._seen.add(key)
+        ignored = self.suppressions.get(span.line) if span.path is None else None
+        if ignored and (rule_id in ignored or definition.category in ignored):
+            self.suppressed.append(Suppressed(rule_id, span.line, "annotation"))
+            return
         count = self._per_rule.get(rule_id, 0) + 1
         self._per_rule[rule_id] = count
         if count > self.settings.max_findings_per_rule:

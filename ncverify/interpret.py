@@ -132,7 +132,7 @@ class Interpreter:
 
     def __init__(self, source: ProgramSource, frontend, observer, settings: Settings, *, power_on: dict,
                  cycle_models: dict, twins: dict, machine: str = "mill", increment: float = 0.0,
-                 feed_increment: float = 0.0, library=None):
+                 feed_increment: float = 0.0, library=None, assumptions=(), pins: dict | None = None):
         self.cycle_models = cycle_models
         self.twins = twins
         self.source = source
@@ -153,7 +153,9 @@ class Interpreter:
         self.blocks_run = 0
         self.block_budget = settings.loop_bound * 2000 + source.line_number_at(len(source))
         self.free_parameters: dict[str, Sym] = {}
+        self.pins = pins or {}  # free parameters fixed to a witness's values, for its replay
         self.state = MachineState()
+        self.state.path_condition = self._assume(assumptions)
         self._handlers = {
             ir.SetModal: self._set_modal, ir.Move: self._move, ir.Dwell: self._nothing,
             ir.CutterComp: self._cutter_comp, ir.LengthOffset: self._length_offset,
@@ -511,10 +513,30 @@ class Interpreter:
             return system
         return self._free_parameter(name)
 
+    def _assume(self, assumptions) -> list:
+        """Free parameters named in assumptions get their bounds; the assumptions start
+        every path's condition."""
+        from .check import evaluate_constraint
+        from .project import assumption_bounds, assumption_names, parameter_name
+
+        conditions = []
+        for assumption in assumptions:
+            unbounded = {node: values.parameter(parameter_name(node)) for node in assumption_names(assumption.tree)}
+            condition = evaluate_constraint(assumption.tree, unbounded)  # for the solver: no interval may decide it
+            if condition is not True:
+                conditions.append(condition)
+            for node, (low, high) in assumption_bounds(assumption.tree).items():
+                name = parameter_name(node)
+                known = self.free_parameters.get(name, values.parameter(name))
+                self.free_parameters[name] = values.Sym(known.term, max(low, known.low), min(high, known.high))
+        return conditions
+
     def _in_macro(self) -> bool:
         return any(frame.kind == "macro" for frame in self.state.frames)
 
     def _free_parameter(self, name: str) -> Sym:
+        if name in self.pins:
+            return float(self.pins[name])
         parameter = self.free_parameters.get(name)
         if parameter is None:
             parameter = values.parameter(name)

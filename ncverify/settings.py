@@ -26,6 +26,9 @@ class Settings:
     fail_on_unknown: bool = False
     disabled_rules: frozenset[str] = field(default_factory=frozenset)
     per_block_only: bool = False  # tests: run plain blocks one by one, to compare with batches
+    solver_timeout_s: float = 5.0  # per Z3 query
+    rapid_path: str = "straight"  # or "dogleg": each axis moves on its own at rapid
+    config: Path | None = None  # the project file; None: ncverify.toml found upward
 
     def with_(self, **changes) -> "Settings":
         return replace(self, **changes)

@@ -1,0 +1,144 @@
+"""``ncverify:`` annotations in program comments: stock, tools, parameter ranges, and
+suppressions. One grammar for every dialect, fixed because people write it by hand (extend
+it, never change it); keywords are case-insensitive, lengths in the program's units::
+
+    annotation := "ncverify:" ( stock | tool | assume | ignore )
+    stock      := "stock" ( "box" "X"a":"b "Y"a":"b "Z"a":"b
+                          | "cylinder" "D"d "Z"a":"b
+                          | "polygon" point ("," point)+ "Z"a":"b )      point := "X"x "Y"y
+    tool       := "tool" (number | '"'name'"') "radius" r { key value }
+    assume     := "assume" chain { "and" chain }
+    ignore     := "ignore" (rule-id | category) { "," (rule-id | category) }
+
+An ``ignore`` in a comment on a line of its own applies to the next block; at the end of a
+block, to that block.
+"""
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass, field
+
+from . import ir
+from .context import TOOL_KEYS, TOOL_TYPES, Assumption, Context, Stock, Tool
+from .project import parse_assumption
+from .source import ProgramSource, Span, decode_line
+
+_MARKER = re.compile(rb"(?i)ncverify\s*:")
+_NUMBER = r"[+-]?(?:\d+\.?\d*|\.\d+)"
+_RANGE = rf"({_NUMBER})\s*:\s*({_NUMBER})"
+_BOX = re.compile(rf"(?i)box\s+X\s*{_RANGE}\s+Y\s*{_RANGE}\s+Z\s*{_RANGE}\s*$")
+_CYLINDER = re.compile(rf"(?i)cylinder\s+D\s*({_NUMBER})\s+Z\s*{_RANGE}\s*$")
+_POLYGON = re.compile(rf"(?i)polygon\s+(.*?)\s+Z\s*{_RANGE}\s*$")
+_POINT = re.compile(rf"(?i)^\s*X\s*({_NUMBER})\s+Y\s*({_NUMBER})\s*$")
+_TOOL = re.compile(rf'(?i)tool\s+(?:(\d+)|"([^"]+)")\s+radius\s+({_NUMBER})((?:\s+[A-Za-z-]+\s+\S+)*)\s*$')
+_NAME = re.compile(r"[a-z][a-z0-9-]*(?:\.[a-z0-9-]+)?$")
+
+
+@dataclass
+class Annotations:
+    context: Context = field(default_factory=Context)
+    suppressions: dict[int, set[str]] = field(default_factory=dict)  # line -> rule ids / categories
+    notes: list[ir.Note] = field(default_factory=list)  # malformed annotations
+
+
+def collect(source: ProgramSource, frontend) -> Annotations:
+    """Every annotation in the program's comments, found by its marker."""
+    found = Annotations()
+    buffer = source.buffer
+    seen_lines: set[int] = set()
+    for marker in _MARKER.finditer(buffer):
+        line_start = buffer.rfind(b"\n", 0, marker.start()) + 1
+        if line_start in seen_lines:
+            continue
+        seen_lines.add(line_start)
+        line = source.line_number_at(line_start)
+        blocks = frontend.blocks(_raw_line(buffer, line_start), line, None)
+        own_line = not any(block.ops or block.label is not None for block in blocks)
+        for block in blocks:
+            for text, span in block.comments:
+                marker_in_comment = re.search(r"(?i)ncverify\s*:", text)
+                if marker_in_comment:
+                    body = text[marker_in_comment.end():].strip()
+                    target = _next_block_line(source, frontend, line_start) if own_line else line
+                    _read(body, span, target, found)
+    return found
+
+
+def _raw_line(buffer, start: int) -> bytes:
+    end = buffer.find(b"\n", start)
+    return bytes(buffer[start : len(buffer) if end < 0 else end]).rstrip(b"\r")
+
+
+def _next_block_line(source: ProgramSource, frontend, line_start: int) -> int:
+    for number, _offset, _next, raw in source.lines_from(line_start):
+        if number == source.line_number_at(line_start):
+            continue
+        if any(block.ops or block.label is not None for block in frontend.blocks(raw, number, None)):
+            return number
+    return source.line_number_at(line_start)
+
+
+def _read(body: str, span: Span, target_line: int, found: Annotations) -> None:
+    keyword, _, rest = body.partition(" ")
+    keyword = keyword.lower()
+    try:
+        if keyword == "stock":
+            found.context.stock = _stock(rest.strip(), span)
+        elif keyword == "tool":
+            tool = _tool(body, span)
+            found.context.tools[tool.number] = tool
+        elif keyword == "assume":
+            tree = parse_assumption(rest.strip())
+            found.context.assumptions.append(Assumption(rest.strip(), tree, "annotation", span))
+        elif keyword == "ignore":
+            names = [name.strip().lower() for name in rest.split(",")]
+            if not names or not all(_NAME.match(name) for name in names):
+                raise ValueError("ignore takes rule ids or categories separated by commas")
+            found.suppressions.setdefault(target_line, set()).update(names)
+        else:
+            raise ValueError(f"unknown annotation {keyword!r} (stock, tool, assume or ignore)")
+    except (ValueError, SyntaxError) as error:
+        message = error.msg if isinstance(error, SyntaxError) else str(error)
+        found.notes.append(ir.Note("core.bad-annotation", f"cannot read this ncverify annotation: {message}", span))
+
+
+def _stock(text: str, span: Span) -> Stock:
+    if match := _BOX.match(text):
+        numbers = [float(value) for value in match.groups()]
+        return Stock.box(numbers[0:2], numbers[2:4], numbers[4:6], "annotation", span)
+    if match := _CYLINDER.match(text):
+        diameter, low, high = (float(value) for value in match.groups())
+        return Stock.cylinder(diameter, (low, high), "annotation", span)
+    if match := _POLYGON.match(text):
+        points = []
+        for part in match.group(1).split(","):
+            point = _POINT.match(part)
+            if not point:
+                raise ValueError(f"a polygon point is written X<x> Y<y>, not {part.strip()!r}")
+            points.append((float(point.group(1)), float(point.group(2))))
+        if len(points) < 3:
+            raise ValueError("a stock polygon needs at least three points")
+        return Stock.polygon(points, (float(match.group(2)), float(match.group(3))), "annotation", span)
+    raise ValueError("stock is: box X<a>:<b> Y<a>:<b> Z<a>:<b> | cylinder D<d> Z<a>:<b> | polygon X<x> Y<y>, ... Z<a>:<b>")
+
+
+def _tool(text: str, span: Span) -> Tool:
+    match = _TOOL.match(text)
+    if not match:
+        raise ValueError('tool is: tool <number or "name"> radius <r> [key value ...]')
+    number, name, radius, extra = match.groups()
+    tool = Tool(int(number) if number else None, name=name, radius=float(radius), origin="annotation")
+    words = extra.split()
+    for key, value in zip(words[::2], words[1::2]):
+        key = key.lower().replace("-", "_")
+        if key == "type":
+            if value.lower() not in TOOL_TYPES:
+                raise ValueError(f"unknown tool type {value!r}")
+            tool.type = value.lower()
+        elif key in TOOL_KEYS:
+            setattr(tool, key, float(value))
+        else:
+            raise ValueError(f"unknown tool key {key!r} (known: type, {', '.join(TOOL_KEYS)})")
+    if tool.radius <= 0:
+        raise ValueError("the tool radius must be positive")
+    return tool

@@ -1,0 +1,139 @@
+"""What a verdict depends on besides the program: stock, tools, machine, parameter ranges.
+
+Context comes from three places, and the first that says something wins: the program
+itself (a dialect's stock or tool statements), ``ncverify:`` annotations in its comments
+(:mod:`ncverify.annotations`), and the project file ``ncverify.toml``
+(:mod:`ncverify.project`). A check whose context is missing answers ``unknown`` and says
+which context it lacks; it never assumes "safe".
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import shapely
+from shapely.geometry import Polygon
+
+from .source import Span
+
+TOOL_TYPES = ("drill", "endmill", "ball", "bullnose", "chamfer", "spot", "tap", "threadmill", "boring", "reamer",
+              "facemill", "slot", "turning", "grooving", "parting", "threading", "probe")
+TOOL_KEYS = ("radius", "corner", "length", "cutting_length", "usable_length", "angle", "pitch", "nose_radius", "edge")
+
+
+@dataclass(frozen=True)
+class Stock:
+    """The blank. ``box``: x, y, z ranges; ``polygon``: a shapely polygon in XY between two
+    Z levels; ``cylinder``: a bar of ``diameter`` along Z (lathe, X is a diameter)."""
+
+    kind: str
+    z_range: tuple[float, float]
+    x_range: tuple[float, float] | None = None
+    y_range: tuple[float, float] | None = None
+    outline: Polygon | None = None
+    diameter: float | None = None
+    origin: str = "project file"  # where it was defined: program, annotation, project file
+    span: Span | None = None
+
+    @property
+    def top(self) -> float:
+        return self.z_range[1]
+
+    @classmethod
+    def box(cls, x, y, z, origin="project file", span=None) -> "Stock":
+        return cls("box", _ordered(z), _ordered(x), _ordered(y), origin=origin, span=span)
+
+    @classmethod
+    def polygon(cls, points, z, origin="project file", span=None) -> "Stock":
+        outline = Polygon(points)
+        if not outline.is_valid or outline.area <= 0:
+            raise ValueError("the stock polygon is not a simple closed outline with an area")
+        shapely.prepare(outline)
+        return cls("polygon", _ordered(z), outline=outline, origin=origin, span=span)
+
+    @classmethod
+    def cylinder(cls, diameter, z, origin="project file", span=None) -> "Stock":
+        if diameter <= 0:
+            raise ValueError("the stock diameter must be positive")
+        return cls("cylinder", _ordered(z), diameter=float(diameter), origin=origin, span=span)
+
+    def describe(self) -> str:
+        if self.kind == "box":
+            return f"box X{self.x_range[0]:g}..{self.x_range[1]:g} Y{self.y_range[0]:g}..{self.y_range[1]:g} Z{self.z_range[0]:g}..{self.z_range[1]:g}"
+        if self.kind == "cylinder":
+            return f"bar D{self.diameter:g} Z{self.z_range[0]:g}..{self.z_range[1]:g}"
+        return f"polygon stock Z{self.z_range[0]:g}..{self.z_range[1]:g}"
+
+
+def _ordered(pair) -> tuple[float, float]:
+    low, high = (float(value) for value in pair)
+    if low > high:
+        low, high = high, low
+    if low == high:
+        raise ValueError(f"the range {low:g}..{high:g} is empty")
+    return low, high
+
+
+@dataclass
+class Tool:
+    number: int | None
+    name: str | None = None
+    type: str | None = None
+    radius: float | None = None
+    corner: float | None = None
+    length: float | None = None
+    cutting_length: float | None = None
+    usable_length: float | None = None
+    angle: float | None = None
+    pitch: float | None = None
+    nose_radius: float | None = None
+    edge: float | None = None
+    origin: str = "project file"
+
+
+@dataclass
+class Machine:
+    kind: str | None = None  # mill / lathe
+    travel: dict[str, tuple[float, float]] = field(default_factory=dict)  # machine coordinates
+    work_offsets: dict[str, tuple[float, ...]] = field(default_factory=dict)  # "G54" -> (x, y, z)
+    max_spindle: float | None = None
+    max_feed: float | None = None
+
+
+@dataclass
+class Assumption:
+    """A constraint on free parameters (``-20 <= #1 <= -2``), as text and as bounds."""
+
+    text: str
+    tree: object  # ast.Expression over parameter names
+    origin: str = "project file"
+    span: Span | None = None
+
+
+@dataclass
+class Context:
+    stock: Stock | None = None
+    tools: dict[int, Tool] = field(default_factory=dict)
+    machine: Machine = field(default_factory=Machine)
+    assumptions: list[Assumption] = field(default_factory=list)
+    settings: dict = field(default_factory=dict)  # [settings] of the project file
+    disabled: set[str] = field(default_factory=set)  # [rules] disable
+    severity: dict[str, str] = field(default_factory=dict)  # [rules] severity
+    source: str | None = None  # the project file, when one was read
+
+    def layered_over(self, base: "Context") -> "Context":
+        """This context's definitions, with ``base`` filling what this one lacks
+        (annotations over the project file; the program over both)."""
+        tools = dict(base.tools)
+        tools.update(self.tools)
+        machine = Machine(
+            self.machine.kind or base.machine.kind,
+            {**base.machine.travel, **self.machine.travel},
+            {**base.machine.work_offsets, **self.machine.work_offsets},
+            self.machine.max_spindle if self.machine.max_spindle is not None else base.machine.max_spindle,
+            self.machine.max_feed if self.machine.max_feed is not None else base.machine.max_feed,
+        )
+        return Context(
+            self.stock or base.stock, tools, machine, base.assumptions + self.assumptions,
+            {**base.settings, **self.settings}, base.disabled | self.disabled, {**base.severity, **self.severity},
+            self.source or base.source,
+        )
