@@ -49,7 +49,7 @@ class CycleRunner:
     def _evaluate_all(self, exprs: dict, span) -> dict:
         evaluated = {}
         for letter, expr in exprs.items():
-            value = self.interp.evaluate(expr, span)
+            value = self.interp.value(expr, span)
             if value is not VACANT:
                 evaluated[letter] = value
         return evaluated
@@ -97,7 +97,7 @@ class CycleRunner:
         positioning = dict(op.targets)
         if axis in positioning:
             bottom_expr = positioning.pop(axis)
-            bottom = self.interp.evaluate(bottom_expr, op.span)
+            bottom = self.interp.value(bottom_expr, op.span)
             if bottom is not VACANT:
                 data[_bottom_letter(axis, op, self.interp.twins)] = bottom
         cycle.param_spans.update(op.word_spans())
@@ -146,14 +146,14 @@ class CycleRunner:
         name = cycle.cycle
         self._rapid_to(targets, span, block, "between-holes", name)
         if model.get("infeed") == "back_bore":
-            self._rapid_to({axis: r_point}, span, block, "approach", name)
+            self._rapid_to({axis: r_point}, span, block, "through-bore", name)
             self._rapid_to({axis: bottom}, span, block, "infeed", name, "feed")
             self._rapid_to({axis: initial}, span, block, "retract", name)
             return
         self._rapid_to({axis: r_point}, span, block, "approach", name)
         self._rapid_to({axis: bottom}, span, block, "infeed", name, "feed")
         retract_kind = "feed" if model.get("retract") == "feed" else "rapid"
-        self._rapid_to({axis: r_point}, span, block, "retract", name, retract_kind)
+        self._rapid_to({axis: r_point}, span, block, "out-of-hole", name, retract_kind)
         if state.modal.get("cycle_return") != "r_point" and initial is not None:
             self._rapid_to({axis: initial}, span, block, "retract", name)
 

@@ -441,9 +441,9 @@ class Interpreter:
         if op in values.COMPARISONS:
             if left is VACANT or right is VACANT:
                 return self._compare_vacant(op, left, right)
-            return values.compare(op, left, right)
+            return values.compare(op, self._as_number(left), self._as_number(right))
         if op in ("AND", "OR", "XOR"):
-            return values.logical(op, left, right)
+            return values.logical(op, 0.0 if left is VACANT else left, 0.0 if right is VACANT else right)
         left = self._arithmetic_operand(left, expr.left, span)
         right = self._arithmetic_operand(right, expr.right, span)
         try:
@@ -454,6 +454,8 @@ class Interpreter:
             if op == "*":
                 return values.mul(left, right)
             if op == "/":
+                if isinstance(right, Sym):
+                    self._symbolic_divisor(right, span)
                 return values.div(left, right)
             if op == "MOD":
                 return values.modulo(left, right)
@@ -471,15 +473,34 @@ class Interpreter:
         right = 0.0 if right is VACANT else right
         return values.compare(op, left, right)
 
+    @staticmethod
+    def _as_number(value):
+        """A comparison's outcome used as a number: 1 or 0 (between 0 and 1 when symbolic)."""
+        if isinstance(value, (bool, Condition)):
+            return 1.0 if value is True else 0.0 if value is False else values.fresh("condition", 0.0, 1.0)
+        return value
+
+    def value(self, expr, span=None):
+        """An expression's value where a number is needed (a word, a parameter of a
+        cycle): comparisons count 1 or 0; VACANT passes through."""
+        return self._as_number(self.evaluate(expr, span))
+
     def _arithmetic_operand(self, value, expr, span):
         if value is VACANT:
             name = expr.name if isinstance(expr, ir.Var) else "a variable"
             where = expr.span if isinstance(expr, ir.Var) and expr.span else span or self._block.span
             self._fault("core.undefined-variable", where, f"{name} is vacant (never set, not passed as an argument); the control computes with 0")
             return 0.0
-        if isinstance(value, (bool, Condition)):
-            return 1.0 if value is True else 0.0 if value is False else values.fresh("condition", 0.0, 1.0)
-        return value
+        return self._as_number(value)
+
+    def _symbolic_divisor(self, divisor: Sym, span) -> None:
+        """A divisor that depends on free parameters: can it be zero on this path?"""
+        from .check import hazard, judge
+
+        verdict = judge(hazard("==", divisor, 0.0), self.state.path_condition, self.settings.solver_timeout_s)
+        if verdict is not None:
+            self.observer.report_verdict("core.arithmetic-domain", span or self._block.span,
+                                         f"division by {values_text(divisor)}, which can be zero: the control stops with a calculation alarm", verdict, self.state)
 
     def _domain_error(self, message: str, span) -> None:
         self._fault("core.arithmetic-domain", span or self._block.span, f"{message}: the control stops with a calculation alarm")
@@ -643,7 +664,7 @@ class Interpreter:
     def _register(self, expr, span):
         if expr is None:
             return None
-        value = self.evaluate(expr, span)
+        value = self.value(expr, span)
         return None if value is VACANT else value
 
     def _work_offset(self, op: ir.WorkOffset, block):
@@ -651,13 +672,13 @@ class Interpreter:
         return None
 
     def _set_feed(self, op: ir.SetFeed, block):
-        value = self.evaluate(op.value, op.span)
+        value = self.value(op.value, op.span)
         if value is not VACANT:
             self.state.feed = value
         return None
 
     def _set_spindle_speed(self, op: ir.SetSpindleSpeed, block):
-        value = self.evaluate(op.value, op.span)
+        value = self.value(op.value, op.span)
         if value is VACANT:
             return None
         if op.clamp:
@@ -719,7 +740,7 @@ class Interpreter:
     def _targets(self, written: dict, incremental_axes, span) -> dict:
         targets = {}
         for axis, expr in written.items():
-            value = self.evaluate(expr, span)
+            value = self.value(expr, span)
             if value is VACANT:
                 continue  # a vacant variable makes the address absent (Fanuc)
             targets[axis] = self._target(axis, value, axis in incremental_axes)
@@ -784,7 +805,7 @@ class Interpreter:
         end = dict(start)
         incremental = state.modal["distance"] == "incremental"
         for axis, expr in op.targets.items():
-            value = expr if type(expr) is float else self.evaluate(expr, op.span)
+            value = expr if type(expr) is float else self.value(expr, op.span)
             if value is VACANT:
                 continue  # a vacant variable makes the address absent (Fanuc)
             if incremental or axis in op.incremental:
@@ -814,13 +835,13 @@ class Interpreter:
             return Arc(direction, (first, second, normal), None, None, None)
         s1, s2, e1, e2 = _scaled(s1, scale_first), _scaled(s2, scale_second), _scaled(e1, scale_first), _scaled(e2, scale_second)
         if radius_expr is not None:
-            radius = self.evaluate(radius_expr, op.span)
+            radius = self.value(radius_expr, op.span)
             if radius is VACANT:
                 return Arc(direction, (first, second, normal), None, None, None)
             return Arc(direction, (first, second, normal), None, None, None, radius, _distance(s1, s2, e1, e2))
         centre_letters = {"X": "I", "Y": "J", "Z": "K"}
-        offset1 = self.evaluate(arc_words.get(centre_letters[first], 0.0), op.span)
-        offset2 = self.evaluate(arc_words.get(centre_letters[second], 0.0), op.span)
+        offset1 = self.value(arc_words.get(centre_letters[first], 0.0), op.span)
+        offset2 = self.value(arc_words.get(centre_letters[second], 0.0), op.span)
         offset1 = 0.0 if offset1 is VACANT else offset1
         offset2 = 0.0 if offset2 is VACANT else offset2
         if state.modal.get("arc_distance") == "absolute":
@@ -1152,7 +1173,7 @@ def op_values(written: dict, interpreter: "Interpreter", span) -> dict:
     """The values of words as written (not made absolute)."""
     evaluated = {}
     for axis, expr in written.items():
-        value = interpreter.evaluate(expr, span)
+        value = interpreter.value(expr, span)
         if value is not VACANT:
             evaluated[axis] = value
     return evaluated
@@ -1177,6 +1198,12 @@ def _forward_fill(column, empty, initial: float):
     numpy.maximum.accumulate(index, out=index)
     padded = numpy.concatenate(([initial], numpy.where(missing, numpy.nan, column)))
     return padded[index]
+
+
+def values_text(value) -> str:
+    from .check import show
+
+    return show(value)
 
 
 def _gaps(ranges: list[tuple[int, int]], size: int):

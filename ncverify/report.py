@@ -143,6 +143,7 @@ def _sarif_result(result: FileResult, d, index: dict) -> dict:
         entry["level"] = "none"
     elif d.status is Status.UNKNOWN:
         entry["kind"] = "review"
+        entry["level"] = "none"  # SARIF: a result that is not a failure has level none
     if d.reason:
         entry["properties"]["reason"] = d.reason
     if d.witness:

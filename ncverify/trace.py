@@ -31,8 +31,10 @@ class Arc:
 class Segment:
     """One straight or circular move. Positions are in the program's work coordinates;
     an axis whose position is unknown (before the first absolute move, after a reference
-    return) is ``None``. ``role`` says where it came from: ``programmed``, or a cycle's
-    ``approach`` / ``infeed`` / ``retract`` / ``between-holes`` / ``contour`` / ``shift``."""
+    return) is ``None``. ``role`` says where it came from: ``programmed``, ``reference``, or a
+    cycle's ``approach`` / ``infeed`` / ``out-of-hole`` (back up the hole just made) /
+    ``retract`` / ``between-holes`` / ``through-bore`` (G87 down a pre-bored hole) /
+    ``contour`` / ``shift``."""
 
     kind: str  # rapid, feed, arc, thread
     start: dict[str, Value | None]

@@ -9,7 +9,7 @@ import time
 from pathlib import Path
 
 import pytest
-from hypothesis import given, settings
+from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from ncverify import InputError, Settings, check_file, check_text
@@ -234,6 +234,57 @@ def test_a_square_root_of_a_negative_number_is_a_domain_error():
     result = check_text("#100 = SQRT[-4]\nM30\n", "t.nc")
     [domain] = findings(result, "core.arithmetic-domain")
     assert domain.span.line == 1
+
+
+# --------------------------------------------------------------------------- generated macro programs
+
+_ATOMS = st.sampled_from(["1", "0", "2.5", "-3", "#1", "#2", "#3", "#100", "#0", "#5001", "#4120", "[#1+1]", "#[#1]"])
+_FUNCTIONS = st.sampled_from(["SIN", "COS", "TAN", "SQRT", "ABS", "FIX", "FUP", "ROUND", "LN", "EXP", "ASIN", "ACOS", "ATAN", "BIN", "BCD"])
+_OPERATORS = st.sampled_from(["+", "-", "*", "/", "MOD", "AND", "OR", "XOR"])
+_RELATIONS = st.sampled_from(["EQ", "NE", "LT", "LE", "GT", "GE"])
+_EXPRESSIONS = st.recursive(_ATOMS, lambda inner: st.one_of(
+    st.tuples(inner, _OPERATORS, inner).map(lambda t: f"[{t[0]} {t[1]} {t[2]}]"),
+    st.tuples(_FUNCTIONS, inner).map(lambda t: f"{t[0]}[{t[1]}]"),
+    inner.map(lambda e: f"-{e}"),
+), max_leaves=8)
+_MACRO_LINES = st.one_of(
+    st.tuples(st.sampled_from(["#1", "#2", "#3", "#100", "#101"]), _EXPRESSIONS).map(lambda t: f"{t[0]}={t[1]}"),
+    st.tuples(_EXPRESSIONS, _RELATIONS, _EXPRESSIONS).map(lambda t: f"IF [{t[0]} {t[1]} {t[2]}] GOTO 10"),
+    st.tuples(_EXPRESSIONS, _RELATIONS, _EXPRESSIONS).map(lambda t: f"IF [{t[0]} {t[1]} {t[2]}] THEN #101={t[0]}"),
+    st.tuples(st.sampled_from(["G0", "G1", "G91 G1", "G90 G2", "G3"]), _EXPRESSIONS, _EXPRESSIONS).map(lambda t: f"{t[0]} X{t[1]} Y{t[2]} R5. F100."),
+    st.tuples(_EXPRESSIONS, _EXPRESSIONS).map(lambda t: f"G99 G81 X{t[0]} Z{t[1]} R2. F100."),
+)
+
+
+@settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(body=st.lists(_MACRO_LINES, min_size=1, max_size=8), machine=st.sampled_from(["mill", "lathe"]))
+def test_generated_macro_programs_are_checked_without_raising(body, machine):
+    result = check_text("\n".join(body) + "\nN10 M30\n", "macro.nc", Settings(loop_bound=50, machine=machine, max_paths=8))
+    assert result.dialect == "iso"
+
+
+@pytest.mark.parametrize("program", [
+    "IF [[#1 GT 0] EQ 1] GOTO 10\nN10 M30\n",
+    "#100 = [[#1 GT 0] EQ [#2 GT 0]]\nM30\n",
+    "WHILE [[#3 LT -3] LT 1] DO1\nEND1\nM30\n",
+], ids=["if", "assignment", "while"])
+def test_a_comparison_of_a_symbolic_comparison_does_not_crash(program):
+    result = check_text(program, "t.nc")
+    assert result.dialect == "iso"
+
+
+def test_a_comparison_with_a_vacant_logical_operand_does_not_crash():
+    result = check_text("#100 = [[1 GT 0] OR #0] LT 1\nM30\n", "t.nc")
+    assert result.dialect == "iso"
+
+
+@pytest.mark.parametrize("program", [
+    "G90 G0 X[#1 GT 0]\nG91 X1.\nM30\n",
+    "S100 M3\nG90 G0 X[#1 GT 0] Y0.\nG2 X1. Y1. I1. J0. F100.\nM30\n",
+], ids=["incremental", "arc"])
+def test_an_axis_word_given_by_a_symbolic_comparison_does_not_crash(program):
+    result = check_text(program, "t.nc")
+    assert result.dialect == "iso"
 
 
 # --------------------------------------------------------------------------- a long file of garbage

@@ -322,7 +322,8 @@ def test_sarif_output_for_a_clean_program_validates_too(tmp_path, capsys, sarif_
     code, out, _ = run(capsys, "check", "--format", "sarif", write(tmp_path, "clean.nc", CLEAN))
     document = json.loads(out)
     sarif_validator.validate(document)
-    assert code == 0 and document["runs"][0]["results"] == []
+    assert code == 0
+    assert not [r for r in document["runs"][0]["results"] if r["properties"]["status"] == "violated"]
 
 
 def test_sarif_output_with_an_unreadable_file_validates_and_says_so(tmp_path, capsys, sarif_validator):
@@ -333,6 +334,15 @@ def test_sarif_output_with_an_unreadable_file_validates_and_says_so(tmp_path, ca
     invocation = document["runs"][0]["invocations"][0]
     assert invocation["executionSuccessful"] is False
     assert "gone.nc" in invocation["toolExecutionNotifications"][0]["message"]["text"]
+
+
+def test_sarif_results_that_are_not_failures_have_level_none(tmp_path, capsys):
+    _, out, _ = run(capsys, "check", "--format", "sarif", "--loop-bound", "20", write(tmp_path, "loop.nc", WITH_UNKNOWN))
+    results = json.loads(out)["runs"][0]["results"]
+    assert any(result.get("kind") == "review" for result in results)
+    for result in results:
+        if result.get("kind", "fail") != "fail":
+            assert result.get("level", "none") == "none", result
 
 
 def test_sarif_regions_match_the_json_positions(tmp_path, capsys):

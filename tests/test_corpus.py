@@ -76,10 +76,12 @@ def test_program_gives_exactly_the_expected_findings(program):
     )
 
 
-def test_clean_programs_have_empty_expect_files():
+def test_clean_programs_have_no_violation():
+    """A clean program may still list ``unknown`` lines: checks it lacks the context for."""
     for program in PROGRAMS:
         if program.stem.startswith("clean-"):
-            assert expected(program) == [], f"{program.name} is a clean program but its .expect lists findings"
+            violated = [line for line in expected(program) if line.endswith(" violated")]
+            assert violated == [], f"{program.name} is a clean program but its .expect lists violations"
 
 
 def _main(argv: list[str]) -> int:

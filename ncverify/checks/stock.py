@@ -1,0 +1,192 @@
+"""Rules against the stock: rapids through the blank, clearance planes inside it.
+
+Without a stock (no program definition, annotation or project file), each rule says so
+once per file with status ``unknown``. The stock is not updated by cutting: a rapid
+through a pocket machined earlier is still reported (future work, see the rule pages).
+"""
+from __future__ import annotations
+
+import math
+
+import numpy
+
+from .. import geometry, values
+from ..check import Rule, Verdict, judge, rule, show
+from ..diagnostics import Status
+from ..values import Condition, Sym
+
+_RAPID = 0  # MotionRun kind code
+_ROLE_WORDS = {
+    "programmed": "rapid move", "reference": "rapid to the reference point", "approach": "cycle rapid to the R point",
+    "retract": "cycle rapid retract", "between-holes": "rapid to the next hole", "shift": "cycle shift",
+    "through-bore": "back-boring rapid entry",
+}
+
+
+def _point(position: dict, stock) -> tuple | None:
+    """(x, y, z) of a position, or None when an axis the stock needs is unknown."""
+    x, y, z = position.get("X"), position.get("Y"), position.get("Z")
+    if stock.kind == "cylinder" and y is None:
+        y = 0.0
+    if x is None or y is None or z is None:
+        return None
+    return x, y, z
+
+
+def _separated(stock, start: dict, end: dict) -> bool:
+    """Both ends on the outer side of one face of the stock (known concrete values only):
+    a straight move, or a dog-leg within their box, cannot enter it."""
+    box = geometry.stock_box(stock) or (None, None, stock.z_range)
+    for axis, limits in zip("XYZ", box):
+        if limits is None:
+            continue
+        a, b = start.get(axis), end.get(axis)
+        if type(a) is float and type(b) is float and (min(a, b) >= limits[1] or max(a, b) <= limits[0]):
+            return True
+    return False
+
+
+def _where(point) -> str:
+    return " ".join(f"{axis}{show(value)}" for axis, value in zip("XYZ", point))
+
+
+class _NeedsStock(Rule):
+    """Reports once per file, at the first place it would have looked, that there is no stock."""
+
+    rule_id = ""
+    looked_at = None
+
+    def stock(self, span):
+        stock = self.checker.context.get("stock")
+        if stock is None and self.looked_at is None:
+            self.looked_at = span
+        return stock
+
+    def finish(self):
+        if self.looked_at is not None:
+            self.report(self.rule_id, self.looked_at, "not checked: no stock is defined (annotation 'ncverify: stock ...' or [stock] in ncverify.toml)",
+                        Status.UNKNOWN, "no stock defined")
+
+
+@rule("core.rapid-into-stock")
+class RapidIntoStock(_NeedsStock):
+    rule_id = "core.rapid-into-stock"
+
+    def segment(self, segment, state):
+        if segment.kind != "rapid" or segment.role == "out-of-hole":
+            return  # back up the hole the tool has just made: no stock there
+        stock = self.stock(segment.span)
+        if stock is None:
+            return
+        start, end = _point(segment.start, stock), _point(segment.end, stock)
+        what = _ROLE_WORDS.get(segment.role, "rapid move")
+        if segment.cycle:
+            what = f"{segment.cycle.rsplit('.', 1)[-1]} {what}"
+        if end is None or _separated(stock, segment.start, segment.end):
+            return
+        if start is None:
+            self._from_unknown(stock, end, segment.span, what, state)
+            return
+        if any(isinstance(value, Sym) for value in (*start, *end)):
+            self._symbolic(stock, start, end, segment.span, what, state)
+            return
+        hit = geometry.enters(stock, start, end, self.checker.context.get("rapid_path") == "dogleg")
+        if hit is None:
+            return
+        if segment.role == "through-bore":
+            self.report(self.rule_id, segment.span, f"{what} goes down a pre-bored hole to {_where(end)}: the stock model has no holes yet, so this entry was not checked",
+                        Status.UNKNOWN, "the stock is not updated by cutting or pre-boring")
+            return
+        self.report(self.rule_id, segment.span, self._message(what, start, end, hit, stock))
+
+    def motion_run(self, run, state):
+        rapids = numpy.flatnonzero(run.kinds == _RAPID)
+        if not len(rapids):
+            return
+        stock = self.stock(run.span(int(rapids[0])))
+        if stock is None:
+            return
+        if self.checker.context.get("rapid_path") == "dogleg" or stock.kind == "polygon" or len(run.axes) != 3:
+            for index in rapids:
+                self.segment(run.segment(int(index)), state)
+            return
+        starts, ends = run.points[rapids].copy(), run.points[rapids + 1].copy()
+        if stock.kind == "cylinder":
+            starts[:, 1] = numpy.nan_to_num(starts[:, 1])
+            ends[:, 1] = numpy.nan_to_num(ends[:, 1])
+        known = ~(numpy.isnan(starts).any(axis=1) | numpy.isnan(ends).any(axis=1))
+        for index in rapids[~known]:
+            self.segment(run.segment(int(index)), state)
+        hits = rapids[known][geometry.enters_many(stock, starts[known], ends[known])]
+        for index in hits[: self.checker.settings.max_findings_per_rule]:
+            self.segment(run.segment(int(index)), state)
+
+    def _from_unknown(self, stock, end, span, what, state):
+        """Where the tool comes from is unknown; the end point alone can still be inside."""
+        if any(isinstance(value, Sym) for value in end):
+            return
+        if geometry.enters(stock, end, end) is not None:
+            self.report(self.rule_id, span, f"{what} ends at {_where(end)}, inside the stock ({stock.describe()}): the tool crashes into the blank at rapid")
+        elif not state.rule_state.get("rapid-from-unknown"):
+            state.rule_state["rapid-from-unknown"] = True
+            self.report(self.rule_id, span, f"{what} to {_where(end)} starts where ncverify does not know the tool is (before the first move, or after a reference return): its path was not checked",
+                        Status.UNKNOWN, "start position unknown")
+
+    def _symbolic(self, stock, start, end, span, what, state):
+        condition = geometry.may_enter_symbolic(stock, start, end)
+        if condition is None:
+            self.report(self.rule_id, span, f"{what} depends on free parameters and the stock is a polygon: not checked",
+                        Status.UNKNOWN, "symbolic moves against a polygon stock are not modelled")
+            return
+        verdict = judge(Condition(condition), state.path_condition, self.checker.context.get("solver_timeout_s", 5.0))
+        self.checker.report_verdict(self.rule_id, span, f"{what} from {_where(start)} to {_where(end)} passes through the stock ({stock.describe()})", verdict, state)
+
+    @staticmethod
+    def _message(what, start, end, hit, stock) -> str:
+        return (f"{what} from {_where(start)} to {_where(end)} passes through the stock ({stock.describe()}) near {_where(hit)}: "
+                "the tool crashes into the blank at rapid")
+
+
+@rule("core.clearance-below-stock")
+class ClearanceBelowStock(_NeedsStock):
+    """A hole's R point or initial level (the G98 return level) below the stock top."""
+
+    rule_id = "core.clearance-below-stock"
+
+    def hole(self, hole, state):
+        if hole.model.get("r_incremental") or hole.model.get("infeed") == "back_bore" or hole.drill_axis != "Z":
+            return
+        stock = self.stock(hole.definition or hole.span)
+        if stock is None or not self._over_stock(stock, hole.position):
+            return
+        key = ("clearance", hole.definition)
+        if key in state.rule_state:
+            return
+        state.rule_state[key] = True
+        code = hole.cycle.rsplit(".", 1)[-1]
+        top = stock.top
+        for level, name, span in ((hole.r_point, "R point", hole.param_spans.get("R", hole.span)), (hole.initial, "initial level", hole.definition or hole.span)):
+            if level is None:
+                continue
+            verdict = judge(_below(level, top), state.path_condition, self.checker.context.get("solver_timeout_s", 5.0))
+            self.checker.report_verdict(self.rule_id, span, f"{code}: the {name} Z{show(level)} is below the top of the stock Z{top:g}: "
+                                        f"the cycle rapids into the material there", verdict, state)
+
+    @staticmethod
+    def _over_stock(stock, position) -> bool:
+        x, y = position.get("X"), position.get("Y")
+        if x is None or y is None or isinstance(x, Sym) or isinstance(y, Sym):
+            return True  # cannot tell: judge the levels anyway
+        if stock.kind == "box":
+            return stock.x_range[0] < x < stock.x_range[1] and stock.y_range[0] < y < stock.y_range[1]
+        if stock.kind == "polygon":
+            import shapely
+
+            return stock.outline.contains(shapely.Point(x, y))
+        return abs(x) < stock.diameter
+
+
+def _below(level, top: float):
+    from ..check import hazard
+
+    return hazard("<", level, top - geometry.EPSILON)
