@@ -43,6 +43,7 @@ class RuleDefinition:
     path: Path
     dialect: str = "iso"
     example_settings: dict = field(default_factory=dict)
+    example_project: str = ""  # ncverify.toml text the examples run with
     constraints: tuple[Constraint, ...] = ()
 
     def section(self, title: str) -> str:
@@ -87,7 +88,7 @@ def parse_rule_file(path: Path) -> RuleDefinition:
     return RuleDefinition(
         id=meta["id"], category=meta["category"], severity=Severity(meta["severity"]), summary=meta["summary"],
         page=page.strip(), path=path, dialect=meta.get("dialect", "iso"),
-        example_settings=meta.get("example_settings", {}), constraints=constraints,
+        example_settings=meta.get("example_settings", {}), example_project=meta.get("example_project", ""), constraints=constraints,
     )
 
 
@@ -131,7 +132,7 @@ _REPORTED_FROM_TRACE = {
     "core.too-many-m-codes", "core.duplicate-address", "core.label-not-found", "core.program-not-found",
     "core.arithmetic-domain", "core.undefined-variable", "core.loop-bound", "core.call-depth", "core.macro-alarm",
     "core.program-end-missing", "core.m99-in-main", "core.path-limit", "core.duplicate-label",
-    "core.repeat-count-range", "core.shape-order", "core.dialect-unsupported", "core.decimal-point",
+    "core.repeat-count-range", "core.shape-order", "core.dialect-unsupported", "core.decimal-point", "core.bad-annotation",
 }
 
 

@@ -101,10 +101,11 @@ class MachineState:
     last_reference_via: dict = field(default_factory=dict)
     rule_state: dict = field(default_factory=dict)  # per-path memory of the rules
     feed_inherited: bool = False  # a called program checked alone: its caller set the feed
+    coordinate_shift: dict = field(default_factory=dict)  # G92/G52: machine = program + work offset + shift (None: unknown)
 
     def fork(self) -> "MachineState":
         twin = MachineState(**{name: getattr(self, name) for name in self.__slots__})
-        for name in ("position", "modal", "cycle_data", "lathe_cycle_data", "global_variables", "jump_counts", "last_reference_via", "rule_state"):
+        for name in ("position", "modal", "cycle_data", "lathe_cycle_data", "global_variables", "jump_counts", "last_reference_via", "rule_state", "coordinate_shift"):
             setattr(twin, name, dict(getattr(self, name)))
         twin.local_variables = dict(self.local_variables)
         twin.frames = [Frame(**{n: getattr(f, n) for n in f.__slots__}) for f in self.frames]
@@ -748,7 +749,12 @@ class Interpreter:
 
     def _coordinate_shift(self, op: ir.CoordinateShift, block):
         if op.kind == "set_position":
-            self.state.move_to(op_values(op.values, self, op.span))
+            new = op_values(op.values, self, op.span)
+            shift = self.state.coordinate_shift
+            for axis, value in new.items():
+                old, known = self.state.position.get(axis), shift.get(axis, 0.0)
+                shift[axis] = None if old is None or known is None else values.add(known, values.sub(old, value))
+            self.state.move_to(new)
             speed = op.words.get("S")
             if speed is not None:
                 self.state.spindle_clamp = self.evaluate(speed, op.span)
@@ -757,6 +763,8 @@ class Interpreter:
             for axis, shift in op_values(op.values, self, op.span).items():
                 current = self.state.position.get(axis)
                 shifted[axis] = None if current is None else values.sub(current, shift)
+                known = self.state.coordinate_shift.get(axis, 0.0)
+                self.state.coordinate_shift[axis] = None if known is None else values.add(known, shift)
             self.state.move_to(shifted)
         return None
 

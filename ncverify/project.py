@@ -38,11 +38,18 @@ def find_project_file(start: Path | None) -> Path | None:
 
 def load_project(path: Path) -> Context:
     try:
-        data = tomllib.loads(path.read_text(encoding="utf-8"))
-    except tomllib.TOMLDecodeError as error:
-        raise ConfigError(f"{path}: {error}") from error
+        text = path.read_text(encoding="utf-8")
     except (OSError, UnicodeDecodeError) as error:
         raise ConfigError(f"{path}: cannot read: {error}") from error
+    return load_project_text(text, path)
+
+
+def load_project_text(text: str, path: Path) -> Context:
+    """A project file's text (``path`` names it in errors and anchors relative folders)."""
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as error:
+        raise ConfigError(f"{path}: {error}") from error
     return _Reader(path).context(data)
 
 

@@ -68,7 +68,10 @@ def render_text(results: list[FileResult], errors: list[str], texts: dict[str, s
         if result.skipped:
             out.append(f"{result.path}: note: skipped: {result.skipped}")
             continue
+        gaps = [d for d in result.diagnostics if _is_context_gap(d)]
         for d in result.diagnostics:
+            if d in gaps:
+                continue
             path = d.span.path or result.path
             status = "" if d.status is Status.VIOLATED else f" [{d.status.value}{': ' + d.reason if d.reason else ''}]"
             witness = "" if not d.witness else " (for example " + ", ".join(f"{name}={value:g}" for name, value in sorted(d.witness.items())) + ")"
@@ -78,6 +81,9 @@ def render_text(results: list[FileResult], errors: list[str], texts: dict[str, s
                 out.append(f"    {d.span.line:>5} | {source_line.rstrip()}")
                 if d.span.end_line == d.span.line and d.span.end_column > d.span.column:
                     out.append("          | " + " " * (d.span.column - 1) + "^" * (d.span.end_column - d.span.column))
+        if gaps:
+            listed = "; ".join(f"{d.rule} ({d.reason})" for d in gaps)
+            out.append(f"{result.path}: note: not checked for want of context: {listed}")
         for rule_id, count in sorted(result.truncated.items()):
             out.append(f"{result.path}: note: {count} more {rule_id} findings not shown")
     for error in errors:
@@ -88,6 +94,11 @@ def render_text(results: list[FileResult], errors: list[str], texts: dict[str, s
         f"{totals['info']} note(s), {totals['unknown']} unknown, {totals['proved']} proved"
     )
     return "\n".join(out)
+
+
+def _is_context_gap(diagnostic) -> bool:
+    """An ``unknown`` that only says which context (stock, travel, tools) was missing."""
+    return diagnostic.status is Status.UNKNOWN and diagnostic.message.startswith("not checked: ")
 
 
 # --------------------------------------------------------------------------- SARIF

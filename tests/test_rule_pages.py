@@ -3,7 +3,10 @@ from __future__ import annotations
 
 import pytest
 
+from pathlib import Path
+
 from ncverify import Settings, check_text
+from ncverify.project import load_project_text
 from ncverify.diagnostics import Status
 from ncverify.check import implemented_rule_ids, rule_definitions
 
@@ -15,7 +18,8 @@ def _run(definition, title):
     assert program.strip(), f"{definition.id}: the page has no program under '{title}'"
     dialect = None if definition.dialect == "auto" else definition.dialect
     settings = Settings(dialect=dialect, **definition.example_settings)
-    return check_text(program, f"{definition.id}.nc", settings)
+    project = load_project_text(definition.example_project, Path("ncverify.toml")) if definition.example_project else None
+    return check_text(program, f"{definition.id}.nc", settings, project)
 
 
 @pytest.mark.parametrize("definition", DEFINITIONS, ids=lambda d: d.id)

@@ -64,7 +64,7 @@ class _NeedsStock(Rule):
 
     def finish(self):
         if self.looked_at is not None:
-            self.report(self.rule_id, self.looked_at, "not checked: no stock is defined (annotation 'ncverify: stock ...' or [stock] in ncverify.toml)",
+            self.report(self.rule_id, self.looked_at, "not checked: no stock defined (annotation 'ncverify: stock ...' or [stock] in ncverify.toml)",
                         Status.UNKNOWN, "no stock defined")
 
 

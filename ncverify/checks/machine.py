@@ -1,0 +1,187 @@
+"""Rules against the machine and the tool table: travel limits, spindle and feed limits,
+tools the table does not hold. Each answers ``unknown`` once per file when the context it
+needs (``[machine]``, ``[tools]`` in ncverify.toml, or annotations) is missing."""
+from __future__ import annotations
+
+import math
+
+import numpy
+import z3
+
+from .. import values
+from ..check import Rule, hazard, judge, rule, show
+from ..diagnostics import Status
+from ..values import Condition, Sym
+
+_AXIS_INDEX = {"X": 0, "Y": 1, "Z": 2, "A": 3, "B": 4, "C": 5}
+
+
+class _ReportsMissingContext(Rule):
+    """Says once per file, where it first needed it, which context was missing."""
+
+    def missing(self, rule_id: str, span, what: str) -> None:
+        said = self.__dict__.setdefault("_said", set())  # rules live as long as one file's check
+        if (rule_id, what) in said:
+            return
+        said.add((rule_id, what))
+        self.report(rule_id, span, f"not checked: {what}", Status.UNKNOWN, what)
+
+
+@rule("core.travel-limit")
+class TravelLimit(_ReportsMissingContext):
+    """Machine position = program position + work offset + G92/G52 shift (+ tool length on
+    Z while length compensation is on); every segment end and every arc's extent must stay
+    inside the travel."""
+
+    def segment(self, segment, state):
+        frame = self._frame(segment.span, state)
+        if frame is None:
+            return
+        points = [segment.end]
+        for axis, limits in frame.items():
+            for point in points:
+                self._check_axis(axis, point.get(axis), limits, segment.span, state)
+        if segment.arc is not None and segment.arc.centre is not None:
+            self._check_arc(segment, frame, state)
+
+    def motion_run(self, run, state):
+        frame = self._frame(run.span(0), state)
+        if frame is None:
+            return
+        for axis, (offset, low, high) in frame.items():
+            if axis not in run.axes or offset is None or isinstance(offset, Sym):
+                continue
+            column = run.points[1:, run.axes.index(axis)] + offset
+            outside = numpy.flatnonzero(~numpy.isnan(column) & ((column < low) | (column > high)))
+            for index in outside[:5]:
+                self._report(axis, float(column[index]), low, high, run.span(int(index)), None)
+
+    def _frame(self, span, state):
+        """axis -> (offset from program to machine coordinates, low, high); None when the
+        check cannot run (and says why once)."""
+        context = self.checker.context
+        travel = context.get("travel") or {}
+        if not travel:
+            self.missing("core.travel-limit", span, "no machine travel limits ([machine] travel in ncverify.toml)")
+            return None
+        if context.get("machine") == "lathe":
+            self.missing("core.travel-limit", span, "travel limits of a lathe are not modelled yet")
+            return None
+        name = state.modal.get("work_offset", "G54")
+        offsets = (context.get("work_offsets") or {}).get(name.split()[0] if name.startswith("G54.1") else name)
+        if offsets is None:
+            self.missing("core.travel-limit", span, f"no values for work offset {name} ([machine] work_offsets in ncverify.toml)")
+            return None
+        frame = {}
+        for axis, (low, high) in travel.items():
+            index = _AXIS_INDEX.get(axis)
+            if index is None or index >= len(offsets):
+                continue
+            shift = state.coordinate_shift.get(axis, 0.0)
+            offset = None if shift is None else values.add(offsets[index], shift)
+            if axis == "Z" and offset is not None and state.length_mode in ("plus", "minus"):
+                offset = self._with_tool_length(offset, state, span)
+            frame[axis] = (offset, low, high)
+        return frame
+
+    def _with_tool_length(self, offset, state, span):
+        register = state.length_register
+        tool = (self.checker.context.get("tools") or {}).get(int(register)) if type(register) is float else None
+        if tool is None or tool.length is None:
+            self.missing("core.travel-limit", span, f"the length of the tool on H{show(register)} is not known (length in [tools.N]), so Z was not checked")
+            return None
+        return values.add(offset, tool.length if state.length_mode == "plus" else -tool.length)
+
+    def _check_axis(self, axis, value, limits, span, state):
+        offset, low, high = limits
+        if value is None or offset is None:
+            return
+        machine = values.add(value, offset)
+        if type(machine) is float:
+            if not low <= machine <= high:
+                self._report(axis, machine, low, high, span, None)
+            return
+        outside = values.logical("OR", values.compare("LT", machine, low), values.compare("GT", machine, high))
+        outside = outside if isinstance(outside, Condition) else Condition(z3.BoolVal(bool(outside)))
+        verdict = judge(outside, state.path_condition, self.checker.context.get("solver_timeout_s", 5.0))
+        self.checker.report_verdict("core.travel-limit", span, f"{axis} reaches machine position {show(machine)}, outside the travel {low:g}..{high:g}", verdict, state)
+
+    def _check_arc(self, segment, frame, state):
+        arc = segment.arc
+        first, second, _normal = arc.plane
+        (c1, c2), radius = arc.centre, arc.start_radius
+        if not all(type(v) is float for v in (c1, c2, radius)):
+            return
+        start = (segment.start.get(first), segment.start.get(second))
+        end = (segment.end.get(first), segment.end.get(second))
+        if None in start or None in end or not all(type(v) is float for v in (*start, *end)):
+            return
+        for axis, value in _arc_extremes(arc.direction, (c1, c2), radius, start, end, (first, second)):
+            if axis in frame:
+                self._check_axis(axis, value, frame[axis], segment.span, state)
+
+    def _report(self, axis, machine, low, high, span, verdict):
+        side = "below" if machine < low else "beyond"
+        limit = low if machine < low else high
+        self.report("core.travel-limit", span, f"{axis} would reach machine position {machine:g}, {side} the travel limit {limit:g}: the control stops with an overtravel alarm")
+
+
+def _arc_extremes(direction, centre, radius, start, end, axes):
+    """The extreme coordinates an arc reaches on its plane's axes (quadrant points it passes)."""
+    def angle(point):
+        return math.atan2(point[1] - centre[1], point[0] - centre[0]) % (2 * math.pi)
+
+    begin, finish = angle(start), angle(end)
+    sweep = (finish - begin) % (2 * math.pi) if direction == "ccw" else (begin - finish) % (2 * math.pi)
+    if sweep == 0:
+        sweep = 2 * math.pi
+    for quadrant in range(4):
+        theta = quadrant * math.pi / 2
+        along = (theta - begin) % (2 * math.pi) if direction == "ccw" else (begin - theta) % (2 * math.pi)
+        if along <= sweep:
+            yield axes[quadrant % 2], centre[quadrant % 2] + radius * (1 if quadrant < 2 else -1)
+
+
+@rule("core.tool-not-in-table", "core.spindle-over-limit", "core.feed-over-limit")
+class MachineLimits(_ReportsMissingContext):
+    def change(self, change, state):
+        if change.what == "tool_change" and type(change.new) is float:
+            tools = self.checker.context.get("tools") or {}
+            if not tools:
+                self.missing("core.tool-not-in-table", change.span, "no tool table ([tools.N] in ncverify.toml or 'ncverify: tool' annotations)")
+            elif int(change.new) not in tools:
+                self.report("core.tool-not-in-table", change.span, f"tool T{int(change.new)} is not in the tool table ({', '.join(f'T{n}' for n in sorted(tools))}): its size and length are unknown, and the magazine may not hold it")
+
+    def segment(self, segment, state):
+        if segment.kind != "rapid":
+            self._limits(segment.span, state, state.feed)
+
+    def motion_run(self, run, state):
+        cutting = numpy.flatnonzero(run.kinds == 1)
+        if not len(cutting):
+            return
+        feeds = run.feeds[cutting]
+        fastest = int(cutting[int(numpy.nanargmax(feeds))]) if not numpy.isnan(feeds).all() else int(cutting[0])
+        feed = run.feeds[fastest]
+        self._limits(run.span(fastest), state, None if math.isnan(feed) else float(feed))
+
+    def _limits(self, span, state, feed):
+        context = self.checker.context
+        speed = state.spindle_speed
+        if speed is not None and state.spindle in ("cw", "ccw") and state.modal.get("spindle_mode") != "surface_speed":
+            self._over("core.spindle-over-limit", speed, context.get("max_spindle"), span, state,
+                       "spindle speed S{value} is above the machine's maximum {limit:g} rpm", "no maximum spindle speed ([machine] max_spindle)")
+        if feed is not None and state.modal.get("feed_mode", "per_minute") == "per_minute":
+            self._over("core.feed-over-limit", feed, context.get("max_feed"), span, state,
+                       "feed F{value} is above the machine's maximum {limit:g} per minute", "no maximum feed ([machine] max_feed)")
+
+    def _over(self, rule_id, value, limit, span, state, message, missing):
+        if limit is None:
+            self.missing(rule_id, span, missing)
+            return
+        key = (rule_id, value if type(value) is float else id(value))
+        if key in state.rule_state:
+            return
+        state.rule_state[key] = True
+        verdict = judge(hazard(">", value, limit), state.path_condition, self.checker.context.get("solver_timeout_s", 5.0))
+        self.checker.report_verdict(rule_id, span, message.format(value=show(value), limit=limit), verdict, state)
