@@ -12,8 +12,9 @@ import sys
 from pathlib import Path
 
 from . import __version__
-from .api import FileResult, InputError, check_file, check_source, iter_program_files
+from .api import FileResult, InputError, check_file, check_source, iter_program_files, project_for
 from .check import RuleFileError, rule_definitions
+from .project import ConfigError
 from .diagnostics import Severity, Status
 from .report import render_json, render_sarif, render_text
 from .settings import Settings
@@ -54,6 +55,10 @@ def build_parser() -> argparse.ArgumentParser:
                        default=",".join(e for e in Settings.extensions if e))
     check.add_argument("--disable", action="append", default=[], metavar="RULE", help="rule id or category to turn off")
     check.add_argument("--max-file-size", type=_positive_int, default=Settings.max_file_bytes, metavar="BYTES")
+    check.add_argument("--config", metavar="FILE", help="project file (default: ncverify.toml found upward from each program)")
+    check.add_argument("--rapid-path", choices=("straight", "dogleg"), default=Settings.rapid_path,
+                       help="how G00 moves: interpolated straight, or each axis on its own (default %(default)s)")
+    check.add_argument("--solver-timeout", type=float, default=Settings.solver_timeout_s, metavar="S", help="seconds per solver query (default %(default)s)")
 
     explain = commands.add_parser("explain", help="show a rule's page")
     explain.add_argument("rule")
@@ -83,6 +88,9 @@ def main(argv: list[str] | None = None) -> int:
     except RuleFileError as error:
         print(f"ncverify: broken rule definition: {error}", file=sys.stderr)
         return EXIT_USAGE
+    except ConfigError as error:
+        print(f"ncverify: error in the project file: {error}", file=sys.stderr)
+        return EXIT_USAGE
     except KeyboardInterrupt:
         return 130
     except BrokenPipeError:
@@ -99,12 +107,16 @@ def _settings(arguments) -> Settings:
         max_paths=arguments.max_paths, least_input_increment=arguments.least_input_increment,
         subprogram_path=tuple(Path(p) for p in arguments.subprogram_path), extensions=extensions + ("",),
         fail_on=arguments.fail_on, fail_on_unknown=arguments.fail_on_unknown, disabled_rules=frozenset(arguments.disable),
-        max_file_bytes=arguments.max_file_size,
+        max_file_bytes=arguments.max_file_size, config=Path(arguments.config) if arguments.config else None,
+        rapid_path=arguments.rapid_path, solver_timeout_s=arguments.solver_timeout,
     )
 
 
 def _check(arguments) -> int:
     settings = _settings(arguments)
+    if settings.config is not None and not settings.config.is_file():
+        print(f"ncverify: error: --config {settings.config}: no such file", file=sys.stderr)
+        return EXIT_USAGE
     unknown = [name for name in settings.disabled_rules if name not in rule_definitions() and not _is_category(name)]
     if unknown:
         print(f"ncverify: error: --disable names no rule or category: {', '.join(sorted(unknown))}", file=sys.stderr)
@@ -118,7 +130,7 @@ def _check(arguments) -> int:
                 data = sys.stdin.buffer.read(settings.max_file_bytes + 1)
                 if len(data) > settings.max_file_bytes:
                     raise InputError(f"<stdin>: larger than the limit of {settings.max_file_bytes:,} bytes")
-                result = check_source(ProgramSource.from_bytes(data, "<stdin>"), settings)
+                result = check_source(ProgramSource.from_bytes(data, "<stdin>"), settings, project_for(None, settings))
                 texts["<stdin>"] = data.decode("utf-8", errors="replace")
             else:
                 result = check_file(path, settings)
