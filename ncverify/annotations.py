@@ -21,9 +21,9 @@ from dataclasses import dataclass, field
 from . import ir
 from .context import TOOL_KEYS, TOOL_TYPES, Assumption, Context, Stock, Tool
 from .project import parse_assumption
-from .source import ProgramSource, Span, decode_line
+from .source import ProgramSource, Span, find_all
 
-_MARKER = re.compile(rb"(?i)ncverify\s*:")
+_MARKERS = (b"ncverify", b"NCVERIFY", b"Ncverify", b"NCVerify", b"NcVerify")  # byte searches; case variants people write
 _NUMBER = r"[+-]?(?:\d+\.?\d*|\.\d+)"
 _RANGE = rf"({_NUMBER})\s*:\s*({_NUMBER})"
 _BOX = re.compile(rf"(?i)box\s+X\s*{_RANGE}\s+Y\s*{_RANGE}\s+Z\s*{_RANGE}\s*$")
@@ -46,8 +46,8 @@ def collect(source: ProgramSource, frontend) -> Annotations:
     found = Annotations()
     buffer = source.buffer
     seen_lines: set[int] = set()
-    for marker in _MARKER.finditer(buffer):
-        line_start = buffer.rfind(b"\n", 0, marker.start()) + 1
+    for marker in find_all(buffer, _MARKERS):
+        line_start = buffer.rfind(b"\n", 0, marker) + 1
         if line_start in seen_lines:
             continue
         seen_lines.add(line_start)

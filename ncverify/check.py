@@ -44,6 +44,7 @@ class RuleDefinition:
     dialect: str = "iso"
     example_settings: dict = field(default_factory=dict)
     example_project: str = ""  # ncverify.toml text the examples run with
+    once_per_file: bool = False  # report only the first finding of the file
     constraints: tuple[Constraint, ...] = ()
 
     def section(self, title: str) -> str:
@@ -88,7 +89,7 @@ def parse_rule_file(path: Path) -> RuleDefinition:
     return RuleDefinition(
         id=meta["id"], category=meta["category"], severity=Severity(meta["severity"]), summary=meta["summary"],
         page=page.strip(), path=path, dialect=meta.get("dialect", "iso"),
-        example_settings=meta.get("example_settings", {}), example_project=meta.get("example_project", ""), constraints=constraints,
+        example_settings=meta.get("example_settings", {}), example_project=meta.get("example_project", ""), once_per_file=meta.get("once_per_file", False), constraints=constraints,
     )
 
 
@@ -311,6 +312,8 @@ class Checker:
             return
         count = self._per_rule.get(rule_id, 0) + 1
         self._per_rule[rule_id] = count
+        if definition.once_per_file and count > 1:
+            return
         if count > self.settings.max_findings_per_rule:
             self.truncated[rule_id] = self.truncated.get(rule_id, 0) + 1
             return

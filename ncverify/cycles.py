@@ -110,8 +110,10 @@ class CycleRunner:
         state = self.state
         cycle = state.cycle
         repeat = state.cycle_data.pop("L", None)
+        if repeat is None and cycle.model.get("params", {}).get("K", {}).get("kind", "count") == "count":
+            repeat = state.cycle_data.pop("K", None)  # not the shift K of mill G76/G87
         if repeat is None:
-            repeat = state.cycle_data.pop("K", 1.0)
+            repeat = 1.0
         if type(repeat) is not float:
             self.interp._unsupported_here(span, "a hole repeat count that depends on a free parameter")
             return None
@@ -120,10 +122,10 @@ class CycleRunner:
             return None
         for _ in range(int(repeat)):
             targets = self.interp._targets(positioning, incremental, span)
-            self._make_hole(cycle, span, block, targets)
+            self._make_hole(cycle, span, block, targets, repeat)
         return None
 
-    def _make_hole(self, cycle, span, block, targets: dict) -> None:
+    def _make_hole(self, cycle, span, block, targets: dict, repeat: float = 1.0) -> None:
         interp = self.interp
         state = self.state
         model = cycle.model
@@ -138,7 +140,7 @@ class CycleRunner:
             missing = tuple(letter for letter in missing if letter != "R")
         hole_position = dict(state.position)
         hole_position.update(targets)
-        hole = Hole(cycle.cycle, model, span, block, axis, hole_position, initial, r_point, bottom, dict(data), dict(cycle.param_spans), missing, cycle.definition)
+        hole = Hole(cycle.cycle, model, span, block, axis, hole_position, initial, r_point, bottom, dict(data), dict(cycle.param_spans), missing, cycle.definition, repeat)
         interp.observer.hole(hole, state)
         if missing or bottom is None:
             state.move_to(targets)

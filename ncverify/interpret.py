@@ -182,8 +182,6 @@ class Interpreter:
         if called:
             state.spindle = "inherited"
             state.feed_inherited = True
-        for note in self.frontend.file_notes(self.source):
-            self.observer.note(note)
         worklist = [(state, Position(self.source, main_start))]
         while worklist:
             self.state, position = worklist.pop()
@@ -822,6 +820,8 @@ class Interpreter:
             end[axis] = value
         state.position = end
         state.motion_seen = True
+        if kind == "thread" and op.words:
+            self._change("thread", op.span, block, None, op_values(op.words, self, op.span))  # G33 Q start angle, E lead
         arc = self._arc(op, kind, start) if kind in _ARC_KINDS else None
         self.observer.segment(Segment(_SEGMENT_KIND[kind], start, end, op.span, block, "programmed", None, arc), state)
         return None

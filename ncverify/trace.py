@@ -83,6 +83,7 @@ class Hole:
     param_spans: dict[str, Span] = field(default_factory=dict)
     missing: tuple[str, ...] = ()
     definition: Span | None = None  # the block that made the cycle modal
+    repeat: float = 1.0  # the block's repeat count (L, or K on a lathe); each repeat is its own Hole
 
 
 @dataclass(slots=True)
@@ -112,7 +113,8 @@ class Fault:
 @dataclass(slots=True)
 class Change:
     """A state change rules watch: ``what`` is ``tool_change``, ``cutter_comp``,
-    ``length_offset``, ``units``, ``spindle``, ``stop``, ``end``, ``call``..."""
+    ``length_offset``, ``units``, ``spindle``, ``stop``, ``end``, ``call``, ``thread`` (a G33
+    block's other words, evaluated, in ``new``: Q start angle, E lead)..."""
 
     what: str
     span: Span

@@ -13,7 +13,7 @@ import numpy
 from .. import ir
 from ..read.iso import ReadBlock, Statement, Word, read_line
 from ..read.iso_runs import read_plain_run
-from ..source import Span, decode_line
+from ..source import Span, decode_line, find_all, line_start
 from ..tables import CodeTable, code_key
 
 # Execution order inside one block (after LinuxCNC's and the ISO manuals' order).
@@ -42,6 +42,7 @@ class IsoLowering:
 
     def lower(self, read: ReadBlock, path: str | None = None) -> ir.Block:
         block = ir.Block(read.line, read.start + 1, read.end + 1, [], skippable=read.skip)
+        self._block, self._path = block, path
         block.comments = tuple((text, Span.on_line(read.line, start, end, path)) for text, start, end in read.comments)
         if read.problem:
             block.notes.append(ir.Note("core.syntax", read.problem.message, self._span(read, read.problem.start, read.problem.end, path)))
@@ -384,6 +385,9 @@ class IsoLowering:
     def _value(self, word: Word) -> ir.Expr:
         value = word.value
         if self.increment and isinstance(value, float) and not word.has_point and word.letter.lstrip(",") in self.scaled_letters:
+            if 1 <= abs(value) < 1000 and word.letter in self.axis_letters:
+                self._block.notes.append(ir.Note("core.decimal-point", _decimal_point_message(word.letter, value, self.increment),
+                                                 Span(self._block.line, word.start + 1, self._block.line, word.end + 1, self._path)))
             return ir.IncrementCount(value, "length")
         return value
 
@@ -411,6 +415,11 @@ class IsoLowering:
         return values
 
 
+def _decimal_point_message(letter: str, value: float, increment: float) -> str:
+    return (f"{letter}{value:g} has no decimal point, so this control reads it in least input increments: "
+            f"{value * increment:g} mm (or {value * increment / 10:g} in), not {value:g}; write {letter}{value:g}. if whole units are meant")
+
+
 # ---------------------------------------------------------------------- front end
 
 _PLAIN_MOTION = re.compile(rb"[ \t]*(?:[NGXYZABCF][ \t]*[+-]?(?:\d+\.?\d*|\.\d+)[ \t]*)+")
@@ -425,11 +434,8 @@ _CANONICAL = re.compile(
 )
 _FAST_MOTION = {0.0: "rapid", 1.0: "linear", 2.0: "arc_cw", 3.0: "arc_ccw"}
 _PROGRAM_START = re.compile(rb"(?i)[ \t]*(?:%[ \t]*)?(?:N\d+[ \t]*)?[O:][ \t]*(\d+)")
-_PROGRAM_LETTER = re.compile(rb"[Oo:][ \t]*\d")
-_SMALL_INTEGER_WORD = re.compile(rb"(?<![A-Za-z#\[])[XYZUWIJKRxyzuwijkr][ \t]*-?[1-9]\d{0,2}(?![\d.])")
 _PROGRAM_END = re.compile(rb"(?i)M0*(?:2|30)(?![0-9.])")
 _RETURN = re.compile(rb"(?i)M99(?![0-9.])")
-_TAPE_MARK = re.compile(rb"(?m)^[ \t]*%")
 _SETUP = re.compile(rb"(?i)(?<![A-Z])(?:M0*6|G5[4-9])(?![0-9])")
 
 
@@ -484,6 +490,8 @@ class IsoFrontend:
                 feed = ir.IncrementCount(float(text), "feed") if lowering.feed_increment and b"." not in text else float(text)
                 feed_op = ir.SetFeed(Span(line, start + 1, line, value_end + 1, path), feed)
             elif letter in lowering.axis_letters and letter not in lowering.twins and letter not in targets:
+                if increment and b"." not in text and 1 <= abs(float(text)) < 1000:
+                    return None  # a decimal-point trap: the general path reports it
                 targets[letter] = ir.IncrementCount(float(text), "length") if increment and b"." not in text else float(text)
                 columns[letter] = (start, value_end)
                 if move_start is None or start < move_start:
@@ -501,26 +509,6 @@ class IsoFrontend:
             block.ops.append(ir.Move(span, kind, targets, None, {}, frozenset(), columns))
         return block
 
-    def file_notes(self, source) -> list[ir.Note]:
-        """Findings about the file as a whole: the first small integer coordinate read in
-        least input increments (``Z5`` = 0.005 mm), once per file."""
-        if not self.lowering.increment:
-            return []
-        path = None
-        for candidate in list(_SMALL_INTEGER_WORD.finditer(source.buffer))[:50]:
-            line_start = source.buffer.rfind(b"\n", 0, candidate.start()) + 1
-            line_end = source.buffer.find(b"\n", candidate.start())
-            raw = bytes(source.buffer[line_start : len(source.buffer) if line_end < 0 else line_end]).rstrip(b"\r")
-            line = source.line_number_at(line_start)
-            for read in read_line(decode_line(raw), line):
-                for word in read.items:
-                    if isinstance(word, Word) and word.start == candidate.start() - line_start and isinstance(word.value, float) and not word.has_point:
-                        scale = self.lowering.increment
-                        message = (f"{word.letter}{word.value:g} has no decimal point, so this control reads it in least input increments: "
-                                   f"{word.value * scale:g} mm (or {word.value * scale / 10:g} in), not {word.value:g}; write {word.letter}{word.value:g}. if whole units are meant")
-                        return [ir.Note("core.decimal-point", message, Span(line, word.start + 1, line, word.end + 1, path))]
-        return []
-
     def is_plain(self, raw: bytes) -> bool:
         """Could this line be part of a :class:`ir.MoveRun`?"""
         return _PLAIN_MOTION.fullmatch(raw) is not None
@@ -534,7 +522,7 @@ class IsoFrontend:
         chunk = bytes(buffer[offset:end])
         if end < len(buffer):
             chunk = chunk[: chunk.rfind(b"\n") + 1]
-        run = read_plain_run(chunk)
+        run = read_plain_run(chunk, stop_at_small_integers=bool(self.lowering.increment))
         if run is None:
             return None
         table, pointless = run.table, run.pointless
@@ -549,24 +537,27 @@ class IsoFrontend:
         Candidates are found by their letter, then the line's start is checked (a scan
         anchored at every line start costs a second per million lines)."""
         found = []
-        for candidate in _PROGRAM_LETTER.finditer(buffer):
-            line_start = buffer.rfind(b"\n", 0, candidate.start()) + 1
-            match = _PROGRAM_START.match(buffer, line_start)
-            if match is not None and match.end(1) >= candidate.end() and (not found or found[-1][1] != line_start):
-                found.append((f"O{int(match.group(1))}", line_start))
+        for candidate in find_all(buffer, (b"O", b"o", b":")):
+            start = line_start(buffer, candidate)
+            match = _PROGRAM_START.match(buffer, start)
+            if match is not None and match.start(1) > candidate and (not found or found[-1][1] != start):
+                found.append((f"O{int(match.group(1))}", start))
         return found
 
     def tape_marks(self, buffer) -> list[int]:
         """Offsets of the '%' lines: text between a closing mark and the next opening one
         is not part of any program."""
-        return [match.start() for match in _TAPE_MARK.finditer(buffer)]
+        return [start for start in (line_start(buffer, candidate) for candidate in find_all(buffer, (b"%",)))
+                if not bytes(buffer[start : buffer.find(b"%", start)]).strip()]
 
     def is_subprogram(self, buffer, start: int, end: int) -> bool:
         """Is the program between the offsets a subprogram: it returns with M99, never ends
         with M02/M30, and sets up no tool or work offset of its own (a main program that
         loops with M99, as on a bar feeder, does)?"""
-        return (_PROGRAM_END.search(buffer, start, end) is None and _RETURN.search(buffer, start, end) is not None
-                and _SETUP.search(buffer, start, end) is None)
+        tail = max(start, end - 65536)  # an end code sits near the end: look there first
+        if _PROGRAM_END.search(buffer, tail, end) or _PROGRAM_END.search(buffer, start, tail + 16):
+            return False
+        return _RETURN.search(buffer, start, end) is not None and _SETUP.search(buffer, start, end) is None
 
     def program_name(self, number: float) -> str:
         return f"O{int(number)}"

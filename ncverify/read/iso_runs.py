@@ -47,12 +47,17 @@ class _Chunk:
     def __init__(self, chunk: bytes):
         self.codes = numpy.frombuffer(chunk, dtype=numpy.uint8)
         self.classes = _BYTE_CLASS[self.codes]
-        self.letters = numpy.flatnonzero(self.classes == _LETTER)
-        self.newlines = numpy.flatnonzero(self.classes == _NEWLINE)
+        is_letter = self.classes == _LETTER
+        is_newline = self.classes == _NEWLINE
+        self.letters = numpy.flatnonzero(is_letter)
+        self.newlines = numpy.flatnonzero(is_newline)
         self.digits = numpy.flatnonzero(self.classes == _DIGIT)
         self.dots = numpy.flatnonzero(self.classes == _DOT)
-        self.digit_owner = numpy.searchsorted(self.letters, self.digits, side="right") - 1
-        self.dot_owner = numpy.searchsorted(self.letters, self.dots, side="right") - 1
+        # For every byte: the index of the word (letter) it belongs to, and of its line.
+        self.owner_at = numpy.cumsum(is_letter, dtype=numpy.int32) - 1
+        self.line_at = numpy.cumsum(is_newline, dtype=numpy.int32)
+        self.digit_owner = self.owner_at[self.digits]
+        self.dot_owner = self.owner_at[self.dots]
 
     def first_bad_position(self) -> int:
         """The first byte that breaks the form: a character outside it, a letter not
@@ -81,7 +86,7 @@ class _Chunk:
         return min(found) if found else len(self.codes)
 
     def line_of(self, positions):
-        return numpy.searchsorted(self.newlines, positions)
+        return self.line_at[positions]
 
     def numbers(self, stop: int):
         """The number after each letter before ``stop``, and whether it has a point."""
@@ -101,13 +106,15 @@ class _Chunk:
         decimals = numpy.bincount(owner, weights=digits > point[owner], minlength=count).astype(numpy.int64)
         values = mantissa / _POWERS_OF_TEN[decimals]
         minus = numpy.flatnonzero(self.codes[:stop] == ord("-"))
-        values[numpy.searchsorted(letters, minus, side="right") - 1] *= -1.0
+        values[self.owner_at[minus]] *= -1.0
         return letters, values, point != no_point
 
 
-def read_plain_run(chunk: bytes, minimum_lines: int = 16) -> PlainRun | None:
+def read_plain_run(chunk: bytes, minimum_lines: int = 16, stop_at_small_integers: bool = False) -> PlainRun | None:
     """Read the plain lines at the start of ``chunk`` (whole lines only); None when
-    fewer than ``minimum_lines``."""
+    fewer than ``minimum_lines``. With ``stop_at_small_integers`` (a control that reads
+    integers in least input increments) the run also ends before a coordinate like ``Z5``,
+    which the per-block path reports as a decimal-point trap."""
     if len(chunk) < minimum_lines * 4:
         return None
     found = _Chunk(chunk)
@@ -117,6 +124,11 @@ def read_plain_run(chunk: bytes, minimum_lines: int = 16) -> PlainRun | None:
     odd_motion = letters[motion][numpy.isin(values[motion], _MOTION_CODES, invert=True)]
     if odd_motion.size:
         stop = int(odd_motion[0])
+    if stop_at_small_integers:
+        axis_words = (found.codes[letters] >= ord("X")) & (found.codes[letters] <= ord("Z"))
+        trap = letters[axis_words & ~has_point & (numpy.abs(values) >= 1) & (numpy.abs(values) < 1000)]
+        if trap.size:
+            stop = min(stop, int(trap[0]))
     if stop < len(chunk):
         before = found.newlines[found.newlines < stop]
         stop = int(before[-1]) + 1 if before.size else 0
@@ -126,7 +138,7 @@ def read_plain_run(chunk: bytes, minimum_lines: int = 16) -> PlainRun | None:
     line_count = len(newlines) + (0 if stop == 0 or chunk[stop - 1 : stop] == b"\n" else 1)
     if line_count < minimum_lines:
         return None
-    rows = numpy.searchsorted(newlines, letters)
+    rows = found.line_of(letters)
     columns = _COLUMN[found.codes[letters]]
     table = numpy.full((line_count, len(LETTERS)), numpy.nan)
     table[rows, columns] = values
