@@ -1,3 +1,4 @@
 """Rule logic that needs more than a parameter constraint, one module per theme.
 Importing this package registers every rule class with :func:`ncverify.check.rule`."""
-from . import holes, machine, motion, stock, tools  # noqa: F401
+from . import holes, machine, motion, stock, tooling, tools  # noqa: F401
+from . import cycle_hazards  # noqa: F401

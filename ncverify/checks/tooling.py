@@ -1,0 +1,64 @@
+"""Rules on the tool's size against the feature it cuts: a G12/G13 circle smaller than the
+tool, a concave arc under radius compensation tighter than the tool. The tool's radius
+comes from the tool table (``[tools.N]`` or ``ncverify: tool``) for the tool in the
+spindle; without it each rule answers ``unknown`` once per file."""
+from __future__ import annotations
+
+from .. import values
+from ..check import hazard, judge, rule, show
+from .machine import _ReportsMissingContext
+
+# Which arc direction puts the tool inside the arc, per compensation side.
+_CONCAVE = {("left", "ccw"), ("right", "cw")}
+
+
+def _tool_radius(rule_instance, state, span, rule_id):
+    tools = rule_instance.checker.context.get("tools") or {}
+    number = state.tool_in_spindle
+    tool = tools.get(int(number)) if type(number) is float else None
+    if tool is None or tool.radius is None:
+        what = "no tool table" if not tools else f"the radius of tool T{show(number)} is not in the tool table"
+        rule_instance.missing(rule_id, span, what)
+        return None
+    return tool.radius
+
+
+@rule("core.tool-too-large")
+class CircleSmallerThanTool(_ReportsMissingContext):
+    """G12/G13: the tool centre runs on a circle of radius |I| minus the tool radius."""
+
+    def cycle_run(self, run, state):
+        if run.model.get("shape") != "circle" or run.params.get("I") is None:
+            return
+        radius = _tool_radius(self, state, run.span, "core.tool-too-large")
+        if radius is None:
+            return
+        circle = values.absolute(run.params["I"])
+        verdict = judge(hazard("<=", values.sub(circle, radius), 0.0), state.path_condition, self.checker.context.get("solver_timeout_s", 5.0))
+        self.checker.report_verdict("core.tool-too-large", run.param_spans.get("I", run.span),
+                                    f"{run.cycle.rsplit('.', 1)[-1]}: the circle of radius {show(circle)} is not larger than the tool radius {radius:g}: "
+                                    f"the largest tool that fits has a radius below {show(circle)} (the control alarms: circle radius error)", verdict, state)
+
+
+@rule("core.comp-gouge")
+class ConcaveArcTighterThanTool(_ReportsMissingContext):
+    """With G41/G42 on, an arc whose centre lies on the tool's side must have a radius of
+    at least the tool radius, or the offset path cannot follow it."""
+
+    def segment(self, segment, state):
+        arc = segment.arc
+        if arc is None or state.comp_side not in ("left", "right") or (state.comp_side, arc.direction) not in _CONCAVE:
+            return
+        arc_radius = arc.start_radius if arc.start_radius is not None else (values.absolute(arc.radius_word) if arc.radius_word is not None else None)
+        if arc_radius is None:
+            return
+        radius = _tool_radius(self, state, segment.span, "core.comp-gouge")
+        if radius is None:
+            return
+        verdict = judge(hazard("<", arc_radius, radius), state.path_condition, self.checker.context.get("solver_timeout_s", 5.0))
+        self.checker.report_verdict("core.comp-gouge", segment.span,
+                                    f"inside arc of radius {show(arc_radius)} with {'G41' if state.comp_side == 'left' else 'G42'} and a tool of radius {radius:g}: "
+                                    "the tool cannot follow it; the control alarms or the tool gouges the wall", verdict, state)
+
+    def motion_run(self, run, state):
+        """Runs hold no arcs."""
