@@ -93,7 +93,7 @@ class CycleRunner:
         if model.get("shape") == "box":
             return self._box(op, block)
         axis = self._drill_axis(model)
-        data = self._evaluate_all(op.words, op.span)
+        data = self._evaluate_all(_counts_unscaled(op.words, model), op.span)
         positioning = dict(op.targets)
         if axis in positioning:
             bottom_expr = positioning.pop(axis)
@@ -314,6 +314,21 @@ class CycleRunner:
         self._rapid_to({first: out}, op.span, block, "infeed", op.cycle, "feed")
         self._rapid_to({first: centre}, op.span, block, "retract", op.cycle, "feed")
         return None
+
+
+def _counts_unscaled(words: dict, model: dict) -> dict:
+    """Code and count words of a hole block (``,R1``, lathe ``K3``) as written: the Move's
+    lowering cannot know the cycle and scales them like lengths (``_cycle_params`` does
+    not)."""
+    declared = model.get("params", {})
+
+    def is_count(letter: str, expr) -> bool:
+        kind = declared.get(letter, {}).get("kind") or ("count" if letter in ("L", "K") else None)
+        return type(expr) is ir.IncrementCount and kind in ("code", "count")
+
+    if not any(is_count(letter, expr) for letter, expr in words.items()):
+        return words
+    return {letter: expr.count if is_count(letter, expr) else expr for letter, expr in words.items()}
 
 
 def _bottom_letter(axis: str, op: ir.Move, twins: dict) -> str:

@@ -397,8 +397,8 @@ class Interpreter:
     def _fault(self, rule: str, span: Span, message: str, status: str = "violated", reason: str | None = None) -> None:
         self.observer.fault(Fault(rule, span, message, status, reason))
 
-    def _change(self, what: str, span: Span, block, old=None, new=None, register=None) -> None:
-        self.observer.change(Change(what, span, block, old, new, register), self.state)
+    def _change(self, what: str, span: Span, block, old=None, new=None, register=None, words=None) -> None:
+        self.observer.change(Change(what, span, block, old, new, register, words), self.state)
 
     # ------------------------------------------------------------------ expressions
 
@@ -632,6 +632,8 @@ class Interpreter:
         state.modal[op.group] = op.value
         if op.group == "units" and old != op.value:
             self._change("units", op.span, block, old, op.value)
+        elif op.group in _WATCHED_MODAL:
+            self._change(op.group, op.span, block, old, op.value)
         return None
 
     def _cutter_comp(self, op: ir.CutterComp, block):
@@ -756,6 +758,10 @@ class Interpreter:
             speed = op.words.get("S")
             if speed is not None:
                 self.state.spindle_clamp = self.evaluate(speed, op.span)
+            if new:
+                self._change("set_position", op.span, block, None, new)
+        elif op.kind == "data":
+            self._change("data_setting", op.span, block, op_values(op.values, self, op.span), op_values(op.words, self, op.span))
         elif op.kind == "local":
             shifted = {}
             for axis, shift in op_values(op.values, self, op.span).items():
@@ -784,7 +790,8 @@ class Interpreter:
         state.last_reference_via = dict(targets)
         self._emit("rapid", start, op.span, block, "reference")
         written_absolute = {axis: expr for axis, expr in op.via.items() if axis not in op.incremental}
-        self._change("reference_return", op.span, block, op_values(written_absolute, self, op.span), op.which, None)
+        self._change("reference_return", op.span, block, op_values(written_absolute, self, op.span), op.which, None,
+                     op_values({"P": op.words["P"]}, self, op.span) if "P" in op.words else {})
         state.move_to(dict.fromkeys(targets))  # at the machine reference point: unknown in work coordinates
         return None
 
@@ -1188,6 +1195,7 @@ def op_values(written: dict, interpreter: "Interpreter", span) -> dict:
 
 
 _BATCH_AFTER = 8  # plain blocks in a row before the rest of the streak is read as a batch
+_WATCHED_MODAL = frozenset({"feed_mode", "spindle_mode", "path_mode"})  # groups whose codes make a Change
 
 
 def _as_float(value) -> float:

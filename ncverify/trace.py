@@ -114,7 +114,11 @@ class Fault:
 class Change:
     """A state change rules watch: ``what`` is ``tool_change``, ``cutter_comp``,
     ``length_offset``, ``units``, ``spindle``, ``stop``, ``end``, ``call``, ``thread`` (a G33
-    block's other words, evaluated, in ``new``: Q start angle, E lead)..."""
+    block's other words, evaluated, in ``new``: Q start angle, E lead), ``feed_mode`` /
+    ``spindle_mode`` / ``path_mode`` (a G94/G95, G96/G97 or G61-G64 code ran: ``old`` and
+    ``new`` values), ``set_position`` (G92/G50 with axis words, evaluated, in ``new``),
+    ``data_setting`` (G10: axis words in ``old``, the other words in ``new``)...
+    ``words`` holds other words of the block a rule needs, evaluated (G30 ``P``)."""
 
     what: str
     span: Span
@@ -122,3 +126,4 @@ class Change:
     old: object = None
     new: object = None
     register: Value | None = None
+    words: dict | None = None

@@ -2,3 +2,4 @@
 Importing this package registers every rule class with :func:`ncverify.check.rule`."""
 from . import holes, machine, motion, stock, tooling, tools  # noqa: F401
 from . import cycle_hazards  # noqa: F401
+from . import modal_hazards  # noqa: F401

@@ -289,9 +289,11 @@ class _ToItems(Transformer):
         return float(text), "." in text
 
     def signed_ref(self, children):
+        """A variable or [expression]: its value is in the program's units, never in least
+        input increments (so it counts as written with a point)."""
         if len(children) == 2 and str(children[0]) == "-":
-            return ir.Unary("-", children[1]), False
-        return children[-1], False
+            return ir.Unary("-", children[1]), True
+        return children[-1], True
 
     @v_args(meta=True)
     def assignment(self, meta, children):
