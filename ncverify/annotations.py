@@ -86,7 +86,7 @@ def _read(body: str, span: Span, target_line: int, found: Annotations) -> None:
             found.context.stock = _stock(rest.strip(), span)
         elif keyword == "tool":
             tool = _tool(body, span)
-            found.context.tools[tool.number] = tool
+            found.context.tools[tool.number if tool.number is not None else tool.name] = tool
         elif keyword == "assume":
             tree = parse_assumption(rest.strip())
             found.context.assumptions.append(Assumption(rest.strip(), tree, "annotation", span))

@@ -120,7 +120,7 @@ def _with_project_settings(settings: Settings, project: Context | None) -> Setti
         return settings
     defaults = Settings()
     changes = {key: value for key, value in project.settings.items()
-               if hasattr(settings, key) and getattr(settings, key) == getattr(defaults, key)}
+               if hasattr(settings, key) and key not in settings.explicit and getattr(settings, key) == getattr(defaults, key)}
     changes["disabled_rules"] = settings.disabled_rules | frozenset(project.disabled)
     return settings.with_(**changes)
 

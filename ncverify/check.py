@@ -194,7 +194,7 @@ def judge(hazard: "bool | Condition", path_condition: list, timeout_s: float = 5
                 witness[declaration.name()] = float(value.numerator_as_long()) / float(value.denominator_as_long())
             elif z3.is_algebraic_value(value):
                 witness[declaration.name()] = float(value.approx(10).as_decimal(10).rstrip("?"))
-        return Verdict(Status.VIOLATED, {k: v for k, v in witness.items() if "~" not in k})
+        return Verdict(Status.VIOLATED, {k: v for k, v in witness.items() if "~" not in k and "!" not in k})
     return Verdict(Status.UNKNOWN, reason=f"the solver gave no answer within {timeout_s:g} s ({solver.reason_unknown()})")
 
 
@@ -256,9 +256,16 @@ class Checker:
         ]
 
     def finish(self) -> None:
-        """After every path: rules that report what was never seen (missing context)."""
+        """After every path: rules that report what was never seen (missing context), and
+        one verdict per place: violated on any path wins over unknown, unknown over proved."""
         for handler in self._finish:
             handler()
+        worst: dict[tuple, int] = {}
+        rank = {Status.VIOLATED: 2, Status.UNKNOWN: 1, Status.PROVED: 0}
+        for diagnostic in self.diagnostics:
+            key = (diagnostic.rule, diagnostic.span)
+            worst[key] = max(worst.get(key, 0), rank[diagnostic.status])
+        self.diagnostics = [d for d in self.diagnostics if rank[d.status] == worst[(d.rule, d.span)]]
 
     # -- events from the interpreter
     def segment(self, segment, state) -> None:
@@ -322,6 +329,10 @@ class Checker:
             severity = Severity.INFO
         self.diagnostics.append(Diagnostic(rule_id, definition.category, severity, span, message, status, reason, witness or {}))
 
+    def judge(self, hazard, state) -> "Verdict | None":
+        """:func:`judge` under the path's condition and the configured solver timeout."""
+        return judge(hazard, state.path_condition, self.settings.solver_timeout_s)
+
     def report_verdict(self, rule_id: str, span: Span, message: str, verdict: Verdict | None, state) -> None:
         """Report a judged hazard: violated with its witness, unknown with the reason, or a
         ``proved`` entry when symbolic values were shown safe."""
@@ -351,7 +362,7 @@ class Checker:
             if cycle not in constraint.cycles:
                 continue
             outcome = evaluate_constraint(constraint.tree, names)
-            verdict = judge(outcome, state.path_condition)
+            verdict = self.judge(outcome, state)
             if verdict is None:
                 continue
             where = _first_span(constraint.tree, spans) or span

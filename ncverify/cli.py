@@ -78,7 +78,9 @@ def _positive_int(text: str) -> int:
 
 
 def main(argv: list[str] | None = None) -> int:
+    argv = sys.argv[1:] if argv is None else argv
     arguments = build_parser().parse_args(argv)
+    arguments.given = _given(argv)
     try:
         if arguments.command == "explain":
             return _explain(arguments.rule)
@@ -100,6 +102,15 @@ def main(argv: list[str] | None = None) -> int:
         return EXIT_OK
 
 
+def _given(argv: list[str]) -> frozenset[str]:
+    """Which project-file settings the command line states (a value equal to the default
+    still wins over the project file)."""
+    flags = {"--loop-bound": "loop_bound", "--max-paths": "max_paths", "--rapid-path": "rapid_path",
+             "--solver-timeout": "solver_timeout_s", "--least-input-increment": "least_input_increment",
+             "--machine": "machine", "--profile": "profile", "--dialect": "dialect", "--subprogram-path": "subprogram_path"}
+    return frozenset(setting for flag, setting in flags.items() if any(arg == flag or arg.startswith(flag + "=") for arg in argv))
+
+
 def _settings(arguments) -> Settings:
     extensions = tuple(sorted({("." + e.strip().lstrip(".")).lower() for e in arguments.extensions.split(",") if e.strip()}))
     return Settings(
@@ -108,7 +119,7 @@ def _settings(arguments) -> Settings:
         subprogram_path=tuple(Path(p) for p in arguments.subprogram_path), extensions=extensions + ("",),
         fail_on=arguments.fail_on, fail_on_unknown=arguments.fail_on_unknown, disabled_rules=frozenset(arguments.disable),
         max_file_bytes=arguments.max_file_size, config=Path(arguments.config) if arguments.config else None,
-        rapid_path=arguments.rapid_path, solver_timeout_s=arguments.solver_timeout,
+        rapid_path=arguments.rapid_path, solver_timeout_s=arguments.solver_timeout, explicit=getattr(arguments, "given", frozenset()),
     )
 
 

@@ -34,18 +34,34 @@ def stock_box(stock: Stock) -> tuple[tuple[float, float], ...] | None:
 def enters(stock: Stock, start, end, dogleg: bool = False) -> tuple[float, float, float] | None:
     """A point of the segment inside the stock, or None. ``start``/``end`` are (x, y, z)
     floats in program coordinates (y is ignored for a lathe bar)."""
-    if dogleg:
-        start, end = _spanned_box_corners(start, end)
     box = stock_box(stock)
+    if dogleg:
+        return _spanned_box_overlap(stock, start, end, box)
     if box is not None:
         return _clip_box(start, end, box)
     return _clip_prism(stock, start, end)
 
 
-def _spanned_box_corners(start, end):
-    low = tuple(min(a, b) for a, b in zip(start, end))
-    high = tuple(max(a, b) for a, b in zip(start, end))
-    return low, high
+def _spanned_box_overlap(stock: Stock, start, end, box) -> tuple[float, float, float] | None:
+    """A point where the box spanned by the two end points meets the stock's inside."""
+    low = [min(a, b) for a, b in zip(start, end)]
+    high = [max(a, b) for a, b in zip(start, end)]
+    if box is None:  # polygon prism: the spanned rectangle against the outline
+        z_low, z_high = max(low[2], stock.z_range[0] + EPSILON), min(high[2], stock.z_range[1] - EPSILON)
+        if z_low > z_high or (low[2] == high[2] and not stock.z_range[0] < low[2] < stock.z_range[1]):
+            return None
+        overlap = shapely.box(low[0], low[1], high[0], high[1]).buffer(0 if low[:2] != high[:2] else EPSILON).intersection(stock.outline.buffer(-EPSILON))
+        if overlap.is_empty:
+            return None
+        point = overlap.representative_point()
+        return point.x, point.y, (z_low + z_high) / 2
+    point = []
+    for a, b, (lower, upper) in zip(low, high, box):
+        inside_low, inside_high = max(a, lower + EPSILON), min(b, upper - EPSILON)
+        if inside_low > inside_high:
+            return None
+        point.append((inside_low + inside_high) / 2)
+    return tuple(point)
 
 
 def _clip_box(start, end, box) -> tuple[float, float, float] | None:
@@ -85,7 +101,7 @@ def _clip_prism(stock: Stock, start, end) -> tuple[float, float, float] | None:
         t0, t1 = sorted(path.project(shapely.Point(point)) / length for point in (piece.coords[0], piece.coords[-1]))
         za, zb = z0 + (z1 - z0) * t0, z0 + (z1 - z0) * t1
         low, high = max(min(za, zb), z_low), min(max(za, zb), z_high)
-        if low < high:
+        if low < high or (za == zb and z_low < za < z_high):
             t = t0 + (t1 - t0) * 0.5 if z1 == z0 else ((low + high) / 2 - z0) / (z1 - z0)
             return (x0 + (x1 - x0) * t, y0 + (y1 - y0) * t, z0 + (z1 - z0) * t)
     return None

@@ -853,7 +853,8 @@ class Interpreter:
             radius = self.value(radius_expr, op.span)
             if radius is VACANT:
                 return Arc(direction, (first, second, normal), None, None, None)
-            return Arc(direction, (first, second, normal), None, None, None, radius, _distance(s1, s2, e1, e2))
+            return Arc(direction, (first, second, normal), None, None, None, radius, _distance(s1, s2, e1, e2),
+                       chord_sq=_distance_sq(s1, s2, e1, e2))
         centre_letters = {"X": "I", "Y": "J", "Z": "K"}
         offset1 = self.value(arc_words.get(centre_letters[first], 0.0), op.span)
         offset2 = self.value(arc_words.get(centre_letters[second], 0.0), op.span)
@@ -865,7 +866,8 @@ class Interpreter:
             c1, c2 = values.add(s1, offset1), values.add(s2, offset2)
         start_radius = _distance(s1, s2, c1, c2)
         end_radius = _distance(e1, e2, c1, c2)
-        return Arc(direction, (first, second, normal), (c1, c2), start_radius, end_radius)
+        return Arc(direction, (first, second, normal), (c1, c2), start_radius, end_radius,
+                   start_radius_sq=_distance_sq(s1, s2, c1, c2), end_radius_sq=_distance_sq(e1, e2, c1, c2))
 
     # ------------------------------------------------------------------ cycles
 
@@ -1236,11 +1238,18 @@ def _scaled(value, scale: float):
     return value if scale == 1.0 else values.mul(value, scale)
 
 
+def _distance_sq(a1, a2, b1, b2):
+    d1, d2 = values.sub(a1, b1), values.sub(a2, b2)
+    return values.add(values.mul(d1, d1), values.mul(d2, d2))
+
+
 def _distance(a1, a2, b1, b2):
+    """Distance of two points; None when it depends on free parameters (the arc rule then
+    answers unknown rather than compare radii it cannot compute exactly)."""
     d1, d2 = values.sub(a1, b1), values.sub(a2, b2)
     if type(d1) is float and type(d2) is float:
         return math.hypot(d1, d2)
-    return values.fresh("radius", 0.0, values.INF)
+    return None
 
 
 def _condition_parameters(condition: Condition) -> set[str]:

@@ -25,6 +25,10 @@ class Arc:
     end_radius: Value | None
     radius_word: Value | None = None  # the R word, when the arc was given by radius
     chord: Value | None = None  # start-to-end distance in the plane (R form)
+    # Squared distances, exact polynomials when the points depend on free parameters:
+    start_radius_sq: Value | None = None
+    end_radius_sq: Value | None = None
+    chord_sq: Value | None = None
 
 
 @dataclass(slots=True)

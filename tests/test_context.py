@@ -249,9 +249,6 @@ def test_the_command_line_wins_over_project_settings(tmp_path, capsys):
     assert json.loads(capsys.readouterr().out)["files"][0]["diagnostics"] == []
 
 
-@pytest.mark.xfail(strict=True, reason="BUG: api._with_project_settings treats a command-line value equal to "
-                   "the default as 'not given', so an explicit --loop-bound 10000 (or --rapid-path straight) loses "
-                   "to the project file although the README says the command line wins")
 def test_an_explicit_command_line_value_equal_to_the_default_still_wins(tmp_path, capsys):
     write(tmp_path, "ncverify.toml", "[settings]\nloop_bound = 5\n")
     part = write(tmp_path, "loop.nc", program(LOOP))
@@ -275,9 +272,6 @@ def test_rapid_path_from_the_project_settings(tmp_path):
     assert at(check_file(part), "core.rapid-into-stock", 4, Status.VIOLATED)  # X first, at Z-5.: in the corner
 
 
-@pytest.mark.xfail(strict=True, reason="BUG: geometry.enters for a dog-leg clips the diagonal from the low to the "
-                   "high corner of the spanned box instead of testing the box: a rapid from X-10. Z5. to X10. Z-5. "
-                   "crashes on the straight line but is passed with rapid_path = dogleg")
 def test_a_dogleg_rapid_finds_at_least_what_the_straight_one_finds():
     text = """
         (ncverify: stock box X0:100 Y0:80 Z-20:0)
@@ -389,8 +383,6 @@ def test_annotation_stock_polygon():
     assert not at(result, "core.rapid-into-stock", 6, Status.VIOLATED)  # outside the outline
 
 
-@pytest.mark.xfail(strict=True, reason="BUG: geometry._clip_prism needs low < high on Z, so a rapid at one Z "
-                   "level through a polygon stock (the commonest traverse) is never found")
 def test_a_level_rapid_through_a_polygon_stock_is_found():
     result = check("""
         (ncverify: stock polygon X0 Y0, X100 Y0, X100 Y50, X0 Y50 Z-20:0)
@@ -431,9 +423,6 @@ def test_annotation_tool_length_is_used_for_the_travel_limit():
     assert at(check(text.format(length=250), project), "core.travel-limit", 4, Status.VIOLATED)
 
 
-@pytest.mark.xfail(strict=True, reason="BUG: a tool annotated by name (tool \"spot\" radius 5) is stored under "
-                   "the number None; a tool change to a tool not in the table then prints '(TNone)', and with a "
-                   "numbered tool beside it sorted() raises TypeError: the whole check crashes")
 def test_a_named_tool_annotation_does_not_break_the_tool_table():
     result = check("""
         (ncverify: tool "spot" radius 5 type spot)

@@ -82,8 +82,6 @@ def test_param_rapid_violated_shows_a_symbolic_rapid_into_the_stock():
     assert all("Z#5" in d["message"] for d in found)
 
 
-@pytest.mark.xfail(strict=True, reason="BUG: rapid-into-stock witnesses carry the internal segment parameter "
-                   "'t!N' of geometry.may_enter_symbolic besides the program's parameters")
 @pytest.mark.parametrize("program", VIOLATED, ids=lambda path: path.name)
 def test_corpus_witnesses_name_only_program_parameters(program):
     for finding in entries(program):

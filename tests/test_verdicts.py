@@ -342,9 +342,6 @@ def test_a_solver_without_an_answer_gives_unknown_with_the_reason(monkeypatch):
     assert entry.status is Status.UNKNOWN and "solver gave no answer" in entry.reason
 
 
-@pytest.mark.xfail(strict=True, reason="BUG: only the stock and machine rules and the divisor check pass "
-                   "solver_timeout_s to judge(); the hole-level rules (checks/holes.py), arc geometry, G28 and "
-                   "the rules/ constraints query Z3 with the default 5 s whatever --solver-timeout says")
 def test_every_solver_query_gets_the_configured_timeout(monkeypatch):
     seen = []
     original = z3.Solver.set
@@ -370,9 +367,6 @@ def test_every_solver_query_gets_the_configured_timeout(monkeypatch):
 # --------------------------------------------------------------------------- bugs found
 
 
-@pytest.mark.xfail(strict=True, reason="BUG: geometry.may_enter_symbolic uses z3.FreshReal('t'); judge() "
-                   "only drops names with '~', so the witness carries the internal segment parameter 't!N' "
-                   "(and every rapid then has its own witness, so each one is replayed separately)")
 def test_a_witness_names_only_parameters_of_the_program():
     result = check(program(f"""
         {STOCK}
@@ -387,9 +381,6 @@ def test_a_witness_names_only_parameters_of_the_program():
     assert set(plunge.witness) == {"#5"}
 
 
-@pytest.mark.xfail(strict=True, reason="BUG: the first rapid from an unknown start to a symbolic end point "
-                   "(stock.py _from_unknown returns when the end is symbolic) reports nothing at all, while the "
-                   "same program with the value written in reports a crash into the stock")
 def test_a_first_rapid_to_a_symbolic_point_inside_the_stock_is_not_dropped():
     text = program(f"""
         {STOCK}
@@ -402,9 +393,6 @@ def test_a_first_rapid_to_a_symbolic_point_inside_the_stock_is_not_dropped():
     assert at(check(text), "core.rapid-into-stock", 4), "no verdict at all for the rapid"
 
 
-@pytest.mark.xfail(strict=True, reason="BUG: ClearanceBelowStock._over_stock answers True when the hole "
-                   "position is symbolic, so a hole that is never over the stock is judged as if it were: "
-                   "violated without a witness for a concrete level, 'did not reproduce' for a symbolic one")
 @pytest.mark.parametrize("r_point", ["-2.", "#2"])
 def test_the_clearance_of_a_hole_beside_the_stock_is_not_violated(r_point):
     text = program(f"""
@@ -424,10 +412,6 @@ def test_the_clearance_of_a_hole_beside_the_stock_is_not_violated(r_point):
     assert all(d.status is Status.PROVED for d in entries), [(d.status, d.reason) for d in entries]
 
 
-@pytest.mark.xfail(strict=True, reason="BUG: interpret._distance returns an unconstrained fresh 'radius' "
-                   "for symbolic end points, so every arc with a parametric end point gets a witness that "
-                   "cannot reproduce and ends as unknown 'did not reproduce' (even when the chord is the "
-                   "constant 20 mm)")
 def test_an_arc_with_parametric_end_points_is_not_left_as_did_not_reproduce():
     result = check(program("""
         (ncverify: assume 0 <= #4 <= 50)
@@ -443,9 +427,6 @@ def test_an_arc_with_parametric_end_points_is_not_left_as_did_not_reproduce():
     assert all(d.status is Status.PROVED for d in entries)
 
 
-@pytest.mark.xfail(strict=True, reason="BUG: verdicts are reported per path and not merged: a rule that is "
-                   "violated on one branch and proved on the other gets both a violated and a 'proved "
-                   "impossible for every value' entry at the same place")
 def test_one_place_never_gets_both_proved_and_violated():
     result = check(program(f"""
         {STOCK}

@@ -3,7 +3,7 @@ compensation and modal traps, boring shifts, repeats, table values, lathe format
 from __future__ import annotations
 
 from .. import ir, values
-from ..check import Rule, hazard, judge, rule, show
+from ..check import Rule, hazard, rule, show
 
 _COMP_CODE = {"left": "G41", "right": "G42", "auto": "G46"}
 _SHIFT_LETTERS = {"xy": ("I", "J"), "zx": ("K", "I"), "yz": ("J", "K")}
@@ -102,7 +102,7 @@ class CycleShift(Rule):
         if key in state.rule_state:
             return
         span = hole.definition or hole.span
-        verdict = judge(_all(hazard("==", value, 0.0) for value in given), state.path_condition)
+        verdict = self.checker.judge(_all(hazard("==", value, 0.0) for value in given), state)
         if verdict is not None:
             state.rule_state[key] = True
             wrong = [f"{letter}{show(params[letter])}" for letter in ("I", "J", "K") if letter in params and letter not in letters]
@@ -193,7 +193,7 @@ class CycleParameterValue(Rule):
             if value is None or not _once(state, ("core.cycle-parameter-value", cycle, letter, value if type(value) is float else id(value), spans.get(letter))):
                 continue  # hole data stay modal: judged once per value and place, not per hole
             allowed = [float(choice) for choice in spec["allowed"]]
-            verdict = judge(_all(hazard("!=", value, choice) for choice in allowed), state.path_condition)
+            verdict = self.checker.judge(_all(hazard("!=", value, choice) for choice in allowed), state)
             choices = " or ".join(f"{letter}{choice:g}" for choice in allowed)
             meaning = f": {spec['meaning']}" if spec.get("meaning") else ""
             self.checker.report_verdict("core.cycle-parameter-value", spans.get(letter, default_span),
@@ -214,7 +214,7 @@ class LatheArcOver180(Rule):
         if arc is None or arc.radius_word is None or self.checker.context.get("machine") != "lathe":
             return
         radius = arc.radius_word
-        verdict = judge(hazard("<", radius, 0.0), state.path_condition)
+        verdict = self.checker.judge(hazard("<", radius, 0.0), state)
         self.checker.report_verdict("core.lathe-arc-over-180", _word_span(segment.block, "R", segment.span),
                                     f"R{show(radius)}: a negative R asks for an arc of more than 180 degrees, but on the lathe an R arc spans at most "
                                     "180 degrees and the control alarms; split the arc in two or give its centre with I/K", verdict, state)
@@ -288,13 +288,13 @@ class ThreadParameters(Rule):
         height = run.params.get("P")
         allowance = state.lathe_cycle_data.get(run.cycle, {}).get("first_R")
         if height is not None and allowance is not None and not (type(height) is float and height <= 0):
-            verdict = judge(hazard(">=", allowance, height), state.path_condition)
+            verdict = self.checker.judge(hazard(">=", allowance, height), state)
             self.checker.report_verdict("core.thread-parameters", run.param_spans.get("P", run.span),
                                         f"{code} finishing allowance R{show(allowance)} (first block) is not less than the thread height P{show(height)}: "
                                         "the roughing passes never reach the thread and the finishing pass cuts the whole profile", verdict, state)
         lead = state.feed
         if lead is not None:
-            verdict = judge(hazard("<=", lead, 0.0), state.path_condition)
+            verdict = self.checker.judge(hazard("<=", lead, 0.0), state)
             self.checker.report_verdict("core.thread-parameters", _word_span(run.block, "F", run.span),
                                         f"{code} lead F{show(lead)} is not positive: the control cannot synchronise the thread with the spindle (alarm)", verdict, state)
 
@@ -309,7 +309,7 @@ class ThreadStartAngle(Rule):
             return
         angle = change.new["Q"]
         low = 0.001 if self.checker.context.get("machine") == "lathe" else 0.0
-        verdict = judge(_any((hazard("<", angle, low), hazard(">", angle, 360.0))), state.path_condition)
+        verdict = self.checker.judge(_any((hazard("<", angle, low), hazard(">", angle, 360.0))), state)
         counted = any(isinstance(op, ir.Move) and isinstance(op.words.get("Q"), ir.IncrementCount) for op in change.block.ops) if change.block else False
         hint = " (Q without a decimal point counts in 0.001 degree steps)" if counted else ""
         self.checker.report_verdict("core.thread-start-angle", _word_span(change.block, "Q", change.span),

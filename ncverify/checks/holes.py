@@ -2,7 +2,7 @@
 from __future__ import annotations
 
 from .. import values
-from ..check import Rule, hazard, judge, rule, show
+from ..check import Rule, hazard, rule, show
 
 
 def _code(cycle: str) -> str:
@@ -37,16 +37,16 @@ class HoleLevels(Rule):
         report = self.checker.report_verdict
         if hole.model.get("infeed") == "back_bore":
             report("core.cycle-depth-sign", span, f"{code} back boring: the top of the bore {axis}{show(bottom)} is not above the start level R{show(r_point)}; "
-                   "R must lie below the part and Z above it", judge(hazard("<=", bottom, r_point), state.path_condition), state)
+                   "R must lie below the part and Z above it", self.checker.judge(hazard("<=", bottom, r_point), state), state)
             return
         report("core.cycle-zero-depth", span, f"{code}: hole bottom {axis}{show(bottom)} equals the R point: the cycle cuts nothing",
-               judge(hazard("==", bottom, r_point), state.path_condition), state)
+               self.checker.judge(hazard("==", bottom, r_point), state), state)
         report("core.cycle-depth-sign", span, f"{code}: hole bottom {axis}{show(bottom)} is above the R point {show(r_point)}: the tool would feed upward out of the part and rapid back down",
-               judge(hazard(">", bottom, r_point), state.path_condition), state)
+               self.checker.judge(hazard(">", bottom, r_point), state), state)
         if initial is not None:
             report("core.cycle-r-above-initial", hole.param_spans.get("R", hole.span),
                    f"{code}: R point {show(r_point)} is above the initial level {show(initial)}: the tool moves between holes below the R plane",
-                   judge(hazard(">", r_point, initial), state.path_condition), state)
+                   self.checker.judge(hazard(">", r_point, initial), state), state)
 
 
 @rule("core.peck-depth")
@@ -56,7 +56,7 @@ class PeckDepth(Rule):
             depth = hole.params.get("Q")
             if depth is not None:
                 self.checker.report_verdict("core.peck-depth", hole.param_spans.get("Q", hole.span), f"{_code(hole.cycle)}: peck depth Q{show(depth)} is not positive: the control alarms",
-                                            judge(hazard("<=", depth, 0.0), state.path_condition), state)
+                                            self.checker.judge(hazard("<=", depth, 0.0), state), state)
 
 
 @rule("core.dwell-fraction")

@@ -9,7 +9,7 @@ import numpy
 import z3
 
 from .. import values
-from ..check import Rule, hazard, judge, rule, show
+from ..check import Rule, hazard, rule, show
 from ..diagnostics import Status
 from ..values import Condition, Sym
 
@@ -103,7 +103,7 @@ class TravelLimit(_ReportsMissingContext):
             return
         outside = values.logical("OR", values.compare("LT", machine, low), values.compare("GT", machine, high))
         outside = outside if isinstance(outside, Condition) else Condition(z3.BoolVal(bool(outside)))
-        verdict = judge(outside, state.path_condition, self.checker.context.get("solver_timeout_s", 5.0))
+        verdict = self.checker.judge(outside, state)
         self.checker.report_verdict("core.travel-limit", span, f"{axis} reaches machine position {show(machine)}, outside the travel {low:g}..{high:g}", verdict, state)
 
     def _check_arc(self, segment, frame, state):
@@ -150,7 +150,7 @@ class MachineLimits(_ReportsMissingContext):
             if not tools:
                 self.missing("core.tool-not-in-table", change.span, "no tool table ([tools.N] in ncverify.toml or 'ncverify: tool' annotations)")
             elif int(change.new) not in tools:
-                self.report("core.tool-not-in-table", change.span, f"tool T{int(change.new)} is not in the tool table ({', '.join(f'T{n}' for n in sorted(tools))}): its size and length are unknown, and the magazine may not hold it")
+                self.report("core.tool-not-in-table", change.span, f"tool T{int(change.new)} is not in the tool table ({', '.join(f'T{n}' if isinstance(n, int) else repr(n) for n in sorted(tools, key=str))}): its size and length are unknown, and the magazine may not hold it")
 
     def segment(self, segment, state):
         if segment.kind != "rapid":
@@ -183,5 +183,5 @@ class MachineLimits(_ReportsMissingContext):
         if key in state.rule_state:
             return
         state.rule_state[key] = True
-        verdict = judge(hazard(">", value, limit), state.path_condition, self.checker.context.get("solver_timeout_s", 5.0))
+        verdict = self.checker.judge(hazard(">", value, limit), state)
         self.checker.report_verdict(rule_id, span, message.format(value=show(value), limit=limit), verdict, state)

@@ -9,7 +9,7 @@ import math
 import numpy
 
 from .. import ir, values
-from ..check import Rule, hazard, judge, rule, show
+from ..check import Rule, hazard, rule, show
 from ..diagnostics import Status
 
 _CUTTING = frozenset({"feed", "arc", "thread"})
@@ -195,7 +195,7 @@ class LengthOffsetMotion(Rule):
             return
         if old_register is None or new_register is None or new_register is old_register:
             return
-        verdict = judge(hazard("!=", new_register, old_register), state.path_condition)
+        verdict = self.checker.judge(hazard("!=", new_register, old_register), state)
         self.checker.report_verdict("core.length-offset-change-moves", change.span,
                                     f"{_register(new_register)} replaces {_register(old_register)} while length compensation stays on, in a block without Z: "
                                     "Z moves at once by the difference of the two offsets (G49 first, or give the new H with a Z move)", verdict, state)
@@ -223,7 +223,7 @@ class ReferencePointNumber(Rule):
             meant = ""
         self.checker.report_verdict("core.reference-point-number", change.span,
                                     f"G30 P{show(number)} returns to the 2nd reference point{meant}; only P2, P3 and P4 choose one (E60)",
-                                    judge(outside, state.path_condition), state)
+                                    self.checker.judge(outside, state), state)
 
 
 @rule("core.g10-default-substitution", "core.g10-incremental-repeat")
@@ -255,7 +255,7 @@ class OffsetDataSetting(Rule):
             outside = values.logical("OR", hazard("<", number, 0.0), hazard(">", number, 6.0))
             self.checker.report_verdict("core.g10-default-substitution", change.span,
                                         f"G10 L2 P{show(number)} is outside P0-P6: the E60 writes the values into G54 (P1) instead, and overwrites its offset",
-                                        judge(outside, state.path_condition), state)
+                                        self.checker.judge(outside, state), state)
             return
         if number is None:
             self.report("core.g10-default-substitution", change.span,
@@ -264,7 +264,7 @@ class OffsetDataSetting(Rule):
         outside = values.logical("OR", hazard("<", number, 1.0), hazard(">", number, 48.0))
         self.checker.report_verdict("core.g10-default-substitution", change.span,
                                     f"G10 L20 P{show(number)} is outside P1-P48: the E60 writes the values into the work system that is selected now, and overwrites its offset",
-                                    judge(outside, state.path_condition), state)
+                                    self.checker.judge(outside, state), state)
 
 
 @rule("core.g92-repeated")
@@ -355,11 +355,11 @@ class FeedPlausibility(Rule):
         if feed is None:
             return
         if high is not None:
-            verdict = judge(hazard(">", feed, high), state.path_condition)
+            verdict = self.checker.judge(hazard(">", feed, high), state)
             message = (f"feed F{show(feed)} in G95 means {show(feed)} {unit}, far more than any cut takes per spindle revolution (above {high:g} {unit}): "
                        f"a feed per minute written in G95 mode? (G94 for {unit.replace('rev', 'min')})")
         else:
-            verdict = judge(values.logical("AND", hazard(">", feed, 0.0), hazard("<", feed, low)), state.path_condition)
+            verdict = self.checker.judge(values.logical("AND", hazard(">", feed, 0.0), hazard("<", feed, low)), state)
             message = (f"feed F{show(feed)} in G94 means {show(feed)} {unit}, so slow that the tool only rubs (below {low:g} {unit}): "
                        f"a feed per revolution written in G94 mode? (G95 for {unit.replace('min', 'rev')})")
         self.checker.report_verdict("core.feed-plausibility", span, message, verdict, state)
@@ -391,7 +391,7 @@ class SurfaceSpeedAtCentre(Rule):
         reaches = hazard("<=", end, 0.0) if end is not None else False
         if start is not None:
             reaches = values.logical("OR", reaches, hazard("<=", start, 0.0))
-        verdict = judge(reaches, state.path_condition)
+        verdict = self.checker.judge(reaches, state)
         if verdict is not None:
             self._report(segment.span, state, verdict)
 
@@ -403,7 +403,7 @@ class SurfaceSpeedAtCentre(Rule):
         start, end = run.points[cutting, column], run.points[cutting + 1, column]
         reaching = numpy.flatnonzero((end <= 0) | (start <= 0))
         if len(reaching):
-            self._report(run.span(int(cutting[reaching[0]])), state, judge(True, state.path_condition))
+            self._report(run.span(int(cutting[reaching[0]])), state, self.checker.judge(True, state))
 
     def _applies(self, state) -> bool:
         return (self.checker.context["machine"] == "lathe" and state.modal.get("spindle_mode") == "surface_speed"

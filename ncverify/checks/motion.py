@@ -4,11 +4,15 @@ from __future__ import annotations
 import math
 
 import numpy
+import z3
 
 from .. import values
-from ..check import Rule, hazard, judge, rule, show
+from ..diagnostics import Status
+from ..values import Condition
+from ..check import Rule, hazard, rule, show
 
 _CUTTING = frozenset({"feed", "arc", "thread"})
+
 _FEED = 1  # MotionRun kind code of a feed segment
 
 
@@ -55,7 +59,7 @@ class FeedMissing(Rule):
             if not state.feed_inherited:
                 self.report("core.feed-missing", span, f"{what} with no feed rate: no F word since the program started (E60 alarm P62)")
             return
-        verdict = judge(hazard("<=", feed, 0.0), state.path_condition)
+        verdict = self.checker.judge(hazard("<=", feed, 0.0), state)
         self.checker.report_verdict("core.feed-missing", span, f"{what} at feed F{show(feed)}: the axes would not move (feed zero or negative)", verdict, state)
 
 
@@ -129,20 +133,36 @@ class ArcGeometry(Rule):
     def motion_run(self, run, state):
         """Runs hold no arcs."""
 
+    def _symbolic(self, segment, arc, state):
+        """Parametric end points: the same tests on squared distances, as polynomials."""
+        if arc.radius_word is not None:
+            radius = values.term_of(arc.radius_word)
+            hazard_term = radius * radius < values.term_of(arc.chord_sq) / 4 - 1e-6
+            message = f"arc radius R{show(arc.radius_word)} can be smaller than half the distance to the end point: no such arc exists (alarm)"
+        else:
+            start, end = z3.FreshReal("r"), z3.FreshReal("r")
+            hazard_term = z3.And(start >= 0, end >= 0, start * start == values.term_of(arc.start_radius_sq), end * end == values.term_of(arc.end_radius_sq),
+                                 z3.Or(start - end > self.tolerance, end - start > self.tolerance))
+            message = "the end point can lie off the arc: its distance to the centre differs from the start point's"
+        self.checker.report_verdict("core.arc-geometry", segment.span, message, self.checker.judge(Condition(hazard_term), state), state)
+
     def segment(self, segment, state):
         arc = segment.arc
         if arc is None:
             return
+        if arc.start_radius_sq is not None and arc.start_radius is None or arc.radius_word is not None and arc.chord is None and arc.chord_sq is not None:
+            self._symbolic(segment, arc, state)
+            return
         if arc.radius_word is not None:
             if arc.chord is None:
                 return
-            verdict = judge(hazard("<", values.absolute(arc.radius_word), values.sub(values.mul(arc.chord, 0.5), 1e-6)), state.path_condition)
+            verdict = self.checker.judge(hazard("<", values.absolute(arc.radius_word), values.sub(values.mul(arc.chord, 0.5), 1e-6)), state)
             self.checker.report_verdict("core.arc-geometry", segment.span, f"arc radius R{show(arc.radius_word)} is smaller than half the distance to the end point ({show(values.mul(arc.chord, 0.5))}): no such arc exists (alarm)", verdict, state)
             return
         if arc.start_radius is None or arc.end_radius is None:
             return
         difference = values.absolute(values.sub(arc.start_radius, arc.end_radius))
-        verdict = judge(hazard(">", difference, self.tolerance), state.path_condition)
+        verdict = self.checker.judge(hazard(">", difference, self.tolerance), state)
         if arc.start_radius == 0.0:
             message = "arc with no centre: I/J/K are all zero or missing and no R is given, so the centre is the start point (is G02/G03 still modal where a G01 was meant?)"
         else:
@@ -166,5 +186,5 @@ class ReferenceReturnThroughWork(Rule):
         level = via.get("Z")
         if level is None:
             return
-        verdict = judge(hazard("<=", level, 0.0), state.path_condition)
+        verdict = self.checker.judge(hazard("<=", level, 0.0), state)
         self.checker.report_verdict("core.g28-absolute", change.span, f"{'G28' if change.new == 'home' else 'G30'} in G90 goes first to work Z{show(level)} at rapid: the tool passes through the work surface level (write G91 G28 Z0.)", verdict, state)

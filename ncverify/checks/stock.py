@@ -11,7 +11,7 @@ import math
 import numpy
 
 from .. import geometry, values
-from ..check import Rule, Verdict, judge, rule, show
+from ..check import Rule, Verdict, rule, show
 from ..diagnostics import Status
 from ..values import Condition, Sym
 
@@ -124,6 +124,10 @@ class RapidIntoStock(_NeedsStock):
     def _from_unknown(self, stock, end, span, what, state):
         """Where the tool comes from is unknown; the end point alone can still be inside."""
         if any(isinstance(value, Sym) for value in end):
+            inside = geometry.may_enter_symbolic(stock, end, end)
+            if inside is not None:
+                self.checker.report_verdict(self.rule_id, span, f"{what} ends at {_where(end)}, which can lie inside the stock ({stock.describe()})",
+                                            self.checker.judge(Condition(inside), state), state)
             return
         if geometry.enters(stock, end, end) is not None:
             self.report(self.rule_id, span, f"{what} ends at {_where(end)}, inside the stock ({stock.describe()}): the tool crashes into the blank at rapid")
@@ -138,7 +142,7 @@ class RapidIntoStock(_NeedsStock):
             self.report(self.rule_id, span, f"{what} depends on free parameters and the stock is a polygon: not checked",
                         Status.UNKNOWN, "symbolic moves against a polygon stock are not modelled")
             return
-        verdict = judge(Condition(condition), state.path_condition, self.checker.context.get("solver_timeout_s", 5.0))
+        verdict = self.checker.judge(Condition(condition), state)
         self.checker.report_verdict(self.rule_id, span, f"{what} from {_where(start)} to {_where(end)} passes through the stock ({stock.describe()})", verdict, state)
 
     @staticmethod
@@ -157,7 +161,10 @@ class ClearanceBelowStock(_NeedsStock):
         if hole.model.get("r_incremental") or hole.model.get("infeed") == "back_bore" or hole.drill_axis != "Z":
             return
         stock = self.stock(hole.definition or hole.span)
-        if stock is None or not self._over_stock(stock, hole.position):
+        if stock is None:
+            return
+        over_stock = self._over_stock(stock, hole.position)
+        if over_stock is False:
             return
         key = ("clearance", hole.definition)
         if key in state.rule_state:
@@ -168,15 +175,20 @@ class ClearanceBelowStock(_NeedsStock):
         for level, name, span in ((hole.r_point, "R point", hole.param_spans.get("R", hole.span)), (hole.initial, "initial level", hole.definition or hole.span)):
             if level is None:
                 continue
-            verdict = judge(_below(level, top), state.path_condition, self.checker.context.get("solver_timeout_s", 5.0))
+            verdict = self.checker.judge(_both(over_stock, _below(level, top)), state)
             self.checker.report_verdict(self.rule_id, span, f"{code}: the {name} Z{show(level)} is below the top of the stock Z{top:g}: "
                                         f"the cycle rapids into the material there", verdict, state)
 
     @staticmethod
-    def _over_stock(stock, position) -> bool:
+    def _over_stock(stock, position):
+        """True / False, or a condition when the hole position is symbolic (True when it is
+        unknown: the levels are judged anyway)."""
         x, y = position.get("X"), position.get("Y")
-        if x is None or y is None or isinstance(x, Sym) or isinstance(y, Sym):
-            return True  # cannot tell: judge the levels anyway
+        if x is None or y is None:
+            return True
+        if isinstance(x, Sym) or isinstance(y, Sym):
+            inside = geometry.may_enter_symbolic(stock, (x, y, stock.top - 1.0), (x, y, stock.top - 1.0))
+            return True if inside is None else Condition(inside)
         if stock.kind == "box":
             return stock.x_range[0] < x < stock.x_range[1] and stock.y_range[0] < y < stock.y_range[1]
         if stock.kind == "polygon":
@@ -184,6 +196,16 @@ class ClearanceBelowStock(_NeedsStock):
 
             return stock.outline.contains(shapely.Point(x, y))
         return abs(x) < stock.diameter
+
+
+def _both(first, second):
+    """Both hazard conditions (True, False or conditions)."""
+    if first is True:
+        return second
+    import z3
+
+    second_term = second.term if isinstance(second, Condition) else z3.BoolVal(bool(second))
+    return Condition(z3.And(first.term, second_term))
 
 
 def _below(level, top: float):

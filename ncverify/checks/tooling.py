@@ -5,7 +5,7 @@ spindle; without it each rule answers ``unknown`` once per file."""
 from __future__ import annotations
 
 from .. import values
-from ..check import hazard, judge, rule, show
+from ..check import hazard, rule, show
 from .machine import _ReportsMissingContext
 
 # Which arc direction puts the tool inside the arc, per compensation side.
@@ -34,7 +34,7 @@ class CircleSmallerThanTool(_ReportsMissingContext):
         if radius is None:
             return
         circle = values.absolute(run.params["I"])
-        verdict = judge(hazard("<=", values.sub(circle, radius), 0.0), state.path_condition, self.checker.context.get("solver_timeout_s", 5.0))
+        verdict = self.checker.judge(hazard("<=", values.sub(circle, radius), 0.0), state)
         self.checker.report_verdict("core.tool-too-large", run.param_spans.get("I", run.span),
                                     f"{run.cycle.rsplit('.', 1)[-1]}: the circle of radius {show(circle)} is not larger than the tool radius {radius:g}: "
                                     f"the largest tool that fits has a radius below {show(circle)} (the control alarms: circle radius error)", verdict, state)
@@ -55,7 +55,7 @@ class ConcaveArcTighterThanTool(_ReportsMissingContext):
         radius = _tool_radius(self, state, segment.span, "core.comp-gouge")
         if radius is None:
             return
-        verdict = judge(hazard("<", arc_radius, radius), state.path_condition, self.checker.context.get("solver_timeout_s", 5.0))
+        verdict = self.checker.judge(hazard("<", arc_radius, radius), state)
         self.checker.report_verdict("core.comp-gouge", segment.span,
                                     f"inside arc of radius {show(arc_radius)} with {'G41' if state.comp_side == 'left' else 'G42'} and a tool of radius {radius:g}: "
                                     "the tool cannot follow it; the control alarms or the tool gouges the wall", verdict, state)
