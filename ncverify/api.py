@@ -16,7 +16,7 @@ from .diagnostics import Diagnostic, Severity, Status, Suppressed
 from .interpret import Interpreter
 from .context import Context
 from .library import SubprogramLibrary
-from .project import ConfigError, find_project_file, load_project
+from .project import find_project_file, load_project
 from .lower.iso import IsoFrontend, IsoLowering
 from .settings import Settings
 from .source import ProgramSource, Span

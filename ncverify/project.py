@@ -110,7 +110,7 @@ class _Reader:
         spec = self.table(table[shape], f"[stock] {shape}")
         try:
             if shape == "box":
-                self.keys(spec, {"x", "y", "z"}, f"[stock] box", required={"x", "y", "z"})
+                self.keys(spec, {"x", "y", "z"}, "[stock] box", required={"x", "y", "z"})
                 return Stock.box(self.range(spec["x"], "[stock] box.x"), self.range(spec["y"], "[stock] box.y"), self.range(spec["z"], "[stock] box.z"))
             if shape == "cylinder":
                 self.keys(spec, {"d", "diameter", "z"}, "[stock] cylinder", required={"z"})

@@ -1,7 +1,6 @@
 """Rules on the holes canned cycles make: levels, parameters, spindle."""
 from __future__ import annotations
 
-from .. import values
 from ..check import Rule, hazard, rule, show
 
 

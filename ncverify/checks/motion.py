@@ -7,7 +7,6 @@ import numpy
 import z3
 
 from .. import values
-from ..diagnostics import Status
 from ..values import Condition
 from ..check import Rule, hazard, rule, show
 

@@ -6,12 +6,11 @@ through a pocket machined earlier is still reported (future work, see the rule p
 """
 from __future__ import annotations
 
-import math
 
 import numpy
 
-from .. import geometry, values
-from ..check import Rule, Verdict, rule, show
+from .. import geometry
+from ..check import Rule, rule, show
 from ..diagnostics import Status
 from ..values import Condition, Sym
 
