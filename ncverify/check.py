@@ -147,6 +147,15 @@ class Rule:
         self.checker = checker
         self.report = checker.report
 
+    @staticmethod
+    def first_time(state, key) -> bool:
+        """True the first time ``key`` is seen on this path (one finding per cycle
+        definition, per episode ...)."""
+        if key in state.rule_state:
+            return False
+        state.rule_state[key] = True
+        return True
+
     def segment(self, segment, state): ...
 
     def motion_run(self, run, state): ...

@@ -15,32 +15,24 @@ def _code(cycle: str) -> str:
     return cycle.rsplit(".", 1)[-1]
 
 
-def _once(state, key) -> bool:
-    """True the first time ``key`` is seen on this path."""
-    if key in state.rule_state:
-        return False
-    state.rule_state[key] = True
-    return True
-
-
 def _all(conditions) -> "bool | values.Condition":
     """AND of hazard conditions, short-circuiting concrete ones."""
-    result = True
-    for condition in conditions:
-        if condition is False:
-            return False
-        if condition is not True:
-            result = condition if result is True else values.logical("AND", result, condition)
-    return result
+    return _combine(conditions, "AND")
 
 
 def _any(conditions) -> "bool | values.Condition":
-    result = False
+    """OR of hazard conditions, short-circuiting concrete ones."""
+    return _combine(conditions, "OR")
+
+
+def _combine(conditions, operator: str):
+    neutral = operator == "AND"  # True for AND, False for OR
+    result = neutral
     for condition in conditions:
-        if condition is True:
-            return True
-        if condition is not False:
-            result = condition if result is False else values.logical("OR", result, condition)
+        if condition is (not neutral):
+            return not neutral
+        if condition is not neutral:
+            result = condition if result is neutral else values.logical(operator, result, condition)
     return result
 
 
@@ -67,7 +59,7 @@ def _position_text(hole) -> str:
 class CompensationInCycle(Rule):
     def hole(self, hole, state):
         side = state.comp_side
-        if side in ("off", None) or not _once(state, ("core.comp-in-cycle", hole.definition)):
+        if side in ("off", None) or not self.first_time(state, ("core.comp-in-cycle", hole.definition)):
             return
         code = _COMP_CODE.get(side, "radius compensation")
         register = f" D{show(state.comp_register)}" if state.comp_register is not None else ""
@@ -190,7 +182,7 @@ class CycleParameterValue(Rule):
     def _check(self, cycle, model, params, spans, default_span, state):
         for letter, spec in self._allowed(model):
             value = params.get(letter)
-            if value is None or not _once(state, ("core.cycle-parameter-value", cycle, letter, value if type(value) is float else id(value), spans.get(letter))):
+            if value is None or not self.first_time(state, ("core.cycle-parameter-value", cycle, letter, value if type(value) is float else id(value), spans.get(letter))):
                 continue  # hole data stay modal: judged once per value and place, not per hole
             allowed = [float(choice) for choice in spec["allowed"]]
             verdict = self.checker.judge(_all(hazard("!=", value, choice) for choice in allowed), state)

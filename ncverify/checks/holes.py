@@ -8,19 +8,10 @@ def _code(cycle: str) -> str:
     return cycle.rsplit(".", 1)[-1]
 
 
-def _first_time(state, rule_id: str, hole) -> bool:
-    """One finding per cycle definition, not one per hole it makes."""
-    key = (rule_id, hole.definition)
-    if key in state.rule_state:
-        return False
-    state.rule_state[key] = True
-    return True
-
-
 @rule("core.cycle-missing-parameter")
 class MissingParameter(Rule):
     def hole(self, hole, state):
-        if hole.missing and _first_time(state, "core.cycle-missing-parameter", hole):
+        if hole.missing and self.first_time(state, ("core.cycle-missing-parameter", hole.definition)):
             meanings = ", ".join(f"{letter} ({hole.model['params'][letter]['meaning']})" for letter in hole.missing)
             self.report("core.cycle-missing-parameter", hole.definition or hole.span, f"{_code(hole.cycle)} makes holes without {meanings}: the control alarms at the first hole")
 
@@ -72,7 +63,7 @@ class TappingSpindle(Rule):
         expected = hole.model.get("spindle_before")
         if expected is None or state.spindle == expected or hole.params.get(",R") == 1.0 and state.spindle != "off":
             return
-        if not _first_time(state, "core.tapping-spindle-direction", hole):
+        if not self.first_time(state, ("core.tapping-spindle-direction", hole.definition)):
             return
         wanted = "M03 (clockwise)" if expected == "cw" else "M04 (counter-clockwise)"
         actual = {"off": "stopped", "cw": "clockwise (M03)", "ccw": "counter-clockwise (M04)"}[state.spindle]

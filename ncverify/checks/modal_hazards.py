@@ -27,6 +27,15 @@ def _register(value) -> str:
     return f"H{int(value):02d}" if type(value) is float and value == int(value) and value >= 0 else f"H{show(value)}"
 
 
+# G10 L2 (work offsets) and L20 (added work systems): allowed P range and what happens outside it.
+_G10_TARGETS = {
+    2.0: (0.0, 6.0, "a chosen one", "give P1-P6 (G54-G59) or P0 (external)",
+          "the E60 writes the values into G54 (P1) instead, and overwrites its offset"),
+    20.0: (1.0, 48.0, "an added one", "give P1-P48 (G54.1 P1-P48)",
+           "the E60 writes the values into the work system that is selected now, and overwrites its offset"),
+}
+
+
 def _repeating(state) -> str | None:
     """Why a block may run more than once: it is inside a loop, a subprogram or a macro."""
     if state.loops:
@@ -245,26 +254,19 @@ class OffsetDataSetting(Rule):
 
     def _substitution(self, change, words, state):
         kind, number = words.get("L"), words.get("P")
-        if type(kind) is not float or kind not in (2.0, 20.0):
+        target = _G10_TARGETS.get(kind) if type(kind) is float else None
+        if target is None:
             return
-        if kind == 2.0:
-            if number is None:
-                self.report("core.g10-default-substitution", change.span,
-                            "G10 L2 without P writes the values into the work system that happens to be selected, not a chosen one: give P1-P6 (G54-G59) or P0 (external)")
-                return
-            outside = values.logical("OR", hazard("<", number, 0.0), hazard(">", number, 6.0))
-            self.checker.report_verdict("core.g10-default-substitution", change.span,
-                                        f"G10 L2 P{show(number)} is outside P0-P6: the E60 writes the values into G54 (P1) instead, and overwrites its offset",
-                                        self.checker.judge(outside, state), state)
-            return
+        low, high, what, missing, outside_message = target
         if number is None:
             self.report("core.g10-default-substitution", change.span,
-                        "G10 L20 without P writes the values into the work system that happens to be selected, not an added one: give P1-P48 (G54.1 P1-P48)")
+                        f"G10 L{kind:g} without P writes the values into the work system that happens to be selected, not {what}: {missing}")
             return
-        outside = values.logical("OR", hazard("<", number, 1.0), hazard(">", number, 48.0))
+        outside = values.logical("OR", hazard("<", number, low), hazard(">", number, high))
         self.checker.report_verdict("core.g10-default-substitution", change.span,
-                                    f"G10 L20 P{show(number)} is outside P1-P48: the E60 writes the values into the work system that is selected now, and overwrites its offset",
+                                    f"G10 L{kind:g} P{show(number)} is outside P{low:g}-P{high:g}: {outside_message}",
                                     self.checker.judge(outside, state), state)
+
 
 
 @rule("core.g92-repeated")
