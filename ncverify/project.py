@@ -216,7 +216,7 @@ class _Reader:
     def keys(self, table: dict, allowed: set, where: str, required: set = frozenset()) -> None:
         for key in table:
             if key not in allowed:
-                self.fail(f"{where}.{key}", f"unknown key (known: {', '.join(sorted(allowed))})")
+                self.fail(f"{where} {key}" if where.endswith("]") else f"{where}.{key}", f"unknown key (known: {', '.join(sorted(allowed))})")
         for key in required:
             if key not in table:
                 self.fail(where, f"{key} is missing")

@@ -165,16 +165,15 @@ class ClearanceBelowStock(_NeedsStock):
         over_stock = self._over_stock(stock, hole.position)
         if over_stock is False:
             return
-        key = ("clearance", hole.definition)
-        if key in state.rule_state:
-            return
-        state.rule_state[key] = True
         code = hole.cycle.rsplit(".", 1)[-1]
         top = stock.top
         for level, name, span in ((hole.r_point, "R point", hole.param_spans.get("R", hole.span)), (hole.initial, "initial level", hole.definition or hole.span)):
-            if level is None:
-                continue
+            key = ("clearance violated", hole.definition, name)
+            if level is None or key in state.rule_state:
+                continue  # each hole is judged until one shows the violation: holes differ in position
             verdict = self.checker.judge(_both(over_stock, _below(level, top)), state)
+            if verdict is not None and verdict.status is Status.VIOLATED:
+                state.rule_state[key] = True
             self.checker.report_verdict(self.rule_id, span, f"{code}: the {name} Z{show(level)} is below the top of the stock Z{top:g}: "
                                         f"the cycle rapids into the material there", verdict, state)
 
