@@ -62,3 +62,31 @@ class ConcaveArcTighterThanTool(_ReportsMissingContext):
 
     def motion_run(self, run, state):
         """Runs hold no arcs."""
+
+
+@rule("core.tap-feed-pitch")
+class TapFeedMatchesPitch(_ReportsMissingContext):
+    """A tapping cycle feeds one pitch per revolution: F = pitch x S in G94, F = pitch in G95."""
+
+    tolerance = 0.01  # relative
+
+    def hole(self, hole, state):
+        if not hole.model.get("tapping") or not self.first_time(state, ("tap-feed", hole.definition)):
+            return
+        tools = self.checker.context.get("tools") or {}
+        number = state.tool_in_spindle
+        tool = tools.get(int(number)) if type(number) is float else None
+        if tool is None or tool.pitch is None:
+            self.missing("core.tap-feed-pitch", hole.definition or hole.span, "the tap's pitch is not in the tool table (pitch in [tools.N])")
+            return
+        per_revolution = state.modal.get("feed_mode") == "per_revolution"
+        feed, speed = state.feed, state.spindle_speed
+        if feed is None or (not per_revolution and speed is None):
+            return
+        expected = tool.pitch if per_revolution else values.mul(speed, tool.pitch)
+        off = values.absolute(values.sub(feed, expected))
+        verdict = self.checker.judge(hazard(">", off, values.mul(values.absolute(expected), self.tolerance)), state)
+        unit = "mm/rev" if per_revolution else "per minute"
+        self.checker.report_verdict("core.tap-feed-pitch", hole.definition or hole.span,
+                                    f"{hole.cycle.rsplit('.', 1)[-1]}: feed F{show(feed)} does not match the tap's pitch {tool.pitch:g}: "
+                                    f"it should be {show(expected)} {unit}; the tap cuts a second thread or breaks", verdict, state)
