@@ -10,8 +10,6 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass
 
-DIALECTS = ("iso", "heidenhain", "sinumerik", "fagor")
-
 _SIGNATURES: dict[str, list[tuple[str, float]]] = {
     "heidenhain": [
         (r"(?im)^\s*\d*\s*BEGIN\s+PGM\b", 8), (r"(?im)^\s*\d*\s*END\s+PGM\b", 6), (r"(?im)\bTOOL\s+CALL\b", 4),

@@ -157,7 +157,6 @@ class CutterComp(Op):
 class LengthOffset(Op):
     mode: str  # plus, minus, off
     register: Expr | None = None
-    moves_axis: bool = True  # ISO: a G43/G49 block without Z still moves Z by the change
 
 
 @dataclass(slots=True)

@@ -145,17 +145,5 @@ class ProgramSource:
             yield number + index, offset, offset + len(part) + 1, part
             offset += len(part) + 1
 
-    def line_text(self, line_number: int) -> str:
-        """The decoded text of one line (for quoting a block in a report)."""
-        offset = 0
-        for _ in range(line_number - 1):
-            newline = self.buffer.find(b"\n", offset)
-            if newline < 0:
-                return ""
-            offset = newline + 1
-        end = self.buffer.find(b"\n", offset)
-        raw = self.buffer[offset : len(self.buffer) if end < 0 else end]
-        return decode_line(raw.rstrip(b"\r"))
-
     def head(self, size: int = 65536) -> str:
         return decode_line(bytes(self.buffer[:size]))
