@@ -16,7 +16,7 @@ Operations (all carry the ``span`` of the words they came from):
 ==================  =====================================================================
 ``SetModal``        a modal group changes: plane, units, distance, feed mode, path mode,
                     cycle return level, spindle speed mode, arc centre mode
-``Move``            motion: ``kind`` is rapid / linear / arc_cw / arc_cw / thread, or
+``Move``            motion: ``kind`` is rapid / linear / arc_cw / arc_ccw / thread, or
                     ``None`` for "the modal motion" (ISO blocks that only carry axis words;
                     with a canned cycle modal this drills a hole). ``targets`` maps axis
                     letters to values as written (absolute or incremental per the modal
