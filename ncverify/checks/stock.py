@@ -81,7 +81,10 @@ class RapidIntoStock(_NeedsStock):
         what = _ROLE_WORDS.get(segment.role, "rapid move")
         if segment.cycle:
             what = f"{segment.cycle.rsplit('.', 1)[-1]} {what}"
-        if end is None or _separated(stock, segment.start, segment.end):
+        if _separated(stock, segment.start, segment.end):
+            return
+        if end is None:
+            self._unknown_position(segment.span, f"{what} ends where ncverify does not know the tool is (an incremental move from an unknown position): its path was not checked", state)
             return
         if start is None:
             self._from_unknown(stock, end, segment.span, what, state)
@@ -130,10 +133,13 @@ class RapidIntoStock(_NeedsStock):
             return
         if geometry.enters(stock, end, end) is not None:
             self.report(self.rule_id, span, f"{what} ends at {_where(end)}, inside the stock ({stock.describe()}): the tool crashes into the blank at rapid")
-        elif not state.rule_state.get("rapid-from-unknown"):
-            state.rule_state["rapid-from-unknown"] = True
-            self.report(self.rule_id, span, f"{what} to {_where(end)} starts where ncverify does not know the tool is (before the first move, or after a reference return): its path was not checked",
-                        Status.UNKNOWN, "start position unknown")
+        else:
+            self._unknown_position(span, f"{what} to {_where(end)} starts where ncverify does not know the tool is (before the first move, or after a reference return): its path was not checked", state)
+
+    def _unknown_position(self, span, message, state):
+        """Once per path: a rapid whose path cannot be placed is unknown, never safe."""
+        if self.first_time(state, "rapid-from-unknown"):
+            self.report(self.rule_id, span, message, Status.UNKNOWN, "position unknown")
 
     def _symbolic(self, stock, start, end, span, what, state):
         condition = geometry.may_enter_symbolic(stock, start, end)
