@@ -15,12 +15,11 @@ from .detect import Detection, detect
 from .diagnostics import Diagnostic, Severity, Status, Suppressed
 from .interpret import Interpreter
 from .context import Context
+from .dialect import setup_for
 from .library import SubprogramLibrary
 from .project import find_project_file, load_project
-from .lower.iso import IsoFrontend, IsoLowering
 from .settings import Settings
 from .source import ProgramSource, Span
-from .tables import iso_table
 
 
 class InputError(Exception):
@@ -102,15 +101,16 @@ def check_source(source: ProgramSource, settings: Settings, project: Context | N
     if detection.dialect is None:
         result.skipped = detection.reason
         return result
-    if detection.dialect != "iso":
+    settings = _with_project_settings(settings, project)
+    project = project or Context()
+    if setup_for(detection.dialect, settings, detection, project) is None:
         checker = Checker(settings, {})
         checker.report("core.dialect-unsupported", Span(1, 1, 1, 1), f"{detection.dialect} programs are recognised but not checked yet: nothing in this file was verified",
                        Status.UNKNOWN, f"no reader for the {detection.dialect} dialect yet")
         result.diagnostics = checker.diagnostics
         return result
-    settings = _with_project_settings(settings, project)
-    _run_iso(source, settings, detection, result, project or Context())
-    _confirm_witnesses(source, settings, detection, result, project or Context())
+    _run(source, settings, detection, result, project)
+    _confirm_witnesses(source, settings, detection, result, project)
     return result
 
 
@@ -146,7 +146,7 @@ def _confirm_witnesses(source, settings, detection, result: FileResult, project:
             by_witness.setdefault(tuple(sorted(diagnostic.witness.items())), []).append(diagnostic)
     for witness, diagnostics in by_witness.items():
         replay = FileResult(result.path, result.dialect, result.dialect_confidence)
-        _run_iso(source, settings, detection, replay, project, pins=dict(witness))
+        _run(source, settings, detection, replay, project, pins=dict(witness))
         reproduced = {(d.rule, d.span) for d in replay.diagnostics if d.status is Status.VIOLATED}
         for diagnostic in diagnostics:
             if (diagnostic.rule, diagnostic.span) not in reproduced:
@@ -155,23 +155,17 @@ def _confirm_witnesses(source, settings, detection, result: FileResult, project:
                                      + " did not reproduce when the program was run with those values: not verified either way")
 
 
-def _run_iso(source: ProgramSource, settings: Settings, detection: Detection, result: FileResult, project: Context,
-             pins: dict | None = None) -> None:
-    profile = settings.profile or detection.profile or "mitsubishi-e60"
-    machine = settings.machine or project.machine.kind or detection.machine or "mill"
-    table = iso_table(profile, machine)
-    increment = settings.least_input_increment
-    if increment is None and detection.whole_units:
-        increment = 0.0
-    lowering = IsoLowering(table, increment)
-    frontend = IsoFrontend(lowering)
+def _run(source: ProgramSource, settings: Settings, detection: Detection, result: FileResult, project: Context,
+         pins: dict | None = None) -> None:
+    dialect = setup_for(detection.dialect, settings, detection, project)
+    frontend = dialect.frontend
     found = annotations.collect(source, frontend)
     context = found.context.layered_over(project)
-    limits = {
-        "machine": machine,
-        "d_register_max": float(table.settings.get("d_register_max", 99)),
-        "h_register_max": float(table.settings.get("h_register_max", 99)),
-        "tool_number_max": float(table.settings.get("tool_number_max", 9999)),
+    if hasattr(frontend, "program_context"):
+        context = frontend.program_context(source).layered_over(context)
+    limits = dict(dialect.limits)
+    limits.update({
+        "machine": dialect.machine,
         "stock": context.stock,
         "tools": context.tools,
         "travel": context.machine.travel,
@@ -180,7 +174,7 @@ def _run_iso(source: ProgramSource, settings: Settings, detection: Detection, re
         "max_feed": context.machine.max_feed,
         "rapid_path": settings.rapid_path,
         "solver_timeout_s": settings.solver_timeout_s,
-    }
+    })
     checker = Checker(settings, limits, context.severity, found.suppressions)
     for note in found.notes:
         checker.note(note)
@@ -189,14 +183,14 @@ def _run_iso(source: ProgramSource, settings: Settings, detection: Detection, re
         folders.append(source.path.parent)
     library = SubprogramLibrary(folders, settings.extensions)
     interpreter = Interpreter(
-        source, frontend, checker, settings, power_on=table.power_on, cycle_models=table.cycles,
-        twins=dict(table.words.get("incremental_twins", {})), machine=machine, increment=lowering.increment,
-        feed_increment=lowering.feed_increment, library=library, assumptions=context.assumptions, pins=pins,
+        source, frontend, checker, settings, power_on=dialect.power_on, cycle_models=dialect.cycle_models,
+        twins=dialect.twins, machine=dialect.machine, increment=dialect.increment or 0.0,
+        feed_increment=dialect.feed_increment, library=library, assumptions=context.assumptions, pins=pins,
     )
     interpreter.run()
     checker.finish()
-    result.profile, result.machine = profile, machine
-    result.least_input_increment = lowering.increment
+    result.profile, result.machine = dialect.profile, dialect.machine
+    result.least_input_increment = dialect.increment
     result.diagnostics = sorted(checker.diagnostics, key=Diagnostic.sort_key)
     result.suppressed = checker.suppressed
     result.truncated = dict(checker.truncated)

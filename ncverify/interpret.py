@@ -22,6 +22,7 @@ from .cycles import ActiveCycle, CycleRunner
 from .settings import Settings
 from .source import ProgramSource, Span
 from .trace import Arc, Change, Fault, MotionRun, Segment
+from .dialect import logical_lines
 from .values import VACANT, Condition, DomainError, Sym
 
 _ARC_KINDS = {"arc_cw": "cw", "arc_ccw": "ccw"}
@@ -236,7 +237,7 @@ class Interpreter:
         streak_end = position.offset
         plain_streak = 0
         try:
-            lines = source.lines_from(position.offset)
+            lines = logical_lines(source, position.offset, self.frontend)
             for line_number, offset, next_offset, raw in lines:
                 if plain_streak >= _BATCH_AFTER and is_plain(raw) and self._batch_allowed():
                     plain_streak = 0
@@ -411,6 +412,8 @@ class Interpreter:
             return self._scale_increment(expr)
         if kind is int:
             return float(expr)
+        if kind is str:
+            return expr
         if kind is ir.Var:
             return self.read_variable(expr, span)
         if kind is ir.Unary:
@@ -512,15 +515,12 @@ class Interpreter:
         if type(index) is not float:
             self._unsupported_here(var.span or span, "a variable whose number depends on a free parameter")
             raise PathEnd
-        return f"#{int(round(index))}"
+        return f"{var.prefix}{int(round(index))}"
 
     def read_variable(self, var: ir.Var, span=None):
         name = self.variable_name(var, span)
-        number = int(name[1:]) if name[1:].isdigit() else None
         state = self.state
-        if number == 0:
-            return VACANT
-        if number is not None and 1 <= number <= 33:
+        if self.frontend.variable_scope(name) == "local":
             if name in state.local_variables:
                 return state.local_variables[name]
             if self._in_macro():
@@ -528,7 +528,7 @@ class Interpreter:
             return self._free_parameter(name)
         if name in state.global_variables:
             return state.global_variables[name]
-        system = self._system_variable(number)
+        system = self.frontend.system_variable(name, state)
         if system is not None:
             return system
         return self._free_parameter(name)
@@ -563,29 +563,11 @@ class Interpreter:
             self.free_parameters[name] = parameter
         return parameter
 
-    def _system_variable(self, number: int | None):
-        """The system variables the state can answer; the rest stay free parameters."""
-        if number is None or number < 1000:
-            return None
-        state = self.state
-        if number == 4109:
-            return state.feed if state.feed is not None else 0.0
-        if number == 4119:
-            return state.spindle_speed if state.spindle_speed is not None else 0.0
-        if number == 4120:
-            return state.tool_in_spindle if state.tool_in_spindle is not None else VACANT
-        if 5001 <= number <= 5003:
-            axis = "XYZ"[number - 5001]
-            value = state.position.get(axis)
-            return value if value is not None else values.fresh(f"#{number}")
-        return None
-
     def write_variable(self, var: ir.Var, value, span=None) -> None:
         name = self.variable_name(var, span)
-        number = int(name[1:]) if name[1:].isdigit() else None
         if isinstance(value, (bool, Condition)):
             value = 1.0 if value is True else 0.0 if value is False else values.fresh("condition", 0.0, 1.0)
-        if number is not None and 1 <= number <= 33:
+        if self.frontend.variable_scope(name) == "local":
             self.state.local_variables[name] = value
         else:
             self.state.global_variables[name] = value
@@ -964,7 +946,7 @@ class Interpreter:
         depth = 0
         path = None if source is self.source else source.name
         start_offset, start_block = self._line_offset, self._block_index + 1
-        for line_number, offset, _next, raw in source.lines_from(start_offset):
+        for line_number, offset, _next, raw in logical_lines(source, start_offset, self.frontend):
             blocks = self.frontend.blocks(raw, line_number, path)
             for index in range(start_block if offset == start_offset else 0, len(blocks)):
                 for op in blocks[index].ops:
@@ -988,10 +970,10 @@ class Interpreter:
             found = self._scan_label(source, frame, label)
             self.label_cache[key] = found
         if not found:
-            self._fault("core.label-not-found", span, f"sequence number N{label:g} is not in program {frame.program}: the control alarms here")
+            self._fault("core.label-not-found", span, f"label {self.frontend.describe_label(label)} is not in program {frame.program}: the control alarms here")
             raise PathEnd
         if len(found) > 1:
-            self.observer.fault(Fault("core.duplicate-label", span, f"N{label:g} appears {len(found)} times in {frame.program}; the jump goes to the first one after the current block"))
+            self.observer.fault(Fault("core.duplicate-label", span, f"{self.frontend.describe_label(label)} appears {len(found)} times in {frame.program}; the jump goes to the first one after the current block"))
         current = self._line_offset if source is self._line_source else -1
         after = [position for position in found if position.offset > current]
         return (after or found)[0]
@@ -1019,7 +1001,7 @@ class Interpreter:
         later = [offset for offset in offsets if offset > own_header]
         return start, (later[0] if later else len(source))
 
-    def _find_program(self, number: float, span) -> tuple[ProgramSource, int] | None:
+    def _find_program(self, number: float | str, span) -> tuple[ProgramSource, int] | None:
         name = self.frontend.program_name(number)
         for source in (self._line_source, self.source):
             offset = self._program_index(source).get(name)
@@ -1049,7 +1031,7 @@ class Interpreter:
         if op.kind == "local":
             return self._local_call(op, block, int(repeat))
         program = self.evaluate(op.program, op.span)
-        if type(program) is not float or program < 0:
+        if not (type(program) is str or (type(program) is float and program >= 0)):
             self._fault("core.program-not-found", op.span, "the call names no program number (P missing)")
             return None
         found = self._find_program(program, op.span)
@@ -1091,8 +1073,8 @@ class Interpreter:
 
     def _local_call(self, op: ir.Call, block, repeat: int):
         label = self.evaluate(op.program, op.span)
-        if type(label) is not float:
-            self._fault("core.label-not-found", op.span, "M97 names no sequence number (P missing)")
+        if type(label) not in (float, str):
+            self._fault("core.label-not-found", op.span, "the call names no label (M97 without P?)")
             return None
         current = self.state.frames[-1]
         target = self.find_label(label, op.span)
@@ -1105,6 +1087,8 @@ class Interpreter:
     def _return(self, op: ir.Return, block):
         state = self.state
         frame = state.frames[-1]
+        if op.local_only and frame.kind != "local":
+            return None
         if frame.kind == "called":
             self._program_end(op.span, block, "return")
         if frame.kind == "main":
@@ -1178,7 +1162,7 @@ class Interpreter:
         for source, ranges in by_source.values():
             path = None if source is self.source else source.name
             for start, end in _gaps(sorted(ranges + self._off_tape(source)), len(source)):
-                for line_number, offset, _next, raw in source.lines_from(start):
+                for line_number, offset, _next, raw in logical_lines(source, start, self.frontend):
                     if offset >= end:
                         break
                     for block in self.frontend.blocks(raw, line_number, path):

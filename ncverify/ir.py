@@ -72,6 +72,7 @@ class Var:
 
     name: "str | Expr"
     span: Span | None = None
+    prefix: str = "#"  # of an indirect reference's name: "#", "Q", "R", "P"
 
 
 @dataclass(frozen=True, slots=True)
@@ -104,7 +105,7 @@ class IncrementCount:
     kind: str = "length"
 
 
-Expr = Union[float, Var, Unary, Binary, Func, IncrementCount]
+Expr = Union[float, str, Var, Unary, Binary, Func, IncrementCount]  # str: a name (a label, a program)
 
 
 # --------------------------------------------------------------------------- operations
@@ -276,6 +277,7 @@ class Call(Op):
 @dataclass(slots=True)
 class Return(Op):
     to_label: Expr | None = None
+    local_only: bool = False  # ends a call by label (Klartext LBL 0); outside one it does nothing
 
 
 @dataclass(slots=True)

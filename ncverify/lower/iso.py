@@ -10,11 +10,13 @@ import re
 
 import numpy
 
-from .. import ir
+from .. import ir, values
+from ..dialect import DialectSetup
 from ..read.iso import ReadBlock, Statement, Word, read_line
 from ..read.iso_runs import read_plain_run
 from ..source import Span, decode_line, find_all, line_start
-from ..tables import CodeTable, code_key
+from ..tables import CodeTable, code_key, iso_table
+from ..values import VACANT
 
 # Execution order inside one block (after LinuxCNC's and the ISO manuals' order).
 _FEED, _TOOL, _SPINDLE, _DWELL, _MODAL, _OFFSET, _MOTION, _CALL, _STOP = range(9)
@@ -562,9 +564,50 @@ class IsoFrontend:
     def program_name(self, number: float) -> str:
         return f"O{int(number)}"
 
+    def describe_label(self, label) -> str:
+        return f"sequence number N{label:g}"
+
+    def variable_scope(self, name: str) -> str:
+        """#1-#33 are a macro's local variables; the rest are common or system variables."""
+        number = name[1:]
+        return "local" if number.isdigit() and 1 <= int(number) <= 33 else "global"
+
+    def system_variable(self, name: str, state):
+        """The system variables the machine state can answer; the rest stay free parameters."""
+        if name == "#0":
+            return VACANT  # always vacant: "#0" is how a macro writes "no value"
+        number = int(name[1:]) if name[1:].isdigit() else 0
+        if number < 1000:
+            return None
+        if number == 4109:
+            return state.feed if state.feed is not None else 0.0
+        if number == 4119:
+            return state.spindle_speed if state.spindle_speed is not None else 0.0
+        if number == 4120:
+            return state.tool_in_spindle if state.tool_in_spindle is not None else VACANT
+        if 5001 <= number <= 5003:
+            value = state.position.get("XYZ"[number - 5001])
+            return value if value is not None else values.fresh(name)
+        return None
+
     def label_offsets(self, buffer, label: float):
         """Offsets of lines that may carry sequence number ``label`` (the interpreter
         confirms by reading the line)."""
         pattern = re.compile(rb"(?mi)^[^\n(]*?N0*" + str(int(label)).encode() + rb"(?![0-9.])")
         for match in pattern.finditer(buffer):
             yield match.start()
+
+
+def setup(settings, detection, project) -> DialectSetup:
+    """The ISO tables for the profile and machine (command line > project file > detection)."""
+    profile = settings.profile or detection.profile or "mitsubishi-e60"
+    machine = settings.machine or project.machine.kind or detection.machine or "mill"
+    table = iso_table(profile, machine)
+    increment = settings.least_input_increment
+    if increment is None and detection.whole_units:
+        increment = 0.0
+    lowering = IsoLowering(table, increment)
+    limits = {name: float(table.settings.get(name, default))
+              for name, default in (("d_register_max", 99), ("h_register_max", 99), ("tool_number_max", 9999))}
+    return DialectSetup(IsoFrontend(lowering), table.power_on, table.cycles, profile, machine,
+                        dict(table.words.get("incremental_twins", {})), lowering.increment, lowering.feed_increment, limits)
