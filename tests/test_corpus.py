@@ -1,9 +1,11 @@
 """Every program in ``corpus/`` gives exactly the findings its ``.expect`` file lists.
 
-A program ``NAME.nc`` has a sibling ``NAME.expect``: one line per finding whose status is
+A program ``NAME.nc`` (or ``.h``, ``.mpf``, ``.spf``, ``.pim``: any extension a folder walk
+checks) has a sibling ``NAME.expect``: one line per finding whose status is
 ``violated`` or ``unknown``, written ``LINE:COLUMN RULE STATUS`` and sorted by line, column
 and rule. A clean program has an empty ``.expect``. CLI settings a program needs are given
-in a comment on its first line, ``(ncverify-test: --machine lathe)``; they are read with the
+in a comment on its first line, ``(ncverify-test: --machine lathe)`` or, in a dialect whose
+comments start with ``;``, ``; ncverify-test: --machine lathe``; they are read with the
 CLI's own parser, so they mean what they mean on the command line.
 
 To write (or rewrite) the ``.expect`` of a program, then review every line of it:
@@ -26,8 +28,9 @@ from ncverify.diagnostics import Status
 from ncverify.settings import Settings
 
 CORPUS = Path(__file__).resolve().parents[1] / "corpus"
-PROGRAMS = sorted(CORPUS.rglob("*.nc"))
-_SETTINGS_COMMENT = re.compile(r"\(\s*ncverify-test:\s*([^)]*)\)", re.IGNORECASE)
+_EXTENSIONS = {extension.lower() for extension in Settings().extensions}
+PROGRAMS = sorted(path for path in CORPUS.rglob("*") if path.is_file() and path.suffix.lower() in _EXTENSIONS and path.suffix and not path.name.startswith("."))
+_SETTINGS_COMMENT = re.compile(r"(?:\(\s*ncverify-test:\s*([^)]*)\)|;\s*ncverify-test:\s*(.*))", re.IGNORECASE)
 _REPORTED = (Status.VIOLATED, Status.UNKNOWN)
 
 
@@ -36,7 +39,7 @@ def settings_for(program: Path) -> Settings:
     with program.open(encoding="utf-8", errors="replace") as handle:
         first_line = handle.readline()
     match = _SETTINGS_COMMENT.search(first_line)
-    arguments = shlex.split(match.group(1)) if match else []
+    arguments = shlex.split(match.group(1) or match.group(2)) if match else []
     return _settings(build_parser().parse_args(["check", str(program), *arguments]))
 
 
@@ -61,7 +64,8 @@ def test_the_corpus_is_not_empty():
 
 
 def test_every_expect_file_has_its_program():
-    orphans = [path.name for path in CORPUS.rglob("*.expect") if not path.with_suffix(".nc").exists()]
+    programs = {program.with_suffix("") for program in PROGRAMS}
+    orphans = [path.name for path in CORPUS.rglob("*.expect") if path.with_suffix("") not in programs]
     assert not orphans
 
 
