@@ -21,6 +21,19 @@ from .values import VACANT
 _SHAPE_BLOCK_LIMIT = 10_000
 
 
+_DIALECT_SHAPES: dict = {}
+
+
+def register_shape(shape: str, run) -> None:
+    """Let a dialect run the one-shot cycles whose model says ``shape = "<shape>"``:
+    ``run(runner, op, block, model, params)`` is called with this :class:`CycleRunner`,
+    the :class:`ir.CycleCall`, its block, the cycle's model and its evaluated parameters,
+    and returns what an op handler returns (None, or a Position when control transfers).
+    It reports the cycle with ``runner.interp.observer.cycle_run`` and its motion with
+    ``runner.interp._emit`` / ``runner._rapid_to`` so that every motion rule sees it."""
+    _DIALECT_SHAPES[shape] = run
+
+
 @dataclass(slots=True)
 class ActiveCycle:
     """The modal canned cycle: its model, its data so far and the initial level."""
@@ -228,6 +241,8 @@ class CycleRunner:
         model = self._model(op.cycle)
         params = self._evaluate_all(op.params, op.span)
         shape = model.get("shape")
+        if shape in _DIALECT_SHAPES:
+            return _DIALECT_SHAPES[shape](self, op, block, model, params)
         if shape == "circle":
             return self._circle(op, block, model, params)
         first_block = bool(model.get("two_blocks")) and self._is_first_block(model, params)

@@ -896,11 +896,11 @@ class Interpreter:
             if not self._decide(condition, op.span, self._next_position):
                 return None
         target = self.evaluate(op.target, op.span)
-        if type(target) is not float:
+        if type(target) not in (float, str):
             self._unsupported_here(op.span, "a jump whose target depends on a free parameter")
             raise PathEnd
         position = self.find_label(target, op.span)
-        self._count_jump(position, op.span, f"GOTO {target:g}")
+        self._count_jump(position, op.span, f"the jump to {self.frontend.describe_label(target)}")
         return position
 
     def _count_jump(self, position: Position, span, what: str) -> None:
