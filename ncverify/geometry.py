@@ -8,6 +8,7 @@ span, so that box is what is tested. Symbolic segments become one Z3 query.
 """
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy
@@ -42,6 +43,15 @@ def enters(stock: Stock, start, end, dogleg: bool = False) -> tuple[float, float
     return _clip_prism(stock, start, end)
 
 
+def _spanned_rectangle(low, high):
+    """The XY rectangle two points span; a line or a point when it has no width."""
+    if low[0] < high[0] and low[1] < high[1]:
+        return shapely.box(low[0], low[1], high[0], high[1])
+    if low[:2] == high[:2]:
+        return shapely.Point(low[0], low[1])
+    return LineString([(low[0], low[1]), (high[0], high[1])])
+
+
 def _spanned_box_overlap(stock: Stock, start, end, box) -> tuple[float, float, float] | None:
     """A point where the box spanned by the two end points meets the stock's inside."""
     low = [min(a, b) for a, b in zip(start, end)]
@@ -50,7 +60,7 @@ def _spanned_box_overlap(stock: Stock, start, end, box) -> tuple[float, float, f
         z_low, z_high = max(low[2], stock.z_range[0] + EPSILON), min(high[2], stock.z_range[1] - EPSILON)
         if z_low > z_high or (low[2] == high[2] and not stock.z_range[0] < low[2] < stock.z_range[1]):
             return None
-        overlap = shapely.box(low[0], low[1], high[0], high[1]).buffer(0 if low[:2] != high[:2] else EPSILON).intersection(stock.outline.buffer(-EPSILON))
+        overlap = _spanned_rectangle(low, high).intersection(stock.outline.buffer(-EPSILON))
         if overlap.is_empty:
             return None
         point = overlap.representative_point()
@@ -129,19 +139,52 @@ def enters_many(stock: Stock, starts: numpy.ndarray, ends: numpy.ndarray) -> num
     return possible & (entry <= leave)
 
 
-def may_enter_symbolic(stock: Stock, start, end) -> z3.BoolRef | None:
-    """A Z3 condition for "some point of the segment is inside the box or bar"; None for
-    polygon stocks (not modelled symbolically)."""
-    box = stock_box(stock)
-    if box is None:
-        return None
-    t = z3.FreshReal("t")
-    constraints = [t >= 0, t <= 1]
-    for a, b, (low, high) in zip(start, end, box):
+def may_enter_symbolic(stock: Stock, start, end, dogleg: bool = False) -> z3.BoolRef:
+    """A Z3 condition for "some point the rapid passes is inside the stock". A straight
+    rapid passes start + t (end - start) for one t in [0, 1]; a dog-leg may pass any point
+    of the box its ends span, so each axis gets its own t. A polygon prism is the union of
+    the triangles of its outline (strictly inside across the outline's own edges, on either
+    side of the edges the triangulation adds)."""
+    shared = z3.FreshReal("t")
+    ts = [z3.FreshReal("t") for _ in range(3)] if dogleg else [shared] * 3
+    constraints = [z3.And(t >= 0, t <= 1) for t in set(ts)]
+    point = []
+    for a, b, t in zip(start, end, ts):
         a_term, b_term = values.term_of(a), values.term_of(b)
-        point = a_term + (b_term - a_term) * t
+        point.append(a_term + (b_term - a_term) * t)
+    box = stock_box(stock) or ((-math.inf, math.inf), (-math.inf, math.inf), stock.z_range)
+    for coordinate, (low, high) in zip(point, box):
         if math.isfinite(low):
-            constraints.append(point > low + EPSILON)
+            constraints.append(coordinate > low + EPSILON)
         if math.isfinite(high):
-            constraints.append(point < high - EPSILON)
+            constraints.append(coordinate < high - EPSILON)
+    if stock.kind == "polygon":
+        constraints.append(z3.Or(*(_inside_triangle(point[0], point[1], triangle) for triangle in _triangles(stock.outline.wkb))))
     return z3.And(*constraints)
+
+
+@functools.lru_cache(maxsize=8)
+def _triangles(outline_wkb: bytes) -> list[list[tuple[tuple[float, float], tuple[float, float], bool]]]:
+    """The outline as triangles, each a list of its counter-clockwise edges with a flag:
+    does the edge lie on the outline (there the inside is open)?"""
+    outline = shapely.from_wkb(outline_wkb)
+    boundary = outline.boundary
+    triangles = []
+    for triangle in shapely.constrained_delaunay_triangles(outline).geoms:
+        corners = list(shapely.geometry.polygon.orient(triangle).exterior.coords)[:-1]
+        edges = []
+        for first, second in zip(corners, corners[1:] + corners[:1]):
+            middle = shapely.Point((first[0] + second[0]) / 2, (first[1] + second[1]) / 2)
+            edges.append((first, second, boundary.distance(middle) < EPSILON))
+        triangles.append(edges)
+    return triangles
+
+
+def _inside_triangle(x, y, edges) -> z3.BoolRef:
+    """(x, y) left of every counter-clockwise edge: strictly, by EPSILON, on outline edges."""
+    conditions = []
+    for (x1, y1), (x2, y2), on_outline in edges:
+        left = (x2 - x1) * (y - y1) - (y2 - y1) * (x - x1)
+        length = math.hypot(x2 - x1, y2 - y1)
+        conditions.append(left > EPSILON * length if on_outline else left >= 0)
+    return z3.And(*conditions)

@@ -394,6 +394,18 @@ def test_a_level_rapid_through_a_polygon_stock_is_found():
     assert at(result, "core.rapid-into-stock", 4, Status.VIOLATED)
 
 
+def test_a_dogleg_rapid_along_one_axis_into_a_polygon_stock_is_found():
+    """The box a one-axis dog-leg spans has no width in Y: it is a line, not nothing."""
+    result = check("""
+        (ncverify: stock polygon X0 Y0, X100 Y0, X100 Y50, X0 Y50 Z-20:0)
+        G21 G90 G54
+        G00 X-10. Y10. Z-5.
+        G00 X50. Z10.
+        M30
+    """, rapid_path="dogleg")
+    assert at(result, "core.rapid-into-stock", 4, Status.VIOLATED)
+
+
 def test_annotation_tool_with_every_key():
     result = check("""
         (ncverify: tool 2 radius 4 length 80 corner 0.5 cutting-length 20 usable-length 30 angle 90 pitch 1.5 nose-radius 0.4 edge 2 type endmill)

@@ -303,17 +303,48 @@ def test_the_witness_is_reported_in_the_json():
 # --------------------------------------------------------------------------- unknown, with the reason
 
 
-def test_a_symbolic_rapid_against_a_polygon_stock_is_unknown_with_the_reason():
-    result = check(program("""
-        (ncverify: stock polygon X0 Y0, X100 Y0, X100 Y50, X0 Y50 Z-20:0)
-        (ncverify: assume -10 <= #1 <= 5)
+_L_STOCK = "(ncverify: stock polygon X0 Y0, X100 Y0, X100 Y50, X60 Y50, X60 Y20, X0 Y20 Z-20:0)"  # notch above Y20 left of X60
+
+
+def test_a_symbolic_rapid_into_a_polygon_stock_is_violated_with_a_witness_inside_the_outline():
+    result = check(program(f"""
+        {_L_STOCK}
+        (ncverify: assume 0 <= #1 <= 100)
         G21 G90 G54
-        G00 X10. Y10. Z50.
-        G00 Z#1
+        G00 X#1 Y30. Z50.
+        G00 Z-5.
         M30
     """))
     [entry] = at(result, "core.rapid-into-stock", 5)
-    assert entry.status is Status.UNKNOWN and "polygon" in entry.reason
+    assert entry.status is Status.VIOLATED and 60 < entry.witness["#1"] < 100
+
+
+def test_a_symbolic_rapid_down_into_the_notch_of_a_polygon_stock_is_proved():
+    result = check(program(f"""
+        {_L_STOCK}
+        (ncverify: assume 5 <= #1 <= 55)
+        G21 G90 G54
+        G00 X#1 Y30. Z50.
+        G00 Z-5.
+        M30
+    """))
+    [entry] = at(result, "core.rapid-into-stock", 5)
+    assert entry.status is Status.PROVED
+
+
+def test_a_symbolic_dogleg_rapid_is_judged_on_the_box_its_ends_span():
+    text = program(f"""
+        {_L_STOCK}
+        (ncverify: assume 70 <= #1 <= 90)
+        G21 G90 G54
+        G00 X30. Y30. Z-5.
+        G00 X#1 Z10.
+        M30
+    """)
+    [straight] = at(check(text), "core.rapid-into-stock", 5)
+    [dogleg] = at(check(text, rapid_path="dogleg"), "core.rapid-into-stock", 5)
+    assert straight.status is Status.PROVED  # out of the notch rising: above Z0 before it reaches X60
+    assert dogleg.status is Status.VIOLATED  # X may move first, at Z-5, into the stock beyond X60
 
 
 def test_a_branch_past_the_path_budget_is_unknown_with_the_reason():

@@ -127,9 +127,8 @@ class RapidIntoStock(_NeedsStock):
         """Where the tool comes from is unknown; the end point alone can still be inside."""
         if any(isinstance(value, Sym) for value in end):
             inside = geometry.may_enter_symbolic(stock, end, end)
-            if inside is not None:
-                self.checker.report_verdict(self.rule_id, span, f"{what} ends at {_where(end)}, which can lie inside the stock ({stock.describe()})",
-                                            self.checker.judge(Condition(inside), state), state)
+            self.checker.report_verdict(self.rule_id, span, f"{what} ends at {_where(end)}, which can lie inside the stock ({stock.describe()})",
+                                        self.checker.judge(Condition(inside), state), state)
             return
         if geometry.enters(stock, end, end) is not None:
             self.report(self.rule_id, span, f"{what} ends at {_where(end)}, inside the stock ({stock.describe()}): the tool crashes into the blank at rapid")
@@ -142,11 +141,7 @@ class RapidIntoStock(_NeedsStock):
             self.report(self.rule_id, span, message, Status.UNKNOWN, "position unknown")
 
     def _symbolic(self, stock, start, end, span, what, state):
-        condition = geometry.may_enter_symbolic(stock, start, end)
-        if condition is None:
-            self.report(self.rule_id, span, f"{what} depends on free parameters and the stock is a polygon: not checked",
-                        Status.UNKNOWN, "symbolic moves against a polygon stock are not modelled")
-            return
+        condition = geometry.may_enter_symbolic(stock, start, end, self.checker.context.get("rapid_path") == "dogleg")
         verdict = self.checker.judge(Condition(condition), state)
         self.checker.report_verdict(self.rule_id, span, f"{what} from {_where(start)} to {_where(end)} passes through the stock ({stock.describe()})", verdict, state)
 
@@ -191,8 +186,8 @@ class ClearanceBelowStock(_NeedsStock):
         if x is None or y is None:
             return True
         if isinstance(x, Sym) or isinstance(y, Sym):
-            inside = geometry.may_enter_symbolic(stock, (x, y, stock.top - 1.0), (x, y, stock.top - 1.0))
-            return True if inside is None else Condition(inside)
+            level = (stock.z_range[0] + stock.z_range[1]) / 2.0
+            return Condition(geometry.may_enter_symbolic(stock, (x, y, level), (x, y, level)))
         if stock.kind == "box":
             return stock.x_range[0] < x < stock.x_range[1] and stock.y_range[0] < y < stock.y_range[1]
         if stock.kind == "polygon":
