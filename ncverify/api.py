@@ -170,6 +170,7 @@ def _run(source: ProgramSource, settings: Settings, detection: Detection, result
         "tools": context.tools,
         "travel": context.machine.travel,
         "work_offsets": context.machine.work_offsets,
+        "lathe_x": context.machine.lathe_x,
         "max_spindle": context.machine.max_spindle,
         "max_feed": context.machine.max_feed,
         "rapid_path": settings.rapid_path,

@@ -97,6 +97,7 @@ class Machine:
     work_offsets: dict[str, tuple[float, ...]] = field(default_factory=dict)  # "G54" -> (x, y, z)
     max_spindle: float | None = None
     max_feed: float | None = None
+    lathe_x: str | None = None  # lathe: are X travel and work offsets a "diameter" or a "radius"?
 
 
 @dataclass
@@ -131,6 +132,7 @@ class Context:
             {**base.machine.work_offsets, **self.machine.work_offsets},
             self.machine.max_spindle if self.machine.max_spindle is not None else base.machine.max_spindle,
             self.machine.max_feed if self.machine.max_feed is not None else base.machine.max_feed,
+            self.machine.lathe_x or base.machine.lathe_x,
         )
         return Context(
             self.stock or base.stock, tools, machine, base.assumptions + self.assumptions,

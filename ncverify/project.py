@@ -148,12 +148,16 @@ class _Reader:
 
     def machine(self, table) -> Machine:
         table = self.table(table, "[machine]")
-        self.keys(table, {"travel", "work_offsets", "max_spindle", "max_feed", "type"}, "[machine]")
+        self.keys(table, {"travel", "work_offsets", "max_spindle", "max_feed", "type", "lathe_x"}, "[machine]")
         machine = Machine()
         if "type" in table:
             if table["type"] not in ("mill", "lathe"):
                 self.fail("[machine] type", "expected mill or lathe")
             machine.kind = table["type"]
+        if "lathe_x" in table:
+            if table["lathe_x"] not in ("diameter", "radius"):
+                self.fail("[machine] lathe_x", "expected diameter or radius")
+            machine.lathe_x = table["lathe_x"]
         travel = self.table(table.get("travel", {}), "[machine] travel")
         for axis, limits in travel.items():
             if axis.lower() not in _AXES:

@@ -726,3 +726,41 @@ def test_the_text_report_folds_missing_context_into_one_line(tmp_path, capsys):
     assert len(lines) == 1
     assert "core.rapid-into-stock (no stock defined)" in lines[0]
     assert "core.travel-limit" in lines[0]
+
+
+_LATHE_PROGRAM = """
+    G21 G18 G99
+    G54 T0101
+    G50 S2000
+    G96 S180 M03
+    G00 X82. Z2.
+    G01 Z-40. F0.2
+    G00 X120. Z5.
+    M30
+"""
+_LATHE_MACHINE = """
+    [machine]
+    type = "lathe"
+    travel = { x = [-10, 100], z = [-500, 0] }
+    work_offsets = { G54 = [0, 0, -200] }
+"""
+
+
+def test_lathe_travel_needs_to_know_whether_x_is_a_diameter_and_still_checks_z():
+    result = check(_LATHE_PROGRAM, _LATHE_MACHINE.replace("z = [-500, 0]", "z = [-220, 0]"), machine="lathe")
+    travel = at(result, "core.travel-limit")
+    assert [d.status for d in travel if "lathe_x" in (d.reason or "")] == [Status.UNKNOWN]
+    assert [(d.span.line, d.status) for d in travel if "Z" in d.message] == [(6, Status.VIOLATED)]  # Z-40 - 200 = -240
+
+
+def test_lathe_travel_in_radius_halves_the_programmed_diameter():
+    radius = check(_LATHE_PROGRAM, _LATHE_MACHINE + 'lathe_x = "radius"\n', machine="lathe")
+    assert not [d for d in at(radius, "core.travel-limit") if d.status is Status.VIOLATED]  # X120 is 60 of radius
+    diameter = check(_LATHE_PROGRAM, _LATHE_MACHINE + 'lathe_x = "diameter"\n', machine="lathe")
+    [beyond] = [d for d in at(diameter, "core.travel-limit") if d.status is Status.VIOLATED]
+    assert beyond.span.line == 7 and "X would reach machine position 120" in beyond.message
+
+
+def test_a_bad_lathe_x_is_a_project_file_error():
+    with pytest.raises(ConfigError, match="lathe_x"):
+        load_project_text('[machine]\nlathe_x = "radial"\n', Path("/nowhere/ncverify.toml"))

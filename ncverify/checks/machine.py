@@ -31,7 +31,9 @@ class _ReportsMissingContext(Rule):
 class TravelLimit(_ReportsMissingContext):
     """Machine position = program position + work offset + G92/G52 shift (+ tool length on
     Z while length compensation is on); every segment end and every arc's extent must stay
-    inside the travel."""
+    inside the travel. On a lathe the program's X is a diameter: ``[machine] lathe_x`` says
+    whether travel and offsets are diameters too or radii (then X is halved first), and arcs
+    are judged at their end points."""
 
     def segment(self, segment, state):
         frame = self._frame(segment.span, state)
@@ -42,16 +44,19 @@ class TravelLimit(_ReportsMissingContext):
             for point in points:
                 self._check_axis(axis, point.get(axis), limits, segment.span, state)
         if segment.arc is not None and segment.arc.centre is not None:
-            self._check_arc(segment, frame, state)
+            if self.checker.context.get("machine") == "lathe":
+                self.missing("core.travel-limit", segment.span, "on a lathe, arcs are checked at their end points only, not at their extent")
+            else:
+                self._check_arc(segment, frame, state)
 
     def motion_run(self, run, state):
         frame = self._frame(run.span(0), state)
         if frame is None:
             return
-        for axis, (offset, low, high) in frame.items():
+        for axis, (offset, low, high, scale) in frame.items():
             if axis not in run.axes or offset is None or isinstance(offset, Sym):
                 continue
-            column = run.points[1:, run.axes.index(axis)] + offset
+            column = run.points[1:, run.axes.index(axis)] * scale + offset
             outside = numpy.flatnonzero(~numpy.isnan(column) & ((column < low) | (column > high)))
             for index in outside[:5]:
                 self._report(axis, float(column[index]), low, high, run.span(int(index)), None)
@@ -64,9 +69,7 @@ class TravelLimit(_ReportsMissingContext):
         if not travel:
             self.missing("core.travel-limit", span, "no machine travel limits ([machine] travel in ncverify.toml)")
             return None
-        if context.get("machine") == "lathe":
-            self.missing("core.travel-limit", span, "travel limits of a lathe are not modelled yet")
-            return None
+        lathe_x_scale = self._lathe_x_scale(span)
         name = state.modal.get("work_offset", "G54")
         offsets = (context.get("work_offsets") or {}).get(name.split()[0] if name.startswith("G54.1") else name)
         if offsets is None:
@@ -75,14 +78,26 @@ class TravelLimit(_ReportsMissingContext):
         frame = {}
         for axis, (low, high) in travel.items():
             index = _AXIS_INDEX.get(axis)
-            if index is None or index >= len(offsets):
+            if index is None or index >= len(offsets) or (axis == "X" and lathe_x_scale is None):
                 continue
             shift = state.coordinate_shift.get(axis, 0.0)
             offset = None if shift is None else values.add(offsets[index], shift)
             if axis == "Z" and offset is not None and state.length_mode in ("plus", "minus"):
                 offset = self._with_tool_length(offset, state, span)
-            frame[axis] = (offset, low, high)
+            frame[axis] = (offset, low, high, lathe_x_scale if axis == "X" else 1.0)
         return frame
+
+    def _lathe_x_scale(self, span) -> float | None:
+        """How program X becomes machine X: 1 on a mill; on a lathe 1 or 0.5 per
+        ``[machine] lathe_x``, None (X not checked, said once) when it is not given."""
+        context = self.checker.context
+        if context.get("machine") != "lathe":
+            return 1.0
+        lathe_x = context.get("lathe_x")
+        if lathe_x is None:
+            self.missing("core.travel-limit", span, "X of a lathe: say whether travel and work offsets are diameters or radii ([machine] lathe_x)")
+            return None
+        return 0.5 if lathe_x == "radius" else 1.0
 
     def _with_tool_length(self, offset, state, span):
         register = state.length_register
@@ -93,10 +108,10 @@ class TravelLimit(_ReportsMissingContext):
         return values.add(offset, tool.length if state.length_mode == "plus" else -tool.length)
 
     def _check_axis(self, axis, value, limits, span, state):
-        offset, low, high = limits
+        offset, low, high, scale = limits
         if value is None or offset is None:
             return
-        machine = values.add(value, offset)
+        machine = values.add(values.mul(value, scale) if scale != 1.0 else value, offset)
         if type(machine) is float:
             if not low <= machine <= high:
                 self._report(axis, machine, low, high, span, None)
