@@ -12,7 +12,7 @@ sequence numbers; the shape is read, not executed, and its moves are reported as
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 from . import ir, values
 from .trace import CycleRun, Hole
@@ -22,6 +22,7 @@ _SHAPE_BLOCK_LIMIT = 10_000
 
 
 _DIALECT_SHAPES: dict = {}
+_DIALECT_LEVELS: dict = {}
 
 
 def register_shape(shape: str, run) -> None:
@@ -34,6 +35,14 @@ def register_shape(shape: str, run) -> None:
     _DIALECT_SHAPES[shape] = run
 
 
+def register_levels(name: str, resolve) -> None:
+    """Let a dialect place the R point and the bottom of the hole cycles whose model says
+    ``levels = "<name>"`` (Fagor: the tool-axis word is the reference plane, I the depth):
+    ``resolve(runner, cycle, data)`` returns ``(r_point, bottom)`` for the
+    :class:`ActiveCycle` with its data so far (None where unknown)."""
+    _DIALECT_LEVELS[name] = resolve
+
+
 @dataclass(slots=True)
 class ActiveCycle:
     """The modal canned cycle: its model, its data so far and the initial level."""
@@ -44,6 +53,8 @@ class ActiveCycle:
     param_spans: dict
     initial: object  # the drilling-axis level when the cycle mode began
     definition: object = None  # span of the cycle's G code
+    incremental: bool = False  # G91 was in force when the cycle was defined
+    absolute: set = field(default_factory=set)  # letters set as absolute values whatever G90/G91 (Fagor V.C.x)
 
 
 class CycleRunner:
@@ -81,21 +92,42 @@ class CycleRunner:
     # ------------------------------------------------------------------ modal hole cycles
 
     def define(self, op: ir.CycleDefine, block):
+        """A cycle becomes modal. ``cycle = ""`` changes the data of the active cycle only
+        (Fagor ``V.C.I=..``; the rule to report when no cycle is active is
+        ``params["$rule"]``); a model with ``fresh_data`` starts from its own defaults and
+        the current level each time it is defined, and with ``runs_at_definition`` its
+        defining block always machines (at the block's end point, or here)."""
         state = self.state
+        if not op.cycle:
+            return self._change_data(op)
         model = self._model(op.cycle)
         axis = self._drill_axis(model)
-        if state.cycle is None:
+        fresh = bool(model.get("fresh_data"))
+        if state.cycle is None or fresh:
             initial = state.position.get(axis)
         else:
             initial = state.cycle.initial
+        if fresh:
+            state.cycle_data = {}
         params = self._evaluate_all(op.params, op.span)
         state.cycle_data.update(params)
-        spans = dict(state.cycle.param_spans) if state.cycle else {}
+        spans = dict(state.cycle.param_spans) if state.cycle and not fresh else {}
         spans.update(op.param_spans)
-        state.cycle = ActiveCycle(op.cycle, model, state.cycle_data, spans, initial, op.span)
+        state.cycle = ActiveCycle(op.cycle, model, state.cycle_data, spans, initial, op.span, state.modal.get("distance") == "incremental")
         has_move = any(isinstance(later, ir.Move) for later in block.ops[block.ops.index(op) + 1 :])
-        if not has_move and (params.keys() & {axis, "R"}):
+        if not has_move and (params.keys() & {axis, "R"} or model.get("runs_at_definition")):
             return self._holes(op.span, block, {}, frozenset(), None)
+        return None
+
+    def _change_data(self, op: ir.CycleDefine):
+        state = self.state
+        if state.cycle is None:
+            self.interp._fault(op.params.get("$rule", "core.cycle-missing-parameter"), op.span, "a cycle parameter is changed while no canned cycle is active: the control alarms")
+            return None
+        params = self._evaluate_all({letter: expr for letter, expr in op.params.items() if not letter.startswith("$")}, op.span)
+        state.cycle_data.update(params)
+        state.cycle.absolute.update(params)
+        state.cycle.param_spans.update(op.param_spans)
         return None
 
     def modal_hole(self, op: ir.Move, block):
@@ -133,6 +165,10 @@ class CycleRunner:
         if not 0 <= repeat <= 9999:
             self.interp._fault("core.repeat-count-range", span, f"repeat count {repeat:g} is outside 0-9999")
             return None
+        if repeat == 0 and cycle.model.get("zero_repeat_moves"):  # Fagor NR0: the move without machining
+            kind = "rapid" if state.modal.get("motion") == "rapid" else "feed"
+            self._rapid_to(self.interp._targets(positioning, incremental, span), span, block, "programmed", None, kind)
+            return None
         for _ in range(int(repeat)):
             targets = self.interp._targets(positioning, incremental, span)
             self._make_hole(cycle, span, block, targets, repeat)
@@ -153,6 +189,8 @@ class CycleRunner:
             missing = tuple(letter for letter in missing if letter != "R")
         hole_position = dict(state.position)
         hole_position.update(targets)
+        if model.get("starts_spindle") and state.spindle == "off":
+            state.spindle = "cw"  # Fagor: a cycle starts a stopped spindle clockwise
         hole = Hole(cycle.cycle, model, span, block, axis, hole_position, initial, r_point, bottom, dict(data), dict(cycle.param_spans), missing, cycle.definition, repeat)
         interp.observer.hole(hole, state)
         if missing or bottom is None:
@@ -174,6 +212,9 @@ class CycleRunner:
 
     def _levels(self, model: dict, axis: str, data: dict, initial, incremental: bool):
         """R point and bottom on the drilling axis (seed L2059 and the lathe table L2890)."""
+        resolve = _DIALECT_LEVELS.get(model.get("levels"))
+        if resolve is not None:
+            return resolve(self, self.state.cycle, data)
         bottom_letter = axis
         twin = next((t for t, a in self.interp.twins.items() if a == axis), None)
         r_word = data.get("R")

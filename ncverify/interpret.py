@@ -787,6 +787,9 @@ class Interpreter:
         state = self.state
         kind = op.kind
         if kind is not None:
+            if state.cycle is not None and state.cycle.model.get("motion_codes_keep_cycle"):
+                state.modal["motion"] = kind  # Fagor: G0/G1 position in the cycle's zone
+                return self.cycles.modal_hole(op, block)
             if state.cycle is not None and kind != "thread":
                 self._cancel_cycle()
             state.modal["motion"] = kind
