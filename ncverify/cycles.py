@@ -140,7 +140,7 @@ class CycleRunner:
         axis = self._drill_axis(model)
         data = self._evaluate_all(_counts_unscaled(op.words, model), op.span)
         positioning = dict(op.targets)
-        if axis in positioning:
+        if axis in positioning and not model.get("axis_word_moves"):  # Fagor: the tool-axis word moves, then the cycle runs
             bottom_expr = positioning.pop(axis)
             bottom = self.interp.value(bottom_expr, op.span)
             if bottom is not VACANT:
@@ -151,10 +151,20 @@ class CycleRunner:
             return None
         return self._holes(op.span, block, positioning, op.incremental, op)
 
+    def modal_call(self, op: ir.Move, block):
+        """A modal cycle called after a positioning move (SINUMERIK ``MCALL``): its
+        dialect shape runs with the arguments evaluated when the call was made modal."""
+        cycle = self.state.cycle
+        run = _DIALECT_SHAPES.get(cycle.model.get("shape"))
+        if run is None:
+            return None
+        call = ir.CycleCall(op.span, cycle.cycle, {}, dict(cycle.param_spans))
+        return run(self, call, block, cycle.model, dict(cycle.params))
+
     def _holes(self, span, block, positioning: dict, incremental, op):
         state = self.state
         cycle = state.cycle
-        repeat = state.cycle_data.pop("L", None)
+        repeat = state.cycle_data.pop(cycle.model.get("repeat_letter", "L"), None)  # Fagor: NR (L is a parameter there)
         if repeat is None and cycle.model.get("params", {}).get("K", {}).get("kind", "count") == "count":
             repeat = state.cycle_data.pop("K", None)  # not the shift K of mill G76/G87
         if repeat is None:
@@ -189,10 +199,10 @@ class CycleRunner:
             missing = tuple(letter for letter in missing if letter != "R")
         hole_position = dict(state.position)
         hole_position.update(targets)
-        if model.get("starts_spindle") and state.spindle == "off":
-            state.spindle = "cw"  # Fagor: a cycle starts a stopped spindle clockwise
         hole = Hole(cycle.cycle, model, span, block, axis, hole_position, initial, r_point, bottom, dict(data), dict(cycle.param_spans), missing, cycle.definition, repeat)
         interp.observer.hole(hole, state)
+        if model.get("starts_spindle") and state.spindle == "off":
+            state.spindle = "cw"  # Fagor: a cycle starts a stopped spindle clockwise (rules saw it stopped)
         if missing or bottom is None:
             state.move_to(targets)
             return

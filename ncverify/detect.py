@@ -21,10 +21,17 @@ _SIGNATURES: dict[str, list[tuple[str, float]]] = {
         (r"(?im)\bGOTO[FB]\b", 3), (r"(?im)\bMSG\s*\(", 3), (r"(?im)\bWORKPIECE\s*\(", 4), (r"(?im)\$TC_DP", 3),
         (r"(?im)\bT\s*=\s*\"", 3), (r"(?im)\b(?:ENDIF|ENDWHILE|ENDFOR|ENDLOOP)\b", 3), (r"(?im)\bCR\s*=", 2),
         (r"(?im)\b(?:POCKET[1-4]|SLOT[12]|LONGHOLE|HOLES[12])\s*\(", 5), (r"(?im)\bM17\b", 1), (r"(?im)\b(?:AC|IC)\s*\(", 2),
+        (r"(?im)^\s*(?:N\d+\s*)?PROC\s+\w+", 8), (r"(?im)\bR\d+\s*=", 3), (r"(?im)\b[XYZ]\s*=\s*[-A-Z(]", 3),
+        (r"(?im)\b(?:ISOCALL|STOPRE|SETAL|DIAMON|DIAMOF|ATRANS|MCALL|REPEAT|WHENEVER|SPOS|EXTCALL)\b", 3),
+        (r"(?im)\$(?:P|A|AA|AC|MC|MN|MA|SC|TC)_\w", 3), (r"(?im)^\s*(?:N\d+\s*)?[A-Z_]\w+:\s*(?:;|$)", 2),
+        (r"(?im)^\s*(?:N\d+\s*)?_[A-Z]\w*\s*\(", 3), (r"(?im)\bIF\s+[A-Z(]", 2),
     ],
     "fagor": [
         (r"(?im)#(?:MCALL|PCALL|CALL|MDOFF|LATHECY|MILLCY|TOOL\s+AX)\b", 6), (r"(?im)\$(?:IF|GOTO|WHILE|FOR|SWITCH|ELSE|ENDIF)\b", 5),
         (r"(?im)\bG16[0-5]\b", 4), (r"(?im)\bG21[0-2]\b", 3), (r"(?im)\(RPT\s+N", 5), (r"(?im)\bV\.[A-Z]\.", 4),
+        # Fagor cycle blocks: the tool-axis word is the reference plane and I the depth, no R (G81 Z2 I-20)
+        (r"(?im)\bG8[1-8]\b(?![^\n;(]*\bR[-+]?[\d.])[^\n;(]*\bI[-+]?[\d.]", 5), (r"(?im)^[ \t]*%L[ \t]+\w", 5),
+        (r"(?im)(?<![A-Z#\w])P\d+[ \t]*=(?!=)", 3), (r"(?im)\bNR\d", 3),
     ],
     "iso": [
         (r"(?m)^\s*%\s*$", 2), (r"(?im)^\s*(?:N\d+\s*)?O\d+", 4), (r"(?im)\bG0?[0-3](?![0-9.])\s*[XYZUW]", 2),

@@ -3,3 +3,4 @@ Importing this package registers every rule class with :func:`ncverify.check.rul
 from . import holes, machine, motion, stock, tooling, tools  # noqa: F401
 from . import cycle_hazards  # noqa: F401
 from . import modal_hazards  # noqa: F401
+from . import fagor  # noqa: F401

@@ -1,0 +1,210 @@
+"""Rules of the Fagor 8060/8065 cycles (rules/fagor/*.md), from the hazards of the
+reference's section 11 (seed = the canned-cycle manual, "seed Lnnnn").
+
+Parameter alarms that are plain comparisons are constraints in the rule pages; this module
+holds what needs the tool table, the machine state or the pattern runner's faults.
+"""
+from __future__ import annotations
+
+from .. import pocket, values
+from ..check import Rule, hazard, rule, show
+from ..diagnostics import Status
+from .machine import _ReportsMissingContext
+
+
+def _code(cycle: str) -> str:
+    return cycle.rsplit(".", 1)[-1]
+
+
+def _is_fagor(cycle: str) -> bool:
+    return cycle.startswith("fagor.")
+
+
+@rule("fagor.pattern-without-cycle", "fagor.pattern-parameters", "fagor.pattern-skip-list", "fagor.cycle-data-without-cycle",
+      "fagor.repeat-without-motion")
+class ReportedByTheRunner(Rule):
+    """These findings come from the lowering (``ncverify/lower/fagor.py``) and the pattern
+    runner (``ncverify/lower/fagor_cycles.py``) as notes and faults."""
+
+
+@rule("fagor.cycle-starts-spindle")
+class CycleStartsSpindle(Rule):
+    """A Fagor cycle starts a stopped spindle clockwise with the S in force (seed L582-583)."""
+
+    def hole(self, hole, state):
+        if not _is_fagor(hole.cycle) or state.spindle != "off" or not self.first_time(state, ("fagor.cycle-starts-spindle", hole.definition)):
+            return
+        code = _code(hole.cycle)
+        speed = state.spindle_speed
+        if speed is None or speed == 0.0:
+            self.report("fagor.cycle-starts-spindle", hole.span, f"{code} starts the stopped spindle clockwise (M03), but no spindle speed S is programmed: "
+                        "the tool feeds into the part without turning")
+        elif hole.model.get("tapping"):
+            self.report("fagor.cycle-starts-spindle", hole.span, f"{code} tapping starts the stopped spindle clockwise (M03) at S{show(speed)}: "
+                        "a left-hand tap (M04) breaks; start the spindle in the tap's direction before the cycle")
+
+
+@rule("fagor.unknown-start-plane")
+class UnknownStartPlane(Rule):
+    """Zi is where the tool is on the tool axis when the cycle is defined (seed L629, L871)."""
+
+    def hole(self, hole, state):
+        if not _is_fagor(hole.cycle) or hole.initial is not None or not self.first_time(state, ("fagor.unknown-start-plane", hole.definition)):
+            return
+        default = "" if "Z" in hole.params else " and the reference plane defaults to it (no Z written)"
+        self.report("fagor.unknown-start-plane", hole.definition or hole.span,
+                    f"{_code(hole.cycle)} is defined where the tool-axis position is not known (no {hole.drill_axis} move since the start, "
+                    f"a tool change or a home search): the start plane Zi the G98 retract goes back to is unknown{default}")
+
+
+@rule("fagor.pocket-incremental-depth")
+class PocketIncrementalDepth(Rule):
+    """G87/G88 in G91: the text measures I from Z, the manual's examples from Zi (H12)."""
+
+    def hole(self, hole, state):
+        cycle = state.cycle
+        if hole.model.get("pocket") not in ("rectangle", "circle") or cycle is None or not cycle.incremental or "I" in cycle.absolute:
+            return
+        depth, initial = hole.params.get("I"), cycle.initial
+        if depth is None or initial is None or not self.first_time(state, ("fagor.pocket-incremental-depth", hole.definition)):
+            return
+        from_reference = hole.bottom
+        from_start = values.add(initial, depth)
+        verdict = self.checker.judge(hazard("!=", from_reference, from_start), state)
+        self.checker.report_verdict("fagor.pocket-incremental-depth", hole.param_spans.get("I", hole.span),
+                                    f"{_code(hole.cycle)} in G91: I{show(depth)} gives the floor at {show(from_reference)} measured from the reference plane (the manual's text) "
+                                    f"but at {show(from_start)} measured from the start plane (the manual's examples): program the floor in G90", verdict, state)
+
+
+@rule("fagor.vc-absolute")
+class CycleDataAbsolute(Rule):
+    """V.C.x values are absolute coordinates whatever G90/G91 (seed L783-784)."""
+
+    def hole(self, hole, state):
+        cycle = state.cycle
+        if cycle is None or not cycle.absolute or state.modal.get("distance") != "incremental":
+            return
+        if not self.first_time(state, ("fagor.vc-absolute", hole.definition)):
+            return
+        letters = " ".join(f"V.C.{letter}={show(hole.params.get(letter))}" for letter in sorted(cycle.absolute) if letter in hole.params)
+        self.report("fagor.vc-absolute", hole.span, f"{_code(hole.cycle)} machines in G91 with {letters} set through V.C: those are absolute coordinates "
+                    "(from part zero), not distances like the G91 values written in the cycle block")
+
+
+@rule("fagor.arc-positioning-in-cycle")
+class ArcPositioning(Rule):
+    """Positioning in a cycle zone uses the modal interpolation (seed L674-676, H33)."""
+
+    def hole(self, hole, state):
+        if not _is_fagor(hole.cycle) or state.modal.get("motion") not in ("arc_cw", "arc_ccw"):
+            return
+        if all(hole.position.get(axis) is state.position.get(axis) for axis in state.plane_axes[:2]):
+            return  # machined where the tool is: no positioning move
+        self.report("fagor.arc-positioning-in-cycle", hole.span, f"{_code(hole.cycle)} positions to this hole in G0{2 if state.modal['motion'] == 'arc_cw' else 3} "
+                    "(the interpolation in force): the move to the hole is an arc, not a straight line")
+
+
+@rule("fagor.cycle-set-left-on")
+class CycleSetLeftOn(Rule):
+    """#LATHECY ON / #MILLCY ON switch the meaning of G81-G88 (seed L513-550, H28)."""
+
+    def change(self, change, state):
+        if change.what != "end":
+            return
+        for flag in ("$LATHECY", "$MILLCY"):
+            if state.global_variables.get(flag) == 1.0:
+                self.report("fagor.cycle-set-left-on", change.span, f"#{flag[1:]} ON is still in force at the program end: the next program's G81-G88 "
+                            f"are {'turning' if flag == '$LATHECY' else 'milling'} cycles unless it switches back (#{flag[1:]} OFF)")
+
+
+@rule("fagor.pocket-tool-fit")
+class PocketToolFit(_ReportsMissingContext):
+    """G87/G88/G210/G211: the tool against the pocket, bore or thread (seed L1386-1390,
+    L1499-1503, L1599-1613; H13, H14, H20, H22). Sizes come from the cycle and the tool
+    radius from the tool table; the largest tool that fits is reported."""
+
+    def hole(self, hole, state):
+        kind = hole.model.get("pocket") or hole.model.get("thread_mill")
+        if kind not in ("rectangle", "circle", "bore", "internal") or not _is_fagor(hole.cycle):
+            return
+        if not self.first_time(state, ("fagor.pocket-tool-fit", hole.definition, id(hole.params.get("J")), hole.params.get("J"), state.tool_in_spindle)):
+            return
+        radius = self._radius(hole, state)
+        if radius is None:
+            return
+        params = hole.params
+        if not all(type(params.get(letter, 0.0)) is float for letter in "JKCLQ"):
+            self.report("fagor.pocket-tool-fit", hole.span, f"{_code(hole.cycle)}: the sizes are computed values; the tool fit was not checked",
+                        Status.UNKNOWN, "symbolic pocket size")
+            return
+        problems = getattr(self, f"_{kind}")(params, radius)
+        for letter, reason, largest in problems:
+            fits = f"; the largest tool that fits has a radius of {largest:g}" if largest is not None else ""
+            self.report("fagor.pocket-tool-fit", hole.param_spans.get(letter, hole.span),
+                        f"{_code(hole.cycle)} with tool T{show(state.tool_in_spindle)} (radius {radius:g}): {reason}{fits}")
+
+    def _radius(self, hole, state):
+        tools = self.checker.context.get("tools") or {}
+        number = state.tool_in_spindle
+        tool = tools.get(int(number)) if type(number) is float else None
+        if tool is None or tool.radius is None:
+            what = "no tool table" if not tools else f"the radius of tool T{show(number)} is not in the tool table"
+            self.missing("fagor.pocket-tool-fit", hole.span, what)
+            return None
+        return tool.radius
+
+    @staticmethod
+    def _stepover(params, radius) -> list:
+        stepover = params.get("C")
+        if stepover is not None and stepover > 2 * radius:
+            return [("C", f"the stepover C{stepover:g} is wider than the tool's diameter {2 * radius:g}: the control alarms", stepover / 2)]
+        return []
+
+    def _rectangle(self, params, radius) -> list:
+        if "J" not in params or "K" not in params:
+            return []
+        length, width, allowance = 2 * abs(params["J"]), 2 * abs(params["K"]), params.get("L", 0.0)
+        corner = params.get("Q", 0.0) if params.get("M") == 1.0 else 0.0
+        problems = self._stepover(params, radius)
+        for fit, what in ((pocket.rectangle_fit(length, width, corner, radius, strict=True), f"pocket {length:g} x {width:g}"),
+                          (pocket.rectangle_fit(length - 2 * allowance, width - 2 * allowance, 0.0, radius, strict=True),
+                           f"the roughing area inside the allowance L{allowance:g}")):
+            if not fit.fits:
+                problems.append(("J", f"{fit.reason} ({what})", fit.largest_radius))
+                break
+        return problems
+
+    def _circle(self, params, radius) -> list:
+        if "J" not in params:
+            return []
+        allowance = params.get("L", 0.0)
+        problems = self._stepover(params, radius)
+        fit = pocket.circle_fit(2 * (abs(params["J"]) - allowance), radius, strict=True)
+        if not fit.fits:
+            problems.append(("J", f"{fit.reason} (radius J{abs(params['J']):g} less the allowance L{allowance:g})", fit.largest_radius))
+        return problems
+
+    @staticmethod
+    def _bore(params, radius) -> list:
+        if "J" not in params:
+            return []
+        diameter, predrilled = abs(params["J"]), params.get("K", 0.0)
+        fit = pocket.circle_fit(diameter, radius, strict=True)
+        problems = []
+        if not fit.fits:
+            problems.append(("J", f"{fit.reason}: the control alarms (the tool radius must be below half the hole diameter J)", fit.largest_radius))
+        if radius < (diameter - predrilled) / 4:
+            problems.append(("J", f"the tool radius is below (J - K) / 4 = {(diameter - predrilled) / 4:g}: the helix leaves a core standing in the middle "
+                             "of the hole and the control alarms", None))
+        return problems
+
+    @staticmethod
+    def _internal(params, radius) -> list:
+        if "J" not in params or "K" not in params:
+            return []
+        room = abs(params["J"]) - 2 * abs(params["K"])
+        fit = pocket.circle_fit(room, radius, strict=True)
+        if fit.fits:
+            return []
+        return [("J", f"{fit.reason} left inside the thread's root (J{abs(params['J']):g} less twice the thread depth K{abs(params['K']):g}): "
+                 "the tool cannot enter the pre-drilled hole", fit.largest_radius)]

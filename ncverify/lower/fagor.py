@@ -1,0 +1,554 @@
+"""Lowering of Fagor 8060/8065 programs to IR blocks.
+
+Plain ISO words go to the ISO lowering (:class:`~ncverify.lower.iso.IsoLowering`) with the
+Fagor code table (``dialects/fagor/mill.toml``). This module adds what Fagor does
+differently:
+
+- **cycle blocks**: the letters a cycle declares (``dialects/fagor/cycles.toml``) are its
+  parameters, not axes, offsets, M functions, speeds or tools (``G87 ... M1 D2``,
+  ``G160 ... S3 T5``); the tool-axis word is the reference plane and is filed as ``Z``. The
+  definition op goes before the block's move, so ``G1 X200 Y200 G83 ..`` moves first and
+  then machines with the new cycle (seed L664-672);
+- **what cancels a cycle** besides G80 and another cycle: a new plane, G20, ``#TOOL AX``,
+  G74 (seed L597-611);
+- **flow statements** ``$IF/$ELSEIF/$ELSE/$ENDIF``, ``$WHILE``, ``$DO``, ``$FOR``,
+  ``$SWITCH/$CASE/$DEFAULT``, ``$BREAK``, ``$CONTINUE``, ``$GOTO``, ``(RPT N10, N20)``,
+  lowered to jumps. A statement's partner lines are found from the program text when the
+  jump runs: the jump target is a system variable ``$@next:12`` that
+  :meth:`FagorFrontend.system_variable` resolves to the label ``@15`` of the partner line;
+- **calls** ``#CALL``, ``#PCALL`` (its A-Z arguments set P0-P25), local subroutines
+  ``%L NAME`` ending with ``M17``/``M29``/``#RET``; ``#MCALL`` is not modelled.
+
+The frontend follows the plane, ``#TOOL AX`` and ``#LATHECY``/``#MILLCY`` in the order the
+interpreter reads lines (which is execution order): a cycle block is read with the state of
+the lines read before it.
+"""
+from __future__ import annotations
+
+import re
+
+from .. import ir
+from ..dialect import DialectSetup
+from ..read.fagor import FagorLine, Statement, read_fagor_line
+from ..read.iso import ReadBlock
+from ..source import Span, decode_line
+from ..tables import CodeTable, _load, code_key
+from . import fagor_cycles
+from .iso import IsoLowering
+
+_PLANE_NORMAL = {"xy": "Z", "zx": "Y", "yz": "X"}
+_PLANE_AXES = {"xy": ("X", "Y"), "zx": ("Z", "X"), "yz": ("Y", "Z")}
+_TURNING_CODES = {f"{n}" for n in range(81, 89)}
+_NO_EFFECT_INSTRUCTIONS = {"HSC", "ROUNDPAR", "MSG", "WARNING", "WAIT", "FLUSH", "SYNC", "TIME", "DSBLK", "ESBLK", "SVON",
+                           "SVOFF", "TSYNC", "SELECT", "EXBLK", "MEXEC", "EXEC", "FEED", "ABORT", "CONTJOG", "COMMENT"}
+_PCALL_PARAMETERS = {letter: f"P{index}" for index, letter in enumerate("ABCDEFGHIJKLMNOPQRSTUVWXYZ")}
+RPT_END = "$RPT_END"
+SWITCH_VALUE = "$SWITCH"
+
+
+def fagor_table(machine: str = "mill") -> CodeTable:
+    data = _load("fagor", "mill.toml")
+    cycles = _load("fagor", "cycles.toml")["cycle"]
+    settings = dict(data.get("settings", {}))
+    settings.update(data.get("conventions", {}))
+    return CodeTable("fagor-8065", machine, dict(data["g"]), dict(data["m"]), dict(data["words"]), dict(data["power_on"]), settings, cycles)
+
+
+class FagorLowering(IsoLowering):
+    """Lowers :class:`FagorLine` objects; keeps the plane, tool axis and cycle set seen."""
+
+    def __init__(self, table: CodeTable):
+        super().__init__(table, 0.0)
+        self.plane = table.power_on["plane"]
+        self.tool_axis: tuple[str, str] | None = None  # (#TOOL AX letter, sign)
+        self.turning_cycles = table.machine == "lathe" and bool(table.settings.get("lathe_machine_turning_cycles", True))
+        self.uses_rpt = False
+
+    # ------------------------------------------------------------------ one line
+
+    def lower_line(self, line: FagorLine, path: str | None) -> list[ir.Block]:
+        block = ir.Block(line.line, line.start + 1, max(line.end, line.start) + 1, [], label=line.label, skippable=line.skip)
+        block.comments = tuple((text, Span.on_line(line.line, start, end, path)) for text, start, end in line.comments)
+        block.program_start = line.program_start
+        if line.problem is not None:
+            problem = line.problem
+            block.notes.append(ir.Note("core.syntax", problem.message, Span(line.line, problem.start + 1, line.line, problem.end + 1, path)))
+            return [block]
+        if line.statement is not None:
+            return self._statement(block, line.statement, line, path)
+        if line.words:
+            block = self._words(block, line, path)
+        self._extras(block, line, path)
+        if self.uses_rpt and isinstance(block.label, float):
+            condition = ir.Binary("EQ", ir.Var(RPT_END), block.label)
+            block.ops.append(ir.Conditional(block.span, condition, [ir.Return(block.span, local_only=True)]))
+        return [block]
+
+    # ------------------------------------------------------------------ address words
+
+    def _words(self, block: ir.Block, line: FagorLine, path) -> ir.Block:
+        words = list(line.words)
+        cycle_word, entry = self._cycle_code(words)
+        cycle_op = None
+        if cycle_word is not None:
+            words.remove(cycle_word)
+            cycle_op = self._cycle_op(block, line, words, cycle_word, entry, path)
+        read = ReadBlock(line.line, line.start, line.end, words, [], line.skip)
+        lowered = self.lower(read, path) if words else ir.Block(line.line, line.start + 1, line.end + 1, [])
+        ops = self._cancel_on_plane_change(lowered.ops)
+        self._length_with_tool(ops)
+        if cycle_op is not None:
+            self._insert_cycle(ops, cycle_op)
+        block.ops.extend(ops)
+        block.notes.extend(lowered.notes)
+        return block
+
+    def _cycle_code(self, words):
+        found = (None, None)
+        for word in words:
+            if word.letter == "G" and isinstance(word.value, float):
+                entry = self.table.g_code(word.value)
+                if entry is not None and entry["effect"] in ("cycle", "cycle_call"):
+                    found = (word, entry)
+        return found
+
+    def _cycle_op(self, block, line, words, cycle_word, entry, path) -> ir.Op:
+        span = self._span(line, cycle_word.start, cycle_word.end, path)
+        code = code_key(cycle_word.value)
+        if self.turning_cycles and code in _TURNING_CODES:
+            block.notes.append(ir.Note("core.unsupported-code", f"G{code} is a turning cycle here (lathe software or #LATHECY ON); turning cycles are not modelled", span))
+            words[:] = [word for word in words if word.letter in "NFSTM"]
+            return ir.Unsupported(span, f"G{code} turning cycle", ("position",))
+        model = self.table.cycles[entry["cycle"]]
+        declared = model.get("params", {})
+        pattern = "pattern" in model
+        normal = _PLANE_NORMAL[self.plane]
+        if not pattern and self.tool_axis is not None and self.tool_axis != (normal, "+"):
+            block.notes.append(ir.Note("core.unsupported-code", f"G{code} along #TOOL AX [{''.join(self.tool_axis)}] while the plane's normal is {normal}+: "
+                                                                 "cycles along another axis or direction are not modelled", span))
+            words[:] = [word for word in words if word.letter in "NFSTM" and word.letter not in declared]
+            return ir.Unsupported(span, f"G{code} along another tool axis", ("position",))
+        in_plane = () if pattern else _PLANE_AXES[self.plane]
+        params, spans = {}, {}
+        for word in list(words):
+            letter = word.letter
+            name = "Z" if letter == normal and not pattern else letter
+            if letter in in_plane or name not in declared or letter in "GN":
+                continue
+            if name in params:
+                block.notes.append(ir.Note("core.duplicate-address", f"G{code}: {letter} appears twice in the cycle block; it is the cycle's "
+                                                                     f"{declared[name]['meaning']}, not a {letter} function (the control alarms or uses one of them)",
+                                           self._span(line, word.start, word.end, path)))
+                words.remove(word)
+                continue
+            words.remove(word)
+            params[name] = word.value
+            spans[name] = self._span(line, word.start, word.end, path)
+        op_type = ir.CycleDefine if entry["effect"] == "cycle" else ir.CycleCall
+        return op_type(span, entry["cycle"], params, spans)
+
+    @staticmethod
+    def _insert_cycle(ops: list, cycle_op: ir.Op) -> None:
+        """Before the block's move (it positions, then machines with this cycle), else
+        before any stop or call."""
+        for index, op in enumerate(ops):
+            if isinstance(op, (ir.Move, ir.Stop, ir.Call, ir.Return)):
+                ops.insert(index, cycle_op)
+                return
+        ops.append(cycle_op)
+
+    @staticmethod
+    def _length_with_tool(ops: list) -> None:
+        """Fagor applies the new tool's length offset with the tool change; D selects which
+        of the tool's own offsets (length and radius together), not a shared register: no
+        G43 is needed (§12, uncertain)."""
+        for index, op in enumerate(ops):
+            if isinstance(op, ir.ToolChange):
+                ops.insert(index + 1, ir.LengthOffset(op.span, "with_tool", None))  # not an ISO G43: no Z jump
+                return
+
+    def _cancel_on_plane_change(self, ops: list) -> list:
+        """A new plane, G20 or G74 ends the cycle (seed L597-611)."""
+        result = []
+        for op in ops:
+            if isinstance(op, ir.SetModal) and op.group == "plane":
+                if op.value != self.plane:
+                    result.append(ir.CycleCancel(op.span))
+                self.plane = op.value
+            elif isinstance(op, ir.Unsupported) and op.what.startswith(("G20 ", "G74 ")):
+                result.append(ir.CycleCancel(op.span))
+            result.append(op)
+        return result
+
+    # ------------------------------------------------------------------ assignments, NR, X2=, RPT
+
+    def _extras(self, block: ir.Block, line: FagorLine, path) -> None:
+        for assignment in line.assignments:
+            span = self._span(line, assignment.start, assignment.end, path)
+            name = assignment.target.name
+            if isinstance(name, str) and name.startswith("V.C.") and len(name) == 5:
+                block.ops.append(ir.CycleDefine(span, "", {name[-1]: assignment.value, "$rule": "fagor.cycle-data-without-cycle"}, {name[-1]: span}))
+            else:
+                block.ops.append(ir.Assign(span, assignment.target, assignment.value))
+        if line.repeat is not None:
+            value, start, end = line.repeat
+            moves = [op for op in block.ops if isinstance(op, ir.Move)]
+            if moves:
+                moves[-1].words["NR"] = value
+                moves[-1].word_columns["NR"] = (start, end)
+            else:
+                block.notes.append(ir.Note("fagor.repeat-without-motion", "NR repeats a block's move (and the cycle at its end): this block has no move, so NR does nothing",
+                                           self._span(line, start, end, path)))
+        for name, start, end in line.indexed_axes:
+            span = self._span(line, start, end, path)
+            block.notes.append(ir.Note("core.unsupported-code", f"axis {name} (an axis with a numeric suffix) is read but not modelled", span))
+            block.ops.append(ir.Unsupported(span, f"axis {name}", ("position",)))
+        if line.rpt is not None:
+            first, last, count, start, end = line.rpt
+            block.ops.extend(self._repeat_blocks(self._span(line, start, end, path), first, last, count))
+
+    @staticmethod
+    def _repeat_blocks(span: Span, first, last, count) -> list[ir.Op]:
+        """``(RPT N10, N20)``: run N10 to N20 as a local subroutine; the block labelled
+        with the last number returns while ``$RPT_END`` names it."""
+        return [ir.Assign(span, ir.Var(RPT_END), last), ir.Call(span, "local", first, count), ir.Assign(span, ir.Var(RPT_END), -1.0)]
+
+    # ------------------------------------------------------------------ statements
+
+    def _statement(self, block: ir.Block, statement: Statement, line: FagorLine, path) -> list[ir.Block]:
+        span = self._span(line, statement.start, statement.end, path)
+        if statement.flow:
+            return _FLOW.get(statement.keyword, _unknown_flow)(self, block, statement, span, line.line)
+        handler = _INSTRUCTIONS.get(statement.keyword)
+        if handler is not None:
+            handler(self, block, statement, span)
+        elif statement.keyword not in _NO_EFFECT_INSTRUCTIONS:
+            block.notes.append(ir.Note("core.unsupported-code", f"#{statement.keyword} is read but not modelled; checks that depend on its effect answer unknown", span))
+            block.ops.append(ir.Unsupported(span, f"#{statement.keyword}", ("position",)))
+        return [block]
+
+    # ---- # instructions
+
+    def _call(self, block, statement, span) -> None:
+        name, *arguments = statement.args
+        for letter, value in arguments:
+            block.ops.append(ir.Assign(span, ir.Var(_PCALL_PARAMETERS[letter]), value))
+        block.ops.append(ir.Call(span, "subprogram", name))
+
+    def _modal_call(self, block, statement, span) -> None:
+        block.notes.append(ir.Note("core.unsupported-code", "#MCALL (a subroutine called after every move until #MDOFF) is not modelled; the moves after it answer unknown", span))
+        block.ops.append(ir.Unsupported(span, "#MCALL modal subroutine", ("position",)))
+
+    def _tool_axis(self, block, statement, span) -> None:
+        match = re.fullmatch(r"(?i)AX\s*\[\s*([A-Z])(\d*)\s*([+-]?)\s*\]", statement.text)
+        block.ops.append(ir.CycleCancel(span))
+        if match is None or match.group(2):
+            self.tool_axis = ("?", "?")
+            return
+        self.tool_axis = (match.group(1).upper(), match.group(3) or "+")
+
+    def _cycle_set(self, block, statement, span) -> None:
+        on = statement.text.upper().startswith("ON")
+        self.turning_cycles = on if statement.keyword == "LATHECY" else not on
+        block.ops.append(ir.Assign(span, ir.Var(f"${statement.keyword}"), 1.0 if on else 0.0))
+
+    def _return(self, block, statement, span) -> None:
+        block.ops.append(ir.Return(span))
+
+    # ---- $ flow statements (labels "@line" mark the lines a jump lands on)
+
+    def _if(self, block, statement, span, line):
+        block.label = f"@{line}"
+        block.ops.append(ir.Jump(span, _partner("next", line), _negated(statement.args)))
+        return [block]
+
+    def _else_if(self, block, statement, span, line):
+        leave = ir.Block(line, block.start_column, block.end_column, [ir.Jump(span, _partner("end", line))])
+        block.label = f"@{line}"
+        block.ops.append(ir.Jump(span, _partner("next", line), _negated(statement.args)))
+        return [leave, block]
+
+    def _else(self, block, statement, span, line):
+        leave = ir.Block(line, block.start_column, block.end_column, [ir.Jump(span, _partner("end", line))])
+        block.label = f"@{line}"
+        return [leave, block]
+
+    def _landing(self, block, statement, span, line):
+        block.label = f"@{line}"
+        return [block]
+
+    def _while(self, block, statement, span, line):
+        block.label = f"@{line}"
+        block.ops.append(ir.Jump(span, _partner("exit", line), _negated(statement.args)))
+        return [block]
+
+    def _loop_end(self, block, statement, span, line):
+        condition = statement.args[0] if statement.args else None
+        back = ir.Block(line, block.start_column, block.end_column, [ir.Jump(span, _partner("head", line), condition)], label=f"@{line}#c")
+        block.label = f"@{line}"
+        return [back, block]
+
+    def _for(self, block, statement, span, line):
+        target, start, end, *step = statement.args
+        step = step[0] if step else 1.0
+        if type(step) is not float or step == 0:
+            block.notes.append(ir.Note("core.unsupported-code", "$FOR with a step that is zero or computed is not modelled", span))
+            block.ops.append(ir.Unsupported(span, "$FOR with a computed step"))
+            return [block]
+        init = ir.Block(line, block.start_column, block.end_column, [ir.Assign(span, target, start), ir.Jump(span, f"@{line}#t")], label=block.label)
+        advance = ir.Block(line, block.start_column, block.end_column, [ir.Assign(span, target, ir.Binary("+", target, step))], label=f"@{line}#s")
+        passed = ir.Binary("GT" if step > 0 else "LT", target, end)
+        test = ir.Block(line, block.start_column, block.end_column, [ir.Jump(span, _partner("exit", line), passed)], label=f"@{line}#t")
+        return [init, advance, test]
+
+    def _switch(self, block, statement, span, line):
+        block.ops.extend([ir.Assign(span, ir.Var(SWITCH_VALUE), statement.args[0]), ir.Jump(span, _partner("next", line))])
+        return [block]
+
+    def _case(self, block, statement, span, line):
+        into_body = ir.Block(line, block.start_column, block.end_column, [ir.Jump(span, f"@{line}#b")])
+        matches = None
+        for value in statement.args:
+            equal = ir.Binary("EQ", ir.Var(SWITCH_VALUE), value)
+            matches = equal if matches is None else ir.Binary("OR", matches, equal)
+        block.label = f"@{line}"
+        block.ops.append(ir.Jump(span, _partner("next", line), ir.Binary("EQ", matches, 0.0)))
+        body = ir.Block(line, block.start_column, block.end_column, [], label=f"@{line}#b")
+        return [into_body, block, body]
+
+    def _goto(self, block, statement, span, line):
+        if len(statement.args) != 1:
+            block.notes.append(ir.Note("core.syntax", "$GOTO takes one label (N10 or [NAME])", span))
+            return [block]
+        block.ops.append(ir.Jump(span, statement.args[0]))
+        return [block]
+
+    def _rpt(self, block, statement, span, line):
+        if len(statement.args) not in (2, 3):
+            block.notes.append(ir.Note("core.syntax", "$RPT takes two labels and an optional count: $RPT N10, N20, 3", span))
+            return [block]
+        first, last, *count = statement.args
+        block.ops.extend(self._repeat_blocks(span, first, last, count[0] if count else 1.0))
+        return [block]
+
+
+def _negated(args: list) -> ir.Expr:
+    return ir.Binary("EQ", args[0], 0.0) if args else 0.0
+
+
+def _partner(kind: str, line: int) -> ir.Var:
+    return ir.Var(f"$@{kind}:{line}")
+
+
+def _unknown_flow(lowering, block, statement, span, line):
+    block.notes.append(ir.Note("core.unsupported-code", f"${statement.keyword} is read but not modelled; the rest of this path answers unknown", span))
+    block.ops.append(ir.Unsupported(span, f"${statement.keyword}", ("position",)))
+    return [block]
+
+
+_FLOW = {
+    "IF": FagorLowering._if, "ELSEIF": FagorLowering._else_if, "ELSE": FagorLowering._else, "ENDIF": FagorLowering._landing,
+    "WHILE": FagorLowering._while, "ENDWHILE": FagorLowering._loop_end, "DO": FagorLowering._landing,
+    "ENDDO": FagorLowering._loop_end, "FOR": FagorLowering._for, "ENDFOR": FagorLowering._loop_end,
+    "SWITCH": FagorLowering._switch, "CASE": FagorLowering._case, "DEFAULT": FagorLowering._landing,
+    "ENDSWITCH": FagorLowering._landing, "GOTO": FagorLowering._goto, "RPT": FagorLowering._rpt,
+    "RET": lambda lowering, block, statement, span, line: (block.ops.append(ir.Return(span)), [block])[1],
+}
+_INSTRUCTIONS = {
+    "CALL": FagorLowering._call, "PCALL": FagorLowering._call, "MCALL": FagorLowering._modal_call,
+    "MDOFF": lambda lowering, block, statement, span: None, "TOOL": FagorLowering._tool_axis,
+    "LATHECY": FagorLowering._cycle_set, "MILLCY": FagorLowering._cycle_set, "RET": FagorLowering._return,
+}
+
+
+def _break(lowering, block, statement, span, line):
+    block.ops.append(ir.Jump(span, _partner("break", line)))
+    return [block]
+
+
+def _continue(lowering, block, statement, span, line):
+    block.ops.append(ir.Jump(span, _partner("continue", line)))
+    return [block]
+
+
+_FLOW["BREAK"] = _break
+_FLOW["CONTINUE"] = _continue
+
+
+# ---------------------------------------------------------------------- program structure
+
+_STRUCTURE = re.compile(rb"(?im)^[ \t]*/?[ \t]*(?:N\d+[ \t]*)?\$(ELSEIF|ELSE|ENDIF|IF|ENDWHILE|WHILE|ENDDO|DO|ENDFOR|FOR|ENDSWITCH|SWITCH|CASE|DEFAULT|BREAK|CONTINUE)(?![A-Z0-9_])")
+_LOOPS = {"WHILE": "ENDWHILE", "DO": "ENDDO", "FOR": "ENDFOR"}
+
+
+def program_structure(buffer) -> dict[str, str]:
+    """``"next:12" -> "@15"``: where each flow statement's jumps land, from the text.
+    Unmatched statements map to ``"@?<what>"`` (a label no line has: the jump reports it)."""
+    buffer = bytes(buffer)
+    targets: dict[str, str] = {}
+    stack: list[list] = []  # [keyword, line, last branch line]
+    line, counted = 1, 0
+    for match in _STRUCTURE.finditer(buffer):
+        line += buffer.count(b"\n", counted, match.start())
+        counted = match.start()
+        keyword = match.group(1).decode().upper()
+        if keyword in ("IF", "SWITCH") or keyword in _LOOPS:
+            stack.append([keyword, line, line])
+            continue
+        if keyword in ("BREAK", "CONTINUE"):
+            enclosing = next((frame for frame in reversed(stack) if frame[0] in _LOOPS or (keyword == "BREAK" and frame[0] == "SWITCH")), None)
+            targets[f"{keyword.lower()}:{line}"] = f"@?{keyword}:{line}" if enclosing is None else f"&{keyword.lower()}:{enclosing[1]}"
+            continue
+        opener = {"ELSEIF": "IF", "ELSE": "IF", "ENDIF": "IF", "CASE": "SWITCH", "DEFAULT": "SWITCH", "ENDSWITCH": "SWITCH"}.get(keyword)
+        opener = opener or next(loop for loop, end in _LOOPS.items() if end == keyword)
+        if not stack or stack[-1][0] != opener:
+            continue  # a stray closing line: its own jumps report it
+        frame = stack[-1]
+        if opener in ("IF", "SWITCH"):
+            targets[f"next:{frame[2]}"] = f"@{line}"
+            frame[2] = line
+            if keyword in ("ENDIF", "ENDSWITCH"):
+                stack.pop()
+                for branch_line in frame[3:]:
+                    targets[f"end:{branch_line}"] = f"@{line}"
+                targets[f"end:{frame[1]}"] = f"@{line}"
+                targets[f"&break:{frame[1]}"] = f"@{line}"
+            else:
+                frame.append(line)
+            continue
+        stack.pop()
+        head = frame[1]
+        targets[f"exit:{head}"] = f"@{line}"
+        targets[f"&break:{head}"] = f"@{line}"
+        targets[f"head:{line}"] = f"@{head}#s" if opener == "FOR" else f"@{head}"
+        targets[f"&continue:{head}"] = {"FOR": f"@{head}#s", "WHILE": f"@{head}", "DO": f"@{line}#c"}[opener]
+    for key, value in list(targets.items()):
+        if value.startswith("&"):
+            targets[key] = targets.get(value[1:], f"@?{key}")
+    return targets
+
+
+class FagorFrontend:
+    """What the interpreter asks of the Fagor dialect (see :mod:`ncverify.dialect`)."""
+
+    dialect = "fagor"
+
+    def __init__(self, lowering: FagorLowering):
+        self.lowering = lowering
+        self.paren_comments = bool(lowering.table.settings.get("paren_comments", True))
+        self.local_parameters = int(lowering.table.settings.get("local_parameters", 26))
+        self._structures: dict[int, tuple[object, dict]] = {}
+        self._line_starts: dict[int, tuple[object, list]] = {}
+
+    def blocks(self, raw: bytes, line: int, path: str | None) -> list[ir.Block]:
+        text = decode_line(raw)
+        return self.lowering.lower_line(read_fagor_line(text, line, self.paren_comments), path)
+
+    def is_plain(self, raw: bytes) -> bool:
+        return False
+
+    def plain_run(self, buffer, offset: int, line: int, limit: int = 0):
+        return None
+
+    # ---- programs: "%L NAME" local subroutines; the rest is the main program
+
+    def programs(self, buffer) -> list[tuple[str, int]]:
+        if re.search(rb"(?i)\bRPT\b", buffer):
+            self.lowering.uses_rpt = True
+        found = []
+        subroutine_end = re.compile(rb"(?im)^[^;\n]*(?:\bM(?:17|29)(?![0-9])|#RET\b|\$RET\b)[^\n]*\n?")
+        position = 0
+        main_start = None
+        for match in re.finditer(rb"(?im)^[ \t]*%[ \t]*L[ \t]+([A-Za-z0-9_.]+)", buffer):
+            if main_start is None and bytes(buffer[position : match.start()]).strip(b" \t\r\n"):
+                main_start = position
+            found.append((match.group(1).decode(), match.start()))
+            end = subroutine_end.search(buffer, match.end())
+            position = end.end() if end else len(buffer)
+        if found and main_start is None and bytes(buffer[position:]).strip(b" \t\r\n"):
+            main_start = position
+        if main_start is not None:
+            found.append(("main", main_start))
+        return sorted(found, key=lambda item: item[1])
+
+    def is_subprogram(self, buffer, start: int, end: int) -> bool:
+        return re.match(rb"[ \t]*%[ \t]*L[ \t]", bytes(buffer[start : start + 64])) is not None
+
+    def tape_marks(self, buffer) -> list[int]:
+        return []
+
+    def program_name(self, number) -> str:
+        return number if isinstance(number, str) else f"{number:g}"
+
+    # ---- labels
+
+    def label_offsets(self, buffer, label):
+        if isinstance(label, str) and label.startswith("@"):
+            number = re.match(r"@(\d+)", label)
+            starts = self._starts(buffer)
+            if number is not None and int(number.group(1)) <= len(starts):
+                yield starts[int(number.group(1)) - 1]
+            return
+        if isinstance(label, str):
+            pattern = rb"(?mi)^[ \t]*/?[ \t]*(?:N\d+[ \t]*)?\[" + re.escape(label.encode()) + rb"\]"
+        else:
+            pattern = rb"(?mi)^[ \t]*/?[ \t]*N0*" + str(int(label)).encode() + rb"(?![0-9.])"
+        for match in re.finditer(pattern, buffer):
+            yield match.start()
+
+    def describe_label(self, label) -> str:
+        if isinstance(label, str) and label.startswith("@?"):
+            what, _, line = label[2:].partition(":")
+            return f"the partner of the ${what.split(':')[0].upper()} statement in line {line} (no matching statement)"
+        if isinstance(label, str) and label.startswith("@"):
+            return f"the flow statement in line {label[1:]}"
+        if isinstance(label, str):
+            return f"label [{label}]"
+        return f"block N{label:g}"
+
+    def _starts(self, buffer) -> list[int]:
+        cached = self._line_starts.get(id(buffer))
+        if cached is None or cached[0] is not buffer:
+            starts = [0] + [match.end() for match in re.finditer(rb"\n", buffer)]
+            cached = (buffer, starts)
+            self._line_starts[id(buffer)] = cached
+        return cached[1]
+
+    def _structure(self, buffer) -> dict:
+        cached = self._structures.get(id(buffer))
+        if cached is None or cached[0] is not buffer:
+            cached = (buffer, program_structure(buffer))
+            self._structures[id(buffer)] = cached
+        return cached[1]
+
+    # ---- variables
+
+    def variable_scope(self, name: str) -> str:
+        """P0-P25 belong to the subroutine level (configurable); the rest are global."""
+        if name[:1] == "P" and name[1:].isdigit() and int(name[1:]) < self.local_parameters:
+            return "local"
+        return "global"
+
+    def system_variable(self, name: str, state):
+        if name.startswith("$@"):
+            key = name[2:]
+            targets = self._structure(state.frames[-1].source.buffer)
+            return targets.get(key, f"@?{key}")
+        if name == RPT_END:
+            return -1.0
+        if name.startswith("$"):
+            return 0.0
+        if name.startswith("V.C.") and len(name) == 5 and state.cycle is not None:
+            return state.cycle_data.get(name[-1])
+        return None
+
+
+def setup(settings, detection, project) -> DialectSetup:
+    """The Fagor tables for the machine type (command line > project file > detection)."""
+    machine = settings.machine or project.machine.kind or detection.machine or "mill"
+    table = fagor_table(machine)
+    lowering = FagorLowering(table)
+    limits = {name: float(table.settings.get(name, default))
+              for name, default in (("d_register_max", 999), ("h_register_max", 999), ("tool_number_max", 99999999))}
+    fagor_cycles.register()
+    return DialectSetup(FagorFrontend(lowering), table.power_on, table.cycles, "fagor-8065", machine, {}, 0.0, 0.0, limits)

@@ -1,0 +1,256 @@
+"""How Fagor 8060/8065 cycles move: the planes of the hole cycles and the points of the
+multiple-machining patterns G160-G165 (seed 000_a3a484fdafe81829.txt, "seed Lnnnn").
+
+Both plug into the shared cycle runner (:mod:`ncverify.cycles`): the hole cycles keep the
+shared motion model (rapid to the R point, feed to the bottom, retract per G98/G99) with
+Fagor's planes; a pattern runs the active cycle's hole at each of its points, so every hole
+rule (rapid into the stock, depth, retract) sees the pattern's holes.
+"""
+from __future__ import annotations
+
+import math
+
+from .. import values
+from ..cycles import register_levels, register_shape
+from ..trace import CycleRun
+
+_SKIP_LETTERS = "PQRSTUV"
+
+
+def register() -> None:
+    register_levels("fagor", hole_levels)
+    register_shape("fagor_pattern", run_pattern)
+
+
+# ---------------------------------------------------------------------- hole cycles
+
+
+def parameter(cycle, data: dict, letter: str):
+    """A parameter's value, or its default from the cycle table."""
+    value = data.get(letter)
+    if value is None:
+        value = cycle.model.get("params", {}).get(letter, {}).get("default")
+    return value
+
+
+def hole_levels(runner, cycle, data: dict):
+    """``(r_point, bottom)``: the reference plane Z is absolute in G90 and from the start
+    plane in G91 (Zi when not written, seed L867-871); I is absolute in G90 and from Z in
+    G91 (seed L873-876); G83's bottom is Z + J*I (seed L1044-1050). V.C.x values are
+    absolute (seed L783-784). The R point is where the cycle's rapid approach ends."""
+    incremental = cycle.incremental
+    reference = reference_plane(cycle, data)
+    if reference is None:
+        return None, None
+    depth = data.get("I")
+    if cycle.model.get("depth") == "pecks":
+        count = data.get("J")
+        bottom = None if depth is None or count is None else values.add(reference, values.mul(count, depth))
+    elif depth is None:
+        bottom = None
+    elif incremental and "I" not in cycle.absolute:
+        bottom = values.add(reference, depth)
+    else:
+        bottom = depth
+    approach = cycle.model.get("approach")
+    if approach is None:
+        return reference, bottom
+    surface = values.sub(reference, parameter(cycle, data, "D") or 0.0)
+    return (values.add(surface, 1.0) if approach == "surface_plus_1" else surface), bottom
+
+
+def reference_plane(cycle, data: dict):
+    written = data.get("Z")
+    if written is None:
+        return cycle.initial
+    if cycle.incremental and "Z" not in cycle.absolute:
+        return None if cycle.initial is None else values.add(cycle.initial, written)
+    return written
+
+
+# ---------------------------------------------------------------------- multiple machining
+
+
+class PatternError(Exception):
+    """A pattern the control refuses (the message says why)."""
+
+
+def run_pattern(runner, op, block, model, params):
+    interp = runner.interp
+    state = runner.state
+    code = op.cycle.rsplit(".", 1)[-1]
+    interp.observer.cycle_run(CycleRun(op.cycle, model, op.span, block, dict(params), dict(op.param_spans)), state)
+    cycle = state.cycle
+    if cycle is None:
+        interp._fault("fagor.pattern-without-cycle", op.span, f"{code} repeats the active canned cycle, but no cycle is active here "
+                      "(G80, a new plane, #TOOL AX, G74 or M30 cancelled it, or none was defined): the control alarms")
+        return None
+    first, second, _normal = state.plane_axes
+    start = (state.position.get(first), state.position.get(second))
+    concrete = all(type(value) is float for value in (*start, *params.values()))
+    try:
+        count, points = pattern_points(model["pattern"], params, start if concrete else (0.0, 0.0))
+    except PatternError as error:
+        interp._fault("fagor.pattern-parameters", op.span, f"{code}: {error}: the control alarms")
+        return None
+    skipped = _skip_list(code, params, count, op, interp)
+    if not concrete:
+        interp._fault("core.unsupported-code", op.span, f"{code} with computed values: its points are not placed; the holes after it are not checked",
+                      "unknown", "pattern with symbolic values")
+        state.move_to({first: None, second: None})
+        return None
+    for number, (abscissa, ordinate) in enumerate(points, start=2):
+        if number not in skipped:
+            runner._make_hole(cycle, op.span, block, {first: abscissa, second: ordinate})
+    return None
+
+
+def pattern_points(pattern: str, params: dict, start: tuple[float, float]) -> tuple[int, list[tuple[float, float]]]:
+    """The point count and the points after the first (which the definition machined)."""
+    if pattern == "line":
+        count, step = _side(params, "X", "I", "K", "the line")
+        direction = _unit(params.get("A", 0.0))
+        return count, [_along(start, direction, step * k) for k in range(1, count)]
+    if pattern in ("parallelogram", "grid"):
+        count_a, step_a = _side(params, "X", "I", "K", "the first side")
+        count_b, step_b = _side(params, "Y", "J", "D", "the second side")
+        angle = params.get("A", 0.0)
+        first_side, second_side = _unit(angle), _unit(angle + params.get("B", 90.0))
+        nodes = _grid_order(count_a, count_b) if pattern == "grid" else _outline_order(count_a, count_b)
+        points = [_along(_along(start, first_side, step_a * i), second_side, step_b * j) for i, j in nodes]
+        return len(points), points[1:]
+    return _circular(pattern, params, start)
+
+
+def _side(params, length_letter, step_letter, count_letter, what) -> tuple[int, float]:
+    """Exactly two of length, step and count (seed L1986, L2081, L2161)."""
+    given = [letter for letter in (length_letter, step_letter, count_letter) if letter in params]
+    if len(given) != 2:
+        raise PatternError(f"{what} needs exactly two of {length_letter}, {step_letter} and {count_letter} ({', '.join(given) or 'none'} given)")
+    length, step, count = params.get(length_letter), params.get(step_letter), params.get(count_letter)
+    if count is None:
+        if step == 0:
+            raise PatternError(f"the step {step_letter}0 is zero")
+        exact = abs(length / step)
+        if abs(exact - round(exact)) > 1e-6:
+            raise PatternError(f"{length_letter}{length:g} is not a whole number of steps {step_letter}{step:g} ({exact:g})")
+        return int(round(exact)) + 1, step
+    if count != int(count) or count < 1:
+        raise PatternError(f"the number of points {count_letter}{count:g} is not a whole number of at least 1")
+    if step is None:
+        step = length / (count - 1) if count > 1 else 0.0
+    return int(count), step
+
+
+def _unit(degrees: float) -> tuple[float, float]:
+    radians = math.radians(degrees)
+    return math.cos(radians), math.sin(radians)
+
+
+def _along(point, direction, distance):
+    return point[0] + direction[0] * distance, point[1] + direction[1] * distance
+
+
+def _grid_order(count_a: int, count_b: int) -> list[tuple[int, int]]:
+    """Row by row, each row back the other way (zig-zag; the manual's figure is missing:
+    uncertain)."""
+    nodes = []
+    for j in range(count_b):
+        row = range(count_a) if j % 2 == 0 else range(count_a - 1, -1, -1)
+        nodes.extend((i, j) for i in row)
+    return nodes
+
+
+def _outline_order(count_a: int, count_b: int) -> list[tuple[int, int]]:
+    """Around the outline, first side first (the figure is missing: uncertain)."""
+    if count_a < 2 or count_b < 2:
+        return _grid_order(count_a, count_b)
+    nodes = [(i, 0) for i in range(count_a)]
+    nodes += [(count_a - 1, j) for j in range(1, count_b)]
+    nodes += [(i, count_b - 1) for i in range(count_a - 2, -1, -1)]
+    nodes += [(0, j) for j in range(count_b - 2, 0, -1)]
+    return nodes
+
+
+def _circular(pattern, params, start):
+    centre = (start[0] + params.get("X", 0.0), start[1] + params.get("Y", 0.0))
+    radius = math.hypot(start[0] - centre[0], start[1] - centre[1])
+    if radius == 0:
+        raise PatternError("X and Y put the centre on the start point (radius 0)")
+    first_angle = math.degrees(math.atan2(start[1] - centre[1], start[0] - centre[0]))
+    if pattern == "chord":
+        return 2, [_on_circle(centre, radius, _chord_end(params, first_angle, radius))]
+    if ("I" in params) == ("K" in params):
+        raise PatternError("give exactly one of I (angular step) and K (number of points)")
+    total = 360.0 if pattern == "circle" else params.get("B")
+    if total is None:
+        raise PatternError("the arc's total angle B is missing")
+    if "I" in params:
+        step = params["I"]
+        if step == 0:
+            raise PatternError("the angular step I0 is zero")
+        exact = abs(total / step)
+        if abs(exact - round(exact)) > 1e-6:
+            raise PatternError(f"the angular step I{step:g} does not divide {'360' if pattern == 'circle' else f'B{total:g}'} into whole steps ({exact:g})")
+        count = int(round(exact)) + (0 if pattern == "circle" else 1)
+    else:
+        count = params["K"]
+        if count != int(count) or count < 1:
+            raise PatternError(f"the number of points K{count:g} is not a whole number of at least 1")
+        count = int(count)
+        step = 360.0 / count if pattern == "circle" else (total / (count - 1) if count > 1 else 0.0)
+    return count, [_on_circle(centre, radius, first_angle + step * k) for k in range(1, count)]
+
+
+def _chord_end(params, first_angle, radius) -> float:
+    if ("A" in params) == ("I" in params):
+        raise PatternError("give exactly one of A (angle of the chord's bisector) and I (chord length)")
+    if "A" in params:
+        return 2 * params["A"] - first_angle
+    chord = params["I"]
+    if abs(chord) > 2 * radius:
+        raise PatternError(f"the chord I{chord:g} is longer than the circle's diameter {2 * radius:g}")
+    return first_angle + math.copysign(math.degrees(2 * math.asin(abs(chord) / (2 * radius))), chord)
+
+
+def _on_circle(centre, radius, degrees):
+    radians = math.radians(degrees)
+    return centre[0] + radius * math.cos(radians), centre[1] + radius * math.sin(radians)
+
+
+# ---------------------------------------------------------------------- skip lists
+
+
+def skip_range(value: float) -> tuple[int, int]:
+    """``P7`` -> (7, 7); ``Q10.013`` -> (10, 13); ``Q10.13`` -> (10, 130): the fraction is
+    always three digits (seed L1995-1996)."""
+    first = int(value)
+    last = int(round((value - first) * 1000))
+    return first, last if last else first
+
+
+def _skip_list(code, params, count, op, interp) -> set[int]:
+    skipped: set[int] = set()
+    previous_last, previous_letter = 0, None
+    for letter in _SKIP_LETTERS:
+        value = params.get(letter)
+        if value is None:
+            continue
+        span = op.param_spans.get(letter, op.span)
+        if type(value) is not float or value < 1:
+            interp._fault("fagor.pattern-skip-list", span, f"{code} {letter}: points to skip must be given as point numbers n or n.mmm")
+            continue
+        first, last = skip_range(value)
+        shown = f"{letter}{value:g}"
+        if last < first:
+            interp._fault("fagor.pattern-skip-list", span, f"{code} {shown} skips points {first} to {last}: the range runs backwards "
+                          "(the end always has three digits: Q10.13 means 10 to 130, write Q10.013 for 10 to 13)")
+        elif first <= previous_last:
+            interp._fault("fagor.pattern-skip-list", span, f"{code} {shown} starts at point {first}, not after the points of {previous_letter} (up to {previous_last}): "
+                          "P, Q, R, S, T, U, V must name increasing points; the control alarms")
+        elif last > count:
+            interp._fault("fagor.pattern-skip-list", span, f"{code} {shown} skips points {first} to {last}, but the pattern has only {count} points"
+                          + (" (the end always has three digits: this reads as 10 to 130, not 10 to 13)" if last >= 100 and last % 10 == 0 else ""))
+        skipped.update(range(first, last + 1))
+        previous_last, previous_letter = max(previous_last, last), letter
+    return skipped
