@@ -786,14 +786,15 @@ class Interpreter:
     def _move(self, op: ir.Move, block):
         state = self.state
         kind = op.kind
+        modal_call = state.cycle is not None and state.cycle.model.get("called_after_motion")  # SINUMERIK MCALL
         if kind is not None:
             if state.cycle is not None and state.cycle.model.get("motion_codes_keep_cycle"):
                 state.modal["motion"] = kind  # Fagor: G0/G1 position in the cycle's zone
                 return self.cycles.modal_hole(op, block)
-            if state.cycle is not None and kind != "thread":
+            if state.cycle is not None and kind != "thread" and not modal_call:
                 self._cancel_cycle()
             state.modal["motion"] = kind
-        elif state.cycle is not None:
+        elif state.cycle is not None and not modal_call:
             return self.cycles.modal_hole(op, block)
         else:
             kind = state.modal["motion"]
@@ -816,6 +817,8 @@ class Interpreter:
             self._change("thread", op.span, block, None, op_values(op.words, self, op.span))  # G33 Q start angle, E lead
         arc = self._arc(op, kind, start) if kind in _ARC_KINDS else None
         self.observer.segment(Segment(_SEGMENT_KIND[kind], start, end, op.span, block, "programmed", None, arc), state)
+        if modal_call:
+            return self.cycles.modal_call(op, block)  # the MCALL cycle runs after every positioning
         return None
 
     def _emit(self, kind: str, start: dict, span, block, role: str = "programmed", cycle: str | None = None, arc: Arc | None = None) -> None:
@@ -881,7 +884,7 @@ class Interpreter:
         number = self.evaluate(op.number, op.span)
         shown = f"{number:g}" if type(number) is float else "?"
         text = f" ({op.message})" if op.message else ""
-        self._fault("core.macro-alarm", op.span, f"the program raises macro alarm #3000={shown}{text}: the control stops here")
+        self._fault("core.macro-alarm", op.span, f"the program raises {op.statement.format(number=shown)}{text}: the control stops here")
         raise PathEnd
 
     def _conditional(self, op: ir.Conditional, block):
@@ -1040,6 +1043,12 @@ class Interpreter:
         found = self._find_program(program, op.span)
         if found is None:
             where = " or on the subprogram path" if self.settings.subprogram_path else " (give its folder with --subprogram-path)"
+            if op.kind == "proc":  # called by name: the control looks in its program directories too
+                self._fault("core.program-not-found", op.span, f"subprogram {self.frontend.program_name(program)} called here is not in this file{where}: what it does is not analysed",
+                            "unknown", "a subprogram called by name may be stored on the control")
+                state.move_to(dict.fromkeys(state.position))
+                state.feed_inherited, state.spindle = True, "inherited"  # it may set feed and spindle
+                return None
             self._fault("core.program-not-found", op.span, f"program {self.frontend.program_name(program)} called here is not in this file{where}: the control alarms")
             return None
         source, start = found
@@ -1049,6 +1058,8 @@ class Interpreter:
         local_variables = None
         if op.kind == "macro":
             local_variables = self._macro_arguments(op)
+        elif op.kind == "proc":
+            local_variables = self._proc_arguments(op, source, start)
         frame = Frame(op.kind, self.frontend.program_name(program), source, start, self._next_position(), int(repeat) - 1)
         if local_variables is not None:
             frame.local_variables = state.local_variables
@@ -1072,6 +1083,16 @@ class Interpreter:
             value = self.evaluate(expr, op.span)
             if value is not VACANT:
                 arguments[f"#{number}"] = value
+        return arguments
+
+    def _proc_arguments(self, op: ir.Call, source: ProgramSource, start: int) -> dict:
+        """A call by name with positional arguments (SINUMERIK ``NAME(a, b)``): the called
+        program's own variables start as its formal parameters (``frontend.proc_parameters``);
+        an omitted argument is 0."""
+        arguments = {}
+        for index, (name, _by_reference) in enumerate(self.frontend.proc_parameters(source.buffer, start)):
+            value = self.evaluate(op.arguments.get(str(index), 0.0), op.span)
+            arguments[name] = 0.0 if value is VACANT else value
         return arguments
 
     def _local_call(self, op: ir.Call, block, repeat: int):

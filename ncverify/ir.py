@@ -289,6 +289,7 @@ class Stop(Op):
 class Alarm(Op):
     number: Expr
     message: str
+    statement: str = "macro alarm #3000={number}"  # how the program raised it, for messages
 
 
 @dataclass(slots=True)

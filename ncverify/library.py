@@ -46,6 +46,8 @@ class SubprogramLibrary:
                 digits = stem.lstrip("O")
                 if digits.isdigit():
                     named.setdefault(f"O{int(digits)}", path)
+                else:
+                    named.setdefault(stem, path)  # programs called by name (SINUMERIK MYKONTUR.SPF)
                 try:
                     with path.open("rb") as handle:
                         head = handle.read(4096)

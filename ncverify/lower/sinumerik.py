@@ -1,0 +1,559 @@
+"""Lowering of SINUMERIK 840D blocks to IR, and the SINUMERIK frontend.
+
+Structured control flow is lowered to the IR's jumps and loops:
+
+* ``IF c`` jumps, when ``c`` is false, to the synthetic label ``IF#<line>``; ``ELSE`` jumps
+  to ``ELSE#<line>``. :meth:`SinumerikFrontend.label_offsets` matches ``IF``/``ELSE``/
+  ``ENDIF`` over the whole program text (a pre-pass, cached) to find where each lands,
+  and the landing blocks carry a :class:`StructureMark` label that the interpreter's
+  confirmation accepts.
+* ``WHILE``/``FOR``/``LOOP``/``REPEAT`` are ``LoopStart``/``LoopEnd`` with one loop id per
+  kind: the interpreter's search for a loop's end counts nesting of the same id, so
+  properly nested loops match without numbering them. ``FOR I=a TO b`` sets ``I=a-1``
+  before its head and counts up right after it; ``UNTIL c`` stores ``c`` for the head of
+  its ``REPEAT`` to test.
+* ``CASE`` is a row of conditional jumps; ``GOTOF``/``GOTOB`` jump to a named label.
+
+Cycles (``CYCLE81(...)``, ``POCKET1(...)``) become :class:`ir.CycleCall` with their
+arguments named by position from ``dialects/sinumerik/cycles.toml`` (an omitted argument
+is 0, seed L668-687); ``MCALL CYCLE8x(...)`` becomes a modal :class:`ir.CycleDefine`. Any
+other name with or without arguments is a subprogram call (``PROC`` parameters are bound
+by :meth:`SinumerikFrontend.proc_parameters`).
+"""
+from __future__ import annotations
+
+import re
+import tomllib
+from functools import cache
+
+from .. import ir
+from ..context import Context, Stock, Tool
+from ..dialect import DialectSetup
+from ..read.sinumerik import Item, ReadBlock, read_line
+from ..resources import data_dir
+from ..source import Span, decode_line
+from . import sinumerik_cycles  # noqa: F401  (registers the cycle shapes)
+
+WHILE_LOOP, FOR_LOOP, ENDLESS_LOOP, REPEAT_LOOP = 1, 2, 3, 4
+UNTIL_FLAG = "_REPEAT_UNTIL_"
+_AXES = ("X", "Y", "Z", "A", "B", "C", "U", "V", "W")
+_ARC_WORDS = ("I", "J", "K")
+_AXIS_DATA_CODES = frozenset({"74", "75", "110", "111", "112", "58", "59", "25", "26"})
+_STAGE_ORDER = ("feed", "tool", "speed", "spindle", "dwell", "modal", "offset", "motion", "call", "stop")
+
+
+class StructureMark:
+    """The label of a block where an ``IF``/``ELSE`` lands (an ``ELSE`` or ``ENDIF`` line).
+    The frontend's pre-pass has already chosen the line; the mark only confirms it."""
+
+    __slots__ = ("kind",)
+
+    def __init__(self, kind: str):
+        self.kind = kind
+
+    def __eq__(self, other) -> bool:
+        return isinstance(other, str) and other.startswith(("IF#", "ELSE#"))
+
+    def __hash__(self) -> int:
+        return hash(self.kind)
+
+    def __repr__(self) -> str:
+        return self.kind
+
+
+@cache
+def tables() -> dict:
+    folder = data_dir("dialects") / "sinumerik"
+    with (folder / "codes.toml").open("rb") as handle:
+        codes = tomllib.load(handle)
+    with (folder / "cycles.toml").open("rb") as handle:
+        cycles = tomllib.load(handle)["cycle"]
+    return {"codes": codes, "cycles": cycles}
+
+
+def _code_key(value: float) -> str:
+    return str(int(value)) if value == int(value) else f"{value:g}"
+
+
+class SinumerikLowering:
+    def __init__(self):
+        loaded = tables()
+        self.g = loaded["codes"]["g"]
+        self.unsupported_g = loaded["codes"]["unsupported"]
+        self.m = loaded["codes"]["m"]
+        self.cycles = loaded["cycles"]
+
+    def lower(self, read: ReadBlock, path: str | None) -> list[ir.Block]:
+        block = ir.Block(read.line, read.start + 1, read.end + 1, [], skippable=read.skip)
+        block.label = read.label
+        block.comments = tuple((text, Span.on_line(read.line, start, end, path)) for text, start, end in read.comments)
+        if read.header:
+            block.program_start = read.header[0]
+            return [block]
+        if read.problem:
+            problem = read.problem
+            block.notes.append(ir.Note("core.syntax", problem.message, Span.on_line(read.line, problem.start, problem.end, path)))
+            return [block]
+        stages: dict[str, list] = {stage: [] for stage in _STAGE_ORDER}
+        words: list[Item] = []
+        blocks = [block]
+        for item in read.items:
+            span = Span.on_line(read.line, item.start, item.end, path)
+            if item.kind == "word":
+                words.append(item)
+            elif item.kind == "else":
+                block.ops.append(ir.Jump(span, f"ELSE#{read.line}"))
+                landing = ir.Block(read.line, read.start + 1, read.end + 1, [], label=StructureMark("ELSE"))
+                blocks.append(landing)
+                block = landing
+            elif item.kind == "endif":
+                block.label = StructureMark("ENDIF")
+            else:
+                stages["call"].extend(self._statement(item, span, read, path, block))
+        if words:
+            self._words(words, stages, read, path, block)
+        for stage in _STAGE_ORDER:
+            block.ops.extend(stages[stage])
+        return blocks
+
+    # ------------------------------------------------------------------ statements
+
+    def _statement(self, item: Item, span: Span, read: ReadBlock, path, block: ir.Block) -> list[ir.Op]:
+        kind = item.kind
+        if kind == "assign":
+            return [ir.Assign(span, item.extra, item.value)]
+        if kind == "def":
+            return [ir.Assign(span, ir.Var(name), value if value is not None else ("" if item.name in ("STRING", "CHAR") else 0.0))
+                    for name, dimensions, value, _start in item.value if dimensions is None]
+        if kind == "call":
+            return [self._call(item, span, read, path)]
+        if kind == "mcall":
+            return self._mcall(item, span, read, path)
+        if kind == "if":
+            return [ir.Jump(span, f"IF#{read.line}", ir.Binary("EQ", item.condition, 0.0))]
+        if kind == "goto":
+            return [ir.Jump(span, item.value, item.condition)]
+        if kind == "case":
+            jumps = [ir.Jump(span, label, ir.Binary("EQ", item.value, value)) for value, label in item.args]
+            if item.extra is not None:
+                jumps.append(ir.Jump(span, item.extra))
+            return jumps
+        if kind == "while":
+            return [ir.LoopStart(span, WHILE_LOOP, item.condition)]
+        if kind == "endwhile":
+            return [ir.LoopEnd(span, WHILE_LOOP)]
+        if kind == "for":
+            counter = ir.Var(item.name)
+            return [ir.Assign(span, counter, ir.Binary("-", item.value, 1.0)),
+                    ir.LoopStart(span, FOR_LOOP, ir.Binary("LE", ir.Binary("+", counter, 1.0), item.args[0])),
+                    ir.Assign(span, counter, ir.Binary("+", counter, 1.0))]
+        if kind == "endfor":
+            return [ir.LoopEnd(span, FOR_LOOP)]
+        if kind == "loop":
+            return [ir.LoopStart(span, ENDLESS_LOOP, 1.0)]
+        if kind == "endloop":
+            return [ir.LoopEnd(span, ENDLESS_LOOP)]
+        if kind == "repeat":
+            flag = ir.Var(UNTIL_FLAG)
+            return [ir.Assign(span, flag, 0.0), ir.LoopStart(span, REPEAT_LOOP, ir.Binary("EQ", flag, 0.0))]
+        if kind == "until":
+            return [ir.Assign(span, ir.Var(UNTIL_FLAG), item.condition), ir.LoopEnd(span, REPEAT_LOOP)]
+        if kind == "ret":
+            return [ir.Return(span)]
+        if kind == "frame":
+            return [self._frame(item, span)]
+        if kind == "setal":
+            return [ir.Alarm(span, item.value, "", "alarm {number} with SETAL")]
+        if kind == "repeat_section":
+            return [ir.Unsupported(span, "REPEAT of a program section", ("position",))]
+        if kind == "unsupported":
+            affects = () if item.name.startswith("a synchronised") or item.name.startswith("a curve") else ("position",)
+            return [ir.Unsupported(span, item.name, affects)]
+        return []  # proc, msg, workpiece, commands: no modelled effect
+
+    def _call(self, item: Item, span: Span, read: ReadBlock, path) -> ir.Op:
+        model = self.cycles.get(item.name)
+        if model is not None:
+            params, spans = self._cycle_arguments(item, model, read, path)
+            return ir.CycleCall(span, f"sinumerik.{item.name}", params, spans)
+        arguments = {str(index): (0.0 if arg is None else arg) for index, arg in enumerate(item.args)}
+        return ir.Call(span, "proc", item.name, 1.0, arguments)
+
+    def _mcall(self, item: Item, span: Span, read: ReadBlock, path) -> list[ir.Op]:
+        if not item.name:
+            return [ir.CycleCancel(span)]
+        model = self.cycles.get(item.name)
+        if model is None:
+            return [ir.CycleCancel(span), ir.Unsupported(span, f"MCALL of subprogram {item.name}", ("position",))]
+        params, spans = self._cycle_arguments(item, model, read, path)
+        return [ir.CycleCancel(span), ir.CycleDefine(span, f"sinumerik.{item.name}", params, spans)]
+
+    @staticmethod
+    def _cycle_arguments(item: Item, model: dict, read: ReadBlock, path) -> tuple[dict, dict]:
+        """Arguments named by position; omitted ones are 0 (seed L668-687). Extra
+        arguments are kept as ``#13`` etc. for the rules (alarm 12340), and ``#count`` /
+        ``#omitted`` say how the list was written."""
+        names = [argument[0] for argument in model["arguments"]]
+        params: dict = {}
+        spans: dict = {}
+        omitted = []
+        for index, arg in enumerate(item.args):
+            name = names[index] if index < len(names) else f"#{index + 1}"
+            params[name] = 0.0 if arg is None else arg
+            if arg is None:
+                omitted.append(name)
+            start, end = item.arg_spans[index]
+            spans[name] = Span.on_line(read.line, start, max(end, start + 1), path)
+        for name in names[len(item.args):]:
+            params[name] = 0.0
+        params["#count"] = float(len(item.args))
+        params["#omitted"] = float(len(omitted))
+        return params, spans
+
+    @staticmethod
+    def _frame(item: Item, span: Span) -> ir.Op:
+        values = {word.name: word.value for word in item.args if word.name in _AXES}
+        if item.name == "ATRANS" and len(values) == len(item.args):
+            return ir.CoordinateShift(span, "local", values)
+        return ir.Unsupported(span, f"{item.name} (a programmable frame)", ("position", "offsets"))
+
+    # ------------------------------------------------------------------ address words
+
+    def _words(self, words: list[Item], stages: dict, read: ReadBlock, path, block: ir.Block) -> None:
+        targets: dict = {}
+        incremental = set()
+        columns: dict = {}
+        arc: dict = {}
+        motion = None
+        motion_span = None
+        move_words: dict = {}
+        machine_move = axis_data = False
+        for item in words:
+            span = Span.on_line(read.line, item.start, item.end, path)
+            name, value = item.name, item.value
+            if name == "G":
+                if type(value) is not float:
+                    stages["modal"].append(ir.Unsupported(span, "a G code computed at run time", ("position",)))
+                    continue
+                motion_kind, machine = self._g_code(value, span, stages, block)
+                axis_data = axis_data or _code_key(value) in _AXIS_DATA_CODES
+                machine_move = machine_move or machine
+                if motion_kind is not None:
+                    motion, motion_span = motion_kind, span
+            elif name == "M" or re.fullmatch(r"M\d", name):
+                self._m_code(value, span, stages, block)
+            elif name in _AXES:
+                targets[name] = value
+                columns[name] = (item.start, item.end)
+                if item.mode == "IC":
+                    incremental.add(name)
+            elif name in _ARC_WORDS:
+                arc[name] = value
+            elif name == "CR":
+                arc["R"] = value
+            elif name == "F":
+                stages["feed"].append(ir.SetFeed(span, value))
+            elif name == "S" or re.fullmatch(r"S\d", name):
+                stages["speed"].append(ir.SetSpindleSpeed(span, value))
+            elif name == "T":
+                stages["tool"].append(ir.ToolSelect(span, value))
+            elif name == "D":
+                off = type(value) is float and value == 0.0
+                stages["offset"].append(ir.LengthOffset(span, "off" if off else "plus"))
+            elif name in ("SPOS", "SPOSA"):
+                stages["spindle"].append(ir.Spindle(span, "orient"))
+            elif name in ("TURN", "AP", "RP", "ANG", "CIP") or re.fullmatch(r"[A-Z]\d", name):
+                stages["motion"].append(ir.Unsupported(span, f"{name}= ({'polar or angle' if name in ('AP', 'RP', 'ANG') else 'extended'} programming)", ("position",)))
+            else:
+                move_words[name] = value
+        dwell = next((op for op in stages["dwell"] if isinstance(op, ir.Dwell)), None)
+        if dwell is not None:
+            dwell.seconds = move_words.get("F")
+            dwell.revolutions = move_words.get("S")
+            stages["feed"] = [op for op in stages["feed"] if not isinstance(op, ir.SetFeed)]
+            stages["speed"] = []
+        if axis_data:  # G74/G75/G110-G112/G58/G59...: the axis words are data, not a move
+            return
+        if machine_move:
+            if targets:
+                stages["motion"].append(ir.MachineMove(Span.on_line(read.line, read.start, read.end, path), targets))
+            return
+        if targets or arc or motion is not None:
+            spans = [columns[name] for name in columns]
+            if spans:
+                start = min(first for first, _ in spans)
+                end = max(last for _, last in spans)
+                move_span = Span.on_line(read.line, start, end, path)
+            else:
+                move_span = motion_span or Span.on_line(read.line, read.start, read.end, path)
+            if motion_span is not None:
+                move_span = move_span.cover(motion_span)
+            stages["motion"].append(ir.Move(move_span, motion, targets, arc or None, move_words, frozenset(incremental), columns))
+
+    def _g_code(self, value: float, span: Span, stages: dict, block: ir.Block) -> tuple[str | None, bool]:
+        key = _code_key(value)
+        entry = self.g.get(key)
+        if entry is None:
+            what = self.unsupported_g.get(key)
+            if what is not None:
+                stages["modal"].append(ir.Unsupported(span, what, ("position", "offsets")))
+            return None, False
+        effect = entry["effect"]
+        if effect == "move":
+            return entry["kind"], False
+        if effect == "modal":
+            stages["modal"].append(ir.SetModal(span, entry["modal"], entry["value"]))
+        elif effect == "comp":
+            stages["modal"].append(ir.CutterComp(span, entry["side"]))
+        elif effect == "work_offset":
+            stages["offset"].append(ir.WorkOffset(span, f"G{key}"))
+        elif effect == "dwell":
+            stages["dwell"].append(ir.Dwell(span, None))
+        elif effect == "machine_move":
+            return None, True
+        elif effect == "reference":
+            stages["motion"].append(ir.Unsupported(span, "G74 (reference point approach)", ("position",)))
+        return None, False
+
+    def _m_code(self, value, span: Span, stages: dict, block: ir.Block) -> None:
+        if type(value) is not float:
+            stages["stop"].append(ir.Unsupported(span, "an M code computed at run time", ("position",)))
+            return
+        entry = self.m.get(_code_key(value))
+        if entry is None:
+            return
+        effect = entry["effect"]
+        if effect == "stop":
+            stages["stop"].append(ir.Stop(span, entry["kind"]))
+        elif effect == "return":
+            stages["stop"].append(ir.Return(span))
+        elif effect == "spindle":
+            stages["spindle"].append(ir.Spindle(span, entry["state"]))
+        elif effect == "coolant":
+            stages["spindle"].append(ir.Coolant(span, entry["state"]))
+        elif effect == "tool_change":
+            # The new tool's first cutting edge (D1) becomes active with the change (840D default).
+            stages["tool"].extend([ir.ToolChange(span), ir.LengthOffset(span, "plus")])
+
+
+# ---------------------------------------------------------------------- frontend
+
+_PROGRAM_HEADER = re.compile(rb"(?mi)^[ \t]*%_N_(\w+?)_(MPF|SPF)\b")
+_PROC = re.compile(rb"(?mi)^[ \t]*(?:N\d+[ \t]*)?PROC[ \t]+(\w+)")
+_PROGRAM_END = re.compile(rb"(?mi)^[^;\n]*\bM0?(?:2|30)\b(?![ \t]*=)")
+_SUBPROGRAM_END = re.compile(rb"(?mi)^[^;\n]*\b(?:M17|RET)\b(?![ \t]*=)")
+_STRUCTURE_LINE = re.compile(r"^\s*(?:/\d?\s*)?(?:N\d+\s*)?(?:[A-Za-z_]\w*\s*:(?!=)\s*)?(IF|ELSE|ENDIF)\b(.*)$", re.IGNORECASE)
+
+
+class SinumerikFrontend:
+    def __init__(self, lowering: SinumerikLowering):
+        self.lowering = lowering
+        self._structures: dict = {}
+        self._proc_cache: dict = {}
+
+    def blocks(self, raw: bytes, line: int, path: str | None) -> list[ir.Block]:
+        return self.lowering.lower(read_line(decode_line(raw), line), path)
+
+    def is_plain(self, raw: bytes) -> bool:
+        return False
+
+    def plain_run(self, buffer, offset: int, line: int, limit: int = 1 << 20):
+        return None
+
+    def programs(self, buffer) -> list[tuple[str, int]]:
+        """Programs named by ``%_N_NAME_MPF/SPF`` headers; a file without one that starts
+        with ``PROC NAME`` is that subprogram, and one that ends with M17/RET and never with
+        M2/M30 is a subprogram stored on its own."""
+        found = [(match.group(1).decode().upper(), match.start()) for match in _PROGRAM_HEADER.finditer(buffer)]
+        if found:
+            return found
+        head = _first_code_line(buffer)
+        proc = _PROC.match(buffer, head) if head is not None else None
+        if proc:
+            return [(proc.group(1).decode().upper(), 0)]
+        if _PROGRAM_END.search(buffer) is None and _SUBPROGRAM_END.search(buffer) is not None:
+            return [("(SUBPROGRAM)", 0)]
+        return []
+
+    def is_subprogram(self, buffer, start: int, end: int) -> bool:
+        header = _PROGRAM_HEADER.match(buffer, start)
+        if header is not None:
+            return header.group(2).upper() == b"SPF"
+        head = _first_code_line(buffer[start:end])
+        if head is not None and _PROC.match(buffer, start + head):
+            return True
+        return _PROGRAM_END.search(buffer, start, end) is None
+
+    def tape_marks(self, buffer) -> list[int]:
+        return []
+
+    def program_name(self, name) -> str:
+        return name.upper() if isinstance(name, str) else f"{name:g}"
+
+    def describe_label(self, label) -> str:
+        if isinstance(label, str) and "#" in label:
+            kind, line = label.split("#")
+            return f"the {'ELSE/ENDIF' if kind == 'IF' else 'ENDIF'} matching the {kind} in line {line}"
+        return f"label {label}"
+
+    def variable_scope(self, name: str) -> str:
+        """R parameters and system variables ($...) are global; DEF variables and PROC
+        parameters belong to the program that defines them."""
+        return "global" if name[:1] in ("R", "$") and (name[:1] == "$" or name[1:].split("[")[0].isdigit()) else "local"
+
+    def system_variable(self, name: str, state):
+        if name.startswith(("$AA_IW[", "$AA_IM[", "$P_EP[")):
+            return None
+        return None
+
+    def label_offsets(self, buffer, label):
+        if isinstance(label, str) and "#" in label:
+            offset = self._structure(buffer).get(label)
+            return [] if offset is None else [offset]
+        text = str(label).upper()
+        if text.replace(".", "").isdigit():
+            pattern = re.compile(rb"(?mi)^[ \t]*(?:/\d?[ \t]*)?N0*" + str(int(float(text))).encode() + rb"(?![0-9.])")
+        else:
+            pattern = re.compile(rb"(?mi)^[ \t]*(?:/\d?[ \t]*)?(?:N\d+[ \t]*)?" + re.escape(text.encode()) + rb"[ \t]*(?::|\xef\xbc\x9a)")
+        return [match.start() for match in pattern.finditer(buffer)]
+
+    def _structure(self, buffer) -> dict:
+        """Where each IF and ELSE lands: a pass over the text matching IF/ELSE/ENDIF."""
+        key = (id(buffer), len(buffer))
+        found = self._structures.get(key)
+        if found is not None:
+            return found
+        found = {}
+        stack: list[list] = []
+        offset = 0
+        for number, raw in enumerate(bytes(buffer).split(b"\n"), start=1):
+            if b"IF" in raw.upper() or b"ELSE" in raw.upper():
+                text = decode_line(raw).split(";")[0]
+                match = _STRUCTURE_LINE.match(text)
+                if match:
+                    keyword = match.group(1).upper()
+                    if keyword == "IF" and not re.search(r"\bGOTO[FBC]?\b", match.group(2), re.IGNORECASE):
+                        stack.append([number, None])
+                    elif keyword == "ELSE" and stack:
+                        found[f"IF#{stack[-1][0]}"] = offset
+                        stack[-1][1] = number
+                    elif keyword == "ENDIF" and stack:
+                        opener, else_line = stack.pop()
+                        found.setdefault(f"IF#{opener}", offset)
+                        if else_line is not None:
+                            found[f"ELSE#{else_line}"] = offset
+            offset += len(raw) + 1
+        self._structures[key] = found
+        return found
+
+    def proc_parameters(self, buffer, start: int) -> list[tuple[str, bool]]:
+        """``(name, by_reference)`` of the PROC that opens the program at ``start``."""
+        key = (id(buffer), start)
+        if key not in self._proc_cache:
+            self._proc_cache[key] = _proc_parameters(buffer, start)
+        return self._proc_cache[key]
+
+    def program_context(self, source) -> Context:
+        return program_context(bytes(source.buffer))
+
+
+def _first_code_line(buffer) -> int | None:
+    offset = 0
+    for raw in bytes(buffer[:65536]).split(b"\n"):
+        text = raw.strip()
+        if text and not text.startswith((b";", b"%")):
+            return offset
+        offset += len(raw) + 1
+    return None
+
+
+def _proc_parameters(buffer, start: int) -> list[tuple[str, bool]]:
+    end = min(len(buffer), start + 65536)
+    offset = start
+    for raw in bytes(buffer[start:end]).split(b"\n")[:50]:
+        read = read_line(decode_line(raw), 1)
+        for item in read.items:
+            if item.kind == "proc":
+                return [(name, by_reference) for _type, name, by_reference in item.value]
+        if read.items and not any(item.kind in ("command", "msg") for item in read.items):
+            return []
+        offset += len(raw) + 1
+    return []
+
+
+# ---------------------------------------------------------------------- context from the program
+
+_WORKPIECE = re.compile(r"^\s*(?:N\d+\s*)?WORKPIECE\s*\((.*)\)", re.IGNORECASE)
+_TOOL_DATA = re.compile(r"^\s*(?:N\d+\s*)?\$TC_DP(\d+)\s*\[\s*(\d+)\s*,\s*(\d+)\s*\]\s*=\s*([-+]?(?:\d+\.?\d*|\.\d+))\s*(?:;.*)?$", re.IGNORECASE)
+# Tool type codes (seed B L81, A section 3.1): 1xx mills, 2xx drills, 5xx turning tools.
+_TOOL_TYPES = {1: "endmill", 2: "drill", 5: "turning"}
+
+
+def program_context(buffer: bytes) -> Context:
+    """The blank from ``WORKPIECE(...)`` and the tools from ``$TC_DP`` assignments."""
+    context = Context()
+    tools: dict[int, dict] = {}
+    for number, raw in enumerate(buffer.split(b"\n"), start=1):
+        upper = raw.upper()
+        if b"WORKPIECE" in upper:
+            stock = _workpiece(decode_line(raw).split(";")[0], number)
+            if stock is not None and context.stock is None:
+                context.stock = stock
+        elif b"$TC_DP" in upper:
+            match = _TOOL_DATA.match(decode_line(raw))
+            if match and match.group(3) == "1":
+                tools.setdefault(int(match.group(2)), {})[int(match.group(1))] = float(match.group(4))
+    for number, data in tools.items():
+        kind = _TOOL_TYPES.get(int(data.get(1, 0)) // 100)
+        context.tools[number] = Tool(number, type=kind, radius=data.get(6), length=data.get(3), origin="program ($TC_DP)")
+    return context
+
+
+def _workpiece(text: str, line: int) -> Stock | None:
+    """``WORKPIECE(,"",,"RECTANGLE",0,ZA,ZI,ZB,L,W)``, ``"BOX"`` with two corners
+    X0,Y0,X1,Y1, ``"CYLINDER"`` with a diameter (ShopMill/ShopTurn blank layout, †: the
+    references do not define it). ZI below ZA is the absolute bottom; a positive ZI is a
+    depth below ZA."""
+    match = _WORKPIECE.match(normalize_quotes(text))
+    if match is None:
+        return None
+    args = [arg.strip().strip('"').upper() for arg in match.group(1).split(",")]
+    numbers = []
+    for arg in args[4:]:
+        try:
+            numbers.append(float(arg) if arg else 0.0)
+        except ValueError:
+            return None
+    if len(args) < 4 or len(numbers) < 4:
+        return None
+    kind = args[3]
+    top, bottom = numbers[1], numbers[2]
+    if bottom > top:
+        bottom = top - bottom
+    span = Span(line, 1, line, len(text) + 1)
+    try:
+        if kind == "RECTANGLE" and len(numbers) >= 6:
+            length, width = numbers[4], numbers[5]
+            return Stock.box((-length / 2, length / 2), (-width / 2, width / 2), (bottom, top), "program (WORKPIECE)", span)
+        if kind == "BOX" and len(numbers) >= 8:
+            return Stock.box((numbers[4], numbers[6]), (numbers[5], numbers[7]), (bottom, top), "program (WORKPIECE)", span)
+        if kind == "CYLINDER" and len(numbers) >= 5:
+            return Stock.cylinder(numbers[4], (bottom, top), "program (WORKPIECE)", span)
+    except ValueError:
+        return None
+    return None
+
+
+def normalize_quotes(text: str) -> str:
+    return text.replace("“", '"').replace("”", '"').replace("„", '"').replace("（", "(").replace("）", ")").replace("，", ",")
+
+
+def setup(settings, detection, project) -> DialectSetup:
+    loaded = tables()
+    machine = settings.machine or project.machine.kind or detection.machine or "mill"
+    power_on = dict(loaded["codes"]["power_on"])
+    if machine == "lathe":
+        power_on.update(loaded["codes"]["power_on_lathe"])
+    models = {f"sinumerik.{name}": {**model, "called_after_motion": True} for name, model in loaded["cycles"].items()}
+    limits = {"d_register_max": 32000.0, "h_register_max": 32000.0, "tool_number_max": 32000.0}
+    return DialectSetup(SinumerikFrontend(SinumerikLowering()), power_on, models, None, machine, {}, None, 0.0, limits)

@@ -1,0 +1,171 @@
+"""The motion of the SINUMERIK standard cycles, run through ``ncverify.cycles.register_shape``.
+
+Drilling cycles CYCLE81-89/840 make one hole at the current position on the shared hole
+model (seed A L1934-2146): rapid to ``SP = RFP + s*SDIS``, infeed to the depth, retract, rapid
+to ``RTP``, where ``s`` is the sign of ``RTP - RFP`` and the depth is ``RFP - s*DPR`` when DPR is
+programmed, else ``DP``. Under ``MCALL`` the interpreter calls the same shape after every
+positioning move. HOLES1/HOLES2/CYCLE801 move with G0 from position to position and run the
+modal cycle at each (seed A L4476-4970). Milling and turning cycles are reported as cycle
+runs for the parameter rules; their inner motion is not modelled, so the position they end
+at is known only on the infeed axis (RTP) for the cycles that state it.
+"""
+from __future__ import annotations
+
+import math
+
+from .. import values
+from ..cycles import register_shape
+from ..trace import CycleRun, Hole
+from ..values import VACANT
+
+_CHECKED_LEVELS = ("RTP", "RFP", "SDIS", "DP", "DPR")
+
+
+def levels(params: dict, absolute_depth_only: bool = False):
+    """``(s, SP, DEPTH)`` from RTP, RFP, SDIS, DP, DPR (None where undecidable).
+    ``s`` = +1 when the retract plane lies on the positive side of the reference plane."""
+    rtp, rfp = _get(params, "RTP"), _get(params, "RFP")
+    sdis, dp = _get(params, "SDIS"), _get(params, "DP")
+    dpr = 0.0 if absolute_depth_only else _get(params, "DPR")
+    side = direction(rtp, rfp)
+    if side is None and type(rtp) is float and rtp == rfp and dpr == 0.0 and type(dp) is float:
+        side = 1.0 if dp < rfp else -1.0
+    if side is None:
+        return None, None, None
+    start = values.add(rfp, values.mul(side, values.absolute(sdis)))
+    if dpr == 0.0:
+        depth = dp
+    else:
+        depth = values.sub(rfp, values.mul(side, values.absolute(dpr)))
+    return side, start, depth
+
+
+def direction(rtp, rfp) -> float | None:
+    difference = values.sub(rtp, rfp)
+    low, high = values.interval(difference)
+    if low > 0:
+        return 1.0
+    if high < 0:
+        return -1.0
+    return None
+
+
+def _get(params: dict, name: str):
+    """A parameter by its name with or without the leading underscore of the newer cycles."""
+    for key in (name, f"_{name}"):
+        value = params.get(key)
+        if value is not None and value is not VACANT and not isinstance(value, str):
+            return value
+    return 0.0
+
+
+def _report_run(runner, op, block, model, params):
+    interp = runner.interp
+    interp.observer.cycle_run(CycleRun(op.cycle, model, op.span, block, params, dict(op.param_spans)), runner.state)
+
+
+def drill(runner, op, block, model, params):
+    """One hole at the current position (CYCLE81-89, CYCLE840)."""
+    _report_run(runner, op, block, model, params)
+    state = runner.state
+    axis = state.plane_axes[2]
+    side, start, depth = levels(params)
+    rtp = _get(params, "RTP")
+    name = op.cycle
+    if side is None or depth is None:
+        runner.interp._fault("core.unsupported-code", op.span, f"{name.split('.')[-1]}: the drilling direction cannot be told from RTP and RFP here; the hole is not analysed",
+                             "unknown", "RTP and RFP depend on free parameters")
+        state.move_to({axis: None})
+        return None
+    position = dict(state.position)
+    if side > 0:
+        definition = state.cycle.definition if state.cycle is not None else op.span
+        spans = {"Z": op.param_spans.get("DP", op.span), "R": op.param_spans.get("RFP", op.span)}
+        spans.update(op.param_spans)
+        runner.interp.observer.hole(Hole(name, model, op.span, block, axis, position, rtp, start, depth, dict(params), spans, (), definition), state)
+    runner._rapid_to({axis: start}, op.span, block, "approach", name)
+    runner._rapid_to({axis: depth}, op.span, block, "infeed", name, "feed")
+    if model.get("retract") == "feed":
+        runner._rapid_to({axis: start}, op.span, block, "out-of-hole", name, "feed")
+        runner._rapid_to({axis: rtp}, op.span, block, "retract", name)
+    else:
+        runner._rapid_to({axis: rtp}, op.span, block, "out-of-hole", name)
+    return None
+
+
+def pattern(runner, op, block, model, params):
+    """HOLES1 / HOLES2 / CYCLE801: G0 from position to position, the modal cycle at each."""
+    _report_run(runner, op, block, model, params)
+    interp, state = runner.interp, runner.state
+    positions = pattern_positions(op.cycle.split(".")[-1], params)
+    if positions is None:
+        interp._fault("core.unsupported-code", op.span, f"{op.cycle.split('.')[-1]}: the positions depend on free parameters; the pattern is not analysed",
+                      "unknown", "pattern parameters depend on free parameters")
+        first, second, _ = state.plane_axes
+        state.move_to({first: None, second: None})
+        return None
+    modal = state.cycle
+    first, second, _ = state.plane_axes
+    for abscissa, ordinate in positions:
+        runner._rapid_to({first: abscissa, second: ordinate}, op.span, block, "between-holes", op.cycle)
+        if modal is not None:
+            run = modal_shape(modal.model)
+            if run is not None:
+                call = type(op)(op.span, modal.cycle, {}, dict(modal.param_spans))
+                run(runner, call, block, modal.model, dict(modal.params))
+    return None
+
+
+def pattern_positions(cycle: str, params: dict):
+    """The plane positions of a pattern cycle, or None when a value is not a number."""
+    def number(name):
+        value = params.get(name, 0.0)
+        return value if type(value) is float else None
+
+    if cycle == "HOLES1":
+        names = ("SPCA", "SPCO", "STA1", "FDIS", "DBH", "NUM")
+    elif cycle == "HOLES2":
+        names = ("CPA", "CPO", "RAD", "STA1", "INDA", "NUM")
+    else:
+        names = ("_SPCA", "_SPCO", "_STA", "_DIS1", "_DIS2", "_NUM1", "_NUM2")
+    found = [number(name) for name in names]
+    if any(value is None for value in found) or any(value > 1000 for value in found[5:]):
+        return None
+    if cycle == "HOLES1":
+        x, y, angle, first, step, count = found
+        cos, sin = math.cos(math.radians(angle)), math.sin(math.radians(angle))
+        return [(x + (first + k * step) * cos, y + (first + k * step) * sin) for k in range(max(int(count), 0))]
+    if cycle == "HOLES2":
+        x, y, radius, start, increment, count = found
+        count = max(int(count), 0)
+        increment = increment or (360.0 / count if count else 0.0)
+        return [(x + radius * math.cos(math.radians(start + k * increment)), y + radius * math.sin(math.radians(start + k * increment)))
+                for k in range(count)]
+    x, y, angle, column, row, columns, rows = found
+    cos, sin = math.cos(math.radians(angle)), math.sin(math.radians(angle))
+    return [(x + i * column * cos - j * row * sin, y + i * column * sin + j * row * cos)
+            for j in range(max(int(rows), 0)) for i in range(max(int(columns), 0))]
+
+
+def one_shot(runner, op, block, model, params):
+    """A milling, turning or swivel cycle: reported for the parameter rules; the position
+    afterwards is RTP on the infeed axis for milling cycles, unknown in the plane."""
+    _report_run(runner, op, block, model, params)
+    state = runner.state
+    first, second, axis = state.plane_axes
+    if model.get("shape") == "sinumerik_mill":
+        rtp = params.get("RTP", params.get("_RTP"))
+        state.move_to({first: None, second: None, axis: rtp if type(rtp) is float else None})
+    elif model.get("shape") == "sinumerik_turn" or "position" in model.get("affects", ()):
+        state.move_to(dict.fromkeys(state.position))
+    return None
+
+
+def modal_shape(model: dict):
+    return _SHAPES.get(model.get("shape"))
+
+
+_SHAPES = {"sinumerik_drill": drill, "sinumerik_pattern": pattern, "sinumerik_mill": one_shot,
+           "sinumerik_turn": one_shot, "sinumerik_other": one_shot}
+for _shape, _run in _SHAPES.items():
+    register_shape(_shape, _run)
