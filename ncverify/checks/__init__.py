@@ -4,3 +4,4 @@ from . import holes, machine, motion, stock, tooling, tools  # noqa: F401
 from . import cycle_hazards  # noqa: F401
 from . import modal_hazards  # noqa: F401
 from . import fagor  # noqa: F401
+from . import heidenhain  # noqa: F401

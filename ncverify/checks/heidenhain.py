@@ -1,0 +1,140 @@
+"""Klartext cycle hazards that need the tool table or the machine state (reference A §9).
+
+Parameter-only hazards are constraints in ``rules/heidenhain/*.md``; faults the cycle
+runner raises (a call with no cycle, RL/RR at a call) are reported from the trace.
+"""
+from __future__ import annotations
+
+from .. import pocket, values
+from ..check import hazard, rule, show
+from .machine import _ReportsMissingContext
+
+_DEPTH_CHECKED = {200, 201, 202, 203, 205, 208, 241, 206, 207, 209, 251, 252, 253, 254, 256, 257, 258}
+_PLUNGE_CHECKED = {251, 252, 253, 254}
+
+
+def _number(cycle: str) -> int | None:
+    if not cycle.startswith("heidenhain."):
+        return None
+    tail = cycle.rsplit(".", 1)[-1]
+    return int(tail) if tail.isdigit() else None
+
+
+def _tool(rule_instance, state, span, rule_id, what: str):
+    """The tool in the spindle from TOOL.T / the project file, or None (said once)."""
+    tools = rule_instance.checker.context.get("tools") or {}
+    number = state.tool_in_spindle
+    tool = tools.get(int(number)) if type(number) is float else None
+    if tool is None:
+        rule_instance.missing(rule_id, span, "no tool table entry for the tool in the spindle (TOOL.T beside the program, or [tools.N])")
+        return None
+    if getattr(tool, what) is None:
+        rule_instance.missing(rule_id, span, f"tool T{show(number)} has no {what.replace('_', ' ')} in the tool table")
+        return None
+    return tool
+
+
+class _CycleRule(_ReportsMissingContext):
+    """Judges every cycle execution, hole or pocket, once per definition and place."""
+
+    def hole(self, hole, state):
+        self.judge_cycle(_number(hole.cycle), hole.params, hole.param_spans, hole.definition or hole.span, state)
+
+    def cycle_run(self, run, state):
+        if not run.first_block:
+            self.judge_cycle(_number(run.cycle), run.params, run.param_spans, run.span, state)
+
+    def judge_cycle(self, number, params, spans, span, state): ...
+
+
+@rule("heidenhain.usable-length")
+class UsableLength(_CycleRule):
+    """H4: the control stops when the tool's usable length LU is shorter than the depth."""
+
+    def judge_cycle(self, number, params, spans, span, state):
+        depth = params.get("Q201")
+        if number not in _DEPTH_CHECKED or depth is None or not self.first_time(state, ("usable-length", span)):
+            return
+        tool = _tool(self, state, span, "heidenhain.usable-length", "usable_length")
+        if tool is None:
+            return
+        verdict = self.checker.judge(hazard(">", values.absolute(depth), tool.usable_length), state)
+        self.checker.report_verdict("heidenhain.usable-length", spans.get("Q201", span),
+                                    f"cycle {number}: depth Q201={show(depth)} is deeper than the usable length LU={tool.usable_length:g} of tool T{show(state.tool_in_spindle)}: "
+                                    "the control stops with an error before machining (seed L1625-1626)", verdict, state)
+
+
+@rule("heidenhain.tap-pitch")
+class TapPitch(_CycleRule):
+    """H9: with a PITCH in the tool table, 207/209 compare it with Q239 and stop on a mismatch."""
+
+    def judge_cycle(self, number, params, spans, span, state):
+        pitch = params.get("Q239")
+        if number not in (207, 209) or pitch is None or not self.first_time(state, ("tap-pitch", span)):
+            return
+        tool = _tool(self, state, span, "heidenhain.tap-pitch", "pitch")
+        if tool is None:
+            return
+        verdict = self.checker.judge(hazard(">", values.absolute(values.sub(values.absolute(pitch), abs(tool.pitch))), 1e-6), state)
+        self.checker.report_verdict("heidenhain.tap-pitch", spans.get("Q239", span),
+                                    f"cycle {number}: thread pitch Q239={show(pitch)} differs from the PITCH {tool.pitch:g} of tap T{show(state.tool_in_spindle)} in the tool table: "
+                                    "the control stops with an error (seed L3918-3920)", verdict, state)
+
+
+@rule("heidenhain.plunge-angle")
+class PlungeAngle(_CycleRule):
+    """H11: a helical or reciprocating plunge needs the tool's ANGLE; 252's vertical plunge
+    takes only ANGLE 0 or 90."""
+
+    def judge_cycle(self, number, params, spans, span, state):
+        strategy = params.get("Q366")
+        if number not in _PLUNGE_CHECKED or type(strategy) is not float or not self.first_time(state, ("plunge-angle", span)):
+            return
+        if strategy == 0.0 and number != 252:
+            return
+        tool = _tool(self, state, span, "heidenhain.plunge-angle", "angle")
+        if tool is None:
+            return
+        where = spans.get("Q366", span)
+        if strategy != 0.0 and tool.angle == 0.0:
+            self.report("heidenhain.plunge-angle", where, f"cycle {number}: plunging strategy Q366={strategy:g} needs the tool's plunge angle, but ANGLE of "
+                        f"T{show(state.tool_in_spindle)} is 0: the control stops with an error (seed L964-975)")
+        elif number == 252 and strategy == 0.0 and tool.angle not in (0.0, 90.0):
+            self.report("heidenhain.plunge-angle", where, f"cycle 252: vertical plunge Q366=0 needs ANGLE 0 or 90 in the tool table, T{show(state.tool_in_spindle)} "
+                        f"has {tool.angle:g}: the control stops with an error (seed L5810-5817)")
+
+
+@rule("heidenhain.tool-too-large")
+class ToolTooLarge(_CycleRule):
+    """H12/H33: the tool must fit the pocket, slot or bore it is to cut; the largest tool
+    that would is reported."""
+
+    def judge_cycle(self, number, params, spans, span, state):
+        if number not in (208, 251, 252, 253, 254) or not self.first_time(state, ("tool-too-large", span)):
+            return
+        tool = _tool(self, state, span, "heidenhain.tool-too-large", "radius")
+        if tool is None:
+            return
+        fit, where = self._fit(number, params, spans, tool.radius, span)
+        if fit is None:
+            self.missing("heidenhain.tool-too-large", span, "a pocket size that depends on a free parameter")
+            return
+        if not fit.fits:
+            self.report("heidenhain.tool-too-large", where, f"cycle {number}: {fit.reason} (tool T{show(state.tool_in_spindle)}, R={tool.radius:g}); "
+                        f"the largest tool radius that fits is {fit.largest_radius:g}")
+
+    @staticmethod
+    def _fit(number, params, spans, radius, span):
+        def concrete(*names):
+            found = [params.get(name, 0.0) for name in names]
+            return found if all(type(value) is float for value in found) else None
+
+        if number == 251:
+            found = concrete("Q218", "Q219", "Q220")
+            return (pocket.rectangle_fit(*found, radius, strict=True) if found else None), spans.get("Q219", span)
+        if number in (252, 208):
+            found = concrete("Q223" if number == 252 else "Q335")
+            strict = number == 252  # a pocket needs room to plunge; 208 may plunge straight at 2R = Q335 (seed L2869-2870)
+            return (pocket.circle_fit(found[0], radius, strict=strict) if found else None), spans.get("Q223" if number == 252 else "Q335", span)
+        found = concrete("Q219")
+        return (pocket.slot_fit(found[0], radius) if found else None), spans.get("Q219", span)

@@ -1,0 +1,807 @@
+"""Stage 2 for HEIDENHAIN TNC 620 Klartext: blocks into the IR, and the dialect's frontend.
+
+Facts come from ``shared/reference/heidenhain-tnc620-a.md`` / ``-b.md`` (seed line
+numbers in the comments and in ``dialects/heidenhain/cycles.toml``).
+
+Klartext constructs whose effect depends on state the lowering cannot see (the circle
+centre ``CC``, polar coordinates, the cycle that ``CYCL CALL`` runs, a label call that is
+a section repeat or a subprogram call, the end of a called program) are lowered to
+``ir.CycleCall`` operations of pseudo cycles ``heidenhain.@...`` whose motion is run by
+:mod:`ncverify.lower.heidenhain_run` through ``cycles.register_shape``. Everything else is
+plain IR: ``L`` is a ``Move``, ``R0/RL/RR`` a ``CutterComp``, ``TOOL CALL`` a tool change
+with the length compensation Klartext applies by itself, ``FN 9``-``FN 12`` conditional
+jumps, Q/QL/QR parameters ``Assign``.
+"""
+from __future__ import annotations
+
+import re
+import tomllib
+
+from .. import ir
+from ..context import Context, Stock, Tool
+from ..dialect import DialectSetup
+from ..read.heidenhain import Cursor, ReadError, continues as _continues, split
+from ..resources import data_dir
+from ..source import Span
+from . import heidenhain_run
+
+_AXES = ("X", "Y", "Z", "A", "B", "C", "U", "V", "W")
+_TOOL_AXIS_PLANE = {"Z": "xy", "X": "yz", "Y": "zx"}
+_PLANE_AXES = {"xy": ("X", "Y"), "yz": ("Y", "Z"), "zx": ("Z", "X")}
+_FN_ARITHMETIC = {1: "+", 2: "-", 3: "*", 4: "/"}
+_FN_CONDITION = {9: "EQ", 10: "NE", 11: "GT", 12: "LT"}
+_CONDITION_WORDS = {"EQU": "EQ", "NE": "NE", "GT": "GT", "LT": "LT"}
+# Statements that read fine but whose effect is not modelled: (affects position?, what).
+_UNMODELLED = {
+    "PLANE": (True, "PLANE (tilting the working plane)"), "TCH": (True, "TCH PROBE (a touch-probe cycle)"),
+    "FUNCTION": (False, "FUNCTION"), "SPEC": (False, "SPEC FCT"), "DECLARE": (False, "DECLARE"),
+    "SEL": (False, "SEL"), "GLOBAL": (False, "GLOBAL DEF"), "CONTOUR": (False, "CONTOUR DEF"),
+    "FK": (True, "FK free contour programming"), "FPOL": (False, "FPOL"), "FL": (True, "FK free contour programming"),
+    "FLT": (True, "FK free contour programming"), "FC": (True, "FK free contour programming"), "FCT": (True, "FK free contour programming"),
+    "FSELECT": (True, "FK free contour programming"), "LN": (True, "LN (3-D line with surface normal)"), "WAIT": (False, "WAIT"),
+    "TABDATA": (False, "TABDATA"), "OPEN": (False, "OPEN FILE"), "PRESET": (True, "PRESET"), "MONITORING": (False, "MONITORING"),
+    "POLARKIN": (True, "POLARKIN"), "LIFTOFF": (False, "LIFTOFF"), "SYSCALL": (False, "SYSCALL"),
+}
+_M_SPINDLE = {3.0: "cw", 4.0: "ccw", 5.0: "off", 13.0: "cw", 14.0: "ccw", 19.0: "orient"}
+_M_COOLANT = {7.0: "mist", 8.0: "flood", 9.0: "off", 13.0: "flood", 14.0: "flood"}
+_M_STOP = {0.0: "stop", 1.0: "optional", 2.0: "end", 30.0: "end"}
+
+
+def _param_name(var: ir.Var) -> str:
+    return var.name if isinstance(var.name, str) else "Q?"
+
+
+class KlartextLowering:
+    """Turns one logical block into IR blocks."""
+
+    def __init__(self, tool_names: dict | None = None):
+        self.tool_names = tool_names if tool_names is not None else {}
+
+    def lower(self, raw: bytes, line: int, path: str | None) -> list[ir.Block]:
+        block = ir.Block(line, 1, max(len(raw.split(b"\n", 1)[0]), 1) + 1, [])
+        try:
+            text = split(raw, line, path)
+        except ReadError as error:
+            block.notes.append(ir.Note("core.syntax", str(error), error.span))
+            return [block]
+        block.start_column, block.end_column = text.first_column, max(text.end_column, text.first_column + 1)
+        block.comments = tuple(text.comments)
+        tokens = text.tokens
+        end_span = Span(line, block.end_column, line, block.end_column, path)
+        cursor = Cursor(tokens, end_span)
+        if cursor.take_symbol("/"):
+            block.skippable = True
+        if cursor.peek() is not None and cursor.peek().kind == "number":
+            cursor.next()  # the block number
+        if cursor.take_symbol("/"):
+            block.skippable = True
+        if cursor.at_end():
+            return [block]
+        try:
+            self._statement(cursor, block, path)
+            if not cursor.at_end():
+                token = cursor.peek()
+                raise ReadError(f"unexpected {token.text!r} at the end of the block", token.span)
+        except ReadError as error:
+            block.ops = []
+            block.notes.append(ir.Note("core.syntax", str(error), error.span))
+        return [block]
+
+    # ------------------------------------------------------------------ statements
+
+    def _statement(self, cursor: Cursor, block: ir.Block, path) -> None:
+        if cursor.take_symbol("*"):
+            cursor.index = len(cursor.tokens)  # a structure block: "* - text"
+            return
+        token = cursor.peek()
+        if token.kind != "name":
+            raise ReadError(f"a Klartext block cannot start with {token.text!r}", token.span)
+        word = token.text
+        handler = _STATEMENTS.get(word)
+        if handler is not None:
+            handler(self, cursor, block, path)
+            return
+        if word in ("Q", "QL", "QR", "QS"):
+            self._assignment(cursor, block)
+            return
+        if word in _UNMODELLED:
+            affects_position, what = _UNMODELLED[word]
+            start = cursor.next().span
+            cursor.index = len(cursor.tokens)
+            block.ops.append(ir.Unsupported(cursor.rest_span(start), f"{what} is read but not modelled", ("position",) if affects_position else ()))
+            return
+        raise ReadError(f"{word!r} does not start a Klartext block", token.span)
+
+    def _begin(self, cursor, block, path):
+        cursor.expect_name("BEGIN")
+        cursor.expect_name("PGM")
+        block.program_start = self._program_name(cursor)
+        unit = cursor.take_name("MM", "INCH")
+        if unit is not None:
+            block.ops.append(ir.SetModal(unit.span, "units", "mm" if unit.text == "MM" else "inch"))
+
+    def _end(self, cursor, block, path):
+        start = cursor.expect_name("END").span
+        cursor.expect_name("PGM")
+        self._program_name(cursor)
+        cursor.take_name("MM", "INCH")
+        block.ops.append(_pseudo(cursor.rest_span(start), "end_pgm", {}))
+
+    @staticmethod
+    def _program_name(cursor: Cursor, up_to_unit: bool = True) -> str:
+        """A program name or path: letters, digits and the symbols a path holds, up to the
+        unit (a called program's path takes the whole block: ``...\\90H7-60mm.H``)."""
+        parts = []
+        while not cursor.at_end() and not (up_to_unit and cursor.is_name("MM", "INCH") and cursor.index + 1 == len(cursor.tokens)):
+            token = cursor.next()
+            parts.append(token.text.strip('"'))
+        if not parts:
+            raise ReadError("the program name is missing", cursor.here())
+        return "".join(parts)
+
+    def _blk(self, cursor, block, path):
+        cursor.expect_name("BLK")
+        cursor.expect_name("FORM")
+        cursor.index = len(cursor.tokens)  # the stock is read by program_context
+
+    def _tool(self, cursor, block, path):
+        start = cursor.expect_name("TOOL").span
+        kind = cursor.expect_name("CALL", "DEF")
+        number = self._tool_number(cursor)
+        if kind.text == "DEF":
+            cursor.index = len(cursor.tokens)
+            if number is not None:
+                block.ops.append(ir.ToolSelect(cursor.rest_span(start), number))
+            return
+        axis = cursor.take_name("X", "Y", "Z")
+        words = self._tool_words(cursor)
+        span = cursor.rest_span(start)
+        if "S" in words:
+            block.ops.append(ir.SetSpindleSpeed(span, words["S"]))
+        if number is not None:
+            block.ops.append(ir.ToolSelect(span, number))
+            block.ops.append(_pseudo(span, "tool_length", {"on": 0.0}))
+            block.ops.append(ir.ToolChange(span))
+            block.ops.append(_pseudo(span, "tool_length", {"on": 1.0, "T": number}))
+        if axis is not None:
+            block.ops.append(ir.SetModal(axis.span, "plane", _TOOL_AXIS_PLANE[axis.text]))
+        if "F" in words:
+            block.ops.append(_pseudo(span, "tool_feed", {"F": words["F"]}))
+
+    def _tool_number(self, cursor: Cursor):
+        token = cursor.peek()
+        if token is None:
+            return None
+        if token.kind == "number":
+            cursor.next()
+            return float(token.text.replace(",", "."))
+        if token.kind == "string":
+            cursor.next()
+            name = token.text.strip('"')
+            return self.tool_names.get(name.upper(), name)
+        if cursor.is_name("Q", "QL", "QR"):
+            return cursor.parameter()
+        if cursor.is_name("QS"):
+            cursor.parameter()
+            return None
+        return None
+
+    @staticmethod
+    def _tool_words(cursor: Cursor) -> dict:
+        words = {}
+        while not cursor.at_end():
+            name = cursor.take_name()
+            if name is None:
+                raise ReadError("expected a TOOL CALL word (S, F, DL, DR, DR2)", cursor.here())
+            if name.text == "DR" and cursor.peek() is not None and cursor.peek().text == "2" and cursor.peek(1) is not None and cursor.peek(1).text in "+-":
+                cursor.next()
+            if name.text in ("S", "F", "DL", "DR", "DR2", "DL2"):
+                if cursor.take_name("AUTO"):
+                    continue
+                words[name.text] = cursor.value()
+            elif name.text in ("SPINDLE", "DR2TABLE", "DQ", "DS"):
+                cursor.index = len(cursor.tokens)
+            else:
+                raise ReadError(f"{name.text!r} is not a TOOL CALL word", name.span)
+        return words
+
+    # ------------------------------------------------------------------ motion
+
+    def _motion_words(self, cursor: Cursor, block: ir.Block, allowed_extra=()) -> dict:
+        """The words after a path function: coordinates (``I`` = incremental), R0/RL/RR,
+        F / FMAX / FAUTO, M functions, and the ``extra`` words of the function."""
+        found = {"targets": {}, "incremental": set(), "columns": {}, "m": [], "extra": {}, "feed": None, "rapid": False, "comp": None}
+        while not cursor.at_end():
+            token = cursor.next()
+            if token.kind != "name":
+                raise ReadError(f"unexpected {token.text!r}", token.span)
+            word = token.text
+            if word in _AXES or (word[:1] == "I" and word[1:] in _AXES):
+                axis = word[-1]
+                value = cursor.value()
+                found["targets"][axis] = value
+                found["columns"][axis] = (token.span.column - 1, cursor.tokens[cursor.index - 1].span.end_column - 1)
+                if word[0] == "I":
+                    found["incremental"].add(axis)
+            elif word == "R" and cursor.peek() is not None and cursor.peek().text == "0" and "R" not in allowed_extra:
+                cursor.next()
+                found["comp"] = ("off", token.span)
+            elif word == "R" and _bare(cursor) and "R" not in allowed_extra:
+                pass  # a bare 'R' (older exports): the compensation stays as it is
+            elif word == "M" and _bare(cursor):
+                pass  # a bare 'M' (older exports): no M function
+            elif word in ("RL", "RR"):
+                found["comp"] = ("left" if word == "RL" else "right", token.span)
+            elif word == "R" and cursor.peek() is not None and cursor.peek().text == "0":
+                cursor.next()
+                found["comp"] = ("off", token.span)
+            elif word == "FMAX":
+                found["rapid"] = True
+            elif word in ("FAUTO", "FU", "FZ"):
+                found["feed"] = ir.Var("@TOOLF") if word == "FAUTO" else None
+                if word != "FAUTO":
+                    cursor.value()
+            elif word == "F" and _bare(cursor, ("MAX", "AUTO")):
+                pass  # a bare 'F' (older exports): the feed stays as it is
+            elif word == "F":
+                if cursor.take_name("MAX"):
+                    found["rapid"] = True
+                elif cursor.take_name("AUTO"):
+                    found["feed"] = ir.Var("@TOOLF")
+                else:
+                    found["feed"] = cursor.value()
+            elif word == "M":
+                number, span = cursor.expect_number()
+                found["m"].append((number, span))
+                if number == 140.0 and cursor.take_name("MB"):
+                    found["extra"]["MB"] = "MAX" if cursor.take_name("MAX") else cursor.value()
+            elif word in allowed_extra:
+                if word in ("DR",):
+                    sign = cursor.take_symbol("+", "-")
+                    if sign is None:
+                        raise ReadError("DR needs + or -", cursor.here())
+                    found["extra"]["DR"] = sign.text
+                else:
+                    found["extra"][word] = cursor.value()
+            else:
+                raise ReadError(f"{word!r} is not a word of this block", token.span)
+        return found
+
+    def _line(self, cursor, block, path):
+        start = cursor.expect_name("L")
+        words = self._motion_words(cursor, block)
+        self._emit_motion(block, words, start.span, cursor, "rapid" if words["rapid"] else "linear")
+
+    def _emit_motion(self, block, words, start_span, cursor, kind, arc_pseudo=None):
+        span = cursor.rest_span(start_span)
+        machine = any(number in (91.0, 92.0) for number, _ in words["m"])
+        if words["feed"] is not None:
+            block.ops.append(ir.SetFeed(span, words["feed"]))
+        self._m_before(block, words["m"])
+        if words["comp"] is not None:
+            block.ops.append(ir.CutterComp(words["comp"][1], words["comp"][0]))
+        if arc_pseudo is not None:
+            block.ops.append(arc_pseudo)
+        elif words["targets"]:
+            if machine:
+                block.ops.append(ir.MachineMove(span, dict(words["targets"])))
+            elif kind == "rapid" and "Z" in words["targets"] and set(words["targets"]) <= {"X", "Y", "Z"}:
+                block.ops.append(_pseudo(span, "lift", {("I" if axis in words["incremental"] else "") + axis: value for axis, value in words["targets"].items()}))
+            else:
+                block.ops.append(ir.Move(span, kind, dict(words["targets"]), None, {}, frozenset(words["incremental"]), words["columns"]))
+        if "MB" in words["extra"]:
+            block.ops.append(_pseudo(span, "retract", {"MB": words["extra"]["MB"]}))
+        calls = any(number in (89.0, 99.0) for number, _ in words["m"])
+        if words["targets"] and not calls and not machine:
+            block.ops.append(_pseudo(span, "positioned", {"fed": 0.0 if kind == "rapid" else 1.0}))
+        self._m_after(block, words["m"], span)
+
+    @staticmethod
+    def _m_before(block, m_words):
+        for number, span in m_words:
+            if number in _M_SPINDLE:
+                block.ops.append(ir.Spindle(span, _M_SPINDLE[number]))
+            if number in _M_COOLANT:
+                block.ops.append(ir.Coolant(span, _M_COOLANT[number]))
+
+    @staticmethod
+    def _m_after(block, m_words, span):
+        for number, m_span in m_words:
+            if number == 99.0:
+                block.ops.append(_pseudo(m_span, "call", {"how": "M99"}))
+            elif number == 89.0:
+                block.ops.append(_pseudo(m_span, "call", {"how": "M89"}))
+        for number, m_span in m_words:
+            if number in _M_STOP:
+                block.ops.append(ir.Stop(m_span, _M_STOP[number]))
+
+    def _pole(self, cursor, block, path):
+        start = cursor.expect_name("CC")
+        words = self._motion_words(cursor, block)
+        params = {("I" if axis in words["incremental"] else "") + axis: value for axis, value in words["targets"].items()}
+        block.ops.append(_pseudo(cursor.rest_span(start.span), "pole", params))
+
+    def _circle(self, cursor, block, path):
+        """``C`` arc about CC, ``CR`` arc by radius, ``CT`` tangential arc."""
+        start = cursor.next()
+        extra = ("DR", "R") if start.text in ("C", "CR") else ("R",)
+        words = self._motion_words(cursor, block, extra)
+        span = cursor.rest_span(start.span)
+        direction = words["extra"].get("DR")
+        if start.text == "CR":
+            if "R" not in words["extra"] or direction is None:
+                raise ReadError("CR needs a radius R and a direction DR+ or DR-", span)
+            kind = "arc_ccw" if direction == "+" else "arc_cw"
+            arc = ir.Move(span, kind, dict(words["targets"]), {"R": words["extra"]["R"]}, {}, frozenset(words["incremental"]), words["columns"])
+            self._emit_motion(block, words, start.span, cursor, kind, arc)
+            return
+        params = {("I" if axis in words["incremental"] else "") + axis: value for axis, value in words["targets"].items()}
+        if start.text == "C":
+            params["DR"] = 1.0 if direction == "+" else -1.0 if direction == "-" else 0.0
+            self._emit_motion(block, words, start.span, cursor, None, _pseudo(span, "arc", params))
+        else:
+            self._emit_motion(block, words, start.span, cursor, None, _pseudo(span, "tangent", params))
+
+    def _polar(self, cursor, block, path):
+        start = cursor.next()
+        extra = ("PR", "IPR", "PA", "IPA", "DR")
+        words = self._motion_words(cursor, block, extra)
+        params = dict(words["extra"])
+        if "DR" in params:
+            params["DR"] = 1.0 if params["DR"] == "+" else -1.0
+        for axis, value in words["targets"].items():
+            params[("I" if axis in words["incremental"] else "") + axis] = value
+        params["kind"] = "arc" if start.text == "CP" else ("rapid" if words["rapid"] else "linear")
+        span = cursor.rest_span(start.span)
+        self._emit_motion(block, words, start.span, cursor, None, _pseudo(span, "polar", params))
+
+    def _corner(self, cursor, block, path):
+        """RND / CHF between two contour elements: the corner is cut off, the end point stays."""
+        start = cursor.next()
+        cursor.take_name("R")
+        cursor.value()
+        words = self._motion_words(cursor, block)
+        if words["feed"] is not None:
+            block.ops.append(ir.SetFeed(cursor.rest_span(start.span), words["feed"]))
+
+    def _approach(self, cursor, block, path):
+        """APPR / DEP: the tool reaches the written point over an auxiliary path."""
+        start = cursor.next()
+        style = cursor.take_name("LT", "LN", "CT", "LCT", "PLT", "PLN", "PCT", "PLCT")
+        if style is None:
+            raise ReadError("APPR/DEP needs LT, LN, CT or LCT", cursor.here())
+        words = self._motion_words(cursor, block, ("LEN", "CCA", "R", "PR", "PA", "DR"))
+        span = cursor.rest_span(start.span)
+        plane = {"X", "Y"}
+        if start.text == "DEP" and not plane <= words["targets"].keys():
+            self._emit_motion(block, dict(words, targets={}), start.span, cursor, "linear")
+            block.ops.append(ir.Unsupported(span, "DEP without its end point", ("position",)))
+            return
+        self._emit_motion(block, words, start.span, cursor, "linear")
+
+    def _m_only(self, cursor, block, path):
+        start = cursor.here()
+        words = self._motion_words(cursor, block)
+        self._emit_motion(block, words, start, cursor, "rapid" if words["rapid"] else "linear")
+
+    def _stop(self, cursor, block, path):
+        start = cursor.expect_name("STOP").span
+        words = self._motion_words(cursor, block)
+        self._emit_motion(block, words, start, cursor, "linear")
+        block.ops.append(ir.Stop(start, "stop"))
+
+    # ------------------------------------------------------------------ labels, calls, parameters
+
+    def _label(self, cursor, block, path):
+        start = cursor.expect_name("LBL").span
+        label = self._label_value(cursor)
+        if label == 0.0:
+            block.ops.append(ir.Return(cursor.rest_span(start), local_only=True))
+        else:
+            block.label = label
+
+    @staticmethod
+    def _label_value(cursor: Cursor):
+        token = cursor.peek()
+        if token is not None and token.kind == "string":
+            cursor.next()
+            return token.text.strip('"')
+        if cursor.is_name("Q", "QL", "QR", "QS"):
+            return cursor.parameter()
+        number, _span = cursor.expect_number()
+        return number
+
+    def _call(self, cursor, block, path):
+        start = cursor.expect_name("CALL").span
+        what = cursor.expect_name("LBL", "PGM", "CYCLE")
+        if what.text == "LBL":
+            label = self._label_value(cursor)
+            repeat = 0.0
+            if cursor.take_name("REP") and not cursor.at_end():
+                repeat = cursor.value()
+            block.ops.append(_pseudo(cursor.rest_span(start), "label_call", {"label": label, "REP": repeat}))
+            return
+        if what.text == "CYCLE":
+            cursor.index = len(cursor.tokens)
+            block.ops.append(ir.Unsupported(cursor.rest_span(start), "CALL CYCLE", ("position",)))
+            return
+        name = self._program_name(cursor, up_to_unit=False)
+        block.ops.append(ir.Call(cursor.rest_span(start), "subprogram", _called_name(name)))
+
+    def _assignment(self, cursor, block):
+        start = cursor.here()
+        target = cursor.parameter()
+        cursor.expect_symbol("=")
+        if target.name and isinstance(target.name, str) and target.name.startswith("QS"):
+            cursor.index = len(cursor.tokens)  # string formulas: no numeric effect
+            return
+        value = cursor.expression()
+        block.ops.append(ir.Assign(cursor.rest_span(start), target, value))
+
+    def _fn(self, cursor, block, path):
+        start = cursor.expect_name("FN").span
+        number, _span = cursor.expect_number()
+        cursor.expect_symbol(":")
+        function = int(number)
+        if function in _FN_CONDITION:
+            cursor.expect_name("IF")
+            left = cursor.value()
+            word = cursor.expect_name(*_CONDITION_WORDS)
+            right = cursor.value()
+            cursor.expect_name("GOTO")
+            cursor.expect_name("LBL")
+            label = self._label_value(cursor)
+            block.ops.append(ir.Jump(cursor.rest_span(start), label, ir.Binary(_CONDITION_WORDS[word.text], left, right)))
+            return
+        if function == 14:
+            cursor.expect_name("ERROR")
+            cursor.expect_symbol("=")
+            error = cursor.value()
+            block.ops.append(ir.Alarm(cursor.rest_span(start), error, "FN 14: ERROR"))
+            return
+        if function in (0, 1, 2, 3, 4, 5, 6, 7, 8, 13):
+            target = cursor.parameter()
+            cursor.expect_symbol("=")
+            value = self._fn_value(function, cursor)
+            block.ops.append(ir.Assign(cursor.rest_span(start), target, value))
+            return
+        if cursor.is_name("Q", "QL", "QR") and cursor.peek(2) is not None and cursor.peek(2).text == "=":
+            target = cursor.parameter()
+            cursor.index = len(cursor.tokens)
+            block.ops.append(ir.Assign(cursor.rest_span(start), target, ir.Var(f"@FN{function}")))
+            return
+        cursor.index = len(cursor.tokens)  # FN 15-29 without a result: print, PLC, tables
+
+    @staticmethod
+    def _fn_value(function: int, cursor: Cursor):
+        if function in (5, 6, 7):
+            cursor.take_name("SQRT", "SIN", "COS")
+            return ir.Func({5: "SQRT", 6: "SIN", 7: "COS"}[function], (cursor.value(),))
+        if function in (8, 13):
+            first = cursor.value()
+            cursor.take_name("LEN", "ANG")
+            second = cursor.value()
+            if function == 8:
+                return ir.Func("SQRT", (ir.Binary("+", ir.Binary("*", first, first), ir.Binary("*", second, second)),))
+            return ir.Func("ATAN2", (second, first))
+        first = cursor.value()
+        if function == 0:
+            return first
+        if function == 4:
+            cursor.take_name("DIV")
+            cursor.take_symbol("/")
+        else:
+            cursor.expect_symbol(_FN_ARITHMETIC[function])
+        return ir.Binary(_FN_ARITHMETIC[function], first, cursor.value())
+
+    # ------------------------------------------------------------------ cycles
+
+    def _cycle(self, cursor, block, path):
+        start = cursor.expect_name("CYCL").span
+        what = cursor.expect_name("DEF", "CALL")
+        if what.text == "CALL":
+            self._cycle_call(cursor, block, start)
+            return
+        number, number_span = cursor.expect_number()
+        whole = int(number)
+        sub = round((number - whole) * 10)
+        if number != whole:
+            self._old_cycle(cursor, block, start, whole, sub)
+            return
+        while not cursor.at_end() and not (cursor.is_name("Q") and cursor.peek(1) is not None and cursor.peek(1).kind == "number"):
+            cursor.next()  # the cycle's name, in the language the control was set to
+        params, spans = {"@number": float(whole)}, {}
+        while not cursor.at_end():
+            parameter = cursor.expect_name("Q")
+            token = cursor.next()
+            if token.kind != "number":
+                raise ReadError("expected a parameter number after Q", token.span)
+            name = f"Q{token.text}"
+            cursor.take_symbol("=")  # 'Q357+0.2' without '=' (a manual OCR defect, reference A §11)
+            keyword = cursor.take_name("AUTO", "MAX", "FAUTO", "FMAX", "PREDEF", "FU", "FZ")
+            if keyword is not None:
+                params[name] = "FMAX" if keyword.text in ("MAX", "FMAX") else keyword.text.replace("FAUTO", "AUTO")
+                if keyword.text in ("FU", "FZ") and not cursor.is_name("Q"):
+                    cursor.value()
+            elif cursor.peek() is not None and cursor.peek().kind == "string":
+                params[name] = cursor.next().text.strip('"')
+            else:
+                params[name] = cursor.value()
+                while not cursor.at_end() and not cursor.is_name("Q"):
+                    cursor.next()  # a tolerance after a diameter (Q335=10H7)
+            spans[name] = cursor.rest_span(parameter.span)
+        block.ops.append(ir.CycleCall(cursor.rest_span(start), "heidenhain.@define", params, spans))
+
+    def _old_cycle(self, cursor, block, start, number, sub):
+        """``CYCL DEF 7.0 DATUM SHIFT`` / ``7.1 X+60``: sub-block 0 names the cycle, the others
+        carry its words (reference A §8.3-8.8)."""
+        words, spans = {"@number": float(number), "@sub": float(sub)}, {}
+        if sub == 0:
+            cursor.index = len(cursor.tokens)
+        else:
+            while not cursor.at_end():
+                token = cursor.next()
+                if token.kind == "symbol" and token.text == "#":
+                    words["#"] = cursor.value()
+                    continue
+                if token.kind != "name":
+                    continue
+                name = token.text
+                if cursor.peek() is not None and (cursor.peek().kind == "number" or cursor.is_symbol("+", "-") or cursor.is_name("Q", "QL", "QR")):
+                    try:
+                        words[name] = cursor.value()
+                        spans[name] = cursor.rest_span(token.span)
+                    except ReadError:
+                        pass
+        block.ops.append(ir.CycleCall(cursor.rest_span(start), "heidenhain.@old_cycle", words, spans))
+
+    def _cycle_call(self, cursor, block, start):
+        how = cursor.take_name("PAT", "POS")
+        words = self._motion_words(cursor, block)
+        params = {"how": how.text if how is not None else "CALL"}
+        if how is not None and how.text == "POS":
+            for axis, value in words["targets"].items():
+                params[("I" if axis in words["incremental"] else "") + axis] = value
+        if words["feed"] is not None:
+            params["F"] = words["feed"]
+        if words["rapid"]:
+            params["F"] = "FMAX"
+        span = cursor.rest_span(start)
+        self._m_before(block, words["m"])
+        block.ops.append(_pseudo(span, "call", params))
+        for number, m_span in words["m"]:
+            if number in _M_STOP:
+                block.ops.append(ir.Stop(m_span, _M_STOP[number]))
+
+    def _pattern(self, cursor, block, path):
+        """``PATTERN DEF ~ POS1( X+25 Y+33.5 Z+0 ) ~ ROW1( ... )`` (reference A §4.5)."""
+        start = cursor.expect_name("PATTERN").span
+        cursor.expect_name("DEF")
+        params = {}
+        index = 0
+        while not cursor.at_end():
+            form = cursor.expect_name("POS", "ROW", "PAT", "FRAME", "CIRC", "PITCHCIRC")
+            cursor.expect_number()
+            cursor.expect_symbol("(")
+            params[f"{index}:form"] = form.text
+            while not cursor.take_symbol(")"):
+                word = cursor.expect_name()
+                params[f"{index}:{word.text}"] = cursor.value()
+            index += 1
+        block.ops.append(_pseudo(cursor.rest_span(start), "pattern", params))
+
+    def _trans(self, cursor, block, path):
+        start = cursor.expect_name("TRANS").span
+        what = cursor.expect_name("DATUM", "MIRROR", "ROTATION", "SCALE", "RESET")
+        params = {"what": what.text}
+        if cursor.take_name("RESET"):
+            params["reset"] = 1.0
+        else:
+            cursor.take_name("AXIS", "TABLE", "COORD")
+            while not cursor.at_end():
+                word = cursor.expect_name()
+                if cursor.is_symbol("+", "-") or (cursor.peek() is not None and cursor.peek().kind == "number") or cursor.is_name("Q", "QL", "QR"):
+                    params[word.text] = cursor.value()
+        block.ops.append(_pseudo(cursor.rest_span(start), "trans", params))
+
+
+def _bare(cursor: Cursor, keywords=()) -> bool:
+    """Is an address letter written without its value (``L X+5 R F M`` in older exports)?"""
+    token = cursor.peek()
+    return token is None or (token.kind == "name" and token.text not in ("Q", "QL", "QR") + tuple(keywords))
+
+
+def _called_name(name: str) -> str:
+    """The program a ``CALL PGM`` names, as :meth:`KlartextFrontend.program_name` writes it."""
+    base = re.split(r"[\\/:]", name)[-1]
+    return base.rsplit(".", 1)[0].upper() if "." in base else base.upper()
+
+
+def _pseudo(span: Span, what: str, params: dict) -> ir.CycleCall:
+    return ir.CycleCall(span, f"heidenhain.@{what}", params)
+
+
+_STATEMENTS = {
+    "BEGIN": KlartextLowering._begin, "END": KlartextLowering._end, "BLK": KlartextLowering._blk,
+    "TOOL": KlartextLowering._tool, "L": KlartextLowering._line, "CC": KlartextLowering._pole,
+    "C": KlartextLowering._circle, "CR": KlartextLowering._circle, "CT": KlartextLowering._circle,
+    "LP": KlartextLowering._polar, "CP": KlartextLowering._polar, "RND": KlartextLowering._corner,
+    "CHF": KlartextLowering._corner, "APPR": KlartextLowering._approach, "DEP": KlartextLowering._approach,
+    "M": KlartextLowering._m_only, "STOP": KlartextLowering._stop, "LBL": KlartextLowering._label,
+    "CALL": KlartextLowering._call, "FN": KlartextLowering._fn, "CYCL": KlartextLowering._cycle,
+    "PATTERN": KlartextLowering._pattern, "TRANS": KlartextLowering._trans,
+}
+
+
+# --------------------------------------------------------------------------- frontend
+
+_PROGRAM_START = re.compile(rb"(?mi)^[ \t]*\d*[ \t]*BEGIN[ \t]+PGM[ \t]+([^ \t\r\n;]+)")
+_PROGRAM_END = re.compile(rb"(?mi)\bM(?:30|0?2)\b|^[ \t]*\d*[ \t]*END[ \t]+PGM")
+_BLK_FORM = re.compile(r"(?mi)^[ \t]*\d*[ \t]*BLK[ \t]+FORM[ \t]+(0\.1|0\.2|CYLINDER)\b([^;\r\n]*)")
+_STOCK_WORD = re.compile(r"(?i)\b(I?[XYZ]|D|R|L|DIST|DI)[ \t]*([+-]?[0-9]+(?:[.,][0-9]*)?)")
+
+
+class KlartextFrontend:
+    def __init__(self, lowering: KlartextLowering, tool_table: dict[int, Tool] | None = None):
+        self.lowering = lowering
+        self.tool_table = tool_table or {}
+
+    def blocks(self, raw: bytes, line: int, path: str | None = None) -> list[ir.Block]:
+        return self.lowering.lower(raw, line, path)
+
+    @staticmethod
+    def continues(raw: bytes) -> bool:
+        return _continues(raw)
+
+    def is_plain(self, raw: bytes) -> bool:
+        return False
+
+    def plain_run(self, buffer, offset: int, line: int):
+        return None
+
+    def programs(self, buffer) -> list[tuple[str, int]]:
+        return [(match.group(1).decode("utf-8", "replace").upper(), match.start()) for match in _PROGRAM_START.finditer(buffer)]
+
+    def is_subprogram(self, buffer, start: int, end: int) -> bool:
+        return False
+
+    def tape_marks(self, buffer) -> list[int]:
+        return []
+
+    def program_name(self, name) -> str:
+        return _called_name(name) if isinstance(name, str) else f"{name:g}"
+
+    def describe_label(self, label) -> str:
+        return f'LBL "{label}"' if isinstance(label, str) else f"LBL {label:g}"
+
+    def label_offsets(self, buffer, label):
+        written = f'"{label}"' if isinstance(label, str) else f"{label:g}"
+        pattern = re.compile(rb"(?mi)^[ \t]*\d*[ \t]*LBL[ \t]*" + re.escape(written.encode()) + rb"(?![0-9.])")
+        for match in pattern.finditer(buffer):
+            yield match.start()
+
+    @staticmethod
+    def variable_scope(name: str) -> str:
+        """QL parameters belong to one program (reference A §3); Q and QR are global."""
+        return "local" if name.startswith("QL") else "global"
+
+    def system_variable(self, name: str, state):
+        return heidenhain_run.system_variable(name, state)
+
+    def program_context(self, source) -> Context:
+        """The BLK FORM of the program as its stock, TOOL.T beside it as its tools."""
+        context = Context()
+        context.stock = stock_from_text(source.head(1 << 20))
+        tools = dict(self.tool_table)
+        if not tools and source.path is not None:
+            table = next((candidate for candidate in source.path.parent.iterdir() if candidate.name.upper() == "TOOL.T"), None)
+            if table is not None:
+                tools, names = read_tool_table(table)
+                self.lowering.tool_names.update(names)
+        context.tools = tools
+        return context
+
+
+def stock_from_text(text: str) -> Stock | None:
+    """``BLK FORM 0.1 Z X.. Y.. Z..`` (MIN corner) + ``BLK FORM 0.2 X.. Y.. Z..`` (MAX
+    corner, ``I`` = from the MIN corner) or ``BLK FORM CYLINDER Z R.. L..`` (reference A §4.1)."""
+    corners = {}
+    for match in _BLK_FORM.finditer(text):
+        kind, rest = match.group(1).upper(), match.group(2)
+        words = {word.upper(): float(value.replace(",", ".")) for word, value in _STOCK_WORD.findall(rest)}
+        if kind == "CYLINDER":
+            radius = words.get("R", words.get("D", 0.0) / 2.0)
+            length = words.get("L")
+            if radius > 0 and length:
+                top = words.get("DIST", 0.0)
+                return Stock.cylinder(2.0 * radius, (top - length, top), origin="program", span=None)
+            return None
+        corners[kind] = words
+    low, high = corners.get("0.1"), corners.get("0.2")
+    if not low or not high:
+        return None
+    try:
+        ranges = []
+        for axis in "XYZ":
+            first = low.get(axis)
+            second = high.get(axis, None)
+            if second is None and f"I{axis}" in high and first is not None:
+                second = first + high[f"I{axis}"]
+            if first is None or second is None:
+                return None
+            ranges.append((first, second))
+        return Stock.box(*ranges, origin="program (BLK FORM)")
+    except ValueError:
+        return None
+
+
+# --------------------------------------------------------------------------- tool table
+
+_TOOL_COLUMNS = {"R": "radius", "L": "length", "LU": "usable_length", "LCUTS": "cutting_length", "ANGLE": "angle", "PITCH": "pitch", "R2": "corner"}
+
+
+def read_tool_table(path) -> tuple[dict[int, Tool], dict[str, float]]:
+    """TOOL.T: a header line naming the columns, then one line per tool (fixed columns,
+    split here by the header's column starts). R + DR is the radius the control uses."""
+    try:
+        lines = path.read_text(encoding="utf-8", errors="replace").splitlines()
+    except OSError:
+        return {}, {}
+    header_index = next((index for index, line in enumerate(lines) if re.match(r"\s*T\s+NAME\b", line.upper())), None)
+    if header_index is None:
+        return {}, {}
+    header = lines[header_index].upper()
+    starts = [match.start() for match in re.finditer(r"\S+", header)]
+    names = header.split()
+    tools, by_name = {}, {}
+    for line in lines[header_index + 1 :]:
+        if line.strip().startswith("[END]") or not line.strip():
+            continue
+        cells = {}
+        for index, name in enumerate(names):
+            end = starts[index + 1] if index + 1 < len(starts) else len(line)
+            cells[name] = line[starts[index] : end].strip()
+        try:
+            number = int(float(cells.get("T", "")))
+        except ValueError:
+            continue
+        tool = Tool(number, cells.get("NAME") or None, origin="TOOL.T")
+        for column, field in _TOOL_COLUMNS.items():
+            try:
+                setattr(tool, field, float(cells.get(column, "").replace(",", ".")))
+            except ValueError:
+                pass
+        try:
+            if tool.radius is not None:
+                tool.radius += float(cells.get("DR", "0").replace(",", ".") or 0)
+        except ValueError:
+            pass
+        tools[number] = tool
+        if tool.name:
+            by_name[tool.name.upper()] = float(number)
+    return tools, by_name
+
+
+def _cycle_models() -> dict:
+    with (data_dir("dialects") / "heidenhain" / "cycles.toml").open("rb") as handle:
+        models = tomllib.load(handle)["cycle"]
+    models.update(heidenhain_run.pseudo_models())
+    return models
+
+
+def setup(settings, detection, project) -> DialectSetup:
+    """Klartext on a milling machine, metric until BEGIN PGM says otherwise; TOOL.T from
+    the subprogram path or the program's folder is a tool source."""
+    tools, names = {}, {}
+    for folder in settings.subprogram_path:
+        from pathlib import Path
+
+        candidate = Path(folder) / "TOOL.T"
+        if candidate.is_file():
+            tools, names = read_tool_table(candidate)
+            break
+    lowering = KlartextLowering(names)
+    power_on = {"plane": "xy", "units": "mm", "distance": "absolute", "feed_mode": "per_minute", "motion": "rapid",
+                "arc_distance": "incremental", "path_mode": "exact", "cycle_return": "initial", "spindle_mode": "rpm"}
+    limits = {"tool_number_max": 32767.0, "h_register_max": 32767.0, "d_register_max": 32767.0}
+    return DialectSetup(KlartextFrontend(lowering, tools), power_on, _cycle_models(), None, "mill", {}, None, 0.0, limits)

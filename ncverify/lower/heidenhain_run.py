@@ -1,0 +1,722 @@
+"""What the Klartext pseudo operations do when the interpreter reaches them.
+
+The lowering (:mod:`ncverify.lower.heidenhain`) turns constructs that need machine state
+into ``ir.CycleCall`` operations of pseudo cycles ``heidenhain.@<what>``; each is run here
+through :func:`ncverify.cycles.register_shape`. Dialect state lives in
+``state.rule_state`` under ``("heidenhain", key)`` and is never changed in place (paths
+fork by copying that dict shallowly).
+
+Cycle motion (reference A §6.0, "generic hole-cycle kinematics"):
+
+    dir = sign(Q201); Z_sc = Q203 - dir*Q200; Z_bottom = Q203 + Q201;
+    Z_ret = Q203 - dir*max(Q200, Q204)
+
+A CALL-active cycle's parameters are evaluated when its ``CYCL DEF`` runs (values frozen
+at definition, seed L483-495) and kept until the next ``CYCL DEF``.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from .. import cycles, ir, values
+from ..interpret import _distance, _distance_sq
+from ..trace import Arc, CycleRun, Hole
+
+_PLANES = {"xy": ("X", "Y", "Z"), "yz": ("Y", "Z", "X"), "zx": ("Z", "X", "Y")}
+# DEF-active cycles (seed L666-688): they act when defined and are never called.
+DEF_ACTIVE = frozenset({7, 8, 9, 10, 11, 12, 13, 14, 19, 20, 26, 32, 220, 221, 224, 238, 239, 247, 271, 1271, 1272, 1273, 1278, 1281, 1282})
+_HOLE_FAMILIES = frozenset({"drill", "tap", "thread"})
+
+
+@dataclass(frozen=True)
+class Definition:
+    """A CALL-active cycle as its CYCL DEF left it."""
+
+    number: int
+    params: dict
+    spans: dict
+    span: object
+    model: dict
+
+
+def _get(state, key, default=None):
+    return state.rule_state.get(("heidenhain", key), default)
+
+
+def _put(state, key, value) -> None:
+    state.rule_state[("heidenhain", key)] = value
+
+
+def system_variable(name: str, state):
+    """Hidden values the lowering reads: the FAUTO feed of the TOOL CALL, results of FN
+    functions that read the machine (FN 18 SYSREAD ...): unknown, never a free parameter
+    a witness could choose."""
+    if not name.startswith("@"):
+        return None
+    if name == "@TOOLF":
+        feed = _get(state, "tool_feed")
+        return feed if feed is not None else values.fresh("FAUTO", 0.0)
+    return values.fresh(name[1:])
+
+
+def pseudo_models() -> dict:
+    return {f"heidenhain.@{what}": {"shape": f"heidenhain.{what}", "pseudo": True} for what in _RUNNERS}
+
+
+# --------------------------------------------------------------------------- contour geometry
+
+
+def _plane(state):
+    return state.plane_axes
+
+
+def _pole_run(runner, op, block, model, params):
+    state = runner.state
+    first, second, normal = _plane(state)
+    pole = dict(_get(state, "pole", {}))
+    given = []
+    for word, value in params.items():
+        axis = word[-1]
+        if word.startswith("I"):
+            current = state.position.get(axis)
+            pole[axis] = None if current is None else values.add(current, value)
+        else:
+            pole[axis] = value
+        given.append(axis)
+    if not given:
+        pole[first], pole[second] = state.position.get(first), state.position.get(second)
+        given = [first, second]
+    _put(state, "pole", pole)
+    _put(state, "pole_axes", tuple(axis for axis in "XYZ" if axis in given) if len(given) == 2 else (first, second))
+    return None
+
+
+def _pole_plane(state):
+    """The plane of the arcs about CC: the two axes CC was given in (CAM output writes
+    ``CC Y.. Z..`` for arcs in YZ), else the working plane."""
+    axes = _get(state, "pole_axes")
+    working = _plane(state)
+    if not axes or set(axes) == set(working[:2]):
+        return working
+    for plane in _PLANES.values():
+        if set(plane[:2]) == set(axes):
+            return plane
+    return working
+
+
+def _targets(runner, params: dict, span) -> dict:
+    """Absolute end coordinates of the axis words among ``params`` (``IX`` incremental)."""
+    position = runner.state.position
+    targets = {}
+    for word, value in params.items():
+        axis = word[-1]
+        if len(word) > 2 or axis not in "XYZABCUVW" or word[:-1] not in ("", "I"):
+            continue
+        if word.startswith("I"):
+            current = position.get(axis)
+            targets[axis] = None if current is None else values.add(current, value)
+        else:
+            targets[axis] = value
+    return targets
+
+
+def _arc_run(runner, op, block, model, params):
+    state = runner.state
+    first, second, normal = _pole_plane(state)
+    pole = _get(state, "pole", {})
+    targets = _targets(runner, params, op.span)
+    direction = "ccw" if params.get("DR", 1.0) > 0 else "cw"
+    _emit_arc(runner, op, block, targets, (pole.get(first), pole.get(second)), (first, second, normal), direction)
+    return None
+
+
+def _emit_arc(runner, op, block, targets, centre, plane, direction) -> None:
+    interp = runner.interp
+    state = runner.state
+    start = state.position
+    state.move_to(targets)
+    state.motion_seen = True
+    first, second, _normal = plane
+    s1, s2, e1, e2 = start.get(first), start.get(second), state.position.get(first), state.position.get(second)
+    c1, c2 = centre
+    if None in (s1, s2, e1, e2, c1, c2):
+        arc = Arc(direction, plane, None, None, None)
+    else:
+        arc = Arc(direction, plane, (c1, c2), _distance(s1, s2, c1, c2), _distance(e1, e2, c1, c2),
+                  start_radius_sq=_distance_sq(s1, s2, c1, c2), end_radius_sq=_distance_sq(e1, e2, c1, c2))
+    interp._emit("arc", start, op.span, block, "programmed", None, arc)
+    _put(state, "fed_at", _plane_point(state))
+
+
+def _plane_point(state):
+    first, second, _normal = _plane(state)
+    return state.position.get(first), state.position.get(second)
+
+
+def _lift_run(runner, op, block, model, params):
+    """``L Z.. FMAX`` alone. Straight up from where the tool got to at feed, its own body
+    already fills the column above the tip: reported as a move out of the cut (the stock
+    model is not updated by cutting, so the rapid would read as a crash)."""
+    state = runner.interp.state
+    targets = _targets(runner, params, op.span)
+    current, target = state.position.get("Z"), targets.get("Z")
+    rising = type(current) is float and type(target) is float and target > current
+    in_place = all(targets[axis] == state.position.get(axis) for axis in ("X", "Y") if axis in targets)
+    fed_here = _get(state, "fed_at") == _plane_point(state) and None not in _plane_point(state)
+    state.modal["motion"] = "rapid"
+    state.motion_seen = True
+    role = "out-of-hole" if rising and fed_here and in_place else "programmed"
+    start = state.position
+    state.move_to(targets)
+    runner.interp._emit("rapid", start, op.span, block, role)
+    return None
+
+
+def _tangent_run(runner, op, block, model, params):
+    """CT: a tangential arc whose centre follows from the previous element; its chord is
+    reported as a feed move (the arc bulges at most to the side of it)."""
+    state = runner.state
+    start = state.position
+    state.move_to(_targets(runner, params, op.span))
+    state.motion_seen = True
+    runner.interp._emit("feed", start, op.span, block)
+    return None
+
+
+def _polar_run(runner, op, block, model, params):
+    """LP / CP: a point given by radius PR and angle PA about the pole CC."""
+    state = runner.state
+    first, second, normal = _pole_plane(state)
+    pole = _get(state, "pole", {})
+    c1, c2 = pole.get(first), pole.get(second)
+    s1, s2 = state.position.get(first), state.position.get(second)
+    end = _polar_end(params, c1, c2, s1, s2)
+    targets = {first: end[0], second: end[1]} if end else {first: None, second: None}
+    for word in (normal, "I" + normal):
+        if word in params:
+            targets.update(_targets(runner, {word: params[word]}, op.span))
+    kind = params.get("kind")
+    if kind == "arc":
+        turn = params.get("DR")
+        if turn is None:
+            turn = params.get("IPA", 1.0) if type(params.get("IPA", 1.0)) is float else 1.0
+        _emit_arc(runner, op, block, targets, (c1, c2), (first, second, normal), "ccw" if turn > 0 else "cw")
+        return None
+    start = state.position
+    state.move_to(targets)
+    state.motion_seen = True
+    runner.interp._emit("rapid" if kind == "rapid" else "feed", start, op.span, block)
+    return None
+
+
+def _polar_end(params, c1, c2, s1, s2):
+    if any(type(value) is not float for value in (c1, c2, s1, s2)):
+        return None
+    radius = math.hypot(s1 - c1, s2 - c2)
+    angle = math.degrees(math.atan2(s2 - c2, s1 - c1))
+    if "PR" in params:
+        radius = params["PR"]
+    elif "IPR" in params:
+        radius = values.add(radius, params["IPR"])
+    if "PA" in params:
+        angle = params["PA"]
+    elif "IPA" in params:
+        angle = values.add(angle, params["IPA"])
+    if type(radius) is not float or type(angle) is not float:
+        return None
+    return c1 + radius * math.cos(math.radians(angle)), c2 + radius * math.sin(math.radians(angle))
+
+
+def _retract_run(runner, op, block, model, params):
+    """M140 MB: retract along the tool axis, by MB or to the travel limit (MB MAX)."""
+    state = runner.state
+    axis = _plane(state)[2]
+    amount = params.get("MB")
+    if amount == "FMAX" or amount == "MAX" or type(amount) is str or amount is None:
+        state.move_to({axis: None})  # up to the software limit: where that is in workpiece coordinates is unknown
+        return None
+    current = state.position.get(axis)
+    runner._rapid_to({axis: None if current is None else values.add(current, amount)}, op.span, block, "retract", None)
+    return None
+
+
+def _tool_length_run(runner, op, block, model, params):
+    """TOOL CALL applies the tool's length by itself: no G43 to forget."""
+    state = runner.state
+    state.length_mode = "plus" if params.get("on") else "off"
+    state.length_register = params.get("T")
+    return None
+
+
+def _tool_feed_run(runner, op, block, model, params):
+    if "F" in params:
+        _put(runner.state, "tool_feed", params["F"])
+    return None
+
+
+# --------------------------------------------------------------------------- program flow
+
+
+def _label_call_run(runner, op, block, model, params):
+    """CALL LBL n [REP r]: a label before the call with no LBL 0 between them repeats the
+    program section r more times (seed L8265-8273); otherwise the subprogram runs (r + 1
+    times) and returns at its LBL 0."""
+    interp = runner.interp
+    state = runner.state
+    label = params.get("label")
+    repeat = params.get("REP", 0.0)
+    if type(label) not in (float, str):
+        interp._unsupported_here(op.span, "a label call whose label depends on a free parameter")
+        from ..interpret import PathEnd
+
+        raise PathEnd
+    if type(repeat) is not float:
+        interp._unsupported_here(op.span, "a REP count that depends on a free parameter")
+        from ..interpret import PathEnd
+
+        raise PathEnd
+    target = interp.find_label(label, op.span)
+    here = interp._line_offset
+    if target.source is interp._line_source and target.offset < here and not _returns_between(interp, target, here):
+        key = ("rep", here)
+        done = _get(state, key, 0)
+        if done < repeat:
+            _put(state, key, done + 1)
+            interp._count_jump(target, op.span, f"the repeat of {interp.frontend.describe_label(label)}")
+            return target
+        _put(state, key, 0)
+        return None
+    call = ir.Call(op.span, "local", label, repeat + 1.0)
+    return interp._call(call, block)
+
+
+def _returns_between(interp, target, end: int) -> bool:
+    """Is there an LBL 0 between a label and the call (the label starts a subprogram)?"""
+    source = interp._line_source
+    text = bytes(source.buffer[target.offset:end]).upper()
+    import re
+
+    return re.search(rb"(?m)^[ \t]*\d*[ \t]*LBL[ \t]*0(?![0-9.])", text) is not None
+
+
+def _end_pgm_run(runner, op, block, model, params):
+    """END PGM ends the main program like M30 and returns from a called one."""
+    interp = runner.interp
+    frame = interp.state.frames[-1]
+    if frame.kind in ("main", "called"):
+        interp._program_end(op.span, block, "end")
+    while interp.state.frames[-1].kind == "local":
+        interp.state.frames.pop()
+    return interp._return(ir.Return(op.span), block)
+
+
+# --------------------------------------------------------------------------- cycles
+
+
+def _define_run(runner, op, block, model, params):
+    interp = runner.interp
+    state = runner.state
+    number = int(params.pop("@number", -1))
+    cycle_model = interp.cycle_models.get(f"heidenhain.{number}", {})
+    if number in DEF_ACTIVE:
+        return _def_active(runner, op, block, number, params, cycle_model)
+    definition = Definition(number, params, dict(op.param_spans), op.span, cycle_model)
+    _put(state, "cycle", definition)
+    _put(state, "m89", False)
+    if not cycle_model:
+        interp._fault("core.unsupported-code", op.span, f"cycle {number} is read but not modelled; checks that depend on its motion answer unknown",
+                      "unknown", f"cycle {number}")
+    return None
+
+
+def _def_active(runner, op, block, number, params, cycle_model):
+    interp = runner.interp
+    state = runner.state
+    interp.observer.cycle_run(CycleRun(f"heidenhain.{number}", cycle_model, op.span, block, _numbers(params), dict(op.param_spans)), state)
+    if number in (220, 221):
+        points = _pattern_points(number, params)
+        if points is None:
+            interp._fault("core.unsupported-code", op.span, f"cycle {number}'s points depend on free parameters; the holes are not placed", "unknown", f"cycle {number}")
+            state.move_to(dict.fromkeys(_plane(state)[:2]))
+            return None
+        return _run_at_points(runner, op, block, points, params.get("Q200"), params.get("Q203"), params.get("Q204"))
+    if number == 247:
+        _put(state, "transforms", ())
+        return None
+    if number in (9, 32, 13, 12, 238, 239):
+        return None
+    _transform(runner, op, number, params)
+    return None
+
+
+def _old_cycle_run(runner, op, block, model, params):
+    """Old-style two-part cycles ``CYCL DEF 7.0`` / ``7.1 X+60`` and the old fixed
+    cycles 1-5 (their data arrive in sub-blocks)."""
+    state = runner.state
+    number = int(params.pop("@number"))
+    sub = int(params.pop("@sub"))
+    if sub == 0:
+        _put(state, "old_cycle", (number, {}))
+        if number not in DEF_ACTIVE:
+            interp = runner.interp
+            cycle_model = interp.cycle_models.get(f"heidenhain.{number}", {})
+            _put(state, "cycle", Definition(number, {}, {}, op.span, cycle_model))
+            _put(state, "m89", False)
+        return None
+    if number in DEF_ACTIVE:
+        _transform(runner, op, number, params)
+    return None
+
+
+def _transform(runner, op, number, params) -> None:
+    """Datum shift, mirror, rotation, scaling, working plane: the coordinates after it are
+    not the coordinates of the BLK FORM any more. A shift to zero, a rotation by 0 and a
+    scale of 1 reset; anything else is reported as not modelled and the position becomes
+    unknown until the program moves to known coordinates again."""
+    state = runner.state
+    interp = runner.interp
+    active = dict(_get(state, "transforms", ()) or ())
+    neutral = all(type(value) is float and value == (1.0 if name in ("SCL", "X", "Y", "Z") and number in (11, 26) else 0.0)
+                  for name, value in params.items() if name not in ("#",) and not name.startswith("CC"))
+    if neutral and "#" not in params:
+        active.pop(number, None)
+    else:
+        active[number] = tuple(sorted((name, value) for name, value in params.items() if type(value) is float))
+        interp._fault("core.unsupported-code", op.span, f"coordinate transformation (cycle {number}) is read but not modelled: positions after it "
+                      "are not compared with the BLK FORM; checks that depend on them answer unknown", "unknown", f"cycle {number}")
+        state.move_to(dict.fromkeys(state.position))
+    _put(state, "transforms", tuple(sorted(active.items())))
+    if number == 10:
+        state.comp_side = "off"  # cycle 10 cancels radius compensation (seed L7904)
+
+
+def _trans_run(runner, op, block, model, params):
+    what = params.pop("what", "DATUM")
+    number = {"DATUM": 7, "MIRROR": 8, "ROTATION": 10, "SCALE": 11}.get(what, 7)
+    if params.pop("reset", None) is not None or what == "RESET":
+        params = {}
+    _transform(runner, op, number, params)
+    return None
+
+
+def _pattern_run(runner, op, block, model, params):
+    forms = {}
+    for key, value in params.items():
+        index, word = key.split(":", 1)
+        forms.setdefault(int(index), {})[word] = value
+    points = []
+    for index in sorted(forms):
+        found = _pattern_form_points(forms[index], points)
+        if found is None:
+            points = None
+            break
+        points.extend(found)
+    _put(runner.state, "pattern", None if points is None else tuple(points))
+    return None
+
+
+def _pattern_form_points(form: dict, earlier: list):
+    """The X, Y (and surface Z) of one PATTERN DEF element (reference A §4.5)."""
+    kind = form.get("form")
+    words = {key: value for key, value in form.items() if key != "form"}
+    if any(type(value) is not float for value in words.values()):
+        return None
+    z = words.get("Z", 0.0)
+    if kind == "POS":
+        last = earlier[-1] if earlier else (0.0, 0.0, 0.0)
+        x = words["X"] if "X" in words else last[0] + words.get("IX", 0.0)
+        y = words["Y"] if "Y" in words else last[1] + words.get("IY", 0.0)
+        return [(x, y, words.get("Z", last[2] + words.get("IZ", 0.0) if "IZ" in words else z))]
+    x0, y0 = words.get("X", 0.0), words.get("Y", 0.0)
+    rotation = math.radians(words.get("ROT", 0.0))
+    if kind == "ROW":
+        return [_rotated(x0, y0, index * words.get("D", 0.0), 0.0, rotation, z) for index in range(int(words.get("NUM", 0)))]
+    if kind in ("PAT", "FRAME"):
+        columns, rows = int(words.get("NUMX", 0)), int(words.get("NUMY", 0))
+        found = []
+        for row in range(rows):
+            for column in range(columns):
+                if kind == "FRAME" and 0 < row < rows - 1 and 0 < column < columns - 1:
+                    continue
+                found.append(_rotated(x0, y0, column * words.get("DX", 0.0), row * words.get("DY", 0.0), rotation, z))
+        return found
+    if kind in ("CIRC", "PITCHCIRC"):
+        count = int(words.get("NUM", 0))
+        radius = words.get("D", 0.0) / 2.0
+        step = words.get("STEP", 360.0 / count if count else 0.0) if kind == "PITCHCIRC" else (360.0 / count if count else 0.0)
+        start = words.get("START", 0.0)
+        return [(x0 + radius * math.cos(math.radians(start + index * step)), y0 + radius * math.sin(math.radians(start + index * step)), z)
+                for index in range(count)]
+    return None
+
+
+def _rotated(x0, y0, dx, dy, angle, z):
+    return (x0 + dx * math.cos(angle) - dy * math.sin(angle), y0 + dx * math.sin(angle) + dy * math.cos(angle), z)
+
+
+def _pattern_points(number: int, params: dict):
+    """Cycle 220 (polar) / 221 (Cartesian) pattern points (reference B)."""
+    if number == 220:
+        names = ("Q216", "Q217", "Q244", "Q245", "Q246", "Q247", "Q241")
+        found = [params.get(name) for name in names]
+        if any(type(value) is not float for value in found):
+            return None
+        x0, y0, diameter, start, end, step, count = found
+        count = int(count)
+        if step == 0.0 and count > 1:
+            span = end - start
+            step = span / count if abs(span) >= 360.0 else span / (count - 1)
+        return [(x0 + diameter / 2 * math.cos(math.radians(start + index * step)), y0 + diameter / 2 * math.sin(math.radians(start + index * step)), 0.0)
+                for index in range(count)]
+    names = ("Q225", "Q226", "Q237", "Q238", "Q242", "Q243")
+    found = [params.get(name) for name in names]
+    if any(type(value) is not float for value in found):
+        return None
+    x0, y0, dx, dy, columns, rows = found
+    rotation = math.radians(params.get("Q224", 0.0) if type(params.get("Q224", 0.0)) is float else 0.0)
+    return [_rotated(x0, y0, column * dx, row * dy, rotation, 0.0) for row in range(int(rows)) for column in range(int(columns))]
+
+
+def _call_run(runner, op, block, model, params):
+    """CYCL CALL / CYCL CALL PAT / CYCL CALL POS / M99 / M89 (seed L692-791)."""
+    interp = runner.interp
+    state = runner.state
+    how = params.get("how", "CALL")
+    definition = _get(state, "cycle")
+    if how in ("M89", "M99"):
+        _put(state, "m89", how == "M89")
+    if definition is None:
+        interp._fault("heidenhain.call-without-cycle", op.span, f"{_call_words(how)} with no machining cycle defined before it: the control stops with an error "
+                      "(define the cycle with CYCL DEF first)")
+        return None
+    if how == "PAT":
+        points = _get(state, "pattern")
+        if points is None:
+            interp._fault("core.unsupported-code", op.span, "CYCL CALL PAT without a PATTERN DEF whose points are known (a point table?) is not modelled",
+                          "unknown", "CYCL CALL PAT")
+            state.move_to(dict.fromkeys(state.position))
+            return None
+        params_ = definition.params
+        return _run_at_points(runner, op, block, list(points), params_.get("Q200"), params_.get("Q203"), params_.get("Q204"), params.get("F"))
+    if how == "POS":
+        missing = [axis for axis in "XYZ" if axis not in params and "I" + axis not in params]
+        if missing:
+            interp._fault("heidenhain.call-pos-axes", op.span, f"CYCL CALL POS without {', '.join(missing)}: all three coordinates must be programmed (seed L710-737)")
+        targets = _targets(runner, params, op.span)
+        axis = _plane(state)[2]
+        runner._rapid_to({a: v for a, v in targets.items() if a != axis}, op.span, block, "between-holes", f"heidenhain.{definition.number}")
+        return run_cycle(runner, op, block, definition, shift=targets.get(axis))
+    return run_cycle(runner, op, block, definition)
+
+
+def _positioned_run(runner, op, block, model, params):
+    """After M89 every positioning block runs the cycle, until M99 or a new CYCL DEF
+    (seed L742-752)."""
+    state = runner.state
+    _put(state, "fed_at", _plane_point(state) if params.get("fed") else None)
+    if not _get(state, "m89"):
+        return None
+    definition = _get(state, "cycle")
+    if definition is None:
+        return None
+    return run_cycle(runner, op, block, definition)
+
+
+def _call_words(how: str) -> str:
+    return {"CALL": "CYCL CALL", "PAT": "CYCL CALL PAT", "POS": "CYCL CALL POS"}.get(how, how)
+
+
+def _run_at_points(runner, op, block, points, setup, surface, second, feed=None):
+    """The cycle at every point of a pattern: between points at the 2nd set-up clearance
+    or the height at the call, whichever is higher (seed L1147-1149)."""
+    state = runner.state
+    definition = _get(state, "cycle")
+    if definition is None:
+        runner.interp._fault("heidenhain.call-without-cycle", op.span, "a pattern runs with no machining cycle defined before it: the control stops with an error")
+        return None
+    first, second_axis, axis = _plane(state)
+    name = f"heidenhain.{definition.number}"
+    for x, y, z in points:
+        level = state.position.get(axis)
+        runner._rapid_to({first: x, second_axis: y}, op.span, block, "between-holes", name, "rapid" if feed in (None, "FMAX") else "feed")
+        run_cycle(runner, op, block, definition, surface_offset=z if z else None)
+        if level is not None and state.position.get(axis) is not None and _higher(level, state.position[axis]):
+            runner._rapid_to({axis: level}, op.span, block, "retract", name)
+    return None
+
+
+def _higher(a, b) -> bool:
+    return type(a) is float and type(b) is float and a > b
+
+
+def run_cycle(runner, op, block, definition: Definition, shift=None, surface_offset=None):
+    model = definition.model
+    family = model.get("family")
+    interp = runner.interp
+    state = runner.state
+    if state.comp_side in ("left", "right"):
+        interp._fault("heidenhain.cycle-with-compensation", op.span, f"cycle {definition.number} is called while radius compensation "
+                      f"{'RL' if state.comp_side == 'left' else 'RR'} is on: position to the cycle's start point with R0 (seed L1629)")
+    if family in _HOLE_FAMILIES:
+        return _hole(runner, op, block, definition, shift, surface_offset)
+    if family in ("pocket", "stud", "slot", "face"):
+        return _pocket(runner, op, block, definition, shift, surface_offset)
+    if family == "old":  # the old fixed cycles start and end at the position of the call
+        interp.observer.cycle_run(CycleRun(f"heidenhain.{definition.number}", model, op.span, block, _numbers(definition.params), dict(definition.spans)), state)
+        return None
+    interp.observer.cycle_run(CycleRun(f"heidenhain.{definition.number}", model, op.span, block, _numbers(definition.params), dict(definition.spans)), state)
+    interp._fault("core.unsupported-code", op.span, f"the motion of cycle {definition.number} is not modelled; checks that depend on it answer unknown",
+                  "unknown", f"cycle {definition.number}")
+    state.move_to(dict.fromkeys(state.position))
+    return None
+
+
+def _numbers(params: dict) -> dict:
+    """The parameters rules compare: keyword values (FMAX, AUTO, PREDEF) and strings left out."""
+    return {name: value for name, value in params.items() if not isinstance(value, str)}
+
+
+def levels(params: dict, depth_name: str = "Q201"):
+    """Set-up clearance level, bottom and retract level of a hole or pocket cycle, and the
+    direction (reference A §6.0); None where a parameter is missing or not a number."""
+    depth, surface, clearance = params.get(depth_name), params.get("Q203"), params.get("Q200")
+    second = params.get("Q204", 0.0)
+    if any(value is None or isinstance(value, str) for value in (depth, surface, clearance)):
+        return None
+    if isinstance(second, str):
+        second = 0.0
+    direction = 1.0 if type(depth) is float and depth > 0 else -1.0
+    set_up = values.sub(surface, values.mul(direction, clearance))
+    bottom = values.add(surface, depth)
+    if type(second) is float and type(clearance) is float:
+        retract_height = max(second, clearance)
+    else:
+        retract_height = second
+    retract = values.sub(surface, values.mul(direction, retract_height))
+    return set_up, bottom, retract, direction
+
+
+def _depth_name(definition: Definition) -> str:
+    return definition.model.get("depth", "Q201")
+
+
+def _hole(runner, op, block, definition, shift, surface_offset):
+    interp = runner.interp
+    state = runner.state
+    axis = _plane(state)[2]
+    params = dict(definition.params)
+    _offset_surface(params, shift, surface_offset)
+    name = f"heidenhain.{definition.number}"
+    model = definition.model
+    required = [q for q, spec in model.get("params", {}).items() if spec.get("required")]
+    missing = tuple(q for q in required if q not in params)
+    found = levels(params, _depth_name(definition))
+    set_up, bottom, retract = (found[:3] if found else (None, None, None))
+    predrilled = _predrilled(state, set_up)
+    hole = Hole(name, model, op.span, block, axis, dict(state.position), retract, None if predrilled else set_up, bottom, _numbers(params),
+                dict(definition.spans), missing, definition.span)
+    interp.observer.hole(hole, state)
+    depth = params.get(_depth_name(definition))
+    if found is None or missing or depth == 0.0:
+        return None  # depth 0: the control skips the cycle (seed L1630-1631)
+    _remember_hole(state, bottom)
+    runner._rapid_to({axis: set_up}, op.span, block, "through-bore" if predrilled else "approach", name)
+    with _cycle_feed(state, params):
+        runner._rapid_to({axis: bottom}, op.span, block, "infeed", name, "feed")
+        out_kind = "feed" if model.get("retract") == "feed" else "rapid"
+        runner._rapid_to({axis: set_up}, op.span, block, "out-of-hole", name, out_kind)
+    runner._rapid_to({axis: retract}, op.span, block, "out-of-hole", name)  # on up the same axis
+    return None
+
+
+def _predrilled(state, level) -> bool:
+    """Was a hole drilled here before, at least down to ``level``? The stock model has no
+    holes: the approach into it is then reported as not checked, not as a crash."""
+    point = _plane_point(state)
+    if type(level) is not float or None in point:
+        return False
+    return any(x == point[0] and y == point[1] and type(bottom) is float and bottom <= level for x, y, bottom in _get(state, "drilled", ()))
+
+
+def _remember_hole(state, bottom) -> None:
+    drilled = _get(state, "drilled", ())
+    point = _plane_point(state)
+    if None not in point and len(drilled) < 10_000:
+        _put(state, "drilled", drilled + ((point[0], point[1], bottom),))
+
+
+def _pitch_feed(state, pitch):
+    speed = state.spindle_speed
+    if speed is None:
+        return values.fresh("S*Q239", 0.0)
+    return values.absolute(values.mul(speed, pitch))
+
+
+class _cycle_feed:
+    """The cycle cuts at its own feed (Q206, else Q207); the programmed feed is back after it."""
+
+    def __init__(self, state, params):
+        self.state = state
+        feed = params.get("Q206", params.get("Q207"))
+        if feed is None and "Q239" in params and not isinstance(params["Q239"], str):
+            feed = _pitch_feed(state, params["Q239"])  # rigid tapping: S x pitch (seed L3887-3898)
+        self.feed = feed if feed is not None and not isinstance(feed, str) else (_get(state, "tool_feed") if feed == "AUTO" else None)
+
+    def __enter__(self):
+        self.saved = self.state.feed
+        if self.feed is not None:
+            self.state.feed = self.feed
+
+    def __exit__(self, *exc):
+        self.state.feed = self.saved
+        return False
+
+
+def _offset_surface(params: dict, shift, surface_offset) -> None:
+    """CYCL CALL POS's tool-axis value and a pattern point's Z act on top of Q203."""
+    for extra in (shift, surface_offset):
+        if extra is not None and "Q203" in params and not isinstance(params["Q203"], str):
+            params["Q203"] = values.add(params["Q203"], extra)
+
+
+def _pocket(runner, op, block, definition, shift, surface_offset):
+    """Pockets, studs, slots and face milling: the levels are those of a hole (the cutting
+    paths in the plane are not traced); the cycle ends at the 2nd set-up clearance, over
+    the centre for pockets and elsewhere for studs and for slots that start at an end."""
+    interp = runner.interp
+    state = runner.state
+    params = dict(definition.params)
+    _offset_surface(params, shift, surface_offset)
+    model = definition.model
+    name = f"heidenhain.{definition.number}"
+    interp.observer.cycle_run(CycleRun(name, model, op.span, block, _numbers(params), dict(definition.spans)), state)
+    axis = _plane(state)[2]
+    found = levels(params, _depth_name(definition))
+    depth = params.get(_depth_name(definition))
+    if found is None or depth == 0.0:
+        return None
+    set_up, bottom, retract, _direction = found
+    first, second, _normal = _plane(state)
+    if model.get("family") == "stud":
+        state.move_to({first: None, second: None})  # studs start beside the stud, where Q437 / Q224 put the tool
+    runner._rapid_to({axis: set_up}, op.span, block, "approach", name)
+    with _cycle_feed(state, params):
+        runner._rapid_to({axis: bottom}, op.span, block, "infeed", name, "feed")
+        runner._rapid_to({axis: set_up}, op.span, block, "out-of-hole", name, "feed")
+    runner._rapid_to({axis: retract}, op.span, block, "retract", name)
+    if model.get("ends_elsewhere") or (model.get("family") == "slot" and params.get("Q367", 0.0) != 0.0):
+        state.move_to({first: None, second: None})
+    return None
+
+
+_RUNNERS = {
+    "pole": _pole_run, "arc": _arc_run, "tangent": _tangent_run, "polar": _polar_run, "retract": _retract_run,
+    "tool_feed": _tool_feed_run, "label_call": _label_call_run, "end_pgm": _end_pgm_run, "define": _define_run,
+    "old_cycle": _old_cycle_run, "trans": _trans_run, "pattern": _pattern_run, "call": _call_run,
+    "positioned": _positioned_run, "tool_length": _tool_length_run, "lift": _lift_run,
+}
+
+for _what, _run in _RUNNERS.items():
+    cycles.register_shape(f"heidenhain.{_what}", _run)
+
