@@ -122,7 +122,8 @@ class CycleRunner:
     def _change_data(self, op: ir.CycleDefine):
         state = self.state
         if state.cycle is None:
-            self.interp._fault(op.params.get("$rule", "core.cycle-missing-parameter"), op.span, "a cycle parameter is changed while no canned cycle is active: the control alarms")
+            letters = ", ".join(letter for letter in op.params if not letter.startswith("$"))
+            self.interp._fault(op.params.get("$rule", "core.cycle-missing-parameter"), op.span, f"cycle parameter {letters} is changed while no canned cycle is active: the control alarms")
             return None
         params = self._evaluate_all({letter: expr for letter, expr in op.params.items() if not letter.startswith("$")}, op.span)
         state.cycle_data.update(params)

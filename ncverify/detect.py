@@ -30,8 +30,10 @@ _SIGNATURES: dict[str, list[tuple[str, float]]] = {
         (r"(?im)#(?:MCALL|PCALL|CALL|MDOFF|LATHECY|MILLCY|TOOL\s+AX)\b", 6), (r"(?im)\$(?:IF|GOTO|WHILE|FOR|SWITCH|ELSE|ENDIF)\b", 5),
         (r"(?im)\bG16[0-5]\b", 4), (r"(?im)\bG21[0-2]\b", 3), (r"(?im)\(RPT\s+N", 5), (r"(?im)\bV\.[A-Z]\.", 4),
         # Fagor cycle blocks: the tool-axis word is the reference plane and I the depth, no R (G81 Z2 I-20)
-        (r"(?im)\bG8[1-8]\b(?![^\n;(]*\bR[-+]?[\d.])[^\n;(]*\bI[-+]?[\d.]", 5), (r"(?im)^[ \t]*%L[ \t]+\w", 5),
-        (r"(?im)(?<![A-Z#\w])P\d+[ \t]*=(?!=)", 3), (r"(?im)\bNR\d", 3),
+        # (ISO G81/G82/G84/G85 never take I; Haas G83 and ISO G87 may, always with an R point)
+        (r"(?im)\bG8[1245]\b[^\n;(]*\bI[-+]?[\d.]", 15), (r"(?im)\bG8[1-8]\b(?![^\n;(]*\bR[-+]?[\d.])[^\n;(]*\bI[-+]?[\d.]", 15),
+        (r"(?im)^[ \t]*%L[ \t]+\w", 5), (r"(?im)(?<![A-Z#\w])P\d+[ \t]*=(?!=)", 3), (r"(?im)\bNR\d", 3),
+        (r"(?im)\bT\d+[ \t]*D\d+[ \t]*M0?6\b", 4), (r"(?im)\$(?:ENDIF|ENDWHILE|ENDFOR|ENDSWITCH|ENDDO|ELSEIF|CASE|BREAK)\b", 5),
     ],
     "iso": [
         (r"(?m)^\s*%\s*$", 2), (r"(?im)^\s*(?:N\d+\s*)?O\d+", 4), (r"(?im)\bG0?[0-3](?![0-9.])\s*[XYZUW]", 2),

@@ -397,7 +397,7 @@ def program_structure(buffer) -> dict[str, str]:
             continue
         if keyword in ("BREAK", "CONTINUE"):
             enclosing = next((frame for frame in reversed(stack) if frame[0] in _LOOPS or (keyword == "BREAK" and frame[0] == "SWITCH")), None)
-            targets[f"{keyword.lower()}:{line}"] = f"@?{keyword}:{line}" if enclosing is None else f"&{keyword.lower()}:{enclosing[1]}"
+            targets[f"{keyword.lower()}:{line}"] = f"@?{keyword}:{line}" if enclosing is None else f"&{'exit' if keyword == 'BREAK' else 'continue'}:{enclosing[1]}"
             continue
         opener = {"ELSEIF": "IF", "ELSE": "IF", "ENDIF": "IF", "CASE": "SWITCH", "DEFAULT": "SWITCH", "ENDSWITCH": "SWITCH"}.get(keyword)
         opener = opener or next(loop for loop, end in _LOOPS.items() if end == keyword)
@@ -412,20 +412,24 @@ def program_structure(buffer) -> dict[str, str]:
                 for branch_line in frame[3:]:
                     targets[f"end:{branch_line}"] = f"@{line}"
                 targets[f"end:{frame[1]}"] = f"@{line}"
-                targets[f"&break:{frame[1]}"] = f"@{line}"
+                targets[f"exit:{frame[1]}"] = f"@{line}"
             else:
                 frame.append(line)
             continue
         stack.pop()
         head = frame[1]
         targets[f"exit:{head}"] = f"@{line}"
-        targets[f"&break:{head}"] = f"@{line}"
         targets[f"head:{line}"] = f"@{head}#s" if opener == "FOR" else f"@{head}"
-        targets[f"&continue:{head}"] = {"FOR": f"@{head}#s", "WHILE": f"@{head}", "DO": f"@{line}#c"}[opener]
+        targets[f"continue:{head}"] = {"FOR": f"@{head}#s", "WHILE": f"@{head}", "DO": f"@{line}#c"}[opener]
     for key, value in list(targets.items()):
         if value.startswith("&"):
             targets[key] = targets.get(value[1:], f"@?{key}")
     return targets
+
+
+def _has_code(text) -> bool:
+    """Does the text hold a block, not only blank and comment lines?"""
+    return re.search(rb"(?m)^[ \t]*[^;\s]", text) is not None
 
 
 class FagorFrontend:
@@ -460,12 +464,12 @@ class FagorFrontend:
         position = 0
         main_start = None
         for match in re.finditer(rb"(?im)^[ \t]*%[ \t]*L[ \t]+([A-Za-z0-9_.]+)", buffer):
-            if main_start is None and bytes(buffer[position : match.start()]).strip(b" \t\r\n"):
+            if main_start is None and _has_code(buffer[position : match.start()]):
                 main_start = position
             found.append((match.group(1).decode(), match.start()))
             end = subroutine_end.search(buffer, match.end())
             position = end.end() if end else len(buffer)
-        if found and main_start is None and bytes(buffer[position:]).strip(b" \t\r\n"):
+        if found and main_start is None and _has_code(buffer[position:]):
             main_start = position
         if main_start is not None:
             found.append(("main", main_start))

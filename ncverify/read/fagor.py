@@ -367,6 +367,8 @@ class _Expressions:
         code, start = self.code, self.position
         if code.startswith("V.", start):
             match = _V_NAME.match(code, start)
+            if match is None:
+                raise _Error("a V. variable needs a name (V.C.Z)", start)
             self.position = match.end()
             return ir.Var(match.group(0))
         if code[start : start + 1] in ("P", "#") and start + 1 < len(code):
@@ -431,7 +433,10 @@ class _Expressions:
         char = self.code[self.position : self.position + 1]
         if char in ("+", "-"):
             self.position += 1
-            return ir.Unary(char, self.unary())
+            operand = self.unary()
+            if type(operand) is float:
+                return -operand if char == "-" else operand
+            return ir.Unary(char, operand)
         if self.keyword("NOT") is not None:
             return ir.Binary("EQ", self.unary(), 0.0)
         base = self.atom()
