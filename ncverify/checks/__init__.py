@@ -5,3 +5,4 @@ from . import cycle_hazards  # noqa: F401
 from . import modal_hazards  # noqa: F401
 from . import fagor  # noqa: F401
 from . import heidenhain  # noqa: F401
+from . import sinumerik  # noqa: F401

@@ -1,0 +1,346 @@
+"""SINUMERIK 840D cycle rules: the argument list, the machining-type digits, the
+reference planes, the tool against the feature, and the alarms the cycles would raise.
+
+Every cycle run reaches these rules as a :class:`~ncverify.trace.CycleRun` whose params are
+the positional arguments by their manual names (``dialects/sinumerik/cycles.toml``), with
+``ARG_COUNT`` / ``ARG_OMITTED`` saying how the list was written. Messages carry the alarm
+the control would raise, its number and text, and the values involved (references
+``sinumerik-840d-a.md`` Appendix A and ``-b.md`` section 11).
+"""
+from __future__ import annotations
+
+from .. import values
+from ..check import Rule, hazard, rule, show
+from ..lower.sinumerik_cycles import levels
+from ..pocket import circle_fit, rectangle_fit, slot_fit
+from .machine import _ReportsMissingContext
+
+
+def _cycle_name(run) -> str:
+    return run.cycle.rsplit(".", 1)[-1]
+
+
+def _is_sinumerik(run) -> bool:
+    return run.cycle.startswith("sinumerik.")
+
+
+def _arguments(run) -> list[tuple[str, str]]:
+    return [tuple(argument) for argument in run.model.get("arguments", ())]
+
+
+# --------------------------------------------------------------------------- argument list
+
+@rule("sinumerik.cycle-arguments")
+class CycleArguments(Rule):
+    """Too many arguments (alarm 12340) or a string where a number is expected and the
+    other way round (alarm 12330), seed A L518-703."""
+
+    def cycle_run(self, run, state):
+        if not _is_sinumerik(run):
+            return
+        name, declared = _cycle_name(run), _arguments(run)
+        count = run.params.get("ARG_COUNT", 0.0)
+        if type(count) is float and count > len(declared):
+            extra = [f"{run.params.get(f'#{index}')!s}" for index in range(len(declared) + 1, int(count) + 1)]
+            self.report("sinumerik.cycle-arguments", run.param_spans.get(f"#{len(declared) + 1}", run.span),
+                        f"{name} takes {len(declared)} arguments but {int(count)} are given (extra: {', '.join(_shown(value) for value in extra)}): "
+                        "would raise alarm 12340 \"too many parameters\"; the cycle is not executed")
+        for parameter, kind in declared:
+            value = run.params.get(parameter)
+            if value is None:
+                continue
+            wrong = isinstance(value, str) if kind in ("REAL", "INT") else (kind in ("STRING", "CHAR") and not isinstance(value, str) and value != 0.0)
+            if wrong:
+                self.report("sinumerik.cycle-arguments", run.param_spans.get(parameter, run.span),
+                            f"{name}: {parameter} is {kind} but gets {_shown(value)}: would raise alarm 12330 \"parameter type wrong\"; the cycle is not executed")
+
+
+def _shown(value) -> str:
+    return f'"{value}"' if isinstance(value, str) else show(value)
+
+
+# --------------------------------------------------------------------------- machining type digits
+
+# cycle -> parameter -> {digit position: allowed digits}, the alarm, the seed lines.
+_DIGITS = {
+    "SLOT1": ("VARI", {0: {0, 1, 2}, 1: {0, 1, 3}}, "A L6040-6057"),
+    "SLOT2": ("VARI", {0: {0, 1, 2}, 1: {0, 1}}, "A L6384-6390"),
+    "POCKET1": ("VARI", {0: {0, 1, 2}}, "A L6700-6716"),
+    "POCKET2": ("VARI", {0: {0, 1, 2}}, "A L6890-6900"),
+    "POCKET3": ("_VARI", {0: {1, 2}, 1: {0, 1, 2, 3}}, "A L7327-7330"),
+    "POCKET4": ("_VARI", {0: {1, 2}, 1: {0, 1, 2}}, "A L7655-7660"),
+    "CYCLE71": ("_VARI", {0: {1, 2}, 1: {1, 2, 3, 4}}, "A L8036-8053"),
+    "CYCLE72": ("_VARI", {0: {1, 2}, 1: {0, 1}, 2: {0, 1, 2, 3}}, "A L8386-8388"),
+    "CYCLE76": ("_VARI", {0: {1, 2}, 1: {0, 1}}, "A L8800-8840"),
+    "CYCLE77": ("_VARI", {0: {1, 2}, 1: {0, 1}}, "A L9060-9085"),
+    "CYCLE83": ("VARI", {0: {0, 1}}, "A L2325-2772"),
+    "CYCLE95": ("VARI", None, "B L15811-15830, L16218-16222"),
+}
+_DIGIT_NAMES = ("units", "tens", "hundreds", "thousands")
+
+
+@rule("sinumerik.machining-type")
+class MachiningType(Rule):
+    """Alarm 61002 "machining type defined incorrectly": a digit of VARI outside its set."""
+
+    def cycle_run(self, run, state):
+        entry = _DIGITS.get(_cycle_name(run)) if _is_sinumerik(run) else None
+        if entry is None:
+            return
+        parameter, allowed, seed = entry
+        value = run.params.get(parameter)
+        if type(value) is not float:
+            return
+        problem = vari_problem(_cycle_name(run), value)
+        if problem:
+            self.report("sinumerik.machining-type", run.param_spans.get(parameter, run.span),
+                        f"{_cycle_name(run)}: {parameter}={show(value)}: {problem}: would raise alarm 61002 \"machining type defined incorrectly\" (seed {seed})")
+
+
+def vari_problem(cycle: str, value: float) -> str:
+    """What is wrong with a machining-type value, or '' when it is valid."""
+    parameter, allowed, _seed = _DIGITS[cycle]
+    if value != int(value) or value < 0:
+        return "not a whole non-negative number"
+    number = int(value)
+    if allowed is None:  # CYCLE95: 1-12, hundreds digit 0 or 2
+        return "" if 1 <= number % 100 <= 12 and number // 100 in (0, 2) else "must be 1-12 (or 201-212)"
+    top = max(allowed)
+    if number >= 10 ** (top + 1):
+        return f"has more than {top + 1} digit{'s' if top else ''}"
+    for position, digits in allowed.items():
+        digit = number // 10 ** position % 10
+        if digit not in digits:
+            return f"the {_DIGIT_NAMES[position]} digit {digit} is not one of {', '.join(str(d) for d in sorted(digits))}"
+    return ""
+
+
+# --------------------------------------------------------------------------- planes and depth
+
+_PLANE_CYCLES = {"CYCLE81", "CYCLE82", "CYCLE83", "CYCLE84", "CYCLE840", "CYCLE85", "CYCLE86", "CYCLE87", "CYCLE88",
+                 "CYCLE89", "CYCLE90", "CYCLE71", "CYCLE72", "SLOT1", "SLOT2", "POCKET1", "POCKET2", "POCKET3",
+                 "POCKET4", "LONGHOLE", "CYCLE76", "CYCLE77"}
+
+
+@rule("sinumerik.reference-plane", "sinumerik.depth-conflict")
+class ReferencePlane(Rule):
+    """Alarm 61101 (seed A L2139-2146): a relative depth with RTP = RFP, or the retract
+    plane lying between the reference plane and the depth. And the message "Depth:
+    according to value for relative depth" when DP and DPR disagree (L2127-2134)."""
+
+    def cycle_run(self, run, state):
+        name = _cycle_name(run)
+        if not _is_sinumerik(run) or name not in _PLANE_CYCLES:
+            return
+        params = run.params
+        rtp, rfp = _number(params, "RTP"), _number(params, "RFP")
+        dpr = _number(params, "DPR")
+        span = run.param_spans.get("RTP", run.param_spans.get("_RTP", run.span))
+        report, judge = self.checker.report_verdict, self.checker.judge
+        if type(dpr) is not float or dpr != 0.0:
+            report("sinumerik.reference-plane", span,
+                   f"{name}: relative depth DPR{show(dpr)} with the retract plane RTP{show(rtp)} equal to the reference plane RFP{show(rfp)}: "
+                   "would raise alarm 61101 \"reference plane defined incorrectly\" (give RTP and RFP different values or the depth absolutely)",
+                   judge(values.logical("AND", hazard("==", rtp, rfp), hazard("!=", dpr, 0.0)), state), state)
+        side, _start, depth = levels(params, absolute_depth_only=name in ("POCKET3", "POCKET4", "CYCLE71", "CYCLE72"))
+        if depth is None:
+            return
+        behind = hazard("<", values.absolute(values.sub(rtp, depth)), values.absolute(values.sub(rfp, depth)))
+        report("sinumerik.reference-plane", span,
+               f"{name}: the retract plane RTP{show(rtp)} lies between the reference plane RFP{show(rfp)} and the depth {show(depth)}: "
+               "would raise alarm 61101 \"reference plane defined incorrectly\"; the cycle is not executed",
+               judge(behind, state), state)
+        dp = _number(params, "DP")
+        if type(dpr) is float and dpr != 0.0 and type(dp) is float and dp != 0.0 and type(depth) is float and abs(dp - depth) > 1e-9:
+            self.report("sinumerik.depth-conflict", run.param_spans.get("DP", run.span),
+                        f"{name}: DP{show(dp)} and DPR{show(dpr)} give different depths ({show(dp)} and {show(depth)}): the cycle drills to {show(depth)} "
+                        "from the relative depth and shows \"Depth: according to value for relative depth\"")
+
+
+def _number(params: dict, name: str):
+    for key in (name, f"_{name}"):
+        value = params.get(key)
+        if value is not None and not isinstance(value, str):
+            return value
+    return 0.0
+
+
+# --------------------------------------------------------------------------- shifted arguments
+
+# The discrete parameters a dropped or doubled comma moves a wrong value into: cycle ->
+# parameter -> allowed values (None: a whole number >= 1).
+_DISCRETE = {
+    "CYCLE83": {"VARI": {0, 1}, "_AXN": {0, 1, 2, 3}},
+    "CYCLE84": {"SDAC": {3, 4, 5}, "_AXN": {0, 1, 2, 3}, "_PTAB": {0, 1, 2, 3}, "_VARI": {0, 1, 2}},
+    "CYCLE840": {"SDR": {0, 3, 4}, "SDAC": {3, 4, 5}, "ENC": {0, 1, 11, 20}, "_AXN": {0, 1, 2, 3}, "_PTAB": {0, 1, 2, 3}},
+    "CYCLE86": {"SDIR": {3, 4}},
+    "CYCLE87": {"SDIR": {3, 4}},
+    "CYCLE88": {"SDIR": {3, 4}},
+    "CYCLE90": {"CDIR": {2, 3}, "TYPTH": {0, 1}},
+    "HOLES1": {"NUM": None},
+    "HOLES2": {"NUM": None},
+    "LONGHOLE": {"NUM": None},
+    "SLOT1": {"NUM": None, "CDIR": {0, 1, 2, 3}},
+    "SLOT2": {"NUM": None, "CDIR": {2, 3}},
+    "POCKET1": {"CDIR": {2, 3}},
+    "POCKET2": {"CDIR": {2, 3}},
+    "POCKET3": {"_CDIR": {0, 1, 2, 3}},
+    "POCKET4": {"_CDIR": {0, 1, 2, 3}},
+    "CYCLE72": {"_RL": {40, 41, 42}},
+}
+
+
+def _violations(cycle: str, names: list[str], values_by_position: list) -> int:
+    """How many discrete parameters (and machining-type values) a list of arguments breaks."""
+    count = 0
+    by_name = dict(zip(names, values_by_position))
+    for parameter, allowed in _DISCRETE.get(cycle, {}).items():
+        value = by_name.get(parameter, 0.0)
+        if type(value) is not float:
+            continue
+        if allowed is None:
+            count += value < 1 or value != int(value)
+        else:
+            count += value not in allowed
+    if cycle in _DIGITS:
+        value = by_name.get(_DIGITS[cycle][0], 0.0)
+        count += type(value) is float and bool(vari_problem(cycle, value))
+    return count
+
+
+@rule("sinumerik.shifted-arguments")
+class ShiftedArguments(Rule):
+    """A dropped or doubled comma moves every later argument one place: the discrete
+    parameters then get values outside their sets. When moving the arguments back by one
+    place from some position makes every discrete parameter valid, say so."""
+
+    def cycle_run(self, run, state):
+        cycle = _cycle_name(run)
+        if not _is_sinumerik(run) or cycle not in _DISCRETE:
+            return
+        names = [name for name, _kind in _arguments(run)]
+        count = int(run.params.get("ARG_COUNT", 0.0)) if type(run.params.get("ARG_COUNT")) is float else 0
+        written = [run.params.get(names[index] if index < len(names) else f"#{index + 1}", 0.0) for index in range(count)]
+        if any(not isinstance(value, float) for value in written):
+            return
+        broken = _violations(cycle, names, written) + (count > len(names))
+        if broken == 0:
+            return
+        best = None
+        for position in range(1, count + 1):
+            candidates = [(written[:position] + [0.0] + written[position:], "missing")]
+            if position < count and written[position] == 0.0:  # a doubled comma leaves an empty argument
+                candidates.append((written[:position] + written[position + 1:], "extra"))
+            for shifted, how in candidates:
+                if len(shifted) > len(names) and any(value != 0.0 for value in shifted[len(names):]):
+                    continue
+                if _violations(cycle, names, shifted) == 0 and (best is None or position > best[0]):
+                    best = (position, how, shifted)
+        if best is None:
+            return
+        position, how, shifted = best
+        moved = []
+        for index in range(position, min(count, len(names) + 1)):
+            value = written[index]
+            landed = names[index] if index < len(names) else f"argument {index + 1} (beyond the list)"
+            meant_index = index + 1 if how == "missing" else index - 1
+            if 0 <= meant_index < len(names) and value != 0.0:
+                moved.append(f"{show(value)} landed in {landed}, meant for {names[meant_index]}")
+        if not moved:
+            return
+        where = names[position] if position < len(names) else f"argument {position + 1}"
+        comma = "a comma seems to be missing" if how == "missing" else "an extra comma seems to be"
+        self.report("sinumerik.shifted-arguments", run.param_spans.get(where, run.span),
+                    f"{cycle}: the arguments look shifted by one place: {comma} before {where}. " + "; ".join(moved[:4])
+                    + (" ..." if len(moved) > 4 else "") + f". Shifted back by one place every mode parameter is valid; as written {broken} {'is' if broken == 1 else 'are'} out of range")
+
+
+# --------------------------------------------------------------------------- patterns
+
+@rule("sinumerik.pattern-without-mcall")
+class PatternWithoutModalCall(Rule):
+    """HOLES1/HOLES2/CYCLE801 with no MCALL drilling cycle: message 62100, the positions
+    are approached without drilling (seed A L4491-4503)."""
+
+    def cycle_run(self, run, state):
+        if _is_sinumerik(run) and run.model.get("shape") == "sinumerik_pattern" and state.cycle is None:
+            self.report("sinumerik.pattern-without-mcall", run.span,
+                        f"{_cycle_name(run)} with no MCALL drilling cycle active: would raise alarm 62100 \"no drilling cycle active\"; "
+                        "the positions are approached with G0 and nothing is drilled")
+
+
+# --------------------------------------------------------------------------- tool against the feature
+
+@rule("sinumerik.cutter-radius")
+class CutterRadius(_ReportsMissingContext):
+    """Alarm 61105 "cutter radius too large" (POCKET1-4, SLOT1/2, LONGHOLE) and 61111
+    "infeed width > tool diameter" (POCKET3/4, CYCLE71), from the tool radius in the tool
+    data ($TC_DP6 in the program or the project's tool table)."""
+
+    def cycle_run(self, run, state):
+        cycle = _cycle_name(run)
+        if not _is_sinumerik(run) or cycle not in _FEATURES:
+            return
+        dimensions = {name: run.params.get(name) for name in _FEATURES[cycle][0]}
+        if any(type(value) is not float for value in dimensions.values()):
+            return
+        radius = self._radius(run, state)
+        if radius is None:
+            return
+        fit_of, what = _FEATURES[cycle][1], _FEATURES[cycle][2]
+        fit = fit_of(dimensions, radius)
+        span = run.param_spans.get(_FEATURES[cycle][0][0], run.span)
+        tool = f"tool T{show(state.tool_in_spindle)} (radius {radius:g})"
+        if fit is not None and not fit.fits:
+            self.report("sinumerik.cutter-radius", span,
+                        f"{cycle}: {tool} does not fit the {what}: {fit.reason}; the largest radius that fits is {fit.largest_radius:g}: "
+                        "would raise alarm 61105 \"cutter radius too large\"")
+        stepover = run.params.get("_MIDA")
+        if cycle in ("POCKET3", "POCKET4", "CYCLE71") and type(stepover) is float and stepover > 2 * radius:
+            self.report("sinumerik.cutter-radius", run.param_spans.get("_MIDA", run.span),
+                        f"{cycle}: stepover _MIDA{show(stepover)} is larger than the tool diameter {2 * radius:g} of {tool}: "
+                        "would raise alarm 61111 \"infeed width > tool diameter\"")
+
+    def _radius(self, run, state):
+        tools = self.checker.context.get("tools") or {}
+        number = state.tool_in_spindle
+        tool = tools.get(int(number)) if type(number) is float else None
+        if tool is None or tool.radius is None:
+            self.missing("sinumerik.cutter-radius", run.span, "no tool radius for the tool in the spindle ($TC_DP6 in the program or [tools.N] radius)")
+            return None
+        return tool.radius
+
+
+def _rectangle(names):
+    return lambda dims, radius: rectangle_fit(abs(dims[names[0]]), abs(dims[names[1]]), abs(dims[names[2]]) if len(names) > 2 else 0.0, radius)
+
+
+_FEATURES = {
+    "POCKET1": (("LENG", "WID", "CRAD"), _rectangle(("LENG", "WID")), "pocket"),
+    "POCKET3": (("_LENG", "_WID", "_CRAD"), _rectangle(("_LENG", "_WID")), "pocket"),
+    "POCKET2": (("PRAD",), lambda dims, radius: circle_fit(2 * abs(dims["PRAD"]), radius), "circular pocket"),
+    "POCKET4": (("_PRAD",), lambda dims, radius: circle_fit(2 * abs(dims["_PRAD"]), radius), "circular pocket"),
+    "SLOT1": (("WID",), lambda dims, radius: slot_fit(abs(dims["WID"]), radius, strict=True), "slot"),
+    "SLOT2": (("WID",), lambda dims, radius: slot_fit(abs(dims["WID"]), radius, strict=True), "slot"),
+    "LONGHOLE": (("LENG",), lambda dims, radius: slot_fit(abs(dims["LENG"]), radius), "elongated hole length"),
+}
+
+
+@rule("sinumerik.no-tool-offset")
+class NoToolOffset(Rule):
+    """Milling cycles need an active tool offset: alarm 61000 with D0 (POCKET1-4, SLOT1/2,
+    LONGHOLE, CYCLE90 and the turning cycles), 61009 with no tool (CYCLE71/72/76/77)."""
+
+    def cycle_run(self, run, state):
+        if not _is_sinumerik(run):
+            return
+        name = _cycle_name(run)
+        if run.model.get("needs_tool") and type(state.tool_in_spindle) is float and state.tool_in_spindle == 0.0:
+            self.report("sinumerik.no-tool-offset", run.span, f"{name} with tool T0 in the spindle: would raise alarm 61009 \"active tool number = 0\"")
+        elif (run.model.get("needs_offset") or run.model.get("needs_tool")) and state.length_mode == "off" and state.rule_state.get("sinumerik-d0"):
+            self.report("sinumerik.no-tool-offset", run.span, f"{name} with no tool offset active (D0): would raise alarm 61000 \"no tool compensation active\"")
+
+    def change(self, change, state):
+        if change.what == "length_offset":
+            state.rule_state["sinumerik-d0"] = change.new == "off"
+
