@@ -208,3 +208,44 @@ class PocketToolFit(_ReportsMissingContext):
             return []
         return [("J", f"{fit.reason} left inside the thread's root (J{abs(params['J']):g} less twice the thread depth K{abs(params['K']):g}): "
                  "the tool cannot enter the pre-drilled hole", fit.largest_radius)]
+
+
+@rule("fagor.thread-mill-overshoot")
+class ThreadMillOvershoot(_ReportsMissingContext):
+    """G211/G212 leave the thread on a tangential helix that runs past the thread end I
+    along the tool axis (seed L1782-1803, L1922-1939; H21). The manual gives no length; one
+    pitch |B| is taken as the overshoot. Judged against the stock's bottom: past it the
+    tool runs into the table or the fixture."""
+
+    def hole(self, hole, state):
+        if not hole.model.get("thread_mill") or hole.bottom is None or hole.drill_axis != "Z":
+            return
+        pitch = hole.params.get("B")
+        if pitch is None or not self.first_time(state, ("fagor.thread-mill-overshoot", hole.definition)):
+            return
+        stock = self.checker.context.get("stock")
+        if stock is None:
+            self.missing("fagor.thread-mill-overshoot", hole.span, "no stock defined (annotation 'ncverify: stock ...' or [stock] in ncverify.toml)")
+            return
+        lowest = values.sub(hole.bottom, values.absolute(pitch))
+        verdict = self.checker.judge(hazard("<", lowest, stock.z_range[0]), state)
+        self.checker.report_verdict("fagor.thread-mill-overshoot", hole.param_spans.get("I", hole.span),
+                                    f"{_code(hole.cycle)} ends the thread at Z{show(hole.bottom)}, but its helical exit runs on past it by up to one pitch "
+                                    f"(B{show(values.absolute(pitch))}) to about Z{show(lowest)}, below the stock's bottom Z{stock.z_range[0]:g}: "
+                                    "the tool reaches the table or the fixture under the part", verdict, state)
+
+
+@rule("fagor.hole-at-unknown-position")
+class HoleAtUnknownPosition(Rule):
+    """The block that defines a cycle machines where the tool is (seed L613-615; H2)."""
+
+    def hole(self, hole, state):
+        if not _is_fagor(hole.cycle):
+            return
+        first, second, _ = state.plane_axes
+        if hole.position.get(first) is not None and hole.position.get(second) is not None:
+            return
+        if self.first_time(state, ("fagor.hole-at-unknown-position", hole.definition)):
+            self.report("fagor.hole-at-unknown-position", hole.span,
+                        f"{_code(hole.cycle)} machines at a {first}{second} position that is not known here (no {first}/{second} move since the start, a tool change, "
+                        "a home search or an unmodelled statement): the defining block drills wherever the tool happens to be")

@@ -139,7 +139,7 @@ def _read(result: FagorLine, code: str, original: str, paren_comments: bool) -> 
     if label:
         result.label = float(label.group(1)) if label.group(1) else label.group(2)
         position = _skip_spaces(code, label.end())
-    if position < len(code) and code[position] in "$#" and position + 1 < len(code) and code[position + 1].isalpha():
+    if position < len(code) and code[position] in "$#" and _NAME.match(code, position + 1):
         result.statement = _statement(code, original, position)
         return
     if paren_comments:
@@ -249,7 +249,7 @@ def _call_arguments(code: str, original: str, start: int) -> list:
         if parser.position >= len(code.rstrip()):
             return arguments
         letter = code[parser.position]
-        if not letter.isalpha():
+        if not "A" <= letter <= "Z":
             raise _Error(f"unexpected '{letter}' in the call's parameters", parser.position)
         parser.position += 1
         arguments.append((letter, parser.value()))
@@ -281,7 +281,7 @@ def _read_words(result: FagorLine, code: str, position: int) -> None:
             parser.expression()
             result.indexed_axes.append((indexed.group(1) + indexed.group(2), position, parser.position))
             position = parser.position
-        elif char.isalpha():
+        elif "A" <= char <= "Z":
             parser = _Expressions(code, position + 1)
             value, has_point = parser.word_value()
             result.words.append(Word(char, value, has_point, position, parser.position))
