@@ -369,3 +369,23 @@ def test_manual_defects_are_reported():
     assert missing and "K" in missing[0].message
     # L760-772: with [Y+] the printed values drill from the wrong side
     assert "core.cycle-depth-sign" in {d.rule for d in _findings(745, 777, 0) if d.status.value == "violated"}
+
+
+def test_nr_repeats_an_incremental_move_outside_a_cycle_too():
+    assert x_of_last_move("G0 G90 X0 Y0 Z10\nG91 G1 X10 F500 NR4\nG90\nM30\n") == 40.0
+
+
+@settings(max_examples=300, deadline=None)
+@given(strategies.lists(strategies.tuples(strategies.sampled_from("GXYZF"), strategies.sampled_from(["0", "1", "2", "3", "-1.5", "10", "250.25"])), min_size=1, max_size=5),
+       strategies.booleans())
+def test_plain_motion_fast_path_reads_like_the_full_reader(words, labelled):
+    from ncverify.lower.fagor import FagorFrontend, FagorLowering, fagor_table
+
+    text = ("N10 " if labelled else "") + " ".join(letter + value for letter, value in words)
+    frontend = FagorFrontend(FagorLowering(fagor_table()))
+    fast = frontend.blocks(text.encode(), 1, None)
+    full = frontend.lowering.lower_line(read_fagor_line(text, 1), None)
+    def shown(blocks):
+        return [(block.label, [(type(op).__name__, getattr(op, "kind", None), getattr(op, "targets", None), getattr(op, "value", None)) for op in block.ops])
+                for block in blocks]
+    assert shown(fast) == shown(full)

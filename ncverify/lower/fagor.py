@@ -25,6 +25,7 @@ the lines read before it.
 """
 from __future__ import annotations
 
+import dataclasses
 import re
 
 from .. import ir
@@ -34,7 +35,7 @@ from ..read.iso import ReadBlock
 from ..source import Span, decode_line
 from ..tables import CodeTable, _load, code_key
 from . import fagor_cycles
-from .iso import IsoLowering
+from .iso import _PLAIN_MOTION, IsoFrontend, IsoLowering
 
 _PLANE_NORMAL = {"xy": "Z", "zx": "Y", "yz": "X"}
 _PLANE_AXES = {"xy": ("X", "Y"), "zx": ("Z", "X"), "yz": ("Y", "Z")}
@@ -42,6 +43,7 @@ _TURNING_CODES = {f"{n}" for n in range(81, 89)}
 _NO_EFFECT_INSTRUCTIONS = {"HSC", "ROUNDPAR", "MSG", "WARNING", "WAIT", "FLUSH", "SYNC", "TIME", "DSBLK", "ESBLK", "SVON",
                            "SVOFF", "TSYNC", "SELECT", "EXBLK", "MEXEC", "EXEC", "FEED", "ABORT", "CONTJOG", "COMMENT"}
 _PCALL_PARAMETERS = {letter: f"P{index}" for index, letter in enumerate("ABCDEFGHIJKLMNOPQRSTUVWXYZ")}
+_REPEAT_COPIES = 1000  # NR up to this count repeats the move op; above, the cycle runner repeats the hole
 RPT_END = "$RPT_END"
 SWITCH_VALUE = "$SWITCH"
 
@@ -193,8 +195,11 @@ class FagorLowering(IsoLowering):
         if line.repeat is not None:
             value, start, end = line.repeat
             moves = [op for op in block.ops if isinstance(op, ir.Move)]
-            if moves:
-                moves[-1].words["NR"] = value
+            if moves and type(value) is float and value == int(value) and 1 <= value <= _REPEAT_COPIES:
+                at = block.ops.index(moves[-1]) + 1
+                block.ops[at:at] = [dataclasses.replace(moves[-1]) for _ in range(int(value) - 1)]
+            elif moves:
+                moves[-1].words["NR"] = value  # NR0 in a cycle's zone: the move without machining
                 moves[-1].word_columns["NR"] = (start, end)
             else:
                 block.notes.append(ir.Note("fagor.repeat-without-motion", "NR repeats a block's move (and the cycle at its end): this block has no move, so NR does nothing",
@@ -443,16 +448,24 @@ class FagorFrontend:
         self.local_parameters = int(lowering.table.settings.get("local_parameters", 26))
         self._structures: dict[int, tuple[object, dict]] = {}
         self._line_starts: dict[int, tuple[object, list]] = {}
+        self._plain = IsoFrontend(lowering)  # plain motion blocks read as in ISO
 
     def blocks(self, raw: bytes, line: int, path: str | None) -> list[ir.Block]:
+        if not self.lowering.uses_rpt and _PLAIN_MOTION.fullmatch(raw):
+            block = self._plain._plain_motion(raw, line, path)
+            if block is not None:
+                return [block]
         text = decode_line(raw)
         return self.lowering.lower_line(read_fagor_line(text, line, self.paren_comments), path)
 
     def is_plain(self, raw: bytes) -> bool:
-        return False
+        """Plain motion (``[N..] [G0-G3] X.. Y.. Z.. [F..]``) is the same as in ISO: the
+        ISO batch reader takes it (not in a program that repeats labelled blocks with RPT,
+        whose labelled blocks carry a return)."""
+        return not self.lowering.uses_rpt and self._plain.is_plain(raw)
 
-    def plain_run(self, buffer, offset: int, line: int, limit: int = 0):
-        return None
+    def plain_run(self, buffer, offset: int, line: int, limit: int = 1 << 20):
+        return None if self.lowering.uses_rpt else self._plain.plain_run(buffer, offset, line, limit)
 
     # ---- programs: "%L NAME" local subroutines; the rest is the main program
 
