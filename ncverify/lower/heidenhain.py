@@ -56,8 +56,18 @@ class KlartextLowering:
 
     def __init__(self, tool_names: dict | None = None):
         self.tool_names = tool_names if tool_names is not None else {}
+        self._recent: dict = {}  # blocks of lines read lately: loops by FN jumps read them again and again
 
     def lower(self, raw: bytes, line: int, path: str | None) -> list[ir.Block]:
+        key = (raw, line, path)
+        blocks = self._recent.get(key)
+        if blocks is None:
+            if len(self._recent) > 4096:
+                self._recent.clear()
+            blocks = self._recent[key] = self._lower(raw, line, path)
+        return blocks
+
+    def _lower(self, raw: bytes, line: int, path: str | None) -> list[ir.Block]:
         block = ir.Block(line, 1, max(len(raw.split(b"\n", 1)[0]), 1) + 1, [])
         try:
             text = split(raw, line, path)
@@ -279,7 +289,7 @@ class KlartextLowering:
             block.ops.append(ir.SetFeed(span, words["feed"]))
         self._m_before(block, words["m"])
         if words["comp"] is not None:
-            block.ops.append(ir.CutterComp(words["comp"][1], words["comp"][0]))
+            block.ops.append(ir.CycleCall(words["comp"][1], "heidenhain.@comp", {"side": words["comp"][0]}))
         if arc_pseudo is not None:
             block.ops.append(arc_pseudo)
         elif words["targets"]:
@@ -298,14 +308,22 @@ class KlartextLowering:
 
     @staticmethod
     def _m_before(block, m_words):
+        """M functions that act at the start of the block (spindle and coolant on)."""
         for number, span in m_words:
-            if number in _M_SPINDLE:
-                block.ops.append(ir.Spindle(span, _M_SPINDLE[number]))
-            if number in _M_COOLANT:
+            if number in _M_SPINDLE and _M_SPINDLE[number] != "off":
+                block.ops.append(_pseudo(span, "spindle", {"state": _M_SPINDLE[number]}))
+            if number in _M_COOLANT and _M_COOLANT[number] != "off":
                 block.ops.append(ir.Coolant(span, _M_COOLANT[number]))
 
     @staticmethod
     def _m_after(block, m_words, span):
+        """M functions that act at the end of the block: spindle and coolant off, cycle
+        calls, stops (the TNC fixes for each M function when it acts)."""
+        for number, m_span in m_words:
+            if _M_SPINDLE.get(number) == "off":
+                block.ops.append(_pseudo(m_span, "spindle", {"state": "off"}))
+            if _M_COOLANT.get(number) == "off":
+                block.ops.append(ir.Coolant(m_span, "off"))
         for number, m_span in m_words:
             if number == 99.0:
                 block.ops.append(_pseudo(m_span, "call", {"how": "M99"}))
@@ -373,6 +391,8 @@ class KlartextLowering:
         words = self._motion_words(cursor, block, ("LEN", "CCA", "R", "PR", "PA", "DR"))
         span = cursor.rest_span(start.span)
         plane = {"X", "Y"}
+        if start.text == "DEP":
+            words["comp"] = ("off", start.span)  # DEP ends the radius compensation
         if start.text == "DEP" and not plane <= words["targets"].keys():
             self._emit_motion(block, dict(words, targets={}), start.span, cursor, "linear")
             block.ops.append(ir.Unsupported(span, "DEP without its end point", ("position",)))
@@ -636,7 +656,8 @@ _STATEMENTS = {
 # --------------------------------------------------------------------------- frontend
 
 _PROGRAM_START = re.compile(rb"(?mi)^[ \t]*\d*[ \t]*BEGIN[ \t]+PGM[ \t]+([^ \t\r\n;]+)")
-_PROGRAM_END = re.compile(rb"(?mi)\bM(?:30|0?2)\b|^[ \t]*\d*[ \t]*END[ \t]+PGM")
+_TOOL_CALL = re.compile(rb"(?i)\bTOOL[ \t]+CALL\b")
+_M_END = re.compile(rb"(?i)\bM(?:30|0?2)(?![0-9])")
 _BLK_FORM = re.compile(r"(?mi)^[ \t]*\d*[ \t]*BLK[ \t]+FORM[ \t]+(0\.1|0\.2|CYLINDER)\b([^;\r\n]*)")
 _STOCK_WORD = re.compile(r"(?i)\b(I?[XYZ]|D|R|L|DIST|DI)[ \t]*([+-]?[0-9]+(?:[.,][0-9]*)?)")
 
@@ -663,7 +684,10 @@ class KlartextFrontend:
         return [(match.group(1).decode("utf-8", "replace").upper(), match.start()) for match in _PROGRAM_START.finditer(buffer)]
 
     def is_subprogram(self, buffer, start: int, end: int) -> bool:
-        return False
+        """A program with no TOOL CALL and no M2/M30 of its own is written to be called
+        (a machining macro such as a face-milling program): its spindle and feed come
+        from the caller."""
+        return _TOOL_CALL.search(buffer, start, end) is None and _M_END.search(buffer, start, end) is None
 
     def tape_marks(self, buffer) -> list[int]:
         return []
@@ -698,6 +722,7 @@ class KlartextFrontend:
             if table is not None:
                 tools, names = read_tool_table(table)
                 self.lowering.tool_names.update(names)
+                self.lowering._recent.clear()  # TOOL CALL "name" lines read before the table knew the names
         context.tools = tools
         return context
 

@@ -211,17 +211,20 @@ def _polar_run(runner, op, block, model, params):
 
 
 def _polar_end(params, c1, c2, s1, s2):
-    if any(type(value) is not float for value in (c1, c2, s1, s2)):
+    if type(c1) is not float or type(c2) is not float:
         return None
-    radius = math.hypot(s1 - c1, s2 - c2)
-    angle = math.degrees(math.atan2(s2 - c2, s1 - c1))
+    if type(s1) is float and type(s2) is float:
+        radius = math.hypot(s1 - c1, s2 - c2)
+        angle = math.degrees(math.atan2(s2 - c2, s1 - c1))
+    else:
+        radius = angle = None  # an absolute PR and PA need no start point
     if "PR" in params:
         radius = params["PR"]
-    elif "IPR" in params:
+    elif "IPR" in params and radius is not None:
         radius = values.add(radius, params["IPR"])
     if "PA" in params:
         angle = params["PA"]
-    elif "IPA" in params:
+    elif "IPA" in params and angle is not None:
         angle = values.add(angle, params["IPA"])
     if type(radius) is not float or type(angle) is not float:
         return None
@@ -246,6 +249,23 @@ def _tool_length_run(runner, op, block, model, params):
     state = runner.state
     state.length_mode = "plus" if params.get("on") else "off"
     state.length_register = params.get("T")
+    return None
+
+
+def _spindle_run(runner, op, block, model, params):
+    """M3/M4/M13/M14 act at the start of their block and M5 at its end on every TNC, so a
+    spindle code beside a cut is never ambiguous: the change is reported without the block's
+    moves."""
+    alone = ir.Block(block.line, block.start_column, block.end_column, [])
+    runner.interp._spindle(ir.Spindle(op.span, params["state"]), alone)
+    return None
+
+
+def _comp_run(runner, op, block, model, params):
+    """R0 / RL / RR are modal: writing the side already in force changes nothing."""
+    side = params.get("side")
+    if side != runner.state.comp_side:
+        runner.interp._cutter_comp(ir.CutterComp(op.span, side), block)
     return None
 
 
@@ -303,11 +323,11 @@ def _returns_between(interp, target, end: int) -> bool:
 def _end_pgm_run(runner, op, block, model, params):
     """END PGM ends the main program like M30 and returns from a called one."""
     interp = runner.interp
-    frame = interp.state.frames[-1]
-    if frame.kind in ("main", "called"):
+    frames = interp.state.frames
+    while frames[-1].kind == "local" and len(frames) > 1:
+        frames.pop()  # a subprogram without LBL 0 that runs into END PGM ends its program
+    if frames[-1].kind in ("main", "called"):
         interp._program_end(op.span, block, "end")
-    while interp.state.frames[-1].kind == "local":
-        interp.state.frames.pop()
     return interp._return(ir.Return(op.span), block)
 
 
@@ -714,7 +734,7 @@ _RUNNERS = {
     "pole": _pole_run, "arc": _arc_run, "tangent": _tangent_run, "polar": _polar_run, "retract": _retract_run,
     "tool_feed": _tool_feed_run, "label_call": _label_call_run, "end_pgm": _end_pgm_run, "define": _define_run,
     "old_cycle": _old_cycle_run, "trans": _trans_run, "pattern": _pattern_run, "call": _call_run,
-    "positioned": _positioned_run, "tool_length": _tool_length_run, "lift": _lift_run,
+    "positioned": _positioned_run, "tool_length": _tool_length_run, "lift": _lift_run, "comp": _comp_run, "spindle": _spindle_run,
 }
 
 for _what, _run in _RUNNERS.items():
