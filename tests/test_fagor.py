@@ -389,3 +389,16 @@ def test_plain_motion_fast_path_reads_like_the_full_reader(words, labelled):
         return [(block.label, [(type(op).__name__, getattr(op, "kind", None), getattr(op, "targets", None), getattr(op, "value", None)) for op in block.ops])
                 for block in blocks]
     assert shown(fast) == shown(full)
+
+
+def test_a_letter_twice_in_a_cycle_block_is_reported_not_read_as_a_function():
+    result = check("T7 D7 M6\nS900 M3\nG0 G90 X60 Y35 Z25 F800\nG87 Z2 I-20 D2 J40 K20 B5 D1\nG80\nM30\n")
+    assert "core.duplicate-address" in {d.rule for d in result.diagnostics}
+
+
+def test_g4_k_is_a_dwell_in_seconds():
+    from ncverify import ir
+    from ncverify.lower.fagor import FagorLowering, fagor_table
+
+    [block] = FagorLowering(fagor_table()).lower_line(read_fagor_line("G4 K2.5", 1), None)
+    assert [op.seconds for op in block.ops if isinstance(op, ir.Dwell)] == [2.5]

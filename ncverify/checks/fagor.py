@@ -249,3 +249,24 @@ class HoleAtUnknownPosition(Rule):
             self.report("fagor.hole-at-unknown-position", hole.span,
                         f"{_code(hole.cycle)} machines at a {first}{second} position that is not known here (no {first}/{second} move since the start, a tool change, "
                         "a home search or an unmodelled statement): the defining block drills wherever the tool happens to be")
+
+
+@rule("fagor.g83-depth")
+class DeepDrillingDepth(_ReportsMissingContext):
+    """G83's I is one peck and J the number of pecks (seed L1044-1050; H4): a depth of J
+    pecks that ends more than a peck below the stock's bottom was meant as a total depth."""
+
+    def hole(self, hole, state):
+        if hole.model.get("depth") != "pecks" or hole.bottom is None or hole.drill_axis != "Z":
+            return
+        peck, count = hole.params.get("I"), hole.params.get("J")
+        if peck is None or count is None or not self.first_time(state, ("fagor.g83-depth", hole.definition)):
+            return
+        stock = self.checker.context.get("stock")
+        if stock is None:
+            self.missing("fagor.g83-depth", hole.span, "no stock defined (annotation 'ncverify: stock ...' or [stock] in ncverify.toml)")
+            return
+        verdict = self.checker.judge(hazard("<", values.add(hole.bottom, values.absolute(peck)), stock.z_range[0]), state)
+        self.checker.report_verdict("fagor.g83-depth", hole.param_spans.get("J", hole.param_spans.get("I", hole.span)),
+                                    f"G83 drills J{show(count)} pecks of I{show(peck)}: the bottom is Z{show(hole.bottom)}, more than a peck below the stock's bottom "
+                                    f"Z{stock.z_range[0]:g}; I is one peck, not the depth (the depth is J x I below the reference plane)", verdict, state)

@@ -66,6 +66,11 @@ class FagorLowering(IsoLowering):
         self.turning_cycles = table.machine == "lathe" and bool(table.settings.get("lathe_machine_turning_cycles", True))
         self.uses_rpt = False
 
+    def _dwell_seconds(self, rest: dict):
+        """``G4 K0.5``: Fagor dwells are seconds in K (§12, uncertain); other forms as in ISO."""
+        word = rest.pop("K", None)
+        return word.value if word is not None else super()._dwell_seconds(rest)
+
     # ------------------------------------------------------------------ one line
 
     def lower_line(self, line: FagorLine, path: str | None) -> list[ir.Block]:
