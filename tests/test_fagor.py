@@ -402,3 +402,9 @@ def test_g4_k_is_a_dwell_in_seconds():
 
     [block] = FagorLowering(fagor_table()).lower_line(read_fagor_line("G4 K2.5", 1), None)
     assert [op.seconds for op in block.ops if isinstance(op, ir.Dwell)] == [2.5]
+
+
+def test_a_pocket_surface_distance_too_large_rapids_into_the_stock():
+    program = "; ncverify: stock box X0:200 Y0:100 Z-30:0\nT7 D7 M6\nS900 M3\nG0 G90 X60 Y35 Z25 F800\nG99 G87 Z2 I-20 D{} J40 K20 B5\nG80\nG0 Z50\nM30\n"
+    assert "core.rapid-into-stock" in reported(check(program.format(5)))  # surface taken at Z-3: the rapid ends at Z-2
+    assert "core.rapid-into-stock" not in reported(check(program.format(2)))

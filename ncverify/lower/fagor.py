@@ -437,6 +437,11 @@ def program_structure(buffer) -> dict[str, str]:
     return targets
 
 
+_MISSING_PARTNERS = {"next": "$ELSEIF/$ELSE/$ENDIF (or next $CASE/$DEFAULT/$ENDSWITCH)", "end": "$ENDIF/$ENDSWITCH",
+                     "exit": "loop end ($ENDWHILE/$ENDFOR/$ENDDO)", "head": "loop start ($WHILE/$FOR/$DO)",
+                     "break": "loop or $SWITCH", "continue": "loop"}
+
+
 def _has_code(text) -> bool:
     """Does the text hold a block, not only blank and comment lines?"""
     return re.search(rb"(?m)^[ \t]*[^;\s]", text) is not None
@@ -521,7 +526,8 @@ class FagorFrontend:
     def describe_label(self, label) -> str:
         if isinstance(label, str) and label.startswith("@?"):
             what, _, line = label[2:].partition(":")
-            return f"the partner of the ${what.split(':')[0].upper()} statement in line {line} (no matching statement)"
+            partner = _MISSING_PARTNERS.get(what, "statement")
+            return f"the {partner} that belongs to the flow statement in line {line} (there is none)"
         if isinstance(label, str) and label.startswith("@"):
             return f"the flow statement in line {label[1:]}"
         if isinstance(label, str):
