@@ -408,3 +408,8 @@ def test_a_pocket_surface_distance_too_large_rapids_into_the_stock():
     program = "; ncverify: stock box X0:200 Y0:100 Z-30:0\nT7 D7 M6\nS900 M3\nG0 G90 X60 Y35 Z25 F800\nG99 G87 Z2 I-20 D{} J40 K20 B5\nG80\nG0 Z50\nM30\n"
     assert "core.rapid-into-stock" in reported(check(program.format(5)))  # surface taken at Z-3: the rapid ends at Z-2
     assert "core.rapid-into-stock" not in reported(check(program.format(2)))
+
+
+@pytest.mark.parametrize("first, second, x", [(3, 1, 10.0), (3, 5, 20.0), (1, 1, 20.0)])
+def test_conditions_combine_with_and_and_parentheses(first, second, x):
+    assert x_of_last_move(f"P1={first}\nP2={second}\nG0 X0 Y0 Z10\n$IF (P1>2) AND (P2<3) ; both\nG0 X10\n$ELSE\nG0 X20 (other)\n$ENDIF\nM30\n") == x

@@ -139,11 +139,11 @@ def _read(result: FagorLine, code: str, original: str, paren_comments: bool) -> 
     if label:
         result.label = float(label.group(1)) if label.group(1) else label.group(2)
         position = _skip_spaces(code, label.end())
+    if paren_comments:
+        code = _blank_paren_comments(result, code, original)
     if position < len(code) and code[position] in "$#" and _NAME.match(code, position + 1):
         result.statement = _statement(code, original, position)
         return
-    if paren_comments:
-        code = _blank_paren_comments(result, code, original)
     _read_words(result, code, position)
 
 
