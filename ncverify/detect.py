@@ -34,6 +34,7 @@ _SIGNATURES: dict[str, list[tuple[str, float]]] = {
         (r"(?im)\bG8[1245]\b[^\n;(]*\bI[-+]?[\d.]", 15), (r"(?im)\bG8[1-8]\b(?![^\n;(]*\bR[-+]?[\d.])[^\n;(]*\bI[-+]?[\d.]", 15),
         (r"(?im)^[ \t]*%L[ \t]+\w", 5), (r"(?im)(?<![A-Z#\w])P\d+[ \t]*=(?!=)", 3), (r"(?im)\bNR\d", 3),
         (r"(?im)\bT\d+[ \t]*D\d+[ \t]*M0?6\b", 4), (r"(?im)\$(?:ENDIF|ENDWHILE|ENDFOR|ENDSWITCH|ENDDO|ELSEIF|CASE|BREAK)\b", 5),
+        (r"(?im)^[ \t]*(?:N\d+[ \t]*)?#(?:HSC|MSG|ROUNDPAR|SET|SELECT|WAIT|RET|ERROR|TIME|CAX|RTCP|TLC|CS|ACS|COMMENT)\b", 12),
     ],
     "iso": [
         (r"(?m)^\s*%\s*$", 2), (r"(?im)^\s*(?:N\d+\s*)?O\d+", 4), (r"(?im)\bG0?[0-3](?![0-9.])\s*[XYZUW]", 2),

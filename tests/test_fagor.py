@@ -413,3 +413,7 @@ def test_a_pocket_surface_distance_too_large_rapids_into_the_stock():
 @pytest.mark.parametrize("first, second, x", [(3, 1, 10.0), (3, 5, 20.0), (1, 1, 20.0)])
 def test_conditions_combine_with_and_and_parentheses(first, second, x):
     assert x_of_last_move(f"P1={first}\nP2={second}\nG0 X0 Y0 Z10\n$IF (P1>2) AND (P2<3) ; both\nG0 X10\n$ELSE\nG0 X20 (other)\n$ENDIF\nM30\n") == x
+
+
+def test_a_contour_program_with_a_fagor_instruction_detects_as_fagor():
+    assert detect("#HSC ON [CONTERROR 0.01]\nT1 D1 M6\nG0 X0 Y0 Z5\nG1 Z-1 F300\nX50\nY50\nM30\n").dialect == "fagor"
