@@ -218,7 +218,10 @@ class CycleRunner:
             state.move_to(targets)
             return
         name = cycle.cycle
-        self._rapid_to(targets, span, block, "between-holes", name)
+        positioning = "rapid"
+        if model.get("positions_in_motion_mode") and state.modal.get("motion") != "rapid":
+            positioning = "feed"  # Fagor: the move to the hole is made in the interpolation in force (G1: at feed)
+        self._rapid_to(targets, span, block, "between-holes", name, positioning)
         if model.get("infeed") == "back_bore":
             self._rapid_to({axis: r_point}, span, block, "through-bore", name)
             self._rapid_to({axis: bottom}, span, block, "infeed", name, "feed")

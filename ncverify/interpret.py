@@ -798,6 +798,8 @@ class Interpreter:
             return self.cycles.modal_hole(op, block)
         else:
             kind = state.modal["motion"]
+        if "NR" in op.words and state.cycle is None:  # Fagor: a computed or zero block repeat count
+            self._unsupported_here(op.span, "a block repeat count NR that is computed or zero")
         if not op.targets and not op.arc:
             return None
         start = state.position

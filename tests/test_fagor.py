@@ -417,3 +417,14 @@ def test_conditions_combine_with_and_and_parentheses(first, second, x):
 
 def test_a_contour_program_with_a_fagor_instruction_detects_as_fagor():
     assert detect("#HSC ON [CONTERROR 0.01]\nT1 D1 M6\nG0 X0 Y0 Z5\nG1 Z-1 F300\nX50\nY50\nM30\n").dialect == "fagor"
+
+
+def test_positioning_in_a_cycle_zone_uses_the_interpolation_in_force():
+    run = trace("G0 G90 X0 Y0 Z25 F200\nG99 G81 Z2 I-20\nG1 X50\nG0 X90\nG80\nM30\n")
+    kinds = [segment.kind for segment in run.segments if segment.role == "between-holes"]
+    assert kinds == ["feed", "rapid"]
+
+
+def test_a_computed_repeat_count_outside_a_cycle_is_not_modelled():
+    run = trace("G0 G90 X0 Y0 Z10\nG91 G1 X10 F500 NR[P7]\nG90\nM30\n")
+    assert "core.unsupported-code" in run.rules()

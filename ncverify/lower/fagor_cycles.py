@@ -99,9 +99,12 @@ def run_pattern(runner, op, block, model, params):
                       "unknown", "pattern with symbolic values")
         state.move_to({first: None, second: None})
         return None
+    motion = state.modal.get("motion")
+    state.modal["motion"] = "rapid" if params.get("C", 0.0) == 0.0 else "linear"  # G160-G162: always G00 (seed L2007)
     for number, (abscissa, ordinate) in enumerate(points, start=2):
         if number not in skipped:
             runner._make_hole(cycle, op.span, block, {first: abscissa, second: ordinate})
+    state.modal["motion"] = motion
     return None
 
 
