@@ -134,7 +134,7 @@ _REPORTED_FROM_TRACE = {
     "core.arithmetic-domain", "core.undefined-variable", "core.loop-bound", "core.call-depth", "core.macro-alarm",
     "core.program-end-missing", "core.m99-in-main", "core.path-limit", "core.duplicate-label",
     "core.repeat-count-range", "core.shape-order", "core.dialect-unsupported", "core.decimal-point", "core.bad-annotation",
-    "heidenhain.call-without-cycle", "heidenhain.cycle-with-compensation", "heidenhain.call-pos-axes",
+    "heidenhain.call-without-cycle", "heidenhain.cycle-with-compensation", "heidenhain.call-pos-axes", "heidenhain.sl-prerequisites",
 }
 
 

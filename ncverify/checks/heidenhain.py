@@ -11,6 +11,7 @@ from .machine import _ReportsMissingContext
 
 _DEPTH_CHECKED = {200, 201, 202, 203, 205, 208, 241, 206, 207, 209, 251, 252, 253, 254, 256, 257, 258}
 _PLUNGE_CHECKED = {251, 252, 253, 254}
+_SL_CYCLES = {21, 22, 23, 24}
 
 
 def _number(cycle: str) -> int | None:
@@ -52,15 +53,16 @@ class UsableLength(_CycleRule):
     """H4: the control stops when the tool's usable length LU is shorter than the depth."""
 
     def judge_cycle(self, number, params, spans, span, state):
-        depth = params.get("Q201")
-        if number not in _DEPTH_CHECKED or depth is None or not self.first_time(state, ("usable-length", span)):
+        name = "Q1" if number in _SL_CYCLES else "Q201"
+        depth = params.get(name)
+        if (number not in _DEPTH_CHECKED and number not in _SL_CYCLES) or depth is None or not self.first_time(state, ("usable-length", span)):
             return
         tool = _tool(self, state, span, "heidenhain.usable-length", "usable_length")
         if tool is None:
             return
         verdict = self.checker.judge(hazard(">", values.absolute(depth), tool.usable_length), state)
-        self.checker.report_verdict("heidenhain.usable-length", spans.get("Q201", span),
-                                    f"cycle {number}: depth Q201={show(depth)} is deeper than the usable length LU={tool.usable_length:g} of tool T{show(state.tool_in_spindle)}: "
+        self.checker.report_verdict("heidenhain.usable-length", spans.get(name, span),
+                                    f"cycle {number}: depth {name}={show(depth)} is deeper than the usable length LU={tool.usable_length:g} of tool T{show(state.tool_in_spindle)}: "
                                     "the control stops with an error before machining (seed L1625-1626)", verdict, state)
 
 
@@ -110,10 +112,13 @@ class ToolTooLarge(_CycleRule):
     that would is reported."""
 
     def judge_cycle(self, number, params, spans, span, state):
-        if number not in (208, 251, 252, 253, 254) or not self.first_time(state, ("tool-too-large", span)):
+        if number not in (208, 251, 252, 253, 254, 22) or not self.first_time(state, ("tool-too-large", span)):
             return
         tool = _tool(self, state, span, "heidenhain.tool-too-large", "radius")
         if tool is None:
+            return
+        if number == 22:
+            self._contour_pocket(params, span, tool, state)
             return
         fit, where = self._fit(number, params, spans, tool.radius, span)
         if fit is None:
@@ -122,6 +127,24 @@ class ToolTooLarge(_CycleRule):
         if not fit.fits:
             self.report("heidenhain.tool-too-large", where, f"cycle {number}: {fit.reason} (tool T{show(state.tool_in_spindle)}, R={tool.radius:g}); "
                         f"the largest tool radius that fits is {fit.largest_radius:g}")
+
+    def _contour_pocket(self, params, span, tool, state):
+        """Cycle 22 roughs with the side allowance Q3 left on the walls: the tool centre
+        keeps R + Q3 from the contour (reference B H21)."""
+        area = params.get("@region")
+        allowance = params.get("Q3", 0.0)
+        if area is None or type(allowance) is not float:
+            self.missing("heidenhain.tool-too-large", span, "the contour of cycle 14 could not be resolved (free Q parameters, CT or FK elements, or an R0 subcontour)")
+            return
+        parts = list(getattr(area, "geoms", [area]))
+        effective = tool.radius + max(allowance, 0.0)
+        for part in parts:
+            fit = pocket.polygon_fit(part, effective)
+            if not fit.fits:
+                corner = f" near X{fit.unreached[0][0]:.3f} Y{fit.unreached[0][1]:.3f}" if fit.unreached else ""
+                self.report("heidenhain.tool-too-large", span, f"cycle 22: tool T{show(state.tool_in_spindle)} (R={tool.radius:g}) with side allowance Q3={allowance:g} "
+                            f"cannot clear the contour pocket{corner}: {fit.reason}; the largest tool radius that does is {max(fit.largest_radius - max(allowance, 0.0), 0.0):g}")
+                return
 
     @staticmethod
     def _fit(number, params, spans, radius, span):
@@ -138,3 +161,24 @@ class ToolTooLarge(_CycleRule):
             return (pocket.circle_fit(found[0], radius, strict=strict) if found else None), spans.get("Q223" if number == 252 else "Q335", span)
         found = concrete("Q219")
         return (pocket.slot_fit(found[0], radius) if found else None), spans.get("Q219", span)
+
+
+@rule("heidenhain.sl-clearance-height")
+class ContourClearanceHeight(_CycleRule):
+    """Part B H13: the SL cycles travel between areas and retract at the clearance height
+    Q7, which must lie above the set-up clearance Q5 + Q6 and above the blank."""
+
+    def judge_cycle(self, number, params, spans, span, state):
+        height, surface, clearance = params.get("Q7"), params.get("Q5"), params.get("Q6")
+        if number not in _SL_CYCLES or height is None or not self.first_time(state, ("sl-clearance", span)):
+            return
+        where = spans.get("Q7", span)
+        if surface is not None and clearance is not None:
+            verdict = self.checker.judge(hazard("<", height, values.add(surface, values.absolute(clearance))), state)
+            self.checker.report_verdict("heidenhain.sl-clearance-height", where, f"clearance height Q7={show(height)} is below the set-up clearance "
+                                        f"Q5 + Q6 = {show(values.add(surface, values.absolute(clearance)))}: the moves between areas run below the plane the cycle approaches from (seed L9384-9396)", verdict, state)
+        stock = self.checker.context.get("stock")
+        if stock is not None:
+            verdict = self.checker.judge(hazard("<=", height, stock.top), state)
+            self.checker.report_verdict("heidenhain.sl-clearance-height", where, f"clearance height Q7={show(height)} is not above the top of the blank Z{stock.top:g}: "
+                                        "the rapids between areas and the final retract stay in the material", verdict, state)

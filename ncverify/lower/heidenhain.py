@@ -35,7 +35,7 @@ _CONDITION_WORDS = {"EQU": "EQ", "NE": "NE", "GT": "GT", "LT": "LT"}
 _UNMODELLED = {
     "PLANE": (True, "PLANE (tilting the working plane)"), "TCH": (True, "TCH PROBE (a touch-probe cycle)"),
     "FUNCTION": (False, "FUNCTION"), "SPEC": (False, "SPEC FCT"), "DECLARE": (False, "DECLARE"),
-    "SEL": (False, "SEL"), "GLOBAL": (False, "GLOBAL DEF"), "CONTOUR": (False, "CONTOUR DEF"),
+    "SEL": (False, "SEL"), "GLOBAL": (False, "GLOBAL DEF"),
     "FK": (True, "FK free contour programming"), "FPOL": (False, "FPOL"), "FL": (True, "FK free contour programming"),
     "FLT": (True, "FK free contour programming"), "FC": (True, "FK free contour programming"), "FCT": (True, "FK free contour programming"),
     "FSELECT": (True, "FK free contour programming"), "LN": (True, "LN (3-D line with surface normal)"), "WAIT": (False, "WAIT"),
@@ -558,6 +558,11 @@ class KlartextLowering:
         words, spans = {"@number": float(number), "@sub": float(sub)}, {}
         if sub == 0:
             cursor.index = len(cursor.tokens)
+        elif number == 14:  # CYCL DEF 14.1 CONTOUR LABEL1 /2 /3: the label numbers in order
+            labels = [token for token in cursor.tokens[cursor.index:] if token.kind in ("number", "string")]
+            for index, token in enumerate(labels):
+                words[f"L{index}"] = token.text.strip('"') if token.kind == "string" else float(token.text)
+            cursor.index = len(cursor.tokens)
         else:
             while not cursor.at_end():
                 token = cursor.next()
@@ -610,6 +615,25 @@ class KlartextLowering:
             index += 1
         block.ops.append(_pseudo(cursor.rest_span(start), "pattern", params))
 
+    def _contour_def(self, cursor, block, path):
+        """``CONTOUR DEF P1 = LBL 1 I2 = LBL 2 V3 = LBL 3``: pockets, islands, voids (reference B §6.29)."""
+        start = cursor.expect_name("CONTOUR").span
+        if not cursor.take_name("DEF"):
+            cursor.index = len(cursor.tokens)
+            block.ops.append(ir.Unsupported(cursor.rest_span(start), "CONTOUR statement", ()))
+            return
+        params = {}
+        while not cursor.at_end():
+            kind = cursor.expect_name("P", "I", "V")
+            number, _span = cursor.expect_number()
+            cursor.expect_symbol("=")
+            cursor.expect_name("LBL")
+            label = self._label_value(cursor)
+            params[f"{kind.text}{int(number)}"] = label
+            if cursor.take_name("DEPTH"):
+                cursor.value()
+        block.ops.append(_pseudo(cursor.rest_span(start), "contour_def", params))
+
     def _trans(self, cursor, block, path):
         start = cursor.expect_name("TRANS").span
         what = cursor.expect_name("DATUM", "MIRROR", "ROTATION", "SCALE", "RESET")
@@ -649,7 +673,7 @@ _STATEMENTS = {
     "CHF": KlartextLowering._corner, "APPR": KlartextLowering._approach, "DEP": KlartextLowering._approach,
     "M": KlartextLowering._m_only, "STOP": KlartextLowering._stop, "LBL": KlartextLowering._label,
     "CALL": KlartextLowering._call, "FN": KlartextLowering._fn, "CYCL": KlartextLowering._cycle,
-    "PATTERN": KlartextLowering._pattern, "TRANS": KlartextLowering._trans,
+    "PATTERN": KlartextLowering._pattern, "TRANS": KlartextLowering._trans, "CONTOUR": KlartextLowering._contour_def,
 }
 
 

@@ -364,6 +364,12 @@ def _def_active(runner, op, block, number, params, cycle_model):
     if number == 247:
         _put(state, "transforms", ())
         return None
+    if number == 20:
+        _put(state, "sl_data", (_numbers(params), dict(op.param_spans), op.span))
+        return None
+    if number == 14:
+        _put(state, "sl_labels", tuple(value for key, value in sorted(params.items()) if key.startswith("L")))
+        return None
     if number in (9, 32, 13, 12, 238, 239):
         return None
     _transform(runner, op, number, params)
@@ -384,7 +390,11 @@ def _old_cycle_run(runner, op, block, model, params):
             _put(state, "cycle", Definition(number, {}, {}, op.span, cycle_model))
             _put(state, "m89", False)
         return None
-    if number in DEF_ACTIVE:
+    if number == 14:
+        labels = tuple(params[key] for key in sorted((key for key in params if key.startswith("L")), key=lambda key: int(key[1:])))
+        _put(state, "sl_labels", labels)
+        _put(state, "sl_kinds", None)
+    elif number in DEF_ACTIVE:
         _transform(runner, op, number, params)
     return None
 
@@ -409,6 +419,14 @@ def _transform(runner, op, number, params) -> None:
     _put(state, "transforms", tuple(sorted(active.items())))
     if number == 10:
         state.comp_side = "off"  # cycle 10 cancels radius compensation (seed L7904)
+
+
+def _contour_def_run(runner, op, block, model, params):
+    """CONTOUR DEF names each subcontour's kind: P pocket, I island, V void (machined as an island)."""
+    order = sorted(params, key=lambda key: int(key[1:]))
+    _put(runner.state, "sl_labels", tuple(params[key] for key in order))
+    _put(runner.state, "sl_kinds", tuple(key[0] == "P" for key in order))
+    return None
 
 
 def _trans_run(runner, op, block, model, params):
@@ -582,6 +600,8 @@ def run_cycle(runner, op, block, definition: Definition, shift=None, surface_off
         return _hole(runner, op, block, definition, shift, surface_offset)
     if family in ("pocket", "stud", "slot", "face"):
         return _pocket(runner, op, block, definition, shift, surface_offset)
+    if family == "contour" and definition.number in (21, 22, 23, 24):
+        return _sl_cycle(runner, op, block, definition)
     if family == "old":  # the old fixed cycles start and end at the position of the call
         interp.observer.cycle_run(CycleRun(f"heidenhain.{definition.number}", model, op.span, block, _numbers(definition.params), dict(definition.spans)), state)
         return None
@@ -647,6 +667,52 @@ def _hole(runner, op, block, definition, shift, surface_offset):
         out_kind = "feed" if model.get("retract") == "feed" else "rapid"
         runner._rapid_to({axis: set_up}, op.span, block, "out-of-hole", name, out_kind)
     runner._rapid_to({axis: retract}, op.span, block, "out-of-hole", name)  # on up the same axis
+    return None
+
+
+def _sl_cycle(runner, op, block, definition):
+    """SL cycles 21-24: the contour of cycle 14 / CONTOUR DEF, the data of cycle 20. The
+    cycle moves to set-up clearance Q5 + Q6, machines to Q5 + Q1 and leaves the tool at the
+    clearance height Q7 with its plane position unknown (posAfterContPocket, reference B
+    §4.5); the contour's region goes to the rules as ``@region``."""
+    from .heidenhain_contour import contours, region
+
+    interp = runner.interp
+    state = runner.state
+    name = f"heidenhain.{definition.number}"
+    labels = _get(state, "sl_labels")
+    data = _get(state, "sl_data")
+    if not labels or data is None:
+        missing = " and ".join(what for what, have in (("a contour (cycle 14 or CONTOUR DEF)", labels), ("contour data (cycle 20)", data)) if not have)
+        interp._fault("heidenhain.sl-prerequisites", op.span, f"cycle {definition.number} is called without {missing} defined before it: the control stops with an error (seed L9532-9535)")
+        state.move_to(dict.fromkeys(state.position))
+        return None
+    params = dict(data[0])
+    params.update(_numbers(definition.params))
+    spans = dict(data[1])
+    spans.update(definition.spans)
+    found = contours(interp, labels, op.span)
+    kinds = _get(state, "sl_kinds")
+    if found is not None and kinds is not None:
+        from dataclasses import replace
+
+        found = [replace(contour, pocket=pocket) for contour, pocket in zip(found, kinds)]
+    area = region(found) if found else None
+    run = CycleRun(name, definition.model, op.span, block, params, spans)
+    run.params["@region"] = area
+    interp.observer.cycle_run(run, state)
+    run.params.pop("@region", None)
+    first, second, axis = _plane(state)
+    surface, clearance, depth, height = (params.get(q) for q in ("Q5", "Q6", "Q1", "Q7"))
+    if any(type(value) is not float for value in (surface, clearance, depth, height)):
+        state.move_to(dict.fromkeys(state.position))
+        return None
+    direction = 1.0 if depth > 0 else -1.0
+    state.move_to({first: None, second: None})  # the plunge point is where the control computes it
+    runner._rapid_to({axis: surface - direction * clearance}, op.span, block, "approach", name)
+    with _cycle_feed(state, {"Q206": params.get("Q11", params.get("Q12"))}):
+        runner._rapid_to({axis: surface + depth}, op.span, block, "infeed", name, "feed")
+    runner._rapid_to({axis: height}, op.span, block, "out-of-hole", name)
     return None
 
 
@@ -734,7 +800,7 @@ _RUNNERS = {
     "pole": _pole_run, "arc": _arc_run, "tangent": _tangent_run, "polar": _polar_run, "retract": _retract_run,
     "tool_feed": _tool_feed_run, "label_call": _label_call_run, "end_pgm": _end_pgm_run, "define": _define_run,
     "old_cycle": _old_cycle_run, "trans": _trans_run, "pattern": _pattern_run, "call": _call_run,
-    "positioned": _positioned_run, "tool_length": _tool_length_run, "lift": _lift_run, "comp": _comp_run, "spindle": _spindle_run,
+    "positioned": _positioned_run, "tool_length": _tool_length_run, "lift": _lift_run, "comp": _comp_run, "spindle": _spindle_run, "contour_def": _contour_def_run,
 }
 
 for _what, _run in _RUNNERS.items():

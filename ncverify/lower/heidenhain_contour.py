@@ -1,0 +1,217 @@
+"""SL contours: the subprograms cycle 14 lists, read as shapely polygons (reference B §6.4).
+
+Each ``LBL n ... LBL 0`` is walked (not executed): straight lines, arcs about ``CC``
+(``C``), arcs by radius (``CR``), polar points (``LP``/``CP``) become the outline's points;
+arcs are approximated every 5 degrees. A closed contour described clockwise with RR or
+counter-clockwise with RL is a pocket (the tool runs inside); the other two combinations
+make an island (seed L9063-9066). The region the cycle machines is the union of the
+pockets less the islands. Anything that cannot be resolved to numbers (a free Q parameter,
+a tangential arc, FK) leaves the geometry unknown: rules then answer ``unknown``.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import shapely
+from shapely.geometry import Polygon
+
+from .. import ir
+from ..dialect import logical_lines
+from ..values import VACANT
+
+_ELEMENT_LIMIT = 16384  # contour elements per SL cycle (seed L9050-9051)
+_ARC_STEP = math.radians(5.0)
+
+
+@dataclass(frozen=True)
+class Contour:
+    label: object
+    outline: Polygon
+    pocket: bool | None  # None: R0 or no compensation, the kind is ambiguous
+    start: tuple[float, float]
+
+
+class _Unresolved(Exception):
+    pass
+
+
+def contours(interp, labels, span) -> list[Contour] | None:
+    """The subcontours of ``labels`` in order, or None when one cannot be resolved."""
+    found = []
+    for label in labels:
+        try:
+            found.append(_walk(interp, label, span))
+        except _Unresolved:
+            return None
+    return found
+
+
+def region(found: list[Contour]):
+    """Union of the pockets less the islands; None when a contour's kind is ambiguous."""
+    if any(contour.pocket is None for contour in found):
+        return None
+    pockets = [contour.outline for contour in found if contour.pocket]
+    islands = [contour.outline for contour in found if not contour.pocket]
+    if not pockets:
+        return None
+    area = shapely.union_all(pockets)
+    if islands:
+        area = area.difference(shapely.union_all(islands))
+    return area
+
+
+def _walk(interp, label, span) -> Contour:
+    from ..interpret import PathEnd
+
+    try:
+        position = interp.find_label(label, span)
+    except PathEnd:
+        raise _Unresolved from None
+    walker = _Walker(interp)
+    source = position.source
+    path = None if source is interp.source else source.name
+    for line_number, offset, _next, raw in logical_lines(source, position.offset, interp.frontend):
+        for index, block in enumerate(interp.frontend.blocks(raw, line_number, path)):
+            if offset == position.offset and index < position.block_index:
+                continue
+            for op in block.ops:
+                if isinstance(op, ir.Return):
+                    return walker.contour(label)
+                walker.take(op)
+        if walker.elements > _ELEMENT_LIMIT:
+            raise _Unresolved
+    raise _Unresolved
+
+
+class _Walker:
+    def __init__(self, interp):
+        self.interp = interp
+        self.points: list[tuple[float, float]] = []
+        self.pole = None
+        self.side = None
+        self.elements = 0
+
+    def number(self, expr):
+        value = self.interp.value(expr)
+        if type(value) is not float or value is VACANT:
+            raise _Unresolved
+        return value
+
+    @property
+    def here(self):
+        if not self.points:
+            raise _Unresolved
+        return self.points[-1]
+
+    def point(self, words: dict, incremental=frozenset()):
+        x, y = self.points[-1] if self.points else (None, None)
+        for axis in ("X", "Y"):
+            for written in (axis, "I" + axis):
+                if written in words:
+                    value = self.number(words[written])
+                    relative = written.startswith("I") or axis in incremental
+                    current = x if axis == "X" else y
+                    if relative and current is None:
+                        raise _Unresolved
+                    value = current + value if relative else value
+                    x, y = (value, y) if axis == "X" else (x, value)
+        if x is None or y is None:
+            raise _Unresolved
+        return x, y
+
+    def take(self, op) -> None:
+        self.elements += 1
+        if isinstance(op, ir.Move) and op.targets:
+            end = self.point(op.targets, op.incremental)
+            if op.arc and "R" in op.arc:
+                self.arc_by_radius(end, self.number(op.arc["R"]), op.kind == "arc_ccw")
+            else:
+                self.points.append(end)
+            return
+        if not isinstance(op, ir.CycleCall) or not op.cycle.startswith("heidenhain.@"):
+            return
+        what, params = op.cycle[len("heidenhain.@"):], op.params
+        if what == "comp":
+            self.side = params["side"]
+        elif what == "pole":
+            self.pole = self.point(params) if params else self.here
+        elif what in ("arc", "tangent"):
+            end = self.point(params)
+            if what == "tangent":
+                raise _Unresolved
+            self.arc_about_pole(end, params.get("DR", 1.0) > 0)
+        elif what == "polar":
+            self.polar(params)
+        elif what == "lift":
+            self.points.append(self.point(params))
+
+    def arc_about_pole(self, end, ccw: bool, turn=None) -> None:
+        if self.pole is None:
+            raise _Unresolved
+        cx, cy = self.pole
+        sx, sy = self.here
+        start_angle = math.atan2(sy - cy, sx - cx)
+        radius = math.hypot(sx - cx, sy - cy)
+        if turn is None:
+            end_angle = math.atan2(end[1] - cy, end[0] - cx)
+            turn = (end_angle - start_angle) % (2 * math.pi)
+            if not ccw:
+                turn = turn - 2 * math.pi if turn > 0 else turn
+            if abs(turn) < 1e-12:
+                turn = 2 * math.pi if ccw else -2 * math.pi
+        steps = max(1, int(abs(turn) / _ARC_STEP))
+        for step in range(1, steps + 1):
+            angle = start_angle + turn * step / steps
+            self.points.append((cx + radius * math.cos(angle), cy + radius * math.sin(angle)))
+
+    def arc_by_radius(self, end, radius: float, ccw: bool) -> None:
+        sx, sy = self.here
+        chord = math.hypot(end[0] - sx, end[1] - sy)
+        if chord == 0 or chord > 2 * abs(radius) + 1e-9:
+            raise _Unresolved
+        middle = ((sx + end[0]) / 2, (sy + end[1]) / 2)
+        height = math.sqrt(max(radius * radius - chord * chord / 4, 0.0))
+        left = (-(end[1] - sy) / chord, (end[0] - sx) / chord)
+        sign = 1.0 if ccw == (radius > 0) else -1.0
+        self.pole = (middle[0] + sign * height * left[0], middle[1] + sign * height * left[1])
+        self.arc_about_pole(end, ccw)
+
+    def polar(self, params) -> None:
+        if self.pole is None:
+            raise _Unresolved
+        cx, cy = self.pole
+        if not self.points and "PR" in params and "PA" in params:
+            angle = self.number(params["PA"])
+            radius = self.number(params["PR"])
+            self.points.append((cx + radius * math.cos(math.radians(angle)), cy + radius * math.sin(math.radians(angle))))
+            return
+        sx, sy = self.here
+        radius = self.number(params["PR"]) if "PR" in params else math.hypot(sx - cx, sy - cy)
+        angle = math.degrees(math.atan2(sy - cy, sx - cx))
+        if "PA" in params:
+            end_angle = self.number(params["PA"])
+        else:
+            end_angle = angle + self.number(params.get("IPA", 0.0))
+        end = (cx + radius * math.cos(math.radians(end_angle)), cy + radius * math.sin(math.radians(end_angle)))
+        if params.get("kind") == "arc":
+            self.arc_about_pole(end, params.get("DR", 1.0) > 0, math.radians(end_angle - angle) if "IPA" in params else None)
+        else:
+            self.points.append(end)
+
+    def contour(self, label) -> Contour:
+        points = self.points
+        if len(points) < 3 or math.dist(points[0], points[-1]) > 1e-3:
+            raise _Unresolved  # not closed
+        outline = Polygon(points)
+        if not outline.is_valid:
+            outline = shapely.make_valid(outline)
+            if not isinstance(outline, Polygon):
+                raise _Unresolved
+        counter_clockwise = _signed_area(points) > 0
+        pocket = None if self.side in (None, "off") else (counter_clockwise == (self.side == "left"))
+        return Contour(label, outline, pocket, points[0])
+
+
+def _signed_area(points) -> float:
+    return sum(x0 * y1 - x1 * y0 for (x0, y0), (x1, y1) in zip(points, points[1:] + points[:1])) / 2.0
