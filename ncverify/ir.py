@@ -156,7 +156,7 @@ class CutterComp(Op):
 
 @dataclass(slots=True)
 class LengthOffset(Op):
-    mode: str  # plus, minus, off
+    mode: str  # plus, minus, off; with_tool: the tool's own length, no H register and no Z move (Fagor)
     register: Expr | None = None
 
 

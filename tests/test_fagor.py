@@ -428,3 +428,14 @@ def test_positioning_in_a_cycle_zone_uses_the_interpolation_in_force():
 def test_a_computed_repeat_count_outside_a_cycle_is_not_modelled():
     run = trace("G0 G90 X0 Y0 Z10\nG91 G1 X10 F500 NR[P7]\nG90\nM30\n")
     assert "core.unsupported-code" in run.rules()
+
+
+def test_the_tool_length_counts_in_the_z_travel():
+    project = '[machine]\ntravel = { z = [-400, 0] }\nwork_offsets = { G54 = [0, 0, -300] }\n[tools.1]\nradius = 4\nlength = 150\n'
+    from ncverify.project import load_project_text
+
+    program = "T1 D1 M6\nS1000 M3\nG0 G90 X0 Y0 Z{}\nM30\n"
+    context = load_project_text(project, Path("ncverify.toml"))
+    high = check_text(program.format(200), "t.pim", Settings(dialect="fagor"), context)  # -300 + 200 + 150 = 50: above 0
+    low = check_text(program.format(100), "t.pim", Settings(dialect="fagor"), context)
+    assert "core.travel-limit" in reported(high) and "core.travel-limit" not in reported(low)

@@ -82,7 +82,7 @@ class TravelLimit(_ReportsMissingContext):
                 continue
             shift = state.coordinate_shift.get(axis, 0.0)
             offset = None if shift is None else values.add(offsets[index], shift)
-            if axis == "Z" and offset is not None and state.length_mode in ("plus", "minus"):
+            if axis == "Z" and offset is not None and state.length_mode in ("plus", "minus", "with_tool"):
                 offset = self._with_tool_length(offset, state, span)
             frame[axis] = (offset, low, high, lathe_x_scale if axis == "X" else 1.0)
         return frame
@@ -101,11 +101,13 @@ class TravelLimit(_ReportsMissingContext):
 
     def _with_tool_length(self, offset, state, span):
         register = state.length_register
+        if state.length_mode == "with_tool":  # Fagor: the offset comes with the tool, not from an H register
+            register = state.tool_in_spindle
         tool = (self.checker.context.get("tools") or {}).get(int(register)) if type(register) is float else None
         if tool is None or tool.length is None:
             self.missing("core.travel-limit", span, f"the length of the tool on H{show(register)} is not known (length in [tools.N]), so Z was not checked")
             return None
-        return values.add(offset, tool.length if state.length_mode == "plus" else -tool.length)
+        return values.add(offset, -tool.length if state.length_mode == "minus" else tool.length)
 
     def _check_axis(self, axis, value, limits, span, state):
         offset, low, high, scale = limits
