@@ -13,7 +13,7 @@ bound is a finding, never a hang.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy
 
@@ -1171,6 +1171,7 @@ class Interpreter:
         ops, notes = op.resolve(tuple(resolved))
         for note in notes:
             self.observer.note(note)
+        block = replace(block, ops=ops)  # handlers that look at the block's other ops see the resolved ones
         for inner in ops:
             transfer = self._handlers[type(inner)](inner, block)
             if transfer is not None:

@@ -439,3 +439,13 @@ def test_the_tool_length_counts_in_the_z_travel():
     high = check_text(program.format(200), "t.pim", Settings(dialect="fagor"), context)  # -300 + 200 + 150 = 50: above 0
     low = check_text(program.format(100), "t.pim", Settings(dialect="fagor"), context)
     assert "core.travel-limit" in reported(high) and "core.travel-limit" not in reported(low)
+
+
+def test_each_path_reads_its_cycle_blocks_with_its_own_plane():
+    run = trace("G0 G90 X0 Y0 Z25 S800 M3\n$IF P9==1\nG18\nM30\n$ENDIF\nG81 Z2 I-20\nG80\nM30\n")
+    assert [(hole.drill_axis, hole.r_point, hole.bottom) for hole in run.holes] == [("Z", 2.0, -20.0)]
+
+
+def test_a_cycle_block_in_a_loop_follows_the_tool_axis_of_each_pass():
+    run = trace("G0 G90 X0 Y0 Z25 S800 M3\n$FOR P1=1,2,1\n$IF P1==2\n#TOOL AX [Z-]\n$ENDIF\nG81 Z2 I-20\nG80\n$ENDFOR\nM30\n")
+    assert len(run.holes) == 1 and "core.unsupported-code" in run.rules()

@@ -38,6 +38,13 @@ from . import fagor_cycles
 from .iso import _PLAIN_MOTION, IsoFrontend, IsoLowering
 
 _PLANE_NORMAL = {"xy": "Z", "zx": "Y", "yz": "X"}
+_PLANE_CODES = {"xy": 17.0, "zx": 18.0, "yz": 19.0}
+_PLANES_BY_CODE = {code: plane for plane, code in _PLANE_CODES.items()}
+_AXIS_CODES = {"X": 1.0, "Y": 2.0, "Z": 3.0}
+_AXES_BY_CODE = {code: axis for axis, code in _AXIS_CODES.items()}
+_OTHER_AXIS = 9.0  # #TOOL AX along an axis the cycles are not modelled for (X2, U...)
+# What a cycle block means depends on these (system_variable answers them when unset)
+_STATE_VARIABLES = (ir.Var("$PLANE"), ir.Var("$TOOLAX"), ir.Var("$LATHECY"), ir.Var("$MILLCY"))
 _PLANE_AXES = {"xy": ("X", "Y"), "zx": ("Z", "X"), "yz": ("Y", "Z")}
 _TURNING_CODES = {f"{n}" for n in range(81, 89)}
 _NO_EFFECT_INSTRUCTIONS = {"HSC", "ROUNDPAR", "MSG", "WARNING", "WAIT", "FLUSH", "SYNC", "TIME", "DSBLK", "ESBLK", "SVON",
@@ -57,13 +64,14 @@ def fagor_table(machine: str = "mill") -> CodeTable:
 
 
 class FagorLowering(IsoLowering):
-    """Lowers :class:`FagorLine` objects; keeps the plane, tool axis and cycle set seen."""
+    """Lowers :class:`FagorLine` objects. What a cycle block means depends on the plane,
+    ``#TOOL AX`` and the cycle set in force when it runs: such a block is lowered at run
+    time (:class:`ir.Deferred` over the state variables ``$PLANE``, ``$TOOLAX``,
+    ``$LATHECY``, ``$MILLCY``), so that loops, calls and forked paths each see their own."""
 
     def __init__(self, table: CodeTable):
         super().__init__(table, 0.0)
-        self.plane = table.power_on["plane"]
-        self.tool_axis: tuple[str, str] | None = None  # (#TOOL AX letter, sign)
-        self.turning_cycles = table.machine == "lathe" and bool(table.settings.get("lathe_machine_turning_cycles", True))
+        self.lathe_turning_default = table.machine == "lathe" and bool(table.settings.get("lathe_machine_turning_cycles", True))
         self.uses_rpt = False
 
     def _dwell_seconds(self, rest: dict):
@@ -94,21 +102,44 @@ class FagorLowering(IsoLowering):
     # ------------------------------------------------------------------ address words
 
     def _words(self, block: ir.Block, line: FagorLine, path) -> ir.Block:
+        cycle_word, _entry = self._cycle_code(line.words)
+        if cycle_word is None:
+            ops, notes = self._word_ops(line, path, None)
+            block.ops.extend(ops)
+            block.notes.extend(notes)
+            return block
+
+        def resolve(values: tuple) -> tuple[list, list]:
+            return self._word_ops(line, path, self._setting(values))
+
+        block.ops.append(ir.Deferred(self._span(line, cycle_word.start, cycle_word.end, path), _STATE_VARIABLES, resolve))
+        return block
+
+    def _setting(self, values: tuple) -> tuple:
+        """(plane, tool axis or None, turning cycles) from the state variables' values."""
+        plane_code, axis_code, lathe_cycles, mill_cycles = values
+        plane = _PLANES_BY_CODE.get(plane_code, "xy")
+        tool_axis = None if axis_code == 0 else (_AXES_BY_CODE.get(abs(axis_code), "?"), "+" if axis_code > 0 else "-")
+        turning = mill_cycles != 1.0 if self.lathe_turning_default else lathe_cycles == 1.0
+        return plane, tool_axis, turning
+
+    def _word_ops(self, line: FagorLine, path, setting) -> tuple[list, list]:
         words = list(line.words)
-        cycle_word, entry = self._cycle_code(words)
+        notes: list = []
         cycle_op = None
-        if cycle_word is not None:
+        if setting is not None:
+            cycle_word, entry = self._cycle_code(words)
             words.remove(cycle_word)
-            cycle_op = self._cycle_op(block, line, words, cycle_word, entry, path)
+            cycle_op = self._cycle_op(notes, line, words, cycle_word, entry, path, setting)
         read = ReadBlock(line.line, line.start, line.end, words, [], line.skip)
         lowered = self.lower(read, path) if words else ir.Block(line.line, line.start + 1, line.end + 1, [])
         ops = self._cancel_on_plane_change(lowered.ops)
         self._length_with_tool(ops)
         if cycle_op is not None:
             self._insert_cycle(ops, cycle_op)
-        block.ops.extend(ops)
-        block.notes.extend(lowered.notes)
-        return block
+        if line.repeat is not None:
+            self._repeat(ops, notes, line, path)
+        return ops, lowered.notes + notes
 
     def _cycle_code(self, words):
         found = (None, None)
@@ -119,23 +150,24 @@ class FagorLowering(IsoLowering):
                     found = (word, entry)
         return found
 
-    def _cycle_op(self, block, line, words, cycle_word, entry, path) -> ir.Op:
+    def _cycle_op(self, notes, line, words, cycle_word, entry, path, setting) -> ir.Op:
+        plane, tool_axis, turning = setting
         span = self._span(line, cycle_word.start, cycle_word.end, path)
         code = code_key(cycle_word.value)
-        if self.turning_cycles and code in _TURNING_CODES:
-            block.notes.append(ir.Note("core.unsupported-code", f"G{code} is a turning cycle here (lathe software or #LATHECY ON); turning cycles are not modelled", span))
+        if turning and code in _TURNING_CODES:
+            notes.append(ir.Note("core.unsupported-code", f"G{code} is a turning cycle here (lathe software or #LATHECY ON); turning cycles are not modelled", span))
             words[:] = [word for word in words if word.letter in "NFSTM"]
             return ir.Unsupported(span, f"G{code} turning cycle", ("position",))
         model = self.table.cycles[entry["cycle"]]
         declared = model.get("params", {})
         pattern = "pattern" in model
-        normal = _PLANE_NORMAL[self.plane]
-        if not pattern and self.tool_axis is not None and self.tool_axis != (normal, "+"):
-            block.notes.append(ir.Note("core.unsupported-code", f"G{code} along #TOOL AX [{''.join(self.tool_axis)}] while the plane's normal is {normal}+: "
+        normal = _PLANE_NORMAL[plane]
+        if not pattern and tool_axis is not None and tool_axis != (normal, "+"):
+            notes.append(ir.Note("core.unsupported-code", f"G{code} along #TOOL AX [{''.join(tool_axis)}] while the plane's normal is {normal}+: "
                                                                  "cycles along another axis or direction are not modelled", span))
             words[:] = [word for word in words if word.letter in "NFSTM" and word.letter not in declared]
             return ir.Unsupported(span, f"G{code} along another tool axis", ("position",))
-        in_plane = () if pattern else _PLANE_AXES[self.plane]
+        in_plane = () if pattern else _PLANE_AXES[plane]
         params, spans = {}, {}
         for word in list(words):
             letter = word.letter
@@ -143,7 +175,7 @@ class FagorLowering(IsoLowering):
             if letter in in_plane or name not in declared or letter in "GN":
                 continue
             if name in params:
-                block.notes.append(ir.Note("core.duplicate-address", f"G{code}: {letter} appears twice in the cycle block; it is the cycle's "
+                notes.append(ir.Note("core.duplicate-address", f"G{code}: {letter} appears twice in the cycle block; it is the cycle's "
                                                                      f"{declared[name]['meaning']}, not a {letter} function (the control alarms or uses one of them)",
                                            self._span(line, word.start, word.end, path)))
                 words.remove(word)
@@ -174,14 +206,14 @@ class FagorLowering(IsoLowering):
                 ops.insert(index + 1, ir.LengthOffset(op.span, "with_tool", None))  # not an ISO G43: no Z jump
                 return
 
-    def _cancel_on_plane_change(self, ops: list) -> list:
+    @staticmethod
+    def _cancel_on_plane_change(ops: list) -> list:
         """A new plane, G20 or G74 ends the cycle (seed L597-611)."""
         result = []
         for op in ops:
             if isinstance(op, ir.SetModal) and op.group == "plane":
-                if op.value != self.plane:
-                    result.append(ir.CycleCancel(op.span))
-                self.plane = op.value
+                changed = ir.Binary("NE", _STATE_VARIABLES[0], _PLANE_CODES[op.value])
+                result.append(ir.Conditional(op.span, changed, [ir.CycleCancel(op.span)]))
             elif isinstance(op, ir.Unsupported) and op.what.startswith(("G20 ", "G74 ")):
                 result.append(ir.CycleCancel(op.span))
             result.append(op)
@@ -197,18 +229,8 @@ class FagorLowering(IsoLowering):
                 block.ops.append(ir.CycleDefine(span, "", {name[-1]: assignment.value, "$rule": "fagor.cycle-data-without-cycle"}, {name[-1]: span}))
             else:
                 block.ops.append(ir.Assign(span, assignment.target, assignment.value))
-        if line.repeat is not None:
-            value, start, end = line.repeat
-            moves = [op for op in block.ops if isinstance(op, ir.Move)]
-            if moves and type(value) is float and value == int(value) and 1 <= value <= _REPEAT_COPIES:
-                at = block.ops.index(moves[-1]) + 1
-                block.ops[at:at] = [dataclasses.replace(moves[-1]) for _ in range(int(value) - 1)]
-            elif moves:
-                moves[-1].words["NR"] = value  # NR0 in a cycle's zone: the move without machining
-                moves[-1].word_columns["NR"] = (start, end)
-            else:
-                block.notes.append(ir.Note("fagor.repeat-without-motion", "NR repeats a block's move (and the cycle at its end): this block has no move, so NR does nothing",
-                                           self._span(line, start, end, path)))
+        if line.repeat is not None and not line.words:
+            self._repeat(block.ops, block.notes, line, path)
         for name, start, end in line.indexed_axes:
             span = self._span(line, start, end, path)
             block.notes.append(ir.Note("core.unsupported-code", f"axis {name} (an axis with a numeric suffix) is read but not modelled", span))
@@ -216,6 +238,20 @@ class FagorLowering(IsoLowering):
         if line.rpt is not None:
             first, last, count, start, end = line.rpt
             block.ops.extend(self._repeat_blocks(self._span(line, start, end, path), first, last, count))
+
+    def _repeat(self, ops: list, notes: list, line: FagorLine, path) -> None:
+        """NR n repeats the block's move n times (in a cycle's zone, each makes a hole)."""
+        value, start, end = line.repeat
+        moves = [op for op in ops if isinstance(op, ir.Move)]
+        if moves and type(value) is float and value == int(value) and 1 <= value <= _REPEAT_COPIES:
+            at = ops.index(moves[-1]) + 1
+            ops[at:at] = [dataclasses.replace(moves[-1]) for _ in range(int(value) - 1)]
+        elif moves:
+            moves[-1].words["NR"] = value  # NR0 in a cycle's zone: the move without machining
+            moves[-1].word_columns["NR"] = (start, end)
+        else:
+            notes.append(ir.Note("fagor.repeat-without-motion", "NR repeats a block's move (and the cycle at its end): this block has no move, so NR does nothing",
+                                 self._span(line, start, end, path)))
 
     @staticmethod
     def _repeat_blocks(span: Span, first, last, count) -> list[ir.Op]:
@@ -252,14 +288,12 @@ class FagorLowering(IsoLowering):
     def _tool_axis(self, block, statement, span) -> None:
         match = re.fullmatch(r"(?i)AX\s*\[\s*([A-Z])(\d*)\s*([+-]?)\s*\]", statement.text)
         block.ops.append(ir.CycleCancel(span))
-        if match is None or match.group(2):
-            self.tool_axis = ("?", "?")
-            return
-        self.tool_axis = (match.group(1).upper(), match.group(3) or "+")
+        axis = _AXIS_CODES.get(match.group(1).upper(), _OTHER_AXIS) if match is not None and not match.group(2) else _OTHER_AXIS
+        sign = -1.0 if match is not None and match.group(3) == "-" else 1.0
+        block.ops.append(ir.Assign(span, _STATE_VARIABLES[1], axis * sign))
 
     def _cycle_set(self, block, statement, span) -> None:
         on = statement.text.upper().startswith("ON")
-        self.turning_cycles = on if statement.keyword == "LATHECY" else not on
         block.ops.append(ir.Assign(span, ir.Var(f"${statement.keyword}"), 1.0 if on else 0.0))
 
     def _return(self, block, statement, span) -> None:
@@ -564,6 +598,8 @@ class FagorFrontend:
             return targets.get(key, f"@?{key}")
         if name == RPT_END:
             return -1.0
+        if name == "$PLANE":
+            return _PLANE_CODES[state.modal["plane"]]
         if name.startswith("$"):
             return 0.0
         if name.startswith("V.C.") and len(name) == 5 and state.cycle is not None:
