@@ -1079,12 +1079,12 @@ class Interpreter:
         arguments = {}
         for letter, expr in op.arguments.items():
             number = _ARGUMENT_VARIABLES.get(letter)
-            if number is None:
+            if number is None and len(letter) < 2:
                 self._fault("core.syntax", op.span, f"address {letter} cannot pass a G65 argument")
                 continue
             value = self.evaluate(expr, op.span)
             if value is not VACANT:
-                arguments[f"#{number}"] = value
+                arguments[f"#{number}" if number is not None else letter] = value  # a variable name as is (Fagor #PCALL P0-P25)
         return arguments
 
     def _proc_arguments(self, op: ir.Call, source: ProgramSource, start: int) -> dict:

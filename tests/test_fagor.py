@@ -449,3 +449,9 @@ def test_each_path_reads_its_cycle_blocks_with_its_own_plane():
 def test_a_cycle_block_in_a_loop_follows_the_tool_axis_of_each_pass():
     run = trace("G0 G90 X0 Y0 Z25 S800 M3\n$FOR P1=1,2,1\n$IF P1==2\n#TOOL AX [Z-]\n$ENDIF\nG81 Z2 I-20\nG80\n$ENDFOR\nM30\n")
     assert len(run.holes) == 1 and "core.unsupported-code" in run.rules()
+
+
+def test_pcall_gives_the_subroutine_its_own_local_parameters():
+    run = trace('%L MOVE\nP0=P0+5\nG0 X P0\n#RET\nP0=1\nG0 X0 Y0 Z10\n#PCALL MOVE A42\nG0 Y P0\nM30\n')
+    ends = [(segment.end["X"], segment.end["Y"]) for segment in run.segments]
+    assert ends[-2:] == [(47.0, 0.0), (47.0, 1.0)]  # the caller's P0 is still 1 after the call

@@ -16,12 +16,12 @@ differently:
   lowered to jumps. A statement's partner lines are found from the program text when the
   jump runs: the jump target is a system variable ``$@next:12`` that
   :meth:`FagorFrontend.system_variable` resolves to the label ``@15`` of the partner line;
-- **calls** ``#CALL``, ``#PCALL`` (its A-Z arguments set P0-P25), local subroutines
+- **calls** ``#CALL``, ``#PCALL`` (a new level of local parameters, its A-Z arguments
+  set P0-P25), local subroutines
   ``%L NAME`` ending with ``M17``/``M29``/``#RET``; ``#MCALL`` is not modelled.
 
-The frontend follows the plane, ``#TOOL AX`` and ``#LATHECY``/``#MILLCY`` in the order the
-interpreter reads lines (which is execution order): a cycle block is read with the state of
-the lines read before it.
+A cycle block's meaning depends on the plane, ``#TOOL AX`` and ``#LATHECY``/``#MILLCY`` in
+force: it is lowered when it runs (see :class:`FagorLowering`).
 """
 from __future__ import annotations
 
@@ -276,10 +276,14 @@ class FagorLowering(IsoLowering):
     # ---- # instructions
 
     def _call(self, block, statement, span) -> None:
+        """#CALL runs the subroutine on the caller's local parameters; #PCALL opens a new
+        level whose P0-P25 are the A-Z arguments (§12, uncertain; unset ones are vacant)."""
         name, *arguments = statement.args
-        for letter, value in arguments:
-            block.ops.append(ir.Assign(span, ir.Var(_PCALL_PARAMETERS[letter]), value))
-        block.ops.append(ir.Call(span, "subprogram", name))
+        if statement.keyword == "CALL":
+            block.ops.append(ir.Call(span, "subprogram", name))
+            return
+        values = {_PCALL_PARAMETERS[letter]: value for letter, value in arguments}
+        block.ops.append(ir.Call(span, "macro", name, 1.0, values))
 
     def _modal_call(self, block, statement, span) -> None:
         block.notes.append(ir.Note("core.unsupported-code", "#MCALL (a subroutine called after every move until #MDOFF) is not modelled; the moves after it answer unknown", span))
