@@ -113,3 +113,15 @@ def test_the_202_example_without_an_equals_sign_still_reads():
     """Seed L1992: 'Q357+0.2' lacks its '=' (an OCR / manual defect the reader tolerates)."""
     result = _check(_framed(1970, 1998), "c202.h")
     assert not [d for d in result.diagnostics if d.rule == "core.syntax"]
+
+
+def test_the_macro_example_closes_another_program_than_it_opens():
+    """Seed L3205/L3219: BEGIN PGM KM ... END PGM RET."""
+    result = _check(_program(3205, 3219), "km.h")
+    assert any(d.rule == "heidenhain.program-name-mismatch" for d in result.diagnostics)
+
+
+def test_the_mirror_example_mirrors_the_spindle_axis():
+    """Seed L7874-7876 mirrors Z, which the text forbids (reference A §11)."""
+    result = _check(_framed(7874, 7876, "L  X+50  Y+50 R0 FMAX"), "c8.h")
+    assert any(d.rule == "heidenhain.mirror-tool-axis" for d in result.diagnostics)

@@ -35,6 +35,8 @@ _CALLED_ELSEWHERE = {
 
 REVIEWED_ERRORS = {name: {("core.program-not-found", line) for line in lines} for name, lines in _CALLED_ELSEWHERE.items()}
 REVIEWED_ERRORS.update({
+    # BEGIN PGM YL-05 ... END PGM 100: the program was renamed at one end only.
+    "002_digiliner-YL-05.h": {("heidenhain.program-name-mismatch", 463)},
     # CALL LBL 3 six times, but the program has only LBL 1 and LBL 0: the control stops.
     "008_drunsinn-BewegBlv.h": {("core.label-not-found", 120)},
     # Q1951 = INT(Q1950 / Q1810 + 0.99999999) is 0 when Q1804 = Q1805 (a zero depth, which the

@@ -6,7 +6,7 @@ runner raises (a call with no cycle, RL/RR at a call) are reported from the trac
 from __future__ import annotations
 
 from .. import pocket, values
-from ..check import hazard, rule, show
+from ..check import Rule, hazard, rule, show
 from .machine import _ReportsMissingContext
 
 _DEPTH_CHECKED = {200, 201, 202, 203, 205, 208, 241, 206, 207, 209, 251, 252, 253, 254, 256, 257, 258}
@@ -182,3 +182,16 @@ class ContourClearanceHeight(_CycleRule):
             verdict = self.checker.judge(hazard("<=", height, stock.top), state)
             self.checker.report_verdict("heidenhain.sl-clearance-height", where, f"clearance height Q7={show(height)} is not above the top of the blank Z{stock.top:g}: "
                                         "the rapids between areas and the final retract stay in the material", verdict, state)
+
+
+@rule("heidenhain.transform-at-end")
+class TransformAtEnd(Rule):
+    """H35: a coordinate transformation still active when the program ends. Whether M2,
+    M30 or END PGM reset it is a machine parameter (seed L7738-7745): do not rely on it."""
+
+    def change(self, change, state):
+        active = state.rule_state.get(("heidenhain", "transforms"))
+        if change.what == "end" and change.new in ("end", "eof") and active:
+            cycles = ", ".join(str(number) for number, _values in active)
+            self.report("heidenhain.transform-at-end", change.span, f"coordinate transformation (cycle {cycles}) is still active at the end of the program: "
+                        "whether M2/M30/END PGM resets it depends on a machine parameter, so the next program may run shifted, rotated or mirrored")

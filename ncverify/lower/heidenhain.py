@@ -57,6 +57,7 @@ class KlartextLowering:
     def __init__(self, tool_names: dict | None = None):
         self.tool_names = tool_names if tool_names is not None else {}
         self._recent: dict = {}  # blocks of lines read lately: loops by FN jumps read them again and again
+        self._begun: str | None = None  # the last BEGIN PGM read: lines are read in order before any jump
 
     def lower(self, raw: bytes, line: int, path: str | None) -> list[ir.Block]:
         key = (raw, line, path)
@@ -126,6 +127,7 @@ class KlartextLowering:
         cursor.expect_name("BEGIN")
         cursor.expect_name("PGM")
         block.program_start = self._program_name(cursor)
+        self._begun = block.program_start.upper()
         unit = cursor.take_name("MM", "INCH")
         if unit is not None:
             block.ops.append(ir.SetModal(unit.span, "units", "mm" if unit.text == "MM" else "inch"))
@@ -133,9 +135,12 @@ class KlartextLowering:
     def _end(self, cursor, block, path):
         start = cursor.expect_name("END").span
         cursor.expect_name("PGM")
-        self._program_name(cursor)
+        name = self._program_name(cursor).upper()
         cursor.take_name("MM", "INCH")
-        block.ops.append(_pseudo(cursor.rest_span(start), "end_pgm", {}))
+        span = cursor.rest_span(start)
+        if self._begun is not None and name != self._begun:
+            block.notes.append(ir.Note("heidenhain.program-name-mismatch", f"END PGM {name} closes program {self._begun}: BEGIN PGM and END PGM must name the same program", span))
+        block.ops.append(_pseudo(span, "end_pgm", {}))
 
     @staticmethod
     def _program_name(cursor: Cursor, up_to_unit: bool = True) -> str:
@@ -303,7 +308,9 @@ class KlartextLowering:
             block.ops.append(_pseudo(span, "retract", {"MB": words["extra"]["MB"]}))
         calls = any(number in (89.0, 99.0) for number, _ in words["m"])
         if words["targets"] and not calls and not machine:
-            block.ops.append(_pseudo(span, "positioned", {"fed": 0.0 if kind == "rapid" else 1.0}))
+            plane = [axis for axis in ("X", "Y") if axis in words["targets"]]
+            relative = any(axis in words["incremental"] for axis in plane)
+            block.ops.append(_pseudo(span, "positioned", {"fed": 0.0 if kind == "rapid" else 1.0, "plane": float(len(plane)), "relative": float(relative)}))
         self._m_after(block, words["m"], span)
 
     @staticmethod
@@ -572,6 +579,10 @@ class KlartextLowering:
                 if token.kind != "name":
                     continue
                 name = token.text
+                if number == 8 and name in _AXES:
+                    words[name] = 1.0  # CYCL DEF 8.1 X Y: the axes mirrored
+                    spans[name] = token.span
+                    continue
                 if cursor.peek() is not None and (cursor.peek().kind == "number" or cursor.is_symbol("+", "-") or cursor.is_name("Q", "QL", "QR")):
                     try:
                         words[name] = cursor.value()

@@ -419,6 +419,9 @@ def _transform(runner, op, number, params) -> None:
     _put(state, "transforms", tuple(sorted(active.items())))
     if number == 10:
         state.comp_side = "off"  # cycle 10 cancels radius compensation (seed L7904)
+    tool_axis = _plane(state)[2]
+    if number == 8 and (tool_axis in params or "I" + tool_axis in params):
+        interp._fault("heidenhain.mirror-tool-axis", op.span, f"cycle 8 mirrors the tool axis {tool_axis}: the spindle axis may not be mirrored (seed L7869-7870)")
 
 
 def _contour_def_run(runner, op, block, model, params):
@@ -528,6 +531,9 @@ def _call_run(runner, op, block, model, params):
         interp._fault("heidenhain.call-without-cycle", op.span, f"{_call_words(how)} with no machining cycle defined before it: the control stops with an error "
                       "(define the cycle with CYCL DEF first)")
         return None
+    if state.tool_in_spindle is None and state.frames[0].kind == "main":
+        interp._fault("heidenhain.call-without-tool", op.span, f"{_call_words(how)} runs cycle {definition.number} before any TOOL CALL: the control needs a "
+                      "called tool to run a cycle (seed L655-664)")
     if how == "PAT":
         points = _get(state, "pattern")
         if points is None:
@@ -553,6 +559,12 @@ def _positioned_run(runner, op, block, model, params):
     (seed L742-752)."""
     state = runner.state
     _put(state, "fed_at", _plane_point(state) if params.get("fed") else None)
+    ended = _get(state, "ended_elsewhere")
+    if ended is not None and params.get("plane"):
+        _put(state, "ended_elsewhere", None)
+        if params.get("relative") or params.get("plane") < 2:
+            runner.interp._fault("heidenhain.position-after-cycle", op.span, f"cycle {ended} leaves the tool at the clearance height but not over its start point: "
+                                 "the first positioning after it must give both plane axes absolute; an incremental or single-axis move goes somewhere else (seed L5930-5940)")
     if not _get(state, "m89"):
         return None
     definition = _get(state, "cycle")
@@ -713,6 +725,7 @@ def _sl_cycle(runner, op, block, definition):
     with _cycle_feed(state, {"Q206": params.get("Q11", params.get("Q12"))}):
         runner._rapid_to({axis: surface + depth}, op.span, block, "infeed", name, "feed")
     runner._rapid_to({axis: height}, op.span, block, "out-of-hole", name)
+    _put(state, "ended_elsewhere", definition.number)  # posAfterContPocket may leave the tool anywhere (reference B §4.5)
     return None
 
 
@@ -793,6 +806,7 @@ def _pocket(runner, op, block, definition, shift, surface_offset):
     runner._rapid_to({axis: retract}, op.span, block, "retract", name)
     if model.get("ends_elsewhere") or (model.get("family") == "slot" and params.get("Q367", 0.0) != 0.0):
         state.move_to({first: None, second: None})
+        _put(state, "ended_elsewhere", definition.number)
     return None
 
 
