@@ -907,7 +907,7 @@ class Interpreter:
         if type(target) not in (float, str):
             self._unsupported_here(op.span, "a jump whose target depends on a free parameter")
             raise PathEnd
-        position = self.find_label(target, op.span)
+        position = self.find_label(target, op.span, direction=op.direction)
         self._count_jump(position, op.span, f"the jump to {self.frontend.describe_label(target)}")
         return position
 
@@ -969,7 +969,11 @@ class Interpreter:
 
     # ------------------------------------------------------------------ labels and programs
 
-    def find_label(self, label: float, span, source: ProgramSource | None = None, frame: Frame | None = None) -> Position:
+    def find_label(self, label: float, span, source: ProgramSource | None = None, frame: Frame | None = None,
+                   direction: str | None = None) -> Position:
+        """The block carrying ``label``. ``direction`` ``forward`` / ``backward`` searches
+        only that way from the current block and takes the nearest (SINUMERIK GOTOF/GOTOB,
+        where a label may repeat); ``nearest`` tries forward, then backward (GOTO)."""
         frame = frame or self.state.frames[-1]
         source = source or frame.source
         key = (id(source), frame.program, label)
@@ -980,10 +984,17 @@ class Interpreter:
         if not found:
             self._fault("core.label-not-found", span, f"label {self.frontend.describe_label(label)} is not in program {frame.program}: the control alarms here")
             raise PathEnd
-        if len(found) > 1:
-            self.observer.fault(Fault("core.duplicate-label", span, f"{self.frontend.describe_label(label)} appears {len(found)} times in {frame.program}; the jump goes to the first one after the current block"))
         current = self._line_offset if source is self._line_source else -1
         after = [position for position in found if position.offset > current]
+        if direction is not None:
+            before = [position for position in found if position.offset < current]
+            nearest = after[:1] if direction == "forward" else before[-1:] if direction == "backward" else (after[:1] or before[-1:])
+            if not nearest:
+                self._fault("core.label-not-found", span, f"{self.frontend.describe_label(label)} is not {'after' if direction == 'forward' else 'before'} this block in {frame.program}: the control alarms here")
+                raise PathEnd
+            return nearest[0]
+        if len(found) > 1:
+            self.observer.fault(Fault("core.duplicate-label", span, f"{self.frontend.describe_label(label)} appears {len(found)} times in {frame.program}; the jump goes to the first one after the current block"))
         return (after or found)[0]
 
     def _scan_label(self, source: ProgramSource, frame: Frame, label: float) -> list[Position]:

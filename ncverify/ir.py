@@ -246,6 +246,7 @@ class Assign(Op):
 class Jump(Op):
     target: Expr  # a sequence number / label
     condition: Expr | None = None
+    direction: str | None = None  # forward / backward / nearest: search only that way (SINUMERIK GOTOF/GOTOB/GOTO)
 
 
 @dataclass(slots=True)

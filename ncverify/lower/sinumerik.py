@@ -38,6 +38,7 @@ WHILE_LOOP, FOR_LOOP, ENDLESS_LOOP, REPEAT_LOOP = 1, 2, 3, 4
 UNTIL_FLAG = "_REPEAT_UNTIL_"
 _AXES = ("X", "Y", "Z", "A", "B", "C", "U", "V", "W")
 _ARC_WORDS = ("I", "J", "K")
+_DIRECTIONS = {"GOTOF": "forward", "GOTOB": "backward", "GOTO": "nearest", "GOTOC": "nearest"}
 _AXIS_DATA_CODES = frozenset({"74", "75", "110", "111", "112", "58", "59", "25", "26"})
 _STAGE_ORDER = ("feed", "tool", "speed", "spindle", "dwell", "modal", "offset", "motion", "call", "stop")
 
@@ -132,11 +133,11 @@ class SinumerikLowering:
         if kind == "if":
             return [ir.Jump(span, f"IF#{read.line}", ir.Binary("EQ", item.condition, 0.0))]
         if kind == "goto":
-            return [ir.Jump(span, item.value, item.condition)]
+            return [ir.Jump(span, item.value, item.condition, _DIRECTIONS[item.name])]
         if kind == "case":
-            jumps = [ir.Jump(span, label, ir.Binary("EQ", item.value, value)) for value, label in item.args]
+            jumps = [ir.Jump(span, label, ir.Binary("EQ", item.value, value), "nearest") for value, label in item.args]
             if item.extra is not None:
-                jumps.append(ir.Jump(span, item.extra))
+                jumps.append(ir.Jump(span, item.extra, None, "nearest"))
             return jumps
         if kind == "while":
             return [ir.LoopStart(span, WHILE_LOOP, item.condition)]
@@ -191,8 +192,8 @@ class SinumerikLowering:
     @staticmethod
     def _cycle_arguments(item: Item, model: dict, read: ReadBlock, path) -> tuple[dict, dict]:
         """Arguments named by position; omitted ones are 0 (seed L668-687). Extra
-        arguments are kept as ``#13`` etc. for the rules (alarm 12340), and ``#count`` /
-        ``#omitted`` say how the list was written."""
+        arguments are kept as ``#13`` etc. for the rules (alarm 12340), and ``ARG_COUNT`` /
+        ``ARG_OMITTED`` say how the list was written."""
         names = [argument[0] for argument in model["arguments"]]
         params: dict = {}
         spans: dict = {}
@@ -206,8 +207,8 @@ class SinumerikLowering:
             spans[name] = Span.on_line(read.line, start, max(end, start + 1), path)
         for name in names[len(item.args):]:
             params[name] = 0.0
-        params["#count"] = float(len(item.args))
-        params["#omitted"] = float(len(omitted))
+        params["ARG_COUNT"] = float(len(item.args))
+        params["ARG_OMITTED"] = float(len(omitted))
         return params, spans
 
     @staticmethod

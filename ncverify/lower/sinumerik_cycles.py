@@ -83,14 +83,46 @@ def drill(runner, op, block, model, params):
         spans = {"Z": op.param_spans.get("DP", op.span), "R": op.param_spans.get("RFP", op.span)}
         spans.update(op.param_spans)
         runner.interp.observer.hole(Hole(name, model, op.span, block, axis, position, rtp, start, depth, dict(params), spans, (), definition), state)
+    tapping = model.get("tapping_cycle") and params.get("ENC") != 1.0  # G331/G33: the feed follows the pitch
+    cut = "thread" if tapping else "feed"
+    programmed_feed, inherited = state.feed, state.feed_inherited
+    feed_in, feed_out = params.get("FFR"), params.get("RFF")
+    if type(feed_in) is float and feed_in > 0:
+        state.feed = feed_in  # CYCLE85 feeds with its own FFR
+    elif tapping:
+        state.feed = tapping_feed(params, state)
+        state.feed_inherited = state.feed is None or inherited
     runner._rapid_to({axis: start}, op.span, block, "approach", name)
-    runner._rapid_to({axis: depth}, op.span, block, "infeed", name, "feed")
+    runner._rapid_to({axis: depth}, op.span, block, "infeed", name, cut)
     if model.get("retract") == "feed":
-        runner._rapid_to({axis: start}, op.span, block, "out-of-hole", name, "feed")
+        if type(feed_out) is float and feed_out > 0:
+            state.feed = feed_out
+        runner._rapid_to({axis: start}, op.span, block, "out-of-hole", name, cut)
         runner._rapid_to({axis: rtp}, op.span, block, "retract", name)
     else:
         runner._rapid_to({axis: rtp}, op.span, block, "out-of-hole", name)
+    state.feed, state.feed_inherited = programmed_feed, inherited
     return None
+
+
+# ISO metric coarse pitches by thread size, for MPIT (reference A section 6.4, marked as background).
+COARSE_PITCH = {3: 0.5, 4: 0.7, 5: 0.8, 6: 1.0, 8: 1.25, 10: 1.5, 12: 1.75, 14: 2.0, 16: 2.0, 18: 2.5, 20: 2.5, 22: 2.5,
+                24: 3.0, 27: 3.0, 30: 3.5, 33: 3.5, 36: 4.0, 39: 4.0, 42: 4.5, 45: 4.5, 48: 5.0}
+
+
+def tapping_feed(params: dict, state):
+    """The feed a tapping cycle runs at: pitch (PIT, or MPIT's coarse pitch) x speed (SST,
+    or the programmed speed); None when it cannot be told."""
+    pitch = params.get("PIT")
+    if type(pitch) is not float or pitch == 0.0:
+        size = params.get("MPIT")
+        pitch = COARSE_PITCH.get(int(abs(size))) if type(size) is float and size == int(size) else None
+    speed = params.get("SST")
+    if type(speed) is not float or speed == 0.0:
+        speed = state.spindle_speed
+    if pitch is None or type(speed) is not float:
+        return None
+    return abs(pitch) * speed
 
 
 def pattern(runner, op, block, model, params):

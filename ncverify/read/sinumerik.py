@@ -98,6 +98,7 @@ _BLOCK_KEYWORDS = frozenset({
     "CTABEND", "REDEF", "SPOS", "SPOSA", "M", "G", "T", "D", "H", "S", "F", "CANCEL", "DO", "ENDPROC", "EXTERN",
 })
 _INDIRECT_CODES = ("M", "G", "T", "D", "H", "S", "F")
+_OLD_SUBPROGRAM = re.compile(r"L\d+")
 FRAME_KEYWORDS = frozenset({"TRANS", "ATRANS", "ROT", "AROT", "ROTS", "AROTS", "MIRROR", "AMIRROR", "SCALE", "ASCALE"})
 DEF_TYPES = frozenset({"REAL", "INT", "BOOL", "CHAR", "STRING", "AXIS", "FRAME"})
 _COMPARE = {"==": "EQ", "<>": "NE", "<": "LT", ">": "GT", "<=": "LE", ">=": "GE"}
@@ -245,6 +246,13 @@ class _BlockParser:
                 self.take()
                 handler(start)
                 return
+        if _OLD_SUBPROGRAM.fullmatch(upper):  # L140, L140(2): a subprogram named by number
+            self.take()
+            if self.at("("):
+                self._call(upper, start)
+            else:
+                self.block.items.append(Item("call", start, end, upper))
+            return
         address = _ADDRESS.match(self.code, start)
         if address and address.group(1).upper() in EQUALS_ADDRESSES | {"N", "R", "O"} and (address.end() <= end or address.start(2) == end):
             self._address_run(start, end)

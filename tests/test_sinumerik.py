@@ -1,0 +1,382 @@
+"""SINUMERIK 840D: reader, detection, control flow, program context, cycles and their alarms.
+
+Values a program computes are probed with ``SETAL(value)``: the control raises that alarm,
+and the finding ``core.macro-alarm`` quotes the number, so a test can read what the
+interpreter computed on each path.
+"""
+from __future__ import annotations
+
+import re
+import textwrap
+
+import pytest
+from hypothesis import given, settings as hypothesis_settings, strategies as st
+
+import ncverify.api
+from ncverify import Settings, check_text
+from ncverify.check import Checker
+from ncverify.detect import detect
+from ncverify.diagnostics import Status
+from ncverify.lower.sinumerik import SinumerikFrontend, SinumerikLowering, program_context
+from ncverify.lower.sinumerik_cycles import levels, pattern_positions
+from ncverify.read.sinumerik import read_line
+
+
+def check(program: str, **settings):
+    return check_text(textwrap.dedent(program).lstrip("\n"), "t.mpf", Settings(dialect="sinumerik", **settings))
+
+
+def findings(result, rule: str, status: Status | None = None):
+    return [d for d in result.diagnostics if d.rule == rule and (status is None or d.status is status)]
+
+
+def probes(result) -> list[float]:
+    """The values passed to SETAL on every path that reached one."""
+    values = []
+    for diagnostic in findings(result, "core.macro-alarm"):
+        match = re.search(r"raises alarm (-?[0-9.e+]+|\?) with SETAL", diagnostic.message)
+        assert match, diagnostic.message
+        values.append(float(match.group(1)))
+    return sorted(values)
+
+
+# --------------------------------------------------------------------------- reader
+
+@hypothesis_settings(max_examples=300, deadline=None)
+@given(st.text(alphabet="NGXYZRIJKFSTDM0123456789.=+-*/()[],;:\"' _ABCEHLOPQUVW$；（），“”IFELSENDWHILOPCAS\t", max_size=60))
+def test_the_reader_never_raises_and_every_problem_has_a_column(text):
+    block = read_line(text, 1)
+    if block.problem:
+        assert 0 <= block.problem.start < block.problem.end
+    SinumerikFrontend(SinumerikLowering()).blocks(text.encode(), 1, None)
+
+
+def test_the_manuals_full_width_punctuation_reads_like_ascii():
+    ascii_block = read_line('N40 CYCLE81(10, 0, 2, -5) ; centre', 1)
+    wide_block = read_line('N40 CYCLE81（10，0，2，–5）；centre', 1)
+    assert [(item.kind, item.name, item.args) for item in ascii_block.items] == [(item.kind, item.name, item.args) for item in wide_block.items]
+    assert read_line('N10 T=“DRILL”', 1).items[0].value == "DRILL"
+    assert read_line('ABNAHME4_CONT：G0 X1', 1).label == "ABNAHME4_CONT"
+
+
+@pytest.mark.parametrize("text, values", [
+    ("N10 G0 X100Y10 Z-5", {"G": 0.0, "X": 100.0, "Y": 10.0, "Z": -5.0}),
+    ("G1X1.5Y2.Z-.5 F.2", {"G": 1.0, "X": 1.5, "Y": 2.0, "Z": -0.5, "F": 0.2}),
+    ("X1475. Y170.", {"X": 1475.0, "Y": 170.0}),
+])
+def test_packed_and_signed_address_words(text, values):
+    assert {item.name: item.value for item in read_line(text, 1).items} == values
+
+
+def test_garbled_text_gives_a_syntax_finding_at_its_column():
+    result = check("""
+        N10 G0 X10 Y10 Z10
+        N20 G1 X=(10+ F100
+        N30 M30
+    """)
+    [syntax] = findings(result, "core.syntax")
+    assert (syntax.span.line, syntax.span.column) == (2, 19) and "')' expected" in syntax.message
+
+
+# --------------------------------------------------------------------------- detection
+
+@pytest.mark.parametrize("text", [
+    "PROC AL600\nG1 X10 F100\nM17\n",
+    "N5 R10=15\nN10 BEGIN:\nN20 Z=10-R10\nN30 G1 X=R10 F200\nN100 REPEAT BEGIN\nM30\n",
+    "%_N_PART_MPF\nG0 X10 Y10\nG1 Z-5 F100\nM30\n",
+    "N10 G90 G17 F900 S4000 M3 T2 D1\nG0 X50 Y30\nN15 MCALL CYCLE82(10,0,1,-22,0,0)\nCYCLE801(30,20,0,10,15,100,50)\nMCALL\nM30\n",
+])
+def test_sinumerik_is_told_from_the_text_alone(text):
+    assert detect(text, text.encode()).dialect == "sinumerik"
+
+
+def test_an_iso_program_stays_iso():
+    text = "%\nO1000\nG21 G90 G17 G54\nT1 M06\nG00 X10. Y10.\nG43 H01 Z50.\nG81 Z-5. R2. F100.\nG80\nM30\n%\n"
+    assert detect(text, text.encode()).dialect == "iso"
+
+
+# --------------------------------------------------------------------------- control flow
+
+def test_if_else_takes_one_branch():
+    result = check("""
+        R1=3
+        IF R1>2
+          SETAL(61)
+        ELSE
+          SETAL(62)
+        ENDIF
+        M30
+    """)
+    assert probes(result) == [61.0]
+
+
+def test_nested_if_lands_on_its_own_endif():
+    result = check("""
+        R1=1
+        R2=0
+        IF R1==1
+          IF R2==1
+            SETAL(71)
+          ENDIF
+          SETAL(72)
+        ENDIF
+        SETAL(73)
+        M30
+    """)
+    assert probes(result) == [72.0]
+
+
+def test_a_free_condition_explores_both_branches():
+    result = check("""
+        IF R7>0
+          SETAL(1)
+        ELSE
+          SETAL(2)
+        ENDIF
+        M30
+    """)
+    assert probes(result) == [1.0, 2.0]
+
+
+def test_while_for_repeat_loop_and_case_compute_what_the_control_computes():
+    result = check("""
+        DEF INT IDX, SUM, CNT
+        SUM=0
+        FOR IDX=1 TO 4
+          SUM=SUM+IDX
+        ENDFOR
+        WHILE SUM<100
+          SUM=SUM*2
+        ENDWHILE
+        REPEAT
+          SUM=SUM-30
+        UNTIL SUM<50
+        CNT=0
+        LOOP
+          CNT=CNT+1
+          IF CNT==3 GOTOF OUT
+        ENDLOOP
+        OUT:
+        CASE CNT OF 1 GOTOF ONE 3 GOTOF THREE DEFAULT GOTOF ONE
+        ONE: SETAL(1)
+        THREE: SETAL(SUM*1000+IDX*10+CNT)
+        M30
+    """)
+    # SUM: 10 -> 160 (doubling) -> 40 (REPEAT); IDX ends at 4; CNT = 3
+    assert probes(result) == [40043.0]
+
+
+def test_gotob_loops_back_and_gotof_skips_a_contour_section():
+    result = check("""
+        R1=0
+        LOOP_HEAD:
+        R1=R1+1
+        IF R1<5 GOTOB LOOP_HEAD
+        GOTOF WORK
+        G0 X0 Y0 Z-100
+        WORK:
+        SETAL(R1)
+        M30
+    """)
+    assert probes(result) == [5.0]
+
+
+def test_a_jump_to_a_missing_label_is_reported():
+    result = check("""
+        GOTOF NOWHERE
+        M30
+    """)
+    assert findings(result, "core.label-not-found", Status.VIOLATED)
+
+
+def test_proc_parameters_are_bound_by_position_and_omitted_ones_are_zero():
+    result = check("""
+        %_N_MAIN_MPF
+        ADD3(1, , 30)
+        M30
+        %_N_ADD3_SPF
+        PROC ADD3(REAL A, REAL B, INT C)
+        SETAL(A+B*10+C)
+        RET
+    """)
+    assert probes(result) == [31.0]
+
+
+def test_a_subprogram_on_the_control_is_unknown_not_an_alarm():
+    result = check("""
+        G0 X0 Y0 Z10
+        _MAKER_CYCLE(1, 2)
+        M30
+    """)
+    [missing] = findings(result, "core.program-not-found")
+    assert missing.status is Status.UNKNOWN
+
+
+# --------------------------------------------------------------------------- context from the program
+
+def test_workpiece_box_rectangle_and_cylinder_become_the_stock():
+    box = program_context(b'WORKPIECE(,"",,"BOX",0,0,-20,-80,0,0,120,80)\n').stock
+    assert (box.x_range, box.y_range, box.z_range) == ((0.0, 120.0), (0.0, 80.0), (-20.0, 0.0))
+    rectangle = program_context(b'WORKPIECE(,"",,"RECTANGLE",0,0,-30,-80,100,60)\n').stock
+    assert (rectangle.x_range, rectangle.y_range) == ((-50.0, 50.0), (-30.0, 30.0))
+    bar = program_context('WORKPIECE（,“”,,“CYLINDER”,0,0,-100,-80,60）\n'.encode()).stock
+    assert (bar.kind, bar.diameter, bar.z_range) == ("cylinder", 60.0, (-100.0, 0.0))
+
+
+def test_tc_dp_assignments_are_a_tool_table():
+    tools = program_context(b"$TC_DP1[3,1]=220\n$TC_DP3[3,1]=95\n$TC_DP6[3,1]=4.25\n$TC_DP6[3,2]=9\n").tools
+    assert (tools[3].type, tools[3].length, tools[3].radius) == ("drill", 95.0, 4.25)
+
+
+def test_a_rapid_into_the_workpiece_blank_is_found_with_no_project_file():
+    result = check("""
+        WORKPIECE(,"",,"BOX",0,0,-30,-80,0,0,80,60)
+        G17 G90 G54 T2 D1 M6
+        S3000 M3 F400
+        G0 X-10 Y10 Z5
+        G1 Z-3
+        G1 X90
+        G0 X-10
+        M30
+    """)
+    [crash] = findings(result, "core.rapid-into-stock", Status.VIOLATED)
+    assert crash.span.line == 7
+
+
+# --------------------------------------------------------------------------- cycles
+
+def test_depth_resolution_dpr_wins_and_the_direction_follows_rtp():
+    assert levels({"RTP": 10.0, "RFP": 0.0, "SDIS": 2.0, "DP": -30.0, "DPR": 12.0}) == (1.0, 2.0, -12.0)
+    assert levels({"RTP": 10.0, "RFP": 0.0, "SDIS": 2.0, "DP": -30.0, "DPR": 0.0}) == (1.0, 2.0, -30.0)
+    assert levels({"RTP": -10.0, "RFP": 0.0, "SDIS": 2.0, "DP": 0.0, "DPR": 5.0}) == (-1.0, -2.0, 5.0)  # drilling upward
+
+
+def test_hole_patterns():
+    assert pattern_positions("HOLES1", {"SPCA": 10.0, "SPCO": 40.0, "STA1": 0.0, "FDIS": 10.0, "DBH": 25.0, "NUM": 3.0}) == [(20.0, 40.0), (45.0, 40.0), (70.0, 40.0)]
+    circle = pattern_positions("HOLES2", {"CPA": 0.0, "CPO": 0.0, "RAD": 10.0, "STA1": 0.0, "INDA": 0.0, "NUM": 4.0})
+    assert [(round(x, 6), round(y, 6)) for x, y in circle] == [(10.0, 0.0), (0.0, 10.0), (-10.0, 0.0), (0.0, -10.0)]
+    assert len(pattern_positions("CYCLE801", {"_SPCA": 0.0, "_SPCO": 0.0, "_STA": 0.0, "_DIS1": 5.0, "_DIS2": 5.0, "_NUM1": 3.0, "_NUM2": 2.0})) == 6
+
+
+class _HoleRecorder(Checker):
+    holes: list = []
+
+    def hole(self, hole, state):
+        _HoleRecorder.holes.append(hole)
+        super().hole(hole, state)
+
+
+def test_mcall_drills_after_every_positioning_and_at_every_pattern_position(monkeypatch):
+    _HoleRecorder.holes = []
+    monkeypatch.setattr(ncverify.api, "Checker", _HoleRecorder)
+    check("""
+        G17 G90 T1 D1 M6
+        S1000 M3 F100
+        G0 X0 Y0 Z50
+        MCALL CYCLE81(10, 0, 2, , 8)
+        X5 Y5
+        G0 X15 Y5
+        HOLES1(0, 20, 0, 0, 10, 3)
+        MCALL
+        G0 X100 Y100
+        M30
+    """)
+    positions = [(hole.position["X"], hole.position["Y"]) for hole in _HoleRecorder.holes]
+    assert positions == [(5.0, 5.0), (15.0, 5.0), (0.0, 20.0), (10.0, 20.0), (20.0, 20.0)]
+    assert {(hole.initial, hole.r_point, hole.bottom) for hole in _HoleRecorder.holes} == {(10.0, 2.0, -8.0)}
+
+
+def test_a_rapid_onto_the_reference_plane_inside_the_blank_is_a_crash():
+    """CYCLE81 rapids to RFP + SDIS: with RFP given below the top of the blank the rapid
+    runs into the material (the shared hole model feeds core.rapid-into-stock)."""
+    result = check("""
+        WORKPIECE(,"",,"BOX",0,0,-20,-80,0,0,100,100)
+        G17 G90 T1 D1 M6
+        S1000 M3 F100
+        G0 X50 Y50 Z20
+        CYCLE81(10, -5, 1, -15)
+        M30
+    """)
+    assert findings(result, "core.rapid-into-stock", Status.VIOLATED)
+
+
+@pytest.mark.parametrize("call, rule, text", [
+    ("CYCLE81(10, 0, 2, -12, 0, 5)", "sinumerik.cycle-arguments", "12340"),
+    ('CYCLE81("TEN", 0, 2, -12)', "sinumerik.cycle-arguments", "12330"),
+    ("CYCLE81(-5, 0, 2, -12)", "sinumerik.reference-plane", "61101"),
+    ("CYCLE81(0, 0, 2, 0, 5)", "sinumerik.reference-plane", "61101"),
+    ("CYCLE86(10, 0, 2, -20, 0, 0.5, 5)", "sinumerik.spindle-direction", "61102"),
+    ("CYCLE83(10, 0, 2, -40, 0, -12, 0, -1.5)", "sinumerik.cycle-parameter-range", "61019"),
+    ("POCKET3(10, 0, 2, -6, 60, 40, 6, 50, 50, 0, 3, 0.3, 0.2, 400, 100, 0, 5)", "sinumerik.machining-type", "61002"),
+    ("POCKET3(10, 0, 2, -6, 60, 40, 6, 50, 50, 0, 3, 0.3, 0.2, 400, 100, 7, 11)", "sinumerik.milling-direction", "61109"),
+    ("HOLES1(0, 0, 0, 10, 15)", "sinumerik.hole-count", "61103"),
+    ("POCKET2(10, 0, 2, -6, 0, 4, 50, 50, 100, 300, 3, 2, 0.2, 0)", "sinumerik.cutter-radius", "61105"),
+    ("CYCLE72(\"KONTUR\", 10, 0, 2, -5, 2, 0.2, 0.1, 300, 100, 11, 43, 1, 5)", "sinumerik.cycle-parameter-range", "61114"),
+])
+def test_alarms_are_predicted_with_their_number(call, rule, text):
+    result = check(f"""
+        $TC_DP6[1,1]=5
+        G17 G90 T1 D1 M6
+        S1000 M3 F100
+        G0 X50 Y50 Z20
+        {call}
+        M30
+    """)
+    found = findings(result, rule, Status.VIOLATED)
+    assert found and text in found[0].message, [(d.rule, d.message) for d in result.diagnostics]
+
+
+@pytest.mark.parametrize("call", [
+    "CYCLE81(10, 0, 2, -12)",
+    "CYCLE82(10, 0, 2, -12, 0, 1)",
+    "CYCLE84(10, 0, 2, -15, 0, , 3, 8, 0, 0, 400, 400)",
+    "CYCLE86(10, 0, 2, -20, 0, 0.5, 3, -0.5, 0, 0, 0)",
+    "POCKET3(10, 0, 2, -6, 60, 40, 6, 50, 50, 0, 3, 0.3, 0.2, 400, 100, 0, 11)",
+    "POCKET2(10, 0, 2, -6, 0, 12, 50, 50, 100, 300, 3, 2, 0.2, 0)",
+])
+def test_correct_calls_raise_nothing(call):
+    result = check(f"""
+        $TC_DP6[1,1]=5
+        G17 G90 T1 D1 M6
+        S1000 M3 F100
+        G0 X50 Y50 Z20
+        {call}
+        M30
+    """)
+    assert not [d for d in result.diagnostics if d.rule.startswith("sinumerik.") and d.status is Status.VIOLATED]
+
+
+def test_a_dropped_comma_is_explained_value_by_value():
+    result = check("""
+        G17 G90 T1 D1 M6
+        S400 M3
+        G0 X0 Y0 Z20
+        CYCLE84(10, 0, 2, -15, 0, 3, 8, 0, 0, 400, 400)
+        M30
+    """)
+    [shifted] = findings(result, "sinumerik.shifted-arguments")
+    assert "comma seems to be missing before DTB" in shifted.message
+    assert "8 landed in SDAC, meant for MPIT" in shifted.message
+
+
+def test_a_doubled_comma_is_explained_too():
+    result = check("""
+        G17 G90 T1 D1 M6
+        S400 M3
+        G0 X0 Y0 Z20
+        CYCLE86(10, 0, 2, -20, 0, , 0.5, 3, -0.5)
+        M30
+    """)
+    [shifted] = findings(result, "sinumerik.shifted-arguments")
+    assert "extra comma" in shifted.message and "3 landed in RPA, meant for SDIR" in shifted.message
+
+
+def test_a_pattern_without_mcall_drills_nothing():
+    result = check("""
+        G17 G90 T1 D1 M6
+        S1000 M3 F100
+        G0 X0 Y0 Z20
+        HOLES2(50, 50, 30, 0, 0, 6)
+        M30
+    """)
+    assert "62100" in findings(result, "sinumerik.pattern-without-mcall")[0].message
