@@ -231,3 +231,46 @@ def test_usable_length_and_tool_size_come_from_the_tool_table():
     result = check(program(pocket + "7  L  X+50  Y+50 R0 FMAX M99"), "[tools.1]\nradius = 5")
     message = [d.message for d in result.diagnostics if d.rule == "heidenhain.tool-too-large"]
     assert message and "largest tool radius that fits is 4" in message[0]
+
+
+TOOL_T = """BEGIN TOOL.T MM
+T    NAME                             L           R           R2          DL          DR          DR2         LCUTS   ANGLE   LU      PITCH
+0    NULLWERKZEUG                     +0          +0          +0          +0          +0          +0          0       0       0       0
+4    DRILL_D8                         +95.5       +4          +0          +0          +0          +0          30      0       28      0
+9    TAP_M10                          +80         +5          +0          +0          +0          +0          20      0       40      1.25
+[END]
+"""
+
+
+def test_tool_t_beside_the_program_is_a_tool_source_by_number_and_by_name(tmp_path):
+    from ncverify import check_file
+
+    (tmp_path / "TOOL.T").write_text(TOOL_T)
+    part = tmp_path / "part.h"
+    body = drilling(depth="-35") + "7  L  X+10  Y+10 R0 FMAX M99"
+    part.write_text(program(body).replace("TOOL CALL 1 Z", 'TOOL CALL "DRILL_D8" Z'))
+    result = check_file(part, Settings())
+    assert [d.message for d in result.diagnostics if d.rule == "heidenhain.usable-length" and d.status is Status.VIOLATED]
+    assert not [d for d in result.diagnostics if d.rule == "core.tool-not-in-table"]
+    tap = ("CYCL DEF 207 RIGID TAPPING ~\n    Q200=+2 ;SET-UP CLEARANCE ~\n    Q201=-18 ;DEPTH OF THREAD ~\n    Q239=+1.5 ;THREAD PITCH ~\n"
+           "    Q203=+0 ;SURFACE COORDINATE ~\n    Q204=+50 ;2ND SET-UP CLEARANCE\n")
+    part.write_text(program(tap + "7  L  X+10  Y+10 R0 FMAX M99").replace("TOOL CALL 1 Z", "TOOL CALL 9 Z"))
+    result = check_file(part, Settings())
+    assert [d for d in result.diagnostics if d.rule == "heidenhain.tap-pitch" and d.status is Status.VIOLATED]
+
+
+def test_back_boring_goes_below_the_part_and_counterbores_upward():
+    bore = ("CYCL DEF 204 BACK BORING ~\n    Q200=+2 ;SET-UP CLEARANCE ~\n    Q249=+5 ;DEPTH OF COUNTERBORE ~\n    Q250=+20 ;MATERIAL THICKNESS ~\n"
+            "    Q251=+3.5 ;OFF-CENTER DISTANCE ~\n    Q252=+15 ;TOOL EDGE HEIGHT ~\n    Q253=+750 ;F PRE-POSITIONING ~\n    Q254=+200 ;F COUNTERBORING ~\n"
+            "    Q255=+0 ;DWELL TIME ~\n    Q203=+0 ;SURFACE COORDINATE ~\n    Q204=+50 ;2ND SET-UP CLEARANCE ~\n    Q214=+1 ;DISENGAGING DIRECTN ~\n"
+            "    Q336=+0 ;ANGLE OF SPINDLE\n")
+    recorded = trace(program(bore + "7  L  X+50  Y+50 R0 FMAX M99"))
+    levels = [(segment.kind, segment.end["Z"]) for segment in recorded.segments if segment.cycle]
+    assert levels == [("rapid", 2.0), ("rapid", -37.0), ("feed", -30.0), ("rapid", -37.0), ("rapid", 50.0)]
+
+
+def test_rigid_tapping_runs_its_own_spindle():
+    tap = ("CYCL DEF 207 RIGID TAPPING ~\n    Q200=+2 ;SET-UP CLEARANCE ~\n    Q201=-18 ;DEPTH OF THREAD ~\n    Q239=+1.5 ;THREAD PITCH ~\n"
+           "    Q203=+0 ;SURFACE COORDINATE ~\n    Q204=+50 ;2ND SET-UP CLEARANCE\n")
+    result = check(program("5  M5\n" + tap + "7  L  X+10  Y+10 R0 FMAX M99"))
+    assert not at(result, "core.spindle-off-cutting") and not at(result, "core.feed-missing")

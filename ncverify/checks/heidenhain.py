@@ -195,3 +195,21 @@ class TransformAtEnd(Rule):
             cycles = ", ".join(str(number) for number, _values in active)
             self.report("heidenhain.transform-at-end", change.span, f"coordinate transformation (cycle {cycles}) is still active at the end of the program: "
                         "whether M2/M30/END PGM resets it depends on a machine parameter, so the next program may run shifted, rotated or mirrored")
+
+
+@rule("heidenhain.depth-through-blank")
+class DepthThroughBlank(_ReportsMissingContext):
+    """A43 H41: a hole bottom below the underside of the blank cuts into the fixture or the
+    table (a through hole needs a spacer under the part)."""
+
+    def hole(self, hole, state):
+        if _number(hole.cycle) is None or hole.bottom is None or not self.first_time(state, ("through-blank", hole.definition)):
+            return
+        stock = self.checker.context.get("stock")
+        if stock is None:
+            return
+        low = stock.z_range[0]
+        verdict = self.checker.judge(hazard("<", hole.bottom, low), state)
+        self.checker.report_verdict("heidenhain.depth-through-blank", hole.param_spans.get("Q201", hole.definition or hole.span),
+                                    f"cycle {_number(hole.cycle)}: the hole bottom Z{show(hole.bottom)} (Q203 + Q201) is below the underside of the blank Z{low:g}: "
+                                    "the tool cuts into what the part lies on (seed L3527-3539)", verdict, state)

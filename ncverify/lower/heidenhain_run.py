@@ -610,6 +610,8 @@ def run_cycle(runner, op, block, definition: Definition, shift=None, surface_off
                       f"{'RL' if state.comp_side == 'left' else 'RR'} is on: position to the cycle's start point with R0 (seed L1629)")
     if family in _HOLE_FAMILIES:
         return _hole(runner, op, block, definition, shift, surface_offset)
+    if family == "back_bore":
+        return _back_bore(runner, op, block, definition, shift, surface_offset)
     if family in ("pocket", "stud", "slot", "face"):
         return _pocket(runner, op, block, definition, shift, surface_offset)
     if family == "contour" and definition.number in (21, 22, 23, 24):
@@ -674,11 +676,42 @@ def _hole(runner, op, block, definition, shift, surface_offset):
         return None  # depth 0: the control skips the cycle (seed L1630-1631)
     _remember_hole(state, bottom)
     runner._rapid_to({axis: set_up}, op.span, block, "through-bore" if predrilled else "approach", name)
+    spindle = state.spindle
+    if model.get("spindle_by_cycle") and spindle == "off":
+        state.spindle = "cw"  # rigid tapping runs the spindle itself; it stays stopped after (seed L3915-3917)
     with _cycle_feed(state, params):
         runner._rapid_to({axis: bottom}, op.span, block, "infeed", name, "feed")
         out_kind = "feed" if model.get("retract") == "feed" else "rapid"
         runner._rapid_to({axis: set_up}, op.span, block, "out-of-hole", name, out_kind)
+    state.spindle = spindle
     runner._rapid_to({axis: retract}, op.span, block, "out-of-hole", name)  # on up the same axis
+    return None
+
+
+def _back_bore(runner, op, block, definition, shift, surface_offset):
+    """Cycle 204 (seed L2267-2291): FMAX to Q203 + Q200, down the pre-bored hole at Q253
+    until the cutting edge is Q200 below the underside (the bar's tip Q252 lower still),
+    counterbore up to the underside + Q249 at Q254, back out and up to the clearance."""
+    interp = runner.interp
+    state = runner.state
+    params = dict(definition.params)
+    _offset_surface(params, shift, surface_offset)
+    name = f"heidenhain.{definition.number}"
+    interp.observer.cycle_run(CycleRun(name, definition.model, op.span, block, _numbers(params), dict(definition.spans)), state)
+    axis = _plane(state)[2]
+    found = [params.get(q) for q in ("Q203", "Q200", "Q250", "Q252", "Q249")]
+    if any(type(value) is not float for value in found):
+        state.move_to({axis: None})
+        return None
+    surface, clearance, thickness, edge, counterbore = found
+    second = params.get("Q204", 0.0)
+    underside = surface - thickness
+    runner._rapid_to({axis: surface + clearance}, op.span, block, "approach", name)
+    runner._rapid_to({axis: underside - clearance - edge}, op.span, block, "through-bore", name)
+    with _cycle_feed(state, {"Q206": params.get("Q254")}):
+        runner._rapid_to({axis: underside + counterbore - edge}, op.span, block, "infeed", name, "feed")
+    runner._rapid_to({axis: underside - clearance - edge}, op.span, block, "out-of-hole", name)
+    runner._rapid_to({axis: surface + max(clearance, second if type(second) is float else 0.0)}, op.span, block, "out-of-hole", name)
     return None
 
 
