@@ -190,22 +190,25 @@ _DISCRETE = {
 }
 
 
-def _violations(cycle: str, names: list[str], values_by_position: list) -> int:
-    """How many discrete parameters (and machining-type values) a list of arguments breaks."""
-    count = 0
+def _wrong_positions(cycle: str, names: list[str], values_by_position: list) -> list[int]:
+    """Positions of the discrete parameters (and machining-type values) a list of arguments breaks."""
     by_name = dict(zip(names, values_by_position))
+    wrong = []
     for parameter, allowed in _DISCRETE.get(cycle, {}).items():
         value = by_name.get(parameter, 0.0)
         if type(value) is not float:
             continue
-        if allowed is None:
-            count += value < 1 or value != int(value)
-        else:
-            count += value not in allowed
+        if (value < 1 or value != int(value)) if allowed is None else value not in allowed:
+            wrong.append(names.index(parameter))
     if cycle in _DIGITS:
         value = by_name.get(_DIGITS[cycle][0], 0.0)
-        count += type(value) is float and bool(vari_problem(cycle, value))
-    return count
+        if type(value) is float and vari_problem(cycle, value):
+            wrong.append(names.index(_DIGITS[cycle][0]))
+    return wrong
+
+
+def _violations(cycle: str, names: list[str], values_by_position: list) -> int:
+    return len(_wrong_positions(cycle, names, values_by_position))
 
 
 @rule("sinumerik.shifted-arguments")
@@ -227,6 +230,7 @@ class ShiftedArguments(Rule):
         if broken == 0:
             return
         best = None
+        first_wrong = min(_wrong_positions(cycle, names, written) or [count])
         for position in range(1, count + 1):
             candidates = [(written[:position] + [0.0] + written[position:], "missing")]
             if position < count and written[position] == 0.0:  # a doubled comma leaves an empty argument
@@ -234,11 +238,15 @@ class ShiftedArguments(Rule):
             for shifted, how in candidates:
                 if len(shifted) > len(names) and any(value != 0.0 for value in shifted[len(names):]):
                     continue
-                if _violations(cycle, names, shifted) == 0 and (best is None or position > best[0]):
-                    best = (position, how, shifted)
+                if _violations(cycle, names, shifted) == 0:
+                    # the shift starts at or before the first parameter that is wrong as written, most likely just before it
+                    distance = first_wrong - position if position <= first_wrong else len(names) + position
+                    rank = (_implausible_depths(dict(zip(names, shifted))), distance)
+                    if best is None or rank < best[0]:
+                        best = (rank, position, how, shifted)
         if best is None:
             return
-        position, how, shifted = best
+        _rank, position, how, shifted = best
         moved = []
         for index in range(position, min(count, len(names) + 1)):
             value = written[index]
@@ -253,6 +261,21 @@ class ShiftedArguments(Rule):
         self.report("sinumerik.shifted-arguments", run.param_spans.get(where, run.span),
                     f"{cycle}: the arguments look shifted by one place: {comma} before {where}. " + "; ".join(moved[:4])
                     + (" ..." if len(moved) > 4 else "") + f". Shifted back by one place every mode parameter is valid; as written {broken} {'is' if broken == 1 else 'are'} out of range")
+
+
+def _implausible_depths(params: dict) -> int:
+    """Soft evidence against a reading of the list: unsigned values that are negative, a
+    depth equal to the reference plane, DP and DPR that disagree, planes in alarm order."""
+    if "RFP" not in params:
+        return 0
+    count = sum(params.get(name, 0.0) < 0 for name in ("SDIS", "DPR"))
+    side, _start, depth = levels(params)
+    if depth is None:
+        return count + 1
+    rfp, dp, dpr = params["RFP"], params.get("DP", 0.0), params.get("DPR", 0.0)
+    count += depth == rfp or (dp != 0.0 and dpr != 0.0 and dp != depth)
+    count += abs(params["RTP"] - depth) < abs(rfp - depth)
+    return count
 
 
 # --------------------------------------------------------------------------- patterns
