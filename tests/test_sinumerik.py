@@ -380,3 +380,67 @@ def test_a_pattern_without_mcall_drills_nothing():
         M30
     """)
     assert "62100" in findings(result, "sinumerik.pattern-without-mcall")[0].message
+
+
+# --------------------------------------------------------------------------- CYCLE95 contour
+
+_LATHE_HEAD = """
+    $TC_DP1[1,1]=500
+    $TC_DP6[1,1]=0.8
+    G18 G90 G54 DIAMON T1 D1
+    G96 S200 LIMS=3000 M3 G95 F0.25
+"""
+
+
+def check_lathe(program: str):
+    return check(_LATHE_HEAD + textwrap.dedent(program), machine="lathe")
+
+
+def contour_findings(result) -> list[str]:
+    return [d.message for d in findings(result, "sinumerik.stock-removal-contour", Status.VIOLATED)]
+
+
+def test_cycle95_with_a_clean_contour_section_and_an_outside_start_raises_nothing():
+    result = check_lathe("""
+        G0 X70 Z5
+        CYCLE95("FROM:TO", 2.5, 0.1, 0.2, 0, 0.3, 0.15, 0.1, 9)
+        G0 X100 Z50
+        GOTOF DONE
+        FROM: G1 X20 Z0
+        X30 Z-5
+        Z-30
+        G2 X40 Z-35 CR=5
+        TO: G1 X60
+        DONE: M30
+    """)
+    assert contour_findings(result) == []
+    assert not findings(result, "core.css-without-clamp")
+
+
+def test_cycle95_contour_rules_and_the_start_inside_the_contour_rectangle():
+    result = check_lathe("""
+        G0 X40 Z-10
+        CYCLE95("BAD_CONTOUR", 2.5, 0.1, 0.2, 0, 0.3, 0.15, 0.1, 9)
+        M30
+        %_N_BAD_CONTOUR_SPF
+        X20 Z0
+        G17 G1 X30 Z-5
+        G3 X40 Z-15 CR=-5
+        M17
+    """)
+    messages = " | ".join(contour_findings(result))
+    for expected in ("has no G0/G1/G2/G3", "10931", "more than 180 degrees", "61607"):
+        assert expected in messages, messages
+
+
+def test_cycle95_with_too_few_contour_blocks():
+    result = check_lathe("""
+        G0 X70 Z5
+        CYCLE95("SHORT", 2.5, 0.1, 0.2, 0, 0.3, 0.15, 0.1, 9)
+        M30
+        %_N_SHORT_SPF
+        G1 X20 Z0
+        X30
+        M17
+    """)
+    assert any("10933" in message for message in contour_findings(result))

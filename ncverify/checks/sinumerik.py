@@ -367,3 +367,37 @@ class NoToolOffset(Rule):
         if change.what == "length_offset":
             state.rule_state["sinumerik-d0"] = change.new == "off"
 
+
+
+# --------------------------------------------------------------------------- CYCLE95 contour
+
+@rule("sinumerik.stock-removal-contour")
+class StockRemovalContour(_ReportsMissingContext):
+    """CYCLE95's contour rules on the contour's own geometry (reference B section 6.3, C2-C13):
+    enough plane blocks, only lines and arcs up to 180 degrees, no plane, frame or G41/G42
+    inside, G0-G3 in the first block, no G41/G42 at the call, and the start position
+    outside the rectangle the contour spans (61607)."""
+
+    def cycle_run(self, run, state):
+        facts = run.params.get("CONTOUR") if run.cycle == "sinumerik.CYCLE95" else None
+        if facts is None:
+            return
+        if not facts.found:
+            self.missing("sinumerik.stock-removal-contour", run.param_spans.get("NPP", run.span),
+                         f"the contour \"{facts.name}\" of CYCLE95 is not in this file or on the subprogram path")
+            return
+        for alarm, text, span in facts.problems:
+            self.report("sinumerik.stock-removal-contour", span or run.param_spans.get("NPP", run.span),
+                        f"CYCLE95 contour \"{facts.name}\": {text}: would raise alarm {alarm} with 61606 \"error in contour preparation\"")
+        if state.comp_side in ("left", "right"):
+            self.report("sinumerik.stock-removal-contour", run.span,
+                        f"CYCLE95 called with {'G41' if state.comp_side == 'left' else 'G42'} active: would raise alarm 15800 \"wrong initial conditions for CONTPRON\"")
+        first, second, _normal = state.plane_axes
+        here = (state.position.get(first), state.position.get(second))
+        if facts.box is None or type(here[0]) is not float or type(here[1]) is not float:
+            return
+        low1, high1, low2, high2 = facts.box
+        if low1 <= here[0] <= high1 and low2 <= here[1] <= high2:
+            self.report("sinumerik.stock-removal-contour", run.span,
+                        f"CYCLE95 starts at {first}{show(here[0])} {second}{show(here[1])}, inside the rectangle of its contour "
+                        f"({first}{low1:g}..{high1:g} {second}{low2:g}..{high2:g}): would raise alarm 61607 \"start point programmed incorrectly\"")

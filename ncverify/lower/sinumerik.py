@@ -256,6 +256,8 @@ class SinumerikLowering:
                 stages["feed"].append(ir.SetFeed(span, value))
             elif name == "S" or re.fullmatch(r"S\d", name):
                 stages["speed"].append(ir.SetSpindleSpeed(span, value))
+            elif name == "LIMS":
+                stages["speed"].append(ir.SetSpindleSpeed(span, value, clamp=True))
             elif name == "T":
                 stages["tool"].append(ir.ToolSelect(span, value))
             elif name == "D":

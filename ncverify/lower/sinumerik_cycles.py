@@ -182,6 +182,9 @@ def pattern_positions(cycle: str, params: dict):
 def one_shot(runner, op, block, model, params):
     """A milling, turning or swivel cycle: reported for the parameter rules; the position
     afterwards is RTP on the infeed axis for milling cycles, unknown in the plane."""
+    contour = params.get("NPP")
+    if op.cycle == "sinumerik.CYCLE95" and isinstance(contour, str):
+        params = {**params, "CONTOUR": read_contour(runner, op, contour)}
     _report_run(runner, op, block, model, params)
     state = runner.state
     first, second, axis = state.plane_axes
@@ -201,3 +204,115 @@ _SHAPES = {"sinumerik_drill": drill, "sinumerik_pattern": pattern, "sinumerik_mi
            "sinumerik_turn": one_shot, "sinumerik_other": one_shot}
 for _shape, _run in _SHAPES.items():
     register_shape(_shape, _run)
+
+
+# --------------------------------------------------------------------------- CYCLE95 contour
+
+_CONTOUR_BLOCK_LIMIT = 5000
+
+
+class ContourFacts:
+    """What the contour a stock-removal cycle names looks like (reference B section 6.3,
+    rules C2-C13 and alarm 61607): the problems found, as ``(alarm, text, span)``, and the
+    rectangle the contour spans in the plane (None when a point is not a number)."""
+
+    def __init__(self, name: str):
+        self.name = name
+        self.found = False
+        self.problems: list[tuple[str, str, object]] = []
+        self.box: tuple[float, float, float, float] | None = None
+        self.plane_blocks = 0
+
+
+def read_contour(runner, op, name: str) -> ContourFacts:
+    """Read (not run) the contour of CYCLE95: a program ``"NAME"`` or a section ``"START:END"``
+    of the calling program."""
+    interp = runner.interp
+    facts = ContourFacts(name)
+    if ":" in name and not name.startswith("/"):
+        start_label, end_label = (part.strip().upper() for part in name.split(":", 1))
+        source = interp._line_source
+        starts = list(interp.frontend.label_offsets(source.buffer, start_label))
+        ends = list(interp.frontend.label_offsets(source.buffer, end_label))
+        if len(starts) != 1 or len(ends) != 1 or ends[0] < starts[0]:
+            return facts
+        lines = ((number, raw) for number, offset, _next, raw in source.lines_from(starts[0]) if offset <= ends[0])
+    else:
+        found = interp._find_program(name.upper(), op.span) if name and not name.startswith("/") else None
+        if found is None:
+            return facts
+        source, start = found
+        lines = ((number, raw) for number, _offset, _next, raw in source.lines_from(start))
+    facts.found = True
+    path = None if source is interp.source else source.name
+    _walk_contour(interp, facts, lines, path, runner.state.plane_axes)
+    return facts
+
+
+def _walk_contour(interp, facts: ContourFacts, lines, path, plane) -> None:
+    first, second, _normal = plane
+    position: dict = {}
+    incremental = False
+    points: list[tuple[float, float]] = []
+    exact = True
+    first_plane_move = True
+    for count, (number, raw) in enumerate(lines):
+        if count > _CONTOUR_BLOCK_LIMIT:
+            break
+        for block in interp.frontend.blocks(raw, number, path):
+            if count and block.program_start:
+                return _close(facts, points, exact)
+            for op in block.ops:
+                kind = type(op).__name__
+                if kind in ("Return", "Stop"):
+                    return _close(facts, points, exact)
+                if kind == "SetModal" and op.group == "plane":
+                    facts.problems.append(("10931", "a plane selection (G17/G18/G19) inside the contour", op.span))
+                elif kind == "SetModal" and op.group == "distance":
+                    incremental = op.value == "incremental"
+                elif kind == "CutterComp" and op.side in ("left", "right"):
+                    facts.problems.append(("10931", "G41/G42 inside the contour", op.span))
+                elif kind in ("CoordinateShift", "Unsupported") and "frame" in getattr(op, "what", "frame"):
+                    facts.problems.append(("10931", "a frame inside the contour", op.span))
+                elif kind == "Move":
+                    in_plane = {axis: value for axis, value in op.targets.items() if axis in (first, second)}
+                    if not in_plane:
+                        continue
+                    if op.kind == "thread":
+                        facts.problems.append(("10930", "a thread block (only G0/G1/G2/G3 lines and arcs are allowed)", op.span))
+                    if first_plane_move and op.kind is None:
+                        facts.problems.append(("15800", "the first block moving in the plane has no G0/G1/G2/G3", op.span))
+                    first_plane_move = False
+                    radius = _literal((op.arc or {}).get("R"))
+                    if type(radius) is float and radius < 0:
+                        facts.problems.append(("10931", f"an arc of more than 180 degrees (CR={radius:g})", op.span))
+                    facts.plane_blocks += 1
+                    for axis, value in in_plane.items():
+                        value = _literal(value)
+                        if type(value) is not float:
+                            exact = False
+                            continue
+                        if incremental or axis in op.incremental:
+                            position[axis] = None if position.get(axis) is None else position[axis] + value
+                        else:
+                            position[axis] = value
+                    if position.get(first) is None or position.get(second) is None:
+                        exact = exact and facts.plane_blocks > 1
+                    else:
+                        points.append((position[first], position[second]))
+    return _close(facts, points, exact)
+
+
+def _literal(value):
+    """A number written with a sign (``CR=-5`` reads as minus 5), else the value as is."""
+    if type(value).__name__ == "Unary" and type(value.operand) is float:
+        return -value.operand if value.op == "-" else value.operand
+    return value
+
+
+def _close(facts: ContourFacts, points, exact: bool) -> None:
+    if facts.plane_blocks < 3:
+        facts.problems.append(("10933", f"only {facts.plane_blocks} blocks move in the plane (at least 3 are needed)", None))
+    if points and exact:
+        firsts, seconds = [point[0] for point in points], [point[1] for point in points]
+        facts.box = (min(firsts), max(firsts), min(seconds), max(seconds))

@@ -88,7 +88,7 @@ _ADDRESS = re.compile(r"(CHF|CHR|RND|RNDM|CR|AP|RP|ANG|[A-Z])([+-]?(?:\d+\.?\d*|
 EQUALS_ADDRESSES = frozenset({
     "X", "Y", "Z", "A", "B", "C", "U", "V", "W", "I", "J", "K", "F", "S", "T", "D", "H", "E", "L", "P", "Q",
     "CR", "AP", "RP", "CHF", "CHR", "RND", "RNDM", "ANG", "SPOS", "SPOSA", "AR", "ADIS", "ADISPOS", "TURN",
-    "I1", "J1", "K1", "FA", "G", "M", "X1", "Y1", "Z1", "X2", "Z2", "SF", "OVR", "DC", "ACP", "ACN", "CIP",
+    "I1", "J1", "K1", "FA", "G", "M", "LIMS", "X1", "Y1", "Z1", "X2", "Z2", "SF", "OVR", "DC", "ACP", "ACN", "CIP",
 })
 _BLOCK_KEYWORDS = frozenset({
     "IF", "ELSE", "ENDIF", "WHILE", "ENDWHILE", "FOR", "ENDFOR", "REPEAT", "REPEATB", "UNTIL", "LOOP", "ENDLOOP",
@@ -689,7 +689,8 @@ class _BlockParser:
             return ir.Var("(<<)")  # conversion to a string: not a number the checker follows
         if self.at("-"):
             self.take()
-            return ir.Unary("-", self._unary())
+            operand = self._unary()
+            return -operand if type(operand) is float else ir.Unary("-", operand)
         if self.at("+"):
             self.take()
             return self._unary()
