@@ -124,7 +124,7 @@ def test_no_text_makes_the_reader_raise(text):
     lowering = KlartextLowering()
     for number, line in enumerate(text.split("\n"), 1):
         for block in lowering.lower(line.encode(), number, None):
-            assert all(note.rule == "core.syntax" for note in block.notes)
+            assert all(note.rule in ("core.syntax", "core.unsupported-code") for note in block.notes)
 
 
 def test_blk_form_is_the_stock():
@@ -274,3 +274,11 @@ def test_rigid_tapping_runs_its_own_spindle():
            "    Q203=+0 ;SURFACE COORDINATE ~\n    Q204=+50 ;2ND SET-UP CLEARANCE\n")
     result = check(program("5  M5\n" + tap + "7  L  X+10  Y+10 R0 FMAX M99"))
     assert not at(result, "core.spindle-off-cutting") and not at(result, "core.feed-missing")
+
+
+def test_predef_parameters_take_the_global_def_values():
+    defaults = "5  GLOBAL DEF 100 GENERAL ~\n    Q200=+3 ;SET-UP CLEARANCE ~\n    Q204=+30 ;2ND SET-UP CLEARANCE ~\n    Q253=+750 ;F PRE-POSITIONING ~\n    Q208=+999 ;RETRACTION FEED RATE\n"
+    recorded = trace(program(defaults + drilling(clearance="PREDEF", second="PREDEF") + "7  L  X+10  Y+10 R0 FMAX M99"))
+    assert (recorded.holes[0].r_point, recorded.holes[0].initial) == (3.0, 30.0)
+    unresolved = trace(program(drilling(clearance="PREDEF") + "7  L  X+10  Y+10 R0 FMAX M99"))
+    assert [fault for fault in unresolved.faults if fault.rule == "core.unsupported-code" and "PREDEF" in fault.message]

@@ -115,11 +115,17 @@ class KlartextLowering:
         if word in ("Q", "QL", "QR", "QS"):
             self._assignment(cursor, block)
             return
+        if word == "GLOBAL" and cursor.is_name("DEF", ahead=1):
+            self._global_def(cursor, block)
+            return
         if word in _UNMODELLED:
             affects_position, what = _UNMODELLED[word]
             start = cursor.next().span
             cursor.index = len(cursor.tokens)
-            block.ops.append(ir.Unsupported(cursor.rest_span(start), f"{what} is read but not modelled", ("position",) if affects_position else ()))
+            span = cursor.rest_span(start)
+            block.ops.append(ir.Unsupported(span, f"{what} is read but not modelled", ("position",) if affects_position else ()))
+            if affects_position:
+                block.notes.append(ir.Note("core.unsupported-code", f"{what} is read but not modelled; the tool position after it is unknown, so checks that depend on it answer unknown", span))
             return
         raise ReadError(f"{word!r} does not start a Klartext block", token.span)
 
@@ -537,7 +543,13 @@ class KlartextLowering:
             return
         while not cursor.at_end() and not (cursor.is_name("Q") and cursor.peek(1) is not None and cursor.peek(1).kind == "number"):
             cursor.next()  # the cycle's name, in the language the control was set to
-        params, spans = {"@number": float(whole)}, {}
+        params, spans = self._cycle_parameters(cursor)
+        params["@number"] = float(whole)
+        block.ops.append(ir.CycleCall(cursor.rest_span(start), "heidenhain.@define", params, spans))
+
+    def _cycle_parameters(self, cursor) -> tuple[dict, dict]:
+        """``Q200=+2 ;comment ~`` lines: values, keywords (AUTO, MAX, PREDEF), strings."""
+        params, spans = {}, {}
         while not cursor.at_end():
             parameter = cursor.expect_name("Q")
             token = cursor.next()
@@ -557,7 +569,7 @@ class KlartextLowering:
                 while not cursor.at_end() and not cursor.is_name("Q"):
                     cursor.next()  # a tolerance after a diameter (Q335=10H7)
             spans[name] = cursor.rest_span(parameter.span)
-        block.ops.append(ir.CycleCall(cursor.rest_span(start), "heidenhain.@define", params, spans))
+        return params, spans
 
     def _old_cycle(self, cursor, block, start, number, sub):
         """``CYCL DEF 7.0 DATUM SHIFT`` / ``7.1 X+60``: sub-block 0 names the cycle, the others
@@ -625,6 +637,17 @@ class KlartextLowering:
                 params[f"{index}:{word.text}"] = cursor.value()
             index += 1
         block.ops.append(_pseudo(cursor.rest_span(start), "pattern", params))
+
+    def _global_def(self, cursor, block):
+        """``GLOBAL DEF 100 GENERAL ~ Q200=+2 ~ ...``: values that cycle parameters written
+        PREDEF take (reference A §4.6)."""
+        start = cursor.expect_name("GLOBAL").span
+        cursor.expect_name("DEF")
+        cursor.expect_number()
+        while not cursor.at_end() and not (cursor.is_name("Q") and cursor.peek(1) is not None and cursor.peek(1).kind == "number"):
+            cursor.next()
+        params = self._cycle_parameters(cursor)[0]
+        block.ops.append(_pseudo(cursor.rest_span(start), "global_def", params))
 
     def _contour_def(self, cursor, block, path):
         """``CONTOUR DEF P1 = LBL 1 I2 = LBL 2 V3 = LBL 3``: pockets, islands, voids (reference B §6.29)."""

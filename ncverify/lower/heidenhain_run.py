@@ -26,6 +26,7 @@ from ..trace import Arc, CycleRun, Hole
 _PLANES = {"xy": ("X", "Y", "Z"), "yz": ("Y", "Z", "X"), "zx": ("Z", "X", "Y")}
 # DEF-active cycles (seed L666-688): they act when defined and are never called.
 DEF_ACTIVE = frozenset({7, 8, 9, 10, 11, 12, 13, 14, 19, 20, 26, 32, 220, 221, 224, 238, 239, 247, 271, 1271, 1272, 1273, 1278, 1281, 1282})
+_TRANSFORMS = frozenset({7, 8, 10, 11, 19, 26})
 _HOLE_FAMILIES = frozenset({"drill", "tap", "thread"})
 
 
@@ -339,6 +340,14 @@ def _define_run(runner, op, block, model, params):
     state = runner.state
     number = int(params.pop("@number", -1))
     cycle_model = interp.cycle_models.get(f"heidenhain.{number}", {})
+    defaults = _get(state, "global", {})
+    for name, value in list(params.items()):
+        if value == "PREDEF":
+            if name in defaults:
+                params[name] = defaults[name]  # the GLOBAL DEF value (seed L854-881)
+            else:
+                interp._fault("core.unsupported-code", op.param_spans.get(name, op.span), f"{name} is PREDEF but no GLOBAL DEF before it gives the value: "
+                              "the control's stored default is not known here", "unknown", "PREDEF without GLOBAL DEF")
     if number in DEF_ACTIVE:
         return _def_active(runner, op, block, number, params, cycle_model)
     definition = Definition(number, params, dict(op.param_spans), op.span, cycle_model)
@@ -372,7 +381,12 @@ def _def_active(runner, op, block, number, params, cycle_model):
         return None
     if number in (9, 32, 13, 12, 238, 239):
         return None
-    _transform(runner, op, number, params)
+    if number in _TRANSFORMS:
+        _transform(runner, op, number, params)
+        return None
+    interp._fault("core.unsupported-code", op.span, f"cycle {number} is read but not modelled; checks that depend on it answer unknown", "unknown", f"cycle {number}")
+    if number == 224:  # it runs the last machining cycle at the code's points
+        state.move_to(dict.fromkeys(state.position))
     return None
 
 
@@ -394,7 +408,7 @@ def _old_cycle_run(runner, op, block, model, params):
         labels = tuple(params[key] for key in sorted((key for key in params if key.startswith("L")), key=lambda key: int(key[1:])))
         _put(state, "sl_labels", labels)
         _put(state, "sl_kinds", None)
-    elif number in DEF_ACTIVE:
+    elif number in _TRANSFORMS:
         _transform(runner, op, number, params)
     return None
 
@@ -422,6 +436,14 @@ def _transform(runner, op, number, params) -> None:
     tool_axis = _plane(state)[2]
     if number == 8 and (tool_axis in params or "I" + tool_axis in params):
         interp._fault("heidenhain.mirror-tool-axis", op.span, f"cycle 8 mirrors the tool axis {tool_axis}: the spindle axis may not be mirrored (seed L7869-7870)")
+
+
+def _global_def_run(runner, op, block, model, params):
+    state = runner.state
+    merged = dict(_get(state, "global", {}))
+    merged.update(params)
+    _put(state, "global", merged)
+    return None
 
 
 def _contour_def_run(runner, op, block, model, params):
@@ -847,7 +869,7 @@ _RUNNERS = {
     "pole": _pole_run, "arc": _arc_run, "tangent": _tangent_run, "polar": _polar_run, "retract": _retract_run,
     "tool_feed": _tool_feed_run, "label_call": _label_call_run, "end_pgm": _end_pgm_run, "define": _define_run,
     "old_cycle": _old_cycle_run, "trans": _trans_run, "pattern": _pattern_run, "call": _call_run,
-    "positioned": _positioned_run, "tool_length": _tool_length_run, "lift": _lift_run, "comp": _comp_run, "spindle": _spindle_run, "contour_def": _contour_def_run,
+    "positioned": _positioned_run, "tool_length": _tool_length_run, "lift": _lift_run, "comp": _comp_run, "spindle": _spindle_run, "contour_def": _contour_def_run, "global_def": _global_def_run,
 }
 
 for _what, _run in _RUNNERS.items():
