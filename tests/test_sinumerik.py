@@ -444,3 +444,45 @@ def test_cycle95_with_too_few_contour_blocks():
         M17
     """)
     assert any("10933" in message for message in contour_findings(result))
+
+
+def test_iso_mode_is_reported_as_not_verified():
+    result = check("""
+        G291
+        G90 G0 X10 Y10
+        G290
+        M30
+    """)
+    assert findings(result, "core.unsupported-code")
+
+
+def test_mcall_still_active_at_the_tool_change_is_reported():
+    result = check("""
+        G17 G90 T1 D1 M6
+        S1000 M3 F100
+        G0 X0 Y0 Z50
+        MCALL CYCLE81(10, 0, 2, -8)
+        X10 Y10
+        T2 M6
+        M30
+    """)
+    assert findings(result, "core.cycle-modal-at-tool-change")
+
+
+@pytest.mark.parametrize("call, rule, text", [
+    ("CYCLE84(10, 0, 2, -15, 0, 0, 3, 8, 1.5)", "sinumerik.thread-pitch", "61001"),
+    ('CYCLE94(20, 60, "G")', "sinumerik.undercut-form", "61609"),
+    ("CYCLE93(35, 60, 30, 25, 5, 10, 20, 0, 0, -2, -2, 1, 1, 0, 1, 5)", "sinumerik.turning-parameters", "IDEP"),
+    ("CYCLE97(0, 42, 0, -35, 42, 42, 10, 3, 2.3, 0.05, 30, 0, 5, 2, 9, 1)", "sinumerik.turning-parameters", "61002"),
+    ("CYCLE81(10, 0, -2, -12)", "sinumerik.cycle-parameter-range", "without sign"),
+])
+def test_more_alarms_are_predicted(call, rule, text):
+    result = check(f"""
+        G90 T1 D1
+        S400 M3 F100
+        G0 X50 Y50 Z20
+        {call}
+        M30
+    """)
+    found = findings(result, rule, Status.VIOLATED)
+    assert found and text in found[0].message, [(d.rule, d.message) for d in result.diagnostics]

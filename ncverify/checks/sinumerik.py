@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from .. import values
 from ..check import Rule, hazard, rule, show
-from ..lower.sinumerik_cycles import levels
+from ..lower.sinumerik_cycles import COARSE_PITCH, levels
 from ..pocket import circle_fit, rectangle_fit, slot_fit
 from .machine import _ReportsMissingContext
 
@@ -401,3 +401,44 @@ class StockRemovalContour(_ReportsMissingContext):
             self.report("sinumerik.stock-removal-contour", run.span,
                         f"CYCLE95 starts at {first}{show(here[0])} {second}{show(here[1])}, inside the rectangle of its contour "
                         f"({first}{low1:g}..{high1:g} {second}{low2:g}..{high2:g}): would raise alarm 61607 \"start point programmed incorrectly\"")
+
+
+# --------------------------------------------------------------------------- threads and turning
+
+@rule("sinumerik.thread-pitch")
+class ThreadPitch(Rule):
+    """Alarm 61001 "thread pitch wrong": MPIT (a metric thread size) and PIT (a pitch)
+    both programmed and contradicting each other (CYCLE84/840 seed A L2950-2953, CYCLE97
+    seed B L17056-17062)."""
+
+    def cycle_run(self, run, state):
+        name = _cycle_name(run)
+        if not _is_sinumerik(run) or name not in ("CYCLE84", "CYCLE840", "CYCLE97"):
+            return
+        size, pitch = run.params.get("MPIT"), run.params.get("PIT")
+        if type(size) is not float or type(pitch) is not float or size == 0.0 or pitch == 0.0:
+            return
+        coarse = COARSE_PITCH.get(int(abs(size))) if size == int(size) else None
+        if coarse is None:
+            self.report("sinumerik.thread-pitch", run.param_spans.get("MPIT", run.span),
+                        f"{name}: MPIT={show(size)} is not a metric coarse thread size (M3-M48): would raise alarm 61001 \"thread pitch wrong\"")
+        elif abs(abs(pitch) - coarse) > 1e-9 or (name != "CYCLE97" and (size > 0) != (pitch > 0)):
+            self.report("sinumerik.thread-pitch", run.param_spans.get("PIT", run.span),
+                        f"{name}: PIT={show(pitch)} contradicts MPIT={show(size)} (M{abs(size):g} has a pitch of {coarse:g}): "
+                        "would raise alarm 61001 \"thread pitch wrong\"; give one of the two")
+
+
+@rule("sinumerik.undercut-form")
+class UndercutForm(Rule):
+    """CYCLE94 FORM "E"/"F", CYCLE96 FORM "A"-"D": alarm 61609 (seed B L15612-15618, L16790-16796)."""
+
+    def cycle_run(self, run, state):
+        name = _cycle_name(run)
+        allowed = {"CYCLE94": ("E", "F"), "CYCLE96": ("A", "B", "C", "D")}.get(name) if _is_sinumerik(run) else None
+        if allowed is None:
+            return
+        form = run.params.get("FORM")
+        if not (isinstance(form, str) and form.upper() in allowed):
+            self.report("sinumerik.undercut-form", run.param_spans.get("FORM", run.span),
+                        f"{name}: FORM {_shown(form)} is not {' or '.join(chr(34) + letter + chr(34) for letter in allowed)}: "
+                        "would raise alarm 61609 \"form defined incorrectly\"")

@@ -300,6 +300,9 @@ class SinumerikLowering:
             what = self.unsupported_g.get(key)
             if what is not None:
                 stages["modal"].append(ir.Unsupported(span, what, ("position", "offsets")))
+            if key == "291":
+                block.notes.append(ir.Note("core.unsupported-code", "G291 switches the control to ISO dialect mode: the blocks up to G290 are read as "
+                                           "SINUMERIK here, not as ISO; what they do is not verified", span))
             return None, False
         effect = entry["effect"]
         if effect == "move":
