@@ -282,3 +282,12 @@ def test_predef_parameters_take_the_global_def_values():
     assert (recorded.holes[0].r_point, recorded.holes[0].initial) == (3.0, 30.0)
     unresolved = trace(program(drilling(clearance="PREDEF") + "7  L  X+10  Y+10 R0 FMAX M99"))
     assert [fault for fault in unresolved.faults if fault.rule == "core.unsupported-code" and "PREDEF" in fault.message]
+
+
+def test_cycle_220_levels_replace_the_machining_cycle_and_q301_0_travels_at_set_up_clearance():
+    circle = ("CYCL DEF 220 POLAR PATTERN ~\n    Q216=+50 ;CENTER IN 1ST AXIS ~\n    Q217=+50 ;CENTER IN 2ND AXIS ~\n    Q244=+60 ;PITCH CIRCLE DIAMETR ~\n"
+              "    Q245=+0 ;STARTING ANGLE ~\n    Q246=+360 ;STOPPING ANGLE ~\n    Q247=+0 ;STEPPING ANGLE ~\n    Q241=+4 ;NR OF REPETITIONS ~\n"
+              "    Q200=+1 ;SET-UP CLEARANCE ~\n    Q203=-5 ;SURFACE COORDINATE ~\n    Q204=+40 ;2ND SET-UP CLEARANCE ~\n    Q301=+0 ;MOVE TO CLEARANCE\n")
+    recorded = trace(program(drilling() + circle))
+    assert [hole.r_point for hole in recorded.holes] == [-4.0] * 4
+    assert [hole.initial for hole in recorded.holes] == [-4.0, -4.0, -4.0, 35.0]

@@ -27,7 +27,6 @@ from . import heidenhain_run
 
 _AXES = ("X", "Y", "Z", "A", "B", "C", "U", "V", "W")
 _TOOL_AXIS_PLANE = {"Z": "xy", "X": "yz", "Y": "zx"}
-_PLANE_AXES = {"xy": ("X", "Y"), "yz": ("Y", "Z"), "zx": ("Z", "X")}
 _FN_ARITHMETIC = {1: "+", 2: "-", 3: "*", 4: "/"}
 _FN_CONDITION = {9: "EQ", 10: "NE", 11: "GT", 12: "LT"}
 _CONDITION_WORDS = {"EQU": "EQ", "NE": "NE", "GT": "GT", "LT": "LT"}
@@ -45,10 +44,6 @@ _UNMODELLED = {
 _M_SPINDLE = {3.0: "cw", 4.0: "ccw", 5.0: "off", 13.0: "cw", 14.0: "ccw", 19.0: "orient"}
 _M_COOLANT = {7.0: "mist", 8.0: "flood", 9.0: "off", 13.0: "flood", 14.0: "flood"}
 _M_STOP = {0.0: "stop", 1.0: "optional", 2.0: "end", 30.0: "end"}
-
-
-def _param_name(var: ir.Var) -> str:
-    return var.name if isinstance(var.name, str) else "Q?"
 
 
 class KlartextLowering:
@@ -244,9 +239,6 @@ class KlartextLowering:
                 found["columns"][axis] = (token.span.column - 1, cursor.tokens[cursor.index - 1].span.end_column - 1)
                 if word[0] == "I":
                     found["incremental"].add(axis)
-            elif word == "R" and cursor.peek() is not None and cursor.peek().text == "0" and "R" not in allowed_extra:
-                cursor.next()
-                found["comp"] = ("off", token.span)
             elif word == "R" and _bare(cursor) and "R" not in allowed_extra:
                 pass  # a bare 'R' (older exports): the compensation stays as it is
             elif word == "M" and _bare(cursor):

@@ -17,7 +17,7 @@ at definition, seed L483-495) and kept until the next ``CYCL DEF``.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 from .. import cycles, ir, values
 from ..interpret import _distance, _distance_sq
@@ -369,7 +369,7 @@ def _def_active(runner, op, block, number, params, cycle_model):
             interp._fault("core.unsupported-code", op.span, f"cycle {number}'s points depend on free parameters; the holes are not placed", "unknown", f"cycle {number}")
             state.move_to(dict.fromkeys(_plane(state)[:2]))
             return None
-        return _run_at_points(runner, op, block, points, params.get("Q200"), params.get("Q203"), params.get("Q204"))
+        return _run_at_points(runner, op, block, points, pattern=params)
     if number == 247:
         _put(state, "transforms", ())
         return None
@@ -563,8 +563,7 @@ def _call_run(runner, op, block, model, params):
                           "unknown", "CYCL CALL PAT")
             state.move_to(dict.fromkeys(state.position))
             return None
-        params_ = definition.params
-        return _run_at_points(runner, op, block, list(points), params_.get("Q200"), params_.get("Q203"), params_.get("Q204"), params.get("F"))
+        return _run_at_points(runner, op, block, list(points), params.get("F"))
     if how == "POS":
         missing = [axis for axis in "XYZ" if axis not in params and "I" + axis not in params]
         if missing:
@@ -599,21 +598,32 @@ def _call_words(how: str) -> str:
     return {"CALL": "CYCL CALL", "PAT": "CYCL CALL PAT", "POS": "CYCL CALL POS"}.get(how, how)
 
 
-def _run_at_points(runner, op, block, points, setup, surface, second, feed=None):
-    """The cycle at every point of a pattern: between points at the 2nd set-up clearance
-    or the height at the call, whichever is higher (seed L1147-1149)."""
+def _run_at_points(runner, op, block, points, feed=None, pattern: dict | None = None):
+    """The cycle at every point of a pattern. PATTERN DEF with CYCL CALL PAT: between
+    points at the 2nd set-up clearance or the height at the call, whichever is higher (seed
+    L1147-1149). Cycles 220/221 (``pattern`` = their parameters): their Q200, Q203, Q204
+    replace the machining cycle's for this and every later call, and with Q301 = 0 the
+    tool moves between points at the set-up clearance only (reference B H34, H17)."""
     state = runner.state
     definition = _get(state, "cycle")
     if definition is None:
         runner.interp._fault("heidenhain.call-without-cycle", op.span, "a pattern runs with no machining cycle defined before it: the control stops with an error")
         return None
+    if pattern is not None:
+        overrides = {name: pattern[name] for name in ("Q200", "Q203", "Q204") if name in pattern}
+        definition = replace(definition, params={**definition.params, **overrides})
+        _put(state, "cycle", definition)
+    low = pattern is not None and pattern.get("Q301") == 0.0 and "Q200" in definition.params
     first, second_axis, axis = _plane(state)
     name = f"heidenhain.{definition.number}"
-    for x, y, z in points:
+    for index, (x, y, z) in enumerate(points):
         level = state.position.get(axis)
         runner._rapid_to({first: x, second_axis: y}, op.span, block, "between-holes", name, "rapid" if feed in (None, "FMAX") else "feed")
-        run_cycle(runner, op, block, definition, surface_offset=z if z else None)
-        if level is not None and state.position.get(axis) is not None and _higher(level, state.position[axis]):
+        here = definition
+        if low and index < len(points) - 1:
+            here = replace(definition, params={**definition.params, "Q204": definition.params["Q200"]})
+        run_cycle(runner, op, block, here, surface_offset=z if z else None)
+        if pattern is None and level is not None and state.position.get(axis) is not None and _higher(level, state.position[axis]):
             runner._rapid_to({axis: level}, op.span, block, "retract", name)
     return None
 
@@ -761,8 +771,6 @@ def _sl_cycle(runner, op, block, definition):
     found = contours(interp, labels, op.span)
     kinds = _get(state, "sl_kinds")
     if found is not None and kinds is not None:
-        from dataclasses import replace
-
         found = [replace(contour, pocket=pocket) for contour, pocket in zip(found, kinds)]
     area = region(found) if found else None
     run = CycleRun(name, definition.model, op.span, block, params, spans)
