@@ -486,3 +486,15 @@ def test_more_alarms_are_predicted(call, rule, text):
     """)
     found = findings(result, rule, Status.VIOLATED)
     assert found and text in found[0].message, [(d.rule, d.message) for d in result.diagnostics]
+
+
+def test_planes_from_free_parameters_are_judged_for_every_value():
+    result = check("""
+        G17 G90 T1 D1 M6
+        S1000 M3 F100
+        G0 X50 Y50 Z20
+        CYCLE81(R1, 0, 2, -12)
+        M30
+    """)
+    [finding] = findings(result, "sinumerik.reference-plane")
+    assert finding.status is Status.VIOLATED and "R1" in finding.witness

@@ -139,21 +139,25 @@ class ReferencePlane(Rule):
         report, judge = self.checker.report_verdict, self.checker.judge
         if type(dpr) is not float or dpr != 0.0:
             report("sinumerik.reference-plane", span,
-                   f"{name}: relative depth DPR{show(dpr)} with the retract plane RTP{show(rtp)} equal to the reference plane RFP{show(rfp)}: "
+                   f"{name}: relative depth DPR={show(dpr)} with the retract plane RTP={show(rtp)} equal to the reference plane RFP={show(rfp)}: "
                    "would raise alarm 61101 \"reference plane defined incorrectly\" (give RTP and RFP different values or the depth absolutely)",
                    judge(values.logical("AND", hazard("==", rtp, rfp), hazard("!=", dpr, 0.0)), state), state)
-        side, _start, depth = levels(params, absolute_depth_only=name in ("POCKET3", "POCKET4", "CYCLE71", "CYCLE72"))
+        absolute_only = name in ("POCKET3", "POCKET4", "CYCLE71", "CYCLE72")
+        if absolute_only or (type(dpr) is float and dpr == 0.0):
+            depth = _number(params, "DP")  # an absolute depth needs no direction: symbolic planes are judged too
+        else:
+            _side, _start, depth = levels(params)
         if depth is None:
             return
         behind = hazard("<", values.absolute(values.sub(rtp, depth)), values.absolute(values.sub(rfp, depth)))
         report("sinumerik.reference-plane", span,
-               f"{name}: the retract plane RTP{show(rtp)} lies between the reference plane RFP{show(rfp)} and the depth {show(depth)}: "
+               f"{name}: the retract plane RTP={show(rtp)} lies between the reference plane RFP={show(rfp)} and the depth {show(depth)}: "
                "would raise alarm 61101 \"reference plane defined incorrectly\"; the cycle is not executed",
                judge(behind, state), state)
         dp = _number(params, "DP")
         if type(dpr) is float and dpr != 0.0 and type(dp) is float and dp != 0.0 and type(depth) is float and abs(dp - depth) > 1e-9:
             self.report("sinumerik.depth-conflict", run.param_spans.get("DP", run.span),
-                        f"{name}: DP{show(dp)} and DPR{show(dpr)} give different depths ({show(dp)} and {show(depth)}): the cycle drills to {show(depth)} "
+                        f"{name}: DP={show(dp)} and DPR={show(dpr)} give different depths ({show(dp)} and {show(depth)}): the cycle drills to {show(depth)} "
                         "from the relative depth and shows \"Depth: according to value for relative depth\"")
 
 
@@ -321,7 +325,7 @@ class CutterRadius(_ReportsMissingContext):
         stepover = run.params.get("_MIDA")
         if cycle in ("POCKET3", "POCKET4", "CYCLE71") and type(stepover) is float and stepover > 2 * radius:
             self.report("sinumerik.cutter-radius", run.param_spans.get("_MIDA", run.span),
-                        f"{cycle}: stepover _MIDA{show(stepover)} is larger than the tool diameter {2 * radius:g} of {tool}: "
+                        f"{cycle}: stepover _MIDA={show(stepover)} is larger than the tool diameter {2 * radius:g} of {tool}: "
                         "would raise alarm 61111 \"infeed width > tool diameter\"")
 
     def _radius(self, run, state):
@@ -442,3 +446,28 @@ class UndercutForm(Rule):
             self.report("sinumerik.undercut-form", run.param_spans.get("FORM", run.span),
                         f"{name}: FORM {_shown(form)} is not {' or '.join(chr(34) + letter + chr(34) for letter in allowed)}: "
                         "would raise alarm 61609 \"form defined incorrectly\"")
+
+
+@rule("sinumerik.contour-section-runs")
+class ContourSectionRuns(Rule):
+    """A contour section of the main program (CYCLE95 ``"START:END"``) must be jumped over
+    with GOTOF: reached by the normal flow its blocks run as real moves (reference A section 9
+    item 15, seed L8580-8590, L9424-9449)."""
+
+    def cycle_run(self, run, state):
+        facts = run.params.get("CONTOUR") if run.cycle == "sinumerik.CYCLE95" else None
+        if facts is not None and facts.section_lines is not None:
+            sections = state.rule_state.setdefault("sinumerik-contour-sections", [])
+            if facts.section_lines not in sections:
+                sections.append(facts.section_lines)
+
+    def segment(self, segment, state):
+        sections = state.rule_state.get("sinumerik-contour-sections")
+        if not sections or segment.role != "programmed" or segment.span.path is not None:
+            return
+        line = segment.span.line
+        for first, last in sections:
+            if first <= line <= last and self.first_time(state, ("contour-section", first)):
+                self.report("sinumerik.contour-section-runs", segment.span,
+                            f"the contour section in lines {first}-{last} (CYCLE95's contour) is reached by the program flow: its blocks run as real "
+                            "moves at the current height, without compensation; jump over it with GOTOF or put it after M30")

@@ -18,7 +18,7 @@ _RAPID = 0  # MotionRun kind code
 _ROLE_WORDS = {
     "programmed": "rapid move", "reference": "rapid to the reference point", "approach": "cycle rapid to the R point",
     "retract": "cycle rapid retract", "between-holes": "rapid to the next hole", "shift": "cycle shift",
-    "through-bore": "back-boring rapid entry",
+    "through-bore": "back-boring rapid entry", "into-hole": "cycle rapid into a hole drilled earlier",
 }
 
 
@@ -95,7 +95,7 @@ class RapidIntoStock(_NeedsStock):
         hit = geometry.enters(stock, start, end, self.checker.context.get("rapid_path") == "dogleg")
         if hit is None:
             return
-        if segment.role == "through-bore":
+        if segment.role in ("through-bore", "into-hole"):
             self.report(self.rule_id, segment.span, f"{what} goes down a pre-bored hole to {_where(end)}: the stock model has no holes yet, so this entry was not checked",
                         Status.UNKNOWN, "the stock is not updated by cutting or pre-boring")
             return

@@ -222,6 +222,7 @@ class ContourFacts:
         self.problems: list[tuple[str, str, object]] = []
         self.box: tuple[float, float, float, float] | None = None
         self.plane_blocks = 0
+        self.section_lines: tuple[int, int] | None = None  # a "START:END" section of the calling program
 
 
 def read_contour(runner, op, name: str) -> ContourFacts:
@@ -237,6 +238,8 @@ def read_contour(runner, op, name: str) -> ContourFacts:
         if len(starts) != 1 or len(ends) != 1 or ends[0] < starts[0]:
             return facts
         lines = ((number, raw) for number, offset, _next, raw in source.lines_from(starts[0]) if offset <= ends[0])
+        if source is interp.source:
+            facts.section_lines = (source.line_number_at(starts[0]), source.line_number_at(ends[0]))
     else:
         found = interp._find_program(name.upper(), op.span) if name and not name.startswith("/") else None
         if found is None:
