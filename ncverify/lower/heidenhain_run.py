@@ -707,7 +707,7 @@ def _hole(runner, op, block, definition, shift, surface_offset):
     if found is None or missing or depth == 0.0:
         return None  # depth 0: the control skips the cycle (seed L1630-1631)
     _remember_hole(state, bottom)
-    runner._rapid_to({axis: set_up}, op.span, block, "through-bore" if predrilled else "approach", name)
+    runner._rapid_to({axis: set_up}, op.span, block, "into-hole" if predrilled else "approach", name)
     spindle = state.spindle
     if model.get("spindle_by_cycle") and spindle == "off":
         state.spindle = "cw"  # rigid tapping runs the spindle itself; it stays stopped after (seed L3915-3917)

@@ -245,6 +245,11 @@ class Cursor:
         base = self._unary()
         if self.take_symbol("^"):
             exponent = self._unary()
+            if type(exponent) is float and exponent == int(exponent) and 0 <= exponent <= 8:
+                power = 1.0  # a whole power: products, so that a negative base stays valid
+                for _ in range(int(exponent)):
+                    power = base if power == 1.0 else ir.Binary("*", power, base)
+                return power
             return ir.Func("EXP", (ir.Binary("*", exponent, ir.Func("LN", (base,))),))
         return base
 
