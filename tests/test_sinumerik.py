@@ -498,3 +498,22 @@ def test_planes_from_free_parameters_are_judged_for_every_value():
     """)
     [finding] = findings(result, "sinumerik.reference-plane")
     assert finding.status is Status.VIOLATED and "R1" in finding.witness
+
+
+def test_a_pocket_rapids_to_its_centre_at_the_retract_plane_and_ends_there():
+    """POCKET1 goes to the centre at RTP with G0, then to RFP + SDIS: a reference plane
+    given below the top of the blank is a rapid into the material. After the cycle the tool
+    is above the centre at RTP, so the next G0 is checked from there."""
+    result = check("""
+        WORKPIECE(,"",,"BOX",0,0,-30,-80,0,0,100,100)
+        $TC_DP6[1,1]=5
+        G17 G90 T1 D1 M6
+        S2000 M3 F300
+        G0 X50 Y50 Z20
+        POCKET1(10, -5, 2, -12, 0, 60, 40, 8, 30, 30, 0, 100, 300, 3, 2, 0.2, 0)
+        POCKET1(10, 0, 2, -6, 0, 60, 40, 8, 70, 70, 0, 100, 300, 3, 2, 0.2, 0)
+        G0 X70 Y70 Z-1
+        M30
+    """)
+    crashes = findings(result, "core.rapid-into-stock", Status.VIOLATED)
+    assert [finding.span.line for finding in crashes] == [6, 8]

@@ -188,12 +188,38 @@ def one_shot(runner, op, block, model, params):
     _report_run(runner, op, block, model, params)
     state = runner.state
     first, second, axis = state.plane_axes
+    name = op.cycle.split(".")[-1]
+    if name in _POCKET_CENTRES and _pocket_motion(runner, op, block, params, _POCKET_CENTRES[name]):
+        return None
     if model.get("shape") == "sinumerik_mill":
         rtp = params.get("RTP", params.get("_RTP"))
         state.move_to({first: None, second: None, axis: rtp if type(rtp) is float else None})
     elif model.get("shape") == "sinumerik_turn" or "position" in model.get("affects", ()):
         state.move_to(dict.fromkeys(state.position))
     return None
+
+
+# Pockets whose depth infeed is at a centre given by two parameters (seed A L6575-6600, L6892, L7636).
+_POCKET_CENTRES = {"POCKET1": ("CPA", "CPO"), "POCKET2": ("CPA", "CPO"), "POCKET4": ("_PA", "_PO")}
+
+
+def _pocket_motion(runner, op, block, params, centre_names) -> bool:
+    """G0 to the centre at RTP, G0 to RFP + SDIS, plunge with G1 to the depth, (the clearing
+    inside the pocket), back to RTP with G0; the tool ends above the centre at RTP. False when
+    a level or the centre is not a number."""
+    state = runner.state
+    first, second, axis = state.plane_axes
+    side, start, depth = levels(params, absolute_depth_only=op.cycle.endswith("POCKET4"))
+    rtp = _get(params, "RTP")
+    centre = [params.get(name) for name in centre_names]
+    if side is None or side < 0 or any(type(value) is not float for value in (start, depth, rtp, *centre)):
+        return False
+    name = op.cycle
+    runner._rapid_to({first: centre[0], second: centre[1], axis: rtp}, op.span, block, "approach", name)
+    runner._rapid_to({axis: start}, op.span, block, "approach", name)
+    runner._rapid_to({axis: depth}, op.span, block, "infeed", name, "feed")
+    runner._rapid_to({axis: rtp}, op.span, block, "out-of-hole", name)
+    return True
 
 
 def modal_shape(model: dict):
