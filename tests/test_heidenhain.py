@@ -291,3 +291,12 @@ def test_cycle_220_levels_replace_the_machining_cycle_and_q301_0_travels_at_set_
     recorded = trace(program(drilling() + circle))
     assert [hole.r_point for hole in recorded.holes] == [-4.0] * 4
     assert [hole.initial for hole in recorded.holes] == [-4.0, -4.0, -4.0, 35.0]
+
+
+def test_tool_t_columns_left_at_zero_are_not_entered(tmp_path):
+    from ncverify.lower.heidenhain import read_tool_table
+
+    (tmp_path / "TOOL.T").write_text(TOOL_T)
+    tools, names = read_tool_table(tmp_path / "TOOL.T")
+    assert tools[9].usable_length == 40.0 and tools[9].pitch == 1.25 and tools[4].pitch is None
+    assert tools[0].usable_length is None and names["DRILL_D8"] == 4.0

@@ -843,9 +843,11 @@ def read_tool_table(path) -> tuple[dict[int, Tool], dict[str, float]]:
         tool = Tool(number, cells.get("NAME") or None, origin="TOOL.T")
         for column, field in _TOOL_COLUMNS.items():
             try:
-                setattr(tool, field, float(cells.get(column, "").replace(",", ".")))
+                value = float(cells.get(column, "").replace(",", "."))
             except ValueError:
-                pass
+                continue
+            if value > 0 or column in ("ANGLE", "R2"):  # LU, LCUTS, PITCH 0: not entered
+                setattr(tool, field, value)
         try:
             if tool.radius is not None:
                 tool.radius += float(cells.get("DR", "0").replace(",", ".") or 0)
