@@ -217,7 +217,12 @@ def _pocket_motion(runner, op, block, params, centre_names) -> bool:
     name = op.cycle
     runner._rapid_to({first: centre[0], second: centre[1], axis: rtp}, op.span, block, "approach", name)
     runner._rapid_to({axis: start}, op.span, block, "approach", name)
+    programmed_feed = state.feed
+    plunge_feed = _get(params, "FFD")
+    if type(plunge_feed) is float and plunge_feed > 0:
+        state.feed = plunge_feed  # the depth feed is a parameter of the cycle
     runner._rapid_to({axis: depth}, op.span, block, "infeed", name, "feed")
+    state.feed = programmed_feed
     runner._rapid_to({axis: rtp}, op.span, block, "out-of-hole", name)
     return True
 
