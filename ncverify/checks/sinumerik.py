@@ -471,3 +471,29 @@ class ContourSectionRuns(Rule):
                 self.report("sinumerik.contour-section-runs", segment.span,
                             f"the contour section in lines {first}-{last} (CYCLE95's contour) is reached by the program flow: its blocks run as real "
                             "moves at the current height, without compensation; jump over it with GOTOF or put it after M30")
+
+
+@rule("sinumerik.cycle-not-alone", "sinumerik.retract-inside-clearance")
+class CycleBlock(Rule):
+    """A cycle call must stand in a block of its own (seed A L527); the retract plane must
+    not lie between the reference plane and the safety clearance (reference A section 9
+    item 6): every rapid between holes then runs closer to the surface than SDIS."""
+
+    def cycle_run(self, run, state):
+        if not _is_sinumerik(run):
+            return
+        name = _cycle_name(run)
+        others = run.params.get("OTHER_WORDS", 0.0)
+        if type(others) is float and others > 0 and self.first_time(state, ("cycle-not-alone", run.span)):
+            self.report("sinumerik.cycle-not-alone", run.span,
+                        f"{name} shares its block with {others:g} other word{'s' if others != 1 else ''}: a cycle call must stand in a block of its own")
+        if name not in _PLANE_CYCLES:
+            return
+        side, start, _depth = levels(run.params)
+        rtp = _number(run.params, "RTP")
+        if side is None or start is None or (type(start) is float and type(rtp) is float and rtp == start):
+            return
+        verdict = self.checker.judge(hazard("<", values.mul(side, values.sub(rtp, start)), 0.0), state)
+        self.checker.report_verdict("sinumerik.retract-inside-clearance", run.param_spans.get("RTP", run.param_spans.get("_RTP", run.span)),
+                                    f"{name}: the retract plane RTP={show(rtp)} lies inside the safety clearance (RFP + SDIS = {show(start)}): "
+                                    "the rapids between positions run closer to the surface than the clearance", verdict, state)

@@ -110,7 +110,10 @@ class SinumerikLowering:
             elif item.kind == "endif":
                 block.label = StructureMark("ENDIF")
             else:
-                stages["call"].extend(self._statement(item, span, read, path, block))
+                ops = self._statement(item, span, read, path, block)
+                if item.kind in ("call", "mcall") and ops and isinstance(ops[-1], (ir.CycleCall, ir.CycleDefine)):
+                    ops[-1].params["OTHER_WORDS"] = float(len(read.items) - 1)  # a cycle call must stand alone (seed L527)
+                stages["call"].extend(ops)
         if words:
             self._words(words, stages, read, path, block)
         for stage in _STAGE_ORDER:
