@@ -517,3 +517,20 @@ def test_a_pocket_rapids_to_its_centre_at_the_retract_plane_and_ends_there():
     """)
     crashes = findings(result, "core.rapid-into-stock", Status.VIOLATED)
     assert [finding.span.line for finding in crashes] == [6, 8]
+
+
+def test_the_blank_is_not_used_under_programmable_frames():
+    """TRANS/ROT move the coordinate system the moves are written in away from the one
+    WORKPIECE describes: the rapid is not judged against the blank (unknown, never a false
+    'safe' or a false crash)."""
+    result = check("""
+        WORKPIECE(,"",,"BOX",0,0,-30,-80,0,0,80,60)
+        G17 G90 G54 T2 D1 M6
+        S3000 M3 F400
+        TRANS X200
+        G0 X-10 Y10 Z-5
+        G0 X40
+        M30
+    """)
+    assert not findings(result, "core.rapid-into-stock", Status.VIOLATED)
+    assert findings(result, "core.rapid-into-stock", Status.UNKNOWN)

@@ -492,6 +492,9 @@ def _proc_parameters(buffer, start: int) -> list[tuple[str, bool]]:
 
 # ---------------------------------------------------------------------- context from the program
 
+# Statements that move the coordinate system away from the one WORKPIECE describes; the
+# checker does not transform positions through them, so the blank is not used with them.
+_FRAME = re.compile(rb"(?mi)^[^;\n]*\b(?:A?TRANS|A?ROTS?|A?MIRROR|A?SCALE|CYCLE800|G5[89])\b")
 _WORKPIECE = re.compile(r"^\s*(?:N\d+\s*)?WORKPIECE\s*\((.*)\)", re.IGNORECASE)
 _TOOL_DATA = re.compile(r"^\s*(?:N\d+\s*)?\$TC_DP(\d+)\s*\[\s*(\d+)\s*,\s*(\d+)\s*\]\s*=\s*([-+]?(?:\d+\.?\d*|\.\d+))\s*(?:;.*)?$", re.IGNORECASE)
 # Tool type codes (seed B L81, A section 3.1): 1xx mills, 2xx drills, 5xx turning tools.
@@ -512,6 +515,8 @@ def program_context(buffer: bytes) -> Context:
             match = _TOOL_DATA.match(decode_line(raw))
             if match and match.group(3) == "1":
                 tools.setdefault(int(match.group(2)), {})[int(match.group(1))] = float(match.group(4))
+    if context.stock is not None and _FRAME.search(buffer):
+        context.stock = None  # positions under a programmable frame are not in the blank's coordinates
     for number, data in tools.items():
         kind = _TOOL_TYPES.get(int(data.get(1, 0)) // 100)
         context.tools[number] = Tool(number, type=kind, radius=data.get(6), length=data.get(3), origin="program ($TC_DP)")
