@@ -41,6 +41,9 @@ _UNMODELLED = {
     "TABDATA": (False, "TABDATA"), "OPEN": (False, "OPEN FILE"), "PRESET": (True, "PRESET"), "MONITORING": (False, "MONITORING"),
     "POLARKIN": (True, "POLARKIN"), "LIFTOFF": (False, "LIFTOFF"), "SYSCALL": (False, "SYSCALL"),
 }
+# A plain straight move: block number, L, absolute or incremental X/Y/Z, an optional feed.
+_PLAIN_LINE = re.compile(rb"[ \t]*\d+[ \t]+L((?:[ \t]+I?[XYZ][+-]?\d+(?:[.,]\d*)?)+)(?:[ \t]+F\d+(?:\.\d*)?)?[ \t\r]*")
+_PLAIN_WORD = re.compile(rb"(I?[XYZ]|F)([+-]?\d+(?:[.,]\d*)?)")
 _M_SPINDLE = {3.0: "cw", 4.0: "ccw", 5.0: "off", 13.0: "cw", 14.0: "ccw", 19.0: "orient"}
 _M_COOLANT = {7.0: "mist", 8.0: "flood", 9.0: "off", 13.0: "flood", 14.0: "flood"}
 _M_STOP = {0.0: "stop", 1.0: "optional", 2.0: "end", 30.0: "end"}
@@ -64,12 +67,46 @@ class KlartextLowering:
         return blocks
 
     def _lower(self, raw: bytes, line: int, path: str | None) -> list[ir.Block]:
+        plain = _PLAIN_LINE.fullmatch(raw)
+        if plain is not None:
+            return [self._plain(raw, plain, line, path)]
+        return [self._general(raw, line, path)]
+
+    def _plain(self, raw: bytes, match, line: int, path) -> ir.Block:
+        """``12 L X+10.5 IY-3 Z+0 F500`` (the bulk of CAM output) without the tokenizer;
+        it must give the blocks the general path gives (tests/test_heidenhain.py)."""
+        targets, incremental, columns = {}, set(), {}
+        feed = None
+        end = None
+        for word in _PLAIN_WORD.finditer(raw, match.start(1)):
+            letter, value = word.group(1).decode(), float(word.group(2).replace(b",", b"."))
+            if letter == "F":
+                feed, end = value, word.end()
+                continue
+            axis = letter[-1]
+            targets[axis] = value
+            columns[axis] = (word.start(), word.end())
+            if letter[0] == "I":
+                incremental.add(axis)
+            end = word.end()
+        start = match.start(1) - 1
+        body_start = len(raw) - len(raw.lstrip())
+        block = ir.Block(line, body_start + 1, len(raw.rstrip()) + 1, [])
+        span = Span(line, start + 1, line, end + 1, path)
+        if feed is not None:
+            block.ops.append(ir.SetFeed(span, feed))
+        block.ops.append(ir.Move(span, "linear", targets, None, {}, frozenset(incremental), columns))
+        plane = [axis for axis in ("X", "Y") if axis in targets]
+        block.ops.append(_pseudo(span, "positioned", {"fed": 1.0, "plane": float(len(plane)), "relative": float(any(axis in incremental for axis in plane))}))
+        return block
+
+    def _general(self, raw: bytes, line: int, path: str | None) -> ir.Block:
         block = ir.Block(line, 1, max(len(raw.split(b"\n", 1)[0]), 1) + 1, [])
         try:
             text = split(raw, line, path)
         except ReadError as error:
             block.notes.append(ir.Note("core.syntax", str(error), error.span))
-            return [block]
+            return block
         block.start_column, block.end_column = text.first_column, max(text.end_column, text.first_column + 1)
         block.comments = tuple(text.comments)
         tokens = text.tokens
@@ -82,7 +119,7 @@ class KlartextLowering:
         if cursor.take_symbol("/"):
             block.skippable = True
         if cursor.at_end():
-            return [block]
+            return block
         try:
             self._statement(cursor, block, path)
             if not cursor.at_end():
@@ -91,7 +128,7 @@ class KlartextLowering:
         except ReadError as error:
             block.ops = []
             block.notes.append(ir.Note("core.syntax", str(error), error.span))
-        return [block]
+        return block
 
     # ------------------------------------------------------------------ statements
 
