@@ -809,7 +809,7 @@ class Interpreter:
             value = expr if type(expr) is float else self.value(expr, op.span)
             if value is VACANT:
                 continue  # a vacant variable makes the address absent (Fanuc)
-            if incremental or axis in op.incremental:
+            if (incremental and axis not in op.absolute) or axis in op.incremental:
                 current = start.get(axis)
                 value = None if current is None else values.add(current, value)
             end[axis] = value

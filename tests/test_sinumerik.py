@@ -534,3 +534,26 @@ def test_the_blank_is_not_used_under_programmable_frames():
     """)
     assert not findings(result, "core.rapid-into-stock", Status.VIOLATED)
     assert findings(result, "core.rapid-into-stock", Status.UNKNOWN)
+
+
+def test_ac_and_ic_override_the_modal_distance_mode_for_one_word():
+    result = check("""
+        WORKPIECE(,"",,"BOX",0,0,-30,-80,0,0,80,60)
+        G17 G90 G54 T2 D1 M6
+        S3000 M3 F400
+        G0 X-10 Y10 Z10
+        G91 G0 Z=AC(-5)
+        G90 G0 X-20 Z=IC(20)
+        M30
+    """)
+    crashes = findings(result, "core.rapid-into-stock", Status.VIOLATED)
+    assert [finding.span.line for finding in crashes] == []  # X-10 is outside the blank: Z-5 there is safe
+    result = check("""
+        WORKPIECE(,"",,"BOX",0,0,-30,-80,0,0,80,60)
+        G17 G90 G54 T2 D1 M6
+        S3000 M3 F400
+        G0 X10 Y10 Z10
+        G91 G0 Z=AC(-5)
+        M30
+    """)
+    assert [finding.span.line for finding in findings(result, "core.rapid-into-stock", Status.VIOLATED)] == [5]

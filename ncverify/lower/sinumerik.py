@@ -225,7 +225,7 @@ class SinumerikLowering:
 
     def _words(self, words: list[Item], stages: dict, read: ReadBlock, path, block: ir.Block) -> None:
         targets: dict = {}
-        incremental = set()
+        incremental, absolute = set(), set()
         columns: dict = {}
         arc: dict = {}
         motion = None
@@ -251,6 +251,8 @@ class SinumerikLowering:
                 columns[name] = (item.start, item.end)
                 if item.mode == "IC":
                     incremental.add(name)
+                elif item.mode == "AC":
+                    absolute.add(name)
             elif name in _ARC_WORDS:
                 arc[name] = value
             elif name == "CR":
@@ -294,7 +296,7 @@ class SinumerikLowering:
                 move_span = motion_span or Span.on_line(read.line, read.start, read.end, path)
             if motion_span is not None:
                 move_span = move_span.cover(motion_span)
-            stages["motion"].append(ir.Move(move_span, motion, targets, arc or None, move_words, frozenset(incremental), columns))
+            stages["motion"].append(ir.Move(move_span, motion, targets, arc or None, move_words, frozenset(incremental), columns, frozenset(absolute)))
 
     def _g_code(self, value: float, span: Span, stages: dict, block: ir.Block) -> tuple[str | None, bool]:
         key = _code_key(value)
