@@ -135,7 +135,7 @@ _REPORTED_FROM_TRACE = {
     "core.program-end-missing", "core.m99-in-main", "core.path-limit", "core.duplicate-label",
     "core.repeat-count-range", "core.shape-order", "core.dialect-unsupported", "core.decimal-point", "core.bad-annotation",
     "heidenhain.call-without-cycle", "heidenhain.cycle-with-compensation", "heidenhain.call-pos-axes", "heidenhain.sl-prerequisites",
-    "heidenhain.position-after-cycle", "heidenhain.program-name-mismatch", "heidenhain.mirror-tool-axis", "heidenhain.call-without-tool",
+    "heidenhain.position-after-cycle", "heidenhain.program-name-mismatch", "heidenhain.mirror-tool-axis", "heidenhain.call-without-tool", "heidenhain.pattern-surface",
 }
 
 

@@ -622,6 +622,10 @@ def _run_at_points(runner, op, block, points, feed=None, pattern: dict | None = 
         here = definition
         if low and index < len(points) - 1:
             here = replace(definition, params={**definition.params, "Q204": definition.params["Q200"]})
+        surface = here.params.get("Q203")
+        if z and type(surface) is float and surface != 0.0 and pattern is None:
+            runner.interp._fault("heidenhain.pattern-surface", op.span, f"pattern point X{x:g} Y{y:g} gives the surface Z{z:g} and cycle {definition.number} has "
+                                 f"Q203={surface:g}: the two add up, the surface is offset twice (seed L1168-1169)")
         run_cycle(runner, op, block, here, surface_offset=z if z else None)
         if pattern is None and level is not None and state.position.get(axis) is not None and _higher(level, state.position[axis]):
             runner._rapid_to({axis: level}, op.span, block, "retract", name)
