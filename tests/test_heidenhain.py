@@ -317,3 +317,15 @@ def test_the_fast_path_for_plain_lines_gives_the_general_paths_blocks(number, wo
     match = _PLAIN_LINE.fullmatch(raw.encode())
     assert match is not None, raw
     assert lowering._plain(raw.encode(), match, 7, None) == lowering._general(raw.encode(), 7, None), raw
+
+
+def test_call_pgm_finds_the_called_file_by_path_name_or_number(tmp_path):
+    from ncverify import check_file
+
+    main = program("5  CALL PGM TNC:\\PARTS\\205.H\n6  CALL PGM HOLES", "MAIN")
+    (tmp_path / "MAIN.h").write_text(main)
+    (tmp_path / "205.H").write_text("0  BEGIN PGM 205 MM\n1  L  X+10  Y+10 R0 FMAX\n2  END PGM 205 MM\n")
+    (tmp_path / "HOLES.h").write_text("0  BEGIN PGM HOLES MM\n1  L  X+20  Y+20 R0 FMAX\n2  L  Z-5 R0 FMAX\n3  END PGM HOLES MM\n")
+    result = check_file(tmp_path / "MAIN.h", Settings())
+    assert not [d for d in result.diagnostics if d.rule in ("core.program-not-found", "heidenhain.program-name-mismatch")]
+    assert [d for d in result.diagnostics if d.rule == "core.rapid-into-stock" and d.span.path and d.span.path.endswith("HOLES.h")]

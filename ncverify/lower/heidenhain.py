@@ -55,7 +55,7 @@ class KlartextLowering:
     def __init__(self, tool_names: dict | None = None):
         self.tool_names = tool_names if tool_names is not None else {}
         self._recent: dict = {}  # blocks of lines read lately: loops by FN jumps read them again and again
-        self._begun: str | None = None  # the last BEGIN PGM read: lines are read in order before any jump
+        self._begun: dict = {}  # file -> the last BEGIN PGM read in it (lines are read in order before any jump)
 
     def lower(self, raw: bytes, line: int, path: str | None) -> list[ir.Block]:
         key = (raw, line, path)
@@ -165,7 +165,7 @@ class KlartextLowering:
         cursor.expect_name("BEGIN")
         cursor.expect_name("PGM")
         block.program_start = self._program_name(cursor)
-        self._begun = block.program_start.upper()
+        self._begun[path] = block.program_start.upper()
         unit = cursor.take_name("MM", "INCH")
         if unit is not None:
             block.ops.append(ir.SetModal(unit.span, "units", "mm" if unit.text == "MM" else "inch"))
@@ -176,8 +176,9 @@ class KlartextLowering:
         name = self._program_name(cursor).upper()
         cursor.take_name("MM", "INCH")
         span = cursor.rest_span(start)
-        if self._begun is not None and name != self._begun:
-            block.notes.append(ir.Note("heidenhain.program-name-mismatch", f"END PGM {name} closes program {self._begun}: BEGIN PGM and END PGM must name the same program", span))
+        begun = self._begun.get(path)
+        if begun is not None and name != begun:
+            block.notes.append(ir.Note("heidenhain.program-name-mismatch", f"END PGM {name} closes program {begun}: BEGIN PGM and END PGM must name the same program", span))
         block.ops.append(_pseudo(span, "end_pgm", {}))
 
     @staticmethod
@@ -719,9 +720,12 @@ def _bare(cursor: Cursor, keywords=()) -> bool:
 
 
 def _called_name(name: str) -> str:
-    """The program a ``CALL PGM`` names, as :meth:`KlartextFrontend.program_name` writes it."""
+    """A program's name as calls, BEGIN PGM and the subprogram library write it: the file
+    name without folder and extension, upper case; a number as the library indexes
+    numbered files (``205`` -> ``O205``)."""
     base = re.split(r"[\\/:]", name)[-1]
-    return base.rsplit(".", 1)[0].upper() if "." in base else base.upper()
+    base = (base.rsplit(".", 1)[0] if "." in base else base).upper()
+    return f"O{int(base)}" if base.isdigit() else base
 
 
 def _pseudo(span: Span, what: str, params: dict) -> ir.CycleCall:
@@ -768,7 +772,7 @@ class KlartextFrontend:
         return None
 
     def programs(self, buffer) -> list[tuple[str, int]]:
-        return [(match.group(1).decode("utf-8", "replace").upper(), match.start()) for match in _PROGRAM_START.finditer(buffer)]
+        return [(_called_name(match.group(1).decode("utf-8", "replace")), match.start()) for match in _PROGRAM_START.finditer(buffer)]
 
     def is_subprogram(self, buffer, start: int, end: int) -> bool:
         """A program with no TOOL CALL and no M2/M30 of its own is written to be called
