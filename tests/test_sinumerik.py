@@ -557,3 +557,22 @@ def test_ac_and_ic_override_the_modal_distance_mode_for_one_word():
         M30
     """)
     assert [finding.span.line for finding in findings(result, "core.rapid-into-stock", Status.VIOLATED)] == [5]
+
+
+_PLAIN_LINE = st.builds(
+    lambda g, x, y, z, f: f"G{g} X{x:.3f} Y{y:.3f} Z{z:.3f}" + (f" F{f}" if f else ""),
+    st.sampled_from([0, 1]), st.floats(-20, 120), st.floats(-20, 80), st.floats(-10, 20), st.sampled_from([0, 0, 300]))
+_OTHER_LINE = st.sampled_from(["X=10 Y=20", "R1=R1+1", "G0 Z=AC(30)", "M8", "; comment", "N100 G1 X5"])
+
+
+@hypothesis_settings(max_examples=40, deadline=None)
+@given(st.lists(st.one_of(_PLAIN_LINE, _PLAIN_LINE, _PLAIN_LINE, _OTHER_LINE), min_size=1, max_size=60))
+def test_batched_plain_blocks_report_what_block_by_block_reports(lines):
+    program = "\n".join(['WORKPIECE(,"",,"BOX",0,0,-30,-80,0,0,100,60)', "G17 G90 G54 T1 D1 M6", "S2000 M3 F500", "G0 X0 Y0 Z30",
+                         *lines, "M30"]) + "\n"
+
+    def run(per_block_only):
+        result = check_text(program, "t.mpf", Settings(dialect="sinumerik", per_block_only=per_block_only))
+        return sorted((d.rule, d.span.line, d.span.column, d.status.value, d.message) for d in result.diagnostics)
+
+    assert run(True) == run(False)

@@ -462,13 +462,23 @@ class ContourSectionRuns(Rule):
                 sections.append(facts.section_lines)
 
     def segment(self, segment, state):
+        if segment.role == "programmed" and segment.span.path is None:
+            self._check(segment.span, state)
+
+    def motion_run(self, run, state):
         sections = state.rule_state.get("sinumerik-contour-sections")
-        if not sections or segment.role != "programmed" or segment.span.path is not None:
+        if not sections or run.span(0).path is not None:
             return
-        line = segment.span.line
+        first_line, last_line = run.span(0).line, run.span(len(run) - 1).line
         for first, last in sections:
-            if first <= line <= last and self.first_time(state, ("contour-section", first)):
-                self.report("sinumerik.contour-section-runs", segment.span,
+            if first <= last_line and last >= first_line:
+                index = next(k for k in range(len(run)) if first <= run.span(k).line <= last)
+                self._check(run.span(index), state)
+
+    def _check(self, span, state):
+        for first, last in state.rule_state.get("sinumerik-contour-sections", ()):
+            if first <= span.line <= last and self.first_time(state, ("contour-section", first)):
+                self.report("sinumerik.contour-section-runs", span,
                             f"the contour section in lines {first}-{last} (CYCLE95's contour) is reached by the program flow: its blocks run as real "
                             "moves at the current height, without compensation; jump over it with GOTOF or put it after M30")
 

@@ -26,9 +26,12 @@ import re
 import tomllib
 from functools import cache
 
+import numpy
+
 from .. import ir
 from ..context import Context, Stock, Tool
 from ..dialect import DialectSetup
+from ..read.iso_runs import read_plain_run
 from ..read.sinumerik import Item, ReadBlock, read_line
 from ..resources import data_dir
 from ..source import Span, decode_line
@@ -349,6 +352,7 @@ class SinumerikLowering:
 
 # ---------------------------------------------------------------------- frontend
 
+_PLAIN_MOTION = re.compile(rb"[ \t]*(?:[NGXYZF][ \t]*[+-]?(?:\d+\.?\d*|\.\d+)[ \t]*)+")
 _PROGRAM_HEADER = re.compile(rb"(?mi)^[ \t]*%_N_(\w+?)_(MPF|SPF)\b")
 _PROC = re.compile(rb"(?mi)^[ \t]*(?:N\d+[ \t]*)?PROC[ \t]+(\w+)")
 _PROGRAM_END = re.compile(rb"(?mi)^[^;\n]*\bM0?(?:2|30)\b(?![ \t]*=)")
@@ -366,10 +370,26 @@ class SinumerikFrontend:
         return self.lowering.lower(read_line(decode_line(raw), line), path)
 
     def is_plain(self, raw: bytes) -> bool:
-        return False
+        """Could this line be part of a :class:`ir.MoveRun`? (``N.. G0/G1 X Y Z F`` with
+        literal numbers, as in ISO: CAM output is the same in both languages.)"""
+        return _PLAIN_MOTION.fullmatch(raw) is not None
 
     def plain_run(self, buffer, offset: int, line: int, limit: int = 1 << 20):
-        return None
+        """The plain blocks from ``offset`` on, read as arrays by the ISO run reader; a
+        SINUMERIK number is always in mm or inch (no least-increment scaling)."""
+        end = min(len(buffer), offset + limit)
+        chunk = bytes(buffer[offset:end])
+        if end < len(buffer):
+            chunk = chunk[: chunk.rfind(b"\n") + 1]
+        run = read_plain_run(chunk, stop_at_small_integers=False)
+        if run is None:
+            return None
+        table = run.table
+        motion = table[:, 1]
+        kinds = numpy.where(numpy.isnan(motion), -1, motion).astype(numpy.int8)
+        unscaled = numpy.zeros((len(kinds), 3), dtype=bool)
+        return ir.MoveRun(offset, offset + run.length, line, run.line_starts + offset, kinds, ("X", "Y", "Z"), table[:, 2:5],
+                          unscaled, table[:, 5], numpy.zeros(len(kinds), dtype=bool), run.blocks)
 
     def programs(self, buffer) -> list[tuple[str, int]]:
         """Programs named by ``%_N_NAME_MPF/SPF`` headers; a file without one that starts
