@@ -329,3 +329,16 @@ def test_call_pgm_finds_the_called_file_by_path_name_or_number(tmp_path):
     result = check_file(tmp_path / "MAIN.h", Settings())
     assert not [d for d in result.diagnostics if d.rule in ("core.program-not-found", "heidenhain.program-name-mismatch")]
     assert [d for d in result.diagnostics if d.rule == "core.rapid-into-stock" and d.span.path and d.span.path.endswith("HOLES.h")]
+
+
+def test_ocm_circle_pocket_needs_room_for_the_inside_corner_factor_and_allowance():
+    circle = ("CYCL DEF 1272 OCM CIRCLE ~\n    Q650=+0 ;FIGURE TYPE ~\n    Q223=+20 ;CIRCLE DIAMETER ~\n    Q367=+0 ;POCKET POSITION ~\n"
+              "    Q203=+0 ;SURFACE COORDINATE ~\n    Q201=-10 ;DEPTH ~\n    Q368=+0.5 ;ALLOWANCE FOR SIDE ~\n    Q369=+0.2 ;ALLOWANCE FOR FLOOR ~\n"
+              "    Q260=+50 ;CLEARANCE HEIGHT ~\n    Q578=+0.2 ;INSIDE CORNER FACTOR\n")
+    rough = ("CYCL DEF 272 OCM ROUGHING ~\n    Q215=+0 ;MACHINING OPERATION ~\n    Q202=+5 ;PLUNGING DEPTH ~\n    Q370=+0.4 ;TOOL PATH OVERLAP ~\n"
+             "    Q207=+500 ;FEED RATE MILLING ~\n    Q568=+0.6 ;PLUNGING FACTOR ~\n    Q253=+750 ;F PRE-POSITIONING ~\n    Q200=+2 ;SET-UP CLEARANCE\n")
+    text = program(circle + rough + "7  L  X+50  Y+50 R0 FMAX M99")
+    assert at(check(text, "[tools.1]\nradius = 8"), "heidenhain.tool-too-large")
+    assert not at(check(text, "[tools.1]\nradius = 6"), "heidenhain.tool-too-large")
+    recorded = trace(text)
+    assert [segment.end["Z"] for segment in recorded.segments if segment.cycle] == [2.0, -10.0, 50.0]

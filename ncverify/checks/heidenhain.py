@@ -9,7 +9,7 @@ from .. import pocket, values
 from ..check import Rule, hazard, rule, show
 from .machine import _ReportsMissingContext
 
-_DEPTH_CHECKED = {200, 201, 202, 203, 205, 208, 241, 206, 207, 209, 251, 252, 253, 254, 256, 257, 258}
+_DEPTH_CHECKED = {200, 201, 202, 203, 205, 208, 241, 206, 207, 209, 251, 252, 253, 254, 256, 257, 258, 272, 273, 274}
 _PLUNGE_CHECKED = {251, 252, 253, 254}
 _SL_CYCLES = {21, 22, 23, 24}
 
@@ -112,15 +112,24 @@ class ToolTooLarge(_CycleRule):
     that would is reported."""
 
     def judge_cycle(self, number, params, spans, span, state):
-        if number not in (208, 251, 252, 253, 254, 22) or not self.first_time(state, ("tool-too-large", span)):
+        if number not in (208, 251, 252, 253, 254, 22, 272) or not self.first_time(state, ("tool-too-large", span)):
             return
+        if number == 272 and (params.get("@shape") not in (1271.0, 1272.0, 1273.0) or params.get("Q650", 0.0) != 0.0):
+            return  # a free OCM contour or an island / boundary shape: no pocket to fit
         tool = _tool(self, state, span, "heidenhain.tool-too-large", "radius")
         if tool is None:
             return
         if number == 22:
             self._contour_pocket(params, span, tool, state)
             return
-        fit, where = self._fit(number, params, spans, tool.radius, span)
+        radius = tool.radius
+        if number == 272:  # the smallest inside radius OCM cuts is R + Q578 R, beside the allowance Q368 (reference B H23)
+            factor, allowance = params.get("Q578", 0.0), params.get("Q368", 0.0)
+            if type(factor) is not float or type(allowance) is not float:
+                self.missing("heidenhain.tool-too-large", span, "an inside corner factor or allowance that depends on a free parameter")
+                return
+            radius = tool.radius * (1.0 + factor) + allowance
+        fit, where = self._fit(number, params, spans, radius, span)
         if fit is None:
             self.missing("heidenhain.tool-too-large", span, "a pocket size that depends on a free parameter")
             return
@@ -155,6 +164,13 @@ class ToolTooLarge(_CycleRule):
         if number == 251:
             found = concrete("Q218", "Q219", "Q220")
             return (pocket.rectangle_fit(*found, radius, strict=True) if found else None), spans.get("Q219", span)
+        shape = params.get("@shape")
+        if number == 272 and shape == 1271.0:
+            found = concrete("Q218", "Q219", "Q220")
+            return (pocket.rectangle_fit(*found, radius) if found else None), spans.get("Q219", span)
+        if number == 272 and shape == 1272.0:
+            found = concrete("Q223")
+            return (pocket.circle_fit(found[0], radius) if found else None), spans.get("Q223", span)
         if number in (252, 208):
             found = concrete("Q223" if number == 252 else "Q335")
             strict = number == 252  # a pocket needs room to plunge; 208 may plunge straight at 2R = Q335 (seed L2869-2870)
@@ -169,18 +185,21 @@ class ContourClearanceHeight(_CycleRule):
     Q7, which must lie above the set-up clearance Q5 + Q6 and above the blank."""
 
     def judge_cycle(self, number, params, spans, span, state):
-        height, surface, clearance = params.get("Q7"), params.get("Q5"), params.get("Q6")
-        if number not in _SL_CYCLES or height is None or not self.first_time(state, ("sl-clearance", span)):
+        names = ("Q7", "Q5", "Q6") if number in _SL_CYCLES else ("Q260", "Q203", "Q200")
+        height, surface, clearance = (params.get(name) for name in names)
+        if number not in _SL_CYCLES and number not in (272, 273, 274):
             return
-        where = spans.get("Q7", span)
+        if height is None or not self.first_time(state, ("sl-clearance", span)):
+            return
+        where = spans.get(names[0], span)
         if surface is not None and clearance is not None:
             verdict = self.checker.judge(hazard("<", height, values.add(surface, values.absolute(clearance))), state)
-            self.checker.report_verdict("heidenhain.sl-clearance-height", where, f"clearance height Q7={show(height)} is below the set-up clearance "
-                                        f"Q5 + Q6 = {show(values.add(surface, values.absolute(clearance)))}: the moves between areas run below the plane the cycle approaches from (seed L9384-9396)", verdict, state)
+            self.checker.report_verdict("heidenhain.sl-clearance-height", where, f"clearance height {names[0]}={show(height)} is below the set-up clearance "
+                                        f"{names[1]} + {names[2]} = {show(values.add(surface, values.absolute(clearance)))}: the moves between areas run below the plane the cycle approaches from (seed L9384-9396)", verdict, state)
         stock = self.checker.context.get("stock")
         if stock is not None:
             verdict = self.checker.judge(hazard("<=", height, stock.top), state)
-            self.checker.report_verdict("heidenhain.sl-clearance-height", where, f"clearance height Q7={show(height)} is not above the top of the blank Z{stock.top:g}: "
+            self.checker.report_verdict("heidenhain.sl-clearance-height", where, f"clearance height {names[0]}={show(height)} is not above the top of the blank Z{stock.top:g}: "
                                         "the rapids between areas and the final retract stay in the material", verdict, state)
 
 

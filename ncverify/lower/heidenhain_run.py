@@ -381,6 +381,9 @@ def _def_active(runner, op, block, number, params, cycle_model):
         return None
     if number in (9, 32, 13, 12, 238, 239):
         return None
+    if number in (271, 1271, 1272, 1273, 1278):  # OCM data, with a standard shape (reference B 6.21)
+        _put(state, "ocm", (number, _numbers(params), dict(op.param_spans)))
+        return None
     if number in _TRANSFORMS:
         _transform(runner, op, number, params)
         return None
@@ -652,6 +655,8 @@ def run_cycle(runner, op, block, definition: Definition, shift=None, surface_off
         return _pocket(runner, op, block, definition, shift, surface_offset)
     if family == "contour" and definition.number in (21, 22, 23, 24):
         return _sl_cycle(runner, op, block, definition)
+    if family == "ocm":
+        return _ocm_cycle(runner, op, block, definition)
     if family == "old":  # the old fixed cycles start and end at the position of the call
         interp.observer.cycle_run(CycleRun(f"heidenhain.{definition.number}", model, op.span, block, _numbers(definition.params), dict(definition.spans)), state)
         return None
@@ -793,6 +798,40 @@ def _sl_cycle(runner, op, block, definition):
         runner._rapid_to({axis: surface + depth}, op.span, block, "infeed", name, "feed")
     runner._rapid_to({axis: height}, op.span, block, "out-of-hole", name)
     _put(state, "ended_elsewhere", definition.number)  # posAfterContPocket may leave the tool anywhere (reference B §4.5)
+    return None
+
+
+def _ocm_cycle(runner, op, block, definition):
+    """OCM 272-274: the data of 271 or of a standard shape 1271-1278; set-up clearance
+    Q203 + Q200, floor Q203 + Q201, clearance height Q260 (absolute) at the end, the plane
+    position then unknown. The shape's number goes to the rules as ``@shape``."""
+    interp = runner.interp
+    state = runner.state
+    name = f"heidenhain.{definition.number}"
+    data = _get(state, "ocm")
+    if data is None:
+        interp._fault("heidenhain.sl-prerequisites", op.span, f"cycle {definition.number} is called without OCM data (cycle 271 or a shape 1271-1278) defined before it: "
+                      "the control stops with an error (seed L11211-11215)")
+        state.move_to(dict.fromkeys(state.position))
+        return None
+    shape, values_, spans_ = data
+    params = dict(values_)
+    params.update(_numbers(definition.params))
+    params["@shape"] = float(shape)
+    spans = dict(spans_)
+    spans.update(definition.spans)
+    interp.observer.cycle_run(CycleRun(name, definition.model, op.span, block, params, spans), state)
+    first, second, axis = _plane(state)
+    surface, clearance, depth, height = (params.get(q) for q in ("Q203", "Q200", "Q201", "Q260"))
+    state.move_to({first: None, second: None})
+    if any(type(value) is not float for value in (surface, clearance, depth, height)):
+        state.move_to({axis: None})
+        return None
+    runner._rapid_to({axis: surface + clearance}, op.span, block, "approach", name)
+    with _cycle_feed(state, params):
+        runner._rapid_to({axis: surface + depth}, op.span, block, "infeed", name, "feed")
+    runner._rapid_to({axis: height}, op.span, block, "out-of-hole", name)
+    _put(state, "ended_elsewhere", definition.number)
     return None
 
 
