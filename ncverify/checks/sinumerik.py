@@ -149,6 +149,8 @@ class ReferencePlane(Rule):
             _side, _start, depth = levels(params)
         if depth is None:
             return
+        if name == "CYCLE90" and type(dpr) is float and dpr == 0.0:
+            return  # CYCLE90 may thread bottom up with an absolute depth: RFP below, DP and RTP above (seed A L5288-5296)
         behind = hazard("<", values.absolute(values.sub(rtp, depth)), values.absolute(values.sub(rfp, depth)))
         report("sinumerik.reference-plane", span,
                f"{name}: the retract plane RTP={show(rtp)} lies between the reference plane RFP={show(rfp)} and the depth {show(depth)}: "
@@ -176,7 +178,7 @@ def _number(params: dict, name: str):
 _DISCRETE = {
     "CYCLE83": {"VARI": {0, 1}, "_AXN": {0, 1, 2, 3}},
     "CYCLE84": {"SDAC": {3, 4, 5}, "_AXN": {0, 1, 2, 3}, "_PTAB": {0, 1, 2, 3}, "_VARI": {0, 1, 2}},
-    "CYCLE840": {"SDR": {0, 3, 4}, "SDAC": {3, 4, 5}, "ENC": {0, 1, 11, 20}, "_AXN": {0, 1, 2, 3}, "_PTAB": {0, 1, 2, 3}},
+    "CYCLE840": {"SDR": {0, 3, 4}, "ENC": {0, 1, 11, 20}, "_AXN": {0, 1, 2, 3}, "_PTAB": {0, 1, 2, 3}},  # SDAC: only with SDR != 0
     "CYCLE86": {"SDIR": {3, 4}},
     "CYCLE87": {"SDIR": {3, 4}},
     "CYCLE88": {"SDIR": {3, 4}},
@@ -507,3 +509,24 @@ class CycleBlock(Rule):
         self.checker.report_verdict("sinumerik.retract-inside-clearance", run.param_spans.get("RTP", run.param_spans.get("_RTP", run.span)),
                                     f"{name}: the retract plane RTP={show(rtp)} lies inside the safety clearance (RFP + SDIS = {show(start)}): "
                                     "the rapids between positions run closer to the surface than the clearance", verdict, state)
+
+
+@rule("sinumerik.first-depth")
+class FirstDrillingDepth(Rule):
+    """CYCLE83's first drilling depth (FDEP, or RFP - s*FDPR when FDPR is programmed) must
+    lie strictly between RFP + SDIS and the final depth: alarm 61107 (seed A L2532-2535,
+    L2561-2564; the exact condition is derived, reference A section 6.3)."""
+
+    def cycle_run(self, run, state):
+        if run.cycle != "sinumerik.CYCLE83":
+            return
+        side, start, depth = levels(run.params)
+        fdep, fdpr = run.params.get("FDEP"), run.params.get("FDPR")
+        if side is None or depth is None or fdep is None or fdpr is None or (fdep == 0.0 and fdpr == 0.0):
+            return
+        first = fdep if type(fdpr) is float and fdpr == 0.0 else values.sub(run.params["RFP"], values.mul(side, values.absolute(fdpr)))
+        outside = values.logical("OR", hazard(">=", values.mul(side, values.sub(first, start)), 0.0),
+                                 hazard("<=", values.mul(side, values.sub(first, depth)), 0.0))
+        self.checker.report_verdict("sinumerik.first-depth", run.param_spans.get("FDEP" if fdpr == 0.0 else "FDPR", run.span),
+                                    f"CYCLE83: the first drilling depth {show(first)} is not between the start level {show(start)} and the final depth {show(depth)}: "
+                                    "would raise alarm 61107 \"first drilling depth defined incorrectly\"", self.checker.judge(outside, state), state)
