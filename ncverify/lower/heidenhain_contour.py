@@ -18,6 +18,7 @@ from shapely.geometry import Polygon
 
 from .. import ir
 from ..dialect import logical_lines
+from ..interpret import PathEnd
 from ..values import VACANT
 
 _ELEMENT_LIMIT = 16384  # contour elements per SL cycle (seed L9050-9051)
@@ -62,8 +63,6 @@ def region(found: list[Contour]):
 
 
 def _walk(interp, label, span) -> Contour:
-    from ..interpret import PathEnd
-
     try:
         position = interp.find_label(label, span)
     except PathEnd:

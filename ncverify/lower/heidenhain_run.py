@@ -17,15 +17,17 @@ at definition, seed L483-495) and kept until the next ``CYCL DEF``.
 from __future__ import annotations
 
 import math
+import re
 from dataclasses import dataclass, replace
 
 from .. import cycles, ir, values
-from ..interpret import _distance, _distance_sq
+from ..interpret import PathEnd, _distance, _distance_sq
 from ..trace import Arc, CycleRun, Hole
 
 _PLANES = {"xy": ("X", "Y", "Z"), "yz": ("Y", "Z", "X"), "zx": ("Z", "X", "Y")}
 # DEF-active cycles (seed L666-688): they act when defined and are never called.
 DEF_ACTIVE = frozenset({7, 8, 9, 10, 11, 12, 13, 14, 19, 20, 26, 32, 220, 221, 224, 238, 239, 247, 271, 1271, 1272, 1273, 1278, 1281, 1282})
+_SUBPROGRAM_END = re.compile(rb"(?m)^[ \t]*\d*[ \t]*LBL[ \t]*0(?![0-9.])")
 _TRANSFORMS = frozenset({7, 8, 10, 11, 19, 26})
 _HOLE_FAMILIES = frozenset({"drill", "tap", "thread"})
 
@@ -289,13 +291,9 @@ def _label_call_run(runner, op, block, model, params):
     repeat = params.get("REP", 0.0)
     if type(label) not in (float, str):
         interp._unsupported_here(op.span, "a label call whose label depends on a free parameter")
-        from ..interpret import PathEnd
-
         raise PathEnd
     if type(repeat) is not float:
         interp._unsupported_here(op.span, "a REP count that depends on a free parameter")
-        from ..interpret import PathEnd
-
         raise PathEnd
     target = interp.find_label(label, op.span)
     here = interp._line_offset
@@ -314,11 +312,8 @@ def _label_call_run(runner, op, block, model, params):
 
 def _returns_between(interp, target, end: int) -> bool:
     """Is there an LBL 0 between a label and the call (the label starts a subprogram)?"""
-    source = interp._line_source
-    text = bytes(source.buffer[target.offset:end]).upper()
-    import re
-
-    return re.search(rb"(?m)^[ \t]*\d*[ \t]*LBL[ \t]*0(?![0-9.])", text) is not None
+    text = bytes(interp._line_source.buffer[target.offset:end]).upper()
+    return _SUBPROGRAM_END.search(text) is not None
 
 
 def _end_pgm_run(runner, op, block, model, params):
