@@ -342,3 +342,14 @@ def test_ocm_circle_pocket_needs_room_for_the_inside_corner_factor_and_allowance
     assert not at(check(text, "[tools.1]\nradius = 6"), "heidenhain.tool-too-large")
     recorded = trace(text)
     assert [segment.end["Z"] for segment in recorded.segments if segment.cycle] == [2.0, -10.0, 50.0]
+
+
+def test_face_milling_233_runs_from_q227_down_to_q386_and_leaves_the_plane_position_unknown():
+    face = ("CYCL DEF 233 FACE MILLING ~\n    Q215=+0 ;MACHINING OPERATION ~\n    Q389=+2 ;MILLING STRATEGY ~\n    Q350=+1 ;MILLING DIRECTION ~\n"
+            "    Q218=+100 ;FIRST SIDE LENGTH ~\n    Q219=+100 ;2ND SIDE LENGTH ~\n    Q227=+2 ;STARTNG PNT 3RD AXIS ~\n    Q386=+0 ;END POINT 3RD AXIS ~\n"
+            "    Q369=+0 ;ALLOWANCE FOR FLOOR ~\n    Q202=+1 ;MAX. PLUNGING DEPTH ~\n    Q370=+1 ;TOOL PATH OVERLAP ~\n    Q207=+500 ;FEED RATE MILLING ~\n"
+            "    Q385=+500 ;FINISHING FEED RATE ~\n    Q253=+750 ;F PRE-POSITIONING ~\n    Q357=+2 ;CLEARANCE TO SIDE ~\n    Q200=+2 ;SET-UP CLEARANCE ~\n"
+            "    Q204=+50 ;2ND SET-UP CLEARANCE\n")
+    recorded = trace(program(face + "7  L  X+0  Y+0 R0 FMAX M99\n8  L  IX+10 R0 FMAX"))
+    assert [segment.end["Z"] for segment in recorded.segments if segment.cycle] == [4.0, 0.0, 4.0, 52.0]
+    assert [fault for fault in recorded.faults if fault.rule == "heidenhain.position-after-cycle"]

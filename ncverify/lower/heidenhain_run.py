@@ -892,9 +892,14 @@ def _pocket(runner, op, block, definition, shift, surface_offset):
     name = f"heidenhain.{definition.number}"
     interp.observer.cycle_run(CycleRun(name, model, op.span, block, _numbers(params), dict(definition.spans)), state)
     axis = _plane(state)[2]
+    if definition.number == 233 and type(params.get("Q227")) is float and type(params.get("Q386")) is float:
+        params.update(Q203=params["Q227"], **{"@233": params["Q386"] - params["Q227"]})  # start and end in the tool axis (seed L7112-7528)
     found = levels(params, _depth_name(definition))
     depth = params.get(_depth_name(definition))
-    if found is None or depth == 0.0:
+    if depth == 0.0:
+        return None  # the control skips the cycle (233: Q227 = Q386, seed L7302-7303)
+    if found is None:
+        state.move_to(dict.fromkeys(state.position))  # where the cycle leaves the tool is not known
         return None
     set_up, bottom, retract, _direction = found
     first, second, _normal = _plane(state)
