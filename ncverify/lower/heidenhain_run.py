@@ -708,8 +708,11 @@ def _hole(runner, op, block, definition, shift, surface_offset):
                 dict(definition.spans), missing, definition.span)
     interp.observer.hole(hole, state)
     depth = params.get(_depth_name(definition))
-    if found is None or missing or depth == 0.0:
-        return None  # depth 0: the control skips the cycle (seed L1630-1631)
+    if missing or depth == 0.0:
+        return None  # the control alarms, or skips a cycle of depth 0 (seed L1630-1631)
+    if found is None:
+        state.move_to({axis: None})  # levels not known (PREDEF, a keyword): the cycle runs, to heights not known here
+        return None
     _remember_hole(state, bottom)
     runner._rapid_to({axis: set_up}, op.span, block, "into-hole" if predrilled else "approach", name)
     spindle = state.spindle
