@@ -162,16 +162,6 @@ class CycleRunner:
         call = ir.CycleCall(op.span, cycle.cycle, {}, dict(cycle.param_spans))
         return run(self, call, block, cycle.model, dict(cycle.params))
 
-    def modal_call(self, op: ir.Move, block):
-        """A modal cycle called after a positioning move (SINUMERIK ``MCALL``): its
-        dialect shape runs with the arguments evaluated when the call was made modal."""
-        cycle = self.state.cycle
-        run = _DIALECT_SHAPES.get(cycle.model.get("shape"))
-        if run is None:
-            return None
-        call = ir.CycleCall(op.span, cycle.cycle, {}, dict(cycle.param_spans))
-        return run(self, call, block, cycle.model, dict(cycle.params))
-
     def _holes(self, span, block, positioning: dict, incremental, op):
         state = self.state
         cycle = state.cycle

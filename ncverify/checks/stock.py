@@ -84,7 +84,8 @@ class RapidIntoStock(_NeedsStock):
         if _separated(stock, segment.start, segment.end):
             return
         if end is None:
-            self._unknown_position(segment.span, f"{what} ends where ncverify does not know the tool is (an incremental move from an unknown position): its path was not checked", state)
+            unplaced = "/".join(axis for axis in "XYZ" if segment.end.get(axis) is None)
+            self._unknown_position(segment.span, f"{what} ends where ncverify does not know the tool is ({unplaced} not known yet: no move has set it since the program start or a reference return): its path was not checked", state)
             return
         if start is None:
             self._from_unknown(stock, end, segment.span, what, state)
