@@ -8,7 +8,7 @@ calls by name with an argument list (``CYCLE81(10,0,2,-5)``, ``MYSUB``).
 
 The manual's OCR text writes full-width ``；（），：``, curly quotes and en dashes; they are
 read as their ASCII twins (:func:`normalize`), so the manual's examples read as written.
-The reader never raises: text it cannot read gives a :class:`SyntaxProblem`.
+The reader never raises: text it cannot read gives a :class:`~ncverify.read.iso.SyntaxProblem`.
 """
 from __future__ import annotations
 
@@ -16,6 +16,7 @@ import re
 from dataclasses import dataclass, field
 
 from .. import ir
+from .iso import SyntaxProblem
 
 _TWINS = str.maketrans({"；": ";", "（": "(", "）": ")", "，": ",", "、": ",", "：": ":", "“": '"', "”": '"', "„": '"',
                         "‟": '"', "–": "-", "—": "-", "＝": "=", "　": " ", "\t": " "})
@@ -45,13 +46,6 @@ class Item:
     arg_spans: list = field(default_factory=list)
     condition: object = None
     extra: object = None
-
-
-@dataclass(slots=True)
-class SyntaxProblem:
-    message: str
-    start: int
-    end: int
 
 
 @dataclass(slots=True)
