@@ -17,10 +17,11 @@ _SIGNATURES: dict[str, list[tuple[str, float]]] = {
         (r"(?im)\bFMAX\b", 2), (r"(?im)\bLBL\s+\d", 2), (r"(?im)\bFN\s+\d+\s*:", 2),
     ],
     "sinumerik": [
-        (r"(?im)^%_N_\w+_(?:MPF|SPF)", 30), (r"(?im)\bCYCLE\d{2,3}\s*\(", 5), (r"(?im)\bDEF\s+(?:REAL|INT|BOOL|STRING|CHAR|AXIS|FRAME)\b", 4),
+        # a cycle called with its arguments in parentheses cannot be ISO, so one such call outweighs a short program's G/M words
+        (r"(?im)^%_N_\w+_(?:MPF|SPF)", 30), (r"(?im)\bCYCLE\d{2,3}\s*\(", 12), (r"(?im)(?<!#)\bMCALL[ \t]+\w+\s*\(", 8), (r"(?im)\bDEF\s+(?:REAL|INT|BOOL|STRING|CHAR|AXIS|FRAME)\b", 4),
         (r"(?im)\bGOTO[FB]\b", 3), (r"(?im)\bMSG\s*\(", 3), (r"(?im)\bWORKPIECE\s*\(", 10), (r"(?im)\$TC_DP", 3),
         (r"(?im)\bT\s*=\s*\"", 3), (r"(?im)\b(?:ENDIF|ENDWHILE|ENDFOR|ENDLOOP)\b", 3), (r"(?im)\bCR\s*=", 2),
-        (r"(?im)\b(?:POCKET[1-4]|SLOT[12]|LONGHOLE|HOLES[12])\s*\(", 5), (r"(?im)\bM17\b", 1), (r"(?im)\b(?:AC|IC)\s*\(", 2),
+        (r"(?im)\b(?:POCKET[1-4]|SLOT[12]|LONGHOLE|HOLES[12])\s*\(", 12), (r"(?im)\bM17\b", 1), (r"(?im)\b(?:AC|IC)\s*\(", 2),
         (r"(?im)^\s*(?:N\d+\s*)?PROC\s+\w+", 15), (r"(?im)\bR\d+\s*=", 3), (r"(?im)\b[XYZ]\s*=\s*[-A-Z(]", 3),
         (r"(?im)\b(?:ISOCALL|STOPRE|SETAL|DIAMON|DIAMOF|ATRANS|MCALL|REPEAT|WHENEVER|SPOS|EXTCALL)\b", 3),
         (r"(?im)\$(?:P|A|AA|AC|MC|MN|MA|SC|TC)_\w", 3), (r"(?im)^\s*(?:N\d+\s*)?[A-Z_]\w+:\s*(?:;|$)", 2),
