@@ -942,7 +942,7 @@ class Interpreter:
             if frame.loop_id == op.loop_id:
                 frame.iterations += 1
                 if frame.iterations >= self.settings.loop_bound:
-                    self._fault("core.loop-bound", op.span, f"WHILE ... DO{op.loop_id} ran {self.settings.loop_bound:,} times without its condition becoming false; "
+                    self._fault("core.loop-bound", op.span, f"the loop that ends here ran {self.settings.loop_bound:,} times without its condition becoming false; "
                                 "the rest of this path is not analysed", "unknown", f"loop bound {self.settings.loop_bound} reached")
                     raise PathEnd
                 return frame.head
