@@ -520,7 +520,7 @@ class KlartextLowering:
             cursor.expect_name("ERROR")
             cursor.expect_symbol("=")
             error = cursor.value()
-            block.ops.append(ir.Alarm(cursor.rest_span(start), error, "FN 14: ERROR"))
+            block.ops.append(ir.Alarm(cursor.rest_span(start), error, "", "error number {number} with FN 14: ERROR"))
             return
         if function in (0, 1, 2, 3, 4, 5, 6, 7, 8, 13):
             target = cursor.parameter()
