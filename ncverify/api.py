@@ -20,6 +20,7 @@ from .library import SubprogramLibrary
 from .project import find_project_file, load_project
 from .settings import Settings
 from .source import ProgramSource, Span
+from .wording import wording
 
 
 class InputError(Exception):
@@ -175,6 +176,7 @@ def _run(source: ProgramSource, settings: Settings, detection: Detection, result
         "max_feed": context.machine.max_feed,
         "rapid_path": settings.rapid_path,
         "solver_timeout_s": settings.solver_timeout_s,
+        "wording": wording(detection.dialect, dialect.profile),
     })
     checker = Checker(settings, limits, context.severity, found.suppressions)
     for note in found.notes:

@@ -158,6 +158,12 @@ class Rule:
         state.rule_state[key] = True
         return True
 
+    def word(self, key: str, form: str = "{}") -> str:
+        """The control's own word for ``key`` (``dialects/<dialect>/wording.toml``) put into
+        ``form``, or "" when this dialect has none."""
+        found = self.checker.context.get("wording", {}).get(key)
+        return form.format(found) if found else ""
+
     def segment(self, segment, state): ...
 
     def motion_run(self, run, state): ...

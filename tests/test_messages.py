@@ -33,3 +33,37 @@ def test_an_endless_sinumerik_while_is_not_described_in_iso_words():
     [message] = messages(program, "core.loop-bound", "sinumerik")
     assert message.startswith("the loop that ends here ran 50 times")
     assert "DO" not in message
+
+
+MODAL_CALL_LEFT_ON = """
+    T1 D1
+    M6
+    S1000 M3
+    G0 X0 Y0 Z50
+    MCALL CYCLE81(10,0,2,-5)
+    X10 Y10
+    T2 D1
+    M6
+    M30
+    """
+
+
+def test_a_sinumerik_modal_call_left_on_is_cancelled_with_mcall_not_g80():
+    for rule in ("core.cycle-modal-at-tool-change", "core.cycle-modal-at-end"):
+        [message] = messages(MODAL_CALL_LEFT_ON, rule, "sinumerik")
+        assert "(no MCALL)" in message and "G80" not in message
+
+
+def test_a_missing_feed_names_the_e60_alarm_only_on_the_e60():
+    program = """
+        O1
+        G90 G0 X0 Y0 Z5 S1000 M3
+        G1 Z-2
+        M30
+        """
+    [e60] = messages(program, "core.feed-missing", "iso")
+    assert "E60 alarm P62" in e60
+    [fanuc] = [d.message for d in check_text(textwrap.dedent(program), settings=Settings(dialect="iso", profile="fanuc")).diagnostics
+               if d.rule == "core.feed-missing"]
+    [sinumerik] = messages("G90 G0 X0 Y0 Z5 S1000 M3\nG1 Z-2\nM30\n", "core.feed-missing", "sinumerik")
+    assert "P62" not in fanuc and "P62" not in sinumerik

@@ -73,8 +73,8 @@ class CycleModalAtEnd(Rule):
     def change(self, change, state):
         if change.what == "end" and change.new == "end" and state.cycle is not None:
             self.report("core.cycle-modal-at-end", change.span,
-                        f"canned cycle {_code(state.cycle.cycle)} is still active at the program end (no G80): where the end does not reset the "
-                        "modal state, the first block of the next program or of a restart that carries X, Y, Z or R makes a hole with this cycle's data")
+                        f"canned cycle {_code(state.cycle.cycle)} is still active at the program end{self.word('cycle_cancel', ' (no {})')}: where the end does "
+                        "not reset the modal state, the first block of the next program or of a restart that moves an axis makes a hole with this cycle's data")
 
 
 @rule("core.cycle-shift-missing")

@@ -56,7 +56,7 @@ class FeedMissing(Rule):
             memory["feed-missing"] = feed
         if feed is None:
             if not state.feed_inherited:
-                self.report("core.feed-missing", span, f"{what} with no feed rate: no F word since the program started (E60 alarm P62)")
+                self.report("core.feed-missing", span, f"{what} with no feed rate: no F word since the program started{self.word('feed_missing_alarm', ' ({})')}")
             return
         verdict = self.checker.judge(hazard("<=", feed, 0.0), state)
         self.checker.report_verdict("core.feed-missing", span, f"{what} at feed F{show(feed)}: the axes would not move (feed zero or negative)", verdict, state)

@@ -74,4 +74,5 @@ class NoLengthOffset(Rule):
 class CycleModalAtToolChange(Rule):
     def change(self, change, state):
         if change.what == "tool_change" and state.cycle is not None:
-            self.report("core.cycle-modal-at-tool-change", change.span, f"canned cycle {state.cycle.cycle.rsplit('.', 1)[-1]} is still active at the tool change (no G80): the next block with X/Y/Z drills with the new tool")
+            self.report("core.cycle-modal-at-tool-change", change.span, f"canned cycle {state.cycle.cycle.rsplit('.', 1)[-1]} is still active at the tool change{self.word('cycle_cancel', ' (no {})')}: "
+                        "the next block that moves an axis drills with the new tool")
