@@ -174,6 +174,7 @@ def _run(source: ProgramSource, settings: Settings, detection: Detection, result
         "lathe_x": context.machine.lathe_x,
         "max_spindle": context.machine.max_spindle,
         "max_feed": context.machine.max_feed,
+        "spindle_encoder": context.machine.spindle_encoder,
         "rapid_path": settings.rapid_path,
         "solver_timeout_s": settings.solver_timeout_s,
         "wording": wording(detection.dialect, dialect.profile),

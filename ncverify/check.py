@@ -366,9 +366,9 @@ class Checker:
     # -- constraints from rules/
     def _constraints_on_hole(self, hole, state) -> None:
         names = dict(hole.params)
-        names.update(initial=hole.initial, r_point=hole.r_point, bottom=hole.bottom)
+        names.update(initial=hole.initial, r_point=hole.r_point, bottom=hole.bottom, up=hole.up)
         if hole.r_point is not None and hole.bottom is not None:
-            names["depth"] = values.sub(hole.r_point, hole.bottom)
+            names["depth"] = values.mul(hole.up, values.sub(hole.r_point, hole.bottom))
         self._apply_constraints(hole.cycle, names, hole.param_spans, hole.span, state)
 
     def _constraints_on_run(self, run, state) -> None:

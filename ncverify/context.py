@@ -98,6 +98,7 @@ class Machine:
     max_spindle: float | None = None
     max_feed: float | None = None
     lathe_x: str | None = None  # lathe: are X travel and work offsets a "diameter" or a "radius"?
+    spindle_encoder: bool | None = None  # a motor-driven spindle with an encoder, which rigid tapping needs
 
 
 @dataclass
@@ -133,6 +134,7 @@ class Context:
             self.machine.max_spindle if self.machine.max_spindle is not None else base.machine.max_spindle,
             self.machine.max_feed if self.machine.max_feed is not None else base.machine.max_feed,
             self.machine.lathe_x or base.machine.lathe_x,
+            self.machine.spindle_encoder if self.machine.spindle_encoder is not None else base.machine.spindle_encoder,
         )
         return Context(
             self.stock or base.stock, tools, machine, base.assumptions + self.assumptions,

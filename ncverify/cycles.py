@@ -55,6 +55,7 @@ class ActiveCycle:
     definition: object = None  # span of the cycle's G code
     incremental: bool = False  # G91 was in force when the cycle was defined
     absolute: set = field(default_factory=set)  # letters set as absolute values whatever G90/G91 (Fagor V.C.x)
+    up: float = 1.0  # the side the tool comes from along the drilling axis (see ir.CycleDefine.up)
 
 
 class CycleRunner:
@@ -113,7 +114,7 @@ class CycleRunner:
         state.cycle_data.update(params)
         spans = dict(state.cycle.param_spans) if state.cycle and not fresh else {}
         spans.update(op.param_spans)
-        state.cycle = ActiveCycle(op.cycle, model, state.cycle_data, spans, initial, op.span, state.modal.get("distance") == "incremental")
+        state.cycle = ActiveCycle(op.cycle, model, state.cycle_data, spans, initial, op.span, state.modal.get("distance") == "incremental", up=op.up)
         has_move = any(isinstance(later, ir.Move) for later in block.ops[block.ops.index(op) + 1 :])
         if not has_move and (params.keys() & {axis, "R"} or model.get("runs_at_definition")):
             return self._holes(op.span, block, {}, frozenset(), None)
@@ -200,7 +201,7 @@ class CycleRunner:
             missing = tuple(letter for letter in missing if letter != "R")
         hole_position = dict(state.position)
         hole_position.update(targets)
-        hole = Hole(cycle.cycle, model, span, block, axis, hole_position, initial, r_point, bottom, dict(data), dict(cycle.param_spans), missing, cycle.definition, repeat)
+        hole = Hole(cycle.cycle, model, span, block, axis, hole_position, initial, r_point, bottom, dict(data), dict(cycle.param_spans), missing, cycle.definition, repeat, cycle.up)
         interp.observer.hole(hole, state)
         if model.get("starts_spindle") and state.spindle == "off":
             state.spindle = "cw"  # Fagor: a cycle starts a stopped spindle clockwise (rules saw it stopped)

@@ -223,6 +223,7 @@ class CycleDefine(Op):
     cycle: str  # a cycle model id, e.g. "iso.G81"
     params: dict[str, Expr]
     param_spans: dict[str, Span] = field(default_factory=dict)
+    up: float = 1.0  # +1: the tool enters going - along the drilling axis (from above); -1: from the - side (Fagor #TOOL AX [Z-])
 
 
 @dataclass(slots=True)

@@ -148,7 +148,7 @@ class _Reader:
 
     def machine(self, table) -> Machine:
         table = self.table(table, "[machine]")
-        self.keys(table, {"travel", "work_offsets", "max_spindle", "max_feed", "type", "lathe_x"}, "[machine]")
+        self.keys(table, {"travel", "work_offsets", "max_spindle", "max_feed", "type", "lathe_x", "spindle_encoder"}, "[machine]")
         machine = Machine()
         if "type" in table:
             if table["type"] not in ("mill", "lathe"):
@@ -158,6 +158,10 @@ class _Reader:
             if table["lathe_x"] not in ("diameter", "radius"):
                 self.fail("[machine] lathe_x", "expected diameter or radius")
             machine.lathe_x = table["lathe_x"]
+        if "spindle_encoder" in table:
+            if not isinstance(table["spindle_encoder"], bool):
+                self.fail("[machine] spindle_encoder", "expected true or false")
+            machine.spindle_encoder = table["spindle_encoder"]
         travel = self.table(table.get("travel", {}), "[machine] travel")
         for axis, limits in travel.items():
             if axis.lower() not in _AXES:

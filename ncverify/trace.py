@@ -88,6 +88,7 @@ class Hole:
     missing: tuple[str, ...] = ()
     definition: Span | None = None  # the block that made the cycle modal
     repeat: float = 1.0  # the block's repeat count (L, or K on a lathe); each repeat is its own Hole
+    up: float = 1.0  # +1: the tool comes from the + side of the drilling axis (the usual); -1: from the - side (Fagor #TOOL AX [Z-])
 
 
 @dataclass(slots=True)

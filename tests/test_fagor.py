@@ -172,8 +172,15 @@ def test_tool_axis_word_in_the_cycle_block_is_the_reference_plane_in_g19():
     assert run.holes[0].drill_axis == "X" and (run.holes[0].r_point, run.holes[0].bottom) == (2.0, -8.0)
 
 
-def test_cycles_along_a_negative_tool_axis_are_not_modelled():
-    run = trace("G19\nG1 X-25 F1000 S1000 M3\n#TOOL AX [X-]\nG81 X-2 I8 K1\nM30\n")
+def test_cycles_along_a_negative_tool_axis_drill_toward_plus():
+    run = trace("G19\nG1 X-25 Y0 Z0 F1000 S1000 M3\n#TOOL AX [X-]\nG81 X-2 I8 K1\nM30\n")
+    [hole] = run.holes
+    assert (hole.drill_axis, hole.up, hole.r_point, hole.bottom) == ("X", -1.0, -2.0, 8.0)
+    assert [(segment.role, segment.end["X"]) for segment in run.segments if segment.cycle] == [("approach", -2.0), ("infeed", 8.0), ("out-of-hole", -2.0), ("retract", -25.0)]
+
+
+def test_a_tool_axis_in_the_plane_is_not_modelled():
+    run = trace("G17\nG1 X-25 Y0 Z0 F1000 S1000 M3\n#TOOL AX [X+]\nG81 X-2 I8 K1\nM30\n")
     assert not run.holes and "core.unsupported-code" in run.rules()
 
 
@@ -448,7 +455,7 @@ def test_each_path_reads_its_cycle_blocks_with_its_own_plane():
 
 def test_a_cycle_block_in_a_loop_follows_the_tool_axis_of_each_pass():
     run = trace("G0 G90 X0 Y0 Z25 S800 M3\n$FOR P1=1,2,1\n$IF P1==2\n#TOOL AX [Z-]\n$ENDIF\nG81 Z2 I-20\nG80\n$ENDFOR\nM30\n")
-    assert len(run.holes) == 1 and "core.unsupported-code" in run.rules()
+    assert [hole.up for hole in run.holes] == [1.0, -1.0]
 
 
 def test_pcall_gives_the_subroutine_its_own_local_parameters():

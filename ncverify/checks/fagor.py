@@ -270,3 +270,21 @@ class DeepDrillingDepth(_ReportsMissingContext):
         self.checker.report_verdict("fagor.g83-depth", hole.param_spans.get("J", hole.param_spans.get("I", hole.span)),
                                     f"G83 drills J{show(count)} pecks of I{show(peck)}: the bottom is Z{show(hole.bottom)}, more than a peck below the stock's bottom "
                                     f"Z{stock.z_range[0]:g}; I is one peck, not the depth (the depth is J x I below the reference plane)", verdict, state)
+
+
+@rule("fagor.rigid-tapping-encoder")
+class RigidTappingEncoder(_ReportsMissingContext):
+    """G84 R1 is rigid tapping, which needs a motor-driven spindle with an encoder (seed
+    L1090, L1132-1135; H19); ``[machine] spindle_encoder`` says whether the machine has one."""
+
+    def hole(self, hole, state):
+        if not _is_fagor(hole.cycle) or not hole.model.get("tapping") or hole.params.get("R") != 1.0:
+            return
+        span = hole.param_spans.get("R", hole.span)
+        encoder = self.checker.context.get("spindle_encoder")
+        if encoder is None:
+            self.missing("fagor.rigid-tapping-encoder", span, "whether the spindle has an encoder is not known ([machine] spindle_encoder in ncverify.toml)")
+        elif not encoder and self.first_time(state, ("fagor.rigid-tapping-encoder", hole.definition)):
+            self.report("fagor.rigid-tapping-encoder", span, "G84 R1 is rigid tapping, which needs a motor-driven spindle with an encoder, and this machine has none "
+                        "([machine] spindle_encoder = false): the feed cannot follow the spindle and the tap strips the thread or breaks; tap with R0 "
+                        "in a floating holder")

@@ -31,12 +31,14 @@ class HoleLevels(Rule):
             return
         report("core.cycle-zero-depth", span, f"{code}: hole bottom {axis}{show(bottom)} equals the R point: the cycle cuts nothing",
                self.checker.judge(hazard("==", bottom, r_point), state), state)
-        report("core.cycle-depth-sign", span, f"{code}: hole bottom {axis}{show(bottom)} is above the R point {show(r_point)}: the tool would feed upward out of the part and rapid back down",
-               self.checker.judge(hazard(">", bottom, r_point), state), state)
+        above = ">" if hole.up > 0 else "<"  # "above" is toward the side the tool comes from
+        side = "" if hole.up > 0 else f" (the tool comes from {axis}-, so above means lower {axis})"
+        report("core.cycle-depth-sign", span, f"{code}: hole bottom {axis}{show(bottom)} is above the R point {show(r_point)}{side}: "
+               "the tool would feed upward out of the part and rapid back down", self.checker.judge(hazard(above, bottom, r_point), state), state)
         if initial is not None:
             report("core.cycle-r-above-initial", hole.param_spans.get("R", hole.span),
-                   f"{code}: R point {show(r_point)} is above the initial level {show(initial)}: the tool moves between holes below the R plane",
-                   self.checker.judge(hazard(">", r_point, initial), state), state)
+                   f"{code}: R point {show(r_point)} is above the initial level {show(initial)}{side}: the tool moves between holes below the R plane",
+                   self.checker.judge(hazard(above, r_point, initial), state), state)
 
 
 @rule("core.peck-depth")

@@ -159,7 +159,7 @@ class ClearanceBelowStock(_NeedsStock):
     rule_id = "core.clearance-below-stock"
 
     def hole(self, hole, state):
-        if hole.model.get("r_incremental") or hole.model.get("infeed") == "back_bore" or hole.drill_axis != "Z":
+        if hole.model.get("r_incremental") or hole.model.get("infeed") == "back_bore" or hole.drill_axis != "Z" or hole.up < 0:
             return
         stock = self.stock(hole.definition or hole.span)
         if stock is None:

@@ -155,16 +155,16 @@ class FagorLowering(IsoLowering):
         span = self._span(line, cycle_word.start, cycle_word.end, path)
         code = code_key(cycle_word.value)
         if turning and code in _TURNING_CODES:
-            notes.append(ir.Note("core.unsupported-code", f"G{code} is a turning cycle here (lathe software or #LATHECY ON); turning cycles are not modelled", span))
             words[:] = [word for word in words if word.letter in "NFSTM"]
-            return ir.Unsupported(span, f"G{code} turning cycle", ("position",))
+            return ir.CycleCall(span, "fagor.turning", {"G": float(code)})
         model = self.table.cycles[entry["cycle"]]
         declared = model.get("params", {})
         pattern = "pattern" in model
         normal = _PLANE_NORMAL[plane]
-        if not pattern and tool_axis is not None and tool_axis != (normal, "+"):
-            notes.append(ir.Note("core.unsupported-code", f"G{code} along #TOOL AX [{''.join(tool_axis)}] while the plane's normal is {normal}+: "
-                                                                 "cycles along another axis or direction are not modelled", span))
+        axis, sign = tool_axis or (normal, "+")
+        if not pattern and axis != normal:
+            notes.append(ir.Note("core.unsupported-code", f"G{code} along #TOOL AX [{axis}{sign}] while the plane's normal is {normal}: "
+                                                                 "a tool axis in the plane or a secondary axis (X2, U...) is not modelled", span))
             words[:] = [word for word in words if word.letter in "NFSTM" and word.letter not in declared]
             return ir.Unsupported(span, f"G{code} along another tool axis", ("position",))
         in_plane = () if pattern else _PLANE_AXES[plane]
@@ -183,8 +183,9 @@ class FagorLowering(IsoLowering):
             words.remove(word)
             params[name] = word.value
             spans[name] = self._span(line, word.start, word.end, path)
-        op_type = ir.CycleDefine if entry["effect"] == "cycle" else ir.CycleCall
-        return op_type(span, entry["cycle"], params, spans)
+        if entry["effect"] == "cycle_call":
+            return ir.CycleCall(span, entry["cycle"], params, spans)
+        return ir.CycleDefine(span, entry["cycle"], params, spans, -1.0 if sign == "-" else 1.0)
 
     @staticmethod
     def _insert_cycle(ops: list, cycle_op: ir.Op) -> None:

@@ -20,6 +20,20 @@ _SKIP_LETTERS = "PQRSTUV"
 def register() -> None:
     register_levels("fagor", hole_levels)
     register_shape("fagor_pattern", run_pattern)
+    register_shape("fagor_turning", run_turning_cycle)
+
+
+def run_turning_cycle(runner, op, block, model, params):
+    """A G81-G88 that is a turning cycle here (lathe software, or ``#LATHECY ON``; seed
+    L513-550): it replaces any milling cycle, and where it leaves the tool is not known."""
+    interp = runner.interp
+    code = f"G{params.get('G', 0.0):g}"
+    interp._cancel_cycle()
+    interp._fault("fagor.turning-cycle", op.span, f"{code} is a turning cycle here (lathe software, or #LATHECY ON on a mill): the milling-cycles "
+                  "manual does not define the turning cycles, so this block and the moves that depend on it are not verified",
+                  "unknown", "turning cycles are not in the Fagor milling-cycles manual")
+    runner.state.move_to(dict.fromkeys(runner.state.position))
+    return None
 
 
 # ---------------------------------------------------------------------- hole cycles
@@ -37,7 +51,9 @@ def hole_levels(runner, cycle, data: dict):
     """``(r_point, bottom)``: the reference plane Z is absolute in G90 and from the start
     plane in G91 (Zi when not written, seed L867-871); I is absolute in G90 and from Z in
     G91 (seed L873-876); G83's bottom is Z + J*I (seed L1044-1050). V.C.x values are
-    absolute (seed L783-784). The R point is where the cycle's rapid approach ends."""
+    absolute (seed L783-784). The R point is where the cycle's rapid approach ends. The
+    surface lies D from the reference plane toward the part: along ``#TOOL AX [Z-]``
+    (``cycle.up`` = -1, the reference's sigma) the part is on the + side and the offsets flip."""
     incremental = cycle.incremental
     reference = reference_plane(cycle, data)
     if reference is None:
@@ -55,8 +71,8 @@ def hole_levels(runner, cycle, data: dict):
     approach = cycle.model.get("approach")
     if approach is None:
         return reference, bottom
-    surface = values.sub(reference, parameter(cycle, data, "D") or 0.0)
-    return (values.add(surface, 1.0) if approach == "surface_plus_1" else surface), bottom
+    surface = values.sub(reference, values.mul(cycle.up, parameter(cycle, data, "D") or 0.0))
+    return (values.add(surface, cycle.up) if approach == "surface_plus_1" else surface), bottom
 
 
 def reference_plane(cycle, data: dict):
