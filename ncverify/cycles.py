@@ -39,7 +39,9 @@ def register_levels(name: str, resolve) -> None:
     """Let a dialect place the R point and the bottom of the hole cycles whose model says
     ``levels = "<name>"`` (Fagor: the tool-axis word is the reference plane, I the depth):
     ``resolve(runner, cycle, data)`` returns ``(r_point, bottom)`` for the
-    :class:`ActiveCycle` with its data so far (None where unknown)."""
+    :class:`ActiveCycle` with its data so far (None where unknown), or ``(r_point, bottom,
+    reference)`` for a cycle that approaches below its reference plane (Fagor pockets rapid to
+    1 mm above the surface) and leaves the hole back up to it."""
     _DIALECT_LEVELS[name] = resolve
 
 
@@ -194,7 +196,7 @@ class CycleRunner:
         data = state.cycle_data
         incremental = state.modal.get("distance") == "incremental"
         initial = cycle.initial
-        r_point, bottom = self._levels(model, axis, data, initial, incremental)
+        r_point, bottom, *reference = self._levels(model, axis, data, initial, incremental)
         required = [letter for letter, spec in model.get("params", {}).items() if spec.get("required")]
         missing = tuple(letter for letter in required if letter not in data and not _has_twin(letter, data, interp.twins))
         if model.get("r_incremental"):
@@ -222,6 +224,8 @@ class CycleRunner:
         self._rapid_to({axis: bottom}, span, block, "infeed", name, "feed")
         retract_kind = "feed" if model.get("retract") == "feed" else "rapid"
         self._rapid_to({axis: r_point}, span, block, "out-of-hole", name, retract_kind)
+        if reference and reference[0] is not None:
+            self._rapid_to({axis: reference[0]}, span, block, "retract", name)
         if state.modal.get("cycle_return") != "r_point" and initial is not None:
             self._rapid_to({axis: initial}, span, block, "retract", name)
 

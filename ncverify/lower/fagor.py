@@ -18,7 +18,8 @@ differently:
   :meth:`FagorFrontend.system_variable` resolves to the label ``@15`` of the partner line;
 - **calls** ``#CALL``, ``#PCALL`` (a new level of local parameters, its A-Z arguments
   set P0-P25), local subroutines
-  ``%L NAME`` ending with ``M17``/``M29``/``#RET``; ``#MCALL`` is not modelled.
+  ``%L NAME`` ending with ``M17``/``M29``/``#RET``; ``#MCALL`` / ``#MDOFF`` (see
+  :meth:`FagorLowering._modal_call`).
 
 A cycle block's meaning depends on the plane, ``#TOOL AX`` and ``#LATHECY``/``#MILLCY`` in
 force: it is lowered when it runs (see :class:`FagorLowering`).
@@ -34,6 +35,7 @@ from ..read.fagor import FagorLine, Statement, read_fagor_line
 from ..read.iso import ReadBlock
 from ..source import Span, decode_line
 from ..tables import CodeTable, _load, code_key
+from ..values import VACANT
 from . import fagor_cycles
 from .iso import _PLAIN_MOTION, IsoFrontend, IsoLowering
 
@@ -52,6 +54,14 @@ _NO_EFFECT_INSTRUCTIONS = {"HSC", "ROUNDPAR", "MSG", "WARNING", "WAIT", "FLUSH",
 _PCALL_PARAMETERS = {letter: f"P{index}" for index, letter in enumerate("ABCDEFGHIJKLMNOPQRSTUVWXYZ")}
 _REPEAT_COPIES = 1000  # NR up to this count repeats the move op; above, the cycle runner repeats the hole
 RPT_END = "$RPT_END"
+_MODAL_CALL, _MODAL_CALL_NAME = ir.Var("$MCALL"), ir.Var("$MCALLNAME")
+_IN_MODAL_CALL = "$INMCALL"  # 1 while the modal subroutine runs (FagorFrontend.system_variable)
+_VACANT = ir.Var("$VACANT")
+_MODAL_CALL_ARGUMENTS = re.compile(rb'(?im)#MCALL[ \t]+(?:"[^"\n]*"|[^\s;]+)([^\n;]*)')
+
+
+def _modal_call_argument(letter: str) -> ir.Var:
+    return ir.Var(f"$MCALLARG:{letter}")
 SWITCH_VALUE = "$SWITCH"
 
 
@@ -73,6 +83,13 @@ class FagorLowering(IsoLowering):
         super().__init__(table, 0.0)
         self.lathe_turning_default = table.machine == "lathe" and bool(table.settings.get("lathe_machine_turning_cycles", True))
         self.uses_rpt = False
+        self.uses_modal_call = False
+        self.modal_call_letters: list[str] = []  # the argument letters any #MCALL of the program passes
+
+    @property
+    def reads_every_block(self) -> bool:
+        """RPT and #MCALL add ops to plain motion blocks: no batch reading then."""
+        return self.uses_rpt or self.uses_modal_call
 
     def _dwell_seconds(self, rest: dict):
         """``G4 K0.5``: Fagor dwells are seconds in K (§12, uncertain); other forms as in ISO."""
@@ -94,6 +111,8 @@ class FagorLowering(IsoLowering):
         if line.words:
             block = self._words(block, line, path)
         self._extras(block, line, path)
+        if self.uses_modal_call and any(isinstance(op, ir.Move) and (op.targets or op.arc) for op in block.ops):
+            block.ops.append(self._modal_subroutine_call(block.span))
         if self.uses_rpt and isinstance(block.label, float):
             condition = ir.Binary("EQ", ir.Var(RPT_END), block.label)
             block.ops.append(ir.Conditional(block.span, condition, [ir.Return(block.span, local_only=True)]))
@@ -287,8 +306,25 @@ class FagorLowering(IsoLowering):
         block.ops.append(ir.Call(span, "macro", name, 1.0, values))
 
     def _modal_call(self, block, statement, span) -> None:
-        block.notes.append(ir.Note("core.unsupported-code", "#MCALL (a subroutine called after every move until #MDOFF) is not modelled; the moves after it answer unknown", span))
-        block.ops.append(ir.Unsupported(span, "#MCALL modal subroutine", ("position",)))
+        """``#MCALL NAME A.. B..`` makes NAME a modal subroutine: it runs, with the arguments as
+        ``#PCALL`` passes them (evaluated here, on a new level of local parameters), after
+        every block that moves an axis, until ``#MDOFF`` or the next ``#MCALL`` (general
+        8060/8065 knowledge, reference §12: uncertain). Not at the ``#MCALL`` block itself,
+        not after the moves of the modal subroutine, and not after a block that defines a
+        canned cycle (its moves are resolved when it runs)."""
+        name, *arguments = statement.args
+        written = dict(arguments)
+        block.ops.extend([ir.Assign(span, _MODAL_CALL, 1.0), ir.Assign(span, _MODAL_CALL_NAME, name)])
+        block.ops.extend(ir.Assign(span, _modal_call_argument(letter), written.get(letter, _VACANT)) for letter in self.modal_call_letters)
+
+    def _modal_call_off(self, block, statement, span) -> None:
+        block.ops.append(ir.Assign(span, _MODAL_CALL, 0.0))
+
+    def _modal_subroutine_call(self, span: Span) -> ir.Conditional:
+        outside = ir.Binary("EQ", ir.Var(_IN_MODAL_CALL), 0.0)
+        arguments = {_PCALL_PARAMETERS[letter]: _modal_call_argument(letter) for letter in self.modal_call_letters}
+        call = ir.Call(span, "macro", _MODAL_CALL_NAME, 1.0, arguments)
+        return ir.Conditional(span, ir.Binary("AND", ir.Binary("NE", _MODAL_CALL, 0.0), outside), [call])
 
     def _tool_axis(self, block, statement, span) -> None:
         match = re.fullmatch(r"(?i)AX\s*\[\s*([A-Z])(\d*)\s*([+-]?)\s*\]", statement.text)
@@ -351,10 +387,16 @@ class FagorLowering(IsoLowering):
         return [init, advance, test]
 
     def _switch(self, block, statement, span, line):
+        if not statement.args:
+            block.notes.append(ir.Note("core.syntax", "$SWITCH needs the value to compare: $SWITCH P1", span))
+            return [block]
         block.ops.extend([ir.Assign(span, ir.Var(SWITCH_VALUE), statement.args[0]), ir.Jump(span, _partner("next", line))])
         return [block]
 
     def _case(self, block, statement, span, line):
+        if not statement.args:
+            block.notes.append(ir.Note("core.syntax", "$CASE needs the value or values it matches: $CASE 1, 2", span))
+            return [block]
         into_body = ir.Block(line, block.start_column, block.end_column, [ir.Jump(span, f"@{line}#b")])
         matches = None
         for value in statement.args:
@@ -405,7 +447,7 @@ _FLOW = {
 }
 _INSTRUCTIONS = {
     "CALL": FagorLowering._call, "PCALL": FagorLowering._call, "MCALL": FagorLowering._modal_call,
-    "MDOFF": lambda lowering, block, statement, span: None, "TOOL": FagorLowering._tool_axis,
+    "MDOFF": FagorLowering._modal_call_off, "TOOL": FagorLowering._tool_axis,
     "LATHECY": FagorLowering._cycle_set, "MILLCY": FagorLowering._cycle_set, "RET": FagorLowering._return,
 }
 
@@ -500,7 +542,7 @@ class FagorFrontend:
         self._plain = IsoFrontend(lowering)  # plain motion blocks read as in ISO
 
     def blocks(self, raw: bytes, line: int, path: str | None) -> list[ir.Block]:
-        if not self.lowering.uses_rpt and _PLAIN_MOTION.fullmatch(raw):
+        if not self.lowering.reads_every_block and _PLAIN_MOTION.fullmatch(raw):
             block = self._plain._plain_motion(raw, line, path)
             if block is not None:
                 return [block]
@@ -511,16 +553,21 @@ class FagorFrontend:
         """Plain motion (``[N..] [G0-G3] X.. Y.. Z.. [F..]``) is the same as in ISO: the
         ISO batch reader takes it (not in a program that repeats labelled blocks with RPT,
         whose labelled blocks carry a return)."""
-        return not self.lowering.uses_rpt and self._plain.is_plain(raw)
+        return not self.lowering.reads_every_block and self._plain.is_plain(raw)
 
     def plain_run(self, buffer, offset: int, line: int, limit: int = 1 << 20):
-        return None if self.lowering.uses_rpt else self._plain.plain_run(buffer, offset, line, limit)
+        return None if self.lowering.reads_every_block else self._plain.plain_run(buffer, offset, line, limit)
 
     # ---- programs: "%L NAME" local subroutines; the rest is the main program
 
     def programs(self, buffer) -> list[tuple[str, int]]:
         if re.search(rb"(?i)\bRPT\b", buffer):
             self.lowering.uses_rpt = True
+        modal_calls = [match.group(1).upper() for match in _MODAL_CALL_ARGUMENTS.finditer(buffer)]
+        if modal_calls:
+            self.lowering.uses_modal_call = True
+            letters = {letter.decode() for rest in modal_calls for letter in re.findall(rb"([A-Z])\s*[-+0-9.\[(P#]", rest)}
+            self.lowering.modal_call_letters = sorted(letters | set(self.lowering.modal_call_letters))
         found = []
         subroutine_end = re.compile(rb"(?im)^[^;\n]*(?:\bM(?:17|29)(?![0-9])|#RET\b|\$RET\b)[^\n]*\n?")
         position = 0
@@ -603,6 +650,11 @@ class FagorFrontend:
             return targets.get(key, f"@?{key}")
         if name == RPT_END:
             return -1.0
+        if name == _IN_MODAL_CALL:
+            modal = state.global_variables.get(_MODAL_CALL_NAME.name)
+            return 1.0 if any(frame.program == modal for frame in state.frames) else 0.0
+        if name == _VACANT.name or name.startswith("$MCALLARG:"):
+            return VACANT
         if name == "$PLANE":
             return _PLANE_CODES[state.modal["plane"]]
         if name.startswith("$"):

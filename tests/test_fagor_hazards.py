@@ -1,0 +1,138 @@
+"""Fagor 8060/8065: the tool-axis sign, the turning-cycle set, rigid tapping, modal
+subroutines (#MCALL) and where pockets and thread mills leave the tool."""
+from __future__ import annotations
+
+import textwrap
+from pathlib import Path
+
+from fagor_trace import trace
+from ncverify import Settings, check_text
+from ncverify.project import load_project_text
+
+
+def check(program: str, project: str = ""):
+    context = load_project_text(project, Path("ncverify.toml")) if project else None
+    return check_text(textwrap.dedent(program).lstrip("\n"), "t.pim", Settings(dialect="fagor"), context)
+
+
+def findings(result, status: str = "violated") -> dict[str, list]:
+    found: dict[str, list] = {}
+    for diagnostic in result.diagnostics:
+        if diagnostic.status.value == status:
+            found.setdefault(diagnostic.rule, []).append(diagnostic)
+    return found
+
+
+# --------------------------------------------------------------------------- the tool-axis sign
+
+
+def test_a_pocket_along_minus_z_approaches_one_millimetre_below_the_surface():
+    run = trace("G0 G90 X60 Y35 Z-25 F800 S900 M3\n#TOOL AX [Z-]\nG99 G88 Z-2 I20 D2 J20 B5\nG80\nM30\n")
+    [hole] = run.holes
+    assert (hole.up, hole.r_point, hole.bottom) == (-1.0, -1.0, 20.0)  # surface = Z-2 + 2 = 0, approach at Z-1
+    assert [segment.end["Z"] for segment in run.segments if segment.cycle][-1] == -2.0  # G99: back to the reference plane
+
+
+def test_drilling_along_minus_x_judges_the_depth_toward_plus_x():
+    correct = check("G19\nG1 G90 X-25 Y0 Z0 F1000 S1000 M3\n#TOOL AX [X-]\nG81 X-2 I8 K1\nG80\nM30\n")
+    reversed_depth = check("G19\nG1 G90 X-25 Y0 Z0 F1000 S1000 M3\n#TOOL AX [X-]\nG81 X-2 I-12 K1\nG80\nM30\n")
+    assert "core.cycle-depth-sign" not in findings(correct)
+    assert "core.cycle-depth-sign" in findings(reversed_depth)
+
+
+def test_a_rapid_into_the_stock_along_minus_x_is_found():
+    program = "; ncverify: stock box X0:100 Y-50:50 Z-30:0\nG19\nG1 G90 X-25 Y0 Z-10 F1000 S1000 M3\n#TOOL AX [X-]\nG81 X{} I8 K1\nG80\nM30\n"
+    assert "core.rapid-into-stock" in findings(check(program.format(5)))  # the reference plane X5 is inside the blank
+    assert "core.rapid-into-stock" not in findings(check(program.format(-2)))
+
+
+def test_the_start_plane_on_the_wrong_side_of_the_reference_plane_is_reported_for_either_sign():
+    result = check("G18\nG1 G90 X0 Y25 Z0 F1000 S1000 M3\n#TOOL AX [Y-]\nG81 Y2 I-8 K1\nG80\nM30\n")
+    assert {"core.cycle-depth-sign", "core.cycle-r-above-initial"} <= findings(result).keys()
+
+
+# --------------------------------------------------------------------------- the cycle set (H28)
+
+
+def test_turning_cycles_are_reported_once_as_not_verified():
+    result = check("#LATHECY ON\nG0 G90 X0 Y0 Z25 S800 M3\nG81 Z2 I-20\nG82 Z2 I-20 B3\nG80\n#LATHECY OFF\nM30\n")
+    unknown = findings(result, "unknown")["fagor.turning-cycle"]
+    assert len(unknown) == 1 and "milling-cycles manual does not define the turning cycles" in unknown[0].message
+    assert "fagor.cycle-set-left-on" not in findings(result)
+
+
+def test_a_turning_cycle_ends_the_milling_cycle_and_leaves_the_position_unknown():
+    run = trace("G0 G90 X0 Y0 Z25 S800 M3\nG81 Z2 I-20\n#LATHECY ON\nG81 Z2 I-20\n#LATHECY OFF\nX50\nM30\n")
+    assert len(run.holes) == 1 and run.segments[-1].start["Z"] is None
+
+
+# --------------------------------------------------------------------------- rigid tapping (H19)
+
+
+TAPPING = "T4 D4 M6\nS500 M3\nG0 G90 X30 Y30 Z25 F750\nG99 G84 Z2 I-15 R{}\nG80\nM30\n"
+
+
+def test_rigid_tapping_needs_a_spindle_encoder():
+    without = "[machine]\nspindle_encoder = false\n"
+    assert "fagor.rigid-tapping-encoder" in findings(check(TAPPING.format(1), without))
+    assert "fagor.rigid-tapping-encoder" not in findings(check(TAPPING.format(0), without))
+    assert "fagor.rigid-tapping-encoder" not in findings(check(TAPPING.format(1), "[machine]\nspindle_encoder = true\n"))
+
+
+def test_rigid_tapping_without_the_machine_capability_is_unknown():
+    assert "fagor.rigid-tapping-encoder" in findings(check(TAPPING.format(1)), "unknown")
+
+
+# --------------------------------------------------------------------------- #MCALL / #MDOFF
+
+
+SPOT = """
+    %L SPOT
+    G91 G1 Z-3 F100
+    G0 Z3
+    G90
+    #RET
+    G0 G90 X0 Y0 Z5
+    #MCALL SPOT
+    G0 X10
+    G0 X20
+    #MDOFF
+    G0 X30
+    M30
+"""
+
+
+def test_mcall_runs_the_subroutine_after_every_move_until_mdoff():
+    run = trace(SPOT)
+    plunges = [segment.end["X"] for segment in run.segments if segment.kind == "feed"]
+    assert plunges == [10.0, 20.0]  # not at #MCALL itself, not after X30, not inside SPOT
+
+
+def test_mcall_passes_its_arguments_as_local_parameters():
+    run = trace("%L SPOT\nG1 Z P0 F100\nG0 Z5\n#RET\nG0 G90 X0 Y0 Z5\n#MCALL SPOT A-4\nG0 X10\n#MDOFF\nM30\n")
+    assert [segment.end["Z"] for segment in run.segments if segment.kind == "feed"] == [-4.0]
+
+
+def test_without_mcall_the_same_moves_make_no_call():
+    run = trace(SPOT.replace("#MCALL SPOT", ""))
+    assert not [segment for segment in run.segments if segment.kind == "feed"]
+
+
+# --------------------------------------------------------------------------- pockets and thread mills (§6)
+
+
+def test_a_pocket_under_g99_goes_back_to_the_reference_plane_above_its_approach():
+    run = trace("G0 G90 X60 Y35 Z25 F800 S900 M3\nG99 G87 Z5 I-20 D4 J40 K20 B5\nG80\nM30\n")
+    cycle = [(segment.role, segment.kind, segment.end["Z"]) for segment in run.segments if segment.cycle]
+    assert cycle == [("approach", "rapid", 2.0), ("infeed", "feed", -20.0), ("out-of-hole", "rapid", 2.0), ("retract", "rapid", 5.0)]
+
+
+def test_bore_and_thread_milling_rapid_to_the_centre_even_in_g1():
+    run = trace("G1 G90 X0 Y0 Z25 F800 S900 M3\nG210 Z2 I-20 J30 B2\nG1 X50\nG80\nM30\n")
+    assert [segment.kind for segment in run.segments if segment.role == "between-holes"] == ["rapid"]
+
+
+def test_a_thread_mill_ends_above_the_centre_at_the_retract_plane():
+    run = trace("G0 G90 X40 Y40 Z25 S900 M3 F300\nG98 G212 Z2 I-15 J20 K1.5 B1.5 E3\nG80\nM30\n")
+    last = [segment for segment in run.segments if segment.cycle][-1]
+    assert (last.end["X"], last.end["Y"], last.end["Z"]) == (40.0, 40.0, 25.0)
