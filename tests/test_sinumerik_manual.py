@@ -125,7 +125,15 @@ def test_the_cycle90_call_is_one_argument_short():
     assert shifted and "missing before DP" in shifted[0].message
 
 
-DEFECTIVE_CALLS = {4653, 5473}  # the shifted CYCLE84 and CYCLE90 calls above
+def test_the_fall_through_of_the_translated_label_leaves_the_tool_on_an_island_start():
+    """With ``GOTOF _加工`` going nowhere, the flow runs the contour definitions as moves and
+    stops on the start of the upper island (X79 Y73), where CYCLE73 must not be called."""
+    result = run(10065, 10196)
+    found = [d.message for d in result.diagnostics if d.rule == "sinumerik.pocket-contour"]
+    assert found and "start point X79 Y73" in found[0]
+
+
+DEFECTIVE_CALLS = {4653, 5473, 10065}  # the shifted CYCLE84 and CYCLE90 calls, the CYCLE73 reached by the broken jump
 
 
 @pytest.mark.parametrize("first, last", EXAMPLES, ids=[f"L{first}" for first, _ in EXAMPLES])

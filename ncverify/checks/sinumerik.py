@@ -9,6 +9,10 @@ the control would raise, its number and text, and the values involved (reference
 """
 from __future__ import annotations
 
+import math
+
+from shapely.geometry import Point, Polygon
+
 from .. import values
 from ..check import Rule, hazard, rule, show
 from ..lower.sinumerik_cycles import COARSE_PITCH, levels
@@ -76,7 +80,7 @@ _DIGITS = {
     "CYCLE83": ("VARI", {0: {0, 1}}, "A L2325-2772"),
     "CYCLE95": ("VARI", None, "B L15811-15830, L16218-16222"),
 }
-_DIGIT_NAMES = ("units", "tens", "hundreds", "thousands")
+_DIGIT_NAMES = ("units", "tens", "hundreds", "thousands", "ten-thousands", "hundred-thousands")
 
 
 @rule("sinumerik.machining-type")
@@ -100,12 +104,17 @@ class MachiningType(Rule):
 def vari_problem(cycle: str, value: float) -> str:
     """What is wrong with a machining-type value, or '' when it is valid."""
     parameter, allowed, _seed = _DIGITS[cycle]
+    if allowed is None:  # CYCLE95: 1-12, hundreds digit 0 or 2
+        valid = value == int(value) and 1 <= value % 100 <= 12 and value // 100 in (0, 2)
+        return "" if valid else "must be 1-12 (or 201-212)"
+    return _digit_problem(value, allowed)
+
+
+def _digit_problem(value: float, allowed: dict) -> str:
+    """What is wrong with a number whose decimal digits each select something, or ''."""
     if value != int(value) or value < 0:
         return "not a whole non-negative number"
-    number = int(value)
-    if allowed is None:  # CYCLE95: 1-12, hundreds digit 0 or 2
-        return "" if 1 <= number % 100 <= 12 and number // 100 in (0, 2) else "must be 1-12 (or 201-212)"
-    top = max(allowed)
+    number, top = int(value), max(allowed)
     if number >= 10 ** (top + 1):
         return f"has more than {top + 1} digit{'s' if top else ''}"
     for position, digits in allowed.items():
@@ -302,33 +311,49 @@ class PatternWithoutModalCall(Rule):
 
 @rule("sinumerik.cutter-radius")
 class CutterRadius(_ReportsMissingContext):
-    """Alarm 61105 "cutter radius too large" (POCKET1-4, SLOT1/2, LONGHOLE) and 61111
-    "infeed width > tool diameter" (POCKET3/4, CYCLE71), from the tool radius in the tool
-    data ($TC_DP6 in the program or the project's tool table)."""
+    """Alarm 61105 "cutter radius too large" (POCKET1-4, SLOT1/2, LONGHOLE), 61111 "infeed
+    width > tool diameter" (POCKET3/4, CYCLE71), 61117/61112 for a radius the cycle cannot use,
+    and a slot tool below half the slot width, from the tool radius in the tool data ($TC_DP6
+    in the program or the project's tool table)."""
 
     def cycle_run(self, run, state):
         cycle = _cycle_name(run)
-        if not _is_sinumerik(run) or cycle not in _FEATURES:
-            return
-        dimensions = {name: run.params.get(name) for name in _FEATURES[cycle][0]}
-        if any(type(value) is not float for value in dimensions.values()):
+        if not _is_sinumerik(run) or (cycle not in _FEATURES and cycle not in _RADIUS_SIGN):
             return
         radius = self._radius(run, state)
         if radius is None:
             return
-        fit_of, what = _FEATURES[cycle][1], _FEATURES[cycle][2]
-        fit = fit_of(dimensions, radius)
-        span = run.param_spans.get(_FEATURES[cycle][0][0], run.span)
         tool = f"tool T{show(state.tool_in_spindle)} (radius {radius:g})"
-        if fit is not None and not fit.fits:
-            self.report("sinumerik.cutter-radius", span,
-                        f"{cycle}: {tool} does not fit the {what}: {fit.reason}; the largest radius that fits is {fit.largest_radius:g}: "
-                        "would raise alarm 61105 \"cutter radius too large\"")
+        alarm = _RADIUS_SIGN.get(cycle)
+        if alarm is not None and (radius < 0 or (radius == 0 and alarm[0] == "61117")):
+            self.report("sinumerik.cutter-radius", run.span, f"{cycle} with {tool}: would raise alarm {alarm[0]} \"{alarm[1]}\"")
+            return
+        if cycle in _FEATURES:
+            self._fit(run, cycle, radius, tool)
         stepover = run.params.get("_MIDA")
         if cycle in ("POCKET3", "POCKET4", "CYCLE71") and type(stepover) is float and stepover > 2 * radius:
             self.report("sinumerik.cutter-radius", run.param_spans.get("_MIDA", run.span),
                         f"{cycle}: stepover _MIDA={show(stepover)} is larger than the tool diameter {2 * radius:g} of {tool}: "
                         "would raise alarm 61111 \"infeed width > tool diameter\"")
+
+    def _fit(self, run, cycle, radius, tool):
+        """61105 for a tool too large for the feature; a slot tool below half the width (not checked by the control)."""
+        names, fit_of, what = _FEATURES[cycle]
+        dimensions = {name: run.params.get(name) for name in names}
+        if any(type(value) is not float for value in dimensions.values()):
+            return
+        fit = fit_of(dimensions, radius)
+        span = run.param_spans.get(names[0], run.span)
+        if fit is not None and not fit.fits:
+            self.report("sinumerik.cutter-radius", span,
+                        f"{cycle}: {tool} does not fit the {what}: {fit.reason}; the largest radius that fits is {fit.largest_radius:g}: "
+                        "would raise alarm 61105 \"cutter radius too large\"")
+        width, kind = dimensions.get("WID"), run.params.get("VARI", 0.0)
+        edge_finishing_only = cycle == "SLOT2" and (type(kind) is not float or kind % 10 == 3)
+        if cycle in ("SLOT1", "SLOT2") and 0 < 4 * radius < abs(width) and not edge_finishing_only:
+            self.report("sinumerik.cutter-radius", span,
+                        f"{cycle}: {tool} is less than half the slot width WID={show(width)}: the cycle does not check this and leaves material "
+                        f"in the slot (seed A L5930; SLOT2 alarm 61905 \"cutter radius too small\"); use a tool of diameter {abs(width) / 2:g} to {abs(width):g}")
 
     def _radius(self, run, state):
         tools = self.checker.context.get("tools") or {}
@@ -343,6 +368,12 @@ class CutterRadius(_ReportsMissingContext):
 def _rectangle(names):
     return lambda dims, radius: rectangle_fit(abs(dims[names[0]]), abs(dims[names[1]]), abs(dims[names[2]]) if len(names) > 2 else 0.0, radius)
 
+
+# The alarm for a tool radius the cycle cannot use: 61117 "radius <= 0", 61112 "radius negative" (appendix L19773, L19810).
+_RADIUS_SIGN = {"CYCLE71": ("61117", "active tool radius <= 0"), "POCKET3": ("61117", "active tool radius <= 0"),
+                "POCKET4": ("61117", "active tool radius <= 0"), "CYCLE72": ("61112", "tool radius negative"),
+                "CYCLE76": ("61112", "tool radius negative"), "CYCLE77": ("61112", "tool radius negative"),
+                "CYCLE90": ("61112", "tool radius negative")}
 
 _FEATURES = {
     "POCKET1": (("LENG", "WID", "CRAD"), _rectangle(("LENG", "WID")), "pocket"),
@@ -450,6 +481,11 @@ class UndercutForm(Rule):
                         "would raise alarm 61609 \"form defined incorrectly\"")
 
 
+def _contours(run) -> list:
+    """The contours a cycle run read (``contours`` in cycles.toml)."""
+    return [run.params[key] for key in run.model.get("contours", {}) if run.params.get(key) is not None] if _is_sinumerik(run) else []
+
+
 @rule("sinumerik.contour-section-runs")
 class ContourSectionRuns(Rule):
     """A contour section of the main program (CYCLE95 ``"START:END"``) must be jumped over
@@ -457,11 +493,11 @@ class ContourSectionRuns(Rule):
     item 15, seed L8580-8590, L9424-9449)."""
 
     def cycle_run(self, run, state):
-        facts = run.params.get("CONTOUR") if run.cycle == "sinumerik.CYCLE95" else None
-        if facts is not None and facts.section_lines is not None:
-            sections = state.rule_state.setdefault("sinumerik-contour-sections", [])
-            if facts.section_lines not in sections:
-                sections.append(facts.section_lines)
+        for facts in _contours(run):
+            if facts.section_lines is not None:
+                sections = state.rule_state.setdefault("sinumerik-contour-sections", [])
+                if (*facts.section_lines, _cycle_name(run)) not in sections:
+                    sections.append((*facts.section_lines, _cycle_name(run)))
 
     def segment(self, segment, state):
         if segment.role == "programmed" and segment.span.path is None:
@@ -472,16 +508,16 @@ class ContourSectionRuns(Rule):
         if not sections or run.span(0).path is not None:
             return
         first_line, last_line = run.span(0).line, run.span(len(run) - 1).line
-        for first, last in sections:
+        for first, last, _cycle in sections:
             if first <= last_line and last >= first_line:
                 index = next(k for k in range(len(run)) if first <= run.span(k).line <= last)
                 self._check(run.span(index), state)
 
     def _check(self, span, state):
-        for first, last in state.rule_state.get("sinumerik-contour-sections", ()):
+        for first, last, cycle in state.rule_state.get("sinumerik-contour-sections", ()):
             if first <= span.line <= last and self.first_time(state, ("contour-section", first)):
                 self.report("sinumerik.contour-section-runs", span,
-                            f"the contour section in lines {first}-{last} (CYCLE95's contour) is reached by the program flow: its blocks run as real "
+                            f"the contour section in lines {first}-{last} ({cycle}'s contour) is reached by the program flow: its blocks run as real "
                             "moves at the current height, without compensation; jump over it with GOTOF or put it after M30")
 
 
@@ -530,3 +566,232 @@ class FirstDrillingDepth(Rule):
         self.checker.report_verdict("sinumerik.first-depth", run.param_spans.get("FDEP" if fdpr == 0.0 else "FDPR", run.span),
                                     f"CYCLE83: the first drilling depth {show(first)} is not between the start level {show(start)} and the final depth {show(depth)}: "
                                     "would raise alarm 61107 \"first drilling depth defined incorrectly\"", self.checker.judge(outside, state), state)
+
+
+# --------------------------------------------------------------------------- contours of CYCLE95, CYCLE73-75, CYCLE950
+
+@rule("sinumerik.contour-overhang")
+class ContourOverhang(Rule):
+    """CYCLE95 machines undercuts, but an element that turns back against the machining
+    direction (an overhang) is neither machined nor reported (reference B section 9 item 22,
+    seed L16472-16487): longitudinal machining needs a contour monotone along the first plane
+    axis, face machining along the second. Judged on the contour's end points."""
+
+    def cycle_run(self, run, state):
+        facts = run.params.get("CONTOUR") if run.cycle == "sinumerik.CYCLE95" else None
+        kind = run.params.get("VARI")
+        if facts is None or not facts.points or len(facts.points) < 2 or type(kind) is not float or not 1 <= kind % 100 <= 12:
+            return
+        longitudinal = int(kind) % 100 % 2 == 1
+        index = 0 if longitudinal else 1
+        axis = state.plane_axes[index]
+        along = [point[index] for point, _span in facts.points]
+        direction = 1.0 if along[-1] >= along[0] else -1.0
+        for (previous, _), (point, span) in zip(facts.points, facts.points[1:]):
+            if (point[index] - previous[index]) * direction < -1e-9:
+                self.report("sinumerik.contour-overhang", span,
+                            f"CYCLE95 contour \"{facts.name}\" turns back along {axis} from {axis}{previous[index]:g} to {axis}{point[index]:g} "
+                            f"while the {'longitudinal' if longitudinal else 'face'} machining (VARI={show(kind)}) runs from {axis}{along[0]:g} to {axis}{along[-1]:g}: "
+                            "the overhanging element is neither machined nor reported by the cycle")
+                return
+
+
+@rule("sinumerik.pocket-contour")
+class PocketContour(_ReportsMissingContext):
+    """CYCLE74/75 contours and the CYCLE73 call (reference A section 6.24, seed L9311-9360,
+    L9905-9914, L10703-10775): a contour named (61900), closed contours (61901), G0 to the first
+    point, no RND/CHF at the last element, a roughing tool _TN (61984), the stepover at most 80 %
+    of the tool diameter (61982), the tool not standing on a contour start point. (Whether a
+    CYCLE74 ran before CYCLE73 is not judged: REPEAT of a program section is not modelled.)"""
+
+    def cycle_run(self, run, state):
+        name = _cycle_name(run) if _is_sinumerik(run) else ""
+        if name in ("CYCLE74", "CYCLE75"):
+            self._contour(run, name, state)
+        elif name == "CYCLE73":
+            self._machining(run, state)
+
+    def _contour(self, run, name, state):
+        facts = run.params.get("CONTOUR")
+        span = run.param_spans.get("_KNAME", run.span)
+        what = "edge" if name == "CYCLE74" else "island"
+        if facts is None:
+            self.report("sinumerik.pocket-contour", run.span, f"{name} names no contour (_KNAME, _LSANF and _LSEND empty): would raise alarm 61900 \"no contour\"")
+            return
+        contours = state.rule_state.get("sinumerik-pocket-contours", []) if name == "CYCLE75" else []
+        state.rule_state["sinumerik-pocket-contours"] = [*contours, facts]
+        if not facts.found:
+            self.missing("sinumerik.pocket-contour", span, f"the {what} contour \"{facts.name}\" of {name} is not in this file or on the subprogram path")
+            return
+        if facts.closed() is False:
+            (start, _), (end, end_span) = facts.points[0], facts.points[-1]
+            self.report("sinumerik.pocket-contour", end_span,
+                        f"{name}: the {what} contour \"{facts.name}\" ends at {_point(end, state)}, not at its start {_point(start, state)}: would raise alarm 61901 \"contour not closed\"")
+        if facts.first_motion not in (None, "rapid"):
+            self.report("sinumerik.pocket-contour", facts.points[0][1] if facts.points else span,
+                        f"{name}: the {what} contour \"{facts.name}\" reaches its first point with {'G1' if facts.first_motion == 'linear' else 'G2/G3'}: "
+                        "the first point of a pocket contour is programmed with G0 (seed A L9311-9360)")
+        if facts.rounded_end is not None:
+            self.report("sinumerik.pocket-contour", facts.rounded_end,
+                        f"{name}: the last element of the {what} contour \"{facts.name}\" carries RND/CHF: not allowed in a pocket contour (seed A L9311-9360)")
+
+    def _machining(self, run, state):
+        contours = state.rule_state.get("sinumerik-pocket-contours")
+        tool_name = run.params.get("_TN")
+        if isinstance(tool_name, str) and not tool_name.strip():
+            self.report("sinumerik.pocket-contour", run.param_spans.get("_TN", run.span),
+                        "CYCLE73: the roughing tool _TN is empty: would raise alarm 61984 \"_TN not defined\"")
+        first, second, _normal = state.plane_axes
+        here = (state.position.get(first), state.position.get(second))
+        for facts in contours or ():
+            if facts.points and all(type(value) is float for value in here) and math.dist(here, facts.points[0][0]) < 1e-6:
+                self.report("sinumerik.pocket-contour", run.span,
+                            f"CYCLE73 called with the tool on the start point {_point(facts.points[0][0], state)} of the contour \"{facts.name}\": not allowed (seed A L9311-9360)")
+        stepover = run.params.get("_MIDA")
+        tools = self.checker.context.get("tools") or {}
+        number = state.tool_in_spindle
+        tool = tools.get(int(number)) if type(number) is float else None
+        if type(stepover) is float and stepover > 0 and tool is not None and tool.radius and stepover > 0.8 * 2 * tool.radius:
+            self.report("sinumerik.pocket-contour", run.param_spans.get("_MIDA", run.span),
+                        f"CYCLE73: stepover _MIDA={show(stepover)} is more than 80 % of the diameter {2 * tool.radius:g} of tool T{show(number)} "
+                        f"(at most {1.6 * tool.radius:g}): would raise alarm 61982 \"stepover too large\"")
+
+
+def _point(point, state) -> str:
+    first, second, _normal = state.plane_axes
+    return f"{first}{point[0]:g} {second}{point[1]:g}"
+
+
+@rule("sinumerik.extended-stock-removal")
+class ExtendedStockRemoval(_ReportsMissingContext):
+    """CYCLE950 (reference B section 11.3, seed L19404-19510): a finished contour must be named
+    (61701), a blank contour must be closed (61740) and hold the finished contour (61735)."""
+
+    def cycle_run(self, run, state):
+        if run.cycle != "sinumerik.CYCLE950":
+            return
+        finished, blank = run.params.get("FINISHED"), run.params.get("BLANK")
+        if finished is None:
+            self.report("sinumerik.extended-stock-removal", run.span,
+                        "CYCLE950 names no finished contour (_NP1, or _NP2 and _NP3, empty): would raise alarm 61701 \"error in finished-part contour description\"")
+            return
+        for facts, what in ((finished, "finished"), (blank, "blank")):
+            if facts is not None and not facts.found:
+                self.missing("sinumerik.extended-stock-removal", run.span, f"the {what} contour \"{facts.name}\" of CYCLE950 is not in this file or on the subprogram path")
+        if blank is None or not blank.found or not blank.points:
+            return
+        if not blank.closed():
+            (start, _), (end, end_span) = blank.points[0], blank.points[-1]
+            self.report("sinumerik.extended-stock-removal", end_span,
+                        f"CYCLE950: the blank contour \"{blank.name}\" ends at {_point(end, state)}, not at its start {_point(start, state)}: would raise alarm 61740 \"blank must be a closed contour\"")
+            return
+        if finished.found and finished.points and len(blank.points) >= 4:
+            outline = Polygon([point for point, _span in blank.points]).buffer(1e-6)
+            outside = next(((point, span) for point, span in finished.points if not outline.covers(Point(point))), None)
+            if outside is not None:
+                self.report("sinumerik.extended-stock-removal", outside[1],
+                            f"CYCLE950: the finished contour \"{finished.name}\" reaches {_point(outside[0], state)}, outside the blank contour \"{blank.name}\": "
+                            "would raise alarm 61735 \"finished part lies outside the blank contour\"")
+
+
+# --------------------------------------------------------------------------- swivel, high-speed settings, engraving
+
+_RETRACT_MODES = {0, 1, 2, 4, 5}  # _FR, seed A L11133-11158 (4 and 5 from SW 6.5)
+
+
+@rule("sinumerik.swivel-plane")
+class SwivelPlane(Rule):
+    """CYCLE800 (reference A section 6.25, seed L10846-10995, L13379-13482): the retract mode
+    _FR (61183), the axis-wise rotation coding of _MODE (61184, derived: three different
+    axes), G500 active (61189), a tool offset before the first swivel, and a new plane
+    (_ST units 0) first in every main program."""
+
+    def cycle_run(self, run, state):
+        if run.cycle != "sinumerik.CYCLE800" or run.params.get("ARG_COUNT") == 0.0:
+            return
+        params, spans = run.params, run.param_spans
+        retract, mode, kind = params.get("_FR"), params.get("_MODE"), params.get("_ST")
+        if type(retract) is float and retract not in _RETRACT_MODES:
+            self.report("sinumerik.swivel-plane", spans.get("_FR", run.span),
+                        f"CYCLE800: retract mode _FR={show(retract)} is not 0, 1, 2, 4 or 5: would raise alarm 61183 \"retract mode outside the range\"")
+        problem = _swivel_mode_problem(mode) if type(mode) is float else ""
+        if problem:
+            self.report("sinumerik.swivel-plane", spans.get("_MODE", run.span),
+                        f"CYCLE800: _MODE={show(mode)} {problem}: would raise alarm 61184 \"no solution possible with the current angle values\"")
+        if state.modal.get("work_offset") == "G500":
+            self.report("sinumerik.swivel-plane", run.span, "CYCLE800 with G500 active (no work offset): would raise alarm 61189 \"swivel impossible\"")
+        first = self.first_time(state, "sinumerik-swivel")
+        if first and type(kind) is float and int(kind) % 10 == 1:
+            self.report("sinumerik.swivel-plane", spans.get("_ST", run.span),
+                        f"the first CYCLE800 of the program swivels additively (_ST={show(kind)}): it adds to a plane left by an earlier program; "
+                        "start every main program with a new plane (_ST units 0)")
+        if first and (state.tool_in_spindle == 0.0 or state.rule_state.get("sinumerik-swivel-d0")):
+            self.report("sinumerik.swivel-plane", run.span,
+                        "the first CYCLE800 of the program runs with no tool offset (no tool or D0): the swivel retracts and turns without the tool length; "
+                        "program the tool and D before it (seed A L10846-10850)")
+
+    def change(self, change, state):
+        if change.what == "length_offset":
+            state.rule_state["sinumerik-swivel-d0"] = change.new == "off"
+
+
+def _swivel_mode_problem(mode: float) -> str:
+    """What is wrong with a CYCLE800 _MODE value, or ''. Bits 7-6 are the angle type; for
+    axis-wise angles (00) bits 1-0, 3-2, 5-4 name the axes of the three rotations (1 X, 2 Y,
+    3 Z), which must all differ (seed A L11159-11193)."""
+    if mode != int(mode) or not 0 <= mode <= 255:
+        return "is not a whole number 0-255"
+    number = int(mode)
+    if number >> 6 == 3:
+        return "has the angle type bits 11, which name no angle type"
+    if number >> 6 == 0:
+        axes = [number >> shift & 3 for shift in (0, 2, 4)]
+        if 0 in axes or len(set(axes)) < 3:
+            return f"rotates axis-wise about {''.join(' XYZ'[axis] for axis in axes).replace(' ', '-')}: three different axes are needed"
+    return ""
+
+
+# _TOLM digits (seed A L13775-13850): units machining, hundreds transformation, thousands
+# G64/G641/G642, ten-thousands FFWON/SOFT/BRISK, hundred-thousands COMPOF/COMPCAD/COMPCURV/B-spline.
+_TOLM_DIGITS = {0: {0, 1, 2, 3}, 2: {0, 1, 2}, 3: {0, 1, 2}, 4: {0, 1, 2}, 5: {0, 1, 2, 3}}
+
+
+@rule("sinumerik.high-speed-settings")
+class HighSpeedSettings(Rule):
+    """CYCLE832 (reference A section 6.26): a tolerance _TOL that is not positive for a
+    machining (not a deselection), and _TOLM digits outside their sets."""
+
+    def cycle_run(self, run, state):
+        if run.cycle != "sinumerik.CYCLE832" or run.params.get("ARG_COUNT") == 0.0:
+            return
+        tolerance, mode = run.params.get("_TOL"), run.params.get("_TOLM", 0.0)
+        if type(mode) is float:
+            problem = _digit_problem(mode, _TOLM_DIGITS)
+            if problem:
+                self.report("sinumerik.high-speed-settings", run.param_spans.get("_TOLM", run.span), f"CYCLE832: _TOLM={show(mode)}: {problem}")
+                return
+            if mode % 10 != 0 and type(tolerance) is float and tolerance <= 0:
+                self.report("sinumerik.high-speed-settings", run.param_spans.get("_TOL", run.span),
+                            f"CYCLE832: tolerance _TOL={show(tolerance)} for {('finishing', 'pre-finishing', 'roughing')[int(mode) % 10 - 1]}: "
+                            "the tolerance must be positive (finishing 0.01, roughing 0.1 are the defaults)")
+
+
+@rule("sinumerik.engraving-text")
+class EngravingText(Rule):
+    """CYCLE60's text (reference A section 6.27, seed L14364-14379, L14540-14562): at most 91
+    characters, letters, digits and the listed specials; else alarm 61179."""
+
+    def cycle_run(self, run, state):
+        text = run.params.get("_TEXT") if run.cycle == "sinumerik.CYCLE60" else None
+        if not isinstance(text, str):
+            return
+        span = run.param_spans.get("_TEXT", run.span)
+        limit, specials = int(run.model["text_length"]), run.model["text_specials"]
+        wrong = sorted({character for character in text if not (character.isascii() and character.isalnum()) and character not in specials})
+        if len(text) > limit:
+            self.report("sinumerik.engraving-text", span,
+                        f"CYCLE60: the text has {len(text)} characters, more than {limit}: would raise alarm 61179 \"character does not exist\"")
+        elif wrong:
+            self.report("sinumerik.engraving-text", span,
+                        f"CYCLE60: the text contains {', '.join(repr(character) for character in wrong)}, not in the engraving font: "
+                        "would raise alarm 61179 \"character does not exist\"")

@@ -182,9 +182,10 @@ def pattern_positions(cycle: str, params: dict):
 def one_shot(runner, op, block, model, params):
     """A milling, turning or swivel cycle: reported for the parameter rules; the position
     afterwards is RTP on the infeed axis for milling cycles, unknown in the plane."""
-    contour = params.get("NPP")
-    if op.cycle == "sinumerik.CYCLE95" and isinstance(contour, str):
-        params = {**params, "CONTOUR": read_contour(runner, op, contour)}
+    for key, where in model.get("contours", {}).items():
+        facts = _named_contour(runner, op, params, where)
+        if facts is not None:
+            params = {**params, key: facts}
     _report_run(runner, op, block, model, params)
     state = runner.state
     first, second, axis = state.plane_axes
@@ -243,39 +244,86 @@ _CONTOUR_BLOCK_LIMIT = 5000
 
 
 class ContourFacts:
-    """What the contour a stock-removal cycle names looks like (reference B section 6.3,
-    rules C2-C13 and alarm 61607): the problems found, as ``(alarm, text, span)``, and the
-    rectangle the contour spans in the plane (None when a point is not a number)."""
+    """What a contour a cycle names looks like (CYCLE95: reference B section 6.3, rules C2-C13
+    and alarm 61607; CYCLE74/75/950: closed contours): the problems found, as ``(alarm, text,
+    span)``, the plane points in order with the blocks that reach them (None when a point is
+    not a number), the rectangle they span, the motion of the first plane block and the
+    block that ends the contour with a rounding or chamfer."""
 
     def __init__(self, name: str):
         self.name = name
         self.found = False
         self.problems: list[tuple[str, str, object]] = []
+        self.points: list[tuple[tuple[float, float], object]] | None = None
         self.box: tuple[float, float, float, float] | None = None
         self.plane_blocks = 0
+        self.first_motion: str | None = None
+        self.rounded_end = None  # the span of a last plane block carrying RND/CHF/CHR
         self.section_lines: tuple[int, int] | None = None  # a "START:END" section of the calling program
+
+    def closed(self) -> bool | None:
+        """Whether the last point is the first (None when the points are not known)."""
+        if not self.points:
+            return None
+        (first, _span), (last, _end) = self.points[0], self.points[-1]
+        return math.dist(first, last) < 1e-6
+
+
+def _named_contour(runner, op, params: dict, where: dict) -> ContourFacts | None:
+    """The contour a cycle's string parameters name (``contours`` in cycles.toml): one
+    ``name`` ("PROGRAM" or "START:END"), or a ``program`` with ``start`` and ``end`` labels or
+    block numbers, any of them empty. None when nothing is named."""
+    def text(key):
+        value = params.get(where.get(key, ""))
+        return value.strip() if isinstance(value, str) else ""
+
+    if "name" in where:
+        return read_contour(runner, op, text("name")) if text("name") else None
+    program, start, end = text("program"), _label(text("start")), _label(text("end"))
+    if not (program or start or end):
+        return None
+    shown = program + (f" {start}..{end}" if start or end else "")
+    return read_contour_section(runner, op, program or None, start or None, end or None, shown.strip())
+
+
+def _label(text: str) -> str:
+    """A label, or a block number written ``N400`` as the number the frontend looks for."""
+    return text[1:] if len(text) > 1 and text[0] in "Nn" and text[1:].isdigit() else text
 
 
 def read_contour(runner, op, name: str) -> ContourFacts:
-    """Read (not run) the contour of CYCLE95: a program ``"NAME"`` or a section ``"START:END"``
-    of the calling program."""
-    interp = runner.interp
-    facts = ContourFacts(name)
+    """Read (not run) the contour of CYCLE95/CYCLE72: a program ``"NAME"`` or a section
+    ``"START:END"`` of the calling program."""
     if ":" in name and not name.startswith("/"):
-        start_label, end_label = (part.strip().upper() for part in name.split(":", 1))
-        source = interp._line_source
-        starts = list(interp.frontend.label_offsets(source.buffer, start_label))
-        ends = list(interp.frontend.label_offsets(source.buffer, end_label))
+        start_label, end_label = (part.strip() for part in name.split(":", 1))
+        return read_contour_section(runner, op, None, start_label, end_label, name)
+    return read_contour_section(runner, op, name, None, None, name)
+
+
+def read_contour_section(runner, op, program: str | None, start_label: str | None, end_label: str | None, shown: str) -> ContourFacts:
+    """Read the contour in ``program`` (None: the calling program) from ``start_label`` to
+    ``end_label`` (None: the whole program). Not found, or labels that are not there exactly
+    once in that order, leave ``found`` False."""
+    interp = runner.interp
+    facts = ContourFacts(shown)
+    if program:
+        found = interp._find_program(program.upper(), op.span) if not program.startswith("/") else None
+        if found is None:
+            return facts
+        source, start = found
+    elif start_label and end_label:
+        source, start = interp._line_source, 0
+    else:
+        return facts
+    if start_label and end_label:
+        starts = list(interp.frontend.label_offsets(source.buffer, start_label.upper()))
+        ends = list(interp.frontend.label_offsets(source.buffer, end_label.upper()))
         if len(starts) != 1 or len(ends) != 1 or ends[0] < starts[0]:
             return facts
         lines = ((number, raw) for number, offset, _next, raw in source.lines_from(starts[0]) if offset <= ends[0])
         if source is interp.source:
             facts.section_lines = (source.line_number_at(starts[0]), source.line_number_at(ends[0]))
     else:
-        found = interp._find_program(name.upper(), op.span) if name and not name.startswith("/") else None
-        if found is None:
-            return facts
-        source, start = found
         lines = ((number, raw) for number, _offset, _next, raw in source.lines_from(start))
     facts.found = True
     path = None if source is interp.source else source.name
@@ -287,9 +335,9 @@ def _walk_contour(interp, facts: ContourFacts, lines, path, plane) -> None:
     first, second, _normal = plane
     position: dict = {}
     incremental = False
-    points: list[tuple[float, float]] = []
+    motion = None
+    points: list = []
     exact = True
-    first_plane_move = True
     for count, (number, raw) in enumerate(lines):
         if count > _CONTOUR_BLOCK_LIMIT:
             break
@@ -309,18 +357,21 @@ def _walk_contour(interp, facts: ContourFacts, lines, path, plane) -> None:
                 elif kind in ("CoordinateShift", "Unsupported") and "frame" in getattr(op, "what", "frame"):
                     facts.problems.append(("10931", "a frame inside the contour", op.span))
                 elif kind == "Move":
+                    motion = op.kind or motion
                     in_plane = {axis: value for axis, value in op.targets.items() if axis in (first, second)}
                     if not in_plane:
                         continue
                     if op.kind == "thread":
                         facts.problems.append(("10930", "a thread block (only G0/G1/G2/G3 lines and arcs are allowed)", op.span))
-                    if first_plane_move and op.kind is None:
-                        facts.problems.append(("15800", "the first block moving in the plane has no G0/G1/G2/G3", op.span))
-                    first_plane_move = False
+                    if facts.plane_blocks == 0:
+                        facts.first_motion = motion
+                        if op.kind is None:
+                            facts.problems.append(("15800", "the first block moving in the plane has no G0/G1/G2/G3", op.span))
                     radius = _literal((op.arc or {}).get("R"))
                     if type(radius) is float and radius < 0:
                         facts.problems.append(("10931", f"an arc of more than 180 degrees (CR={radius:g})", op.span))
                     facts.plane_blocks += 1
+                    facts.rounded_end = op.span if any(word in op.words for word in ("RND", "CHF", "CHR")) else None
                     for axis, value in in_plane.items():
                         value = _literal(value)
                         if type(value) is not float:
@@ -333,7 +384,7 @@ def _walk_contour(interp, facts: ContourFacts, lines, path, plane) -> None:
                     if position.get(first) is None or position.get(second) is None:
                         exact = exact and facts.plane_blocks > 1
                     else:
-                        points.append((position[first], position[second]))
+                        points.append(((position[first], position[second]), op.span))
     return _close(facts, points, exact)
 
 
@@ -348,5 +399,6 @@ def _close(facts: ContourFacts, points, exact: bool) -> None:
     if facts.plane_blocks < 3:
         facts.problems.append(("10933", f"only {facts.plane_blocks} blocks move in the plane (at least 3 are needed)", None))
     if points and exact:
-        firsts, seconds = [point[0] for point in points], [point[1] for point in points]
+        facts.points = points
+        firsts, seconds = [point[0][0] for point in points], [point[0][1] for point in points]
         facts.box = (min(firsts), max(firsts), min(seconds), max(seconds))
