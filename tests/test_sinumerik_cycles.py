@@ -1,0 +1,265 @@
+"""SINUMERIK cycles: the contour rules of CYCLE95, CYCLE73-75 and CYCLE950, the swivel,
+high-speed and engraving calls, the alarms derived from the alarm tables, and the motion of
+the milling cycles (approach at RTP, depth, retract, where the tool is left)."""
+from __future__ import annotations
+
+import textwrap
+
+import pytest
+from hypothesis import given, settings as hypothesis_settings, strategies as st
+
+from ncverify import Settings, check_text
+from ncverify.diagnostics import Status
+
+MILL_HEAD = """\
+$TC_DP1[1,1]=120
+$TC_DP6[1,1]={radius}
+N10 G17 G90 G54 T1 D1 M6
+N20 S3000 M3 F500
+N30 G0 X0 Y0 Z50
+"""
+LATHE_HEAD = """\
+$TC_DP1[1,1]=500
+$TC_DP6[1,1]=0.8
+N10 G18 G90 G54 DIAMON
+N20 T1 D1
+N30 G96 S200 LIMS=3000 M3 G95 F0.25
+"""
+
+
+def check(program: str, machine: str | None = None):
+    settings = Settings(dialect="sinumerik", machine=machine) if machine else Settings(dialect="sinumerik")
+    return check_text(textwrap.dedent(program).lstrip("\n"), "t.mpf", settings)
+
+
+def milled(body: str, radius: float = 5):
+    return check(MILL_HEAD.format(radius=radius) + textwrap.dedent(body).lstrip("\n") + "N900 M30\n")
+
+
+def turned(body: str):
+    return check(LATHE_HEAD + textwrap.dedent(body).lstrip("\n"), machine="lathe")
+
+
+def messages(result, rule: str) -> list[str]:
+    return [d.message for d in result.diagnostics if d.rule == rule and d.status is Status.VIOLATED]
+
+
+# --------------------------------------------------------------------------- CYCLE95 overhangs
+
+SHAFT = """\
+N40 G0 X90 Z5
+N50 CYCLE95("SHAFT_CONTOUR", 2.5, 0.1, 0.2, 0, 0.3, 0.15, 0.1, {vari})
+N60 G0 X100 Z50
+N70 M30
+
+%_N_SHAFT_CONTOUR_SPF
+N10 G1 X20 Z0
+N20 X40 Z-20
+N30 Z-40
+N40 X{x} Z{z}
+N50 Z-60
+N60 M17
+"""
+
+
+def test_a_contour_turning_back_along_z_is_an_overhang_for_longitudinal_machining():
+    found = messages(turned(SHAFT.format(vari=9, x=60, z=-35)), "sinumerik.contour-overhang")
+    assert found and "turns back along Z from Z-40 to Z-35" in found[0]
+
+
+def test_an_undercut_that_keeps_moving_along_z_is_machined():
+    assert not messages(turned(SHAFT.format(vari=9, x=30, z=-45)), "sinumerik.contour-overhang")
+
+
+def test_face_machining_judges_the_facing_axis():
+    """The same contour is monotone in X except where it falls back from X40 to X30."""
+    assert messages(turned(SHAFT.format(vari=10, x=30, z=-45)), "sinumerik.contour-overhang")
+    assert not messages(turned(SHAFT.format(vari=10, x=60, z=-45)), "sinumerik.contour-overhang")
+
+
+# --------------------------------------------------------------------------- CYCLE73-75
+
+POCKET = """\
+N40 GOTOF MACHINING
+EDGE_START:
+N100 G{first} X10 Y10
+N110 G1 X90
+N120 Y60
+N130 X10{rounded}
+N140 Y{close}
+EDGE_END:
+MACHINING:
+N200 CYCLE74("", "EDGE_START", "EDGE_END")
+N210 CYCLE73(1011, "", "POCKET_MILL", "{tool}", 10, 0, 1, -8, 0, 2, {stepover}, 0.2, 0.1, 500, 200, 0)
+N220 G0 Z50
+"""
+GOOD_POCKET = {"first": 0, "rounded": "", "close": 10, "tool": "1", "stepover": 4}
+
+
+@pytest.mark.parametrize("change, expected", [
+    ({"close": 60}, "ends at X10 Y60, not at its start X10 Y10: would raise alarm 61901"),
+    ({"first": 1}, "reaches its first point with G1"),
+    ({"rounded": " RND=3", "close": "10 CHF=2"}, "carries RND/CHF"),
+    ({"tool": ""}, "alarm 61984"),
+    ({"stepover": 9}, "more than 80 % of the diameter 10 of tool T1 (at most 8): would raise alarm 61982"),
+])
+def test_pocket_contour_defects(change, expected):
+    found = messages(milled(POCKET.format(**{**GOOD_POCKET, **change})), "sinumerik.pocket-contour")
+    assert any(expected in message for message in found), found
+
+
+def test_a_closed_pocket_contour_with_a_fitting_call_is_accepted():
+    assert not messages(milled(POCKET.format(**GOOD_POCKET)), "sinumerik.pocket-contour")
+
+
+def test_cycle73_with_the_tool_on_a_contour_start_point():
+    program = POCKET.format(**GOOD_POCKET).replace("N210", "N205 G0 X10 Y10\nN210")
+    found = messages(milled(program), "sinumerik.pocket-contour")
+    assert found and "on the start point X10 Y10" in found[0]
+
+
+def test_a_cycle74_naming_nothing_raises_61900():
+    assert any("61900" in message for message in messages(milled('N40 CYCLE74("", "", "")\n'), "sinumerik.pocket-contour"))
+
+
+def test_a_pocket_contour_program_that_is_not_there_is_unknown():
+    result = milled('N40 CYCLE74("EDGE_NOT_HERE")\n')
+    assert [d for d in result.diagnostics if d.rule == "sinumerik.pocket-contour" and d.status is Status.UNKNOWN]
+
+
+# --------------------------------------------------------------------------- CYCLE950
+
+EXTENDED = """\
+N40 G0 X90 Z5
+N50 CYCLE950({finished}, "ROUGH_PART", 311311, 2, 0.1, 0.1, 0.3, 0.1, 0.1, 0.1, 1, 0, 1, "", "BLANK_START", "BLANK_END")
+N60 G0 X100 Z50
+N70 GOTOF PROGRAM_END
+PART_START:
+N100 G1 X20 Z0
+N110 X{diameter} Z-20
+N120 Z-50
+PART_END:
+BLANK_START:
+N200 G1 X0 Z0
+N210 X50
+N220 Z-50
+N230 X0
+N240 Z{close}
+BLANK_END:
+PROGRAM_END:
+N900 M30
+"""
+
+
+@pytest.mark.parametrize("finished, diameter, close, expected", [
+    ('"", "", ""', 40, 0, "61701"),
+    ('"", "PART_START", "PART_END"', 40, -10, "ends at Z-10 X0, not at its start Z0 X0: would raise alarm 61740"),
+    ('"", "PART_START", "PART_END"', 60, 0, "reaches Z-20 X60, outside the blank contour"),
+])
+def test_extended_stock_removal_defects(finished, diameter, close, expected):
+    found = messages(turned(EXTENDED.format(finished=finished, diameter=diameter, close=close)), "sinumerik.extended-stock-removal")
+    assert any(expected in message for message in found), found
+
+
+def test_a_finished_contour_inside_a_closed_blank_is_accepted():
+    result = turned(EXTENDED.format(finished='"", "PART_START", "PART_END"', diameter=40, close=0))
+    assert not messages(result, "sinumerik.extended-stock-removal")
+
+
+# --------------------------------------------------------------------------- CYCLE800, CYCLE832, CYCLE60
+
+@pytest.mark.parametrize("call, expected", [
+    ('CYCLE800(3, "", 0, 57, 0, 0, 0, 15, 0, 0, 0, 0, 0, -1)', "61183"),
+    ('CYCLE800(1, "", 0, 25, 0, 0, 0, 15, 0, 0, 0, 0, 0, -1)', "rotates axis-wise about XYX"),
+    ('CYCLE800(1, "", 0, 192, 0, 0, 0, 15, 0, 0, 0, 0, 0, -1)', "angle type bits 11"),
+    ('CYCLE800(1, "", 1, 57, 0, 0, 0, 15, 0, 0, 0, 0, 0, -1)', "swivels additively"),
+])
+def test_swivel_plane_defects(call, expected):
+    found = messages(milled(f"N40 {call}\nN50 CYCLE800()\n"), "sinumerik.swivel-plane")
+    assert any(expected in message for message in found), found
+
+
+def test_a_swivel_under_g500_and_with_d0():
+    found = messages(milled('N40 G500 D0\nN50 CYCLE800(1, "", 0, 57, 0, 0, 0, 15, 0, 0, 0, 0, 0, -1)\n'), "sinumerik.swivel-plane")
+    assert any("61189" in message for message in found) and any("no tool offset" in message for message in found)
+
+
+def test_the_manuals_swivel_calls_are_accepted():
+    body = 'N40 CYCLE800(1, "", 0, 57, 0, 40, 0, -45, 0, 0, 0, 0, 0, -1)\nN50 CYCLE800(1, "", 1, 57, 0, 0, 0, 0, 0, 0, 40, 30, 0, 1)\nN60 CYCLE800()\n'
+    assert not messages(milled(body), "sinumerik.swivel-plane")
+
+
+@pytest.mark.parametrize("call, expected", [("CYCLE832(0, 102001)", "tolerance _TOL=0 for finishing"),
+                                            ("CYCLE832(0.01, 1004)", "the units digit 4"),
+                                            ("CYCLE832(0.01, 1302001)", "more than 6 digits")])
+def test_high_speed_settings_defects(call, expected):
+    found = messages(milled(f"N40 {call}\n"), "sinumerik.high-speed-settings")
+    assert any(expected in message for message in found), found
+
+
+@pytest.mark.parametrize("call", ["CYCLE832(0.2, 1003)", "CYCLE832(0.01, 102001)", "CYCLE832(0.1, 0)", "CYCLE832(0, 0)", "CYCLE832()"])
+def test_the_manuals_high_speed_calls_are_accepted(call):
+    assert not messages(milled(f"N40 {call}\n"), "sinumerik.high-speed-settings")
+
+
+ENGRAVE = 'N40 CYCLE60("{text}", 50, 0, 1, -0.3, 0, 10, 10, 0, 0, 0, 5, 2, 100, 300, 0, 1252)\n'
+
+
+@pytest.mark.parametrize("text, expected", [("LOT→27", "'→'"), ("A" * 92, "92 characters, more than 91")])
+def test_engraving_text_defects(text, expected):
+    found = messages(milled(ENGRAVE.format(text=text), radius=0.5), "sinumerik.engraving-text")
+    assert found and expected in found[0] and "61179" in found[0]
+
+
+@given(st.text(alphabet="ABCXYZabcxyz0123456789 .,:-+/()#%&@ÄÖÜäöüß€", min_size=1, max_size=91))
+@hypothesis_settings(max_examples=40, deadline=None)
+def test_any_text_of_the_font_is_accepted(text):
+    assert not messages(milled(ENGRAVE.format(text=text), radius=0.5), "sinumerik.engraving-text")
+
+
+# --------------------------------------------------------------------------- alarms from the tables
+
+@pytest.mark.parametrize("call, expected", [
+    ("POCKET3(10, 0, 2, -6, 60, 40, 25, 50, 50, 0, 3, 0.2, 0.1, 300, 100, 2, 11)", "61113"),
+    ("CYCLE76(10, 0, 2, -6, 0, 60, 40, 5, 50, 50, 0, 3, 0.2, 0.1, 300, 100, 2, 1, 50, 50)", "blank 50 x 50 is not larger than the spigot 60 x 40"),
+    ("CYCLE77(10, 0, 2, -6, 0, 50, 50, 50, 3, 0.2, 0.1, 300, 100, 2, 1, 45)", "_AP1=45 is not larger than the spigot diameter _PRAD=50"),
+    ('CYCLE72("C1", 10, 0, 2, -6, 3, 0.2, 8, 300, 100, 1, 41, 1, 5)', "61010"),
+    ('CYCLE72("C1", 10, 0, 2, -6, 3, 0.2, 0.1, 300, 100, 1, 41, 5, 5)', "_AS1=5"),
+    ('CYCLE72("C1", 10, 0, 2, -6, 3, 0.2, 0.1, 300, 100, 1, 41, 1, 5, 0, 4)', "_AS2=4"),
+    ("SLOT1(10, 0, 2, -6, 0, 4, 30, 12, 50, 50, 20, 0, 90, 100, 300, 3, 2, 0.2, 31)", "61128"),
+])
+def test_alarms_derived_from_the_tables(call, expected):
+    found = messages(milled(f"N40 {call}\n"), "sinumerik.cycle-parameter-range")
+    assert any(expected in message for message in found), found
+
+
+@pytest.mark.parametrize("call", [
+    "POCKET3(10, 0, 2, -6, 60, 40, 8, 50, 50, 0, 3, 0.2, 0.1, 300, 100, 2, 11)",
+    "CYCLE76(10, 0, 2, -6, 0, 60, 40, 5, 50, 50, 0, 3, 0.2, 0.1, 300, 100, 2, 1, 70, 50)",
+    "CYCLE76(10, 0, 2, -6, 0, 60, 40, 5, 50, 50, 0, 3, 0.2, 0.1, 300, 100, 2, 2)",
+    "CYCLE77(10, 0, 2, -6, 0, 50, 50, 50, 3, 0.2, 0.1, 300, 100, 2, 1, 60)",
+    'CYCLE72("C1", 10, 0, 2, -6, 3, 0.2, 0.1, 300, 100, 1, 41, 12, 5, 0, 0)',
+    "SLOT1(10, 0, 2, -6, 0, 4, 30, 12, 50, 50, 20, 0, 90, 100, 300, 3, 2, 0.2, 31, 0, 0, 0, 0, 5)",
+])
+def test_the_fixed_calls_raise_nothing(call):
+    assert not messages(milled(f"N40 {call}\n"), "sinumerik.cycle-parameter-range")
+
+
+@pytest.mark.parametrize("cycle_call, radius, expected", [
+    ("POCKET3(10, 0, 2, -6, 60, 40, 8, 50, 50, 0, 3, 0.2, 0.1, 300, 100, 2, 11)", 0, "61117"),
+    ("CYCLE77(10, 0, 2, -6, 0, 50, 50, 50, 3, 0.2, 0.1, 300, 100, 2, 1, 60)", -2, "61112"),
+    ("SLOT1(10, 0, 2, -6, 0, 4, 30, 24, 50, 50, 20, 0, 90, 100, 300, 3, 2, 0.2, 0)", 5, "less than half the slot width WID=24"),
+])
+def test_tool_radius_alarms(cycle_call, radius, expected):
+    found = messages(milled(f"N40 {cycle_call}\n", radius=radius), "sinumerik.cutter-radius")
+    assert any(expected in message for message in found), found
+
+
+def test_a_slot_tool_of_half_the_width_or_more_is_accepted():
+    assert not messages(milled("N40 SLOT1(10, 0, 2, -6, 0, 4, 30, 16, 50, 50, 20, 0, 90, 100, 300, 3, 2, 0.2, 0)\n"), "sinumerik.cutter-radius")
+
+
+def test_contour_sections_of_cycle74_reached_by_the_flow_are_reported():
+    program = POCKET.format(**GOOD_POCKET).replace("N40 GOTOF MACHINING\n", "N40 CYCLE74(\"\", \"EDGE_START\", \"EDGE_END\")\n")
+    found = messages(milled(program), "sinumerik.contour-section-runs")
+    assert found and "CYCLE74's contour" in found[0]
