@@ -17,7 +17,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy
 
-from . import ir, values
+from . import frames, ir, values
 from .cycles import ActiveCycle, CycleRunner
 from .settings import Settings
 from .source import ProgramSource, Span
@@ -103,6 +103,7 @@ class MachineState:
     rule_state: dict = field(default_factory=dict)  # per-path memory of the rules
     feed_inherited: bool = False  # a called program checked alone: its caller set the feed
     coordinate_shift: dict = field(default_factory=dict)  # G92/G52: machine = program + work offset + shift (None: unknown)
+    frame: frames.Frame | None = None  # program -> workpiece coordinates (None: the identity)
 
     def fork(self) -> "MachineState":
         twin = MachineState(**{name: getattr(self, name) for name in self.__slots__})
@@ -161,7 +162,7 @@ class Interpreter:
         self._handlers = {
             ir.SetModal: self._set_modal, ir.Move: self._move, ir.Dwell: self._nothing,
             ir.CutterComp: self._cutter_comp, ir.LengthOffset: self._length_offset,
-            ir.WorkOffset: self._work_offset, ir.CoordinateShift: self._coordinate_shift,
+            ir.WorkOffset: self._work_offset, ir.CoordinateShift: self._coordinate_shift, ir.SetFrame: self._set_frame,
             ir.ReferenceReturn: self._reference_return, ir.MachineMove: self._machine_move,
             ir.SetFeed: self._set_feed, ir.SetSpindleSpeed: self._set_spindle_speed,
             ir.Spindle: self._spindle, ir.Coolant: self._coolant, ir.ToolSelect: self._tool_select,
@@ -287,6 +288,7 @@ class Interpreter:
     def _batch_allowed(self) -> bool:
         state = self.state
         return (not self.settings.per_block_only and state.cycle is None and not state.loops
+                and (state.frame is None or state.frame.is_numeric)
                 and state.modal.get("motion") in ir.MoveRun.KINDS and not isinstance(state.feed, Sym)
                 and not any(isinstance(value, Sym) for value in state.position.values()))
 
@@ -752,6 +754,99 @@ class Interpreter:
                 known = self.state.coordinate_shift.get(axis, 0.0)
                 self.state.coordinate_shift[axis] = None if known is None else values.add(known, shift)
             self.state.move_to(shifted)
+        return None
+
+    def set_frame(self, frame: frames.Frame) -> None:
+        """Make ``frame`` the map from program to workpiece coordinates. The tool does not
+        move: its position is re-expressed in the new program coordinates (unknown where
+        the new frame cannot be inverted). From the first frame on, the observer gets the
+        trace in workpiece coordinates."""
+        state = self.state
+        new = None if frame.is_identity else frame
+        workpiece = state.frame.to_workpiece(state.position) if state.frame is not None else state.position
+        back = frames.IDENTITY if new is None else new.inverse()
+        if back is None:
+            state.move_to({axis: None for axis in frames.AXES if axis in state.position})
+        else:
+            state.position = back.to_workpiece(workpiece)
+        state.frame = new
+        if new is not None and not isinstance(self.observer, frames.WorkpieceObserver):
+            self.observer = frames.WorkpieceObserver(self.observer, self)
+
+    def _set_frame(self, op: ir.SetFrame, block):
+        """SINUMERIK programmable frames (840D programming knowledge; the references only
+        name them): TRANS/ROT/SCALE/MIRROR replace the whole programmable frame (without
+        arguments they reset it), ATRANS/AROT/ASCALE/AMIRROR append to it in the current,
+        already transformed system. ROT RPL= (or ROT with only the plane's normal axis)
+        rotates in the active plane from its first axis toward its second; a rotation
+        about another axis is spatial and not modelled. G58 replaces the absolute (TRANS)
+        translation of an axis, G59 its additive (ATRANS) part: modelled while the frame
+        is a pure translation."""
+        state = self.state
+        memory = state.rule_state
+        swivel = memory.get(("frame", "swivel"), False)
+        if op.component in ("swivel", "swivel_off"):  # a tilted plane (CYCLE800): a frame of its own, kept apart from the programmable one
+            swivel = op.component == "swivel"
+            frame, layers = memory.get(("frame", "programmable"), frames.IDENTITY), memory.get(("frame", "layers"), {})
+        else:
+            frame, layers = self._next_frame(op, op_values(op.values, self, op.span))
+        if frame is None or swivel:
+            self._fault("core.unsupported-code", op.span, f"{op.what or 'this coordinate transformation'} is not modelled: positions after it are unknown "
+                        "until it is reset", "unknown", op.what or "a coordinate transformation")
+        memory[("frame", "programmable")] = frame or frames.UNKNOWN
+        memory[("frame", "layers")] = layers
+        memory[("frame", "swivel")] = swivel
+        self.set_frame(frames.UNKNOWN if swivel or frame is None else frame)
+        return None
+
+    def _next_frame(self, op: ir.SetFrame, given: dict):
+        """The frame after the statement (None when it is not modelled), and the split of a
+        pure translation into its absolute (TRANS, G58) and additive (ATRANS, G59) parts
+        per axis (None once the frame is more than a translation)."""
+        state = self.state
+        layers = state.rule_state.get(("frame", "layers"), {})
+        if op.layer is not None:
+            if layers is None:
+                return None, None
+            index = 0 if op.layer == "coarse" else 1
+            layers = dict(layers)
+            for axis, value in given.items():
+                pair = list(layers.get(axis, (0.0, 0.0)))
+                pair[index] = value
+                layers[axis] = tuple(pair)
+            return frames.translation({axis: values.add(*pair) for axis, pair in layers.items()}), layers
+        part = self._frame_part(op, given)
+        if part is None:
+            return None, None
+        if not op.additive:
+            return part, ({axis: (value, 0.0) for axis, value in given.items()} if op.component in ("translation", "reset") else None)
+        if op.component == "translation" and layers is not None:
+            layers = dict(layers)
+            for axis, value in given.items():
+                coarse, fine = layers.get(axis, (0.0, 0.0))
+                layers[axis] = (coarse, values.add(fine, value))
+        else:
+            layers = None
+        return frames.compose(state.rule_state.get(("frame", "programmable"), frames.IDENTITY), part), layers
+
+    def _frame_part(self, op: ir.SetFrame, given: dict):
+        """The transformation one statement makes; None when it is not modelled."""
+        component = op.component
+        if component == "reset":
+            return frames.IDENTITY
+        if any(axis not in frames.AXES and axis != "RPL" for axis in given):
+            return None  # rotary and auxiliary axes are not transformed here
+        if component == "translation":
+            return frames.translation(given)
+        if component == "rotation":
+            first, second, normal = self.state.plane_axes
+            if any(axis != normal and axis != "RPL" and not (type(value) is float and value == 0.0) for axis, value in given.items()):
+                return None  # a spatial rotation
+            return frames.rotation((first, second, normal), given.get("RPL", given.get(normal, 0.0)))
+        if component == "scale":
+            return frames.scaling(given)
+        if component == "mirror":
+            return frames.mirror(given)
         return None
 
     def _reference_return(self, op: ir.ReferenceReturn, block):

@@ -28,6 +28,16 @@ Operations (all carry the ``span`` of the words they came from):
 ``LengthOffset``    tool length offset plus / minus / off, with its register
 ``WorkOffset``      selects a work coordinate system (G54.., or a numbered one)
 ``CoordinateShift`` sets a coordinate shift without motion (G92, G52, datum shifts)
+``SetFrame``        a programmable coordinate transformation (SINUMERIK TRANS/ROT/SCALE/
+                    MIRROR and their A- forms, G58/G59): ``component`` translation /
+                    rotation / scale / mirror / reset / unknown (a transformation not
+                    modelled: positions after it are unknown) / swivel and swivel_off (a
+                    tilted plane, kept apart from the programmable frame: unknown while
+                    on); ``additive`` appends it in
+                    the current system instead of replacing the frame; ``values`` per axis
+                    (rotation: ``RPL`` or the plane's normal axis, in degrees); ``layer`` ``coarse`` /
+                    ``fine`` for the axial G58 / G59 translations. Klartext cycles 7-26
+                    and TRANS set the same frame from their runner (:mod:`ncverify.frames`)
 ``ReferenceReturn`` returns to a machine reference point through an intermediate point
 ``MachineMove``     a one-shot move in machine coordinates (G53)
 ``SetFeed``         feed rate word
@@ -171,6 +181,15 @@ class CoordinateShift(Op):
     kind: str  # set_position (G92), local (G52), data (G10)
     values: dict[str, Expr]
     words: dict[str, Expr] = field(default_factory=dict)
+
+
+@dataclass(slots=True)
+class SetFrame(Op):
+    component: str  # translation, rotation, scale, mirror, reset, unknown, swivel, swivel_off
+    additive: bool = False
+    values: dict[str, Expr] = field(default_factory=dict)
+    layer: str | None = None  # coarse (G58) / fine (G59): replaces that part of the translation per axis
+    what: str = ""  # the statement, for messages
 
 
 @dataclass(slots=True)

@@ -32,7 +32,7 @@ _FN_CONDITION = {9: "EQ", 10: "NE", 11: "GT", 12: "LT"}
 _CONDITION_WORDS = {"EQU": "EQ", "NE": "NE", "GT": "GT", "LT": "LT"}
 # Statements that read fine but whose effect is not modelled: (affects position?, what).
 _UNMODELLED = {
-    "PLANE": (True, "PLANE (tilting the working plane)"), "TCH": (True, "TCH PROBE (a touch-probe cycle)"),
+    "TCH": (True, "TCH PROBE (a touch-probe cycle)"),
     "FUNCTION": (False, "FUNCTION"), "SPEC": (False, "SPEC FCT"), "DECLARE": (False, "DECLARE"),
     "SEL": (False, "SEL"), "GLOBAL": (False, "GLOBAL DEF"),
     "FK": (True, "FK free contour programming"), "FPOL": (False, "FPOL"), "FL": (True, "FK free contour programming"),
@@ -149,6 +149,12 @@ class KlartextLowering:
             return
         if word == "GLOBAL" and cursor.is_name("DEF", ahead=1):
             self._global_def(cursor, block)
+            return
+        if word == "PLANE":  # tilting the working plane: the frame is unknown until PLANE RESET
+            start = cursor.next().span
+            reset = cursor.take_name("RESET") is not None
+            cursor.index = len(cursor.tokens)
+            block.ops.append(_pseudo(cursor.rest_span(start), "trans", {"what": "PLANE"} if reset else {"what": "PLANE", "tilt": 1.0}))
             return
         if word in _UNMODELLED:
             affects_position, what = _UNMODELLED[word]
@@ -710,6 +716,8 @@ class KlartextLowering:
                 word = cursor.expect_name()
                 if cursor.is_symbol("+", "-") or (cursor.peek() is not None and cursor.peek().kind == "number") or cursor.is_name("Q", "QL", "QR"):
                     params[word.text] = cursor.value()
+                elif what.text == "MIRROR" and word.text in _AXES:
+                    params[word.text] = 1.0  # TRANS MIRROR AXIS X: the axes mirrored
         block.ops.append(_pseudo(cursor.rest_span(start), "trans", params))
 
 

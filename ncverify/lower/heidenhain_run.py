@@ -21,6 +21,7 @@ import re
 from dataclasses import dataclass, replace
 
 from .. import cycles, ir, values
+from . import heidenhain_frames
 from ..interpret import PathEnd, _distance, _distance_sq
 from ..trace import Arc, CycleRun, Hole
 
@@ -366,7 +367,7 @@ def _def_active(runner, op, block, number, params, cycle_model):
             return None
         return _run_at_points(runner, op, block, points, pattern=params)
     if number == 247:
-        _put(state, "transforms", ())
+        heidenhain_frames.reset(interp, heidenhain_frames.RESET_BY_DATUM_SETTING)  # seed L8221-8223
         return None
     if number == 20:
         _put(state, "sl_data", (_numbers(params), dict(op.param_spans), op.span))
@@ -380,7 +381,8 @@ def _def_active(runner, op, block, number, params, cycle_model):
         _put(state, "ocm", (number, _numbers(params), dict(op.param_spans)))
         return None
     if number in _TRANSFORMS:
-        _transform(runner, op, number, params)
+        if params:  # without words it is the header of the old-style sub-blocks (CYCL DEF 7.0 DATUM SHIFT)
+            _transform(runner, op, number, params)
         return None
     interp._fault("core.unsupported-code", op.span, f"cycle {number} is read but not modelled; checks that depend on it answer unknown", "unknown", f"cycle {number}")
     if number == 224:  # it runs the last machining cycle at the code's points
@@ -412,23 +414,11 @@ def _old_cycle_run(runner, op, block, model, params):
 
 
 def _transform(runner, op, number, params) -> None:
-    """Datum shift, mirror, rotation, scaling, working plane: the coordinates after it are
-    not the coordinates of the BLK FORM any more. A shift to zero, a rotation by 0 and a
-    scale of 1 reset; anything else is reported as not modelled and the position becomes
-    unknown until the program moves to known coordinates again."""
+    """Datum shift, mirror, rotation, scaling, working plane: the frame from program to
+    BLK FORM coordinates (:mod:`ncverify.lower.heidenhain_frames`)."""
     state = runner.state
     interp = runner.interp
-    active = dict(_get(state, "transforms", ()) or ())
-    neutral = all(type(value) is float and value == (1.0 if name in ("SCL", "X", "Y", "Z") and number in (11, 26) else 0.0)
-                  for name, value in params.items() if name not in ("#",) and not name.startswith("CC"))
-    if neutral and "#" not in params:
-        active.pop(number, None)
-    else:
-        active[number] = tuple(sorted((name, value) for name, value in params.items() if type(value) is float))
-        interp._fault("core.unsupported-code", op.span, f"coordinate transformation (cycle {number}) is read but not modelled: positions after it "
-                      "are not compared with the BLK FORM; checks that depend on them answer unknown", "unknown", f"cycle {number}")
-        state.move_to(dict.fromkeys(state.position))
-    _put(state, "transforms", tuple(sorted(active.items())))
+    heidenhain_frames.transform(runner, op, number, params)
     if number == 10:
         state.comp_side = "off"  # cycle 10 cancels radius compensation (seed L7904)
     tool_axis = _plane(state)[2]
@@ -454,9 +444,10 @@ def _contour_def_run(runner, op, block, model, params):
 
 def _trans_run(runner, op, block, model, params):
     what = params.pop("what", "DATUM")
-    number = {"DATUM": 7, "MIRROR": 8, "ROTATION": 10, "SCALE": 11}.get(what, 7)
+    number = {"DATUM": 7, "MIRROR": 8, "ROTATION": 10, "SCALE": 11, "PLANE": 19}.get(what, 7)
     if params.pop("reset", None) is not None or what == "RESET":
-        params = {}
+        heidenhain_frames.reset(runner.interp, {number})
+        return None
     _transform(runner, op, number, params)
     return None
 

@@ -42,6 +42,17 @@ UNTIL_FLAG = "_REPEAT_UNTIL_"
 _AXES = ("X", "Y", "Z", "A", "B", "C", "U", "V", "W")
 _ARC_WORDS = ("I", "J", "K")
 _DIRECTIONS = {"GOTOF": "forward", "GOTOB": "backward", "GOTO": "nearest", "GOTOC": "nearest"}
+def _swivel(item: Item, span: Span) -> list[ir.Op]:
+    """CYCLE800 tilts the working plane (not modelled: positions are unknown while it is
+    on); ``CYCLE800()`` or all angles and shifts literally 0 switch it off (seed A L10846-10875)."""
+    if item.name != "CYCLE800":
+        return []
+    numbers = item.args[4:13]
+    neutral = all(arg is None or (type(arg) is float and arg == 0.0) for arg in numbers)
+    return [ir.SetFrame(span, "swivel_off" if neutral else "swivel", what="CYCLE800 (swivelling the working plane)")]
+
+
+_FRAME_COMPONENTS = {"TRANS": "translation", "ROT": "rotation", "SCALE": "scale", "MIRROR": "mirror"}
 _AXIS_DATA_CODES = frozenset({"74", "75", "110", "111", "112", "58", "59", "25", "26"})
 _STAGE_ORDER = ("feed", "tool", "speed", "spindle", "dwell", "modal", "offset", "motion", "call", "stop")
 
@@ -133,7 +144,7 @@ class SinumerikLowering:
             return [ir.Assign(span, ir.Var(name), value if value is not None else ("" if item.name in ("STRING", "CHAR") else 0.0))
                     for name, dimensions, value, _start in item.value if dimensions is None]
         if kind == "call":
-            return [self._call(item, span, read, path)]
+            return [self._call(item, span, read, path)] + _swivel(item, span)
         if kind == "mcall":
             return self._mcall(item, span, read, path)
         if kind == "if":
@@ -219,10 +230,17 @@ class SinumerikLowering:
 
     @staticmethod
     def _frame(item: Item, span: Span) -> ir.Op:
-        values = {word.name: word.value for word in item.args if word.name in _AXES}
-        if item.name == "ATRANS" and len(values) == len(item.args):
-            return ir.CoordinateShift(span, "local", values)
-        return ir.Unsupported(span, f"{item.name} (a programmable frame)", ("position", "offsets"))
+        """TRANS/ROT/SCALE/MIRROR replace the programmable frame (reset without words), the
+        A- forms append to it; ROTS/AROTS (solid angles) are not modelled."""
+        base = item.name[1:] if item.name.startswith("A") else item.name
+        component = _FRAME_COMPONENTS.get(base)
+        words = {word.name: word.value for word in item.value}
+        statement = " ".join([item.name] + [word.name for word in item.value])
+        if component is None:
+            return ir.SetFrame(span, "unknown", what=f"{statement} (a rotation by solid angles)")
+        if not words and base == item.name:
+            component = "reset"
+        return ir.SetFrame(span, component, item.name != base, words, what=statement)
 
     # ------------------------------------------------------------------ address words
 
@@ -284,6 +302,9 @@ class SinumerikLowering:
             stages["feed"] = [op for op in stages["feed"] if not isinstance(op, ir.SetFeed)]
             stages["speed"] = []
         if axis_data:  # G74/G75/G110-G112/G58/G59...: the axis words are data, not a move
+            for op in stages["offset"]:
+                if isinstance(op, ir.SetFrame):
+                    op.values = dict(targets)  # G58/G59: the translation of the axes written
             return
         if machine_move:
             if targets:
@@ -321,6 +342,8 @@ class SinumerikLowering:
             stages["modal"].append(ir.CutterComp(span, entry["side"]))
         elif effect == "work_offset":
             stages["offset"].append(ir.WorkOffset(span, f"G{key}"))
+        elif effect == "frame_layer":
+            stages["offset"].append(ir.SetFrame(span, "translation", layer=entry["layer"], what=f"G{key}"))
         elif effect == "dwell":
             stages["dwell"].append(ir.Dwell(span, None))
         elif effect == "machine_move":
@@ -514,9 +537,6 @@ def _proc_parameters(buffer, start: int) -> list[tuple[str, bool]]:
 
 # ---------------------------------------------------------------------- context from the program
 
-# Statements that move the coordinate system away from the one WORKPIECE describes; the
-# checker does not transform positions through them, so the blank is not used with them.
-_FRAME = re.compile(rb"(?mi)^[^;\n]*\b(?:A?TRANS|A?ROTS?|A?MIRROR|A?SCALE|CYCLE800|G5[89])\b")
 _WORKPIECE = re.compile(r"^\s*(?:N\d+\s*)?WORKPIECE\s*\((.*)\)", re.IGNORECASE)
 _TOOL_DATA = re.compile(r"^\s*(?:N\d+\s*)?\$TC_DP(\d+)\s*\[\s*(\d+)\s*,\s*(\d+)\s*\]\s*=\s*([-+]?(?:\d+\.?\d*|\.\d+))\s*(?:;.*)?$", re.IGNORECASE)
 # Tool type codes (seed B L81, A section 3.1): 1xx mills, 2xx drills, 5xx turning tools.
@@ -537,8 +557,6 @@ def program_context(buffer: bytes) -> Context:
             match = _TOOL_DATA.match(decode_line(raw))
             if match and match.group(3) == "1":
                 tools.setdefault(int(match.group(2)), {})[int(match.group(1))] = float(match.group(4))
-    if context.stock is not None and _FRAME.search(buffer):
-        context.stock = None  # positions under a programmable frame are not in the blank's coordinates
     for number, data in tools.items():
         kind = _TOOL_TYPES.get(int(data.get(1, 0)) // 100)
         context.tools[number] = Tool(number, type=kind, radius=data.get(6), length=data.get(3), origin="program ($TC_DP)")

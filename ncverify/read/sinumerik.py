@@ -83,6 +83,7 @@ EQUALS_ADDRESSES = frozenset({
     "X", "Y", "Z", "A", "B", "C", "U", "V", "W", "I", "J", "K", "F", "S", "T", "D", "H", "E", "L", "P", "Q",
     "CR", "AP", "RP", "CHF", "CHR", "RND", "RNDM", "ANG", "SPOS", "SPOSA", "AR", "ADIS", "ADISPOS", "TURN",
     "I1", "J1", "K1", "FA", "G", "M", "LIMS", "X1", "Y1", "Z1", "X2", "Z2", "SF", "OVR", "DC", "ACP", "ACN", "CIP",
+    "RPL",  # ROT RPL=30: rotation in the active plane
 })
 _BLOCK_KEYWORDS = frozenset({
     "IF", "ELSE", "ENDIF", "WHILE", "ENDWHILE", "FOR", "ENDFOR", "REPEAT", "REPEATB", "UNTIL", "LOOP", "ENDLOOP",
