@@ -136,3 +136,15 @@ def test_a_thread_mill_ends_above_the_centre_at_the_retract_plane():
     run = trace("G0 G90 X40 Y40 Z25 S900 M3 F300\nG98 G212 Z2 I-15 J20 K1.5 B1.5 E3\nG80\nM30\n")
     last = [segment for segment in run.segments if segment.cycle][-1]
     assert (last.end["X"], last.end["Y"], last.end["Z"]) == (40.0, 40.0, 25.0)
+
+
+def test_g82_retract_coordinate_is_judged_along_minus_z_too():
+    program = "G0 G90 X0 Y0 Z-40 F200 S800 M3\n#TOOL AX [Z-]\nG99 G82 Z-2 I20 B4 H{}\nG80\nM30\n"
+    assert "fagor.g82-retract-coordinate" in findings(check(program.format(3)))  # Z3 is past the first peck's bottom Z2
+    assert "fagor.g82-retract-coordinate" not in findings(check(program.format(-1)))
+
+
+def test_bore_milling_without_a_floor_pass_is_reported_in_a_blind_hole_only():
+    program = "; ncverify: stock box X0:100 Y0:100 Z-40:0\nG0 G90 X50 Y50 Z25 F400 S2500 M3\nG99 G210 Z2 I{} J30 B-2\nG80\nM30\n"
+    assert "fagor.bore-milling-no-floor" in findings(check(program.format(-20)))
+    assert "fagor.bore-milling-no-floor" not in findings(check(program.format(-42)))  # through the blank

@@ -288,3 +288,25 @@ class RigidTappingEncoder(_ReportsMissingContext):
             self.report("fagor.rigid-tapping-encoder", span, "G84 R1 is rigid tapping, which needs a motor-driven spindle with an encoder, and this machine has none "
                         "([machine] spindle_encoder = false): the feed cannot follow the spindle and the tap strips the thread or breaks; tap with R0 "
                         "in a floating holder")
+
+
+@rule("fagor.bore-milling-no-floor")
+class BoreMillingNoFloor(_ReportsMissingContext):
+    """G210 with a negative pitch B makes no bottom pass (seed L1615-1619; H20): meant for
+    through holes. Judged against the stock's bottom: a hole that ends above it is blind."""
+
+    def hole(self, hole, state):
+        pitch = hole.params.get("B")
+        if hole.model.get("pocket") != "bore" or type(pitch) is not float or pitch >= 0 or hole.bottom is None:
+            return
+        if hole.drill_axis != "Z" or hole.up < 0 or not self.first_time(state, ("fagor.bore-milling-no-floor", hole.definition)):
+            return
+        stock = self.checker.context.get("stock")
+        if stock is None:
+            self.missing("fagor.bore-milling-no-floor", hole.span, "no stock defined (annotation 'ncverify: stock ...' or [stock] in ncverify.toml)")
+            return
+        verdict = self.checker.judge(hazard(">", hole.bottom, stock.z_range[0]), state)
+        self.checker.report_verdict("fagor.bore-milling-no-floor", hole.param_spans.get("B", hole.span),
+                                    f"G210 with a negative pitch B{show(pitch)} makes no bottom pass (it is meant for through holes), but the hole ends at "
+                                    f"Z{show(hole.bottom)}, above the stock's bottom Z{stock.z_range[0]:g}: the floor of this blind hole is left as the helix "
+                                    "ramps it, not flat; program B positive", verdict, state)
