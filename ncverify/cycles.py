@@ -225,7 +225,7 @@ class CycleRunner:
         retract_kind = "feed" if model.get("retract") == "feed" else "rapid"
         self._rapid_to({axis: r_point}, span, block, "out-of-hole", name, retract_kind)
         if reference and reference[0] is not None:
-            self._rapid_to({axis: reference[0]}, span, block, "retract", name)
+            self._rapid_to({axis: reference[0]}, span, block, "out-of-hole", name)
         if state.modal.get("cycle_return") != "r_point" and initial is not None:
             self._rapid_to({axis: initial}, span, block, "retract", name)
 

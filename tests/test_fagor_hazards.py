@@ -124,7 +124,7 @@ def test_without_mcall_the_same_moves_make_no_call():
 def test_a_pocket_under_g99_goes_back_to_the_reference_plane_above_its_approach():
     run = trace("G0 G90 X60 Y35 Z25 F800 S900 M3\nG99 G87 Z5 I-20 D4 J40 K20 B5\nG80\nM30\n")
     cycle = [(segment.role, segment.kind, segment.end["Z"]) for segment in run.segments if segment.cycle]
-    assert cycle == [("approach", "rapid", 2.0), ("infeed", "feed", -20.0), ("out-of-hole", "rapid", 2.0), ("retract", "rapid", 5.0)]
+    assert cycle == [("approach", "rapid", 2.0), ("infeed", "feed", -20.0), ("out-of-hole", "rapid", 2.0), ("out-of-hole", "rapid", 5.0)]
 
 
 def test_bore_and_thread_milling_rapid_to_the_centre_even_in_g1():
