@@ -378,6 +378,27 @@ def test_manual_defects_are_reported():
     assert "core.cycle-depth-sign" in {d.rule for d in _findings(745, 777, 0) if d.status.value == "violated"}
 
 
+# Complete example programs the manual prints as correct, with the findings that are true of
+# them: the V.C examples program no spindle speed before the cycle starts the spindle.
+CORRECT_EXAMPLES = [((788, 845), {"fagor.cycle-starts-spindle"}), ((888, 908), set()), ((997, 1017), set()), ((1063, 1087), set()),
+                    ((1144, 1165), set()), ((1202, 1222), set()), ((1312, 1330), set()), ((1441, 1449), set()), ((1556, 1564), set())]
+
+
+@pytest.mark.skipif(not MANUAL.is_file(), reason="the Fagor cycles manual is not beside the repository")
+@pytest.mark.parametrize("lines, true_findings", CORRECT_EXAMPLES, ids=[f"L{first}-{last}" for (first, last), _ in CORRECT_EXAMPLES])
+def test_manual_correct_examples_give_no_false_alarm(lines, true_findings):
+    for program in _manual_programs(*lines):
+        assert reported(check_text(program, "manual.pim", Settings(dialect="fagor"))) <= true_findings, program
+
+
+@pytest.mark.skipif(not MANUAL.is_file(), reason="the Fagor cycles manual is not beside the repository")
+def test_manual_axis_sign_examples_drill_along_x_correctly_and_along_y_from_the_wrong_side():
+    along_x = {d.rule for d in _findings(747, 757, 0) if d.status.value == "violated"}
+    along_y = [d for d in _findings(762, 772, 0) if d.rule == "core.cycle-depth-sign" and d.status.value == "violated"]
+    assert not along_x & {"core.cycle-depth-sign", "core.cycle-r-above-initial", "core.cycle-zero-depth"}
+    assert [d.span.line for d in along_y] == [4, 8]  # [Y-] with the approach from +Y, and [Y+] from -Y (reference §14)
+
+
 def test_nr_repeats_an_incremental_move_outside_a_cycle_too():
     assert x_of_last_move("G0 G90 X0 Y0 Z10\nG91 G1 X10 F500 NR4\nG90\nM30\n") == 40.0
 

@@ -152,7 +152,7 @@ class FagorLowering(IsoLowering):
             cycle_op = self._cycle_op(notes, line, words, cycle_word, entry, path, setting)
         read = ReadBlock(line.line, line.start, line.end, words, [], line.skip)
         lowered = self.lower(read, path) if words else ir.Block(line.line, line.start + 1, line.end + 1, [])
-        ops = self._cancel_on_plane_change(lowered.ops)
+        ops = self._cancel_cycle_where_the_control_does(lowered.ops)
         self._length_with_tool(ops)
         if cycle_op is not None:
             self._insert_cycle(ops, cycle_op)
@@ -227,10 +227,13 @@ class FagorLowering(IsoLowering):
                 return
 
     @staticmethod
-    def _cancel_on_plane_change(ops: list) -> list:
-        """A new plane, G20 or G74 ends the cycle (seed L597-611)."""
+    def _cancel_cycle_where_the_control_does(ops: list) -> list:
+        """A new plane, G20, G74, M02 or M30 ends the cycle (seed L597-611): the program end
+        leaves no cycle for the next program."""
         result = []
         for op in ops:
+            if isinstance(op, ir.Stop) and op.kind == "end":
+                result.append(ir.CycleCancel(op.span))
             if isinstance(op, ir.SetModal) and op.group == "plane":
                 changed = ir.Binary("NE", _STATE_VARIABLES[0], _PLANE_CODES[op.value])
                 result.append(ir.Conditional(op.span, changed, [ir.CycleCancel(op.span)]))
