@@ -791,7 +791,8 @@ class Interpreter:
         else:
             frame, layers = self._next_frame(op, op_values(op.values, self, op.span))
         if frame is None or swivel:
-            self._fault("core.unsupported-code", op.span, f"{op.what or 'this coordinate transformation'} is not modelled: positions after it are unknown "
+            why = _UNMODELLED_FRAMES.get(op.component, "")
+            self._fault("core.unsupported-code", op.span, f"{op.what or 'this coordinate transformation'} is not modelled{why}: positions after it are unknown "
                         "until it is reset", "unknown", op.what or "a coordinate transformation")
         memory[("frame", "programmable")] = frame or frames.UNKNOWN
         memory[("frame", "layers")] = layers
@@ -841,7 +842,7 @@ class Interpreter:
         if component == "rotation":
             first, second, normal = self.state.plane_axes
             if any(axis != normal and axis != "RPL" and not (type(value) is float and value == 0.0) for axis, value in given.items()):
-                return None  # a spatial rotation
+                return None  # about an axis in the plane: a spatial rotation
             return frames.rotation((first, second, normal), given.get("RPL", given.get(normal, 0.0)))
         if component == "scale":
             return frames.scaling(given)
@@ -1313,6 +1314,11 @@ def op_values(written: dict, interpreter: "Interpreter", span) -> dict:
     return evaluated
 
 
+_UNMODELLED_FRAMES = {  # why a frame statement is not modelled, by its component
+    "rotation": " (a rotation about an axis of the working plane tilts it out of the plane)",
+    "translation": " (a shift of a rotary or auxiliary axis, or G58/G59 under a rotated or scaled frame)",
+    "scale": " (scaling a rotary or auxiliary axis)", "mirror": " (mirroring a rotary or auxiliary axis)",
+}
 _BATCH_AFTER = 8  # plain blocks in a row before the rest of the streak is read as a batch
 _WATCHED_MODAL = frozenset({"feed_mode", "spindle_mode", "path_mode"})  # groups whose codes make a Change
 

@@ -235,7 +235,8 @@ class SinumerikLowering:
         base = item.name[1:] if item.name.startswith("A") else item.name
         component = _FRAME_COMPONENTS.get(base)
         words = {word.name: word.value for word in item.value}
-        statement = " ".join([item.name] + [word.name for word in item.value])
+        statement = " ".join([item.name] + [f"{word.name}{'=' if len(word.name) > 1 else ''}{word.value:g}" if type(word.value) is float else word.name
+                                             for word in item.value])
         if component is None:
             return ir.SetFrame(span, "unknown", what=f"{statement} (a rotation by solid angles)")
         if not words and base == item.name:
