@@ -210,31 +210,6 @@ class PocketToolFit(_ReportsMissingContext):
                  "the tool cannot enter the pre-drilled hole", fit.largest_radius)]
 
 
-@rule("fagor.thread-mill-overshoot")
-class ThreadMillOvershoot(_ReportsMissingContext):
-    """G211/G212 leave the thread on a tangential helix that runs past the thread end I
-    along the tool axis (seed L1782-1803, L1922-1939; H21). The manual gives no length; one
-    pitch |B| is taken as the overshoot. Judged against the stock's bottom: past it the
-    tool runs into the table or the fixture."""
-
-    def hole(self, hole, state):
-        if not hole.model.get("thread_mill") or hole.bottom is None or hole.drill_axis != "Z":
-            return
-        pitch = hole.params.get("B")
-        if pitch is None or not self.first_time(state, ("fagor.thread-mill-overshoot", hole.definition)):
-            return
-        stock = self.checker.context.get("stock")
-        if stock is None:
-            self.missing("fagor.thread-mill-overshoot", hole.span, "no stock defined (annotation 'ncverify: stock ...' or [stock] in ncverify.toml)")
-            return
-        lowest = values.sub(hole.bottom, values.absolute(pitch))
-        verdict = self.checker.judge(hazard("<", lowest, stock.z_range[0]), state)
-        self.checker.report_verdict("fagor.thread-mill-overshoot", hole.param_spans.get("I", hole.span),
-                                    f"{_code(hole.cycle)} ends the thread at Z{show(hole.bottom)}, but its helical exit runs on past it by up to one pitch "
-                                    f"(B{show(values.absolute(pitch))}) to about Z{show(lowest)}, below the stock's bottom Z{stock.z_range[0]:g}: "
-                                    "the tool reaches the table or the fixture under the part", verdict, state)
-
-
 @rule("fagor.hole-at-unknown-position")
 class HoleAtUnknownPosition(Rule):
     """The block that defines a cycle machines where the tool is (seed L613-615; H2)."""
@@ -249,27 +224,6 @@ class HoleAtUnknownPosition(Rule):
             self.report("fagor.hole-at-unknown-position", hole.span,
                         f"{_code(hole.cycle)} machines at a {first}{second} position that is not known here (no {first}/{second} move since the start, a tool change, "
                         "a home search or an unmodelled statement): the defining block drills wherever the tool happens to be")
-
-
-@rule("fagor.g83-depth")
-class DeepDrillingDepth(_ReportsMissingContext):
-    """G83's I is one peck and J the number of pecks (seed L1044-1050; H4): a depth of J
-    pecks that ends more than a peck below the stock's bottom was meant as a total depth."""
-
-    def hole(self, hole, state):
-        if hole.model.get("depth") != "pecks" or hole.bottom is None or hole.drill_axis != "Z":
-            return
-        peck, count = hole.params.get("I"), hole.params.get("J")
-        if peck is None or count is None or not self.first_time(state, ("fagor.g83-depth", hole.definition)):
-            return
-        stock = self.checker.context.get("stock")
-        if stock is None:
-            self.missing("fagor.g83-depth", hole.span, "no stock defined (annotation 'ncverify: stock ...' or [stock] in ncverify.toml)")
-            return
-        verdict = self.checker.judge(hazard("<", values.add(hole.bottom, values.absolute(peck)), stock.z_range[0]), state)
-        self.checker.report_verdict("fagor.g83-depth", hole.param_spans.get("J", hole.param_spans.get("I", hole.span)),
-                                    f"G83 drills J{show(count)} pecks of I{show(peck)}: the bottom is Z{show(hole.bottom)}, more than a peck below the stock's bottom "
-                                    f"Z{stock.z_range[0]:g}; I is one peck, not the depth (the depth is J x I below the reference plane)", verdict, state)
 
 
 @rule("fagor.rigid-tapping-encoder")
@@ -290,23 +244,95 @@ class RigidTappingEncoder(_ReportsMissingContext):
                         "in a floating holder")
 
 
+class _PastTheStock(_ReportsMissingContext):
+    """Rules that judge how far a hole reaches along its tool axis against the stock's far
+    face: its bottom for a tool coming down Z, and for a box stock its face on any axis,
+    either way (``hole.up``). Without the stock, or its extent along that axis, the rule
+    answers unknown once per file."""
+
+    rule_id = ""
+
+    def far_face(self, hole):
+        """``(coordinate of the far face, "<" or ">" for "beyond it", the axis)``, or None."""
+        stock = self.checker.context.get("stock")
+        if stock is None:
+            self.missing(self.rule_id, hole.span, "no stock defined (annotation 'ncverify: stock ...' or [stock] in ncverify.toml)")
+            return None
+        extent = {"Z": stock.z_range, "X": stock.x_range, "Y": stock.y_range}.get(hole.drill_axis)
+        if extent is None:
+            self.missing(self.rule_id, hole.span, f"the stock's extent along {hole.drill_axis} is not known (only a box stock gives it)")
+            return None
+        return (extent[0], "<", hole.drill_axis) if hole.up > 0 else (extent[1], ">", hole.drill_axis)
+
+
+@rule("fagor.thread-mill-overshoot")
+class ThreadMillOvershoot(_PastTheStock):
+    """G211/G212 leave the thread on a tangential helix that runs past the thread end I
+    along the tool axis (seed L1782-1803, L1922-1939; H21). The manual gives no length; one
+    pitch |B| is taken as the overshoot. Past the stock's far face the tool runs into the
+    table or the fixture."""
+
+    rule_id = "fagor.thread-mill-overshoot"
+
+    def hole(self, hole, state):
+        pitch = hole.params.get("B")
+        if not hole.model.get("thread_mill") or hole.bottom is None or pitch is None or not self.first_time(state, (self.rule_id, hole.definition)):
+            return
+        face = self.far_face(hole)
+        if face is None:
+            return
+        limit, beyond, axis = face
+        reach = values.sub(hole.bottom, values.mul(hole.up, values.absolute(pitch)))
+        verdict = self.checker.judge(hazard(beyond, reach, limit), state)
+        self.checker.report_verdict(self.rule_id, hole.param_spans.get("I", hole.span),
+                                    f"{_code(hole.cycle)} ends the thread at {axis}{show(hole.bottom)}, but its helical exit runs on past it by up to one pitch "
+                                    f"(B{show(values.absolute(pitch))}) to about {axis}{show(reach)}, past the stock's far face {axis}{limit:g}: "
+                                    "the tool reaches the table or the fixture behind the part", verdict, state)
+
+
+@rule("fagor.g83-depth")
+class DeepDrillingDepth(_PastTheStock):
+    """G83's I is one peck and J the number of pecks (seed L1044-1050; H4): a depth of J
+    pecks that ends more than a peck past the stock's far face was meant as a total depth."""
+
+    rule_id = "fagor.g83-depth"
+
+    def hole(self, hole, state):
+        if hole.model.get("depth") != "pecks" or hole.bottom is None:
+            return
+        peck, count = hole.params.get("I"), hole.params.get("J")
+        if peck is None or count is None or not self.first_time(state, (self.rule_id, hole.definition)):
+            return
+        face = self.far_face(hole)
+        if face is None:
+            return
+        limit, beyond, axis = face
+        verdict = self.checker.judge(hazard(beyond, values.add(hole.bottom, values.mul(hole.up, values.absolute(peck))), limit), state)
+        self.checker.report_verdict(self.rule_id, hole.param_spans.get("J", hole.param_spans.get("I", hole.span)),
+                                    f"G83 drills J{show(count)} pecks of I{show(peck)}: the bottom is {axis}{show(hole.bottom)}, more than a peck past the stock's "
+                                    f"far face {axis}{limit:g}; I is one peck, not the depth (the depth is J x I from the reference plane)", verdict, state)
+
+
 @rule("fagor.bore-milling-no-floor")
-class BoreMillingNoFloor(_ReportsMissingContext):
+class BoreMillingNoFloor(_PastTheStock):
     """G210 with a negative pitch B makes no bottom pass (seed L1615-1619; H20): meant for
-    through holes. Judged against the stock's bottom: a hole that ends above it is blind."""
+    through holes. A hole that ends before the stock's far face is blind."""
+
+    rule_id = "fagor.bore-milling-no-floor"
 
     def hole(self, hole, state):
         pitch = hole.params.get("B")
         if hole.model.get("pocket") != "bore" or type(pitch) is not float or pitch >= 0 or hole.bottom is None:
             return
-        if hole.drill_axis != "Z" or hole.up < 0 or not self.first_time(state, ("fagor.bore-milling-no-floor", hole.definition)):
+        if not self.first_time(state, (self.rule_id, hole.definition)):
             return
-        stock = self.checker.context.get("stock")
-        if stock is None:
-            self.missing("fagor.bore-milling-no-floor", hole.span, "no stock defined (annotation 'ncverify: stock ...' or [stock] in ncverify.toml)")
+        face = self.far_face(hole)
+        if face is None:
             return
-        verdict = self.checker.judge(hazard(">", hole.bottom, stock.z_range[0]), state)
-        self.checker.report_verdict("fagor.bore-milling-no-floor", hole.param_spans.get("B", hole.span),
+        limit, beyond, axis = face
+        short = ">" if beyond == "<" else "<"
+        verdict = self.checker.judge(hazard(short, hole.bottom, limit), state)
+        self.checker.report_verdict(self.rule_id, hole.param_spans.get("B", hole.span),
                                     f"G210 with a negative pitch B{show(pitch)} makes no bottom pass (it is meant for through holes), but the hole ends at "
-                                    f"Z{show(hole.bottom)}, above the stock's bottom Z{stock.z_range[0]:g}: the floor of this blind hole is left as the helix "
-                                    "ramps it, not flat; program B positive", verdict, state)
+                                    f"{axis}{show(hole.bottom)}, short of the stock's far face {axis}{limit:g}: the floor of this blind hole is left as the "
+                                    "helix ramps it, not flat; program B positive", verdict, state)
