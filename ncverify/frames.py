@@ -125,6 +125,13 @@ class Frame:
         return out_axes, result
 
 
+def workpiece_level(state, axis: str, value):
+    """A level along ``axis`` that a cycle parameter gives in program coordinates (a
+    clearance height), on the workpiece; None when the active frame leaves it unknown."""
+    frame = state.frame
+    return value if frame is None else frame.level(axis, value, state.position)
+
+
 IDENTITY = Frame()
 UNKNOWN = Frame(((None,) * 3,) * 3, (None, None, None))  # after a transformation that is not modelled (tilting)
 

@@ -246,3 +246,12 @@ def test_sinumerik_mirroring_one_plane_axis_reverses_the_arc(statement):
     factor = 2.0 if "SCALE" in statement else 1.0
     assert arc.arc.direction == "ccw" and arc.end["Y"] == 20.0 * factor and arc.arc.centre == (0.0, 0.0)
     assert arc.arc.start_radius == 20.0 * factor
+
+
+def test_a_clearance_height_is_judged_where_the_datum_shift_puts_it():
+    from ncverify.check import rule_definitions
+
+    page = rule_definitions()["heidenhain.sl-clearance-height"].example("Use instead")
+    lowered = page.replace("9  CYCL CALL", "CYCL DEF 7.0 DATUM SHIFT\nCYCL DEF 7.1 Z-60\n9  CYCL CALL")
+    assert not at(check_text(page, "t.h", Settings()), "heidenhain.sl-clearance-height")
+    assert at(check_text(lowered, "t.h", Settings()), "heidenhain.sl-clearance-height")  # Q7=+50 is Z-10 on the blank

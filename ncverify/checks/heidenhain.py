@@ -5,7 +5,7 @@ runner raises (a call with no cycle, RL/RR at a call) are reported from the trac
 """
 from __future__ import annotations
 
-from .. import pocket, values
+from .. import frames, pocket, values
 from ..check import Rule, hazard, rule, show
 from .machine import _ReportsMissingContext
 
@@ -197,8 +197,9 @@ class ContourClearanceHeight(_CycleRule):
             self.checker.report_verdict("heidenhain.sl-clearance-height", where, f"clearance height {names[0]}={show(height)} is below the set-up clearance "
                                         f"{names[1]} + {names[2]} = {show(values.add(surface, values.absolute(clearance)))}: the moves between areas run below the plane the cycle approaches from (seed L9384-9396)", verdict, state)
         stock = self.checker.context.get("stock")
-        if stock is not None:
-            verdict = self.checker.judge(hazard("<=", height, stock.top), state)
+        on_blank = frames.workpiece_level(state, state.plane_axes[2], height)  # the parameter is in program coordinates
+        if stock is not None and on_blank is not None:
+            verdict = self.checker.judge(hazard("<=", on_blank, stock.top), state)
             self.checker.report_verdict("heidenhain.sl-clearance-height", where, f"clearance height {names[0]}={show(height)} is not above the top of the blank Z{stock.top:g}: "
                                         "the rapids between areas and the final retract stay in the material", verdict, state)
 
