@@ -16,6 +16,10 @@ The frontend is the object the interpreter asks about text. Its methods:
     method every line is one logical line.
 ``is_plain(raw)`` / ``plain_run(buffer, offset, line)``
     The batch fast path for plain motion; a dialect without one answers False / None.
+``batch_allowed(state) -> bool`` (optional)
+    Whether a batch may run now, for a dialect whose plain blocks also change state of its
+    own (Klartext: an M89 cycle runs at every position); without it, whenever the
+    interpreter's own conditions hold.
 ``programs(buffer) -> [(name, offset)]``, ``is_subprogram(buffer, start, end)``,
 ``tape_marks(buffer)``, ``program_name(number_or_name) -> str``
     Where programs start in a file, which are subprograms, and how a called program is

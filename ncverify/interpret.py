@@ -290,7 +290,13 @@ class Interpreter:
         return (not self.settings.per_block_only and state.cycle is None and not state.loops
                 and (state.frame is None or state.frame.is_numeric)
                 and state.modal.get("motion") in ir.MoveRun.KINDS and not isinstance(state.feed, Sym)
-                and not any(isinstance(value, Sym) for value in state.position.values()))
+                and not any(isinstance(value, Sym) for value in state.position.values())
+                and self._dialect_allows_batch(state))
+
+    def _dialect_allows_batch(self, state) -> bool:
+        """A dialect whose plain blocks also change state of its own says when a batch may skip that."""
+        allows = getattr(self.frontend, "batch_allowed", None)
+        return allows is None or allows(state)
 
     def _execute_run(self, run: ir.MoveRun, source: ProgramSource, path) -> None:
         """Run a batch of plain blocks with arrays (the per-block path's twin)."""

@@ -21,6 +21,7 @@ from .. import ir
 from ..context import Context, Stock, Tool
 from ..dialect import DialectSetup
 from ..read.heidenhain import Cursor, ReadError, continues as _continues, split
+from ..read.heidenhain_runs import is_plain_line, read_plain_run
 from ..resources import data_dir
 from ..source import Span
 from . import heidenhain_run
@@ -774,10 +775,18 @@ class KlartextFrontend:
         return _continues(raw)
 
     def is_plain(self, raw: bytes) -> bool:
-        return False
+        """Could this line be part of a :class:`ir.MoveRun` (``n L X.. Y.. Z.. [R0] [F..|FMAX]``,
+        see :mod:`ncverify.read.heidenhain_runs`)?"""
+        return is_plain_line(raw)
 
-    def plain_run(self, buffer, offset: int, line: int):
-        return None
+    def plain_run(self, buffer, offset: int, line: int, limit: int = 1 << 20) -> ir.MoveRun | None:
+        return read_plain_run(buffer, offset, line, limit)
+
+    @staticmethod
+    def batch_allowed(state) -> bool:
+        """A run skips what each line's R0 and positioning step would do: nothing while the
+        compensation is off and no cycle waits on positions (see heidenhain_run)."""
+        return state.comp_side == "off" and heidenhain_run.positioning_is_inert(state)
 
     def programs(self, buffer) -> list[tuple[str, int]]:
         return [(_called_name(match.group(1).decode("utf-8", "replace")), match.start()) for match in _PROGRAM_START.finditer(buffer)]

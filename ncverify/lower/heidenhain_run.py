@@ -583,6 +583,13 @@ def _positioned_run(runner, op, block, model, params):
     return run_cycle(runner, op, block, definition)
 
 
+def positioning_is_inert(state) -> bool:
+    """Does a positioning line do nothing beyond moving and noting the point it reached at
+    feed (no M89 cycle to run at each position, no cycle end to check)? Then plain lines
+    may run as a batch (lower/heidenhain.py ``batch_allowed``)."""
+    return not _get(state, "m89") and _get(state, "ended_elsewhere") is None
+
+
 def _call_words(how: str) -> str:
     return {"CALL": "CYCL CALL", "PAT": "CYCL CALL PAT", "POS": "CYCL CALL POS"}.get(how, how)
 

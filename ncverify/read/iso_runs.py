@@ -92,22 +92,28 @@ class _Chunk:
         """The number after each letter before ``stop``, and whether it has a point."""
         letters = self.letters[self.letters < stop]
         digits_kept = self.digits < stop
-        digits, owner = self.digits[digits_kept], self.digit_owner[digits_kept]
         dots_kept = self.dots < stop
-        dots, dot_owner = self.dots[dots_kept], self.dot_owner[dots_kept]
-        count = len(letters)
-        per_token = numpy.bincount(owner, minlength=count)
-        first = numpy.concatenate(([0], numpy.cumsum(per_token)[:-1]))
-        rank = per_token[owner] - 1 - (numpy.arange(len(digits)) - first[owner])
-        mantissa = numpy.bincount(owner, weights=(self.codes[digits] - 48) * _POWERS_OF_TEN[rank], minlength=count)
-        no_point = numpy.iinfo(numpy.int64).max
-        point = numpy.full(count, no_point)
-        point[dot_owner] = dots
-        decimals = numpy.bincount(owner, weights=digits > point[owner], minlength=count).astype(numpy.int64)
-        values = mantissa / _POWERS_OF_TEN[decimals]
         minus = numpy.flatnonzero(self.codes[:stop] == ord("-"))
-        values[self.owner_at[minus]] *= -1.0
-        return letters, values, point != no_point
+        values, has_point = parse_numbers(self.codes, self.digits[digits_kept], self.digit_owner[digits_kept],
+                                          self.dots[dots_kept], self.dot_owner[dots_kept], self.owner_at[minus], len(letters))
+        return letters, values, has_point
+
+
+def parse_numbers(codes, digits, digit_owner, dots, dot_owner, minus_owner, count: int):
+    """The values of ``count`` numbers given by where their characters are: the digits and
+    decimal points (in text order) with the number each belongs to, and the numbers that
+    carry a minus sign. Returns the values and whether each was written with a point."""
+    per_token = numpy.bincount(digit_owner, minlength=count)
+    first = numpy.concatenate(([0], numpy.cumsum(per_token)[:-1]))
+    rank = per_token[digit_owner] - 1 - (numpy.arange(len(digits)) - first[digit_owner])
+    mantissa = numpy.bincount(digit_owner, weights=(codes[digits] - 48) * _POWERS_OF_TEN[rank], minlength=count)
+    no_point = numpy.iinfo(numpy.int64).max
+    point = numpy.full(count, no_point)
+    point[dot_owner] = dots
+    decimals = numpy.bincount(digit_owner, weights=digits > point[digit_owner], minlength=count).astype(numpy.int64)
+    values = mantissa / _POWERS_OF_TEN[decimals]
+    values[minus_owner] *= -1.0
+    return values, point != no_point
 
 
 def read_plain_run(chunk: bytes, minimum_lines: int = 16, stop_at_small_integers: bool = False) -> PlainRun | None:

@@ -1,0 +1,152 @@
+"""Klartext CAM output (plain ``L`` lines) runs as arrays: the reader takes exactly the lines
+it can read, and every finding is the same as running the lines one by one."""
+from __future__ import annotations
+
+import numpy
+import pytest
+from hypothesis import HealthCheck, given, settings as hypothesis_settings, strategies as st
+
+from ncverify import Settings, check_text
+from ncverify.diagnostics import Status
+from ncverify.lower.heidenhain import KlartextFrontend
+from ncverify.read.heidenhain_runs import is_plain_line, read_plain_run
+
+_HEAD = ["0 BEGIN PGM RUNS MM", "1 BLK FORM 0.1 Z X+0 Y+0 Z-20", "2 BLK FORM 0.2 X+100 Y+100 Z+0", "3 TOOL CALL 1 Z S3000",
+         "4 L Z+50 R0 FMAX M3", "5 L X-10 Y-10 R0 FMAX", "6 L Z-2 F300"]
+_TAIL = ["L Z+50 R0 FMAX M5", "M30", "END PGM RUNS MM"]
+
+
+def cam_lines(count: int, first: int = 10) -> list[str]:
+    return [f"{first + index} L X{index * 0.5:+.3f} Y{(index % 7) * 2.5:+.3f} Z{-2 - (index % 3) * 0.1:+.3f}" for index in range(count)]
+
+
+def program(body: list[str]) -> str:
+    return "\n".join([*_HEAD, *body, *_TAIL]) + "\n"
+
+
+def findings(text: str, per_block_only: bool = False):
+    result = check_text(text, "t.h", Settings(dialect="heidenhain", per_block_only=per_block_only))
+    return [(d.rule, d.span, d.status.value, d.message) for d in result.diagnostics], result.blocks
+
+
+def run_of(lines: list[str], line: int = 10):
+    text = ("\n".join(lines) + "\n").encode()
+    return read_plain_run(text, 0, line)
+
+
+# ---------------------------------------------------------------------- the reader
+
+
+def test_the_reader_reads_each_number_as_float_reads_its_text():
+    lines = ["7 L X+10.5 Y-3 Z+0.125 R0 F800", "8 L X-0.001 FMAX", "L Y+123456789.123456 Z-7.", "9 L  Z+1 F1500.5", *cam_lines(20)]
+    run = run_of(lines)
+    assert run.rows == len(lines) - 1  # the last line is left to the per-block path
+    assert numpy.array_equal(run.values[:4], [[10.5, -3.0, 0.125], [-0.001, numpy.nan, numpy.nan],
+                                              [numpy.nan, 123456789.123456, -7.0], [numpy.nan, numpy.nan, 1.0]], equal_nan=True)
+    assert list(run.kinds[:4]) == [1, 0, 1, 1]  # FMAX is a rapid; L without it a feed move
+    assert numpy.array_equal(run.feeds[:4], [800.0, numpy.nan, numpy.nan, 1500.5], equal_nan=True)
+    assert [int(offset) for offset in run.line_offsets[:2]] == [0, len(lines[0]) + 1]
+
+
+def test_the_run_ends_before_a_lift_out_of_the_cut():
+    lines = [*cam_lines(20), "40 L Z+5 R0 FMAX", *cam_lines(20, 41)]
+    assert run_of(lines).rows == 19  # the line before the lift is run block by block
+
+
+def test_a_short_streak_is_left_to_the_per_block_path():
+    assert run_of(cam_lines(16)) is None
+    assert run_of(cam_lines(18)).rows == 17
+
+
+def test_a_line_with_anything_else_ends_the_streak():
+    for odd in ["30 L X+1 Y+2 Z-1 M9", "30 L X+Q1 Y+2 Z-1", "30 L X+1 Y+2 Z-1 K5", "30 L IX+1 Y+2", "30 L X+1 Y+2 RL",
+                "30 L X+1,5 Y+2", "30 L X+1 Y+2 ; comment", "30 L Y+1 X+2", "30 LBL 1", "30 L X+1 Y+2 F AUTO"]:
+        assert not is_plain_line(odd.encode()), odd
+        assert run_of([*cam_lines(20), odd, *cam_lines(20, 31)]).rows == 19, odd
+
+
+def test_plain_lines_with_block_numbers_compensation_and_feed_are_plain():
+    for plain in ["12 L X+10.5 Y-3 Z+0 R0 F500", "L Z-1", "  12  L  X+1.  FMAX\r", "12 L X+0 Y+0 Z+0 R0 FMAX"]:
+        assert is_plain_line(plain.encode()), plain
+
+
+# ---------------------------------------------------------------------- the interpreter
+
+
+@pytest.fixture
+def runs_taken(monkeypatch) -> list:
+    """The rows of every run the interpreter asks the reader for (0: none read)."""
+    taken = []
+
+    def recording(self, buffer, offset, line, limit=1 << 20):
+        run = read_plain_run(buffer, offset, line, limit)
+        taken.append(run.rows if run is not None else 0)
+        return run
+
+    monkeypatch.setattr(KlartextFrontend, "plain_run", recording)
+    return taken
+
+
+def test_a_long_streak_is_run_as_a_batch(runs_taken):
+    text = program(cam_lines(500))
+    assert findings(text) == findings(text, per_block_only=True)
+    assert sum(runs_taken) > 450
+
+
+def test_a_line_that_leaves_the_streak_is_read_by_the_general_lowering():
+    spindle_stopped = program([*cam_lines(40), "50 L X+20 Y+5 Z-2 M5", *cam_lines(40, 51)])
+    batched, _blocks = findings(spindle_stopped)
+    assert ("core.spindle-off-cutting", Status.VIOLATED.value) in {(rule, status) for rule, _span, status, _message in batched}
+    for odd in ["50 L X+20 Y+5 Z-2 K5", "50 L X+Q7 Y+5 Z-2", "50 L X+20 Y+5 Z-2 M5"]:
+        text = program([*cam_lines(40), odd, *cam_lines(40, 51)])
+        assert findings(text) == findings(text, per_block_only=True), odd
+    unknown_word, _blocks = findings(program([*cam_lines(40), "50 L X+20 Y+5 Z-2 K5", *cam_lines(40, 51)]))
+    assert any(rule == "core.syntax" and span.line == len(_HEAD) + 41 for rule, span, _status, _message in unknown_word)
+
+
+def test_a_cut_into_the_blank_at_rapid_inside_a_streak_is_found_at_its_line():
+    body = cam_lines(60)
+    body[30] = "40 L X+30 Y+50 FMAX"  # at Z-2, inside the blank
+    batched, _blocks = findings(program(body))
+    assert [span.line for rule, span, status, _message in batched if rule == "core.rapid-into-stock" and status == "violated"] == [len(_HEAD) + 31]
+    assert batched == findings(program(body), per_block_only=True)[0]
+
+
+def test_a_run_after_a_datum_shift_is_checked_where_the_shift_puts_it(runs_taken):
+    above = [line.replace("Z-2", "Z+3") for line in cam_lines(60)]  # 1 mm above the blank without the shift
+    above[40] = "50 L X+30 Y+50 FMAX"
+    shifted, _blocks = findings(program(["7 TRANS DATUM AXIS Z-5", "8 L X+0 Y+0 Z+3 F300", *above]))
+    assert sum(runs_taken) > 50
+    assert [span.line for rule, span, status, _message in shifted if rule == "core.rapid-into-stock" and status == "violated"] == [len(_HEAD) + 43]
+    assert shifted == findings(program(["7 TRANS DATUM AXIS Z-5", "8 L X+0 Y+0 Z+3 F300", *above]), per_block_only=True)[0]
+    unshifted, _blocks = findings(program(["8 L X+0 Y+0 Z+3 F300", *above]))
+    assert not [rule for rule, _span, status, _message in unshifted if rule == "core.rapid-into-stock" and status == "violated"]
+
+
+# ---------------------------------------------------------------------- batch == block by block
+
+_NUMBER = st.one_of(st.floats(-150, 150, allow_nan=False).map(lambda value: f"{value:+.3f}"), st.integers(-200, 200).map(lambda value: f"{value:+d}"))
+_PLAIN = st.tuples(
+    st.lists(st.sampled_from("XYZ"), min_size=1, max_size=3, unique=True).map(sorted).flatmap(
+        lambda axes: st.tuples(*[_NUMBER.map(lambda number, axis=axis: axis + number) for axis in axes])),
+    st.sampled_from(["", " R0"]),
+    st.sampled_from([""] * 12 + [" F500", " F1200.5", " FMAX"]),
+).map(lambda parts: "L " + " ".join(parts[0]) + parts[1] + parts[2])
+_OTHER = st.sampled_from([
+    "L X+10 Y+10 RL F300", "L X+60 Y+10 RR", "L X+5 Y+5 R0", "L IX+5 IY-2", "L Z+20 R0 FMAX", "L X+0 Y+0 Z+10 FMAX M9",
+    "CC X+50 Y+50", "C X+50 Y+10 DR+", "CR X+30 Y+30 R+20 DR-", "; a comment", "* - ROUGHING", "LBL 5", "Q1 = 12",
+    "L X+Q1 Y+4", "CYCL DEF 200 DRILLING Q200=+2 Q201=-5 Q206=+150 Q202=+5 Q210=+0 Q203=+0 Q204=+50 Q211=+0",
+    "L X+20 Y+20 R0 FMAX M99", "L X+30 Y+30 FMAX M89", "CYCL CALL", "M5", "M3", "TOOL CALL 2 Z S4000", "L Z-3 F100",
+    "TRANS DATUM AXIS X+10 Y+5", "TRANS DATUM RESET", "CYCL DEF 10.0 ROTATION", "CYCL DEF 10.1 ROT+30",
+    "CYCL DEF 7.0 DATUM SHIFT", "CYCL DEF 7.1 Z-3", "CYCL DEF 11.0 SCALING", "CYCL DEF 11.1 SCL 0.5",
+])
+_STREAK = st.one_of(st.lists(_PLAIN, max_size=10), st.lists(_PLAIN, min_size=25, max_size=80))
+_PART = st.one_of(_STREAK, _OTHER.map(lambda line: [line]))
+
+
+@hypothesis_settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large])
+@given(st.lists(_PART, min_size=1, max_size=8))
+def test_batched_and_block_by_block_runs_report_the_same(parts):
+    body = [f"{number} {line}" for number, line in enumerate((line for part in parts for line in part), start=len(_HEAD))]
+    text = program(body)
+    assert findings(text) == findings(text, per_block_only=True)
