@@ -8,7 +8,9 @@ import textwrap
 import pytest
 from hypothesis import given, settings as hypothesis_settings, strategies as st
 
+import ncverify.api
 from ncverify import Settings, check_text
+from ncverify.check import Checker
 from ncverify.diagnostics import Status
 
 MILL_HEAD = """\
@@ -263,3 +265,70 @@ def test_contour_sections_of_cycle74_reached_by_the_flow_are_reported():
     program = POCKET.format(**GOOD_POCKET).replace("N40 GOTOF MACHINING\n", "N40 CYCLE74(\"\", \"EDGE_START\", \"EDGE_END\")\n")
     found = messages(milled(program), "sinumerik.contour-section-runs")
     assert found and "CYCLE74's contour" in found[0]
+
+
+# --------------------------------------------------------------------------- motion of the milling cycles
+
+class _SegmentRecorder(Checker):
+    segments: list = []
+
+    def segment(self, segment, state):
+        _SegmentRecorder.segments.append((segment.kind, segment.cycle, dict(segment.end)))
+        super().segment(segment, state)
+
+
+def cycle_moves(monkeypatch, body: str, radius: float = 4) -> list[tuple[str, dict]]:
+    """The moves the cycles make, as (kind, end point)."""
+    _SegmentRecorder.segments = []
+    monkeypatch.setattr(ncverify.api, "Checker", _SegmentRecorder)
+    milled(body, radius)
+    return [(kind, {axis: value for axis, value in end.items() if axis in "XYZ"}) for kind, cycle, end in _SegmentRecorder.segments if cycle]
+
+
+def test_pocket3_plunges_at_its_centre_with_g0_for_a_vertical_g0_insertion(monkeypatch):
+    moves = cycle_moves(monkeypatch, "N40 _ZSD[2]=0\nN50 POCKET3(10, 0, 2, -6, 60, 40, 8, 60, 40, 0, 3, 0.2, 0.1, 300, 100, 2, 1)\n")
+    assert moves == [("rapid", {"X": 60.0, "Y": 40.0, "Z": 10.0}), ("rapid", {"X": 60.0, "Y": 40.0, "Z": 2.0}),
+                     ("rapid", {"X": 60.0, "Y": 40.0, "Z": -6.0}), ("rapid", {"X": 60.0, "Y": 40.0, "Z": 10.0})]
+
+
+def test_pocket3_dimensioned_from_a_corner_plunges_at_the_centre_it_gives(monkeypatch):
+    moves = cycle_moves(monkeypatch, "N40 _ZSD[2]=1\nN50 POCKET3(10, 0, 2, -6, -60, 40, 8, 100, 20, 0, 3, 0.2, 0.1, 300, 100, 2, 11)\n")
+    assert moves[0] == ("rapid", {"X": 70.0, "Y": 40.0, "Z": 10.0}) and moves[2][0] == "feed"
+
+
+def test_pocket3_without_the_dimensioning_setting_plunges_somewhere_unknown(monkeypatch):
+    moves = cycle_moves(monkeypatch, "N50 POCKET3(10, 0, 2, -6, 60, 40, 8, 60, 40, 0, 3, 0.2, 0.1, 300, 100, 2, 11)\n")
+    assert [(kind, end["Z"]) for kind, end in moves] == [("rapid", 10.0), ("rapid", 2.0), ("feed", -6.0), ("rapid", 10.0)]
+    assert moves[1][1]["X"] is None
+
+
+def test_slot2_visits_every_slot_on_its_circle_and_leaves_the_tool_at_rtp(monkeypatch):
+    moves = cycle_moves(monkeypatch, "N40 SLOT2(10, 0, 2, -6, 0, 4, 45, 10, 60, 40, 20, 0, 0, 100, 300, 3, 2, 0.2, 0)\n")
+    starts = [(round(end["X"], 6), round(end["Y"], 6)) for kind, end in moves if kind == "rapid" and end["Z"] == 10.0][::2]
+    assert starts == [(80.0, 40.0), (60.0, 60.0), (40.0, 40.0), (60.0, 20.0)]
+    assert [end["Z"] for kind, end in moves if kind == "feed"] == [-6.0] * 4
+
+
+def test_slot1_with_a_g0_insertion_rapids_to_its_depth(monkeypatch):
+    moves = cycle_moves(monkeypatch, "N40 SLOT1(10, 0, 2, -6, 0, 4, 30, 12, 60, 40, 20, 0, 90, 100, 300, 3, 2, 0.2, 0)\n")
+    assert [(kind, end["Z"]) for kind, end in moves] == [("rapid", 10.0), ("rapid", 2.0), ("rapid", -6.0), ("rapid", 10.0)]
+
+
+def test_an_internal_thread_is_milled_from_its_centre_and_ends_there(monkeypatch):
+    moves = cycle_moves(monkeypatch, "N40 CYCLE90(10, 0, 2, -20, 0, 16, 14, 2, 300, 3, 0, 60, 40)\n")
+    assert moves[0] == ("rapid", {"X": 60.0, "Y": 40.0, "Z": 10.0}) and moves[2] == ("feed", {"X": 60.0, "Y": 40.0, "Z": -20.0})
+
+
+def test_cycle72_leaves_the_tool_where_its_retract_digit_says(monkeypatch):
+    def end_level(kind):
+        """The height of the G0 X0 after the cycle."""
+        cycle_moves(monkeypatch, f'N40 CYCLE72("C1", 10, 0, 2, -6, 3, 0.2, 0.5, 300, 100, {kind}, 41, 1, 5)\nN50 G0 X0\n')
+        return _SegmentRecorder.segments[-1][2]["Z"]
+    assert [end_level(kind) for kind in (1, 101, 201, 301, 302)] == [10.0, 2.0, -3.5, -5.5, -6.0]
+
+
+def test_a_g0_insertion_into_the_blank_is_a_rapid_into_the_stock():
+    result = milled('N35 WORKPIECE(,"",,"BOX",0,0,-30,-80,0,0,120,80)\nN40 _ZSD[2]=0\n'
+                    "N50 POCKET4(10, 0, 2, -6, 20, 60, 40, 3, 0.2, 0.1, 300, 100, 2, 1)\n")
+    found = messages(result, "core.rapid-into-stock")
+    assert found and "POCKET4" in found[0] and "Z-6" in found[0]

@@ -5,9 +5,11 @@ model (seed A L1934-2146): rapid to ``SP = RFP + s*SDIS``, infeed to the depth, 
 to ``RTP``, where ``s`` is the sign of ``RTP - RFP`` and the depth is ``RFP - s*DPR`` when DPR is
 programmed, else ``DP``. Under ``MCALL`` the interpreter calls the same shape after every
 positioning move. HOLES1/HOLES2/CYCLE801 move with G0 from position to position and run the
-modal cycle at each (seed A L4476-4970). Milling and turning cycles are reported as cycle
-runs for the parameter rules; their inner motion is not modelled, so the position they end
-at is known only on the infeed axis (RTP) for the cycles that state it.
+modal cycle at each (seed A L4476-4970). Pockets, slots, spigots and thread milling
+approach their feature at RTP, rapid to RFP + SDIS, plunge to the depth and retract to RTP
+(``_FEATURES``); the machining inside the feature is not modelled. The other milling cycles
+leave the tool at their retract level, unknown in the plane; turning cycles leave it
+unknown. Contours named by a cycle are read, not run (``read_contour_section``).
 """
 from __future__ import annotations
 
@@ -180,8 +182,10 @@ def pattern_positions(cycle: str, params: dict):
 
 
 def one_shot(runner, op, block, model, params):
-    """A milling, turning or swivel cycle: reported for the parameter rules; the position
-    afterwards is RTP on the infeed axis for milling cycles, unknown in the plane."""
+    """A milling, turning or swivel cycle: reported for the parameter rules. Milling cycles
+    with a modelled approach run it (``_FEATURES``); the others leave the tool at their
+    retract level on the infeed axis, unknown in the plane; turning and swivel cycles leave
+    the position unknown."""
     for key, where in model.get("contours", {}).items():
         facts = _named_contour(runner, op, params, where)
         if facts is not None:
@@ -189,43 +193,134 @@ def one_shot(runner, op, block, model, params):
     _report_run(runner, op, block, model, params)
     state = runner.state
     first, second, axis = state.plane_axes
-    name = op.cycle.split(".")[-1]
-    if name in _POCKET_CENTRES and _pocket_motion(runner, op, block, params, _POCKET_CENTRES[name]):
+    features = _FEATURES.get(op.cycle.split(".")[-1])
+    if features is not None and _feature_motion(runner, op, block, params, *features(params, state)):
         return None
     if model.get("shape") == "sinumerik_mill":
-        rtp = params.get("RTP", params.get("_RTP"))
-        state.move_to({first: None, second: None, axis: rtp if type(rtp) is float else None})
+        level = _end_level(op.cycle, params)
+        state.move_to({first: None, second: None, axis: level if type(level) is float else None})
     elif model.get("shape") == "sinumerik_turn" or "position" in model.get("affects", ()):
         state.move_to(dict.fromkeys(state.position))
     return None
 
 
-# Pockets whose depth infeed is at a centre given by two parameters (seed A L6575-6600, L6892, L7636).
-_POCKET_CENTRES = {"POCKET1": ("CPA", "CPO"), "POCKET2": ("CPA", "CPO"), "POCKET4": ("_PA", "_PO")}
+def _end_level(cycle: str, params: dict):
+    """Where a milling cycle leaves the tool on the infeed axis: RTP, except CYCLE72 whose
+    _VARI hundreds digit retracts to RTP (0), to RFP + SDIS (1), by SDIS above the last
+    level (2) or not at all (3); the last level keeps the bottom allowance when roughing
+    (seed A L8386-8388, L8300-8306)."""
+    rtp = _get(params, "RTP")
+    kind = _get(params, "VARI")
+    if cycle != "sinumerik.CYCLE72" or type(kind) is not float or kind // 100 % 10 == 0:
+        return rtp
+    side, start, depth = levels(params)
+    if side is None:
+        return None
+    if kind // 100 % 10 == 1:
+        return start
+    allowance = _get(params, "FALD") if kind % 10 == 1 else 0.0
+    bottom = values.add(depth, values.mul(side, values.absolute(allowance)))
+    return values.add(bottom, values.mul(side, values.absolute(_get(params, "SDIS")))) if kind // 100 % 10 == 2 else bottom
 
 
-def _pocket_motion(runner, op, block, params, centre_names) -> bool:
-    """G0 to the centre at RTP, G0 to RFP + SDIS, plunge with G1 to the depth, (the clearing
-    inside the pocket), back to RTP with G0; the tool ends above the centre at RTP. False when
-    a level or the centre is not a number."""
+def _feature_motion(runner, op, block, params, points, end, rapid_plunge: bool) -> bool:
+    """Each feature point: G0 to it at RTP, G0 to RFP + SDIS, the plunge to the depth (at
+    the depth feed FFD, or G0 for a G0 insertion), (the machining inside the feature), G0
+    back to RTP. A point of None is a start point the cycle computes itself: the moves run
+    along the infeed axis only and the plane position is unknown. The tool ends at RTP above
+    ``end`` (None: unknown in the plane). False when a level is not a number."""
     state = runner.state
     first, second, axis = state.plane_axes
-    side, start, depth = levels(params, absolute_depth_only=op.cycle.endswith("POCKET4"))
+    side, start, depth = levels(params)
     rtp = _get(params, "RTP")
-    centre = [params.get(name) for name in centre_names]
-    if side is None or side < 0 or any(type(value) is not float for value in (start, depth, rtp, *centre)):
+    known = [value for point in points if point is not None for value in point]
+    if side is None or any(type(value) is not float for value in (start, depth, rtp, *known)):
         return False
     name = op.cycle
-    runner._rapid_to({first: centre[0], second: centre[1], axis: rtp}, op.span, block, "approach", name)
-    runner._rapid_to({axis: start}, op.span, block, "approach", name)
     programmed_feed = state.feed
     plunge_feed = _get(params, "FFD")
-    if type(plunge_feed) is float and plunge_feed > 0:
-        state.feed = plunge_feed  # the depth feed is a parameter of the cycle
-    runner._rapid_to({axis: depth}, op.span, block, "infeed", name, "feed")
-    state.feed = programmed_feed
-    runner._rapid_to({axis: rtp}, op.span, block, "out-of-hole", name)
+    for point in points:
+        if point is None:
+            runner._rapid_to({axis: rtp}, op.span, block, "approach", name)
+            state.move_to({first: None, second: None})
+        else:
+            runner._rapid_to({first: point[0], second: point[1], axis: rtp}, op.span, block, "approach", name)
+        runner._rapid_to({axis: start}, op.span, block, "approach", name)
+        if type(plunge_feed) is float and plunge_feed > 0:
+            state.feed = plunge_feed  # the depth feed is a parameter of the cycle
+        runner._rapid_to({axis: depth}, op.span, block, "infeed", name, "rapid" if rapid_plunge else "feed")
+        state.feed = programmed_feed
+        runner._rapid_to({axis: rtp}, op.span, block, "out-of-hole", name)
+    if end is None:
+        state.move_to({first: None, second: None})
+    else:
+        runner._rapid_to({first: end[0], second: end[1]}, op.span, block, "retract", name)
     return True
+
+
+def _centre(first: str, second: str, g0_insertion: bool = False):
+    """A feature at one centre given by two parameters, where the tool also ends;
+    ``g0_insertion``: the cycle's VARI tens digit 0 plunges with G0."""
+    def features(params, state):
+        centre = (params.get(first), params.get(second))
+        return [centre], centre, g0_insertion and _inserts_with_g0(params)
+    return features
+
+
+def _inserts_with_g0(params) -> bool:
+    """The tens digit 0 of VARI/_VARI: vertical insertion with G0 (SLOT1 A L5973, POCKET3/4 L7327)."""
+    kind = _get(params, "VARI")
+    return type(kind) is float and kind // 10 % 10 == 0
+
+
+def _rectangular_pocket(params, state):
+    """POCKET3 plunges at the pocket centre: _PA/_PO, or with _ZSD[2]=1 the corner they
+    give plus half of the signed _LENG/_WID along _STA (seed A L7228-7240). Unknown when the
+    program does not set _ZSD[2]."""
+    corner = state.global_variables.get("_ZSD[2]", state.local_variables.get("_ZSD[2]"))
+    x, y, length, width, angle = (params.get(name, 0.0) for name in ("_PA", "_PO", "_LENG", "_WID", "_STA"))
+    if corner == 0.0:
+        centre = (x, y)
+    elif corner == 1.0 and all(type(value) is float for value in (x, y, length, width, angle)):
+        cos, sin = math.cos(math.radians(angle)), math.sin(math.radians(angle))
+        centre = (x + length / 2 * cos - width / 2 * sin, y + length / 2 * sin + width / 2 * cos)
+    else:
+        centre = None
+    return [centre], centre, _inserts_with_g0(params)
+
+
+def _slots_on_a_circle(params, state):
+    """SLOT2's slots start on the circle RAD at STA1 + k*INDA (INDA 0: 360/NUM; seed A
+    L6182-6310); the tool ends at RTP above the last one, at a point the cycle computes."""
+    count, increment = params.get("NUM"), params.get("INDA", 0.0)
+    names = ("CPA", "CPO", "RAD", "STA1")
+    if type(count) is not float or not 1 <= count <= 1000 or type(increment) is not float or any(type(params.get(n, 0.0)) is not float for n in names):
+        return [None], None, False
+    x, y, radius, angle = (params.get(name, 0.0) for name in names)
+    step = increment or 360.0 / count
+    points = [(x + radius * math.cos(math.radians(angle + k * step)), y + radius * math.sin(math.radians(angle + k * step))) for k in range(int(count))]
+    return points, None, False
+
+
+def _computed_start(inserts_with_g0: bool):
+    """A feature whose start point the cycle computes (SLOT1, LONGHOLE: where on the slot the
+    reference puts RAD is not recoverable; spigots start outside the blank; external threads
+    on the outer diameter): the moves along the infeed axis only."""
+    return lambda params, state: ([None], None, inserts_with_g0 and _inserts_with_g0(params))
+
+
+def _thread(params, state):
+    """CYCLE90: an internal thread (TYPTH 0) starts and ends at the centre CPA/CPO at RTP; an
+    external one on the outer diameter (seed A L5203-5287)."""
+    return (_centre("CPA", "CPO") if params.get("TYPTH", 0.0) == 0.0 else _computed_start(False))(params, state)
+
+
+# Seed A: POCKET1 L6575-6600, POCKET2 L6892, POCKET3 L7058-7106, POCKET4 L7636, SLOT1 L5836-5860,
+# SLOT2 L6182-6310, LONGHOLE L5553-5580, CYCLE76 L8655-8700, CYCLE77 L8898-9137, CYCLE90 L5203-5287.
+_FEATURES = {"POCKET1": _centre("CPA", "CPO"), "POCKET2": _centre("CPA", "CPO"), "POCKET3": _rectangular_pocket,
+             "POCKET4": _centre("_PA", "_PO", g0_insertion=True),
+             "SLOT1": _computed_start(True), "SLOT2": _slots_on_a_circle, "LONGHOLE": _computed_start(False),
+             "CYCLE76": _computed_start(False), "CYCLE77": _computed_start(False), "CYCLE90": _thread}
 
 
 def modal_shape(model: dict):
