@@ -132,6 +132,16 @@ def workpiece_level(state, axis: str, value):
     return value if frame is None else frame.level(axis, value, state.position)
 
 
+def compensation_side(state, plane: tuple[str, str, str]) -> str:
+    """The side radius compensation keeps the tool on, seen on the workpiece: a frame that
+    mirrors the plane swaps left and right, as it reverses the arcs."""
+    side = state.comp_side
+    similar = state.frame.plane_similarity(plane) if state.frame is not None else None
+    if similar is not None and similar[1]:
+        return {"left": "right", "right": "left"}.get(side, side)
+    return side
+
+
 IDENTITY = Frame()
 UNKNOWN = Frame(((None,) * 3,) * 3, (None, None, None))  # after a transformation that is not modelled (tilting)
 

@@ -255,3 +255,12 @@ def test_a_clearance_height_is_judged_where_the_datum_shift_puts_it():
     lowered = page.replace("9  CYCL CALL", "CYCL DEF 7.0 DATUM SHIFT\nCYCL DEF 7.1 Z-60\n9  CYCL CALL")
     assert not at(check_text(page, "t.h", Settings()), "heidenhain.sl-clearance-height")
     assert at(check_text(lowered, "t.h", Settings()), "heidenhain.sl-clearance-height")  # Q7=+50 is Z-10 on the blank
+
+
+@pytest.mark.parametrize("mirror", ["", "MIRROR X0\n"])
+def test_a_mirror_swaps_the_compensation_side_with_the_arc_so_an_inside_arc_stays_inside(mirror):
+    tool = "$TC_DP1[1,1]=120\n$TC_DP6[1,1]=5\n"
+    inside = sinumerik(f"{tool}{mirror}G0 X20 Y0\nG1 G41 X20 Y0 F200\nG3 X17 Y3 CR=3\nG40\n")
+    outside = sinumerik(f"{tool}{mirror}G0 X20 Y0\nG1 G41 X20 Y0 F200\nG2 X17 Y-3 CR=3\nG40\n")
+    assert [d for d in inside.diagnostics if d.rule == "core.comp-gouge" and d.status is Status.VIOLATED]
+    assert not [d for d in outside.diagnostics if d.rule == "core.comp-gouge"]

@@ -4,7 +4,7 @@ comes from the tool table (``[tools.N]`` or ``ncverify: tool``) for the tool in 
 spindle; without it each rule answers ``unknown`` once per file."""
 from __future__ import annotations
 
-from .. import values
+from .. import frames, values
 from ..check import hazard, rule, show
 from .machine import _ReportsMissingContext
 
@@ -47,8 +47,8 @@ class ConcaveArcTighterThanTool(_ReportsMissingContext):
 
     def segment(self, segment, state):
         arc = segment.arc
-        if arc is None or state.comp_side not in ("left", "right") or (state.comp_side, arc.direction) not in _CONCAVE:
-            return
+        if arc is None or state.comp_side not in ("left", "right") or (frames.compensation_side(state, arc.plane), arc.direction) not in _CONCAVE:
+            return  # the arc is on the workpiece, so the side is too
         arc_radius = arc.start_radius if arc.start_radius is not None else (values.absolute(arc.radius_word) if arc.radius_word is not None else None)
         if arc_radius is None:
             return
