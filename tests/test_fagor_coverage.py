@@ -20,7 +20,7 @@ HAZARDS: dict[str, tuple[tuple[str, ...], str]] = {
            "which move was 'the last intended hole' is the programmer's intent"),
     "H2": (("fagor.hole-at-unknown-position", "core.repeat-same-hole"), ""),
     "H3": (("core.cycle-depth-sign", "core.cycle-zero-depth", "fagor.g83-peck-count"), "judged with the tool-axis sign of #TOOL AX"),
-    "H4": (("fagor.g83-depth", "core.cycle-missing-parameter"), "the intended depth is not known: judged against the stock's bottom"),
+    "H4": (("fagor.g83-depth", "core.cycle-missing-parameter"), "the intended depth is not known: judged against the stock's far face"),
     "H5": (("core.rapid-into-stock", "core.clearance-below-stock"), "clearance-below-stock along +Z only; rapid-into-stock along any axis"),
     "H6": (("core.rapid-into-stock",), "the approach to the surface + 1 mm (G87/G88) or the surface (G82, G210-G212) is a rapid segment"),
     "H7": (("core.cycle-r-above-initial", "core.rapid-into-stock"),

@@ -6,6 +6,7 @@ import textwrap
 from pathlib import Path
 
 from fagor_trace import trace
+from hypothesis import given, settings, strategies
 from ncverify import Settings, check_text
 from ncverify.project import load_project_text
 
@@ -159,3 +160,27 @@ def test_g83_depth_is_judged_against_the_far_face_along_minus_x():
 def test_a_far_face_the_stock_does_not_give_answers_unknown():
     program = "; ncverify: stock polygon X0Y0, X80Y0, X80Y120 Z-40:0\nG19\nG0 G90 X-30 Y20 Z-12 S2000 M3\n#TOOL AX [X-]\nG98 G83 X-2 I5 J4 F180\nG80\nM30\n"
     assert "fagor.g83-depth" in findings(check(program), "unknown")
+
+
+@settings(max_examples=60, deadline=None)
+@given(strategies.sampled_from(["G81 Z{z} I{i}", "G82 Z{z} I{i} B2 D{d}", "G85 Z{z} I{i}", "G87 Z{z} I{i} D{d} J20 K10 B3", "G88 Z{z} I{i} D{d} J15 B3",
+                                "G210 Z{z} I{i} D{d} J20 B2"]),
+       strategies.integers(-30, 30), strategies.integers(-30, 30), strategies.integers(-30, 30), strategies.integers(0, 4), strategies.booleans())
+def test_a_cycle_along_minus_z_is_the_mirror_of_the_same_cycle_along_plus_z(cycle, start, reference, depth, surface, g99):
+    def run(sign):
+        block = cycle.format(z=sign * reference, i=sign * depth, d=surface)
+        stock = "Z-25:0" if sign > 0 else "Z0:25"
+        program = f"; ncverify: stock box X0:50 Y0:50 {stock}\nG0 G90 X10 Y10 Z{sign * start} F300 S1000 M3\n#TOOL AX [Z{'+' if sign > 0 else '-'}]\n{'G99' if g99 else 'G98'} {block}\nG80\nM30\n"
+        result = check_text(program, "t.pim", Settings(dialect="fagor"))
+        levels = [(hole.r_point, hole.bottom) for hole in trace(program).holes]
+        return levels, reported_hazards(result)
+
+    (up_levels, up_findings), (down_levels, down_findings) = run(1), run(-1)
+    assert down_levels == [(-r_point, -bottom) for r_point, bottom in up_levels]
+    assert down_findings == up_findings
+
+
+def reported_hazards(result) -> set[str]:
+    hazards = {"core.cycle-depth-sign", "core.cycle-zero-depth", "core.cycle-r-above-initial", "fagor.g82-retract-coordinate",
+               "core.rapid-into-stock", "fagor.bore-milling-no-floor"}
+    return {d.rule for d in result.diagnostics if d.status.value == "violated" and d.rule in hazards}
