@@ -40,8 +40,10 @@ def register_levels(name: str, resolve) -> None:
     ``levels = "<name>"`` (Fagor: the tool-axis word is the reference plane, I the depth):
     ``resolve(runner, cycle, data)`` returns ``(r_point, bottom)`` for the
     :class:`ActiveCycle` with its data so far (None where unknown), or ``(r_point, bottom,
-    reference)`` for a cycle that approaches below its reference plane (Fagor pockets rapid to
-    1 mm above the surface) and leaves the hole back up to it."""
+    reference, entry)``: ``reference`` (or None) for a cycle that approaches below its
+    reference plane (Fagor pockets rapid to 1 mm above the surface) and leaves the hole back
+    up to it; ``entry`` (or None) where it rapids on from the R point down a hole made before
+    it (Fagor thread milling from the bottom up)."""
     _DIALECT_LEVELS[name] = resolve
 
 
@@ -196,7 +198,8 @@ class CycleRunner:
         data = state.cycle_data
         incremental = state.modal.get("distance") == "incremental"
         initial = cycle.initial
-        r_point, bottom, *reference = self._levels(model, axis, data, initial, incremental)
+        r_point, bottom, *beyond = self._levels(model, axis, data, initial, incremental)
+        reference, entry = (*beyond, None, None)[:2]
         required = [letter for letter, spec in model.get("params", {}).items() if spec.get("required")]
         missing = tuple(letter for letter in required if letter not in data and not _has_twin(letter, data, interp.twins))
         if model.get("r_incremental"):
@@ -221,11 +224,13 @@ class CycleRunner:
             self._rapid_to({axis: initial}, span, block, "retract", name)
             return
         self._rapid_to({axis: r_point}, span, block, "approach", name)
+        if entry is not None:
+            self._rapid_to({axis: entry}, span, block, "into-hole", name)
         self._rapid_to({axis: bottom}, span, block, "infeed", name, "feed")
         retract_kind = "feed" if model.get("retract") == "feed" else "rapid"
         self._rapid_to({axis: r_point}, span, block, "out-of-hole", name, retract_kind)
-        if reference and reference[0] is not None:
-            self._rapid_to({axis: reference[0]}, span, block, "out-of-hole", name)
+        if reference is not None:
+            self._rapid_to({axis: reference}, span, block, "out-of-hole", name)
         if state.modal.get("cycle_return") != "r_point" and initial is not None:
             self._rapid_to({axis: initial}, span, block, "retract", name)
 

@@ -44,7 +44,8 @@ HAZARDS: dict[str, tuple[tuple[str, ...], str]] = {
     "H21": (("fagor.thread-mill-overshoot",), "the overshoot is taken as one pitch (the manual gives no length); a blind hole's own bottom is not known"),
     "H22": (("fagor.thread-mill-parameters", "fagor.pocket-tool-fit"),
             "G212's passes run around the stud at a radius that depends on the tool, and the stock model holds no stud: "
-            "they are not emitted as rapids (the tool ends above the stud's centre)"),
+            "they are not emitted as rapids (the tool ends above the stud's centre); a thread milled upward (B negative) rapids down "
+            "the pre-drilled hole first, which core.rapid-into-stock answers unknown (the stock model holds no holes)"),
     "H23": (("fagor.pattern-without-cycle", "fagor.pattern-parameters", "fagor.pattern-skip-list"), ""),
     "H24": (("fagor.pattern-moves", "core.rapid-into-stock"), "bosses inside a G163-G165 circle are not in the stock model"),
     "H25": ((), "not a finding: the pattern runner keeps the cycle active and leaves the tool at the last machined point"),

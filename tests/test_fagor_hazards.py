@@ -184,3 +184,16 @@ def reported_hazards(result) -> set[str]:
     hazards = {"core.cycle-depth-sign", "core.cycle-zero-depth", "core.cycle-r-above-initial", "fagor.g82-retract-coordinate",
                "core.rapid-into-stock", "fagor.bore-milling-no-floor"}
     return {d.rule for d in result.diagnostics if d.status.value == "violated" and d.rule in hazards}
+
+
+def test_a_thread_milled_upward_rapids_down_the_predrilled_hole_first():
+    program = "G0 G90 X50 Y50 Z25 F300 S2000 M3\nG99 G211 Z2 I-15 J20 K1.2 B{}\nG80\nM30\n"
+    upward = [(segment.role, segment.kind, segment.end["Z"]) for segment in trace(program.format(-1.5)).segments if segment.cycle]
+    downward = [segment.role for segment in trace(program.format(1.5)).segments if segment.cycle]
+    assert upward[:2] == [("approach", "rapid", 2.0), ("into-hole", "rapid", -15.0)]
+    assert "into-hole" not in downward
+
+
+def test_the_rapid_down_the_predrilled_hole_is_not_judged_safe():
+    result = check("; ncverify: stock box X0:100 Y0:100 Z-30:0\nG0 G90 X50 Y50 Z25 F300 S2000 M3\nG99 G211 Z2 I-15 J20 K1.2 B-1.5\nG80\nM30\n")
+    assert any(d.span.line == 3 for d in findings(result, "unknown").get("core.rapid-into-stock", []))

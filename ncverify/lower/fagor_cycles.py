@@ -48,12 +48,15 @@ def parameter(cycle, data: dict, letter: str):
 
 
 def hole_levels(runner, cycle, data: dict):
-    """``(r_point, bottom[, reference])``: the reference plane Z is absolute in G90 and from the start
+    """``(r_point, bottom[, reference, entry])``: the reference plane Z is absolute in G90 and from the start
     plane in G91 (Zi when not written, seed L867-871); I is absolute in G90 and from Z in
     G91 (seed L873-876); G83's bottom is Z + J*I (seed L1044-1050). V.C.x values are
     absolute (seed L783-784). The R point is where the cycle's rapid approach ends; pockets
     and thread mills, which approach the surface, leave back up to the reference plane
-    before any G98 retract (seed L1411, L1530, L1659, L1758, L1899). The surface lies D from the reference plane toward the part: along ``#TOOL AX [Z-]``
+    before any G98 retract (seed L1411, L1530, L1659, L1758, L1899). A thread milled with a
+    negative pitch B runs from the thread end up: the tool rapids down the pre-drilled hole
+    to the entry height there (seed L1697, L1744, L1885), taken as the thread end I. The
+    surface lies D from the reference plane toward the part: along ``#TOOL AX [Z-]``
     (``cycle.up`` = -1, the reference's sigma) the part is on the + side and the offsets flip."""
     incremental = cycle.incremental
     reference = reference_plane(cycle, data)
@@ -73,7 +76,9 @@ def hole_levels(runner, cycle, data: dict):
     if approach is None:
         return reference, bottom
     surface = values.sub(reference, values.mul(cycle.up, parameter(cycle, data, "D") or 0.0))
-    return (values.add(surface, cycle.up) if approach == "surface_plus_1" else surface), bottom, reference
+    pitch = data.get("B")
+    upward = cycle.model.get("thread_mill") and not (type(pitch) is float and pitch >= 0)
+    return (values.add(surface, cycle.up) if approach == "surface_plus_1" else surface), bottom, reference, bottom if upward else None
 
 
 def reference_plane(cycle, data: dict):
