@@ -332,33 +332,3 @@ def test_a_g0_insertion_into_the_blank_is_a_rapid_into_the_stock():
                     "N50 POCKET4(10, 0, 2, -6, 20, 60, 40, 3, 0.2, 0.1, 300, 100, 2, 1)\n")
     found = messages(result, "core.rapid-into-stock")
     assert found and "POCKET4" in found[0] and "Z-6" in found[0]
-
-
-# --------------------------------------------------------------------------- the spindle around cycles
-
-def test_cycle87_leaves_the_spindle_stopped_for_the_next_cut():
-    result = milled("N40 MCALL CYCLE87(5, 0, 2, -10, 0, 3)\nN50 X30\nN60 X40\nN70 MCALL\nN80 G1 X50\n")
-    found = [d.span.line for d in result.diagnostics if d.rule == "core.spindle-off-cutting"]
-    assert found == [10]
-
-
-@pytest.mark.parametrize("after, stopped", [(5, True), (3, False)])
-def test_rigid_tapping_leaves_the_spindle_as_sdac_says(after, stopped):
-    result = milled(f"N40 CYCLE84(5, 0, 2, -10, 0, 0, {after}, 6)\nN50 G1 X50\n")
-    assert bool([d for d in result.diagnostics if d.rule == "core.spindle-off-cutting"]) is stopped
-
-
-@pytest.mark.parametrize("body, reported", [
-    ("N35 M5\nN40 POCKET4(10, 0, 2, -6, 20, 60, 40, 3, 0.2, 0.1, 600, 150, 0, 11, 6)\n", True),
-    ("N40 POCKET4(10, 0, 2, -6, 20, 60, 40, 3, 0.2, 0.1, 600, 150, 0, 11, 6)\n", False),
-    ("N35 M5\nN40 POCKET4(10, 0, 2, -6, 20, 60, 40, 3, 0.2, 0.1, 600, 150, 2, 11, 6)\n", False),
-    ("N35 M5\nN40 CYCLE840(5, 0, 2, -10, 0, 0, 0, 0, 1)\n", True),
-])
-def test_a_direction_taken_from_a_stopped_spindle(body, reported):
-    assert bool(messages(milled(body), "sinumerik.spindle-at-cycle")) is reported
-
-
-def test_thread_turning_needs_the_spindle_running():
-    program = "N35 M5\nN40 G0 X30 Z5\nN50 CYCLE97(1.5, , 0, -30, 24, 24, 3, 2, 0.92, 0.05, 30, 0, 5, 1, 3, 1)\nN60 M30\n"
-    found = messages(turned(program), "sinumerik.spindle-at-cycle")
-    assert found and "CYCLE97 with the spindle stopped" in found[0]

@@ -795,32 +795,3 @@ class EngravingText(Rule):
             self.report("sinumerik.engraving-text", span,
                         f"CYCLE60: the text contains {', '.join(repr(character) for character in wrong)}, not in the engraving font: "
                         "would raise alarm 61179 \"character does not exist\"")
-
-
-# --------------------------------------------------------------------------- the spindle at the call
-
-# cycle -> the direction parameter whose values 0/1 (climb, conventional) take G2/G3 from the
-# running spindle (seed A L5973-5990), or None: the cycle always takes the spindle's direction
-# (CYCLE840 L3475-3476, CYCLE97/98 thread hand B L16967-16991, L17483-17489).
-_SPINDLE_SETS_DIRECTION = {"SLOT1": "CDIR", "POCKET3": "_CDIR", "POCKET4": "_CDIR", "CYCLE73": "_CDIR", "CYCLE76": "_CDIR",
-                           "CYCLE77": "_CDIR", "CYCLE840": None, "CYCLE97": None, "CYCLE98": None}
-
-
-@rule("sinumerik.spindle-at-cycle")
-class SpindleAtCycle(Rule):
-    """A cycle that takes its direction from the running spindle (climb or conventional
-    milling with CDIR 0/1, tapping with a compensating chuck, thread turning) called with the
-    spindle stopped."""
-
-    def cycle_run(self, run, state):
-        name = _cycle_name(run) if _is_sinumerik(run) else ""
-        if name not in _SPINDLE_SETS_DIRECTION or state.spindle != "off":
-            return
-        parameter = _SPINDLE_SETS_DIRECTION[name]
-        direction = run.params.get(parameter, 0.0) if parameter else None
-        if parameter and direction not in (0.0, 1.0):
-            return
-        what = (f"{parameter}={show(direction)} ({'climb' if direction == 0.0 else 'conventional'} milling) takes G2 or G3 from M3/M4"
-                if parameter else "the cycle takes the direction of the thread from M3/M4")
-        self.report("sinumerik.spindle-at-cycle", run.param_spans.get(parameter, run.span) if parameter else run.span,
-                    f"{name} with the spindle stopped: {what}; program M3 or M4 before the call")
