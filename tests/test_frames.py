@@ -264,3 +264,16 @@ def test_a_mirror_swaps_the_compensation_side_with_the_arc_so_an_inside_arc_stay
     outside = sinumerik(f"{tool}{mirror}G0 X20 Y0\nG1 G41 X20 Y0 F200\nG2 X17 Y-3 CR=3\nG40\n")
     assert [d for d in inside.diagnostics if d.rule == "core.comp-gouge" and d.status is Status.VIOLATED]
     assert not [d for d in outside.diagnostics if d.rule == "core.comp-gouge"]
+
+
+def test_a_scaling_factor_of_zero_is_out_of_range():
+    found = klartext("CYCL DEF 11.0 SCALING\nCYCL DEF 11.1 SCL 0\nCYCL DEF 11.0 SCALING\nCYCL DEF 11.1 SCL 1\n")
+    assert [d.message for d in found.diagnostics if d.rule == "heidenhain.scaling-factor"] == [
+        "cycle 11: scaling factor SCL 0 is outside 0.000001-99.999999 (seed L7926-7954)"]
+
+
+def test_a_rotation_that_cancels_rl_is_reported_only_when_the_contour_goes_on_without_it():
+    start = "L X-20 Y+10 R0 FMAX\nL Z-5 R0 F200\nL X+10 Y+10 RL F300\nCYCL DEF 10.0 ROTATION\nCYCL DEF 10.1 ROT+15\n"
+    assert at(klartext(start + "L X+90 Y+10\n"), "heidenhain.rotation-cancels-compensation") == [11]
+    assert not at(klartext(start + "L X+90 Y+10 RL\n"), "heidenhain.rotation-cancels-compensation")
+    assert not at(klartext(start.replace(" RL ", " R0 ") + "L X+90 Y+10\n"), "heidenhain.rotation-cancels-compensation")

@@ -1,0 +1,80 @@
+"""Klartext hazards of the coordinate transformations (reference A §9, H19, H36, H38). The
+active transformations are the path's ``("heidenhain", "transforms")`` dialect state
+(:mod:`ncverify.lower.heidenhain_frames`)."""
+from __future__ import annotations
+
+from ..check import Rule, rule
+
+# Q214 of 202/204: 1 minus reference axis, 2 minus minor axis, 3 plus reference axis, 4 plus minor axis.
+_DISENGAGE = {1.0: (0, "-"), 2.0: (1, "-"), 3.0: (0, "+"), 4.0: (1, "+")}
+_DISENGAGING_CYCLES = ("heidenhain.202", "heidenhain.204")
+
+
+def _active(state) -> dict:
+    return dict(state.rule_state.get(("heidenhain", "transforms"), ()) or ())
+
+
+@rule("heidenhain.scaling-factor")
+class ArcUnderAxisScaling(Rule):
+    """H38: under cycle 26 a circular arc needs one factor on both axes of its plane (seed
+    L7976-7977). The factor ranges are constraints on the rule's page."""
+
+    def segment(self, segment, state):
+        if segment.arc is None:
+            return
+        scaling = _active(state).get(26)
+        if scaling is None:
+            return
+        factors = dict(scaling[0])
+        first, second, _normal = segment.arc.plane
+        one, other = factors.get(first, 1.0), factors.get(second, 1.0)
+        if type(one) is float and type(other) is float and one != other:
+            self.report("heidenhain.scaling-factor", segment.span, f"cycle 26 scales {first} by {one:g} and {second} by {other:g}: a circular arc needs the same "
+                        "factor on both axes of its plane (seed L7976-7977); scaled unequally it is no longer a circle")
+
+
+@rule("heidenhain.disengage-mirror")
+class DisengageUnderMirror(Rule):
+    """H19: 202 and 204 move the tool off in the direction Q214 names, and that direction
+    ignores a mirror image (seed L1880-1881, L2296-2297)."""
+
+    def hole(self, hole, state):
+        self._check(hole.cycle, hole.params, hole.param_spans, hole.span, state)
+
+    def cycle_run(self, run, state):
+        self._check(run.cycle, run.params, run.param_spans, run.span, state)
+
+    def _check(self, cycle, params, spans, span, state):
+        if cycle not in _DISENGAGING_CYCLES:
+            return
+        direction = _DISENGAGE.get(params.get("Q214"))
+        mirrored = _active(state).get(8, ())
+        if direction is None or not mirrored:
+            return
+        axis = state.plane_axes[direction[0]]
+        if axis not in mirrored or not self.first_time(state, ("disengage-mirror", span)):
+            return
+        self.report("heidenhain.disengage-mirror", spans.get("Q214", span), f"cycle {cycle.rsplit('.', 1)[-1]} disengages toward {direction[1]}{axis} "
+                    f"(Q214={params['Q214']:g}) while cycle 8 mirrors {axis}: the disengaging direction is not mirrored, so on the mirrored part "
+                    "the tool moves into the wall instead of away from it (seed L1880-1881, L2296-2297)")
+
+
+@rule("heidenhain.rotation-cancels-compensation")
+class RotationCancelsCompensation(Rule):
+    """H36: cycle 10 cancels radius compensation (seed L7904); a contour move right after
+    it that does not program RL/RR (or R0) again runs with the tool centre on the contour."""
+
+    def cycle_run(self, run, state):
+        if run.cycle == "heidenhain.10" and state.comp_side in ("left", "right"):
+            state.rule_state[("heidenhain", "rotation-cancelled")] = (run.span.line, "RL" if state.comp_side == "left" else "RR")
+
+    def segment(self, segment, state):
+        cancelled = state.rule_state.get(("heidenhain", "rotation-cancelled"))
+        if cancelled is None or segment.role != "programmed":
+            return
+        state.rule_state[("heidenhain", "rotation-cancelled")] = None
+        reprogrammed = any(getattr(op, "cycle", None) == "heidenhain.@comp" for op in segment.block.ops)
+        if segment.kind in ("feed", "arc") and not reprogrammed:
+            line, side = cancelled
+            self.report("heidenhain.rotation-cancels-compensation", segment.span, f"the rotation (cycle 10, line {line}) cancelled {side}: this contour move "
+                        f"runs uncompensated, the tool centre on the contour, so the part is cut a tool radius too deep; program {side} again after the rotation (seed L7904)")
