@@ -151,6 +151,9 @@ class KlartextLowering:
         if word == "GLOBAL" and cursor.is_name("DEF", ahead=1):
             self._global_def(cursor, block)
             return
+        if word == "SEL" and cursor.is_name("PATTERN", ahead=1):
+            self._select_pattern(cursor, block)
+            return
         if word == "PLANE":  # tilting the working plane: the frame is unknown until PLANE RESET
             start = cursor.next().span
             reset = cursor.take_name("RESET") is not None
@@ -578,21 +581,22 @@ class KlartextLowering:
         if number != whole:
             self._old_cycle(cursor, block, start, whole, sub)
             return
-        while not cursor.at_end() and not (cursor.is_name("Q") and cursor.peek(1) is not None and cursor.peek(1).kind == "number"):
+        while not cursor.at_end() and not (cursor.is_name("Q", "QS") and cursor.peek(1) is not None and cursor.peek(1).kind == "number"):
             cursor.next()  # the cycle's name, in the language the control was set to
         params, spans = self._cycle_parameters(cursor)
         params["@number"] = float(whole)
         block.ops.append(ir.CycleCall(cursor.rest_span(start), "heidenhain.@define", params, spans))
 
     def _cycle_parameters(self, cursor) -> tuple[dict, dict]:
-        """``Q200=+2 ;comment ~`` lines: values, keywords (AUTO, MAX, PREDEF), strings."""
+        """``Q200=+2 ;comment ~`` lines: values, keywords (AUTO, MAX, PREDEF), strings
+        (``QS500="TEXT"``, the texts of 224 and 225)."""
         params, spans = {}, {}
         while not cursor.at_end():
-            parameter = cursor.expect_name("Q")
+            parameter = cursor.expect_name("Q", "QS")
             token = cursor.next()
             if token.kind != "number":
-                raise ReadError("expected a parameter number after Q", token.span)
-            name = f"Q{token.text}"
+                raise ReadError(f"expected a parameter number after {parameter.text}", token.span)
+            name = f"{parameter.text}{token.text}"
             cursor.take_symbol("=")  # 'Q357+0.2' without '=' (a manual OCR defect, reference A §11)
             keyword = cursor.take_name("AUTO", "MAX", "FAUTO", "FMAX", "PREDEF", "FU", "FZ")
             if keyword is not None:
@@ -603,7 +607,7 @@ class KlartextLowering:
                 params[name] = cursor.next().text.strip('"')
             else:
                 params[name] = cursor.value()
-                while not cursor.at_end() and not cursor.is_name("Q"):
+                while not cursor.at_end() and not cursor.is_name("Q", "QS"):
                     cursor.next()  # a tolerance after a diameter (Q335=10H7)
             spans[name] = cursor.rest_span(parameter.span)
         return params, spans
@@ -685,6 +689,14 @@ class KlartextLowering:
             cursor.next()
         params = self._cycle_parameters(cursor)[0]
         block.ops.append(_pseudo(cursor.rest_span(start), "global_def", params))
+
+    def _select_pattern(self, cursor, block):
+        """``SEL PATTERN "HOLES.PNT"``: the point table CYCL CALL PAT runs on (reference A §4.5)."""
+        start = cursor.expect_name("SEL").span
+        cursor.expect_name("PATTERN")
+        name = " ".join(token.text.strip('"') for token in cursor.tokens[cursor.index:] if token.kind != "end")
+        cursor.index = len(cursor.tokens)
+        block.ops.append(_pseudo(cursor.rest_span(start), "select_pattern", {"table": name}))
 
     def _contour_def(self, cursor, block, path):
         """``CONTOUR DEF P1 = LBL 1 I2 = LBL 2 V3 = LBL 3``: pockets, islands, voids (reference B §6.29)."""

@@ -21,13 +21,14 @@ import re
 from dataclasses import dataclass, replace
 
 from .. import cycles, ir, values
-from . import heidenhain_frames
+from . import heidenhain_frames, heidenhain_special
 from ..interpret import PathEnd, _distance, _distance_sq
 from ..trace import Arc, CycleRun, Hole
 
 _PLANES = {"xy": ("X", "Y", "Z"), "yz": ("Y", "Z", "X"), "zx": ("Z", "X", "Y")}
-# DEF-active cycles (seed L666-688): they act when defined and are never called.
-DEF_ACTIVE = frozenset({7, 8, 9, 10, 11, 12, 13, 14, 19, 20, 26, 32, 220, 221, 224, 238, 239, 247, 271, 1271, 1272, 1273, 1278, 1281, 1282})
+# DEF-active cycles (seed L666-688): they act when defined and are never called. 12 and 238
+# are in that list too, but their own sections call them (reference B 4.6).
+DEF_ACTIVE = frozenset({7, 8, 9, 10, 11, 13, 14, 19, 20, 26, 32, 220, 221, 224, 239, 247, 271, 1271, 1272, 1273, 1278, 1281, 1282})
 _SUBPROGRAM_END = re.compile(rb"(?m)^[ \t]*\d*[ \t]*LBL[ \t]*0(?![0-9.])")
 _TRANSFORMS = frozenset({7, 8, 10, 11, 19, 26})
 _HOLE_FAMILIES = frozenset({"drill", "tap", "thread"})
@@ -375,8 +376,10 @@ def _def_active(runner, op, block, number, params, cycle_model):
     if number == 14:
         _put(state, "sl_labels", tuple(value for key, value in sorted(params.items()) if key.startswith("L")))
         return None
-    if number in (9, 32, 13, 12, 238, 239):
+    if number in (9, 32, 13, 239):
         return None
+    if number == 224:
+        return heidenhain_special.datamatrix(runner, op, block)
     if number in (271, 1271, 1272, 1273, 1278):  # OCM data, with a standard shape (reference B 6.21)
         _put(state, "ocm", (number, _numbers(params), dict(op.param_spans)))
         return None
@@ -385,25 +388,30 @@ def _def_active(runner, op, block, number, params, cycle_model):
             _transform(runner, op, number, params)
         return None
     interp._fault("core.unsupported-code", op.span, f"cycle {number} is read but not modelled; checks that depend on it answer unknown", "unknown", f"cycle {number}")
-    if number == 224:  # it runs the last machining cycle at the code's points
-        state.move_to(dict.fromkeys(state.position))
     return None
 
 
 def _old_cycle_run(runner, op, block, model, params):
-    """Old-style two-part cycles ``CYCL DEF 7.0`` / ``7.1 X+60`` and the old fixed
-    cycles 1-5 (their data arrive in sub-blocks)."""
+    """Old-style two-part cycles ``CYCL DEF 7.0`` / ``7.1 X+60``, the old fixed cycles 1-5
+    and 18 (their data arrive in sub-blocks and join the definition); the data blocks of a
+    DEF-active one (9.1 DWELL, 32.1 T) go to the rules as they come."""
     state = runner.state
+    interp = runner.interp
     number = int(params.pop("@number"))
     sub = int(params.pop("@sub"))
+    cycle_model = interp.cycle_models.get(f"heidenhain.{number}", {})
     if sub == 0:
         _put(state, "old_cycle", (number, {}))
         if number not in DEF_ACTIVE:
-            interp = runner.interp
-            cycle_model = interp.cycle_models.get(f"heidenhain.{number}", {})
             _put(state, "cycle", Definition(number, {}, {}, op.span, cycle_model))
             _put(state, "m89", False)
         return None
+    if number not in DEF_ACTIVE:
+        definition = _get(state, "cycle")
+        if definition is not None and definition.number == number:
+            _put(state, "cycle", replace(definition, params={**definition.params, **params}, spans={**definition.spans, **op.param_spans}))
+        return None
+    interp.observer.cycle_run(CycleRun(f"heidenhain.{number}", cycle_model, op.span, block, _numbers(params), dict(op.param_spans)), state)
     if number == 14:
         labels = tuple(params[key] for key in sorted((key for key in params if key.startswith("L")), key=lambda key: int(key[1:])))
         _put(state, "sl_labels", labels)
@@ -455,6 +463,10 @@ def _trans_run(runner, op, block, model, params):
 
 
 def _pattern_run(runner, op, block, model, params):
+    tool_axis = _plane(runner.state)[2]
+    if tool_axis != "Z":
+        runner.interp._fault("heidenhain.pattern-tool-axis", op.span, f"PATTERN DEF with the tool axis {tool_axis}: the pattern computes X and Y only, "
+                             "so its points are not where they are meant to be in this working plane (seed L1079-1085)")
     forms = {}
     for key, value in params.items():
         index, word = key.split(":", 1)
@@ -652,6 +664,9 @@ def run_cycle(runner, op, block, definition: Definition, shift=None, surface_off
         return _sl_cycle(runner, op, block, definition)
     if family == "ocm":
         return _ocm_cycle(runner, op, block, definition)
+    special = _SPECIAL_FAMILIES.get(family)
+    if special is not None:
+        return special(runner, op, block, definition, shift, surface_offset)
     if family == "old":  # the old fixed cycles start and end at the position of the call
         interp.observer.cycle_run(CycleRun(f"heidenhain.{definition.number}", model, op.span, block, _numbers(definition.params), dict(definition.spans)), state)
         return None
@@ -923,8 +938,11 @@ _RUNNERS = {
     "pole": _pole_run, "arc": _arc_run, "tangent": _tangent_run, "polar": _polar_run, "retract": _retract_run,
     "tool_feed": _tool_feed_run, "label_call": _label_call_run, "end_pgm": _end_pgm_run, "define": _define_run,
     "old_cycle": _old_cycle_run, "trans": _trans_run, "pattern": _pattern_run, "call": _call_run,
+    "select_pattern": heidenhain_special.select_pattern_run,
     "positioned": _positioned_run, "tool_length": _tool_length_run, "lift": _lift_run, "comp": _comp_run, "spindle": _spindle_run, "contour_def": _contour_def_run, "global_def": _global_def_run,
 }
+_SPECIAL_FAMILIES = {"engrave": heidenhain_special.engrave, "face232": heidenhain_special.face_milling,
+                     "thread_cut": heidenhain_special.thread_cutting, "machine_moving": heidenhain_special.machine_moving}
 
 for _what, _run in _RUNNERS.items():
     cycles.register_shape(f"heidenhain.{_what}", _run)

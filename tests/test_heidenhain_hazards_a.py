@@ -1,0 +1,574 @@
+"""HEIDENHAIN Klartext: every hazard of reference A §9 (H1-H48) mapped to the rules that
+check it, and the special cycles of reference B (224, 225, 232, 18, 9, 12, 13, 32, 238, 239,
+point tables) with their rules, each tested both ways on inline programs."""
+from __future__ import annotations
+
+import re
+import textwrap
+from pathlib import Path
+
+import pytest
+
+from ncverify import Settings, check_file, check_text
+from ncverify.check import rule_definitions
+from ncverify.diagnostics import Status
+from ncverify.lower.heidenhain import KlartextLowering
+from ncverify.lower.heidenhain_special import engraved_characters
+from ncverify.project import load_project_text
+
+# Reference A §9, hazard by hazard: the rules that check it, or why none does. A rule that
+# covers only part of a hazard says which part in the comment.
+HAZARDS: dict[str, tuple[str, ...] | str] = {
+    "H1": ("heidenhain.positive-depth",),  # 240 by depth or diameter, 232/233 by Q227 vs Q386
+    "H2": ("heidenhain.positive-depth",),  # what it must not report: 204's Q249 > 0, a negative pitch (tested below)
+    "H3": ("heidenhain.zero-depth",),  # 263-267: a zero countersink depth skips only its own step and is not reported
+    "H4": ("heidenhain.usable-length",),  # Q201 and Q1 depths; 204 (Q249), 240 and 233 depths are not compared with LU
+    "H5": ("heidenhain.thread-depth-signs",),
+    "H6": ("heidenhain.thread-depth",),  # the derived comparison with an earlier hole's depth is not made
+    "H7": "not covered: the axial compensating move of 262/263/267 is not modelled, so the blind-hole depth it needs is not checked",
+    "H8": "not covered: 206's feed Q206 is not compared with S x pitch, and M3/M4 with the thread hand",
+    "H9": ("heidenhain.tap-pitch",),
+    "H10": ("core.spindle-off-cutting",),  # 207/209 leave the spindle as they found it; the servo-spindle need is H45
+    "H11": ("heidenhain.plunge-angle",),  # PREDEF from GLOBAL DEF 110 is resolved before the check
+    "H12": ("heidenhain.tool-too-large",),  # the pocket wider than the tool; 252's computed helix diameter is not checked
+    "H13": ("heidenhain.finish-only-rapid",),
+    "H14": ("heidenhain.position-after-cycle",),
+    "H15": ("heidenhain.stud-approach-room",),  # against the BLK FORM; fixtures are not known
+    "H16": ("heidenhain.stud-blank",),  # 258's circumscribed diameter against Q222 is not checked
+    "H17": ("heidenhain.boring-drag",),  # Q214 = 0; M136 at the call is not checked
+    "H18": ("heidenhain.back-boring-direction",),  # Q214 range; the clearance under the workpiece needs the fixture
+    "H19": "not covered: 202/204's disengaging direction under an active mirror image (cycle 8) is not reported",
+    "H20": "modelled, not a defect: cycle parameters are frozen at CYCL DEF and later assignments do not reach the call",
+    "H21": ("heidenhain.call-without-cycle",),  # a DEF-active cycle sharing transfer parameters is not checked
+    "H22": ("heidenhain.call-without-tool", "heidenhain.cycle-with-compensation", "core.spindle-off-cutting"),
+    "H23": "modelled, intent undecidable: after M89 every positioning block runs the cycle (its rapids are checked); which positions were meant as holes the program cannot say",
+    "H24": ("heidenhain.call-pos-axes",),
+    "H25": ("heidenhain.pattern-tool-axis",),  # the feed between points is modelled; a point table's clearance column is not
+    "H26": ("heidenhain.pattern-surface",),
+    "H27": ("core.clearance-below-stock",),  # the retract level Q203 + max(Q200, Q204) against the BLK FORM; fixtures are not known
+    "H28": ("core.rapid-into-stock",),
+    "H29": ("heidenhain.plunge-angle",),  # ANGLE for Q366; T-ANGLE for Q395 and 240 and RCUTS are not checked
+    "H30": "not covered: the deepened starting point Q379 (205/241) and 240's Q342 are not modelled",
+    "H31": ("heidenhain.parameter-range",),
+    "H32": ("heidenhain.peck-decrement",),  # Q212 without Q205; single pass and Q257 > Q202 are not reported
+    "H33": ("heidenhain.tool-too-large",),
+    "H34": ("heidenhain.parameter-range", "core.cycle-parameter-value"),
+    "H35": ("heidenhain.transform-at-end",),  # at the end of the program; the reset order is not checked
+    "H36": "modelled, not reported: cycle 10 switches radius compensation off, and the contour after it runs uncompensated",
+    "H37": ("heidenhain.mirror-tool-axis",),  # the tool axis; the climb/up-cut reversal under a one-axis mirror is not reported
+    "H38": "not covered: scaling factors are not checked against 0.000001-99.999999 or arc axes",
+    "H39": "modelled, not a defect: cycle 247 resets datum shift, mirror, rotation and scaling",
+    "H40": ("core.rapid-into-stock", "core.clearance-below-stock"),
+    "H41": ("heidenhain.depth-through-blank",),
+    "H42": ("heidenhain.working-plane",),  # the three spatial angles; M94, moving every axis first, F/ABST are not checked
+    "H43": "undecidable: the datum table's values live on the machine, not in the program",
+    "H44": ("heidenhain.cutting-length",),
+    "H45": "not covered: the machine's options, servo spindle and floating tap holder are not in the project file",
+    "H46": ("heidenhain.pattern-compatibility",),
+    "H47": "informational, not a defect: GLOBAL DEF values reach every later PREDEF parameter, which is modelled",
+    "H48": "undecidable: the retract after an NC stop in 207/209 is an operator action at run time",
+}
+
+
+def test_every_part_a_hazard_is_mapped():
+    assert list(HAZARDS) == [f"H{number}" for number in range(1, 49)]
+
+
+def test_every_mapped_rule_exists():
+    definitions = rule_definitions()
+    named = {rule_id for entry in HAZARDS.values() if not isinstance(entry, str) for rule_id in entry}
+    assert named <= set(definitions), named - set(definitions)
+
+
+def test_every_reason_says_why_no_rule_checks_it():
+    reasons = [entry for entry in HAZARDS.values() if isinstance(entry, str)]
+    assert all(re.match(r"(not covered|undecidable|modelled|informational)", reason) for reason in reasons)
+
+
+# --------------------------------------------------------------------------- helpers
+
+
+def program(body: str, tool: str = "TOOL CALL 1 Z S2000", start: str = "L  Z+100 R0 FMAX M3", name: str = "T") -> str:
+    """A program frame around ``body``: a 100 x 100 x 20 blank, tool 1, spindle on."""
+    lines = [f"0  BEGIN PGM {name} MM", "1  BLK FORM 0.1 Z X+0 Y+0 Z-20", "2  BLK FORM 0.2  X+100  Y+100  Z+0", f"3  {tool}", f"4  {start}"]
+    lines += textwrap.dedent(body).strip("\n").splitlines()
+    lines += ["98 L  Z+100 R0 FMAX M30", f"99 END PGM {name} MM"]
+    return "\n".join(lines) + "\n"
+
+
+def check(text: str, project: str = ""):
+    context = load_project_text(project, Path("ncverify.toml")) if project else None
+    return check_text(text, "t.h", Settings(), context)
+
+
+def lines(result, rule: str, status=Status.VIOLATED) -> list[int]:
+    return [d.span.line for d in result.diagnostics if d.rule == rule and d.status is status]
+
+
+def messages(result, rule: str) -> list[str]:
+    return [d.message for d in result.diagnostics if d.rule == rule and d.status is Status.VIOLATED]
+
+
+TOOL_R5 = "[tools.1]\nradius = 5\ncutting_length = 10"
+
+
+def stud(blank: int, position: str = "X+50  Y+50", approach: int = 0) -> str:
+    return f"""5  CYCL DEF 256 RECTANGULAR STUD ~
+    Q218=+60 ;FIRST SIDE LENGTH ~
+    Q424=+{blank} ;WORKPC. BLANK SIDE 1 ~
+    Q219=+40 ;2ND SIDE LENGTH ~
+    Q425=+{blank} ;WORKPC. BLANK SIDE 2 ~
+    Q220=+0 ;CORNER RADIUS ~
+    Q368=+0 ;ALLOWANCE FOR SIDE ~
+    Q224=+0 ;ANGLE OF ROTATION ~
+    Q367=+0 ;STUD POSITION ~
+    Q207=+500 ;FEED RATE MILLING ~
+    Q351=+1 ;CLIMB OR UP-CUT ~
+    Q201=-10 ;DEPTH ~
+    Q202=+5 ;PLUNGING DEPTH ~
+    Q206=+3000 ;FEED RATE FOR PLNGNG ~
+    Q200=+2 ;SET-UP CLEARANCE ~
+    Q203=+0 ;SURFACE COORDINATE ~
+    Q204=+50 ;2ND SET-UP CLEARANCE ~
+    Q370=+1 ;TOOL PATH OVERLAP ~
+    Q437=+{approach} ;APPROACH POSITION
+6  L  {position} R0 FMAX M99"""
+
+
+def face(start_x="-5", top="+0", end="-1", side="+2", length="+100") -> str:
+    return f"""5  CYCL DEF 232 FACE MILLING ~
+    Q389=+2 ;STRATEGY ~
+    Q225={start_x} ;STARTNG PNT 1ST AXIS ~
+    Q226=+0 ;STARTNG PNT 2ND AXIS ~
+    Q227={top} ;STARTNG PNT 3RD AXIS ~
+    Q386={end} ;END POINT 3RD AXIS ~
+    Q218={length} ;FIRST SIDE LENGTH ~
+    Q219=+100 ;2ND SIDE LENGTH ~
+    Q202=+2 ;MAX. PLUNGING DEPTH ~
+    Q369=+0 ;ALLOWANCE FOR FLOOR ~
+    Q370=+1 ;MAX. OVERLAP ~
+    Q207=+500 ;FEED RATE MILLING ~
+    Q385=+500 ;FINISHING FEED RATE ~
+    Q253=+750 ;F PRE-POSITIONING ~
+    Q200=+2 ;SET-UP CLEARANCE ~
+    Q357={side} ;CLEARANCE TO SIDE ~
+    Q204=+50 ;2ND SET-UP CLEARANCE
+6  CYCL CALL"""
+
+
+def engraving(text="SERIAL 0001", height="+3", depth="-0.5", length="+40") -> str:
+    return f"""5  CYCL DEF 225 ENGRAVING ~
+    QS500="{text}" ;ENGRAVING TEXT ~
+    Q513={height} ;CHARACTER HEIGHT ~
+    Q514=+0 ;SPACE FACTOR ~
+    Q515=+0 ;FONT ~
+    Q516=+0 ;TEXT ARRANGEMENT ~
+    Q374=+0 ;ANGLE OF ROTATION ~
+    Q517=+50 ;CIRCLE RADIUS ~
+    Q207=+500 ;FEED RATE MILLING ~
+    Q201={depth} ;DEPTH ~
+    Q206=+150 ;FEED RATE FOR PLNGNG ~
+    Q200=+2 ;SET-UP CLEARANCE ~
+    Q203=+0 ;SURFACE COORDINATE ~
+    Q204=+50 ;2ND SET-UP CLEARANCE ~
+    Q367=+0 ;TEXT POSITION ~
+    Q574={length} ;TEXT LENGTH ~
+    Q202=+0.5 ;MAX. PLUNGING DEPTH
+6  L  X+10  Y+10 R0 FMAX M99"""
+
+
+def thread_cutting(height="+2", depth="-20", pitch="+1") -> str:
+    return f"""5  L  X+50  Y+50 R0 FMAX
+6  L  Z{height} R0 FMAX M5
+7  CYCL DEF 18.0 THREAD CUTTING
+8  CYCL DEF 18.1 DEPTH{depth}
+9  CYCL DEF 18.2 PITCH{pitch}
+10 CYCL CALL"""
+
+
+DRILL = """CYCL DEF 200 DRILLING ~
+    Q200=+2 ;SET-UP CLEARANCE ~
+    Q201=-15 ;DEPTH ~
+    Q206=+150 ;FEED RATE FOR PLNGNG ~
+    Q202=+5 ;PLUNGING DEPTH ~
+    Q210=+0 ;DWELL TIME AT TOP ~
+    Q203=+0 ;SURFACE COORDINATE ~
+    Q204=+50 ;2ND SET-UP CLEARANCE ~
+    Q211=+0 ;DWELL TIME AT DEPTH"""
+
+
+# --------------------------------------------------------------------------- H2: what must not be reported
+
+
+def test_a_negative_pitch_is_the_thread_hand_not_a_direction():
+    result = check(program("""5  CYCL DEF 207 RIGID TAPPING ~
+    Q200=+2 ;SET-UP CLEARANCE ~
+    Q201=-10 ;DEPTH ~
+    Q239=-1 ;THREAD PITCH ~
+    Q203=+0 ;SURFACE COORDINATE ~
+    Q204=+50 ;2ND SET-UP CLEARANCE
+6  L  X+30  Y+30 R0 FMAX M99"""))
+    assert not lines(result, "heidenhain.positive-depth")
+
+
+# --------------------------------------------------------------------------- H15 stud approach
+
+
+def test_a_stud_whose_approach_lies_on_the_blank_plunges_into_it():
+    result = check(program(stud(80)), TOOL_R5)
+    assert lines(result, "heidenhain.stud-approach-room") == [24]
+    assert "X97" in messages(result, "heidenhain.stud-approach-room")[0]  # 50 + 80/2 + 2 + 5
+
+
+def test_a_stud_blank_as_large_as_the_blank_leaves_room_to_approach():
+    assert not lines(check(program(stud(100)), TOOL_R5), "heidenhain.stud-approach-room")
+
+
+def test_a_stud_approached_at_a_corner_outside_the_blank_has_room():
+    result = check(program(stud(100, approach=3)), TOOL_R5)
+    assert not lines(result, "heidenhain.stud-approach-room")
+
+
+def test_stud_approach_room_without_a_tool_radius_is_unknown():
+    result = check(program(stud(80)))
+    assert lines(result, "heidenhain.stud-approach-room", Status.UNKNOWN)
+
+
+# --------------------------------------------------------------------------- H25 pattern in another tool axis
+
+
+def pattern_program(axis: str) -> str:
+    return program(f"""5  PATTERN DEF ~
+    POS1( X+25 Y+30 Z+0 ) ~
+    POS2( X+75 Y+30 Z+0 )
+6  {DRILL}
+7  CYCL CALL PAT FMAX""", tool=f"TOOL CALL 1 {axis} S2000", start=f"L  {axis}+100 R0 FMAX M3")
+
+
+def test_pattern_def_with_the_tool_along_y_is_reported():
+    assert lines(check(pattern_program("Y")), "heidenhain.pattern-tool-axis") == [6]
+
+
+def test_pattern_def_with_the_tool_along_z_is_not():
+    assert not lines(check(pattern_program("Z")), "heidenhain.pattern-tool-axis")
+
+
+# --------------------------------------------------------------------------- H42 working plane
+
+
+def test_cycle_19_without_every_spatial_angle_is_reported():
+    result = check(program("5  CYCL DEF 19.0 WORKING PLANE\n6  CYCL DEF 19.1 B+45\n7  CYCL DEF 19.0 WORKING PLANE\n8  CYCL DEF 19.1"))
+    assert lines(result, "heidenhain.working-plane") == [7]
+
+
+def test_cycle_19_with_all_three_angles_or_none_is_not():
+    result = check(program("5  CYCL DEF 19.0 WORKING PLANE\n6  CYCL DEF 19.1 A+0 B+45 C+0\n7  CYCL DEF 19.0 WORKING PLANE\n8  CYCL DEF 19.1"))
+    assert not lines(result, "heidenhain.working-plane")
+
+
+# --------------------------------------------------------------------------- H44 cutting length
+
+
+def test_a_plunging_depth_beyond_the_cutting_length_is_information():
+    result = check(program(stud(100).replace("Q202=+5", "Q202=+12")), TOOL_R5)
+    found = [d for d in result.diagnostics if d.rule == "heidenhain.cutting-length" and d.status is Status.VIOLATED]
+    assert [d.span.line for d in found] == [18] and found[0].severity.value == "info"
+
+
+def test_a_plunging_depth_within_the_cutting_length_is_not_reported():
+    assert not lines(check(program(stud(100)), TOOL_R5), "heidenhain.cutting-length")
+
+
+# --------------------------------------------------------------------------- H46 / B H35 pattern compatibility
+
+
+def circular_slot(position: int) -> str:
+    return f"""5  CYCL DEF 254 CIRCULAR SLOT ~
+    Q215=+0 ;MACHINING OPERATION ~
+    Q219=+12 ;SLOT WIDTH ~
+    Q368=+0 ;ALLOWANCE FOR SIDE ~
+    Q375=+60 ;PITCH CIRCLE DIAMETR ~
+    Q367=+{position} ;REF. SLOT POSITION ~
+    Q216=+0 ;CENTER IN 1ST AXIS ~
+    Q217=+0 ;CENTER IN 2ND AXIS ~
+    Q376=+0 ;STARTING ANGLE ~
+    Q248=+45 ;ANGULAR LENGTH ~
+    Q378=+0 ;STEPPING ANGLE ~
+    Q377=+1 ;NR OF REPETITIONS ~
+    Q207=+500 ;FEED RATE MILLING ~
+    Q351=+1 ;CLIMB OR UP-CUT ~
+    Q201=-5 ;DEPTH ~
+    Q202=+5 ;PLUNGING DEPTH ~
+    Q369=+0 ;ALLOWANCE FOR FLOOR ~
+    Q206=+150 ;FEED RATE FOR PLNGNG ~
+    Q338=+0 ;INFEED FOR FINISHING ~
+    Q200=+2 ;SET-UP CLEARANCE ~
+    Q203=+0 ;SURFACE COORDINATE ~
+    Q204=+50 ;2ND SET-UP CLEARANCE ~
+    Q366=+0 ;PLUNGE ~
+    Q385=+500 ;FINISHING FEED RATE
+6  CYCL DEF 221 CARTESIAN PATTERN ~
+    Q225=+20 ;STARTNG PNT 1ST AXIS ~
+    Q226=+20 ;STARTNG PNT 2ND AXIS ~
+    Q237=+60 ;SPACING IN 1ST AXIS ~
+    Q238=+60 ;SPACING IN 2ND AXIS ~
+    Q242=+2 ;NUMBER OF COLUMNS ~
+    Q243=+2 ;NUMBER OF LINES ~
+    Q224=+0 ;ANGLE OF ROTATION ~
+    Q200=+2 ;SET-UP CLEARANCE ~
+    Q203=+0 ;SURFACE COORDINATE ~
+    Q204=+50 ;2ND SET-UP CLEARANCE ~
+    Q301=+1 ;MOVE TO CLEARANCE"""
+
+
+def test_a_circular_slot_centred_on_the_points_of_221_is_refused():
+    assert lines(check(program(circular_slot(0))), "heidenhain.pattern-compatibility") == [11]
+
+
+def test_a_circular_slot_referenced_at_an_end_runs_with_221():
+    assert not lines(check(program(circular_slot(1))), "heidenhain.pattern-compatibility")
+
+
+def datamatrix(machining: str) -> str:
+    return program(f"""5  {machining}
+6  CYCL DEF 224 DATAMATRIX CODE PATTERN ~
+    Q225=+10 ;STARTNG PNT 1ST AXIS ~
+    Q226=+10 ;STARTNG PNT 2ND AXIS ~
+    QS501="LOT 42" ;TEXT ~
+    Q458=+1 ;SIZE SELECTION ~
+    Q459=+1 ;SIZE ~
+    Q224=+0 ;ANGLE OF ROTATION ~
+    Q200=+2 ;SET-UP CLEARANCE ~
+    Q203=+0 ;SURFACE COORDINATE ~
+    Q204=+50 ;2ND SET-UP CLEARANCE""")
+
+
+TAPPING = """CYCL DEF 207 RIGID TAPPING ~
+    Q200=+2 ;SET-UP CLEARANCE ~
+    Q201=-10 ;DEPTH ~
+    Q239=+1 ;THREAD PITCH ~
+    Q203=+0 ;SURFACE COORDINATE ~
+    Q204=+50 ;2ND SET-UP CLEARANCE"""
+
+
+def test_datamatrix_224_refuses_a_tapping_cycle():
+    result = check(datamatrix(TAPPING))
+    assert lines(result, "heidenhain.pattern-compatibility") == [12]
+    assert "200, 201, 203, 205, 208, 240, 251, 252" in messages(result, "heidenhain.pattern-compatibility")[0]
+
+
+def test_datamatrix_224_runs_drilling_at_cells_it_does_not_place():
+    result = check(datamatrix(DRILL))
+    assert not lines(result, "heidenhain.pattern-compatibility")
+    unknown = [d for d in result.diagnostics if d.rule == "core.unsupported-code" and d.span.line == 15]
+    assert unknown and "DataMatrix" in unknown[0].message
+
+
+def test_datamatrix_text_is_read_as_a_string_parameter():
+    ops = KlartextLowering().lower(b'6  CYCL DEF 224 DATAMATRIX ~\n    Q225=+10 ;X ~\n    QS501="LOT 42" ;TEXT ~\n    Q458=+1 ;SIZE SELECTION', 6, None)[0].ops
+    assert ops[0].params["QS501"] == "LOT 42" and ops[0].params["Q458"] == 1.0
+
+
+# --------------------------------------------------------------------------- 232 face milling
+
+
+def test_face_milling_started_below_the_top_of_the_blank_is_reported():
+    result = check(program(face(top="-1", end="-3")))
+    assert lines(result, "heidenhain.face-milling-blank") == [10]
+
+
+def test_face_milling_below_the_underside_of_the_blank_is_reported():
+    assert lines(check(program(face(end="-25"))), "heidenhain.face-milling-blank") == [11]
+
+
+def test_face_milling_that_comes_down_on_the_blank_is_reported():
+    result = check(program(face(start_x="+10")))
+    assert lines(result, "heidenhain.face-milling-blank") == [8]
+    assert "X8" in messages(result, "heidenhain.face-milling-blank")[0]
+
+
+def test_face_milling_started_outside_the_blank_at_its_top_is_not_reported():
+    assert not lines(check(program(face())), "heidenhain.face-milling-blank")
+
+
+def test_face_milling_in_minus_x_starts_after_the_edge_on_the_other_side():
+    assert not lines(check(program(face(start_x="+105", length="-100"))), "heidenhain.face-milling-blank")
+    assert lines(check(program(face(start_x="+95", length="-100"))), "heidenhain.face-milling-blank") == [8]
+
+
+def test_face_milling_levels_upside_down_or_equal():
+    assert lines(check(program(face(top="-2", end="+0"))), "heidenhain.positive-depth") == [10]
+    assert lines(check(program(face(top="+0", end="+0"))), "heidenhain.zero-depth") == [10]
+    assert not lines(check(program(face())), "heidenhain.positive-depth") + lines(check(program(face())), "heidenhain.zero-depth")
+
+
+def test_face_milling_with_no_plunging_depth_is_out_of_range():
+    assert lines(check(program(face().replace("Q202=+2", "Q202=+0"))), "heidenhain.parameter-range") == [14]
+
+
+def cycle_moves(text: str, cycle: str) -> list[tuple[str, str, object]]:
+    """The moves a cycle made: kind, role and the tool-axis level it went to."""
+    from test_heidenhain import trace
+
+    return [(segment.kind, segment.role, segment.end.get("Z")) for segment in trace(text).segments if segment.cycle == cycle]
+
+
+def test_face_milling_goes_down_to_q386_and_retracts_to_the_second_set_up_clearance():
+    assert cycle_moves(program(face()), "heidenhain.232") == [("rapid", "approach", 50.0), ("feed", "infeed", -1.0), ("rapid", "out-of-hole", 50.0)]
+    assert not lines(check(program(face() + "\n7  L  X+50  Y+50 R0 FMAX")), "core.rapid-into-stock")
+
+
+# --------------------------------------------------------------------------- 225 engraving
+
+
+def test_engraving_text_too_long_for_its_length_is_reported():
+    result = check(program(engraving(text="SERIAL NUMBER 0001", height="+10")))
+    assert lines(result, "heidenhain.engraving-length") == [8]
+
+
+def test_engraving_text_that_may_fit_is_not_reported():
+    assert not lines(check(program(engraving())), "heidenhain.engraving-length")
+
+
+def test_engraving_scaled_to_its_length_is_never_too_long():
+    assert not lines(check(program(engraving(height="+0"))), "heidenhain.engraving-length")
+
+
+def test_engraving_depth_sign_and_zero():
+    assert lines(check(program(engraving(depth="+0.5"))), "heidenhain.positive-depth") == [15]
+    assert lines(check(program(engraving(depth="+0"))), "heidenhain.zero-depth") == [15]
+
+
+def test_engraving_moves_in_at_the_plunging_feed_and_out_to_the_clearances():
+    assert cycle_moves(program(engraving()), "heidenhain.225") == [
+        ("rapid", "approach", 2.0), ("feed", "infeed", -0.5), ("rapid", "out-of-hole", 2.0), ("rapid", "retract", 50.0)]
+
+
+def test_engraved_characters_count_escapes_once_and_take_the_longest_line():
+    assert engraved_characters("AB%%C") == 4
+    assert engraved_characters("%ae1\\nLONGER") == 6
+
+
+# --------------------------------------------------------------------------- 18 thread cutting
+
+
+def test_thread_cutting_from_far_above_the_blank_cuts_nothing():
+    assert lines(check(program(thread_cutting(height="+100"))), "heidenhain.thread-cutting-position") == [9]
+
+
+def test_thread_cutting_pre_positioned_over_the_hole_reaches_the_blank():
+    assert not lines(check(program(thread_cutting())), "heidenhain.thread-cutting-position")
+
+
+def test_thread_cutting_feeds_its_depth_from_where_the_tool_is_and_stays_there():
+    assert cycle_moves(program(thread_cutting()), "heidenhain.18") == [("feed", "infeed", -18.0)]
+    assert lines(check(program(thread_cutting() + "\n11 L  X+90 FMAX")), "core.rapid-into-stock") == [12, 13]  # out of the thread at Z-18 sideways, then up
+
+
+def test_thread_cutting_with_the_spindle_running_is_reported():
+    body = thread_cutting().replace("FMAX M5", "FMAX M3")
+    assert lines(check(program(body)), "heidenhain.thread-cutting-spindle") == [11]
+    assert not lines(check(program(thread_cutting())), "heidenhain.thread-cutting-spindle")
+
+
+def test_thread_cutting_pitch_0_is_out_of_range():
+    assert lines(check(program(thread_cutting(pitch="+0"))), "heidenhain.parameter-range") == [10]
+
+
+# --------------------------------------------------------------------------- 9, 12, 13, 32, 238, 239
+
+
+def test_dwell_orientation_and_tolerance_ranges():
+    result = check(program("""5  CYCL DEF 9.0 DWELL TIME
+6  CYCL DEF 9.1 DWELL 4000
+7  CYCL DEF 13.0 ORIENTATION
+8  CYCL DEF 13.1 ANGLE400
+9  CYCL DEF 32.0 TOLERANCE
+10 CYCL DEF 32.1 T12
+11 CYCL DEF 32.2 HSC-MODE:1 TA5"""))
+    assert lines(result, "heidenhain.parameter-range") == [7, 9, 11]
+
+
+def test_dwell_orientation_and_tolerance_in_range_are_not_reported():
+    result = check(program("""5  CYCL DEF 9.0 DWELL TIME
+6  CYCL DEF 9.1 DWELL 1.5
+7  CYCL DEF 13.0 ORIENTATION
+8  CYCL DEF 13.1 ANGLE180
+9  CYCL DEF 32.0 TOLERANCE
+10 CYCL DEF 32.1 T0.05
+11 CYCL DEF 32.2 HSC-MODE:1 TA5"""))
+    assert not lines(result, "heidenhain.parameter-range")
+
+
+def test_cycle_12_is_defined_then_called():
+    result = check(program("5  CYCL DEF 12.0 PGM CALL\n6  CYCL DEF 12.1 PGM PART2.H\n7  L  X+50  Y+50 R0 FMAX M99"))
+    assert not lines(result, "heidenhain.call-without-cycle")
+    assert any(d.rule == "core.unsupported-code" and d.span.line == 8 for d in result.diagnostics)
+
+
+def test_cycle_238_and_the_weighing_run_of_239_move_the_machine():
+    body = "5  CYCL DEF 238 MEASURE MACHINE STATUS ~\n    Q570=+0 ;MODE\n6  CYCL CALL\n7  CYCL DEF 239 ASCERTAIN THE LOAD ~\n    Q570=+{}\n"
+    assert lines(check(program(body.format(1))), "heidenhain.machine-moving-cycle") == [8, 9]
+    assert lines(check(program(body.format(0))), "heidenhain.machine-moving-cycle") == [8]
+
+
+def orientation(redefine: bool) -> str:
+    again = "7  CYCL DEF 13.0 ORIENTATION\n8  CYCL DEF 13.1 ANGLE90\n" if redefine else ""
+    return program(f"""5  CYCL DEF 202 BORING ~
+    Q200=+2 ;SET-UP CLEARANCE ~
+    Q201=-15 ;DEPTH ~
+    Q206=+100 ;FEED RATE FOR PLNGNG ~
+    Q211=+0.5 ;DWELL TIME AT DEPTH ~
+    Q208=+250 ;RETRACTION FEED RATE ~
+    Q203=+0 ;SURFACE COORDINATE ~
+    Q204=+50 ;2ND SET-UP CLEARANCE ~
+    Q214=+1 ;DISENGAGING DIRECTN ~
+    Q336=+0 ;ANGLE OF SPINDLE ~
+    Q357=+0.2 ;CLEARANCE TO SIDE
+6  L  X+50  Y+50 R0 FMAX M99
+{again}9  L  Z+100 R0 FMAX M19""")
+
+
+def test_m19_after_boring_without_cycle_13_is_reported():
+    assert lines(check(orientation(False)), "heidenhain.orientation-after-cycle") == [18]
+    assert not lines(check(orientation(True)), "heidenhain.orientation-after-cycle")
+
+
+# --------------------------------------------------------------------------- point tables
+
+
+def table_program(folder: Path, table: str | None) -> Path:
+    """Holes 25 deep in a 20 mm blank, at the points of HOLES.PNT."""
+    path = folder / "HOLES.h"
+    path.write_text(program(f'5  SEL PATTERN "HOLES.PNT"\n6  {DRILL.replace("Q201=-15", "Q201=-25")}\n7  CYCL CALL PAT FMAX'))
+    if table is not None:
+        (folder / "HOLES.PNT").write_text(table)
+    return path
+
+
+def test_a_point_table_beside_the_program_places_the_holes(tmp_path):
+    table = "BEGIN HOLES.PNT MM\nNR X Y Z FADE\n0 +20 +20 +0\n1 +80 +20 +0\n2 +150 +150 +0 Y\n[END]\n"
+    result = check_file(table_program(tmp_path, table), Settings())
+    assert lines(result, "heidenhain.depth-through-blank") == [9]
+    assert not [d for d in result.diagnostics if d.rule == "core.unsupported-code" and d.span.line in (6, 16)]
+
+
+def test_a_point_table_that_is_not_there_leaves_the_points_unknown(tmp_path):
+    result = check_file(table_program(tmp_path, None), Settings())
+    unknown = [d.message for d in result.diagnostics if d.rule == "core.unsupported-code" and d.span.line == 6]
+    assert unknown and "HOLES.PNT" in unknown[0]
+    assert not lines(result, "heidenhain.depth-through-blank")
+
+
+# --------------------------------------------------------------------------- the manual's own templates
+
+MANUAL = Path(__file__).resolve().parents[2] / "shared" / "manuals" / "001_4d9f06b2742d891d.txt"
+
+
+@pytest.mark.skipif(not MANUAL.is_file(), reason="the TNC 620 cycle manual is not beside the repository")
+def test_the_233_template_faces_from_q227_0_to_q386_0_which_the_control_skips():
+    """Seed L7480-7528 prints Q227=+0 and Q386=+0: a true finding on the manual's template."""
+    from test_heidenhain_manual import _check, _framed
+
+    result = _check(_framed(7480, 7528), "c233.h")
+    assert any(d.rule == "heidenhain.zero-depth" and "Q227" in d.message for d in result.diagnostics)
