@@ -5,6 +5,7 @@ from . import cycle_hazards  # noqa: F401
 from . import modal_hazards  # noqa: F401
 from . import fagor  # noqa: F401
 from . import heidenhain  # noqa: F401
+from . import heidenhain_contour  # noqa: F401
 from . import heidenhain_transforms  # noqa: F401
 from . import heidenhain_special  # noqa: F401
 from . import sinumerik  # noqa: F401

@@ -151,6 +151,9 @@ class KlartextLowering:
         if word == "GLOBAL" and cursor.is_name("DEF", ahead=1):
             self._global_def(cursor, block)
             return
+        if word == "SEL" and cursor.is_name("CONTOUR", ahead=1):
+            self._select_contour(cursor, block)
+            return
         if word == "SEL" and cursor.is_name("PATTERN", ahead=1):
             self._select_pattern(cursor, block)
             return
@@ -444,6 +447,7 @@ class KlartextLowering:
         words = self._motion_words(cursor, block, ("LEN", "CCA", "R", "PR", "PA", "DR"))
         span = cursor.rest_span(start.span)
         plane = {"X", "Y"}
+        block.ops.append(_pseudo(span, "approach", {}))
         if start.text == "DEP":
             words["comp"] = ("off", start.span)  # DEP ends the radius compensation
         if start.text == "DEP" and not plane <= words["targets"].keys():
@@ -698,6 +702,13 @@ class KlartextLowering:
         cursor.index = len(cursor.tokens)
         block.ops.append(_pseudo(cursor.rest_span(start), "select_pattern", {"table": name}))
 
+    def _select_contour(self, cursor, block):
+        """``SEL CONTOUR "MODEL"``: the contour of the SL / OCM cycles is described in another
+        program (reference B 6.28), which is not run here: the contour is unknown."""
+        start = cursor.expect_name("SEL").span
+        cursor.index = len(cursor.tokens)
+        block.ops.append(_pseudo(cursor.rest_span(start), "select_contour", {}))
+
     def _contour_def(self, cursor, block, path):
         """``CONTOUR DEF P1 = LBL 1 I2 = LBL 2 V3 = LBL 3``: pockets, islands, voids (reference B §6.29)."""
         start = cursor.expect_name("CONTOUR").span
@@ -714,7 +725,7 @@ class KlartextLowering:
             label = self._label_value(cursor)
             params[f"{kind.text}{int(number)}"] = label
             if cursor.take_name("DEPTH"):
-                cursor.value()
+                params[f"D{int(number)}"] = cursor.value()
         block.ops.append(_pseudo(cursor.rest_span(start), "contour_def", params))
 
     def _trans(self, cursor, block, path):

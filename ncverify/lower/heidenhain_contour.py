@@ -7,6 +7,12 @@ counter-clockwise with RL is a pocket (the tool runs inside); the other two comb
 make an island (seed L9063-9066). The region the cycle machines is the union of the
 pockets less the islands. Anything that cannot be resolved to numbers (a free Q parameter,
 a tangential arc, FK) leaves the geometry unknown: rules then answer ``unknown``.
+
+Beside the geometry, :func:`subprograms` records what the manual forbids or requires in a
+contour subprogram whatever its geometry (seed L9058-9071): approach and departure blocks,
+tool-axis coordinates, feed rates, M functions, cycle definitions, the compensation written,
+and the axes and path function of the first block. The checks in
+:mod:`ncverify.checks.heidenhain_contour` judge them for the cycle that uses the contour.
 """
 from __future__ import annotations
 
@@ -37,14 +43,51 @@ class _Unresolved(Exception):
     pass
 
 
-def contours(interp, labels, span) -> list[Contour] | None:
+@dataclass(frozen=True)
+class Subprogram:
+    """What a contour subprogram contains, for the rules; ``contour`` is its geometry, or
+    None when it cannot be resolved (then ``closed`` is None too)."""
+
+    label: object
+    end: object  # the span of its LBL 0
+    contour: Contour | None
+    closed: bool | None
+    first_axes: frozenset  # the axes the first path block programs
+    first_span: object
+    first_is_line: bool  # the first path block is a straight line L (not an arc, not APPR)
+    first_is_approach: bool
+    sides: tuple  # (side, span) of every R0 / RL / RR written: side is left, right or off
+    forbidden: tuple  # (what, span): approach/departure, tool axis, machining cycle
+    technology: tuple  # (what, span): feed rates and M functions, which the cycle does not take from here
+
+
+@dataclass(frozen=True)
+class ContourUse:
+    """The contour a machining cycle works on: how it was defined, and its subprograms."""
+
+    how: str  # "cycle 14", "CONTOUR DEF" or "SEL CONTOUR" (its subprograms are in another program, not read)
+    span: object  # the defining block
+    labels: tuple
+    kinds: tuple | None  # CONTOUR DEF: "P", "I" or "V" per label
+    depths: tuple | None  # CONTOUR DEF: the DEPTH written after each subcontour, or None
+    subprograms: tuple[Subprogram, ...]
+
+
+def contours(found: list[Subprogram], labels) -> list[Contour] | None:
     """The subcontours of ``labels`` in order, or None when one cannot be resolved."""
+    outlines = [subprogram.contour for subprogram in found]
+    return None if len(outlines) != len(labels) or any(contour is None for contour in outlines) else outlines
+
+
+def subprograms(interp, labels, span) -> list[Subprogram]:
+    """Every subprogram of ``labels`` that exists, in order (a missing label is reported by
+    the interpreter's label search)."""
     found = []
     for label in labels:
         try:
             found.append(_walk(interp, label, span))
-        except _Unresolved:
-            return None
+        except (_Unresolved, PathEnd):
+            continue
     return found
 
 
@@ -62,12 +105,10 @@ def region(found: list[Contour]):
     return area
 
 
-def _walk(interp, label, span) -> Contour:
-    try:
-        position = interp.find_label(label, span)
-    except PathEnd:
-        raise _Unresolved from None
+def _walk(interp, label, span) -> Subprogram:
+    position = interp.find_label(label, span)
     walker = _Walker(interp)
+    content = _Content()
     source = position.source
     path = None if source is interp.source else source.name
     for line_number, offset, _next, raw in logical_lines(source, position.offset, interp.frontend):
@@ -76,11 +117,73 @@ def _walk(interp, label, span) -> Contour:
                 continue
             for op in block.ops:
                 if isinstance(op, ir.Return):
-                    return walker.contour(label)
-                walker.take(op)
+                    return content.subprogram(label, op.span, walker)
+                content.take(op)
+                walker.take_if_resolved(op)
         if walker.elements > _ELEMENT_LIMIT:
             raise _Unresolved
     raise _Unresolved
+
+
+_MOTION_PSEUDO = {"arc", "tangent", "polar", "lift"}
+_M_PSEUDO = {"spindle", "call"}
+_TRANSFORMS = {7.0, 8.0, 10.0, 11.0, 19.0, 26.0, 247.0}  # allowed in a subcontour, and they stay active after it (seed L9061-9062)
+
+
+class _Content:
+    """The non-geometric facts of a subprogram, gathered op by op."""
+
+    def __init__(self):
+        self.first_axes = None
+        self.first_span = None
+        self.first_is_line = False
+        self.first_is_approach = False
+        self.approach_pending = False
+        self.sides = []
+        self.forbidden = []
+        self.technology = []
+
+    def take(self, op) -> None:
+        if isinstance(op, ir.SetFeed):
+            self.technology.append(("a feed rate F", op.span))
+        elif isinstance(op, (ir.Coolant, ir.Stop)):
+            self.technology.append(("an M function", op.span))
+        elif isinstance(op, ir.Move) and op.targets:
+            self.motion(op, set(op.targets), op.arc is None)
+        elif isinstance(op, ir.CycleCall) and op.cycle.startswith("heidenhain.@"):
+            self.pseudo(op, op.cycle[len("heidenhain.@"):])
+
+    def pseudo(self, op, what: str) -> None:
+        params = op.params
+        if what == "approach":
+            self.forbidden.append(("an APPR/DEP block", op.span))
+            self.approach_pending = self.first_axes is None
+        elif what == "comp":
+            self.sides.append((params["side"], op.span))
+        elif what in _M_PSEUDO:
+            self.technology.append(("an M function", op.span))
+        elif what in ("define", "old_cycle") and params.get("@number") not in _TRANSFORMS:
+            self.forbidden.append(("a cycle definition", op.span))
+        elif what in _MOTION_PSEUDO:
+            axes = {word[-1] for word in params if word[-1] in "XYZ" and word[:-1] in ("", "I")}
+            if what == "polar":
+                axes |= {"X", "Y"}  # PR / PA give a point of the plane
+            self.motion(op, axes, what == "lift")
+
+    def motion(self, op, axes: set, straight: bool) -> None:
+        if "Z" in axes:
+            self.forbidden.append(("a tool-axis coordinate", op.span))
+        if self.first_axes is None:
+            self.first_axes = frozenset(axes)
+            self.first_span = op.span
+            self.first_is_line = straight and not self.approach_pending
+            self.first_is_approach = self.approach_pending
+
+    def subprogram(self, label, end, walker) -> Subprogram:
+        contour = walker.contour(label) if walker.resolved else None
+        closed = None if not walker.resolved else walker.closed
+        return Subprogram(label, end, contour, closed, self.first_axes or frozenset(), self.first_span or end, self.first_is_line,
+                          self.first_is_approach, tuple(self.sides), tuple(self.forbidden), tuple(self.technology))
 
 
 class _Walker:
@@ -90,6 +193,19 @@ class _Walker:
         self.pole = None
         self.side = None
         self.elements = 0
+        self.resolved = True
+
+    def take_if_resolved(self, op) -> None:
+        if not self.resolved:
+            return
+        try:
+            self.take(op)
+        except _Unresolved:
+            self.resolved = False
+
+    @property
+    def closed(self) -> bool:
+        return len(self.points) >= 3 and math.dist(self.points[0], self.points[-1]) <= 1e-3
 
     def number(self, expr):
         value = self.interp.value(expr)
@@ -198,15 +314,15 @@ class _Walker:
         else:
             self.points.append(end)
 
-    def contour(self, label) -> Contour:
+    def contour(self, label) -> Contour | None:
         points = self.points
-        if len(points) < 3 or math.dist(points[0], points[-1]) > 1e-3:
-            raise _Unresolved  # not closed
-        outline = Polygon(points)
+        if len(points) < 3:
+            return None
+        outline = Polygon(points)  # a contour ending short of its start is closed by a straight line, as the control does
         if not outline.is_valid:
             outline = shapely.make_valid(outline)
             if not isinstance(outline, Polygon):
-                raise _Unresolved
+                return None
         counter_clockwise = _signed_area(points) > 0
         pocket = None if self.side in (None, "off") else (counter_clockwise == (self.side == "left"))
         return Contour(label, outline, pocket, points[0])

@@ -28,7 +28,7 @@ from ..trace import Arc, CycleRun, Hole
 _PLANES = {"xy": ("X", "Y", "Z"), "yz": ("Y", "Z", "X"), "zx": ("Z", "X", "Y")}
 # DEF-active cycles (seed L666-688): they act when defined and are never called. 12 and 238
 # are in that list too, but their own sections call them (reference B 4.6).
-DEF_ACTIVE = frozenset({7, 8, 9, 10, 11, 13, 14, 19, 20, 26, 32, 220, 221, 224, 239, 247, 271, 1271, 1272, 1273, 1278, 1281, 1282})
+DEF_ACTIVE = frozenset({7, 8, 9, 10, 11, 13, 14, 19, 20, 26, 32, 220, 221, 224, 239, 247, 270, 271, 1271, 1272, 1273, 1278, 1281, 1282})
 _SUBPROGRAM_END = re.compile(rb"(?m)^[ \t]*\d*[ \t]*LBL[ \t]*0(?![0-9.])")
 _TRANSFORMS = frozenset({7, 8, 10, 11, 19, 26})
 _HOLE_FAMILIES = frozenset({"drill", "tap", "thread"})
@@ -274,6 +274,11 @@ def _comp_run(runner, op, block, model, params):
     return None
 
 
+def _approach_run(runner, op, block, model, params):
+    """APPR / DEP: a marker for the contour checks; the move itself follows as an ``L``."""
+    return None
+
+
 def _tool_feed_run(runner, op, block, model, params):
     if "F" in params:
         _put(runner.state, "tool_feed", params["F"])
@@ -375,6 +380,10 @@ def _def_active(runner, op, block, number, params, cycle_model):
         return None
     if number == 14:
         _put(state, "sl_labels", tuple(value for key, value in sorted(params.items()) if key.startswith("L")))
+        _put(state, "contour_source", ("cycle 14", op.span, None, None))
+        return None
+    if number == 270:  # the contour train data of 25 and 276 (seed L9908-9974)
+        _put(state, "train_data", (_numbers(params), dict(op.param_spans)))
         return None
     if number in (9, 32, 13, 239):
         return None
@@ -382,6 +391,10 @@ def _def_active(runner, op, block, number, params, cycle_model):
         return heidenhain_special.datamatrix(runner, op, block)
     if number in (271, 1271, 1272, 1273, 1278):  # OCM data, with a standard shape (reference B 6.21)
         _put(state, "ocm", (number, _numbers(params), dict(op.param_spans)))
+        _put(state, "ocm_boundary", None)  # a shape cancels the boundary before it (seed L12143-12145)
+        return None
+    if number in (1281, 1282):
+        _put(state, "ocm_boundary", number)
         return None
     if number in _TRANSFORMS:
         if params:  # without words it is the header of the old-style sub-blocks (CYCL DEF 7.0 DATUM SHIFT)
@@ -416,6 +429,7 @@ def _old_cycle_run(runner, op, block, model, params):
         labels = tuple(params[key] for key in sorted((key for key in params if key.startswith("L")), key=lambda key: int(key[1:])))
         _put(state, "sl_labels", labels)
         _put(state, "sl_kinds", None)
+        _put(state, "contour_source", ("cycle 14", op.span, None, None))
     elif number in _TRANSFORMS:
         model = runner.interp.cycle_models.get(f"heidenhain.{number}", {})
         runner.interp.observer.cycle_run(CycleRun(f"heidenhain.{number}", model, op.span, block, _numbers(params), dict(op.param_spans)), state)
@@ -445,10 +459,27 @@ def _global_def_run(runner, op, block, model, params):
 
 
 def _contour_def_run(runner, op, block, model, params):
-    """CONTOUR DEF names each subcontour's kind: P pocket, I island, V void (machined as an island)."""
-    order = sorted(params, key=lambda key: int(key[1:]))
-    _put(runner.state, "sl_labels", tuple(params[key] for key in order))
-    _put(runner.state, "sl_kinds", tuple(key[0] == "P" for key in order))
+    """CONTOUR DEF names each subcontour's kind: P pocket, I island, V void (machined as an
+    island), each with an optional DEPTH (``D<n>``). It also makes the control forget the
+    radius of the last roughing tool (seed L11284-11286)."""
+    order = sorted((key for key in params if key[0] in "PIV"), key=lambda key: int(key[1:]))
+    state = runner.state
+    _put(state, "sl_labels", tuple(params[key] for key in order))
+    _put(state, "sl_kinds", tuple(key[0] == "P" for key in order))
+    depths = tuple(params.get(f"D{key[1:]}") for key in order)
+    _put(state, "contour_source", ("CONTOUR DEF", op.span, tuple(key[0] for key in order), depths))
+    _put(state, "roughed_since_contour_def", False)
+    return None
+
+
+def _select_contour_run(runner, op, block, model, params):
+    """SEL CONTOUR: a contour the SL and OCM cycles may use, from a program not read here;
+    like CONTOUR DEF it makes the control forget the last roughing tool (seed L11284-11286)."""
+    state = runner.state
+    _put(state, "sl_labels", ())
+    _put(state, "sl_kinds", None)
+    _put(state, "contour_source", ("SEL CONTOUR", op.span, None, None))
+    _put(state, "roughed_since_contour_def", False)
     return None
 
 
@@ -662,6 +693,10 @@ def run_cycle(runner, op, block, definition: Definition, shift=None, surface_off
         return _pocket(runner, op, block, definition, shift, surface_offset)
     if family == "contour" and definition.number in (21, 22, 23, 24):
         return _sl_cycle(runner, op, block, definition)
+    if family == "contour_train":
+        return _contour_train(runner, op, block, definition)
+    if family == "cylinder":
+        return _cylinder_cycle(runner, op, block, definition)
     if family == "ocm":
         return _ocm_cycle(runner, op, block, definition)
     special = _SPECIAL_FAMILIES.get(family)
@@ -781,8 +816,9 @@ def _sl_cycle(runner, op, block, definition):
     name = f"heidenhain.{definition.number}"
     labels = _get(state, "sl_labels")
     data = _get(state, "sl_data")
-    if not labels or data is None:
-        missing = " and ".join(what for what, have in (("a contour (cycle 14 or CONTOUR DEF)", labels), ("contour data (cycle 20)", data)) if not have)
+    contour = labels or _get(state, "contour_source", ("",))[0] == "SEL CONTOUR"
+    if not contour or data is None:
+        missing = " and ".join(what for what, have in (("a contour (cycle 14 or CONTOUR DEF)", contour), ("contour data (cycle 20)", data)) if not have)
         interp._fault("heidenhain.sl-prerequisites", op.span, f"cycle {definition.number} is called without {missing} defined before it: the control stops with an error (seed L9532-9535)")
         state.move_to(dict.fromkeys(state.position))
         return None
@@ -790,15 +826,13 @@ def _sl_cycle(runner, op, block, definition):
     params.update(_numbers(definition.params))
     spans = dict(data[1])
     spans.update(definition.spans)
-    found = contours(interp, labels, op.span)
+    use = _contour_use(runner, op)
+    found = contours(use.subprograms, labels)
     kinds = _get(state, "sl_kinds")
     if found is not None and kinds is not None:
         found = [replace(contour, pocket=pocket) for contour, pocket in zip(found, kinds)]
     area = region(found) if found else None
-    run = CycleRun(name, definition.model, op.span, block, params, spans)
-    run.params["@region"] = area
-    interp.observer.cycle_run(run, state)
-    run.params.pop("@region", None)
+    _observe(runner, CycleRun(name, definition.model, op.span, block, params, spans), {"@region": area, "@contour": use, "@own_q": _own_reserved(state)})
     first, second, axis = _plane(state)
     surface, clearance, depth, height = (params.get(q) for q in ("Q5", "Q6", "Q1", "Q7"))
     if any(type(value) is not float for value in (surface, clearance, depth, height)):
@@ -833,18 +867,132 @@ def _ocm_cycle(runner, op, block, definition):
     params["@shape"] = float(shape)
     spans = dict(spans_)
     spans.update(definition.spans)
-    interp.observer.cycle_run(CycleRun(name, definition.model, op.span, block, params, spans), state)
+    facts = {"@contour": _contour_use(runner, op) if shape == 271 else None, "@boundary": _get(state, "ocm_boundary"),
+             "@rougher_forgotten": _get(state, "roughed_since_contour_def") is False}
+    _observe(runner, CycleRun(name, definition.model, op.span, block, params, spans), facts)
+    if definition.number == 272:
+        _put(state, "roughed_since_contour_def", True)
     first, second, axis = _plane(state)
-    surface, clearance, depth, height = (params.get(q) for q in ("Q203", "Q200", "Q201", "Q260"))
+    surface, clearance, depth, height = (params.get(q) for q in ("Q203", "Q200", _depth_name(definition), "Q260"))
     state.move_to({first: None, second: None})
     if any(type(value) is not float for value in (surface, clearance, depth, height)):
         state.move_to({axis: None})
         return None
     runner._rapid_to({axis: surface + clearance}, op.span, block, "approach", name)
-    with _cycle_feed(state, params):
+    with _cycle_feed(state, {"Q207": params.get("Q207", params.get("Q385"))}):  # 273/274 finish at Q385
         runner._rapid_to({axis: surface + depth}, op.span, block, "infeed", name, "feed")
     runner._rapid_to({axis: height}, op.span, block, "out-of-hole", name)
     _put(state, "ended_elsewhere", definition.number)
+    return None
+
+
+def _contour_use(runner, op):
+    """The contour a cycle machines, as cycle 14 or CONTOUR DEF left it, with what its
+    subprograms hold; None when neither was defined."""
+    from .heidenhain_contour import ContourUse, subprograms
+
+    state = runner.state
+    labels = _get(state, "sl_labels") or ()
+    how, span, kinds, depths = _get(state, "contour_source", ("cycle 14", op.span, None, None))
+    if not labels and how != "SEL CONTOUR":
+        return None
+    return ContourUse(how, span, tuple(labels), kinds, depths, tuple(subprograms(runner.interp, labels, op.span)))
+
+
+def _own_reserved(state) -> tuple:
+    """Q1-Q20 the program has set itself: the SL and cylinder cycles keep their parameters
+    there (seed L9360-9361)."""
+    return tuple(name for name in (f"Q{number}" for number in range(1, 21)) if name in state.global_variables)
+
+
+def _observe(runner, run: CycleRun, facts: dict) -> None:
+    """Hand a cycle run to the rules with facts that are not parameters (the contour, its
+    region), taken away again after: later rules and constraints see only numbers."""
+    run.params.update(facts)
+    runner.interp.observer.cycle_run(run, runner.state)
+    for name in facts:
+        run.params.pop(name, None)
+
+
+def _missing_contour(runner, op, definition, seed: str) -> bool:
+    """Report a contour cycle called with no cycle 14 before it (reference B H33)."""
+    if _get(runner.state, "sl_labels"):
+        return False
+    runner.interp._fault("heidenhain.sl-prerequisites", op.span, f"cycle {definition.number} is called without a contour (cycle 14) defined before it: "
+                         f"the control stops with an error ({seed})")
+    runner.state.move_to(dict.fromkeys(runner.state.position))
+    return True
+
+
+def _contour_train(runner, op, block, definition):
+    """25 CONTOUR TRAIN, 275 TROCHOIDAL SLOT, 276 THREE-D CONT. TRAIN on the single
+    subprogram of cycle 14 (reference B 6.11-6.13). The start point follows from the contour
+    and is not placed here. 25: down to Q5 + Q1, up to the clearance height Q7; 275: the
+    levels of a pocket (Q203, Q200, Q201, Q204); 276: the heights come from the subprogram's
+    Z values, only the final clearance height Q7 is known. Depth 0 skips 25 and 275 (seed
+    L10020-10021, L10220-10221). All three end away from their start (seed L10002-10009)."""
+    interp = runner.interp
+    state = runner.state
+    number = definition.number
+    if _missing_contour(runner, op, definition, "seed L10019, L10217-10218, L10453-10455"):
+        return None
+    params = dict(_get(state, "train_data", ({}, {}))[0]) if number in (25, 276) else {}
+    params.update(_numbers(definition.params))
+    spans = dict(_get(state, "train_data", ({}, {}))[1]) if number in (25, 276) else {}
+    spans.update(definition.spans)
+    name = f"heidenhain.{number}"
+    facts = {"@contour": _contour_use(runner, op), "@position": dict(state.position), "@own_q": _own_reserved(state) if number != 275 else ()}
+    _observe(runner, CycleRun(name, definition.model, op.span, block, params, spans), facts)
+    first, second, axis = _plane(state)
+    depth = params.get(_depth_name(definition))
+    if depth == 0.0 and number != 276:
+        return None
+    state.move_to({first: None, second: None})
+    if number == 275:
+        found = levels(params)
+        if found is None:
+            state.move_to({axis: None})
+            return None
+        set_up, bottom, retract, _direction = found
+        runner._rapid_to({axis: set_up}, op.span, block, "approach", name)
+        with _cycle_feed(state, params):
+            runner._rapid_to({axis: bottom}, op.span, block, "infeed", name, "feed")
+        runner._rapid_to({axis: retract}, op.span, block, "out-of-hole", name)
+    else:
+        surface, height = params.get("Q5"), params.get("Q7")
+        if number == 25 and type(surface) is float and type(depth) is float:
+            with _cycle_feed(state, {"Q206": params.get("Q11")}):
+                runner._rapid_to({axis: surface + depth}, op.span, block, "infeed", name, "feed")
+        else:
+            state.move_to({axis: None})
+        if type(height) is not float:
+            state.move_to({axis: None})
+            return None
+        runner._rapid_to({axis: height}, op.span, block, "out-of-hole", name)
+    _put(state, "ended_elsewhere", number)
+    return None
+
+
+def _cylinder_cycle(runner, op, block, definition):
+    """27/28/29/39 machine the contour of cycle 14 on the unrolled surface of a rotary axis
+    (reference B 6.27). Their parameters and the machine state at the call are checked; the
+    path on the cylinder is not modelled, so where they leave the tool is unknown."""
+    interp = runner.interp
+    state = runner.state
+    number = definition.number
+    if _missing_contour(runner, op, definition, "seed L13576-13600"):
+        return None
+    params = _numbers(definition.params)
+    _observe(runner, CycleRun(f"heidenhain.{number}", definition.model, op.span, block, params, dict(definition.spans)),
+             {"@contour": _contour_use(runner, op), "@spindle": state.spindle, "@own_q": _own_reserved(state)})
+    if params.get("Q1") == 0.0:
+        return None  # depth 0: the control skips the cycle (seed L13649-13650)
+    interp._fault("core.unsupported-code", op.span, f"cycle {number} machines on the unrolled surface of the rotary axis, which is not modelled: "
+                  "where it leaves the tool is unknown, so the moves after it are not checked until the program positions every axis again",
+                  "unknown", f"cycle {number} (cylinder surface)")
+    state.move_to(dict.fromkeys(state.position))
+    if number == 28:
+        _put(state, "ended_elsewhere", number)  # the slot ends at the opposite wall (seed L13776-13785)
     return None
 
 
@@ -940,6 +1088,7 @@ _RUNNERS = {
     "old_cycle": _old_cycle_run, "trans": _trans_run, "pattern": _pattern_run, "call": _call_run,
     "select_pattern": heidenhain_special.select_pattern_run,
     "positioned": _positioned_run, "tool_length": _tool_length_run, "lift": _lift_run, "comp": _comp_run, "spindle": _spindle_run, "contour_def": _contour_def_run, "global_def": _global_def_run,
+    "approach": _approach_run, "select_contour": _select_contour_run,
 }
 _SPECIAL_FAMILIES = {"engrave": heidenhain_special.engrave, "face232": heidenhain_special.face_milling,
                      "thread_cut": heidenhain_special.thread_cutting, "machine_moving": heidenhain_special.machine_moving}
