@@ -277,3 +277,14 @@ def test_a_rotation_that_cancels_rl_is_reported_only_when_the_contour_goes_on_wi
     assert at(klartext(start + "L X+90 Y+10\n"), "heidenhain.rotation-cancels-compensation") == [11]
     assert not at(klartext(start + "L X+90 Y+10 RL\n"), "heidenhain.rotation-cancels-compensation")
     assert not at(klartext(start.replace(" RL ", " R0 ") + "L X+90 Y+10\n"), "heidenhain.rotation-cancels-compensation")
+
+
+def test_a_rotated_pocket_runs_where_the_rotation_puts_it():
+    pocket = ("CYCL DEF 251 RECTANGULAR POCKET ~\n  Q215=+0 ;MACHINING OPERATION ~\n  Q218=+40 ;FIRST SIDE LENGTH ~\n  Q219=+20 ;2ND SIDE LENGTH ~\n"
+              "  Q220=+2 ;CORNER RADIUS ~\n  Q368=+0 ;ALLOWANCE FOR SIDE ~\n  Q224=+0 ;ANGLE OF ROTATION ~\n  Q367=+0 ;POCKET POSITION ~\n"
+              "  Q207=+500 ;FEED RATE FOR MILLING ~\n  Q351=+1 ;CLIMB OR UP-CUT ~\n  Q201=-5 ;DEPTH ~\n  Q202=+5 ;PLUNGING DEPTH ~\n"
+              "  Q369=+0 ;ALLOWANCE FOR FLOOR ~\n  Q206=+150 ;FEED RATE FOR PLNGNG ~\n  Q338=+0 ;INFEED FOR FINISHING ~\n  Q200=+2 ;SET-UP CLEARANCE ~\n"
+              "  Q203=+0 ;SURFACE COORDINATE ~\n  Q204=+50 ;2ND SET-UP CLEARANCE ~\n  Q370=+1 ;TOOL PATH OVERLAP ~\n  Q366=+1 ;PLUNGE ~\n  Q385=+500 ;FINISHING FEED RATE\n")
+    body = shifted("+50", "+50") + "CYCL DEF 10.0 ROTATION\nCYCL DEF 10.1 ROT+90\n" + pocket + "L X+30 Y+0 R0 FMAX M99\n"
+    plunge = next(segment for segment in trace(program(body)).segments if segment.role == "infeed")
+    assert (round(plunge.end["X"], 9), plunge.end["Y"], plunge.end["Z"]) == (50.0, 80.0, -5.0)
