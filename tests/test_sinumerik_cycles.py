@@ -201,7 +201,7 @@ def test_high_speed_settings_defects(call, expected):
 
 @pytest.mark.parametrize("call", ["CYCLE832(0.2, 1003)", "CYCLE832(0.01, 102001)", "CYCLE832(0.1, 0)", "CYCLE832(0, 0)", "CYCLE832()"])
 def test_the_manuals_high_speed_calls_are_accepted(call):
-    assert not messages(milled(f"N40 {call}\n"), "sinumerik.high-speed-settings")
+    assert not messages(milled(f"N40 {call}\nN50 CYCLE832()\n"), "sinumerik.high-speed-settings")
 
 
 ENGRAVE = 'N40 CYCLE60("{text}", 50, 0, 1, -0.3, 0, 10, 10, 0, 0, 0, 5, 2, 100, 300, 0, 1252)\n'
@@ -332,3 +332,62 @@ def test_a_g0_insertion_into_the_blank_is_a_rapid_into_the_stock():
                     "N50 POCKET4(10, 0, 2, -6, 20, 60, 40, 3, 0.2, 0.1, 300, 100, 2, 1)\n")
     found = messages(result, "core.rapid-into-stock")
     assert found and "POCKET4" in found[0] and "Z-6" in found[0]
+
+
+# --------------------------------------------------------------------------- the spindle around cycles
+
+def test_cycle87_leaves_the_spindle_stopped_for_the_next_cut():
+    result = milled("N40 MCALL CYCLE87(5, 0, 2, -10, 0, 3)\nN50 X30\nN60 X40\nN70 MCALL\nN80 G1 X50\n")
+    found = [d.span.line for d in result.diagnostics if d.rule == "core.spindle-off-cutting"]
+    assert found == [10]
+
+
+@pytest.mark.parametrize("after, stopped", [(5, True), (3, False)])
+def test_rigid_tapping_leaves_the_spindle_as_sdac_says(after, stopped):
+    result = milled(f"N40 CYCLE84(5, 0, 2, -10, 0, 0, {after}, 6)\nN50 G1 X50\n")
+    assert bool([d for d in result.diagnostics if d.rule == "core.spindle-off-cutting"]) is stopped
+
+
+@pytest.mark.parametrize("body, reported", [
+    ("N35 M5\nN40 POCKET4(10, 0, 2, -6, 20, 60, 40, 3, 0.2, 0.1, 600, 150, 0, 11, 6)\n", True),
+    ("N40 POCKET4(10, 0, 2, -6, 20, 60, 40, 3, 0.2, 0.1, 600, 150, 0, 11, 6)\n", False),
+    ("N35 M5\nN40 POCKET4(10, 0, 2, -6, 20, 60, 40, 3, 0.2, 0.1, 600, 150, 2, 11, 6)\n", False),
+    ("N35 M5\nN40 CYCLE840(5, 0, 2, -10, 0, 0, 0, 0, 1)\n", True),
+])
+def test_a_direction_taken_from_a_stopped_spindle(body, reported):
+    assert bool(messages(milled(body), "sinumerik.spindle-at-cycle")) is reported
+
+
+def test_thread_turning_needs_the_spindle_running():
+    program = "N35 M5\nN40 G0 X30 Z5\nN50 CYCLE97(1.5, , 0, -30, 24, 24, 3, 2, 0.92, 0.05, 30, 0, 5, 1, 3, 1)\nN60 M30\n"
+    found = messages(turned(program), "sinumerik.spindle-at-cycle")
+    assert found and "CYCLE97 with the spindle stopped" in found[0]
+
+
+@pytest.mark.parametrize("deselect, reported", [("", True), ("N80 CYCLE832()\n", False), ("N80 CYCLE832(0.01, 0)\n", False),
+                                                ("N80 CYCLE832(0.05)\n", True)])
+def test_high_speed_settings_left_selected_at_the_program_end(deselect, reported):
+    found = messages(milled("N40 CYCLE832(0.01, 102001)\nN50 G1 X50\n" + deselect), "sinumerik.high-speed-settings")
+    assert bool([message for message in found if "still selected at the program end" in message]) is reported
+
+
+@pytest.mark.parametrize("call, reported", [
+    ("CYCLE93(60, -20, 5, 3, 0, 0, 0, 0, 0, 0, 0, 0.2, 0.2, 1, 0, 6)", True),
+    ("CYCLE93(60, -20, 5, 3, 90, 0, 0, 0, 0, 0, 0, 0.2, 0.2, 1, 0, 6)", False),
+    ("CYCLE98(0, 30, -20, 30, -15, 32, -40, 34, 2, 2, 1, 0.05, 30, 0, 5, 1, 1.5, 2, 2, 3)", True),
+    ("CYCLE98(0, 30, -20, 30, -30, 32, -40, 34, 2, 2, 1, 0.05, 30, 0, 5, 1, 1.5, 2, 2, 3)", False),
+])
+def test_turning_alarms_derived_from_the_reference(call, reported):
+    found = messages(turned(f"N40 G0 X80 Z10\nN50 {call}\nN60 M30\n"), "sinumerik.turning-parameters")
+    assert bool(found) is reported, found
+
+
+@pytest.mark.parametrize("call, expected", [
+    ("CYCLE84(10, 0, 2, -20, 0, 0, 3, 8, 0, 0, 600, 900, 0, 0, 1040)", "the tens digit 4"),
+    ("CYCLE84(10, 0, 2, -20, 0, 0, 3, 8, 0, 0, 600, 900, 0, 0, 21000)", "more than 4 digits"),
+    ("CYCLE840(10, 0, 2, -20, 0, 0, 0, 3, 0, 8, 0, 0, 0, 200)", "the hundreds digit 2"),
+    ("CYCLE84(10, 0, 2, -20, 0, 0, 3, 8, 0, 0, 600, 900, 0, 0, 1323)", None),
+])
+def test_tapping_technology_digits(call, expected):
+    found = messages(milled(f"N40 {call}\n"), "sinumerik.technology-digits")
+    assert (found and expected in found[0] and "61125" in found[0]) if expected else not found, found

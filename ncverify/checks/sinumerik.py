@@ -759,12 +759,19 @@ _TOLM_DIGITS = {0: {0, 1, 2, 3}, 2: {0, 1, 2}, 3: {0, 1, 2}, 4: {0, 1, 2}, 5: {0
 @rule("sinumerik.high-speed-settings")
 class HighSpeedSettings(Rule):
     """CYCLE832 (reference A section 6.26): a tolerance _TOL that is not positive for a
-    machining (not a deselection), and _TOLM digits outside their sets."""
+    machining (not a deselection), _TOLM digits outside their sets, and settings still
+    selected at the program end (reference A section 9 item 42: deselect after use)."""
 
     def cycle_run(self, run, state):
-        if run.cycle != "sinumerik.CYCLE832" or run.params.get("ARG_COUNT") == 0.0:
+        if run.cycle != "sinumerik.CYCLE832":
             return
+        count = run.params.get("ARG_COUNT")
         tolerance, mode = run.params.get("_TOL"), run.params.get("_TOLM", 0.0)
+        if count == 0.0 or (count != 1.0 and mode == 0.0):
+            state.rule_state.pop("sinumerik-high-speed", None)
+            return
+        if type(mode) is float and mode % 10 != 0:
+            state.rule_state["sinumerik-high-speed"] = run.span
         if type(mode) is float:
             problem = _digit_problem(mode, _TOLM_DIGITS)
             if problem:
@@ -774,6 +781,33 @@ class HighSpeedSettings(Rule):
                 self.report("sinumerik.high-speed-settings", run.param_spans.get("_TOL", run.span),
                             f"CYCLE832: tolerance _TOL={show(tolerance)} for {('finishing', 'pre-finishing', 'roughing')[int(mode) % 10 - 1]}: "
                             "the tolerance must be positive (finishing 0.01, roughing 0.1 are the defaults)")
+
+    def change(self, change, state):
+        selected = state.rule_state.get("sinumerik-high-speed") if change.what == "end" else None
+        if selected is not None:
+            self.report("sinumerik.high-speed-settings", selected,
+                        "CYCLE832 high-speed settings are still selected at the program end: deselect them with CYCLE832() or CYCLE832(tolerance, 0) "
+                        "so the next program does not start with this tolerance, compressor and path mode")
+
+
+# _TECHNO digits (seed A L2774-3131 tables, 61125 appendix L19826): CYCLE84 units exact stop
+# 0-3, tens feedforward 0-2, hundreds acceleration 0-3, thousands spindle mode 0-1; CYCLE840
+# units 0-3, tens 0-2, hundreds braking point 0-1.
+_TECHNOLOGY_DIGITS = {"CYCLE84": {0: {0, 1, 2, 3}, 1: {0, 1, 2}, 2: {0, 1, 2, 3}, 3: {0, 1}},
+                      "CYCLE840": {0: {0, 1, 2, 3}, 1: {0, 1, 2}, 2: {0, 1}}}
+
+
+@rule("sinumerik.technology-digits")
+class TechnologyDigits(Rule):
+    """CYCLE84/840 _TECHNO: a digit outside its set raises alarm 61125."""
+
+    def cycle_run(self, run, state):
+        allowed = _TECHNOLOGY_DIGITS.get(_cycle_name(run)) if _is_sinumerik(run) else None
+        value = run.params.get("_TECHNO") if allowed else None
+        problem = _digit_problem(value, allowed) if type(value) is float else ""
+        if problem:
+            self.report("sinumerik.technology-digits", run.param_spans.get("_TECHNO", run.span),
+                        f"{_cycle_name(run)}: _TECHNO={show(value)}: {problem}: would raise alarm 61125 \"technology selection in _TECHNO wrong\"")
 
 
 @rule("sinumerik.engraving-text")
@@ -795,3 +829,32 @@ class EngravingText(Rule):
             self.report("sinumerik.engraving-text", span,
                         f"CYCLE60: the text contains {', '.join(repr(character) for character in wrong)}, not in the engraving font: "
                         "would raise alarm 61179 \"character does not exist\"")
+
+
+# --------------------------------------------------------------------------- the spindle at the call
+
+# cycle -> the direction parameter whose values 0/1 (climb, conventional) take G2/G3 from the
+# running spindle (seed A L5973-5990), or None: the cycle always takes the spindle's direction
+# (CYCLE840 L3475-3476, CYCLE97/98 thread hand B L16967-16991, L17483-17489).
+_SPINDLE_SETS_DIRECTION = {"SLOT1": "CDIR", "POCKET3": "_CDIR", "POCKET4": "_CDIR", "CYCLE73": "_CDIR", "CYCLE76": "_CDIR",
+                           "CYCLE77": "_CDIR", "CYCLE840": None, "CYCLE97": None, "CYCLE98": None}
+
+
+@rule("sinumerik.spindle-at-cycle")
+class SpindleAtCycle(Rule):
+    """A cycle that takes its direction from the running spindle (climb or conventional
+    milling with CDIR 0/1, tapping with a compensating chuck, thread turning) called with the
+    spindle stopped."""
+
+    def cycle_run(self, run, state):
+        name = _cycle_name(run) if _is_sinumerik(run) else ""
+        if name not in _SPINDLE_SETS_DIRECTION or state.spindle != "off":
+            return
+        parameter = _SPINDLE_SETS_DIRECTION[name]
+        direction = run.params.get(parameter, 0.0) if parameter else None
+        if parameter and direction not in (0.0, 1.0):
+            return
+        what = (f"{parameter}={show(direction)} ({'climb' if direction == 0.0 else 'conventional'} milling) takes G2 or G3 from M3/M4"
+                if parameter else "the cycle takes the direction of the thread from M3/M4")
+        self.report("sinumerik.spindle-at-cycle", run.param_spans.get(parameter, run.span) if parameter else run.span,
+                    f"{name} with the spindle stopped: {what}; program M3 or M4 before the call")
