@@ -288,3 +288,16 @@ def test_a_rotated_pocket_runs_where_the_rotation_puts_it():
     body = shifted("+50", "+50") + "CYCL DEF 10.0 ROTATION\nCYCL DEF 10.1 ROT+90\n" + pocket + "L X+30 Y+0 R0 FMAX M99\n"
     plunge = next(segment for segment in trace(program(body)).segments if segment.role == "infeed")
     assert (round(plunge.end["X"], 9), plunge.end["Y"], plunge.end["Z"]) == (50.0, 80.0, -5.0)
+
+
+@hypothesis_settings(max_examples=15, deadline=None)
+@given(st.sampled_from(["TRANS X30 Y-20\n", "ROT RPL=35\n", "TRANS X-40\nAMIRROR Y0\n", "SCALE X2 Y2 Z0.5\n"]),
+       st.lists(st.tuples(st.sampled_from(["G0", "G1"]), numbers, numbers, st.sampled_from([-5.0, 2.0, 20.0])), min_size=12, max_size=30))
+def test_plain_blocks_under_a_frame_give_the_same_findings_in_a_batch_as_one_by_one(frame, moves):
+    text = BLANK + frame + "F300\n" + "".join(f"{code} X{x:g} Y{y:g} Z{z:g}\n" for code, x, y, z in moves) + "G0 Z50\nM30\n"
+
+    def found(per_block_only: bool):
+        result = check_text(text, "t.mpf", Settings(dialect="sinumerik", per_block_only=per_block_only))
+        return sorted((d.rule, d.span.line, d.status.value, d.message) for d in result.diagnostics)
+
+    assert found(False) == found(True)
