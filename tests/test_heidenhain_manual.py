@@ -125,3 +125,37 @@ def test_the_mirror_example_mirrors_the_spindle_axis():
     """Seed L7874-7876 mirrors Z, which the text forbids (reference A §11)."""
     result = _check(_framed(7874, 7876, "L  X+50  Y+50 R0 FMAX"), "c8.h")
     assert any(d.rule == "heidenhain.mirror-tool-axis" for d in result.diagnostics)
+
+
+def _violated(result) -> set[str]:
+    return {d.rule for d in result.diagnostics if d.status.value == "violated"}
+
+
+@pytest.mark.parametrize("first, last", [(14175, 14250), (14262, 14321)], ids=["program 5 (27)", "program 4 (28)"])
+def test_the_cylinder_examples_give_a_set_up_clearance_below_the_radius_of_their_7_mm_tool(first, last):
+    """Reference B H19 / appendix A: Q6 = 2 with the diameter-7 tool their TOOL CALL comment names."""
+    from ncverify.project import load_project_text
+
+    tools = load_project_text("[tools.3]\nradius = 3.5", Path("ncverify.toml"))
+    result = check_text(_program(first, last), f"cyl-L{first}.h", Settings(dialect="heidenhain", loop_bound=100), tools)
+    assert "heidenhain.cylinder-clearance" in _violated(result)
+    assert "heidenhain.cylinder-radius" not in _violated(result)  # Q16 = 25 is the BLK FORM CYLINDER radius
+
+
+def test_the_face_milling_example_names_a_pocket_after_an_open_boundary():
+    """Seed L13283-13290: CONTOUR DEF ... P3 = LBL 2 with Q569 = 1 in cycle 271, whose text
+    says every contour after an open boundary is an island (seed L11168-11175; the OCR of
+    that CONTOUR DEF is garbled, reference B appendix A)."""
+    assert "heidenhain.contour-def" in _violated(_check(_program(13273, 13418), "face-mill.h"))
+
+
+_PART_B_RULES = {"heidenhain.contour-subprogram", "heidenhain.contour-feed", "heidenhain.contour-compensation", "heidenhain.contour-overlap-start",
+                 "heidenhain.contour-def", "heidenhain.below-clearance-height", "heidenhain.slot-width", "heidenhain.rougher-forgotten",
+                 "heidenhain.sl-q-parameters", "heidenhain.sl-prerequisites", "heidenhain.sl-clearance-height", "heidenhain.sl-allowance"}
+
+
+@pytest.mark.parametrize("first, last", [(10590, 10707), (10710, 10855), (10858, 10927), (12902, 13083), (13115, 13260), (13452, 13575), (14600, 14683)])
+def test_the_sl_and_ocm_example_programs_give_no_part_b_contour_finding(first, last):
+    """The manual's SL, contour-train and OCM programs (reference B §10): islands that end
+    short of their start, SEL CONTOUR, open pockets and shapes are all read as the control does."""
+    assert not _violated(_check(_program(first, last), f"manual-L{first}.h")) & _PART_B_RULES
