@@ -37,7 +37,7 @@ HAZARDS: dict[str, tuple[str, ...] | str] = {
     "H16": ("heidenhain.stud-blank",),  # 258's circumscribed diameter against Q222 is not checked
     "H17": ("heidenhain.boring-drag",),  # Q214 = 0; M136 at the call is not checked
     "H18": ("heidenhain.back-boring-direction",),  # Q214 range; the clearance under the workpiece needs the fixture
-    "H19": "not covered: 202/204's disengaging direction under an active mirror image (cycle 8) is not reported",
+    "H19": ("heidenhain.disengage-mirror",),
     "H20": "modelled, not a defect: cycle parameters are frozen at CYCL DEF and later assignments do not reach the call",
     "H21": ("heidenhain.call-without-cycle",),  # a DEF-active cycle sharing transfer parameters is not checked
     "H22": ("heidenhain.call-without-tool", "heidenhain.cycle-with-compensation", "core.spindle-off-cutting"),
@@ -54,9 +54,9 @@ HAZARDS: dict[str, tuple[str, ...] | str] = {
     "H33": ("heidenhain.tool-too-large",),
     "H34": ("heidenhain.parameter-range", "core.cycle-parameter-value"),
     "H35": ("heidenhain.transform-at-end",),  # at the end of the program; the reset order is not checked
-    "H36": "modelled, not reported: cycle 10 switches radius compensation off, and the contour after it runs uncompensated",
+    "H36": ("heidenhain.rotation-cancels-compensation",),  # cycle 10; cycle 19 with M120 is not checked
     "H37": ("heidenhain.mirror-tool-axis",),  # the tool axis; the climb/up-cut reversal under a one-axis mirror is not reported
-    "H38": "not covered: scaling factors are not checked against 0.000001-99.999999 or arc axes",
+    "H38": ("heidenhain.scaling-factor",),  # the factor ranges and arcs under cycle 26; sizes read from cycle parameters are not scaled
     "H39": "modelled, not a defect: cycle 247 resets datum shift, mirror, rotation and scaling",
     "H40": ("core.rapid-into-stock", "core.clearance-below-stock"),
     "H41": ("heidenhain.depth-through-blank",),
