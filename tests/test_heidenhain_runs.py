@@ -6,9 +6,9 @@ import numpy
 import pytest
 from hypothesis import HealthCheck, given, settings as hypothesis_settings, strategies as st
 
-from ncverify import Settings, check_text
+from ncverify import Settings, check_text, ir
 from ncverify.diagnostics import Status
-from ncverify.lower.heidenhain import KlartextFrontend
+from ncverify.lower.heidenhain import KlartextFrontend, KlartextLowering
 from ncverify.read.heidenhain_runs import is_plain_line, read_plain_run
 
 _HEAD = ["0 BEGIN PGM RUNS MM", "1 BLK FORM 0.1 Z X+0 Y+0 Z-20", "2 BLK FORM 0.2 X+100 Y+100 Z+0", "3 TOOL CALL 1 Z S3000",
@@ -38,13 +38,15 @@ def run_of(lines: list[str], line: int = 10):
 
 
 def test_the_reader_reads_each_number_as_float_reads_its_text():
-    lines = ["7 L X+10.5 Y-3 Z+0.125 R0 F800", "8 L X-0.001 FMAX", "L Y+123456789.123456 Z-7.", "9 L  Z+1 F1500.5", *cam_lines(20)]
+    lines = ["7 L X+10.5 Y-3 Z+0.125 R0 F800", "8 L X-0.001 FMAX", "L Y+123456789.123456 Z-7.", "9 L  Z+1 F1500.5",
+             "10 L X+2,25 Y-.5 Z.75 F1,5", *cam_lines(20)]
     run = run_of(lines)
     assert run.rows == len(lines) - 1  # the last line is left to the per-block path
-    assert numpy.array_equal(run.values[:4], [[10.5, -3.0, 0.125], [-0.001, numpy.nan, numpy.nan],
-                                              [numpy.nan, 123456789.123456, -7.0], [numpy.nan, numpy.nan, 1.0]], equal_nan=True)
-    assert list(run.kinds[:4]) == [1, 0, 1, 1]  # FMAX is a rapid; L without it a feed move
-    assert numpy.array_equal(run.feeds[:4], [800.0, numpy.nan, numpy.nan, 1500.5], equal_nan=True)
+    assert numpy.array_equal(run.values[:5], [[10.5, -3.0, 0.125], [-0.001, numpy.nan, numpy.nan],
+                                              [numpy.nan, 123456789.123456, -7.0], [numpy.nan, numpy.nan, 1.0], [2.25, -0.5, 0.75]],
+                             equal_nan=True)
+    assert list(run.kinds[:5]) == [1, 0, 1, 1, 1]  # FMAX is a rapid; L without it a feed move
+    assert numpy.array_equal(run.feeds[:5], [800.0, numpy.nan, numpy.nan, 1500.5, 1.5], equal_nan=True)
     assert [int(offset) for offset in run.line_offsets[:2]] == [0, len(lines[0]) + 1]
 
 
@@ -60,7 +62,7 @@ def test_a_short_streak_is_left_to_the_per_block_path():
 
 def test_a_line_with_anything_else_ends_the_streak():
     for odd in ["30 L X+1 Y+2 Z-1 M9", "30 L X+Q1 Y+2 Z-1", "30 L X+1 Y+2 Z-1 K5", "30 L IX+1 Y+2", "30 L X+1 Y+2 RL",
-                "30 L X+1,5 Y+2", "30 L X+1 Y+2 ; comment", "30 L Y+1 X+2", "30 LBL 1", "30 L X+1 Y+2 F AUTO"]:
+                "30 L X,5 Y+2", "30 L X+1, Y+2", "30 L X+1 Y+2 ; comment", "30 L Y+1 X+2", "30 LBL 1", "30 L X+1 Y+2 F AUTO"]:
         assert not is_plain_line(odd.encode()), odd
         assert run_of([*cam_lines(20), odd, *cam_lines(20, 31)]).rows == 19, odd
 
@@ -68,6 +70,33 @@ def test_a_line_with_anything_else_ends_the_streak():
 def test_plain_lines_with_block_numbers_compensation_and_feed_are_plain():
     for plain in ["12 L X+10.5 Y-3 Z+0 R0 F500", "L Z-1", "  12  L  X+1.  FMAX\r", "12 L X+0 Y+0 Z+0 R0 FMAX"]:
         assert is_plain_line(plain.encode()), plain
+
+
+_ODD_NUMBER = st.sampled_from(["1,", ",5", "1.2.3", "+-1", "1234567890", "1.1234567", "", "+", "Q1", "1e3"])
+_GOOD_NUMBER = st.from_regex(r"\A[+-]?([0-9]{1,4}([.,][0-9]{0,3})?|\.[0-9]{1,3})\Z")
+_ANY_NUMBER = st.one_of(_GOOD_NUMBER, _GOOD_NUMBER, _GOOD_NUMBER, _ODD_NUMBER)
+_AXES = st.lists(st.sampled_from(["X", "Y", "Z"]), min_size=1, max_size=3, unique=True).map(sorted).flatmap(
+    lambda letters: st.tuples(*[_ANY_NUMBER.map(lambda number, letter=letter: letter + number) for letter in letters]))
+_TAIL_WORDS = st.lists(st.one_of(st.tuples(st.sampled_from(["F", "M"]), _ANY_NUMBER).map("".join),
+                                 st.sampled_from(["R0", "RL", "FMAX", "F AUTO", ";note", "R", "X+1"])), max_size=2)
+
+
+@hypothesis_settings(max_examples=400, deadline=None)
+@given(st.sampled_from(["12 ", "", "  7  ", "/3 "]), _AXES, _TAIL_WORDS, st.sampled_from([" ", "  ", "\t"]))
+def test_a_line_the_reader_takes_means_what_the_general_lowering_reads(number, axes, tail, gap):
+    raw = f"{number}L{gap}" + gap.join([*axes, *tail])
+    if not is_plain_line(raw.encode()):
+        return
+    general = KlartextLowering()._general(raw.encode(), 1, None)
+    assert not general.notes, raw
+    moves = [op for op in general.ops if isinstance(op, ir.Move)]
+    run = run_of([raw] * 20)
+    if not moves:  # L Z.. FMAX: a lift, never in a run
+        assert run is None, raw
+        return
+    feeds = [op.value for op in general.ops if isinstance(op, ir.SetFeed)]
+    assert [run.values[0, column] for column in range(3) if not numpy.isnan(run.values[0, column])] == list(moves[0].targets.values()), raw
+    assert ir.MoveRun.KINDS[run.kinds[0]] == moves[0].kind and feeds == ([] if numpy.isnan(run.feeds[0]) else [run.feeds[0]]), raw
 
 
 # ---------------------------------------------------------------------- the interpreter
@@ -125,7 +154,8 @@ def test_a_run_after_a_datum_shift_is_checked_where_the_shift_puts_it(runs_taken
 
 # ---------------------------------------------------------------------- batch == block by block
 
-_NUMBER = st.one_of(st.floats(-150, 150, allow_nan=False).map(lambda value: f"{value:+.3f}"), st.integers(-200, 200).map(lambda value: f"{value:+d}"))
+_NUMBER = st.one_of(st.floats(-150, 150, allow_nan=False).map(lambda value: f"{value:+.3f}"), st.integers(-200, 200).map(lambda value: f"{value:+d}"),
+                    st.sampled_from(["+1,5", "-.5", ".25", "7.", "-0,125"]))
 _PLAIN = st.tuples(
     st.lists(st.sampled_from("XYZ"), min_size=1, max_size=3, unique=True).map(sorted).flatmap(
         lambda axes: st.tuples(*[_NUMBER.map(lambda number, axis=axis: axis + number) for axis in axes])),

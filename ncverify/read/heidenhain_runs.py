@@ -5,8 +5,8 @@ per line); the numbers are then read with numpy as :mod:`ncverify.read.iso_runs`
 them, exactly as ``float(text)`` would.
 
 A line with anything else ends the streak and goes through the general lowering: an
-incremental axis, an M function, a Q parameter, RL/RR, a comment, a comma as decimal
-separator, a number with more than 9 + 6 digits. So does ``L .. Z.. FMAX``, which the
+incremental axis, an M function, a Q parameter, RL/RR, a comment, a number with more than
+9 + 6 digits. So does ``L .. Z.. FMAX``, which the
 lowering runs as a lift out of the cut rather than as a plain rapid.
 
 The last line of a streak is left to the per-block path too: besides the position and the
@@ -23,15 +23,16 @@ import numpy
 from .. import ir
 from .iso_runs import parse_numbers
 
-_NUMBER = rb"[+-]?+\d{1,9}+(?:\.\d{0,6}+)?+"
+_UNSIGNED = rb"(?:\d{1,9}+(?:\.\d{0,6}+|,\d{1,6}+)?+|\.\d{1,6}+)"  # 12  12.5  12,5  12.  .5 (not 12, nor ,5)
+_NUMBER = rb"[+-]?+" + _UNSIGNED
 _LINE = (rb"[ \t]*+(?:\d++[ \t]++)?+L(?=[ \t]+[XYZ])(?:[ \t]++X" + _NUMBER + rb")?+(?:[ \t]++Y" + _NUMBER + rb")?+(?:[ \t]++Z"
-         + _NUMBER + rb")?+(?:[ \t]++R0)?+(?:[ \t]++F(?:MAX|\d{1,9}+(?:\.\d{0,6}+)?+))?+[ \t\r]*+")
+         + _NUMBER + rb")?+(?:[ \t]++R0)?+(?:[ \t]++F(?:MAX|" + _UNSIGNED + rb"))?+[ \t\r]*+")
 _PLAIN_LINE = re.compile(_LINE)
 _STREAK = re.compile(rb"(?:" + _LINE + rb"\n)*+")
 _COLUMN = numpy.full(256, -1, dtype=numpy.int64)  # X, Y, Z, F: columns of the table
 _COLUMN[list(b"XYZF")] = numpy.arange(4)
 _NUMBER_START = numpy.zeros(256, dtype=bool)
-_NUMBER_START[list(b"0123456789+-")] = True
+_NUMBER_START[list(b"0123456789+-.")] = True
 _SEPARATOR = numpy.zeros(256, dtype=bool)
 _SEPARATOR[list(b" \t\r\n")] = True
 _RAPID, _FEED = ir.MoveRun.KINDS.index("rapid"), ir.MoveRun.KINDS.index("linear")
@@ -82,7 +83,7 @@ def _words(codes, newlines):
         return positions[inside], owner[inside]
 
     digits, digit_owner = of_a_word(numpy.flatnonzero((codes >= ord("0")) & (codes <= ord("9"))))
-    dots, dot_owner = of_a_word(numpy.flatnonzero(codes == ord(".")))
+    dots, dot_owner = of_a_word(numpy.flatnonzero((codes == ord(".")) | (codes == ord(","))))
     minus_owner = of_a_word(numpy.flatnonzero(codes == ord("-")))[1]
     values, _has_point = parse_numbers(codes, digits, digit_owner, dots, dot_owner, minus_owner, len(letters))
     table = numpy.full((len(newlines), 4), numpy.nan)
