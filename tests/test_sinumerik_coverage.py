@@ -53,7 +53,7 @@ HAZARDS_A = {
     35: ("sinumerik.first-depth", "sinumerik.cycle-parameter-range"),
     36: "the depth of the pre-drilled hole and the free space around an external thread are not in the program",
     37: ("sinumerik.cycle-parameter-range",),
-    38: ("sinumerik.cycle-parameter-range",),
+    38: ("sinumerik.cycle-parameter-range", "sinumerik.path-milling-contour", "sinumerik.contour-section-runs"),
     39: ("sinumerik.pocket-contour",),
     40: ("sinumerik.engraving-text", "sinumerik.cycle-parameter-range"),
     41: ("sinumerik.swivel-plane",),

@@ -391,3 +391,27 @@ def test_turning_alarms_derived_from_the_reference(call, reported):
 def test_tapping_technology_digits(call, expected):
     found = messages(milled(f"N40 {call}\n"), "sinumerik.technology-digits")
     assert (found and expected in found[0] and "61125" in found[0]) if expected else not found, found
+
+
+OUTLINE = """\
+N40 CYCLE72("OUTLINE_START:OUTLINE_END", 10, 0, 2, -5, 5, 0.2, 0.1, 500, 200, 11, 41, 2, 10, 500, 2, 10)
+N50 G0 Z50
+N60 GOTOF PROGRAM_END
+OUTLINE_START:
+N100 G0 G90 X10 Y10
+N110 {compensation}G1 X90
+N120 {rest}
+OUTLINE_END:
+PROGRAM_END:
+"""
+
+
+@pytest.mark.parametrize("compensation, rest, expected", [
+    ("G42 ", "Y60", "programs G40/G41/G42"),
+    ("", "TRANS X5\nN125 Y60", "selects a frame"),
+    ("M1 ; ", "M1", "has 1 block moving in the plane"),
+    ("", "Y60", None),
+])
+def test_path_milling_contour(compensation, rest, expected):
+    found = messages(milled(OUTLINE.format(compensation=compensation, rest=rest)), "sinumerik.path-milling-contour")
+    assert (found and expected in found[0]) if expected else not found, found

@@ -657,6 +657,31 @@ class PocketContour(_ReportsMissingContext):
                         f"(at most {1.6 * tool.radius:g}): would raise alarm 61982 \"stepover too large\"")
 
 
+@rule("sinumerik.path-milling-contour")
+class PathMillingContour(_ReportsMissingContext):
+    """CYCLE72's contour (reference A section 6.21, seed L8306-8320): at least two blocks in
+    the plane, no G40/G41/G42 inside (the cycle selects the compensation itself), no frame."""
+
+    def cycle_run(self, run, state):
+        facts = run.params.get("CONTOUR") if run.cycle == "sinumerik.CYCLE72" else None
+        if facts is None:
+            return
+        span = run.param_spans.get("_KNAME", run.span)
+        if not facts.found:
+            self.missing("sinumerik.path-milling-contour", span, f"the contour \"{facts.name}\" of CYCLE72 is not in this file or on the subprogram path")
+            return
+        if facts.plane_blocks < 2:
+            self.report("sinumerik.path-milling-contour", span,
+                        f"CYCLE72 contour \"{facts.name}\" has {facts.plane_blocks} block{'s' if facts.plane_blocks != 1 else ''} moving in the plane: "
+                        "a path-milling contour needs at least two")
+        for where in facts.compensation[:1]:
+            self.report("sinumerik.path-milling-contour", where,
+                        f"CYCLE72 contour \"{facts.name}\" programs G40/G41/G42: not allowed, the cycle selects the compensation from _RL itself")
+        for where in facts.frames[:1]:
+            self.report("sinumerik.path-milling-contour", where,
+                        f"CYCLE72 contour \"{facts.name}\" selects a frame: not allowed in a path-milling contour")
+
+
 def _point(point, state) -> str:
     first, second, _normal = state.plane_axes
     return f"{first}{point[0]:g} {second}{point[1]:g}"

@@ -94,6 +94,7 @@ def drill(runner, op, block, model, params):
     elif tapping:
         state.feed = tapping_feed(params, state)
         state.feed_inherited = state.feed is None or inherited
+    _set_spindle(runner, op, block, _spindle_code(params, model.get("spindle_during")))
     runner._rapid_to({axis: start}, op.span, block, "approach", name)
     runner._rapid_to({axis: depth}, op.span, block, "infeed", name, cut)
     if model.get("retract") == "feed":
@@ -104,7 +105,26 @@ def drill(runner, op, block, model, params):
     else:
         runner._rapid_to({axis: rtp}, op.span, block, "out-of-hole", name)
     state.feed, state.feed_inherited = programmed_feed, inherited
+    after = model.get("spindle_after")
+    if after == "off" or (after and params.get("SDR", 3.0) != 0.0):
+        _set_spindle(runner, op, block, "off" if after == "off" else _spindle_code(params, after))
     return None
+
+
+_SPINDLE_CODES = {3.0: "cw", 4.0: "ccw", 5.0: "off"}
+
+
+def _spindle_code(params: dict, name: str | None) -> str | None:
+    """The spindle state a direction parameter (3, 4, 5) selects, or None."""
+    return _SPINDLE_CODES.get(params.get(name)) if name else None
+
+
+def _set_spindle(runner, op, block, new: str | None) -> None:
+    """A cycle switches the spindle: the state changes and the rules see the change."""
+    state = runner.state
+    if new is not None and state.spindle != new:
+        old, state.spindle = state.spindle, new
+        runner.interp._change("spindle", op.span, block, old, new)
 
 
 # ISO metric coarse pitches by thread size, for MPIT (reference A section 6.4, marked as background).
@@ -354,6 +374,8 @@ class ContourFacts:
         self.plane_blocks = 0
         self.first_motion: str | None = None
         self.rounded_end = None  # the span of a last plane block carrying RND/CHF/CHR
+        self.compensation: list = []  # the spans of G40/G41/G42 inside the contour
+        self.frames: list = []  # the spans of frame statements inside the contour
         self.section_lines: tuple[int, int] | None = None  # a "START:END" section of the calling program
 
     def closed(self) -> bool | None:
@@ -447,9 +469,12 @@ def _walk_contour(interp, facts: ContourFacts, lines, path, plane) -> None:
                     facts.problems.append(("10931", "a plane selection (G17/G18/G19) inside the contour", op.span))
                 elif kind == "SetModal" and op.group == "distance":
                     incremental = op.value == "incremental"
-                elif kind == "CutterComp" and op.side in ("left", "right"):
-                    facts.problems.append(("10931", "G41/G42 inside the contour", op.span))
-                elif kind in ("CoordinateShift", "Unsupported") and "frame" in getattr(op, "what", "frame"):
+                elif kind == "CutterComp":
+                    facts.compensation.append(op.span)
+                    if op.side in ("left", "right"):
+                        facts.problems.append(("10931", "G41/G42 inside the contour", op.span))
+                elif kind == "SetFrame" or (kind in ("CoordinateShift", "Unsupported") and "frame" in getattr(op, "what", "frame")):
+                    facts.frames.append(op.span)
                     facts.problems.append(("10931", "a frame inside the contour", op.span))
                 elif kind == "Move":
                     motion = op.kind or motion
