@@ -21,7 +21,7 @@ def _is_fagor(cycle: str) -> bool:
 
 
 @rule("fagor.pattern-without-cycle", "fagor.pattern-parameters", "fagor.pattern-skip-list", "fagor.cycle-data-without-cycle",
-      "fagor.repeat-without-motion")
+      "fagor.repeat-without-motion", "fagor.turning-cycle")
 class ReportedByTheRunner(Rule):
     """These findings come from the lowering (``ncverify/lower/fagor.py``) and the pattern
     runner (``ncverify/lower/fagor_cycles.py``) as notes and faults."""
