@@ -103,7 +103,7 @@ HAZARDS_B = {
     39: "a message, not a defect: the cycle adapts the form",
     40: "_ZSD[6] and orientable toolholders are machine data",
     41: MACHINE_DATA + " (the master spindle)",
-    42: "not checked yet: F before CYCLE94/96",
+    42: ("sinumerik.undercut-feed",),
     43: MODELLED,
     44: "the workpiece directory and the names of other programs' contours are outside one program",
     45: MACHINE_DATA + " (option, HMI, NCK software)",
@@ -170,7 +170,7 @@ ALARMS = {
     61900: "sinumerik.pocket-contour", 61901: "sinumerik.pocket-contour",
     **{number: RUN_TIME for number in (61902, 61903, 61904, 61906, 61907, 61908, 61909, 61910, 61911, 61912, 61913,
                                         61914, 61915, 61916, 61917, 61918, 61980, 61981, 61983, 61985, 61986, 61987, 61988)},
-    61905: "residual material is computed by the cycle from the contour at run time",
+    61905: "sinumerik.cutter-radius",  # SLOT2 with a tool below half the width; CYCLE73 computes it at run time
     61982: "sinumerik.pocket-contour", 61984: "sinumerik.pocket-contour",
     61989: "not checked yet: an edge other than D1 at CYCLE73",
     62100: "sinumerik.pattern-without-mcall", 62101: "sinumerik.milling-direction",

@@ -415,3 +415,9 @@ PROGRAM_END:
 def test_path_milling_contour(compensation, rest, expected):
     found = messages(milled(OUTLINE.format(compensation=compensation, rest=rest)), "sinumerik.path-milling-contour")
     assert (found and expected in found[0]) if expected else not found, found
+
+
+@pytest.mark.parametrize("feed, reported", [("", True), ("F0.15", False), ("F0", True)])
+def test_an_undercut_is_cut_at_the_feed_before_the_call(feed, reported):
+    program = f"N35 G95 {feed}\nN40 G0 X80 Z10\nN50 CYCLE94(20, 60, \"E\")\nN60 M30\n"
+    assert bool(messages(check(LATHE_HEAD.replace(" F0.25", "") + program, machine="lathe"), "sinumerik.undercut-feed")) is reported

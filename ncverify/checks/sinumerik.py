@@ -883,3 +883,21 @@ class SpindleAtCycle(Rule):
                 if parameter else "the cycle takes the direction of the thread from M3/M4")
         self.report("sinumerik.spindle-at-cycle", run.param_spans.get(parameter, run.span) if parameter else run.span,
                     f"{name} with the spindle stopped: {what}; program M3 or M4 before the call")
+
+
+@rule("sinumerik.undercut-feed")
+class UndercutFeed(Rule):
+    """CYCLE94 and CYCLE96 cut the undercut at the feed programmed before the call (reference
+    B section 9 item 42, seed L15570-15572, L16732-16734): there must be one."""
+
+    def cycle_run(self, run, state):
+        if run.cycle not in ("sinumerik.CYCLE94", "sinumerik.CYCLE96"):
+            return
+        feed = state.feed
+        if feed is None and not state.feed_inherited:
+            self.report("sinumerik.undercut-feed", run.span,
+                        f"{_cycle_name(run)} with no feed programmed: the cycle cuts the undercut at the F active before the call; program F (G95 mm/rev) before it")
+        elif feed is not None:
+            self.checker.report_verdict("sinumerik.undercut-feed", run.span,
+                                        f"{_cycle_name(run)} at feed F{show(feed)}: the cycle cuts the undercut at this F, which does not move the axes",
+                                        self.checker.judge(hazard("<=", feed, 0.0), state), state)
