@@ -39,17 +39,17 @@ HAZARDS: dict[int, tuple[str, ...] | str] = {
     15: ("core.rapid-into-stock",),  # the approach to Q203 + Q200 and the retract are judged against the blank; Q204 < Q200 itself is not reported
     16: ("heidenhain.below-clearance-height",),  # 276; 225 is part of the special cycles
     17: ("core.rapid-into-stock",),  # the moves between pattern points are judged against the blank
-    18: "cycle 232 is one of the special cycles (reference B 6.35), checked with them",
+    18: ("heidenhain.face-milling-blank", "heidenhain.positive-depth", "heidenhain.zero-depth", "heidenhain.parameter-range"),  # Q227 vs Q386 and the blank, Q202 > 0
     19: ("heidenhain.cylinder-clearance", "heidenhain.cylinder-radius"),
     # C. tool vs geometry
     20: ("heidenhain.sl-allowance",),  # Q3 = 0 and Q14 < Q3; Q14 + R_finish < Q3 + R_rough needs the rougher's radius, not compared
-    21: ("heidenhain.tool-too-large",),  # the tool and Q3 against the resolved pocket; plunge with Q19 / ANGLE not checked
-    22: ("heidenhain.usable-length",),  # LU against the depth; LCUTS clipping not reported
+    21: ("heidenhain.tool-too-large", "heidenhain.plunge-angle"),  # the tool and Q3 against the resolved pocket, Q19 with ANGLE 0; centre cutting is not in TOOL.T
+    22: ("heidenhain.usable-length",),  # LU against the depth; Q202 > LCUTS of 272 not reported (cutting-length covers 233/25x)
     23: ("heidenhain.tool-too-large",),  # shapes 1271-1273 with R (1 + Q578) + Q368; corners of free OCM contours not checked
     24: ("heidenhain.sl-allowance",),  # 274 Q14 < Q368; the contour-milling variant is not
     25: ("heidenhain.parameter-range",),  # Q353 < 0 and |Q353| >= |Q359|; T-ANGLE is not a tool-table column ncverify reads
     26: ("heidenhain.ocm-tool-corner",),
-    27: ("heidenhain.slot-width",),  # Q219 against D and 2 D; Q366 = 2 with ANGLE 0 not checked for 275
+    27: ("heidenhain.slot-width", "heidenhain.plunge-angle"),
     28: ("heidenhain.slot-width",),  # 28's width; the room 29 and 39 need beside the contour is not modelled
     29: "whether an end mill cuts over centre is not a tool-table column: it cannot be decided from the program and TOOL.T",
     30: ("heidenhain.cylinder-spindle",),  # spindle state; the axis kinematics and the centring on the table are not in the program
@@ -57,17 +57,17 @@ HAZARDS: dict[int, tuple[str, ...] | str] = {
     # D. modal traps and sequencing
     32: ("heidenhain.position-after-cycle",),
     33: ("heidenhain.sl-prerequisites",),  # 14 / 20 / 271 before the call; T-ANGLE for 277 is not a tool-table column ncverify reads
-    34: "pattern cycles are part of the special/pattern cycles (reference B 6.1-6.3), checked with them",
-    35: "pattern compatibility is part of the special/pattern cycles (reference B 6.1-6.3), checked with them",
+    34: ("heidenhain.call-without-cycle",),  # a pattern with no machining cycle before it; the extra CYCL CALL after 220/221 is not warned
+    35: ("heidenhain.pattern-compatibility",),
     36: ("heidenhain.sl-q-parameters",),  # Q1-Q20 set before the call; contour programs behind SEL CONTOUR are not run
     37: ("heidenhain.rougher-forgotten",),  # after CONTOUR DEF; SEL CONTOUR is not modelled
     38: "not a defect by itself: the cycles run with the data of the reaching definition, which is what the model does",
-    39: "cycle 12 is one of the special cycles (reference B 6.31), checked with them",
-    40: "cycle 13 is one of the special cycles (reference B 6.32), checked with them",
-    41: "cycle 18 is one of the special cycles (reference B 6.38), checked with them",
-    42: "cycles 238 and 239 are special cycles (reference B 6.36-6.37), checked with them",
-    43: "cycle 225 is one of the special cycles (reference B 6.34), checked with them",
-    44: "cycle 232 is one of the special cycles (reference B 6.35), checked with them",
+    39: "not reported: the program cycle 12 calls runs like CALL PGM, its Q writes reach the caller as on the control; no rule warns about them",
+    40: ("heidenhain.orientation-after-cycle",),
+    41: ("heidenhain.thread-cutting-position", "heidenhain.thread-cutting-spindle"),  # the pitch sign against M3/M4 is not compared
+    42: ("heidenhain.machine-moving-cycle",),  # the override limits of 239 are not in the program
+    43: ("heidenhain.engraving-length",),  # Q202 = 0 with Q201 != 0 is not reported (its meaning is not stated)
+    44: ("heidenhain.face-milling-blank",),
     45: ("core.syntax",),  # a parameter line without '~' ends the block: the next Q line does not read
 }
 
@@ -392,3 +392,28 @@ def test_ocm_with_a_corner_radius_tool_is_warned():
     text = program(f"{circle}{rough}L  X+50  Y+50 R0 FMAX M99\nL  Z+100 R0 FMAX M30\n")
     assert findings(check(text, "[tools.1]\nradius = 5\ncorner = 1"), "heidenhain.ocm-tool-corner")
     assert not findings(check(text, "[tools.1]\nradius = 5"), "heidenhain.ocm-tool-corner")
+
+
+def with_tool_table(text: str, tmp_path, radius: float, angle: float):
+    """Check ``text`` as a file with a TOOL.T beside it (a project file cannot give ANGLE 0)."""
+    from ncverify import check_file
+
+    (tmp_path / "TOOL.T").write_text("BEGIN TOOL.T MM\nT    NAME        L        R        ANGLE   LU\n"
+                                     f"1    MILL        +60      +{radius:<7g} {angle:<7g} 50\n[END]\n")
+    part = tmp_path / "part.h"
+    part.write_text(text)
+    return check_file(part, Settings())
+
+
+@pytest.mark.parametrize("angle, reported", [(0, True), (5, False)])
+def test_rough_out_with_a_reciprocating_feed_needs_the_tool_angle(tmp_path, angle, reported):
+    assert bool(findings(with_tool_table(sl_program(), tmp_path, 4, angle), "heidenhain.plunge-angle")) == reported
+    vertical = sl_program(cycle=ROUGH.replace("Q19=+150", "Q19=+0"))
+    assert not findings(with_tool_table(vertical, tmp_path, 4, 0), "heidenhain.plunge-angle")
+
+
+def test_a_reciprocating_trochoidal_plunge_needs_the_tool_angle(tmp_path):
+    reciprocating = train_program(trochoidal().replace("Q366=+0", "Q366=+2"), CLOSED_SLOT)
+    assert findings(with_tool_table(reciprocating, tmp_path, 5, 0), "heidenhain.plunge-angle")
+    assert not findings(with_tool_table(reciprocating, tmp_path, 5, 3), "heidenhain.plunge-angle")
+    assert not findings(with_tool_table(train_program(trochoidal(), CLOSED_SLOT), tmp_path, 5, 0), "heidenhain.plunge-angle")

@@ -364,3 +364,21 @@ class SlQParameters(_CycleRule):
             self.report("heidenhain.sl-q-parameters", span, f"the program sets {', '.join(own)} itself and calls SL cycle {number}: the SL and cylinder cycles "
                         "keep their parameters in Q1-Q20, so a cycle definition overwrites the program's values and the program's assignments change the "
                         "cycle's data; use Q parameters above 20 (or QL) for the program's own values")
+
+
+@rule("heidenhain.plunge-angle")
+class ContourPlungeAngle(_CycleRule):
+    """C21, C27: 22 ROUGH-OUT with a reciprocating feed Q19 and 275 with a reciprocating
+    plunge Q366 = 2 need the tool's plunge ANGLE (seed L9582-9593, L10305-10311); the
+    pocket cycles are judged in :mod:`.heidenhain`."""
+
+    def judge_cycle(self, number, params, spans, span, state):
+        name = {22: "Q19", 275: "Q366"}.get(number)
+        value = params.get(name) if name else None
+        if type(value) is not float or value == 0.0 or (number == 275 and value != 2.0) or not self.first_time(state, ("contour-plunge-angle", span)):
+            return
+        tool = _tool(self, state, span, "heidenhain.plunge-angle", "angle")
+        if tool is not None and tool.angle == 0.0:
+            what = "a reciprocating plunge feed Q19" if number == 22 else "the reciprocating plunge Q366=2"
+            self.report("heidenhain.plunge-angle", spans.get(name, span), f"cycle {number} with {what} needs the tool's plunge angle, but ANGLE of "
+                        f"T{show(state.tool_in_spindle)} is 0: the control stops with an error")
