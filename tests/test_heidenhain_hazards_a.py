@@ -63,7 +63,7 @@ HAZARDS: dict[str, tuple[str, ...] | str] = {
     "H42": ("heidenhain.working-plane",),  # the three spatial angles; M94, moving every axis first, F/ABST are not checked
     "H43": "undecidable: the datum table's values live on the machine, not in the program",
     "H44": ("heidenhain.cutting-length",),
-    "H45": "not covered: the machine's options, servo spindle and floating tap holder are not in the project file",
+    "H45": ("heidenhain.servo-spindle",),  # the servo spindle ([machine] spindle_encoder); software options and the floating tap holder are not judged
     "H46": ("heidenhain.pattern-compatibility",),
     "H47": "informational, not a defect: GLOBAL DEF values reach every later PREDEF parameter, which is modelled",
     "H48": "undecidable: the retract after an NC stop in 207/209 is an operator action at run time",
@@ -532,6 +532,19 @@ def orientation(redefine: bool) -> str:
 def test_m19_after_boring_without_cycle_13_is_reported():
     assert lines(check(orientation(False)), "heidenhain.orientation-after-cycle") == [18]
     assert not lines(check(orientation(True)), "heidenhain.orientation-after-cycle")
+
+
+def test_rigid_tapping_on_a_machine_without_a_servo_spindle_is_refused():
+    body = "5  " + TAPPING + "\n6  L  X+30  Y+30 R0 FMAX M99"
+    result = check(program(body), "[machine]\nspindle_encoder = false")
+    assert lines(result, "heidenhain.servo-spindle") == [6]
+    assert "cycle 207 RIGID TAPPING" in messages(result, "heidenhain.servo-spindle")[0]
+    assert not lines(check(program(body), "[machine]\nspindle_encoder = true"), "heidenhain.servo-spindle")
+    assert lines(check(program(body)), "heidenhain.servo-spindle", Status.UNKNOWN) == [6]
+
+
+def test_thread_cutting_18_needs_the_servo_spindle_too():
+    assert lines(check(program(thread_cutting()), "[machine]\nspindle_encoder = false"), "heidenhain.servo-spindle") == [11]
 
 
 # --------------------------------------------------------------------------- point tables

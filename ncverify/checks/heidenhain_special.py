@@ -269,3 +269,27 @@ class OrientationAfterCycle(Rule):
         if change.what == "spindle" and change.new == "orient" and number is not None:
             self.report("heidenhain.orientation-after-cycle", change.span, f"M19 orients the spindle after cycle {number}, which set the orientation angle "
                         "itself: the spindle stops at that cycle's angle; define cycle 13 again before M19 (seed L15051-15053)")
+
+
+@rule("heidenhain.servo-spindle")
+class ServoSpindle(_CycleRule):
+    """H45: 202, 204, 207, 209 and 18 orient, reverse or synchronise the spindle and need a
+    servo-controlled one (seed L1838, L2261, L3883, L4037); ``[machine] spindle_encoder`` says
+    whether the machine has it."""
+
+    def hole(self, hole, state):
+        self.judge_model(hole.cycle, hole.model, hole.definition or hole.span, state)
+
+    def cycle_run(self, run, state):
+        if not run.first_block:
+            self.judge_model(run.cycle, run.model, run.span, state)
+
+    def judge_model(self, cycle, model, span, state):
+        if "servo-spindle" not in model.get("requires", ()):
+            return
+        encoder = self.checker.context.get("spindle_encoder")
+        if encoder is None:
+            self.missing("heidenhain.servo-spindle", span, "whether the spindle is servo-controlled is not known ([machine] spindle_encoder in ncverify.toml)")
+        elif not encoder and self.first_time(state, ("servo-spindle", span)):
+            self.report("heidenhain.servo-spindle", span, f"cycle {_number(cycle)} {model.get('name', '')} needs a servo-controlled spindle, and this machine has none "
+                        "([machine] spindle_encoder = false): the control refuses the cycle; bore or tap with a cycle the spindle can run (206 in a floating holder)")
