@@ -54,6 +54,7 @@ _NO_EFFECT_INSTRUCTIONS = {"HSC", "ROUNDPAR", "MSG", "WARNING", "WAIT", "FLUSH",
 _PCALL_PARAMETERS = {letter: f"P{index}" for index, letter in enumerate("ABCDEFGHIJKLMNOPQRSTUVWXYZ")}
 _REPEAT_COPIES = 1000  # NR up to this count repeats the move op; above, the cycle runner repeats the hole
 RPT_END = "$RPT_END"
+SWITCH_VALUE = "$SWITCH"
 _MODAL_CALL, _MODAL_CALL_NAME = ir.Var("$MCALL"), ir.Var("$MCALLNAME")
 _IN_MODAL_CALL = "$INMCALL"  # 1 while the modal subroutine runs (FagorFrontend.system_variable)
 _VACANT = ir.Var("$VACANT")
@@ -62,7 +63,6 @@ _MODAL_CALL_ARGUMENTS = re.compile(rb'(?im)#MCALL[ \t]+(?:"[^"\n]*"|[^\s;]+)([^\
 
 def _modal_call_argument(letter: str) -> ir.Var:
     return ir.Var(f"$MCALLARG:{letter}")
-SWITCH_VALUE = "$SWITCH"
 
 
 def fagor_table(machine: str = "mill") -> CodeTable:
@@ -555,7 +555,8 @@ class FagorFrontend:
     def is_plain(self, raw: bytes) -> bool:
         """Plain motion (``[N..] [G0-G3] X.. Y.. Z.. [F..]``) is the same as in ISO: the
         ISO batch reader takes it (not in a program that repeats labelled blocks with RPT,
-        whose labelled blocks carry a return)."""
+        whose labelled blocks carry a return, nor in one with #MCALL, whose moves carry the
+        modal call)."""
         return not self.lowering.reads_every_block and self._plain.is_plain(raw)
 
     def plain_run(self, buffer, offset: int, line: int, limit: int = 1 << 20):
