@@ -178,6 +178,7 @@ def test_a_tilted_plane_leaves_later_positions_unknown_until_reset():
     body = "PLANE SPATIAL SPA+0 SPB+45 SPC+0 TURN MB MAX FMAX\nL X+50 Y+50 R0 FMAX\nL Z-5 R0 FMAX\nPLANE RESET STAY\nL Z+50 R0 FMAX\nL X+50 Y+50 Z-5 R0 FMAX\n"
     found = klartext(body)
     assert at(found, "core.rapid-into-stock")[:1] == [11] and at(found, "core.unsupported-code", Status.UNKNOWN)
+    assert [d.span.line for d in found.diagnostics if d.rule == "core.rapid-into-stock" and "tilted" in d.message] == [7]
 
 
 def test_trans_datum_shifts_like_cycle_7_and_its_reset_cancels_it():

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy
 
-from .. import geometry
+from .. import frames, geometry
 from ..check import Rule, rule, show
 from ..diagnostics import Status
 from ..values import Condition, Sym
@@ -85,6 +85,10 @@ class RapidIntoStock(_NeedsStock):
             return
         if end is None:
             unplaced = "/".join(axis for axis in "XYZ" if segment.end.get(axis) is None)
+            if state.frame is frames.UNKNOWN:
+                self._unknown_position(segment.span, f"{what} runs in a tilted or otherwise unmodelled coordinate system: where it lies on the blank is not known, "
+                                       "so its path was not checked", state, "unknown-frame")
+                return
             self._unknown_position(segment.span, f"{what} ends where ncverify does not know the tool is ({unplaced} not known yet: no move has set it since the program start or a reference return): its path was not checked", state)
             return
         if start is None:
@@ -136,9 +140,9 @@ class RapidIntoStock(_NeedsStock):
         else:
             self._unknown_position(span, f"{what} to {_where(end)} starts where ncverify does not know the tool is (before the first move, or after a reference return): its path was not checked", state)
 
-    def _unknown_position(self, span, message, state):
-        """Once per path: a rapid whose path cannot be placed is unknown, never safe."""
-        if self.first_time(state, "rapid-from-unknown"):
+    def _unknown_position(self, span, message, state, why: str = "rapid-from-unknown"):
+        """Once per path and reason: a rapid whose path cannot be placed is unknown, never safe."""
+        if self.first_time(state, why):
             self.report(self.rule_id, span, message, Status.UNKNOWN, "position unknown")
 
     def _symbolic(self, stock, start, end, span, what, state):
