@@ -211,6 +211,44 @@ def test_a_negative_pitch_is_the_thread_hand_not_a_direction():
     assert not lines(result, "heidenhain.positive-depth")
 
 
+def test_back_boring_upward_q249_is_not_a_positive_depth():
+    result = check(program("""5  CYCL DEF 204 BACK BORING ~
+    Q200=+2 ;SET-UP CLEARANCE ~
+    Q249=+5 ;DEPTH OF COUNTERBORE ~
+    Q250=+20 ;MATERIAL THICKNESS ~
+    Q251=+3.5 ;OFF-CENTER DISTANCE ~
+    Q252=+15 ;TOOL EDGE HEIGHT ~
+    Q253=+750 ;F PRE-POSITIONING ~
+    Q254=+200 ;F COUNTERSINKING ~
+    Q255=+0 ;DWELL TIME ~
+    Q203=+0 ;SURFACE COORDINATE ~
+    Q204=+50 ;2ND SET-UP CLEARANCE ~
+    Q214=+1 ;DISENGAGING DIRECTN ~
+    Q336=+0 ;ANGLE OF SPINDLE
+6  L  X+50  Y+50 R0 FMAX M99"""))
+    assert not lines(result, "heidenhain.positive-depth")
+
+
+# --------------------------------------------------------------------------- core rules the map names, on Klartext
+
+
+def test_h10_rigid_tapping_leaves_a_stopped_spindle_stopped_for_the_next_cut():
+    body = "5  " + TAPPING + "\n6  L  X+30  Y+30 R0 FMAX M99\n7  L  X+60 Y+60 FMAX\n8  L  Z+5 F500"
+    assert lines(check(program(body, start="L  Z+100 R0 FMAX M5")), "core.spindle-off-cutting") == [14]
+    assert not lines(check(program(body)), "core.spindle-off-cutting")
+
+
+def test_h27_a_retract_level_inside_the_blank_is_reported():
+    assert lines(check(program("6  " + DRILL.replace("Q203=+0", "Q203=-5").replace("Q204=+50", "Q204=+0") + "\n7  L  X+50  Y+50 R0 FMAX M99")),
+                 "core.clearance-below-stock")
+    assert not lines(check(program("6  " + DRILL + "\n7  L  X+50  Y+50 R0 FMAX M99")), "core.clearance-below-stock")
+
+
+def test_h28_an_in_plane_rapid_below_the_top_of_the_blank_is_reported():
+    assert lines(check(program("5  L  X+10  Y+10 R0 FMAX\n6  L  Z-2 F100\n7  L  X+50  Y+50 R0 FMAX")), "core.rapid-into-stock") == [8, 9]  # and up out of it
+    assert not lines(check(program("5  L  X+10  Y+10 R0 FMAX\n6  L  Z+2 F100\n7  L  X+50  Y+50 R0 FMAX")), "core.rapid-into-stock")
+
+
 # --------------------------------------------------------------------------- H15 stud approach
 
 
