@@ -417,3 +417,39 @@ def test_a_reciprocating_trochoidal_plunge_needs_the_tool_angle(tmp_path):
     assert findings(with_tool_table(reciprocating, tmp_path, 5, 0), "heidenhain.plunge-angle")
     assert not findings(with_tool_table(reciprocating, tmp_path, 5, 3), "heidenhain.plunge-angle")
     assert not findings(with_tool_table(train_program(trochoidal(), CLOSED_SLOT), tmp_path, 5, 0), "heidenhain.plunge-angle")
+
+
+# --------------------------------------------------------------------------- motion
+
+
+def cycle_moves(text: str, cycle: str) -> list[tuple[str, str, object]]:
+    """The moves a cycle made: kind, role and the tool-axis level it went to."""
+    from test_heidenhain import trace
+
+    return [(segment.kind, segment.role, segment.end.get("Z")) for segment in trace(text).segments if segment.cycle == cycle]
+
+
+def test_contour_train_feeds_down_to_q5_plus_q1_and_leaves_the_tool_at_q7():
+    assert cycle_moves(train_program(train(surface="+2"), OPEN_LINE), "heidenhain.25") == [("feed", "infeed", -3.0), ("rapid", "out-of-hole", 50.0)]
+    assert cycle_moves(train_program(train(depth="+0"), OPEN_LINE), "heidenhain.25") == []  # depth 0: skipped
+
+
+def test_trochoidal_slot_has_the_levels_of_a_pocket():
+    assert cycle_moves(train_program(trochoidal(), CLOSED_SLOT), "heidenhain.275") == [
+        ("rapid", "approach", 2.0), ("feed", "infeed", -10.0), ("rapid", "out-of-hole", 50.0)]
+
+
+def test_276_only_knows_its_clearance_height_and_ocm_chamfering_plunges_to_the_tip_depth():
+    contour = "LBL 1\nL  X+0  Y+50  Z+0 RL\nL  X+100  Z-5\nLBL 0\n"
+    text = program(f"CYCL DEF 14.0 CONTOUR GEOMETRY\nCYCL DEF 14.1 CONTOUR LABEL1\n{three_d()}CYCL CALL\nL  X+0  Y+0 R0 FMAX M30\n{contour}")
+    assert cycle_moves(text, "heidenhain.276")[-1] == ("rapid", "out-of-hole", 50.0)
+    text = program(f"CONTOUR DEF P1 = LBL 1\n{ocm_data()}{chamfer()}CYCL CALL\nL  Z+100 R0 FMAX M30\n" + SQUARE.replace(" RR", ""))
+    assert cycle_moves(text, "heidenhain.277") == [("rapid", "approach", 2.0), ("feed", "infeed", -3.0), ("rapid", "out-of-hole", 50.0)]
+
+
+def test_after_a_cylinder_cycle_the_position_is_unknown_until_every_axis_is_given():
+    from test_heidenhain import trace
+
+    text = cylinder()
+    after = [segment for segment in trace(text).segments if segment.span.line == text.splitlines().index("8  L  Z+250 R0 FMAX M30") + 1]
+    assert after and after[0].start.get("Z") is None and after[0].end.get("Z") == 250.0
