@@ -421,3 +421,15 @@ def test_path_milling_contour(compensation, rest, expected):
 def test_an_undercut_is_cut_at_the_feed_before_the_call(feed, reported):
     program = f"N35 G95 {feed}\nN40 G0 X80 Z10\nN50 CYCLE94(20, 60, \"E\")\nN60 M30\n"
     assert bool(messages(check(LATHE_HEAD.replace(" F0.25", "") + program, machine="lathe"), "sinumerik.undercut-feed")) is reported
+
+
+@pytest.mark.parametrize("frame, call, expected", [
+    ("SCALE X2 Y1.5", "CYCLE71(10, 0, 2, -1, 0, 0, 80, 60, 0, 4, 6, 5, 0, 2000, 31, 5)", "X 2, Y 1.5): would raise alarm 61011"),
+    ("ROT RPL=30", "CYCLE71(10, 0, 2, -1, 0, 0, 80, 60, 0, 4, 6, 5, 0, 2000, 31, 5)", None),
+    ("SCALE X2 Y1.5", "CYCLE77(10, 0, 2, -6, 0, 50, 50, 50, 3, 0.2, 0.1, 300, 100, 2, 1, 60)", "61012"),
+    ("SCALE X2 Y2", "CYCLE77(10, 0, 2, -6, 0, 50, 50, 50, 3, 0.2, 0.1, 300, 100, 2, 1, 60)", None),
+    ("MIRROR X0", "CYCLE77(10, 0, 2, -6, 0, 50, 50, 50, 3, 0.2, 0.1, 300, 100, 2, 1, 60)", None),
+])
+def test_scaling_frames_at_the_call(frame, call, expected):
+    found = messages(milled(f"N40 {frame}\nN50 {call}\n"), "sinumerik.scaled-cycle")
+    assert (found and expected in found[0]) if expected else not found, found

@@ -15,6 +15,7 @@ from shapely.geometry import Point, Polygon
 
 from .. import values
 from ..check import Rule, hazard, rule, show
+from ..frames import AXES
 from ..lower.sinumerik_cycles import COARSE_PITCH, levels
 from ..pocket import circle_fit, rectangle_fit, slot_fit
 from .machine import _ReportsMissingContext
@@ -901,3 +902,41 @@ class UndercutFeed(Rule):
             self.checker.report_verdict("sinumerik.undercut-feed", run.span,
                                         f"{_cycle_name(run)} at feed F{show(feed)}: the cycle cuts the undercut at this F, which does not move the axes",
                                         self.checker.judge(hazard("<=", feed, 0.0), state), state)
+
+
+# --------------------------------------------------------------------------- frames at the call
+
+_SCALE_ALARMS = {"CYCLE71": ("61011", "scaling not permitted"), "CYCLE72": ("61011", "scaling not permitted"),
+                 "CYCLE76": ("61012", "different scaling in the plane"), "CYCLE77": ("61012", "different scaling in the plane")}
+
+
+@rule("sinumerik.scaled-cycle")
+class ScaledCycle(Rule):
+    """CYCLE71/72 with a scale factor active (61011) and CYCLE76/77 with different factors
+    on the two plane axes (61012) [appendix L19650-19660], from the programmable frame."""
+
+    def cycle_run(self, run, state):
+        alarm = _SCALE_ALARMS.get(_cycle_name(run)) if _is_sinumerik(run) else None
+        factors = _scale_factors(state.frame) if alarm else None
+        if factors is None:
+            return
+        first, second, _normal = state.plane_axes
+        if alarm[0] == "61011":
+            wrong = {axis: factor for axis, factor in factors.items() if abs(factor - 1.0) > 1e-9}
+        else:
+            wrong = {axis: factors[axis] for axis in (first, second)} if abs(factors[first] - factors[second]) > 1e-9 else {}
+        if wrong:
+            scales = ", ".join(f"{axis} {factor:g}" for axis, factor in wrong.items())
+            self.report("sinumerik.scaled-cycle", run.span,
+                        f"{_cycle_name(run)} under a scaling frame ({scales}): would raise alarm {alarm[0]} \"{alarm[1]}\"; cancel SCALE before the call")
+
+
+def _scale_factors(frame) -> dict | None:
+    """The scale factor of each axis of a programmable frame (the length its unit vector is
+    mapped to; rotations and mirrors keep 1), or None when an entry is not a number."""
+    if frame is None:
+        return {axis: 1.0 for axis in AXES}
+    columns = list(zip(*frame.linear))
+    if any(type(entry) is not float for column in columns for entry in column):
+        return None
+    return {axis: math.hypot(*column) for axis, column in zip(AXES, columns)}
