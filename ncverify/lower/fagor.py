@@ -182,8 +182,9 @@ class FagorLowering(IsoLowering):
         normal = _PLANE_NORMAL[plane]
         axis, sign = tool_axis or (normal, "+")
         if not pattern and axis != normal:
-            notes.append(ir.Note("core.unsupported-code", f"G{code} along #TOOL AX [{axis}{sign}] while the plane's normal is {normal}: "
-                                                                 "a tool axis in the plane or a secondary axis (X2, U...) is not modelled", span))
+            named = "of a secondary axis (X2, U...)" if axis == "?" else f"[{axis}{sign}], an axis in the plane whose normal is {normal}"
+            notes.append(ir.Note("core.unsupported-code", f"G{code} along the #TOOL AX {named}: cycles along a tool axis other than the plane's "
+                                                                 "normal are not modelled", span))
             words[:] = [word for word in words if word.letter in "NFSTM" and word.letter not in declared]
             return ir.Unsupported(span, f"G{code} along another tool axis", ("position",))
         in_plane = () if pattern else _PLANE_AXES[plane]
