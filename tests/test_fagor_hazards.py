@@ -5,10 +5,12 @@ from __future__ import annotations
 import textwrap
 from pathlib import Path
 
+import pytest
+
 from fagor_trace import trace
 from hypothesis import given, settings, strategies
 from ncverify import Settings, check_text
-from ncverify.project import load_project_text
+from ncverify.project import ConfigError, load_project_text
 
 
 def check(program: str, project: str = ""):
@@ -78,6 +80,11 @@ def test_rigid_tapping_needs_a_spindle_encoder():
     assert "fagor.rigid-tapping-encoder" in findings(check(TAPPING.format(1), without))
     assert "fagor.rigid-tapping-encoder" not in findings(check(TAPPING.format(0), without))
     assert "fagor.rigid-tapping-encoder" not in findings(check(TAPPING.format(1), "[machine]\nspindle_encoder = true\n"))
+
+
+def test_spindle_encoder_must_be_true_or_false():
+    with pytest.raises(ConfigError, match="spindle_encoder"):
+        load_project_text("[machine]\nspindle_encoder = 1\n", Path("ncverify.toml"))
 
 
 def test_rigid_tapping_without_the_machine_capability_is_unknown():
