@@ -90,7 +90,7 @@ HAZARDS_B = {
     26: MODELLED,
     27: ("sinumerik.turning-parameters",),
     28: ("sinumerik.turning-parameters",),
-    29: "not checked yet: CYCLE93 dwell shorter than one revolution",
+    29: ("sinumerik.groove-dwell",),
     30: "a surface-quality trade-off the programmer chooses, not a defect",
     31: "the allowances are summed by design; no wrong value is defined",
     32: "a unit fact (1 inch under G70), not a defect",

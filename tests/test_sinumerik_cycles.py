@@ -433,3 +433,10 @@ def test_an_undercut_is_cut_at_the_feed_before_the_call(feed, reported):
 def test_scaling_frames_at_the_call(frame, call, expected):
     found = messages(milled(f"N40 {frame}\nN50 {call}\n"), "sinumerik.scaled-cycle")
     assert (found and expected in found[0]) if expected else not found, found
+
+
+@pytest.mark.parametrize("speed_mode, dwell, reported", [("G97 S400", 0.1, True), ("G97 S400", 0.2, False), ("G96 S150", 0.1, False)])
+def test_groove_dwell_of_one_revolution(speed_mode, dwell, reported):
+    program = f"N35 {speed_mode}\nN40 G0 X80 Z10\nN50 CYCLE93(60, -20, 5, 3, 0, 0, 0, 0, 0, 0, 0, 0.2, 0.2, 1, {dwell}, 5)\nN60 M30\n"
+    found = messages(turned(program), "sinumerik.groove-dwell")
+    assert bool(found) is reported and (not found or "shorter than one revolution at S400 (0.15 s)" in found[0])

@@ -940,3 +940,21 @@ def _scale_factors(frame) -> dict | None:
     if any(type(entry) is not float for column in columns for entry in column):
         return None
     return {axis: math.hypot(*column) for axis, column in zip(AXES, columns)}
+
+
+@rule("sinumerik.groove-dwell")
+class GrooveDwell(Rule):
+    """CYCLE93's dwell DTB at the groove base should last at least one spindle revolution
+    (reference B section 9 item 29, seed L15201-15205): judged under G97, where the speed S
+    is the revolutions per minute."""
+
+    def cycle_run(self, run, state):
+        dwell = run.params.get("DTB") if run.cycle == "sinumerik.CYCLE93" else None
+        speed = state.spindle_speed
+        if type(dwell) is not float or dwell <= 0 or state.modal.get("spindle_mode") != "rpm" or type(speed) is not float or speed <= 0:
+            return
+        revolution = 60.0 / speed
+        if dwell < revolution:
+            self.report("sinumerik.groove-dwell", run.param_spans.get("DTB", run.span),
+                        f"CYCLE93: dwell DTB={show(dwell)} s is shorter than one revolution at S{show(speed)} ({revolution:.3g} s): "
+                        "the groove base is not cut round; dwell at least one revolution")
