@@ -42,7 +42,7 @@ HAZARDS: dict[int, tuple[str, ...] | str] = {
     18: ("heidenhain.face-milling-blank", "heidenhain.positive-depth", "heidenhain.zero-depth", "heidenhain.parameter-range"),  # Q227 vs Q386 and the blank, Q202 > 0
     19: ("heidenhain.cylinder-clearance", "heidenhain.cylinder-radius"),
     # C. tool vs geometry
-    20: ("heidenhain.sl-allowance",),  # Q3 = 0 and Q14 < Q3; Q14 + R_finish < Q3 + R_rough needs the rougher's radius, not compared
+    20: ("heidenhain.sl-allowance",),  # Q3 = 0, Q14 < Q3, Q14 + R_finish < Q3 + R_rough; contour milling with 24 (single island) is not
     21: ("heidenhain.tool-too-large", "heidenhain.plunge-angle"),  # the tool and Q3 against the resolved pocket, Q19 with ANGLE 0; centre cutting is not in TOOL.T
     22: ("heidenhain.usable-length",),  # LU against the depth; Q202 > LCUTS of 272 not reported (cutting-length covers 233/25x)
     23: ("heidenhain.tool-too-large",),  # shapes 1271-1273 with R (1 + Q578) + Q368; corners of free OCM contours not checked
@@ -453,3 +453,20 @@ def test_after_a_cylinder_cycle_the_position_is_unknown_until_every_axis_is_give
     text = cylinder()
     after = [segment for segment in trace(text).segments if segment.span.line == text.splitlines().index("8  L  Z+250 R0 FMAX M30") + 1]
     assert after and after[0].start.get("Z") is None and after[0].end.get("Z") == 250.0
+
+
+FINISH_SIDE = ("CYCL DEF 24 SIDE FINISHING ~\n    Q9=+1 ;ROTATIONAL DIRECTION ~\n    Q10=-5 ;PLUNGING DEPTH ~\n    Q11=+100 ;FEED RATE FOR PLNGNG ~\n"
+               "    Q12=+350 ;FEED RATE F. ROUGHNG ~\n    Q14=+0.1 ;ALLOWANCE FOR SIDE ~\n    Q438={rougher} ;ROUGH-OUT TOOL\n")
+TWO_TOOLS = "[tools.1]\nradius = 5\n[tools.2]\nradius = {finisher}"
+
+
+@pytest.mark.parametrize("finisher, reported", [(5.5, True), (5.3, False)])
+def test_side_finishing_tool_and_allowance_fit_inside_what_the_rougher_left(finisher, reported):
+    """Q14 + R_finish < Q3 + R_rough: 0.1 + R against 0.5 + 5 (Q438 = -1: the tool of the last 22)."""
+    text = sl_program(cycle=ROUGH + "CYCL CALL\nTOOL CALL 2 Z S3000\nL  Z+100 R0 FMAX M3\n" + FINISH_SIDE.format(rougher="-1"))
+    assert bool(findings(check(text, TWO_TOOLS.format(finisher=finisher)), "heidenhain.sl-allowance")) == reported
+
+
+def test_side_finishing_with_no_roughing_compares_with_a_rougher_of_radius_0():
+    text = sl_program(cycle="TOOL CALL 2 Z S3000\n" + FINISH_SIDE.format(rougher="+0"))
+    assert findings(check(text, TWO_TOOLS.format(finisher=3)), "heidenhain.sl-allowance")  # 0.1 + 3 >= 0.5 + 0

@@ -382,3 +382,36 @@ class ContourPlungeAngle(_CycleRule):
             what = "a reciprocating plunge feed Q19" if number == 22 else "the reciprocating plunge Q366=2"
             self.report("heidenhain.plunge-angle", spans.get(name, span), f"cycle {number} with {what} needs the tool's plunge angle, but ANGLE of "
                         f"T{show(state.tool_in_spindle)} is 0: the control stops with an error")
+
+
+@rule("heidenhain.sl-allowance")
+class SideFinishingRadius(_CycleRule):
+    """C20: for 24 the finishing allowance plus the finishing tool's radius must stay below
+    the roughing allowance Q3 plus the rougher's radius (seed L9833-9834); Q438 names the
+    rougher (-1: the tool of the last 22, 0: none)."""
+
+    def judge_cycle(self, number, params, spans, span, state):
+        side, finish_allowance = params.get("Q3"), params.get("Q14")
+        if number != 24 or side is None or finish_allowance is None or not self.first_time(state, ("side-finishing-radius", span)):
+            return
+        finisher = _tool(self, state, span, "heidenhain.sl-allowance", "radius")
+        rougher = self._rougher_radius(params, span)
+        if finisher is None or rougher is None:
+            return
+        finishing, roughing = values.add(finish_allowance, finisher.radius), values.add(side, rougher)
+        verdict = self.checker.judge(hazard(">=", finishing, roughing), state)
+        self.checker.report_verdict("heidenhain.sl-allowance", spans.get("Q14", span), f"cycle 24: allowance Q14={show(finish_allowance)} plus the finishing tool's radius "
+                                    f"{finisher.radius:g} is not below the roughing allowance Q3={show(side)} plus the rougher's radius {rougher:g}: the finisher has no "
+                                    "room beside what the roughing left (seed L9833-9834)", verdict, state)
+
+    def _rougher_radius(self, params, span):
+        reference = params.get("Q438", -1.0)
+        number = params.get("@last_rougher") if reference == -1.0 else reference
+        if reference == 0.0:
+            return 0.0
+        tools = self.checker.context.get("tools") or {}
+        tool = tools.get(int(number)) if type(number) is float else None
+        if tool is None or tool.radius is None:
+            self.missing("heidenhain.sl-allowance", span, "the radius of the roughing tool cycle 24 refers to (Q438, or the tool of the last cycle 22) is not known")
+            return None
+        return tool.radius

@@ -832,7 +832,10 @@ def _sl_cycle(runner, op, block, definition):
     if found is not None and kinds is not None:
         found = [replace(contour, pocket=pocket) for contour, pocket in zip(found, kinds)]
     area = region(found) if found else None
-    _observe(runner, CycleRun(name, definition.model, op.span, block, params, spans), {"@region": area, "@contour": use, "@own_q": _own_reserved(state)})
+    facts = {"@region": area, "@contour": use, "@own_q": _own_reserved(state), "@last_rougher": _get(state, "sl_rougher")}
+    _observe(runner, CycleRun(name, definition.model, op.span, block, params, spans), facts)
+    if definition.number == 22:
+        _put(state, "sl_rougher", state.tool_in_spindle)  # what Q438 = -1 of cycle 24 refers to (seed L9818-9840)
     first, second, axis = _plane(state)
     surface, clearance, depth, height = (params.get(q) for q in ("Q5", "Q6", "Q1", "Q7"))
     if any(type(value) is not float for value in (surface, clearance, depth, height)):
