@@ -65,18 +65,18 @@ N60 M17
 
 
 def test_a_contour_turning_back_along_z_is_an_overhang_for_longitudinal_machining():
-    found = messages(turned(SHAFT.format(vari=9, x=60, z=-35)), "sinumerik.contour-overhang")
+    found = messages(turned(SHAFT.format(vari=9, x=60, z=-35)), "sinumerik.contour-direction")
     assert found and "turns back along Z from Z-40 to Z-35" in found[0]
 
 
 def test_an_undercut_that_keeps_moving_along_z_is_machined():
-    assert not messages(turned(SHAFT.format(vari=9, x=30, z=-45)), "sinumerik.contour-overhang")
+    assert not messages(turned(SHAFT.format(vari=9, x=30, z=-45)), "sinumerik.contour-direction")
 
 
 def test_face_machining_judges_the_facing_axis():
     """The same contour is monotone in X except where it falls back from X40 to X30."""
-    assert messages(turned(SHAFT.format(vari=10, x=30, z=-45)), "sinumerik.contour-overhang")
-    assert not messages(turned(SHAFT.format(vari=10, x=60, z=-45)), "sinumerik.contour-overhang")
+    assert messages(turned(SHAFT.format(vari=10, x=30, z=-45)), "sinumerik.contour-direction")
+    assert not messages(turned(SHAFT.format(vari=10, x=60, z=-45)), "sinumerik.contour-direction")
 
 
 # --------------------------------------------------------------------------- CYCLE73-75
@@ -440,3 +440,9 @@ def test_groove_dwell_of_one_revolution(speed_mode, dwell, reported):
     program = f"N35 {speed_mode}\nN40 G0 X80 Z10\nN50 CYCLE93(60, -20, 5, 3, 0, 0, 0, 0, 0, 0, 0, 0.2, 0.2, 1, {dwell}, 5)\nN60 M30\n"
     found = messages(turned(program), "sinumerik.groove-dwell")
     assert bool(found) is reported and (not found or "shorter than one revolution at S400 (0.15 s)" in found[0])
+
+
+def test_a_contour_whose_first_block_gives_one_coordinate_leaves_the_direction_open():
+    program = SHAFT.format(vari=9, x=30, z=-45).replace("N10 G1 X20 Z0", "N10 G1 X20")
+    found = messages(turned(program), "sinumerik.contour-direction")
+    assert found and "does not give both Z and X" in found[0]

@@ -571,15 +571,21 @@ class FirstDrillingDepth(Rule):
 
 # --------------------------------------------------------------------------- contours of CYCLE95, CYCLE73-75, CYCLE950
 
-@rule("sinumerik.contour-overhang")
-class ContourOverhang(Rule):
-    """CYCLE95 machines undercuts, but an element that turns back against the machining
-    direction (an overhang) is neither machined nor reported (reference B section 9 item 22,
-    seed L16472-16487): longitudinal machining needs a contour monotone along the first plane
-    axis, face machining along the second. Judged on the contour's end points."""
+@rule("sinumerik.contour-direction")
+class ContourDirection(Rule):
+    """CYCLE95 takes its machining direction from the contour's first and last points and
+    machines undercuts, but an element that turns back against that direction (an overhang)
+    is neither machined nor reported (reference B section 9 items 22 and 24, seed
+    L16362-16364, L16422-16426, L16472-16487): the first block must give both plane
+    coordinates; longitudinal machining needs a contour monotone along the first plane axis,
+    face machining along the second. Judged on the contour's end points."""
 
     def cycle_run(self, run, state):
         facts = run.params.get("CONTOUR") if run.cycle == "sinumerik.CYCLE95" else None
+        if facts is not None and facts.open_start is not None:
+            self.report("sinumerik.contour-direction", facts.open_start,
+                        f"CYCLE95 contour \"{facts.name}\": the first block moving in the plane does not give both {state.plane_axes[0]} and {state.plane_axes[1]}: "
+                        "the contour's start point, from which the cycle takes its machining direction, is not fully programmed")
         kind = run.params.get("VARI")
         if facts is None or not facts.points or len(facts.points) < 2 or type(kind) is not float or not 1 <= kind % 100 <= 12:
             return
@@ -590,7 +596,7 @@ class ContourOverhang(Rule):
         direction = 1.0 if along[-1] >= along[0] else -1.0
         for (previous, _), (point, span) in zip(facts.points, facts.points[1:]):
             if (point[index] - previous[index]) * direction < -1e-9:
-                self.report("sinumerik.contour-overhang", span,
+                self.report("sinumerik.contour-direction", span,
                             f"CYCLE95 contour \"{facts.name}\" turns back along {axis} from {axis}{previous[index]:g} to {axis}{point[index]:g} "
                             f"while the {'longitudinal' if longitudinal else 'face'} machining (VARI={show(kind)}) runs from {axis}{along[0]:g} to {axis}{along[-1]:g}: "
                             "the overhanging element is neither machined nor reported by the cycle")

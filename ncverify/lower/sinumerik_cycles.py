@@ -374,6 +374,7 @@ class ContourFacts:
         self.plane_blocks = 0
         self.first_motion: str | None = None
         self.rounded_end = None  # the span of a last plane block carrying RND/CHF/CHR
+        self.open_start = None  # the first plane block, when it gives only one of the two plane coordinates
         self.compensation: list = []  # the spans of G40/G41/G42 inside the contour
         self.frames: list = []  # the spans of frame statements inside the contour
         self.section_lines: tuple[int, int] | None = None  # a "START:END" section of the calling program
@@ -485,6 +486,7 @@ def _walk_contour(interp, facts: ContourFacts, lines, path, plane) -> None:
                         facts.problems.append(("10930", "a thread block (only G0/G1/G2/G3 lines and arcs are allowed)", op.span))
                     if facts.plane_blocks == 0:
                         facts.first_motion = motion
+                        facts.open_start = op.span if len(in_plane) < 2 else None
                         if op.kind is None:
                             facts.problems.append(("15800", "the first block moving in the plane has no G0/G1/G2/G3", op.span))
                     radius = _literal((op.arc or {}).get("R"))
