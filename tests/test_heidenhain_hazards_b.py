@@ -23,7 +23,7 @@ HAZARDS: dict[int, tuple[str, ...] | str] = {
     1: ("heidenhain.contour-compensation",),  # R0 / no RL-RR in a cycle-14 SL subcontour; the kind itself feeds tool-too-large
     2: ("heidenhain.contour-overlap-start",),  # the first subcontour against each overlapping later one
     # 3: "not closed" is not reported: the manual's own islands end short of their start (seed L10829-10853), the control closes them
-    3: ("heidenhain.contour-subprogram", "heidenhain.contour-feed"),  # M functions with no modelled effect (M110 ...) are not seen; label numbers unchecked
+    3: ("heidenhain.contour-subprogram", "heidenhain.contour-feed"),  # M functions with no modelled effect (M110 ...) are not seen; label numbers 0-65535 unchecked
     4: ("heidenhain.contour-compensation",),  # 270 and CONTOUR DEF; DECLARE CONTOUR is not modelled
     5: ("heidenhain.contour-subprogram",),
     6: ("heidenhain.contour-subprogram",),
@@ -53,7 +53,7 @@ HAZARDS: dict[int, tuple[str, ...] | str] = {
     28: ("heidenhain.slot-width",),  # 28's width; the room 29 and 39 need beside the contour is not modelled
     29: "whether an end mill cuts over centre is not a tool-table column: it cannot be decided from the program and TOOL.T",
     30: ("heidenhain.cylinder-spindle",),  # spindle state; the axis kinematics and the centring on the table are not in the program
-    31: "not checked yet: the plunge point of cycle 21 is computed by the control from the contour and the rougher Q13",
+    31: ("heidenhain.pilot-drill",),  # the drill against the rougher Q13; the plunge point itself is the control's
     # D. modal traps and sequencing
     32: ("heidenhain.position-after-cycle",),
     33: ("heidenhain.sl-prerequisites",),  # 14 / 20 / 271 before the call; T-ANGLE for 277 is not a tool-table column ncverify reads
@@ -470,3 +470,19 @@ def test_side_finishing_tool_and_allowance_fit_inside_what_the_rougher_left(fini
 def test_side_finishing_with_no_roughing_compares_with_a_rougher_of_radius_0():
     text = sl_program(cycle="TOOL CALL 2 Z S3000\n" + FINISH_SIDE.format(rougher="+0"))
     assert findings(check(text, TWO_TOOLS.format(finisher=3)), "heidenhain.sl-allowance")  # 0.1 + 3 >= 0.5 + 0
+
+
+PILOT = "CYCL DEF 21 PILOT DRILLING ~\n    Q10=-5 ;PLUNGING DEPTH ~\n    Q11=+100 ;FEED RATE FOR PLNGNG ~\n    Q13={rougher} ;ROUGH-OUT TOOL\n"
+
+
+@pytest.mark.parametrize("rougher, reported", [("+2", True), ("+3", False), ("+0", False)])
+def test_pilot_drill_no_wider_than_the_rougher_it_drills_for(rougher, reported):
+    tools = "[tools.1]\nradius = 4\n[tools.2]\nradius = 3\n[tools.3]\nradius = 5"
+    assert bool(findings(check(sl_program(cycle=PILOT.format(rougher=rougher)), tools), "heidenhain.pilot-drill")) == reported
+
+
+def test_cycle_14_takes_at_most_twelve_labels():
+    labels = "1" + "".join(f" /{index}" for index in range(2, 14))
+    subprograms = "".join(SQUARE.replace("LBL 1", f"LBL {index}") for index in range(1, 14))
+    assert "at most 12" in findings(check(sl_program(subprograms, labels=labels)), "heidenhain.contour-subprogram")[0].message
+    assert not findings(check(sl_program(subprograms, labels=labels.rsplit(" /", 1)[0])), "heidenhain.contour-subprogram")

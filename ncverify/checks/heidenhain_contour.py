@@ -20,6 +20,7 @@ _CYLINDER = {27, 28, 29, 39}
 _OCM = {272, 273, 274, 277}
 _CORNER_DEGREES = 10.0  # arcs are walked in 5-degree chords: a sharper turn is a corner
 _CONTOUR_DEF_LIMITS = {"subcontours": 9, "voids": 5}  # seed L14785-14797
+_LABELS_MAX = 12  # subcontours in cycle 14 (seed L9195-9205)
 
 
 def _label(subprogram) -> str:
@@ -36,6 +37,9 @@ class ContourSubprogram(_CycleRule):
         use = params.get("@contour")
         if use is None or (number not in _SL | _TRAINS | _CYLINDER | _OCM):
             return
+        if use.how == "cycle 14" and len(use.labels) > _LABELS_MAX and self.first_time(state, ("label-count", use.span)):
+            self.report("heidenhain.contour-subprogram", use.span or span, f"cycle 14 lists {len(use.labels)} contour labels; the control takes at most "
+                        f"{_LABELS_MAX} (seed L9195-9205)")
         if number in _TRAINS and len(use.labels) > 1 and self.first_time(state, ("train-labels", span)):
             effect = "the control machines only the first and ignores the others" if number == 25 else "the control allows only one and stops with an error"
             self.report("heidenhain.contour-subprogram", use.span or span, f"cycle {number} works on one contour subprogram, but cycle 14 lists "
@@ -415,3 +419,26 @@ class SideFinishingRadius(_CycleRule):
             self.missing("heidenhain.sl-allowance", span, "the radius of the roughing tool cycle 24 refers to (Q438, or the tool of the last cycle 22) is not known")
             return None
         return tool.radius
+
+
+@rule("heidenhain.pilot-drill")
+class PilotDrill(_CycleRule):
+    """C31: cycle 21 places its plunge holes for the rougher Q13; a drill wider than that
+    rougher may not fit where the rougher does (seed L9483-9490)."""
+
+    def judge_cycle(self, number, params, spans, span, state):
+        rougher = params.get("Q13")
+        if number != 21 or type(rougher) is not float or rougher == 0.0 or not self.first_time(state, ("pilot-drill", span)):
+            return
+        drill = _tool(self, state, span, "heidenhain.pilot-drill", "radius")
+        tools = self.checker.context.get("tools") or {}
+        roughing = tools.get(int(rougher))
+        if drill is None:
+            return
+        if roughing is None or roughing.radius is None:
+            self.missing("heidenhain.pilot-drill", span, f"rough-out tool T{rougher:g} of Q13 is not in the tool table")
+            return
+        if drill.radius > roughing.radius:
+            self.report("heidenhain.pilot-drill", spans.get("Q13", span), f"cycle 21 drills with T{show(state.tool_in_spindle)} (R={drill.radius:g}) the plunge holes "
+                        f"for rough-out tool T{rougher:g} (R={roughing.radius:g}): the holes are placed where the smaller rougher fits, so the larger drill "
+                        "cuts into the contour's walls in narrow places")
