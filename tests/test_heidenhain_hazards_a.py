@@ -60,7 +60,7 @@ HAZARDS: dict[str, tuple[str, ...] | str] = {
     "H39": "modelled, not a defect: cycle 247 resets datum shift, mirror, rotation and scaling",
     "H40": ("core.rapid-into-stock", "core.clearance-below-stock"),
     "H41": ("heidenhain.depth-through-blank",),
-    "H42": ("heidenhain.working-plane",),  # the three spatial angles; M94, moving every axis first, F/ABST are not checked
+    "H42": ("heidenhain.working-plane",),  # the three spatial angles and every axis moved before a cycle; M94 and F/ABST are not checked
     "H43": "undecidable: the datum table's values live on the machine, not in the program",
     "H44": ("heidenhain.cutting-length",),
     "H45": ("heidenhain.servo-spindle",),  # the servo spindle ([machine] spindle_encoder); software options and the floating tap holder are not judged
@@ -302,6 +302,25 @@ def test_cycle_19_without_every_spatial_angle_is_reported():
 def test_cycle_19_with_all_three_angles_or_none_is_not():
     result = check(program("5  CYCL DEF 19.0 WORKING PLANE\n6  CYCL DEF 19.1 A+0 B+45 C+0\n7  CYCL DEF 19.0 WORKING PLANE\n8  CYCL DEF 19.1"))
     assert not lines(result, "heidenhain.working-plane")
+
+
+def tilted(moves: str) -> str:
+    return program(f"""5  CYCL DEF 19.0 WORKING PLANE
+6  CYCL DEF 19.1 A+0 B+45 C+0
+7  L  A+Q120 C+Q122 R0 F1000
+{moves}
+9  {DRILL}
+10 CYCL CALL""")
+
+
+def test_a_cycle_after_a_tilt_before_every_axis_moved_is_reported():
+    result = check(tilted("8  L  X+50  Y+50 R0 FMAX"))
+    assert lines(result, "heidenhain.working-plane") == [19]
+    assert "Z has not been moved" in messages(result, "heidenhain.working-plane")[0]
+
+
+def test_a_cycle_after_a_tilt_and_a_move_of_every_axis_is_not():
+    assert not lines(check(tilted("8  L  Z+80 R0 FMAX\n8  L  X+50  Y+50 R0 FMAX")), "heidenhain.working-plane")
 
 
 # --------------------------------------------------------------------------- H44 cutting length

@@ -8,7 +8,7 @@ import math
 
 from shapely.geometry import Point, box
 
-from .. import values
+from .. import ir, values
 from ..check import Rule, hazard, rule, show
 from .heidenhain import _CycleRule, _number, _tool
 
@@ -28,6 +28,16 @@ def _numbers(params: dict, *names: str):
 def _rotated(dx: float, dy: float, degrees: float) -> tuple[float, float]:
     angle = math.radians(degrees)
     return dx * math.cos(angle) - dy * math.sin(angle), dx * math.sin(angle) + dy * math.cos(angle)
+
+
+def _written_axes(op) -> tuple[str, ...]:
+    """The axes a block's move writes: a straight or circular move, or a tool-axis-only
+    move at FMAX (lowered as ``@lift``)."""
+    if isinstance(op, ir.Move):
+        return tuple(op.targets)
+    if isinstance(op, ir.CycleCall) and op.cycle == "heidenhain.@lift":
+        return tuple(op.params)
+    return ()
 
 
 def _untransformed(state) -> bool:
@@ -63,10 +73,10 @@ class StudApproachRoom(_BlankRule):
     blank instead of beside it."""
 
     def judge_cycle(self, number, params, spans, span, state):
-        if number not in (256, 257, 258) or not self.first_time(state, ("stud-approach", span, state.plane_axes[0], state.position.get(state.plane_axes[0]))):
-            return
-        first, second, _axis = state.plane_axes
+        first, second, axis = state.plane_axes
         here = (state.position.get(first), state.position.get(second))
+        if number not in (256, 257, 258) or not self.first_time(state, ("stud-approach", span, here)):
+            return
         depth = _numbers(params, "Q203", "Q201")
         if type(here[0]) is not float or type(here[1]) is not float or depth is None:
             self.missing("heidenhain.stud-approach-room", span, "a stud position or depth that is not known")
@@ -88,8 +98,8 @@ class StudApproachRoom(_BlankRule):
         if first_depth >= stock.top or outline.distance(Point(point)) >= tool.radius:
             return
         self.report("heidenhain.stud-approach-room", spans.get(where, span),
-                    f"cycle {number} plunges beside the stud at X{point[0]:.3f} Y{point[1]:.3f} ({_STUD_ROOM:g} mm + R{tool.radius:g} out from the stud blank) "
-                    f"down to Z{first_depth:g}, but the blank is there up to Z{stock.top:g}: the tool plunges into the material at the plunging feed; "
+                    f"cycle {number} plunges beside the stud at {first}{point[0]:.3f} {second}{point[1]:.3f} ({_STUD_ROOM:g} mm + R{tool.radius:g} out from the stud blank) "
+                    f"down to {axis}{first_depth:g}, but the blank is there up to {axis}{stock.top:g}: the tool plunges into the material at the plunging feed; "
                     f"the stud needs {2 * tool.radius + _STUD_ROOM:g} mm (2R + 2 mm) of free room around its blank (seed L6472-6478)")
 
     @staticmethod
@@ -158,16 +168,46 @@ class PatternCompatibility(Rule):
 @rule("heidenhain.working-plane")
 class WorkingPlane(Rule):
     """H42: CYCL DEF 19.1 must give every spatial angle, zeros too: an angle left out means
-    "unchanged", not 0 (seed L8044-8046)."""
+    "unchanged", not 0 (seed L8044-8046). After a tilt the control compensates an axis only
+    once it is moved, so X, Y and Z must all be moved before a cycle machines (seed
+    L8027-8030, L8112-8114)."""
+
+    _UNMOVED = ("working-plane-unmoved",)
 
     def cycle_run(self, run, state):
         if run.cycle != "heidenhain.19":
+            self._machining(run.span, state)
             return
         given = [axis for axis in "ABC" if axis in run.params]
         if given and len(given) < 3:
             missing = ", ".join(axis for axis in "ABC" if axis not in given)
             self.report("heidenhain.working-plane", run.span, f"cycle 19 gives {', '.join(given)} but not {missing}: an angle left out keeps its last value "
                         "instead of 0, so the plane is tilted differently from what the block shows; program all three spatial angles (seed L8044-8046)")
+        tilted = any(run.params.get(axis, 0.0) != 0.0 for axis in given)
+        state.rule_state[self._UNMOVED] = (frozenset(state.plane_axes), run.span.line) if tilted else None
+
+    def hole(self, hole, state):
+        self._machining(hole.span, state)
+
+    def segment(self, segment, state):
+        pending = state.rule_state.get(self._UNMOVED)
+        if pending and segment.role == "programmed":
+            moved = {axis for op in segment.block.ops for axis in _written_axes(op)}
+            moved |= {axis for axis in pending[0] if segment.end.get(axis) is not segment.start.get(axis)}
+            state.rule_state[self._UNMOVED] = (pending[0] - moved, pending[1]) if pending[0] - moved else None
+
+    def motion_run(self, run, state):
+        if state.rule_state.get(self._UNMOVED):
+            for index in range(len(run)):
+                self.segment(run.segment(index), state)
+
+    def _machining(self, span, state):
+        pending = state.rule_state.get(self._UNMOVED)
+        if pending:
+            state.rule_state[self._UNMOVED] = None
+            unmoved = ", ".join(sorted(pending[0]))
+            self.report("heidenhain.working-plane", span, f"a cycle machines after the tilt of cycle 19 (line {pending[1]}) while {unmoved} has not been moved since: "
+                        "the control applies the tilt to an axis only when the axis moves; move X, Y and Z first (seed L8027-8030, L8112-8114)")
 
 
 @rule("heidenhain.face-milling-blank")
