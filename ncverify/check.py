@@ -462,6 +462,8 @@ def _eval(node, names):
             return values.absolute(arguments[0])
         if node.func.id in ("min", "max"):
             return _min_max(node.func.id, arguments)
+        if node.func.id == "whole":
+            return values.is_whole(arguments[0])
         if node.func.id == "digits":
             return float(len(str(int(abs(arguments[0]))))) if type(arguments[0]) is float else values.fresh("digits")
     if isinstance(node, ast.Name):

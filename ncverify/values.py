@@ -267,6 +267,13 @@ def compare(op: str, a: Value, b: Value) -> "bool | Condition":
     return Condition(_COMPARE[op](term_of(a), term_of(b)))
 
 
+def is_whole(a: Value) -> "bool | Condition":
+    """Is the value a whole number (a count of pecks, of points)?"""
+    if type(a) is float:
+        return a.is_integer()
+    return Condition(z3.IsInt(term_of(a)))
+
+
 def _decide_by_interval(op, al, ah, bl, bh) -> bool | None:
     if op in ("LT", "GE"):
         if ah < bl:

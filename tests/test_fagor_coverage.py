@@ -27,7 +27,7 @@ HAZARDS: dict[str, tuple[tuple[str, ...], str]] = {
            "traverses between holes are judged against the stock; clamps and fixtures are not in the model"),
     "H8": (("fagor.unknown-start-plane",), ""),
     "H9": (("fagor.g82-retract-coordinate",), "judged at the first peck; later pecks are deeper"),
-    "H10": (("fagor.g82-parameters",), "that J is a whole number is not checked (the constraint language has no rounding)"),
+    "H10": (("fagor.g82-parameters",), ""),
     "H11": (("fagor.cycle-starts-spindle", "core.tapping-spindle-direction"), "whether a tap is left-hand is not in the tool table"),
     "H12": (("fagor.pocket-incremental-depth",), ""),
     "H13": (("fagor.pocket-tool-fit", "fagor.pocket-parameters", "fagor.pocket-finishing-only", "core.feed-missing"), ""),

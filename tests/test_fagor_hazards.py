@@ -204,3 +204,28 @@ def test_a_thread_milled_upward_rapids_down_the_predrilled_hole_first():
 def test_the_rapid_down_the_predrilled_hole_is_not_judged_safe():
     result = check("; ncverify: stock box X0:100 Y0:100 Z-30:0\nG0 G90 X50 Y50 Z25 F300 S2000 M3\nG99 G211 Z2 I-15 J20 K1.2 B-1.5\nG80\nM30\n")
     assert any(d.span.line == 3 for d in findings(result, "unknown").get("core.rapid-into-stock", []))
+
+
+# --------------------------------------------------------------------------- counts must be whole numbers (H10, H3)
+
+
+@pytest.mark.parametrize("cycle, rule, count, wrong", [
+    ("G82 Z2 I-20 B3 J{}", "fagor.g82-parameters", "2.5", True),
+    ("G82 Z2 I-20 B3 J{}", "fagor.g82-parameters", "2", False),
+    ("G83 Z2 I-5 J{}", "fagor.g83-peck-count", "3.5", True),
+    ("G83 Z2 I-5 J{}", "fagor.g83-peck-count", "3", False),
+])
+def test_a_peck_count_must_be_a_whole_number(cycle, rule, count, wrong):
+    result = check(f"G0 G90 X0 Y0 Z25 S800 M3 F200\n{cycle.format(count)}\nG80\nM30\n")
+    messages = [d.message for d in findings(result).get(rule, [])]
+    assert bool(messages) is wrong, messages
+    if wrong:
+        assert f"J{count}" in messages[0] and "whole number" in messages[0]
+
+
+def test_a_peck_count_from_a_free_parameter_is_refuted_with_a_fractional_witness():
+    program = "; ncverify: assume 1 <= P1 <= 4\nG0 G90 X0 Y0 Z25 S800 M3 F200\nG83 Z2 I-5 J P1\nG80\nM30\n"
+    [finding] = [d for d in check(program).diagnostics if d.rule == "fagor.g83-peck-count"]
+    assert finding.status.value == "violated"
+    [(name, value)] = finding.witness.items()
+    assert name == "P1" and 1 <= value <= 4 and not float(value).is_integer()
