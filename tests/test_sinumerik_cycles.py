@@ -446,3 +446,12 @@ def test_a_contour_whose_first_block_gives_one_coordinate_leaves_the_direction_o
     program = SHAFT.format(vari=9, x=30, z=-45).replace("N10 G1 X20 Z0", "N10 G1 X20")
     found = messages(turned(program), "sinumerik.contour-direction")
     assert found and "does not give both Z and X" in found[0]
+
+
+def test_an_internal_thread_milled_bottom_up_enters_its_bore_unknown_not_violated():
+    """RFP -20 below, DP 0 and RTP 8 above (seed A L5288-5311): the rapid to RFP + SDIS runs
+    down the pre-drilled bore, which the stock model does not have."""
+    result = milled('N35 WORKPIECE(,"",,"BOX",0,0,-30,-80,0,0,120,80)\nN40 G0 X60 Y40 Z8\n'
+                    "N50 CYCLE90(8, -20, 2, 0, 0, 16, 14, 2, 300, 3, 0, 60, 40)\n")
+    found = [d for d in result.diagnostics if d.rule == "core.rapid-into-stock" and d.span.line == 8]
+    assert found and all(d.status is Status.UNKNOWN for d in found)

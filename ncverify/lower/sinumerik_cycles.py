@@ -14,6 +14,7 @@ unknown. Contours named by a cycle are read, not run (``read_contour_section``).
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 from .. import values
 from ..cycles import register_shape
@@ -214,7 +215,7 @@ def one_shot(runner, op, block, model, params):
     state = runner.state
     first, second, axis = state.plane_axes
     features = _FEATURES.get(op.cycle.split(".")[-1])
-    if features is not None and _feature_motion(runner, op, block, params, *features(params, state)):
+    if features is not None and _feature_motion(runner, op, block, params, features(params, state)):
         return None
     if model.get("shape") == "sinumerik_mill":
         level = _end_level(op.cycle, params)
@@ -243,38 +244,50 @@ def _end_level(cycle: str, params: dict):
     return values.add(bottom, values.mul(side, values.absolute(_get(params, "SDIS")))) if kind // 100 % 10 == 2 else bottom
 
 
-def _feature_motion(runner, op, block, params, points, end, rapid_plunge: bool) -> bool:
+class Features(NamedTuple):
+    """Where a milling cycle works: the plane points it plunges at (None: a start point the
+    cycle computes itself), where the tool ends in the plane (None: unknown), whether it
+    plunges with G0, and whether RFP + SDIS lies inside a bore made before (internal threads
+    milled bottom up)."""
+
+    points: list
+    end: tuple | None
+    g0_insertion: bool = False
+    in_bore: bool = False
+
+
+def _feature_motion(runner, op, block, params, features: Features) -> bool:
     """Each feature point: G0 to it at RTP, G0 to RFP + SDIS, the plunge to the depth (at
     the depth feed FFD, or G0 for a G0 insertion), (the machining inside the feature), G0
-    back to RTP. A point of None is a start point the cycle computes itself: the moves run
-    along the infeed axis only and the plane position is unknown. The tool ends at RTP above
-    ``end`` (None: unknown in the plane). False when a level is not a number."""
+    back to RTP. At a point of None the moves run along the infeed axis only and the plane
+    position is unknown. The tool ends at RTP above ``features.end``. False when a level is
+    not a number."""
     state = runner.state
     first, second, axis = state.plane_axes
     side, start, depth = levels(params)
     rtp = _get(params, "RTP")
-    known = [value for point in points if point is not None for value in point]
+    known = [value for point in features.points if point is not None for value in point]
     if side is None or any(type(value) is not float for value in (start, depth, rtp, *known)):
         return False
     name = op.cycle
     programmed_feed = state.feed
     plunge_feed = _get(params, "FFD")
-    for point in points:
+    for point in features.points:
         if point is None:
             runner._rapid_to({axis: rtp}, op.span, block, "approach", name)
             state.move_to({first: None, second: None})
         else:
             runner._rapid_to({first: point[0], second: point[1], axis: rtp}, op.span, block, "approach", name)
-        runner._rapid_to({axis: start}, op.span, block, "approach", name)
+        runner._rapid_to({axis: start}, op.span, block, "into-hole" if features.in_bore else "approach", name)
         if type(plunge_feed) is float and plunge_feed > 0:
             state.feed = plunge_feed  # the depth feed is a parameter of the cycle
-        runner._rapid_to({axis: depth}, op.span, block, "infeed", name, "rapid" if rapid_plunge else "feed")
+        runner._rapid_to({axis: depth}, op.span, block, "infeed", name, "rapid" if features.g0_insertion else "feed")
         state.feed = programmed_feed
         runner._rapid_to({axis: rtp}, op.span, block, "out-of-hole", name)
-    if end is None:
+    if features.end is None:
         state.move_to({first: None, second: None})
     else:
-        runner._rapid_to({first: end[0], second: end[1]}, op.span, block, "retract", name)
+        runner._rapid_to({first: features.end[0], second: features.end[1]}, op.span, block, "retract", name)
     return True
 
 
@@ -283,7 +296,7 @@ def _centre(first: str, second: str, g0_insertion: bool = False):
     ``g0_insertion``: the cycle's VARI tens digit 0 plunges with G0."""
     def features(params, state):
         centre = (params.get(first), params.get(second))
-        return [centre], centre, g0_insertion and _inserts_with_g0(params)
+        return Features([centre], centre, g0_insertion and _inserts_with_g0(params))
     return features
 
 
@@ -306,7 +319,7 @@ def _rectangular_pocket(params, state):
         centre = (x + length / 2 * cos - width / 2 * sin, y + length / 2 * sin + width / 2 * cos)
     else:
         centre = None
-    return [centre], centre, _inserts_with_g0(params)
+    return Features([centre], centre, _inserts_with_g0(params))
 
 
 def _slots_on_a_circle(params, state):
@@ -315,24 +328,27 @@ def _slots_on_a_circle(params, state):
     count, increment = params.get("NUM"), params.get("INDA", 0.0)
     names = ("CPA", "CPO", "RAD", "STA1")
     if type(count) is not float or not 1 <= count <= 1000 or type(increment) is not float or any(type(params.get(n, 0.0)) is not float for n in names):
-        return [None], None, False
+        return Features([None], None)
     x, y, radius, angle = (params.get(name, 0.0) for name in names)
     step = increment or 360.0 / count
     points = [(x + radius * math.cos(math.radians(angle + k * step)), y + radius * math.sin(math.radians(angle + k * step))) for k in range(int(count))]
-    return points, None, False
+    return Features(points, None)
 
 
 def _computed_start(inserts_with_g0: bool):
     """A feature whose start point the cycle computes (SLOT1, LONGHOLE: where on the slot the
     reference puts RAD is not recoverable; spigots start outside the blank; external threads
     on the outer diameter): the moves along the infeed axis only."""
-    return lambda params, state: ([None], None, inserts_with_g0 and _inserts_with_g0(params))
+    return lambda params, state: Features([None], None, inserts_with_g0 and _inserts_with_g0(params))
 
 
 def _thread(params, state):
-    """CYCLE90: an internal thread (TYPTH 0) starts and ends at the centre CPA/CPO at RTP; an
-    external one on the outer diameter (seed A L5203-5287)."""
-    return (_centre("CPA", "CPO") if params.get("TYPTH", 0.0) == 0.0 else _computed_start(False))(params, state)
+    """CYCLE90: an internal thread (TYPTH 0) starts and ends at the centre CPA/CPO at RTP and
+    reaches RFP + SDIS inside its bore (below the surface when milled bottom up); an external
+    one starts on the outer diameter (seed A L5203-5296)."""
+    if params.get("TYPTH", 0.0) != 0.0:
+        return _computed_start(False)(params, state)
+    return _centre("CPA", "CPO")(params, state)._replace(in_bore=True)
 
 
 # Seed A: POCKET1 L6575-6600, POCKET2 L6892, POCKET3 L7058-7106, POCKET4 L7636, SLOT1 L5836-5860,
