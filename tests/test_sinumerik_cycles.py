@@ -455,3 +455,24 @@ def test_an_internal_thread_milled_bottom_up_enters_its_bore_unknown_not_violate
                     "N50 CYCLE90(8, -20, 2, 0, 0, 16, 14, 2, 300, 3, 0, 60, 40)\n")
     found = [d for d in result.diagnostics if d.rule == "core.rapid-into-stock" and d.span.line == 8]
     assert found and all(d.status is Status.UNKNOWN for d in found)
+
+
+@pytest.mark.parametrize("call, expected", [
+    ("CYCLE71(10, 0, 2, -1, 0, 0, 80, 60, 0, 4, 6, 5, 0, 0, 31, 5)", "61003"),
+    ("POCKET4(10, 0, 2, -6, 20, 60, 40, 3, 0.2, 0.1, 600, 150, 2, 21, 6, 0, 0, 0, 2)", "61108"),
+    ("POCKET3(10, 0, 2, -6, 60, 40, 8, 60, 40, 0, 3, 0.2, 0.1, 300, 100, 2, 31)", "no plunge angle _RAD1"),
+    ("POCKET1(10, 0, 2, -6, 0, 60, 40, 8, 50, 50, 0, 100, 300, -3, 2, 0.2, 0)", "MID=-3"),
+    ("CYCLE83(10, 0, 2, -40, 0, 0, -5, 1, 0, 0, 1, 0)", "FDPR=-5"),
+])
+def test_more_parameter_values_the_cycles_reject(call, expected):
+    found = messages(milled(f"N40 {call}\n"), "sinumerik.cycle-parameter-range")
+    assert any(expected in message for message in found), found
+
+
+@pytest.mark.parametrize("call", [
+    "CYCLE71(10, 0, 2, -1, 0, 0, 80, 60, 0, 4, 6, 5, 0, 2000, 31, 5)",
+    "POCKET4(10, 0, 2, -6, 20, 60, 40, 3, 0.2, 0.1, 600, 150, 2, 21, 6, 0, 0, 4, 2)",
+    "POCKET3(10, 0, 2, -6, 60, 40, 8, 60, 40, 0, 3, 0.2, 0.1, 300, 100, 2, 31, 0, 0, 0, 0, 5)",
+])
+def test_the_same_calls_with_their_values_set(call):
+    assert not messages(milled(f"N40 {call}\n"), "sinumerik.cycle-parameter-range")
