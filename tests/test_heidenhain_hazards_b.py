@@ -30,7 +30,7 @@ HAZARDS: dict[int, tuple[str, ...] | str] = {
     7: ("heidenhain.contour-def",),  # CONTOUR DEF counts; DECLARE CONTOUR / SEL CONTOUR are not modelled
     8: ("heidenhain.contour-def",),  # DEPTH against the cycle depth; island heights are not compared with the surface
     9: ("heidenhain.contour-def",),
-    10: "not checked yet: the reader keeps the nominal size of a tolerance (Q218=10H7) and does not parse the tolerance",
+    10: ("heidenhain.tolerance",),  # the form is checked; a fit's band (ISO 286 tables) is not computed, its size stays unknown
     # B. heights, depths, directions
     11: ("heidenhain.positive-depth", "heidenhain.zero-depth"),
     12: ("heidenhain.parameter-range",),  # 275 Q202 > 0; a Q10 sign unlike Q1 is left alone (the manual's own examples mix them)
@@ -486,3 +486,32 @@ def test_cycle_14_takes_at_most_twelve_labels():
     subprograms = "".join(SQUARE.replace("LBL 1", f"LBL {index}") for index in range(1, 14))
     assert "at most 12" in findings(check(sl_program(subprograms, labels=labels)), "heidenhain.contour-subprogram")[0].message
     assert not findings(check(sl_program(subprograms, labels=labels.rsplit(" /", 1)[0])), "heidenhain.contour-subprogram")
+
+
+@pytest.mark.parametrize("text, size", [("10+0.01-0.015", 9.9975), ("10m", 10.0), ("60", None), ("10H", None), ("10h7", "fit"), ("10js6", "fit"), ("10Hh7", None)])
+def test_toleranced_sizes_read_as_the_middle_of_their_band(text, size):
+    from ncverify.lower.heidenhain_tolerance import toleranced
+
+    found = toleranced(text)
+    if size == "fit":
+        assert found is not None and type(found) is not float
+    elif size is None:
+        assert found is None
+    else:
+        assert found == pytest.approx(size)
+
+
+def test_an_unreadable_tolerance_is_reported_and_a_readable_one_sizes_the_pocket():
+    def shape(diameter):
+        return ("CYCL DEF 1272 OCM CIRCLE ~\n    Q650=+0 ;FIGURE TYPE ~\n    Q223=" + diameter + " ;CIRCLE DIAMETER ~\n    Q367=+0 ;POSITION ~\n"
+                "    Q203=+0 ;SURFACE COORDINATE ~\n    Q201=-10 ;DEPTH ~\n    Q368=+0.2 ;ALLOWANCE FOR SIDE ~\n    Q369=+0.1 ;ALLOWANCE FOR FLOOR ~\n"
+                "    Q260=+50 ;CLEARANCE HEIGHT ~\n    Q578=+0.2 ;INSIDE CORNER FACTOR\n")
+    rough = ("CYCL DEF 272 OCM ROUGHING ~\n    Q202=+5 ;PLUNGING DEPTH ~\n    Q370=+0.4 ;TOOL PATH OVERLAP ~\n    Q207=+500 ;FEED RATE MILLING ~\n"
+             "    Q568=+0.6 ;PLUNGING FACTOR ~\n    Q253=+750 ;F PRE-POSITIONING ~\n    Q200=+2 ;SET-UP CLEARANCE ~\n    Q438=+0 ;ROUGH-OUT TOOL\n")
+    def run(diameter):
+        return check(program(f"{shape(diameter)}{rough}L  X+50  Y+50 R0 FMAX M99\nL  Z+100 R0 FMAX M30\n"), TOOL_R5)
+    assert findings(run('"50+0.05"'), "heidenhain.tolerance")
+    readable = run('"50+0.05-0"')
+    assert not findings(readable, "heidenhain.tolerance") and not findings(readable, "heidenhain.tool-too-large")
+    assert findings(run('"12+0.05-0"'), "heidenhain.tool-too-large")  # a 12 mm circle is too small for the 10 mm tool: the size was read
+    assert findings(run('"50H7"'), "heidenhain.tool-too-large", Status.UNKNOWN)

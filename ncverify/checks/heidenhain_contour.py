@@ -442,3 +442,15 @@ class PilotDrill(_CycleRule):
             self.report("heidenhain.pilot-drill", spans.get("Q13", span), f"cycle 21 drills with T{show(state.tool_in_spindle)} (R={drill.radius:g}) the plunge holes "
                         f"for rough-out tool T{rougher:g} (R={roughing.radius:g}): the holes are placed where the smaller rougher fits, so the larger drill "
                         "cuts into the contour's walls in narrow places")
+
+
+@rule("heidenhain.tolerance")
+class ToleranceText(_CycleRule):
+    """A10: a toleranced dimension of an OCM shape that is none of the forms the control reads."""
+
+    def judge_cycle(self, number, params, spans, span, state):
+        for name, text in params.get("@bad_tolerances", ()):
+            where = spans.get(name, span)
+            if self.first_time(state, ("tolerance", where)):
+                self.report("heidenhain.tolerance", where, f"cycle {number}: {name}=\"{text}\" is not a tolerance the control reads (10+0.01-0.015, an ISO 286 fit "
+                            "such as 10H7, or an ISO 2768 class such as 10m; H is a hole, h a shaft): machining stops with an error (seed L12155-12190)")

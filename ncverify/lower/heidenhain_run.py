@@ -350,6 +350,7 @@ def _define_run(runner, op, block, model, params):
             else:
                 interp._fault("core.unsupported-code", op.param_spans.get(name, op.span), f"{name} is PREDEF but no GLOBAL DEF before it gives the value: "
                               "the control's stored default is not known here", "unknown", "PREDEF without GLOBAL DEF")
+    _read_tolerances(params, cycle_model)
     if number in DEF_ACTIVE:
         return _def_active(runner, op, block, number, params, cycle_model)
     definition = Definition(number, params, dict(op.param_spans), op.span, cycle_model)
@@ -359,6 +360,25 @@ def _define_run(runner, op, block, model, params):
         interp._fault("core.unsupported-code", op.span, f"cycle {number} is read but not modelled; checks that depend on its motion answer unknown",
                       "unknown", f"cycle {number}")
     return None
+
+
+def _read_tolerances(params: dict, cycle_model: dict) -> None:
+    """A toleranced dimension written as text (``Q218="10H7"``) becomes the size the control
+    machines; texts it cannot read go to the rules as ``@bad_tolerances``."""
+    from .heidenhain_tolerance import toleranced
+
+    unreadable = []
+    for name, spec in cycle_model.get("params", {}).items():
+        text = params.get(name)
+        if spec.get("tolerance") and isinstance(text, str) and text not in ("PREDEF", "AUTO", "FMAX"):
+            size = toleranced(text)
+            if size is None:
+                unreadable.append((name, text))
+                del params[name]
+            else:
+                params[name] = size
+    if unreadable:
+        params["@bad_tolerances"] = tuple(unreadable)
 
 
 def _def_active(runner, op, block, number, params, cycle_model):
