@@ -22,11 +22,11 @@ HAZARDS: dict[str, tuple[str, ...] | str] = {
     "H1": ("heidenhain.positive-depth",),  # 240 by depth or diameter, 232/233 by Q227 vs Q386
     "H2": ("heidenhain.positive-depth",),  # what it must not report: 204's Q249 > 0, a negative pitch (tested below)
     "H3": ("heidenhain.zero-depth",),  # 263-267: a zero countersink depth skips only its own step and is not reported
-    "H4": ("heidenhain.usable-length",),  # Q201 and Q1 depths; 204 (Q249), 240 and 233 depths are not compared with LU
+    "H4": ("heidenhain.usable-length",),  # Q201, Q1, 204's Q249, 232/233's Q227 - Q386; 240 by diameter is not compared with LU
     "H5": ("heidenhain.thread-depth-signs",),
     "H6": ("heidenhain.thread-depth",),  # the derived comparison with an earlier hole's depth is not made
     "H7": "not covered: the axial compensating move of 262/263/267 is not modelled, so the blind-hole depth it needs is not checked",
-    "H8": "not covered: 206's feed Q206 is not compared with S x pitch, and M3/M4 with the thread hand",
+    "H8": ("heidenhain.tap-pitch",),  # 206: Q206 against S x PITCH; M3/M4 against the thread hand is not checked
     "H9": ("heidenhain.tap-pitch",),
     "H10": ("core.spindle-off-cutting",),  # 207/209 leave the spindle as they found it; the servo-spindle need is H45
     "H11": ("heidenhain.plunge-angle",),  # PREDEF from GLOBAL DEF 110 is resolved before the check
@@ -229,6 +229,25 @@ def test_back_boring_upward_q249_is_not_a_positive_depth():
     assert not lines(result, "heidenhain.positive-depth")
 
 
+def floating_tap(feed: str) -> str:
+    return program(f"""5  CYCL DEF 206 TAPPING ~
+    Q200=+2 ;SET-UP CLEARANCE ~
+    Q201=-10 ;DEPTH OF THREAD ~
+    Q206={feed} ;FEED RATE FOR PLNGNG ~
+    Q211=+0 ;DWELL TIME AT DEPTH ~
+    Q203=+0 ;SURFACE COORDINATE ~
+    Q204=+50 ;2ND SET-UP CLEARANCE
+6  L  X+30  Y+30 R0 FMAX M99""", tool="TOOL CALL 1 Z S500")
+
+
+def test_h8_floating_tapping_feed_not_s_times_pitch_is_reported():
+    project = "[tools.1]\nradius = 4\npitch = 1.5"
+    result = check(floating_tap("+150"), project)
+    assert lines(result, "heidenhain.tap-pitch") == [9]
+    assert "750" in messages(result, "heidenhain.tap-pitch")[0]
+    assert not lines(check(floating_tap("+750"), project), "heidenhain.tap-pitch")
+
+
 # --------------------------------------------------------------------------- core rules the map names, on Klartext
 
 
@@ -247,6 +266,33 @@ def test_h27_a_retract_level_inside_the_blank_is_reported():
 def test_h28_an_in_plane_rapid_below_the_top_of_the_blank_is_reported():
     assert lines(check(program("5  L  X+10  Y+10 R0 FMAX\n6  L  Z-2 F100\n7  L  X+50  Y+50 R0 FMAX")), "core.rapid-into-stock") == [8, 9]  # and up out of it
     assert not lines(check(program("5  L  X+10  Y+10 R0 FMAX\n6  L  Z+2 F100\n7  L  X+50  Y+50 R0 FMAX")), "core.rapid-into-stock")
+
+
+LU_20 = "[tools.1]\nradius = 5\nusable_length = 20"
+
+
+def test_h4_face_milling_deeper_than_the_usable_length_is_reported():
+    assert lines(check(program(face(top="+0", end="-25")), LU_20), "heidenhain.usable-length") == [11]
+    assert not lines(check(program(face()), LU_20), "heidenhain.usable-length")
+
+
+def test_h4_back_boring_measures_the_counterbore_q249():
+    body = """5  CYCL DEF 204 BACK BORING ~
+    Q200=+2 ;SET-UP CLEARANCE ~
+    Q249=+{} ;DEPTH OF COUNTERBORE ~
+    Q250=+20 ;MATERIAL THICKNESS ~
+    Q251=+3.5 ;OFF-CENTER DISTANCE ~
+    Q252=+15 ;TOOL EDGE HEIGHT ~
+    Q253=+750 ;F PRE-POSITIONING ~
+    Q254=+200 ;F COUNTERSINKING ~
+    Q255=+0 ;DWELL TIME ~
+    Q203=+0 ;SURFACE COORDINATE ~
+    Q204=+50 ;2ND SET-UP CLEARANCE ~
+    Q214=+1 ;DISENGAGING DIRECTN ~
+    Q336=+0 ;ANGLE OF SPINDLE
+6  L  X+50  Y+50 R0 FMAX M99"""
+    assert lines(check(program(body.format(25)), LU_20), "heidenhain.usable-length") == [8]
+    assert not lines(check(program(body.format(5)), LU_20), "heidenhain.usable-length")
 
 
 # --------------------------------------------------------------------------- H15 stud approach

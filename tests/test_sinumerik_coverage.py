@@ -105,7 +105,7 @@ HAZARDS_B = {
     41: MACHINE_DATA + " (the master spindle)",
     42: ("sinumerik.undercut-feed",),
     43: MODELLED,
-    44: "the workpiece directory and the names of other programs' contours are outside one program",
+    44: ("sinumerik.extended-stock-removal",),  # RND/CHF at the end, contours coinciding; names and directories are outside one program
     45: MACHINE_DATA + " (option, HMI, NCK software)",
     46: "the recutting offset is a GUD value stored at run time",
 }

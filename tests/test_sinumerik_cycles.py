@@ -476,3 +476,16 @@ def test_more_parameter_values_the_cycles_reject(call, expected):
 ])
 def test_the_same_calls_with_their_values_set(call):
     assert not messages(milled(f"N40 {call}\n"), "sinumerik.cycle-parameter-range")
+
+
+def test_a_finished_contour_running_along_the_blank_splits_the_material():
+    """X50 from Z-20 to Z-30 lies on the blank's outer diameter: the material on either side is not connected."""
+    program = EXTENDED.format(finished='"", "PART_START", "PART_END"', diameter=40, close=0).replace(
+        "N120 Z-50", "N112 X50\nN114 Z-30\nN116 X40\nN120 Z-50")
+    found = messages(turned(program), "sinumerik.extended-stock-removal")
+    assert found and "runs along the blank contour" in found[0] and "from Z-20 X50 to Z-30 X50" in found[0]
+
+
+def test_a_cycle950_contour_ending_with_a_rounding():
+    program = EXTENDED.format(finished='"", "PART_START", "PART_END"', diameter=40, close=0).replace("N120 Z-50", "N120 Z-50 RND=2")
+    assert any("carries RND/CHF" in message for message in messages(turned(program), "sinumerik.extended-stock-removal"))

@@ -35,6 +35,26 @@ def _tool(rule_instance, state, span, rule_id, what: str):
     return tool
 
 
+# Where the depth the usable length must reach is not Q201 (reference A H4): back boring
+# counterbores Q249 from the underside, 240 by depth only when Q343 = 0, face milling takes
+# Q227 - Q386.
+_DEPTH_OF = {204: ("Q249",), 240: ("Q201",), 232: ("Q227", "Q386"), 233: ("Q227", "Q386")}
+
+
+def _machining_depth(number, params):
+    """The parameters the depth a cycle machines is read from, and its value (None where
+    it is not given or not stated)."""
+    if number in _SL_CYCLES:
+        return ("Q1",), params.get("Q1")
+    names = _DEPTH_OF.get(number, ("Q201",))
+    if number == 240 and params.get("Q343", 0.0) != 0.0:
+        return ("Q344",), None  # by diameter: the depth follows from the tool's point angle
+    found = [params.get(name) for name in names]
+    if any(value is None for value in found):
+        return names, None
+    return names, found[0] if len(found) == 1 else values.sub(*found)
+
+
 class _CycleRule(_ReportsMissingContext):
     """Judges every cycle execution, hole or pocket, once per definition and place."""
 
@@ -53,24 +73,31 @@ class UsableLength(_CycleRule):
     """H4: the control stops when the tool's usable length LU is shorter than the depth."""
 
     def judge_cycle(self, number, params, spans, span, state):
-        name = "Q1" if number in _SL_CYCLES else "Q201"
-        depth = params.get(name)
-        if (number not in _DEPTH_CHECKED and number not in _SL_CYCLES) or depth is None or not self.first_time(state, ("usable-length", span)):
+        if number not in _DEPTH_CHECKED and number not in _SL_CYCLES and number not in _DEPTH_OF:
+            return
+        names, depth = _machining_depth(number, params)
+        if depth is None or not self.first_time(state, ("usable-length", span)):
             return
         tool = _tool(self, state, span, "heidenhain.usable-length", "usable_length")
         if tool is None:
             return
         verdict = self.checker.judge(hazard(">", values.absolute(depth), tool.usable_length), state)
-        self.checker.report_verdict("heidenhain.usable-length", spans.get(name, span),
-                                    f"cycle {number}: depth {name}={show(depth)} is deeper than the usable length LU={tool.usable_length:g} of tool T{show(state.tool_in_spindle)}: "
+        self.checker.report_verdict("heidenhain.usable-length", spans.get(names[-1], span),
+                                    f"cycle {number}: depth {' - '.join(names)}={show(depth)} is deeper than the usable length LU={tool.usable_length:g} of tool T{show(state.tool_in_spindle)}: "
                                     "the control stops with an error before machining (seed L1625-1626)", verdict, state)
 
 
 @rule("heidenhain.tap-pitch")
 class TapPitch(_CycleRule):
-    """H9: with a PITCH in the tool table, 207/209 compare it with Q239 and stop on a mismatch."""
+    """H9: with a PITCH in the tool table, 207/209 compare it with Q239 and stop on a mismatch.
+    H8: 206 in a floating holder feeds Q206, which must be S x PITCH."""
+
+    tolerance = 0.01  # relative: what the floating holder takes up is not stated
 
     def judge_cycle(self, number, params, spans, span, state):
+        if number == 206:
+            self._floating_feed(params, spans, span, state)
+            return
         pitch = params.get("Q239")
         if number not in (207, 209) or pitch is None or not self.first_time(state, ("tap-pitch", span)):
             return
@@ -81,6 +108,20 @@ class TapPitch(_CycleRule):
         self.checker.report_verdict("heidenhain.tap-pitch", spans.get("Q239", span),
                                     f"cycle {number}: thread pitch Q239={show(pitch)} differs from the PITCH {tool.pitch:g} of tap T{show(state.tool_in_spindle)} in the tool table: "
                                     "the control stops with an error (seed L3918-3920)", verdict, state)
+
+
+    def _floating_feed(self, params, spans, span, state):
+        feed, speed = params.get("Q206"), state.spindle_speed
+        if feed is None or speed is None or not self.first_time(state, ("tap-feed", span)):
+            return
+        tool = _tool(self, state, span, "heidenhain.tap-pitch", "pitch")
+        if tool is None:
+            return
+        expected = values.absolute(values.mul(speed, tool.pitch))
+        verdict = self.checker.judge(hazard(">", values.absolute(values.sub(feed, expected)), values.mul(expected, self.tolerance)), state)
+        self.checker.report_verdict("heidenhain.tap-pitch", spans.get("Q206", span),
+                                    f"cycle 206: feed Q206={show(feed)} is not the spindle speed S{show(speed)} times the PITCH {tool.pitch:g} of tap "
+                                    f"T{show(state.tool_in_spindle)} = {show(expected)}: the tap cuts a second thread or breaks (seed L3786-3788)", verdict, state)
 
 
 @rule("heidenhain.plunge-angle")

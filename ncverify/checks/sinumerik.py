@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import math
 
-from shapely.geometry import Point, Polygon
+from shapely.geometry import LineString, Point, Polygon
 
 from .. import values
 from ..check import Rule, hazard, rule, show
@@ -696,8 +696,11 @@ def _point(point, state) -> str:
 
 @rule("sinumerik.extended-stock-removal")
 class ExtendedStockRemoval(_ReportsMissingContext):
-    """CYCLE950 (reference B section 11.3, seed L19404-19510): a finished contour must be named
-    (61701), a blank contour must be closed (61740) and hold the finished contour (61735)."""
+    """CYCLE950 (reference B sections 6.8 and 11.3, seed L18265-18273, L18755-18765,
+    L19404-19510): a finished contour must be named (61701), a blank contour must be closed
+    (61740) and hold the finished contour (61735); neither contour may end with RND/CHF, and
+    the two must not run together in the middle of the finished contour (the material to
+    remove must be connected)."""
 
     def cycle_run(self, run, state):
         if run.cycle != "sinumerik.CYCLE950":
@@ -710,20 +713,34 @@ class ExtendedStockRemoval(_ReportsMissingContext):
         for facts, what in ((finished, "finished"), (blank, "blank")):
             if facts is not None and not facts.found:
                 self.missing("sinumerik.extended-stock-removal", run.span, f"the {what} contour \"{facts.name}\" of CYCLE950 is not in this file or on the subprogram path")
+            elif facts is not None and facts.rounded_end is not None:
+                self.report("sinumerik.extended-stock-removal", facts.rounded_end,
+                            f"CYCLE950: the last element of the {what} contour \"{facts.name}\" carries RND/CHF: not allowed (seed B L18265-18273)")
         if blank is None or not blank.found or not blank.points:
             return
         if not blank.closed():
             (start, _), (end, end_span) = blank.points[0], blank.points[-1]
             self.report("sinumerik.extended-stock-removal", end_span,
                         f"CYCLE950: the blank contour \"{blank.name}\" ends at {_point(end, state)}, not at its start {_point(start, state)}: would raise alarm 61740 \"blank must be a closed contour\"")
+        elif finished.found and finished.points and len(blank.points) >= 4:
+            self._finished_against_blank(finished, blank, state)
+
+    def _finished_against_blank(self, finished, blank, state):
+        outline = Polygon([point for point, _span in blank.points])
+        inside = outline.buffer(1e-6)
+        outside = next(((point, span) for point, span in finished.points if not inside.covers(Point(point))), None)
+        if outside is not None:
+            self.report("sinumerik.extended-stock-removal", outside[1],
+                        f"CYCLE950: the finished contour \"{finished.name}\" reaches {_point(outside[0], state)}, outside the blank contour \"{blank.name}\": "
+                        "would raise alarm 61735 \"finished part lies outside the blank contour\"")
             return
-        if finished.found and finished.points and len(blank.points) >= 4:
-            outline = Polygon([point for point, _span in blank.points]).buffer(1e-6)
-            outside = next(((point, span) for point, span in finished.points if not outline.covers(Point(point))), None)
-            if outside is not None:
-                self.report("sinumerik.extended-stock-removal", outside[1],
-                            f"CYCLE950: the finished contour \"{finished.name}\" reaches {_point(outside[0], state)}, outside the blank contour \"{blank.name}\": "
-                            "would raise alarm 61735 \"finished part lies outside the blank contour\"")
+        edge = outline.exterior.buffer(1e-6)
+        inner = list(zip(finished.points[1:-2], finished.points[2:-1]))
+        shared = next(((start, end, span) for (start, _), (end, span) in inner if math.dist(start, end) > 1e-6 and edge.covers(LineString([start, end]))), None)
+        if shared is not None:
+            self.report("sinumerik.extended-stock-removal", shared[2],
+                        f"CYCLE950: the finished contour \"{finished.name}\" runs along the blank contour \"{blank.name}\" from {_point(shared[0], state)} "
+                        f"to {_point(shared[1], state)}: the material to remove is split in two; the contours must not coincide piecewise (seed B L18755-18765)")
 
 
 # --------------------------------------------------------------------------- swivel, high-speed settings, engraving
