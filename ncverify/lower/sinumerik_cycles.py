@@ -413,11 +413,11 @@ def _named_contour(runner, op, params: dict, where: dict) -> ContourFacts | None
 
     if "name" in where:
         return read_contour(runner, op, text("name")) if text("name") else None
-    program, start, end = text("program"), _label(text("start")), _label(text("end"))
+    program, start, end = text("program"), text("start"), text("end")
     if not (program or start or end):
         return None
     shown = program + (f" {start}..{end}" if start or end else "")
-    return read_contour_section(runner, op, program or None, start or None, end or None, shown.strip())
+    return read_contour_section(runner, op, program or None, _label(start) or None, _label(end) or None, shown.strip())
 
 
 def _label(text: str) -> str:
