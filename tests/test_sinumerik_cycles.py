@@ -489,3 +489,20 @@ def test_a_finished_contour_running_along_the_blank_splits_the_material():
 def test_a_cycle950_contour_ending_with_a_rounding():
     program = EXTENDED.format(finished='"", "PART_START", "PART_END"', diameter=40, close=0).replace("N120 Z-50", "N120 Z-50 RND=2")
     assert any("carries RND/CHF" in message for message in messages(turned(program), "sinumerik.extended-stock-removal"))
+
+
+@hypothesis_settings(max_examples=30, deadline=None)
+@given(st.lists(st.tuples(st.integers(1, 10), st.integers(10, 60)), min_size=3, max_size=8), st.data())
+def test_a_contour_that_keeps_its_direction_along_z_is_never_an_overhang_and_one_step_back_always_is(steps, data):
+    z, points = 0, []
+    for step, diameter in steps:
+        z -= step
+        points.append((z, diameter))
+    blocks = "\n".join(f"N{10 * (k + 2)} X{x} Z{z}" for k, (z, x) in enumerate(points))
+    contour = f"N10 G1 X10 Z0\n{blocks}\nN999 M17\n"
+    call = "N40 G0 X90 Z5\nN50 CYCLE95(\"PROFILE\", 2.5, 0.1, 0.2, 0, 0.3, 0.15, 0.1, 9)\nN60 M30\n\n%_N_PROFILE_SPF\n"
+    assert not messages(turned(call + contour), "sinumerik.contour-direction")
+    back = data.draw(st.integers(0, len(points) - 1))
+    z_back, x_back = points[back]
+    turned_back = contour.replace(f"X{x_back} Z{z_back}\n", f"X{x_back} Z{z_back}\nN{10 * back + 15} Z{z_back + 0.5}\n", 1)
+    assert messages(turned(call + turned_back), "sinumerik.contour-direction")
