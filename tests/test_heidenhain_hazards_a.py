@@ -35,7 +35,7 @@ HAZARDS: dict[str, tuple[str, ...] | str] = {
     "H14": ("heidenhain.position-after-cycle",),
     "H15": ("heidenhain.stud-approach-room",),  # against the BLK FORM; fixtures are not known
     "H16": ("heidenhain.stud-blank",),  # 258's circumscribed diameter against Q222 is not checked
-    "H17": ("heidenhain.boring-drag",),  # Q214 = 0; M136 at the call is not checked
+    "H17": ("heidenhain.boring-drag", "heidenhain.boring-feed-per-revolution"),  # Q214 = 0, M136 at the call; Q357 is not judged
     "H18": ("heidenhain.back-boring-direction",),  # Q214 range; the clearance under the workpiece needs the fixture
     "H19": ("heidenhain.disengage-mirror",),
     "H20": "modelled, not a defect: cycle parameters are frozen at CYCL DEF and later assignments do not reach the call",
@@ -60,7 +60,7 @@ HAZARDS: dict[str, tuple[str, ...] | str] = {
     "H39": "modelled, not a defect: cycle 247 resets datum shift, mirror, rotation and scaling",
     "H40": ("core.rapid-into-stock", "core.clearance-below-stock"),
     "H41": ("heidenhain.depth-through-blank",),
-    "H42": ("heidenhain.working-plane",),  # the three spatial angles and every axis moved before a cycle; M94 and F/ABST are not checked
+    "H42": ("heidenhain.working-plane",),  # the three spatial angles, every axis moved before a cycle, M94; F/ABST and M91/M92 are not checked
     "H43": "undecidable: the datum table's values live on the machine, not in the program",
     "H44": ("heidenhain.cutting-length",),
     "H45": ("heidenhain.servo-spindle",),  # the servo spindle ([machine] spindle_encoder); software options and the floating tap holder are not judged
@@ -367,6 +367,32 @@ def test_a_cycle_after_a_tilt_before_every_axis_moved_is_reported():
 
 def test_a_cycle_after_a_tilt_and_a_move_of_every_axis_is_not():
     assert not lines(check(tilted("8  L  Z+80 R0 FMAX\n8  L  X+50  Y+50 R0 FMAX")), "heidenhain.working-plane")
+
+
+def test_m94_while_the_plane_is_tilted_is_reported():
+    assert lines(check(tilted("8  L  Z+80 R0 FMAX M94\n8  L  X+50  Y+50 R0 FMAX")), "heidenhain.working-plane") == [9]
+    assert not lines(check(program("5  L  Z+80 R0 FMAX M94")), "heidenhain.working-plane")
+
+
+def boring_after(m_function: str) -> str:
+    return program(f"""5  {m_function}
+6  CYCL DEF 202 BORING ~
+    Q200=+2 ;SET-UP CLEARANCE ~
+    Q201=-15 ;DEPTH ~
+    Q206=+0.1 ;FEED RATE FOR PLNGNG ~
+    Q211=+0.5 ;DWELL TIME AT DEPTH ~
+    Q208=+0.2 ;RETRACTION FEED RATE ~
+    Q203=+0 ;SURFACE COORDINATE ~
+    Q204=+50 ;2ND SET-UP CLEARANCE ~
+    Q214=+1 ;DISENGAGING DIRECTN ~
+    Q336=+0 ;ANGLE OF SPINDLE ~
+    Q357=+0.2 ;CLEARANCE TO SIDE
+7  L  X+50  Y+50 R0 FMAX M99""")
+
+
+def test_h17_boring_with_feed_per_revolution_does_not_retract():
+    assert lines(check(boring_after("M136")), "heidenhain.boring-feed-per-revolution") == [18]
+    assert not lines(check(boring_after("M136\n5  M137")), "heidenhain.boring-feed-per-revolution")
 
 
 # --------------------------------------------------------------------------- H44 cutting length

@@ -173,8 +173,14 @@ class WorkingPlane(Rule):
     L8027-8030, L8112-8114)."""
 
     _UNMOVED = ("working-plane-unmoved",)
+    _TILTED = ("working-plane-tilted",)
 
     def cycle_run(self, run, state):
+        if run.cycle == "heidenhain.@M94":
+            if state.rule_state.get(self._TILTED):
+                self.report("heidenhain.working-plane", run.span, "M94 (modal rotary axis display) while cycle 19 tilts the working plane: the actual and "
+                            "nominal positions of the rotary axes can part after further calls; position them with Q120-Q122 instead (seed L8095-8096)")
+            return
         if run.cycle != "heidenhain.19":
             self._machining(run.span, state)
             return
@@ -185,6 +191,7 @@ class WorkingPlane(Rule):
                         "instead of 0, so the plane is tilted differently from what the block shows; program all three spatial angles (seed L8044-8046)")
         tilted = any(run.params.get(axis, 0.0) != 0.0 for axis in given)
         state.rule_state[self._UNMOVED] = (frozenset(state.plane_axes), run.span.line) if tilted else None
+        state.rule_state[self._TILTED] = tilted
 
     def hole(self, hole, state):
         self._machining(hole.span, state)
@@ -333,3 +340,14 @@ class ServoSpindle(_CycleRule):
         elif not encoder and self.first_time(state, ("servo-spindle", span)):
             self.report("heidenhain.servo-spindle", span, f"cycle {_number(cycle)} {model.get('name', '')} needs a servo-controlled spindle, and this machine has none "
                         "([machine] spindle_encoder = false): the control refuses the cycle; bore or tap with a cycle the spindle can run (206 in a floating holder)")
+
+
+@rule("heidenhain.boring-feed-per-revolution")
+class BoringFeedPerRevolution(Rule):
+    """H17: with M136 (feed per revolution) active, cycle 202 stops the spindle at the bottom
+    of the bore and does not retract the tool (seed L1890-1897)."""
+
+    def hole(self, hole, state):
+        if _number(hole.cycle) == 202 and state.rule_state.get(("heidenhain", "feed_per_revolution")) and self.first_time(state, ("boring-m136", hole.span)):
+            self.report("heidenhain.boring-feed-per-revolution", hole.span, "cycle 202 is called while M136 (feed per revolution) is active: the spindle stops at "
+                        "the bottom of the bore and the tool is not retracted, so the next move drags it out or crashes; cancel M136 with M137 before the call (seed L1890-1897)")

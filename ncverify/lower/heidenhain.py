@@ -48,6 +48,9 @@ _PLAIN_WORD = re.compile(rb"(I?[XYZ]|F)([+-]?\d+(?:[.,]\d*)?)")
 _M_SPINDLE = {3.0: "cw", 4.0: "ccw", 5.0: "off", 13.0: "cw", 14.0: "ccw", 19.0: "orient"}
 _M_COOLANT = {7.0: "mist", 8.0: "flood", 9.0: "off", 13.0: "flood", 14.0: "flood"}
 _M_STOP = {0.0: "stop", 1.0: "optional", 2.0: "end", 30.0: "end"}
+# M functions rules watch: M94 (modal rotary axis display) after cycle 19, M136/M137 (feed
+# per revolution on/off) at cycle 202 (seed L8095, L1890-1897).
+_M_WATCHED = frozenset({94.0, 136.0, 137.0})
 
 
 class KlartextLowering:
@@ -380,6 +383,9 @@ class KlartextLowering:
                 block.ops.append(_pseudo(m_span, "spindle", {"state": "off"}))
             if _M_COOLANT.get(number) == "off":
                 block.ops.append(ir.Coolant(m_span, "off"))
+        for number, m_span in m_words:
+            if number in _M_WATCHED:
+                block.ops.append(_pseudo(m_span, "m_function", {"M": number}))
         for number, m_span in m_words:
             if number == 99.0:
                 block.ops.append(_pseudo(m_span, "call", {"how": "M99"}))

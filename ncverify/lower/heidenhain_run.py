@@ -1109,7 +1109,7 @@ _RUNNERS = {
     "pole": _pole_run, "arc": _arc_run, "tangent": _tangent_run, "polar": _polar_run, "retract": _retract_run,
     "tool_feed": _tool_feed_run, "label_call": _label_call_run, "end_pgm": _end_pgm_run, "define": _define_run,
     "old_cycle": _old_cycle_run, "trans": _trans_run, "pattern": _pattern_run, "call": _call_run,
-    "select_pattern": heidenhain_special.select_pattern_run,
+    "select_pattern": heidenhain_special.select_pattern_run, "m_function": heidenhain_special.m_function_run,
     "positioned": _positioned_run, "tool_length": _tool_length_run, "lift": _lift_run, "comp": _comp_run, "spindle": _spindle_run, "contour_def": _contour_def_run, "global_def": _global_def_run,
     "approach": _approach_run, "select_contour": _select_contour_run,
 }
@@ -1118,4 +1118,3 @@ _SPECIAL_FAMILIES = {"engrave": heidenhain_special.engrave, "face232": heidenhai
 
 for _what, _run in _RUNNERS.items():
     cycles.register_shape(f"heidenhain.{_what}", _run)
-

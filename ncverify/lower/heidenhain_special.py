@@ -177,3 +177,13 @@ def select_pattern_run(runner, op, block, model, params):
                              "unknown", "point table")
     run._put(runner.state, "pattern", None if points is None else tuple(points))
     return None
+
+
+def m_function_run(runner, op, block, model, params):
+    """M136 / M137 switch the feed per spindle revolution on and off (kept for the boring
+    cycle); M94 and the others reach the rules as a run of ``heidenhain.@M<n>``."""
+    number = params["M"]
+    if number in (136.0, 137.0):
+        run._put(runner.state, "feed_per_revolution", number == 136.0)
+    runner.interp.observer.cycle_run(CycleRun(f"heidenhain.@M{number:g}", {}, op.span, block, {}, {}), runner.state)
+    return None
