@@ -51,7 +51,7 @@ HAZARDS_A = {
     33: ("core.spindle-off-cutting",),
     34: MACHINE_DATA + " (a position-controlled spindle, the override switch)",
     35: ("sinumerik.first-depth", "sinumerik.cycle-parameter-range"),
-    36: "the depth of the pre-drilled hole and the free space around an external thread are not in the program",
+    36: ("sinumerik.thread-mill-bore",),  # a bore drilled in the program; external threads' free space is not judged
     37: ("sinumerik.cycle-parameter-range",),
     38: ("sinumerik.cycle-parameter-range", "sinumerik.path-milling-contour", "sinumerik.contour-section-runs"),
     39: ("sinumerik.pocket-contour",),

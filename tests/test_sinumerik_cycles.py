@@ -506,3 +506,15 @@ def test_a_contour_that_keeps_its_direction_along_z_is_never_an_overhang_and_one
     z_back, x_back = points[back]
     turned_back = contour.replace(f"X{x_back} Z{z_back}\n", f"X{x_back} Z{z_back}\nN{10 * back + 15} Z{z_back + 0.5}\n", 1)
     assert messages(turned(call + turned_back), "sinumerik.contour-direction")
+
+
+@pytest.mark.parametrize("bore, thread, reported", [
+    ("CYCLE81(10, 0, 2, -20)", "CYCLE90(10, 0, 2, -20, 0, 16, 14, 2, 300, 3, 0, 60, 40)", True),
+    ("CYCLE81(10, 0, 2, -21)", "CYCLE90(10, 0, 2, -20, 0, 16, 14, 2, 300, 3, 0, 60, 40)", False),
+    ("CYCLE81(10, 0, 2, -20)", "CYCLE90(8, -20, 2, 0, 0, 16, 14, 3, 300, 3, 0, 60, 40)", True),
+    ("CYCLE81(10, 0, 2, -22)", "CYCLE90(8, -20, 2, 0, 0, 16, 14, 3, 300, 3, 0, 60, 40)", False),
+    ("CYCLE81(10, 0, 2, -20)", "CYCLE90(10, 0, 2, -20, 0, 16, 14, 2, 300, 3, 0, 80, 40)", False),
+])
+def test_a_thread_milled_deeper_than_its_bore(bore, thread, reported):
+    found = messages(milled(f"N35 G0 X60 Y40\nN40 {bore}\nN50 {thread}\n"), "sinumerik.thread-mill-bore")
+    assert bool(found) is reported, found

@@ -981,3 +981,33 @@ class GrooveDwell(Rule):
             self.report("sinumerik.groove-dwell", run.param_spans.get("DTB", run.span),
                         f"CYCLE93: dwell DTB={show(dwell)} s is shorter than one revolution at S{show(speed)} ({revolution:.3g} s): "
                         "the groove base is not cut round; dwell at least one revolution")
+
+
+@rule("sinumerik.thread-mill-bore")
+class ThreadMillBore(Rule):
+    """An internal thread milled with CYCLE90 runs beyond the thread by its lead-in, at least
+    half a pitch (reference A section 9 item 36, seed L5305-5316: a thread from -20 to 0 with
+    pitch 3 needs the bore down to -21.5). A bore drilled earlier in the program at the
+    thread's centre must reach that far."""
+
+    def hole(self, hole, state):
+        first, second, _normal = state.plane_axes
+        place = (hole.position.get(first), hole.position.get(second), hole.bottom)
+        if hole.cycle.startswith("sinumerik.") and all(type(value) is float for value in place):
+            state.rule_state["sinumerik-bores"] = [*state.rule_state.get("sinumerik-bores", ()), (*place, hole.span)]
+
+    def cycle_run(self, run, state):
+        if run.cycle != "sinumerik.CYCLE90" or run.params.get("TYPTH", 0.0) != 0.0:
+            return
+        side, _start, depth = levels(run.params)
+        rfp, pitch, x, y = (run.params.get(name, 0.0) for name in ("RFP", "PIT", "CPA", "CPO"))
+        if side != 1.0 or any(type(value) is not float for value in (depth, rfp, pitch, x, y)):
+            return
+        needed = min(rfp, depth) - abs(pitch) / 2
+        axis = state.plane_axes[2]
+        for bore_x, bore_y, bottom, span in state.rule_state.get("sinumerik-bores", ()):
+            if math.dist((bore_x, bore_y), (x, y)) < 1e-6 and bottom > needed + 1e-9:
+                self.report("sinumerik.thread-mill-bore", run.span,
+                            f"CYCLE90: the bore drilled in line {span.line} ends at {axis}{bottom:g}, but the thread from {axis}{rfp:g} to {axis}{depth:g} "
+                            f"with pitch {abs(pitch):g} is milled down to {axis}{needed:g} at least (half a pitch beyond it): the cutter runs into the bottom of the bore")
+                return
