@@ -515,3 +515,18 @@ def test_an_unreadable_tolerance_is_reported_and_a_readable_one_sizes_the_pocket
     assert not findings(readable, "heidenhain.tolerance") and not findings(readable, "heidenhain.tool-too-large")
     assert findings(run('"12+0.05-0"'), "heidenhain.tool-too-large")  # a 12 mm circle is too small for the 10 mm tool: the size was read
     assert findings(run('"50H7"'), "heidenhain.tool-too-large", Status.UNKNOWN)
+
+
+def test_overlapping_pockets_are_combined_by_their_start_points():
+    """Cycle 14: the first pocket starting outside the second gives the union, inside it the
+    intersection (seed L9254-9320); CONTOUR DEF pockets are always joined."""
+    from shapely.geometry import Polygon
+
+    from ncverify.lower.heidenhain_contour import Contour, region
+
+    first, second = Polygon([(0, 0), (20, 0), (20, 10), (0, 10)]), Polygon([(10, 0), (30, 0), (30, 10), (10, 10)])
+    outside, inside = Contour(1, first, True, (0.0, 0.0)), Contour(1, first, True, (15.0, 5.0))
+    other = Contour(2, second, True, (30.0, 0.0))
+    assert region([outside, other], by_start_points=True).area == pytest.approx(300.0)
+    assert region([inside, other], by_start_points=True).area == pytest.approx(100.0)
+    assert region([inside, other]).area == pytest.approx(300.0)

@@ -10,6 +10,8 @@ from __future__ import annotations
 
 import math
 
+from shapely.geometry import Point
+
 from .. import frames, values
 from ..check import hazard, rule, show
 from .heidenhain import _CycleRule, _tool
@@ -149,8 +151,6 @@ class ContourOverlapStart(_CycleRule):
 
 
 def _overlap_faults(found, names):
-    from shapely.geometry import Point
-
     first = found[0]
     pockets = [contour.outline for contour in found if contour.pocket]
     for index, other in enumerate(found[1:], 1):

@@ -20,7 +20,7 @@ import math
 from dataclasses import dataclass
 
 import shapely
-from shapely.geometry import Polygon
+from shapely.geometry import Point, Polygon
 
 from .. import ir
 from ..dialect import logical_lines
@@ -91,15 +91,23 @@ def subprograms(interp, labels, span) -> list[Subprogram]:
     return found
 
 
-def region(found: list[Contour]):
-    """Union of the pockets less the islands; None when a contour's kind is ambiguous."""
+def region(found: list[Contour], by_start_points: bool = False):
+    """Union of the pockets less the islands; None when a contour's kind is ambiguous.
+    ``by_start_points`` (cycle 14): a first pocket that starts inside a later pocket it
+    overlaps is combined with it by intersection, not union (seed L9254-9320)."""
     if any(contour.pocket is None for contour in found):
         return None
-    pockets = [contour.outline for contour in found if contour.pocket]
+    pockets = [contour for contour in found if contour.pocket]
     islands = [contour.outline for contour in found if not contour.pocket]
     if not pockets:
         return None
-    area = shapely.union_all(pockets)
+    if by_start_points and found[0].pocket:
+        start = Point(found[0].start)
+        area = found[0].outline
+        for other in pockets[1:]:
+            area = area.intersection(other.outline) if other.outline.contains(start) else area.union(other.outline)
+    else:
+        area = shapely.union_all([contour.outline for contour in pockets])
     if islands:
         area = area.difference(shapely.union_all(islands))
     return area

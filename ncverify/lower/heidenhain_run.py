@@ -851,7 +851,7 @@ def _sl_cycle(runner, op, block, definition):
     kinds = _get(state, "sl_kinds")
     if found is not None and kinds is not None:
         found = [replace(contour, pocket=pocket) for contour, pocket in zip(found, kinds)]
-    area = region(found) if found else None
+    area = region(found, by_start_points=use.how == "cycle 14") if found else None
     facts = {"@region": area, "@contour": use, "@own_q": _own_reserved(state), "@last_rougher": _get(state, "sl_rougher")}
     _observe(runner, CycleRun(name, definition.model, op.span, block, params, spans), facts)
     if definition.number == 22:
