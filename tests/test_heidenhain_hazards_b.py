@@ -45,7 +45,7 @@ HAZARDS: dict[int, tuple[str, ...] | str] = {
     20: ("heidenhain.sl-allowance",),  # Q3 = 0, Q14 < Q3, Q14 + R_finish < Q3 + R_rough; contour milling with 24 (single island) is not
     21: ("heidenhain.tool-too-large", "heidenhain.plunge-angle"),  # the tool and Q3 against the resolved pocket, Q19 with ANGLE 0; centre cutting is not in TOOL.T
     22: ("heidenhain.usable-length",),  # LU against the depth; Q202 > LCUTS of 272 not reported (cutting-length covers 233/25x)
-    23: ("heidenhain.tool-too-large",),  # shapes 1271-1273 with R (1 + Q578) + Q368; corners of free OCM contours not checked
+    23: ("heidenhain.tool-too-large",),  # shapes 1271-1273 and 1278 with R (1 + Q578) + Q368; corners of free OCM contours not checked
     24: ("heidenhain.sl-allowance",),  # 274 Q14 < Q368; the contour-milling variant is not
     25: ("heidenhain.parameter-range",),  # Q353 < 0 and |Q353| >= |Q359|; T-ANGLE is not a tool-table column ncverify reads
     26: ("heidenhain.ocm-tool-corner",),
@@ -530,3 +530,20 @@ def test_overlapping_pockets_are_combined_by_their_start_points():
     assert region([outside, other], by_start_points=True).area == pytest.approx(300.0)
     assert region([inside, other], by_start_points=True).area == pytest.approx(100.0)
     assert region([inside, other]).area == pytest.approx(300.0)
+
+
+def polygon(diameter="+40", circumscribed="+0", corners="+6") -> str:
+    return ("CYCL DEF 1278 OCM POLYGON ~\n    Q650=+0 ;FIGURE TYPE ~\n    Q573=" + circumscribed + " ;REFERENCE CIRCLE ~\n    Q571=" + diameter + " ;REF-CIRCLE DIAMETER ~\n"
+            "    Q572=" + corners + " ;NUMBER OF CORNERS ~\n    Q660=+0 ;CORNER TYPE ~\n    Q220=+0 ;CORNER RADIUS ~\n    Q224=+0 ;ANGLE OF ROTATION ~\n"
+            "    Q203=+0 ;SURFACE COORDINATE ~\n    Q201=-10 ;DEPTH ~\n    Q368=+0.2 ;ALLOWANCE FOR SIDE ~\n    Q369=+0.1 ;ALLOWANCE FOR FLOOR ~\n"
+            "    Q260=+50 ;CLEARANCE HEIGHT ~\n    Q578=+0.2 ;INSIDE CORNER FACTOR\n")
+
+
+@pytest.mark.parametrize("diameter, circumscribed, reported", [("+12.5", "+0", False), ("+12.5", "+1", True), ("+12", "+0", True)])
+def test_a_polygon_pocket_must_hold_the_tool(diameter, circumscribed, reported):
+    """R 5 x 1.2 + 0.2 = 6.2 against the inscribed radius: D 12.5 inscribed fits, D 12.5 as the
+    circumscribed circle of a hexagon is 10.8 inscribed and does not, nor does D 12."""
+    rough = ("CYCL DEF 272 OCM ROUGHING ~\n    Q202=+5 ;PLUNGING DEPTH ~\n    Q370=+0.4 ;TOOL PATH OVERLAP ~\n    Q207=+500 ;FEED RATE MILLING ~\n"
+             "    Q568=+0.6 ;PLUNGING FACTOR ~\n    Q253=+750 ;F PRE-POSITIONING ~\n    Q200=+2 ;SET-UP CLEARANCE ~\n    Q438=+0 ;ROUGH-OUT TOOL\n")
+    text = program(f"{polygon(diameter, circumscribed)}{rough}L  X+50  Y+50 R0 FMAX M99\nL  Z+100 R0 FMAX M30\n")
+    assert bool(findings(check(text, TOOL_R5), "heidenhain.tool-too-large")) == reported

@@ -12,7 +12,7 @@ import math
 
 from shapely.geometry import Point
 
-from .. import frames, values
+from .. import frames, pocket, values
 from ..check import hazard, rule, show
 from .heidenhain import _CycleRule, _tool
 
@@ -454,3 +454,28 @@ class ToleranceText(_CycleRule):
             if self.first_time(state, ("tolerance", where)):
                 self.report("heidenhain.tolerance", where, f"cycle {number}: {name}=\"{text}\" is not a tolerance the control reads (10+0.01-0.015, an ISO 286 fit "
                             "such as 10H7, or an ISO 2768 class such as 10m; H is a hole, h a shaft): machining stops with an error (seed L12155-12190)")
+
+
+@rule("heidenhain.tool-too-large")
+class PolygonPocketFit(_CycleRule):
+    """C23: a 1278 polygon pocket must hold the tool: its inscribed circle (Q571 itself, or
+    Q571 cos(180/n) when Q571 is the circumscribed circle) against R (1 + Q578) + Q368, as
+    for the circle 1272 (seed L12600-12744, L10990-10997)."""
+
+    def judge_cycle(self, number, params, spans, span, state):
+        if number != 272 or params.get("@shape") != 1278.0 or params.get("Q650", 0.0) != 0.0 or not self.first_time(state, ("polygon-fit", span)):
+            return
+        diameter, corners, circumscribed = params.get("Q571"), params.get("Q572"), params.get("Q573", 0.0)
+        factor, allowance = params.get("Q578", 0.0), params.get("Q368", 0.0)
+        if any(type(value) is not float for value in (diameter, corners, circumscribed, factor, allowance)) or corners < 3:
+            self.missing("heidenhain.tool-too-large", span, "a polygon size that depends on a free parameter")
+            return
+        tool = _tool(self, state, span, "heidenhain.tool-too-large", "radius")
+        if tool is None:
+            return
+        inscribed = diameter * math.cos(math.pi / corners) if circumscribed == 1.0 else diameter
+        fit = pocket.circle_fit(inscribed, tool.radius * (1.0 + factor) + allowance)
+        if not fit.fits:
+            self.report("heidenhain.tool-too-large", spans.get("Q571", span), f"cycle 272 in the {corners:g}-cornered polygon of inscribed diameter {inscribed:g}: "
+                        f"{fit.reason} (tool T{show(state.tool_in_spindle)}, R={tool.radius:g}, with the inside corner factor Q578={factor:g} "
+                        f"and the allowance Q368={allowance:g}); the largest tool radius that fits is {max((fit.largest_radius - allowance) / (1.0 + factor), 0.0):.3g}")
