@@ -48,7 +48,7 @@ HAZARDS: dict[str, tuple[str, ...] | str] = {
     "H27": ("core.clearance-below-stock",),  # the retract level Q203 + max(Q200, Q204) against the BLK FORM; fixtures are not known
     "H28": ("core.rapid-into-stock",),
     "H29": ("heidenhain.plunge-angle",),  # ANGLE for Q366; T-ANGLE for Q395 and 240 and RCUTS are not checked
-    "H30": "not covered: the deepened starting point Q379 (205/241) and 240's Q342 are not modelled",
+    "H30": ("core.rapid-into-stock",),  # 205/241 go down to the deepened start Q379 at Q253 (FMAX: a rapid into the blank unless drilled); 240's Q342 is not modelled
     "H31": ("heidenhain.parameter-range",),
     "H32": ("heidenhain.peck-decrement",),  # Q212 without Q205; single pass and Q257 > Q202 are not reported
     "H33": ("heidenhain.tool-too-large",),
@@ -293,6 +293,39 @@ def test_h4_back_boring_measures_the_counterbore_q249():
 6  L  X+50  Y+50 R0 FMAX M99"""
     assert lines(check(program(body.format(25)), LU_20), "heidenhain.usable-length") == [8]
     assert not lines(check(program(body.format(5)), LU_20), "heidenhain.usable-length")
+
+
+def pecking(pre_positioning: str, earlier: str = "") -> str:
+    return program(f"""{earlier}5  CYCL DEF 205 UNIVERSAL PECKING ~
+    Q200=+2 ;SET-UP CLEARANCE ~
+    Q201=-30 ;DEPTH ~
+    Q206=+150 ;FEED RATE FOR PLNGNG ~
+    Q202=+5 ;PLUNGING DEPTH ~
+    Q203=+0 ;SURFACE COORDINATE ~
+    Q204=+50 ;2ND SET-UP CLEARANCE ~
+    Q212=+0 ;DECREMENT ~
+    Q205=+0 ;MIN. PLUNGING DEPTH ~
+    Q258=+0.2 ;UPPER ADV STOP DIST ~
+    Q259=+0.2 ;LOWER ADV STOP DIST ~
+    Q257=+0 ;DEPTH FOR CHIP BRKNG ~
+    Q256=+0.2 ;DIST FOR CHIP BRKNG ~
+    Q211=+0 ;DWELL TIME AT DEPTH ~
+    Q379=+10 ;STARTING POINT ~
+    Q253={pre_positioning} ;F PRE-POSITIONING
+6  L  X+50  Y+50 R0 FMAX M99""")
+
+
+def test_h30_a_rapid_to_the_deepened_start_point_goes_into_the_blank():
+    result = check(pecking("FMAX"))
+    assert lines(result, "core.rapid-into-stock") == [22]
+    assert cycle_moves(pecking("FMAX"), "heidenhain.205")[:2] == [("rapid", "approach", 2.0), ("rapid", "approach", -8.0)]
+
+
+def test_h30_the_deepened_start_point_at_a_feed_or_in_a_drilled_hole_is_no_rapid_into_the_blank():
+    assert not lines(check(pecking("+750")), "core.rapid-into-stock")
+    drilled = "5  " + DRILL + "\n5  L  X+50  Y+50 R0 FMAX M99\n"
+    result = check(pecking("FMAX", drilled))
+    assert not lines(result, "core.rapid-into-stock")
 
 
 # --------------------------------------------------------------------------- H15 stud approach

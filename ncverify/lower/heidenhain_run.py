@@ -783,8 +783,12 @@ def _hole(runner, op, block, definition, shift, surface_offset):
     if found is None:
         state.move_to({axis: None})  # levels not known (PREDEF, a keyword): the cycle runs, to heights not known here
         return None
+    deepened = _deepened_start(params, set_up, found[3])
+    deepened_predrilled = deepened is not None and _predrilled(state, deepened)
     _remember_hole(state, bottom)
     runner._rapid_to({axis: set_up}, op.span, block, "into-hole" if predrilled else "approach", name)
+    if deepened is not None:
+        _to_deepened_start(runner, op, block, deepened, params.get("Q253"), deepened_predrilled, name)
     spindle = state.spindle
     if model.get("spindle_by_cycle") and spindle == "off":
         state.spindle = "cw"  # rigid tapping runs the spindle itself; it stays stopped after (seed L3915-3917)
@@ -795,6 +799,26 @@ def _hole(runner, op, block, definition, shift, surface_offset):
     state.spindle = spindle
     runner._rapid_to({axis: retract}, op.span, block, "out-of-hole", name)  # on up the same axis
     return None
+
+
+def _deepened_start(params, set_up, direction):
+    """205 and 241 with a deepened starting point Q379 start drilling at the set-up clearance
+    above Q203 - Q379 (the retracts still go to Q203 + Q200); None without one."""
+    deepening = params.get("Q379")
+    if type(deepening) is not float or deepening <= 0.0:
+        return None
+    return values.add(set_up, values.mul(direction, deepening))
+
+
+def _to_deepened_start(runner, op, block, level, feed, predrilled: bool, name) -> None:
+    """Down to the deepened starting point at Q253, FMAX allowed: into solid material unless
+    a hole is already there (reference A H30, seed L2438-2441, L2651-2656)."""
+    axis = _plane(runner.state)[2]
+    if feed == "FMAX":
+        runner._rapid_to({axis: level}, op.span, block, "into-hole" if predrilled else "approach", name)
+        return
+    with _cycle_feed(runner.state, {"Q206": feed}):
+        runner._rapid_to({axis: level}, op.span, block, "infeed", name, "feed")
 
 
 def _back_bore(runner, op, block, definition, shift, surface_offset):
