@@ -8,6 +8,7 @@ import textwrap
 from pathlib import Path
 
 import pytest
+from hypothesis import given, settings as hypothesis_settings, strategies as st
 
 from ncverify import Settings, check_file, check_text
 from ncverify.check import rule_definitions
@@ -558,6 +559,16 @@ def test_face_milling_in_minus_x_starts_after_the_edge_on_the_other_side():
     assert lines(check(program(face(start_x="+95", length="-100"))), "heidenhain.face-milling-blank") == [8]
 
 
+@hypothesis_settings(max_examples=15, deadline=None)
+@given(st.integers(min_value=-20, max_value=20), st.integers(min_value=0, max_value=5))
+def test_face_milling_from_the_other_side_of_the_blank_is_judged_the_same(start, side):
+    """The blank spans X0..100: a face from X=start along +X mirrors one from 100-start along -X."""
+    def comes_down_on_the_blank(start_x: int, length: str) -> bool:
+        return bool(lines(check(program(face(start_x=f"{start_x:+d}", side=f"+{side}", length=length))), "heidenhain.face-milling-blank"))
+
+    assert comes_down_on_the_blank(start, "+100") == comes_down_on_the_blank(100 - start, "-100")
+
+
 def test_face_milling_levels_upside_down_or_equal():
     assert lines(check(program(face(top="-2", end="+0"))), "heidenhain.positive-depth") == [10]
     assert lines(check(program(face(top="+0", end="+0"))), "heidenhain.zero-depth") == [10]
@@ -604,6 +615,16 @@ def test_engraving_depth_sign_and_zero():
 def test_engraving_moves_in_at_the_plunging_feed_and_out_to_the_clearances():
     assert cycle_moves(program(engraving()), "heidenhain.225") == [
         ("rapid", "approach", 2.0), ("feed", "infeed", -0.5), ("rapid", "out-of-hole", 2.0), ("rapid", "retract", 50.0)]
+
+
+@hypothesis_settings(max_examples=15, deadline=None)
+@given(st.integers(min_value=2, max_value=40), st.integers(min_value=1, max_value=20), st.integers(min_value=1, max_value=20))
+def test_a_longer_text_is_never_judged_to_fit_where_a_shorter_one_does_not(characters, height, more):
+    def too_long(count: int) -> bool:
+        return bool(lines(check(program(engraving(text="W" * count, height=f"+{height}"))), "heidenhain.engraving-length"))
+
+    if too_long(characters):
+        assert too_long(characters + more)
 
 
 def test_engraved_characters_count_escapes_once_and_take_the_longest_line():
