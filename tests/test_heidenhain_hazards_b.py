@@ -27,7 +27,7 @@ HAZARDS: dict[int, tuple[str, ...] | str] = {
     4: ("heidenhain.contour-compensation",),  # 270 and CONTOUR DEF; DECLARE CONTOUR is not modelled
     5: ("heidenhain.contour-subprogram",),
     6: ("heidenhain.contour-subprogram",),
-    7: ("heidenhain.contour-def",),  # CONTOUR DEF counts; DECLARE CONTOUR / SEL CONTOUR are not modelled
+    7: ("heidenhain.contour-def",),  # CONTOUR DEF counts, DECLARE CONTOUR count and DEPTH all-or-none; the contour programs themselves are not read
     8: ("heidenhain.contour-def",),  # DEPTH against the cycle depth; island heights are not compared with the surface
     9: ("heidenhain.contour-def",),
     10: ("heidenhain.tolerance",),  # the form is checked; a fit's band (ISO 286 tables) is not computed, its size stays unknown
@@ -59,7 +59,7 @@ HAZARDS: dict[int, tuple[str, ...] | str] = {
     33: ("heidenhain.sl-prerequisites",),  # 14 / 20 / 271 before the call; T-ANGLE for 277 is not a tool-table column ncverify reads
     34: ("heidenhain.call-without-cycle",),  # a pattern with no machining cycle before it; the extra CYCL CALL after 220/221 is not warned
     35: ("heidenhain.pattern-compatibility",),
-    36: ("heidenhain.sl-q-parameters",),  # Q1-Q20 set before the call; contour programs behind SEL CONTOUR are not run
+    36: ("heidenhain.sl-q-parameters",),  # Q1-Q20 set before an SL call or a DECLARE CONTOUR; contour programs behind SEL CONTOUR are not run
     37: ("heidenhain.rougher-forgotten",),  # after CONTOUR DEF; SEL CONTOUR is not modelled
     38: "not a defect by itself: the cycles run with the data of the reaching definition, which is what the model does",
     39: "not reported: the program cycle 12 calls runs like CALL PGM, its Q writes reach the caller as on the control; no rule warns about them",
@@ -547,3 +547,23 @@ def test_a_polygon_pocket_must_hold_the_tool(diameter, circumscribed, reported):
              "    Q568=+0.6 ;PLUNGING FACTOR ~\n    Q253=+750 ;F PRE-POSITIONING ~\n    Q200=+2 ;SET-UP CLEARANCE ~\n    Q438=+0 ;ROUGH-OUT TOOL\n")
     text = program(f"{polygon(diameter, circumscribed)}{rough}L  X+50  Y+50 R0 FMAX M99\nL  Z+100 R0 FMAX M30\n")
     assert bool(findings(check(text, TOOL_R5), "heidenhain.tool-too-large")) == reported
+
+
+def contour_definition(*declarations: str, own: str = "") -> str:
+    lines = ["0  BEGIN PGM MODEL MM", *(f"DECLARE CONTOUR {declaration}" for declaration in declarations), *own.splitlines(),
+             "QC10 = ( QC1 | QC2 ) \\ QC3", "99 END PGM MODEL MM"]
+    return "\n".join(lines) + "\n"
+
+
+def test_a_contour_definition_program_reads_and_gives_a_depth_to_all_contours_or_none():
+    clean = check(contour_definition('QC1 = "120"', 'QC2 = "121"', 'QC3 = "122"'))
+    assert not [d for d in clean.diagnostics if d.status is Status.VIOLATED]
+    mixed = check(contour_definition('QC1 = "120"', 'QC2 = "121" DEPTH15', 'QC3 = "122"'))
+    assert [d.span.line for d in findings(mixed, "heidenhain.contour-def")] == [3]
+    assert not findings(check(contour_definition('QC1 = "120" DEPTH0', 'QC2 = "121" DEPTH15', 'QC3 = "122" DEPTH5')), "heidenhain.contour-def")
+
+
+def test_a_contour_definition_program_setting_q1_to_q20_is_warned():
+    text = contour_definition('QC1 = "120"', 'QC2 = "121"', own="Q3 = 25\nQ103 = 4").replace("QC10", 'DECLARE CONTOUR QC3 = "122"\nQC10')
+    assert "Q3" in findings(check(text), "heidenhain.sl-q-parameters")[0].message
+    assert not findings(check(text.replace("Q3 = 25", "Q23 = 25")), "heidenhain.sl-q-parameters")

@@ -159,3 +159,11 @@ def test_the_sl_and_ocm_example_programs_give_no_part_b_contour_finding(first, l
     """The manual's SL, contour-train and OCM programs (reference B §10): islands that end
     short of their start, SEL CONTOUR, open pockets and shapes are all read as the control does."""
     assert not _violated(_check(_program(first, last), f"manual-L{first}.h")) & _PART_B_RULES
+
+
+def test_the_model_contour_program_sets_q1_to_q3_which_the_sl_cycles_use():
+    """Seed L14687-14705: MODEL assigns Q1-Q3 for its contour 121 while the SL cycles keep
+    their data there (seed L9360-9361, reference B H36); its contour formula reads."""
+    result = _check(_program(14687, 14705), "model.h")
+    assert "heidenhain.sl-q-parameters" in _violated(result)
+    assert "core.syntax" not in _violated(result)

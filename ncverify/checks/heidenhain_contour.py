@@ -23,6 +23,7 @@ _OCM = {272, 273, 274, 277}
 _CORNER_DEGREES = 10.0  # arcs are walked in 5-degree chords: a sharper turn is a corner
 _CONTOUR_DEF_LIMITS = {"subcontours": 9, "voids": 5}  # seed L14785-14797
 _LABELS_MAX = 12  # subcontours in cycle 14 (seed L9195-9205)
+_DECLARED_MAX = 128  # contours of a contour formula (seed L14355-14358)
 
 
 def _label(subprogram) -> str:
@@ -173,6 +174,7 @@ class ContourDefinition(_CycleRule):
 
     def judge_cycle(self, number, params, spans, span, state):
         use = params.get("@contour")
+        self._declared(params.get("@declared_depths"), span, state)
         if number in _OCM and params.get("@shape") in (1271.0, 1272.0, 1273.0, 1278.0):
             self._shape_island(number, params, spans, span, state)
         if use is None or use.how != "CONTOUR DEF" or not self.first_time(state, ("contour-def", use.span)):
@@ -186,6 +188,17 @@ class ContourDefinition(_CycleRule):
         self._depths(use, params.get(depth_name), depth_name, state)
         if number in _OCM:
             self._open_boundary(use, params.get("Q569"), spans.get("Q569", span))
+
+    def _declared(self, declared, span, state):
+        """DECLARE CONTOUR: at most 128 contours, and a DEPTH on all or none (seed L14355-14358, L14464-14465)."""
+        if not declared:
+            return
+        if len(set(declared)) > 1 and self.first_time(state, ("declared-depths",)):
+            with_depth = "this one has a DEPTH and an earlier one none" if declared[-1] else "an earlier one has a DEPTH and this one none"
+            self.report("heidenhain.contour-def", span, f"DECLARE CONTOUR: {with_depth}; when one contour has its own depth, every one must have one "
+                        "(DEPTH0 is allowed) (seed L14464-14465)")
+        if len(declared) == _DECLARED_MAX + 1:
+            self.report("heidenhain.contour-def", span, f"more than {_DECLARED_MAX} DECLARE CONTOUR in one contour-definition program (seed L14355-14358)")
 
     def _depths(self, use, depth, depth_name: str, state):
         """Every subcontour's DEPTH is at most the cycle depth, which is that of the first
@@ -365,7 +378,8 @@ class SlQParameters(_CycleRule):
     def judge_cycle(self, number, params, spans, span, state):
         own = params.get("@own_q")
         if own and self.first_time(state, ("sl-q-parameters",)):
-            self.report("heidenhain.sl-q-parameters", span, f"the program sets {', '.join(own)} itself and calls SL cycle {number}: the SL and cylinder cycles "
+            user = f"calls SL cycle {number}" if number is not None else "declares SL contours (DECLARE CONTOUR)"
+            self.report("heidenhain.sl-q-parameters", span, f"the program sets {', '.join(own)} itself and {user}: the SL and cylinder cycles "
                         "keep their parameters in Q1-Q20, so a cycle definition overwrites the program's values and the program's assignments change the "
                         "cycle's data; use Q parameters above 20 (or QL) for the program's own values")
 

@@ -157,6 +157,12 @@ class KlartextLowering:
         if word == "SEL" and cursor.is_name("CONTOUR", ahead=1):
             self._select_contour(cursor, block)
             return
+        if word == "DECLARE" and cursor.is_name("CONTOUR", ahead=1):
+            self._declare_contour(cursor, block)
+            return
+        if word == "QC":  # a contour formula QC10 = ( QC1 | QC2 ) \ QC3: which area the cycles clear, no motion (reference B 6.28)
+            cursor.index = len(cursor.tokens)
+            return
         if word == "SEL" and cursor.is_name("PATTERN", ahead=1):
             self._select_pattern(cursor, block)
             return
@@ -714,6 +720,18 @@ class KlartextLowering:
         start = cursor.expect_name("SEL").span
         cursor.index = len(cursor.tokens)
         block.ops.append(_pseudo(cursor.rest_span(start), "select_contour", {}))
+
+    def _declare_contour(self, cursor, block):
+        """``DECLARE CONTOUR QC2 = "121" DEPTH15``: a contour of a contour-definition program
+        (reference B 6.28); the contour program itself is not read."""
+        start = cursor.expect_name("DECLARE").span
+        params = {}
+        while not cursor.at_end():
+            if cursor.take_name("DEPTH"):
+                params["DEPTH"] = cursor.value()
+            else:
+                cursor.next()
+        block.ops.append(_pseudo(cursor.rest_span(start), "declare_contour", params))
 
     def _contour_def(self, cursor, block, path):
         """``CONTOUR DEF P1 = LBL 1 I2 = LBL 2 V3 = LBL 3``: pockets, islands, voids (reference B §6.29)."""

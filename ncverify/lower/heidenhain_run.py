@@ -503,6 +503,17 @@ def _select_contour_run(runner, op, block, model, params):
     return None
 
 
+def _declare_contour_run(runner, op, block, model, params):
+    """DECLARE CONTOUR of a contour-definition program goes to the rules with whether each
+    declaration so far had a DEPTH (all or none must, seed L14464-14465) and the Q1-Q20 the
+    program has set, which the SL cycles also use (seed L9360-9361)."""
+    state = runner.state
+    declared = _get(state, "declared_depths", ()) + ("DEPTH" in params,)
+    _put(state, "declared_depths", declared)
+    _observe(runner, CycleRun("heidenhain.declare-contour", {}, op.span, block, {}), {"@declared_depths": declared, "@own_q": _own_reserved(state)})
+    return None
+
+
 def _trans_run(runner, op, block, model, params):
     what = params.pop("what", "DATUM")
     number = {"DATUM": 7, "MIRROR": 8, "ROTATION": 10, "SCALE": 11, "PLANE": 19}.get(what, 7)
@@ -1135,7 +1146,7 @@ _RUNNERS = {
     "old_cycle": _old_cycle_run, "trans": _trans_run, "pattern": _pattern_run, "call": _call_run,
     "select_pattern": heidenhain_special.select_pattern_run, "m_function": heidenhain_special.m_function_run,
     "positioned": _positioned_run, "tool_length": _tool_length_run, "lift": _lift_run, "comp": _comp_run, "spindle": _spindle_run, "contour_def": _contour_def_run, "global_def": _global_def_run,
-    "approach": _approach_run, "select_contour": _select_contour_run,
+    "approach": _approach_run, "select_contour": _select_contour_run, "declare_contour": _declare_contour_run,
 }
 _SPECIAL_FAMILIES = {"engrave": heidenhain_special.engrave, "face232": heidenhain_special.face_milling,
                      "thread_cut": heidenhain_special.thread_cutting, "machine_moving": heidenhain_special.machine_moving}
