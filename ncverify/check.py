@@ -468,7 +468,7 @@ def _eval(node, names):
             return float(len(str(int(abs(arguments[0]))))) if type(arguments[0]) is float else values.fresh("digits")
     if isinstance(node, ast.Name):
         value = names.get(node.id)
-        if value is None:
+        if value is None or isinstance(value, str):  # a string where a number belongs is another rule's finding
             raise _Missing(node.id)
         return value
     if isinstance(node, ast.Constant) and isinstance(node.value, (int, float)):

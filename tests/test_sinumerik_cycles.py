@@ -518,3 +518,28 @@ def test_a_contour_that_keeps_its_direction_along_z_is_never_an_overhang_and_one
 def test_a_thread_milled_deeper_than_its_bore(bore, thread, reported):
     found = messages(milled(f"N35 G0 X60 Y40\nN40 {bore}\nN50 {thread}\n"), "sinumerik.thread-mill-bore")
     assert bool(found) is reported, found
+
+
+def _cycle_names() -> list[str]:
+    import tomllib
+    from pathlib import Path
+    table = tomllib.loads((Path(__file__).resolve().parents[1] / "dialects" / "sinumerik" / "cycles.toml").read_text(encoding="utf-8"))
+    return sorted(table["cycle"])
+
+
+_ARGUMENT = st.one_of(st.just(""), st.integers(-400, 400).map(str), st.floats(-500, 500, allow_nan=False).map(lambda value: f"{value:.3f}"),
+                      st.sampled_from(['"C1"', '""', '"N10"', '"A:B"', "R1", "1/0"]))
+
+
+@hypothesis_settings(max_examples=60, deadline=None)
+@given(st.sampled_from(_cycle_names()), st.lists(_ARGUMENT, max_size=26), st.sampled_from(["", "N35 _ZSD[2]=1\n", "N35 SCALE X2\n", "N35 M5\n"]))
+def test_any_argument_list_of_any_cycle_is_checked_without_a_crash(cycle, arguments, before):
+    result = milled(f"{before}N40 {cycle}({', '.join(arguments)})\nN50 G0 X0 Y0 Z50\n")
+    assert result.skipped is None
+
+
+@pytest.mark.parametrize("call", ['CYCLE71(10, 0, 2, -1, 0, 0, 80, 60, 0, 4, 6, "C1", 0, 2000, 31, 5)',
+                                  'CYCLE83(10, "C1", 2, -40, 0, 0, "A:B", 1)'])
+def test_a_string_in_a_number_slot_is_the_type_alarm_and_nothing_else(call):
+    result = milled(f"N40 {call}\n")
+    assert any("12330" in message for message in messages(result, "sinumerik.cycle-arguments"))

@@ -559,9 +559,9 @@ class FirstDrillingDepth(Rule):
             return
         side, start, depth = levels(run.params)
         fdep, fdpr = run.params.get("FDEP"), run.params.get("FDPR")
-        if side is None or depth is None or fdep is None or fdpr is None or (fdep == 0.0 and fdpr == 0.0):
-            return
-        first = fdep if type(fdpr) is float and fdpr == 0.0 else values.sub(run.params["RFP"], values.mul(side, values.absolute(fdpr)))
+        if side is None or depth is None or fdep is None or fdpr is None or isinstance(fdep, str) or isinstance(fdpr, str) or (fdep == 0.0 and fdpr == 0.0):
+            return  # a string here is the 12330 of sinumerik.cycle-arguments
+        first = fdep if type(fdpr) is float and fdpr == 0.0 else values.sub(_number(run.params, "RFP"), values.mul(side, values.absolute(fdpr)))
         outside = values.logical("OR", hazard(">=", values.mul(side, values.sub(first, start)), 0.0),
                                  hazard("<=", values.mul(side, values.sub(first, depth)), 0.0))
         self.checker.report_verdict("sinumerik.first-depth", run.param_spans.get("FDEP" if fdpr == 0.0 else "FDPR", run.span),
