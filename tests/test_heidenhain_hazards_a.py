@@ -683,10 +683,26 @@ def test_dwell_orientation_and_tolerance_in_range_are_not_reported():
     assert not lines(result, "heidenhain.parameter-range")
 
 
-def test_cycle_12_is_defined_then_called():
-    result = check(program("5  CYCL DEF 12.0 PGM CALL\n6  CYCL DEF 12.1 PGM PART2.H\n7  L  X+50  Y+50 R0 FMAX M99"))
+def program_cycle(folder: Path, called: str | None) -> Path:
+    path = folder / "MAIN.h"
+    path.write_text(program("5  CYCL DEF 12.0 PGM CALL\n6  CYCL DEF 12.1 PGM PART2.H\n7  L  X+50  Y+50 R0 FMAX M99\n8  L  X+10 R0 FMAX"))
+    if called is not None:
+        (folder / "PART2.h").write_text(called)
+    return path
+
+
+def test_cycle_12_runs_its_program_at_the_call(tmp_path):
+    """B H39: the called program shares the caller's Q parameters and its moves are checked;
+    here it leaves the tool in the blank, and the caller's next rapid goes through it."""
+    called = "0  BEGIN PGM PART2 MM\n1  L  Z-5 R0 F100\n2  END PGM PART2 MM\n"
+    result = check_file(program_cycle(tmp_path, called), Settings())
     assert not lines(result, "heidenhain.call-without-cycle")
-    assert any(d.rule == "core.unsupported-code" and d.span.line == 8 for d in result.diagnostics)
+    assert lines(result, "core.rapid-into-stock") == [9, 10]
+
+
+def test_cycle_12_whose_program_is_not_there_is_reported(tmp_path):
+    result = check_file(program_cycle(tmp_path, None), Settings())
+    assert lines(result, "core.program-not-found") == [8]
 
 
 def test_cycle_238_and_the_weighing_run_of_239_move_the_machine():

@@ -634,6 +634,9 @@ class KlartextLowering:
         words, spans = {"@number": float(number), "@sub": float(sub)}, {}
         if sub == 0:
             cursor.index = len(cursor.tokens)
+        elif number == 12:  # CYCL DEF 12.1 PGM name: the program the cycle call runs (reference B 6.31)
+            cursor.take_name("PGM")
+            words["@program"] = _called_name(self._program_name(cursor, up_to_unit=False))
         elif number == 14:  # CYCL DEF 14.1 CONTOUR LABEL1 /2 /3: the label numbers in order
             labels = [token for token in cursor.tokens[cursor.index:] if token.kind in ("number", "string")]
             for index, token in enumerate(labels):

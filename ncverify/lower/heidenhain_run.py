@@ -1149,7 +1149,8 @@ _RUNNERS = {
     "approach": _approach_run, "select_contour": _select_contour_run, "declare_contour": _declare_contour_run,
 }
 _SPECIAL_FAMILIES = {"engrave": heidenhain_special.engrave, "face232": heidenhain_special.face_milling,
-                     "thread_cut": heidenhain_special.thread_cutting, "machine_moving": heidenhain_special.machine_moving}
+                     "thread_cut": heidenhain_special.thread_cutting, "machine_moving": heidenhain_special.machine_moving,
+                     "pgm_call": heidenhain_special.program_call}
 
 for _what, _run in _RUNNERS.items():
     cycles.register_shape(f"heidenhain.{_what}", _run)

@@ -11,6 +11,7 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
+from .. import ir
 from . import heidenhain_run as run
 from ..trace import CycleRun
 
@@ -130,6 +131,20 @@ def thread_cutting(runner, op, block, definition, shift, surface_offset) -> None
     runner._rapid_to({axis: here + depth}, op.span, block, "infeed", name, "feed")
     state.spindle, state.feed = spindle, saved
     return None
+
+
+def program_call(runner, op, block, definition, shift, surface_offset):
+    """Cycle 12 runs the program of 12.1 at each call, like CALL PGM: its Q parameters are
+    the caller's (seed L14990-14991). At the points of a pattern the call is not followed."""
+    interp = runner.interp
+    program = definition.params.get("@program")
+    single = op.cycle == "heidenhain.@positioned" or (op.cycle == "heidenhain.@call" and op.params.get("how") != "PAT")
+    if not isinstance(program, str) or not single:
+        interp._fault("core.unsupported-code", op.span, "cycle 12 at the points of a pattern, or without a program name, is not followed: "
+                      "what the called program does is not analysed", "unknown", "cycle 12")
+        runner.state.move_to(dict.fromkeys(runner.state.position))
+        return None
+    return interp._call(ir.Call(op.span, "subprogram", program), block)
 
 
 def machine_moving(runner, op, block, definition, shift, surface_offset) -> None:
