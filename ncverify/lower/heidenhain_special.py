@@ -1,6 +1,7 @@
 """The Klartext special cycles when the interpreter reaches them (reference B 6.3, 6.30-6.38):
-224 DataMatrix pattern, 225 engraving, 232 face milling, 18 thread cutting, 238/239 (the
-machine moves its axes itself), and the points of a point table (``SEL PATTERN``).
+224 DataMatrix pattern, 225 engraving, 232 face milling, 18 thread cutting, 12 program call,
+238/239 (the machine moves its axes itself), the points of a point table (``SEL PATTERN``),
+and the M functions rules watch (M94, M136/M137).
 
 What these cycles do in the working plane (the cells of a code, the strokes of a text, the
 passes of a face) is not traced: the plane position becomes unknown, and the tool-axis
