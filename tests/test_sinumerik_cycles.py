@@ -543,3 +543,13 @@ def test_any_argument_list_of_any_cycle_is_checked_without_a_crash(cycle, argume
 def test_a_string_in_a_number_slot_is_the_type_alarm_and_nothing_else(call):
     result = milled(f"N40 {call}\n")
     assert any("12330" in message for message in messages(result, "sinumerik.cycle-arguments"))
+
+
+@pytest.mark.parametrize("call, expected", [
+    ("POCKET3(10, 0, 2, -6, 60, 40, 4, 60, 40, 0, 3, 0.2, 0.1, 300, 100, 2, 11)", "the corners come out with radius 5"),
+    ("POCKET1(10, 0, 2, -6, 0, 60, 40, 8, 50, 50, 0, 100, 300, 3, 2, 12, 0)", "FAL=12 is a tool diameter (10) or more"),
+    ("POCKET1(10, 0, 2, -6, 0, 60, 40, 8, 50, 50, 0, 100, 300, 3, 2, 0.2, 0)", None),
+])
+def test_pocket_corners_and_allowance_against_the_tool(call, expected):
+    found = messages(milled(f"N40 {call}\n"), "sinumerik.cutter-radius")
+    assert (found and expected in found[0]) if expected else not found, found

@@ -355,6 +355,22 @@ class CutterRadius(_ReportsMissingContext):
             self.report("sinumerik.cutter-radius", span,
                         f"{cycle}: {tool} is less than half the slot width WID={show(width)}: the cycle does not check this and leaves material "
                         f"in the slot (seed A L5930; SLOT2 alarm 61905 \"cutter radius too small\"); use a tool of diameter {abs(width) / 2:g} to {abs(width):g}")
+        if cycle in _POCKET_CORNERS_AND_ALLOWANCE:
+            self._pocket_corners_and_allowance(run, cycle, radius, tool)
+
+    def _pocket_corners_and_allowance(self, run, cycle, radius, tool):
+        """No alarm, but not the pocket drawn: corners rounder than CRAD (seed A L6630-6635), and a
+        wall allowance of a tool diameter or more (message, incomplete roughing, L7277-7282)."""
+        corner_name, allowance_name = _POCKET_CORNERS_AND_ALLOWANCE[cycle]
+        corner, allowance = run.params.get(corner_name), run.params.get(allowance_name)
+        if corner_name and type(corner) is float and 0 < abs(corner) < radius:
+            self.report("sinumerik.cutter-radius", run.param_spans.get(corner_name, run.span),
+                        f"{cycle}: {tool} is larger than the corner radius {corner_name}={show(corner)}: the corners come out with radius {radius:g} "
+                        "(no alarm; the pocket is not the one drawn)")
+        if type(allowance) is float and allowance >= 2 * radius:
+            self.report("sinumerik.cutter-radius", run.param_spans.get(allowance_name, run.span),
+                        f"{cycle}: wall allowance {allowance_name}={show(allowance)} is a tool diameter ({2 * radius:g}) or more: the cycle shows "
+                        "\"Caution: finishing allowance >= tool diameter\" and leaves the roughing incomplete")
 
     def _radius(self, run, state):
         tools = self.checker.context.get("tools") or {}
@@ -375,6 +391,9 @@ _RADIUS_SIGN = {"CYCLE71": ("61117", "active tool radius <= 0"), "POCKET3": ("61
                 "POCKET4": ("61117", "active tool radius <= 0"), "CYCLE72": ("61112", "tool radius negative"),
                 "CYCLE76": ("61112", "tool radius negative"), "CYCLE77": ("61112", "tool radius negative"),
                 "CYCLE90": ("61112", "tool radius negative")}
+
+# The corner radius and the wall allowance of the pockets whose roughing they limit.
+_POCKET_CORNERS_AND_ALLOWANCE = {"POCKET1": ("CRAD", "FAL"), "POCKET2": ("", "FAL"), "POCKET3": ("_CRAD", "_FAL")}
 
 _FEATURES = {
     "POCKET1": (("LENG", "WID", "CRAD"), _rectangle(("LENG", "WID")), "pocket"),
