@@ -24,7 +24,7 @@ HAZARDS: dict[int, tuple[str, ...] | str] = {
     2: ("heidenhain.contour-overlap-start",),  # the first subcontour against each overlapping later one
     # 3: "not closed" is not reported: the manual's own islands end short of their start (seed L10829-10853), the control closes them
     3: ("heidenhain.contour-subprogram", "heidenhain.contour-feed"),  # M functions with no modelled effect (M110 ...) are not seen; label numbers 0-65535 unchecked
-    4: ("heidenhain.contour-compensation",),  # 270 and CONTOUR DEF; DECLARE CONTOUR is not modelled
+    4: ("heidenhain.contour-compensation",),  # 270 and CONTOUR DEF; the contour programs DECLARE CONTOUR names are not read
     5: ("heidenhain.contour-subprogram",),
     6: ("heidenhain.contour-subprogram",),
     7: ("heidenhain.contour-def",),  # CONTOUR DEF counts, DECLARE CONTOUR count and DEPTH all-or-none; the contour programs themselves are not read
