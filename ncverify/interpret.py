@@ -320,7 +320,7 @@ class Interpreter:
         segment_points = numpy.vstack([start_point, points[moving]])
         segment_kinds = kinds[moving].astype(numpy.int8)
         others = {axis: value for axis, value in state.position.items() if axis not in axes}
-        block_of = self._run_block_reader(run, source, path)
+        block_of = self._run_block_reader(run, moving, source, path)
 
         def span(index: int) -> Span:
             block = block_of(index)
@@ -342,12 +342,12 @@ class Interpreter:
             state.feed = float(feeds[-1])
         state.motion_seen = state.motion_seen or bool(len(moving))
 
-    def _run_block_reader(self, run: ir.MoveRun, source: ProgramSource, path):
-        """Re-reads one block of a run, for a report's span (rare, so not kept)."""
+    def _run_block_reader(self, run: ir.MoveRun, moving_rows, source: ProgramSource, path):
+        """Re-reads the block of the run's ``index``-th move (its row in ``moving_rows``), for
+        a report's span (rare, so not kept)."""
 
         def block_of(index: int) -> ir.Block:
-            rows = numpy.flatnonzero(~numpy.isnan(run.values).all(axis=1))
-            row = int(rows[index])
+            row = int(moving_rows[index])
             offset = int(run.line_offsets[row])
             end = source.buffer.find(b"\n", offset)
             raw = bytes(source.buffer[offset : len(source.buffer) if end < 0 else end]).rstrip(b"\r")

@@ -32,6 +32,9 @@ class ArcUnderAxisScaling(Rule):
             self.report("heidenhain.scaling-factor", segment.span, f"cycle 26 scales {first} by {one:g} and {second} by {other:g}: a circular arc needs the same "
                         "factor on both axes of its plane (seed L7976-7977); scaled unequally it is no longer a circle")
 
+    def motion_run(self, run, state):
+        """A run of plain blocks holds straight moves only: no arc to check."""
+
 
 @rule("heidenhain.disengage-mirror")
 class DisengageUnderMirror(Rule):
@@ -67,6 +70,10 @@ class RotationCancelsCompensation(Rule):
     def cycle_run(self, run, state):
         if run.cycle == "heidenhain.10" and state.comp_side in ("left", "right"):
             state.rule_state[("heidenhain", "rotation-cancelled")] = (run.span.line, "RL" if state.comp_side == "left" else "RR")
+
+    def motion_run(self, run, state):
+        if state.rule_state.get(("heidenhain", "rotation-cancelled")) is not None:
+            self.segment(run.segment(0), state)  # only the first move after the rotation is judged
 
     def segment(self, segment, state):
         cancelled = state.rule_state.get(("heidenhain", "rotation-cancelled"))
