@@ -22,7 +22,7 @@ HAZARDS_A = {
     4: ("sinumerik.cycle-parameter-range",),
     5: ("sinumerik.depth-conflict",),
     6: ("sinumerik.retract-inside-clearance",),
-    7: ("core.rapid-into-stock",),
+    7: ("core.rapid-into-stock", "sinumerik.start-below-surface"),
     8: MODELLED + " (the infeed axis is the applicate of G17/G18/G19); 61005 needs the machine's axes",
     9: "_ZSD[1] is a setting of the machine's cycle data (GUD7), not written in part programs",
     10: "which dimensioning the programmer meant is not in the program (POCKET3 plunges where the _ZSD[2] it sets puts the centre)",

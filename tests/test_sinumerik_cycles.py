@@ -553,3 +553,9 @@ def test_a_string_in_a_number_slot_is_the_type_alarm_and_nothing_else(call):
 def test_pocket_corners_and_allowance_against_the_tool(call, expected):
     found = messages(milled(f"N40 {call}\n"), "sinumerik.cutter-radius")
     assert (found and expected in found[0]) if expected else not found, found
+
+
+@pytest.mark.parametrize("height, reported", [(-2, True), (1, False), (10, False)])
+def test_a_cycle_called_with_the_tool_under_its_reference_plane(height, reported):
+    found = messages(milled(f"N40 Z{height}\nN50 X60 Y40\nN60 CYCLE81(10, 0, 2, -20)\n"), "sinumerik.start-below-surface")
+    assert bool(found) is reported and (not found or "at Z-2, beyond the reference plane RFP=0" in found[0])

@@ -118,6 +118,14 @@ def test_the_holes1_tapping_call_has_shifted_arguments():
     assert [d for d in result.diagnostics if d.rule == "sinumerik.spindle-direction" and d.status is Status.VIOLATED]
 
 
+def test_the_holes1_example_positions_under_the_surface():
+    """``N70 G90 G0 Z30 Y75 X105`` under G18 with RFP=102 (reference A section 9 item 7, seed L4675):
+    the tapping pass starts at Y75, under its reference plane."""
+    result = run(4653, 4688)
+    found = [d.message for d in result.diagnostics if d.rule == "sinumerik.start-below-surface"]
+    assert found and "at Y75, beyond the reference plane RFP=102" in found[0]
+
+
 def test_the_cycle90_call_is_one_argument_short():
     """``CYCLE90(RTP, RFP, SDIS, DPR, DIATH, ...)``: DP is missing, every later value moves up one."""
     result = run(5473, 5493)

@@ -1030,3 +1030,23 @@ class ThreadMillBore(Rule):
                             f"CYCLE90: the bore drilled in line {span.line} ends at {axis}{bottom:g}, but the thread from {axis}{rfp:g} to {axis}{depth:g} "
                             f"with pitch {abs(pitch):g} is milled down to {axis}{needed:g} at least (half a pitch beyond it): the cutter runs into the bottom of the bore")
                 return
+
+
+@rule("sinumerik.start-below-surface")
+class StartBelowSurface(Rule):
+    """Drilling cycles start with the tool already over the hole and only then move along
+    the tool axis; milling cycles rapid to their start point at RTP from where the tool is
+    (reference A section 9 item 7, seed L2072-2076). A tool standing beyond the reference
+    plane RFP when the cycle is called got there by a positioning move under the surface."""
+
+    def cycle_run(self, run, state):
+        if not _is_sinumerik(run) or run.model.get("shape") not in ("sinumerik_drill", "sinumerik_mill"):
+            return
+        side, _start, _depth = levels(run.params)
+        axis = state.plane_axes[2]
+        here, rfp, rtp = state.position.get(axis), _number(run.params, "RFP"), _number(run.params, "RTP")
+        if side is None or any(type(value) is not float for value in (here, rfp, rtp)) or side * (here - rfp) >= 0:
+            return
+        self.report("sinumerik.start-below-surface", run.span,
+                    f"{_cycle_name(run)} starts with the tool at {axis}{here:g}, beyond the reference plane RFP={rfp:g} (retract plane RTP={rtp:g}): "
+                    "the move that brought it over this position ran under the surface; position at RTP first")
