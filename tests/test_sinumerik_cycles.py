@@ -559,3 +559,8 @@ def test_pocket_corners_and_allowance_against_the_tool(call, expected):
 def test_a_cycle_called_with_the_tool_under_its_reference_plane(height, reported):
     found = messages(milled(f"N40 Z{height}\nN50 X60 Y40\nN60 CYCLE81(10, 0, 2, -20)\n"), "sinumerik.start-below-surface")
     assert bool(found) is reported and (not found or "at Z-2, beyond the reference plane RFP=0" in found[0])
+
+
+def test_engraving_plunges_once_to_the_character_depth(monkeypatch):
+    moves = cycle_moves(monkeypatch, 'N40 CYCLE60("AB", 10, 0, 1, -0.3, 0, 10, 10, 0, 0, 0, 5, 2, 100, 300, 0, 1252)\n', radius=0.5)
+    assert [(kind, end["Z"]) for kind, end in moves] == [("rapid", 10.0), ("rapid", 1.0), ("feed", -0.3), ("rapid", 10.0)]

@@ -5,7 +5,7 @@ model (seed A L1934-2146): rapid to ``SP = RFP + s*SDIS``, infeed to the depth, 
 to ``RTP``, where ``s`` is the sign of ``RTP - RFP`` and the depth is ``RFP - s*DPR`` when DPR is
 programmed, else ``DP``. Under ``MCALL`` the interpreter calls the same shape after every
 positioning move. HOLES1/HOLES2/CYCLE801 move with G0 from position to position and run the
-modal cycle at each (seed A L4476-4970). Pockets, slots, spigots and thread milling
+modal cycle at each (seed A L4476-4970). Pockets, slots, spigots, thread milling and engraving
 approach their feature at RTP, rapid to RFP + SDIS, plunge to the depth and retract to RTP
 (``_FEATURES``); the machining inside the feature is not modelled. The other milling cycles
 leave the tool at their retract level, unknown in the plane; turning cycles leave it
@@ -352,11 +352,14 @@ def _thread(params, state):
 
 
 # Seed A: POCKET1 L6575-6600, POCKET2 L6892, POCKET3 L7058-7106, POCKET4 L7636, SLOT1 L5836-5860,
-# SLOT2 L6182-6310, LONGHOLE L5553-5580, CYCLE76 L8655-8700, CYCLE77 L8898-9137, CYCLE90 L5203-5287.
+# SLOT2 L6182-6310, LONGHOLE L5553-5580, CYCLE76 L8655-8700, CYCLE77 L8898-9137, CYCLE90 L5203-5287,
+# CYCLE60 L14330-14345 (each character: G0 to RFP + SDIS, one plunge at _FFD; its start point
+# depends on the font).
 _FEATURES = {"POCKET1": _centre("CPA", "CPO"), "POCKET2": _centre("CPA", "CPO"), "POCKET3": _rectangular_pocket,
              "POCKET4": _centre("_PA", "_PO", g0_insertion=True),
              "SLOT1": _computed_start(True), "SLOT2": _slots_on_a_circle, "LONGHOLE": _computed_start(False),
-             "CYCLE76": _computed_start(False), "CYCLE77": _computed_start(False), "CYCLE90": _thread}
+             "CYCLE76": _computed_start(False), "CYCLE77": _computed_start(False), "CYCLE90": _thread,
+             "CYCLE60": _computed_start(False)}
 
 
 def modal_shape(model: dict):
