@@ -143,7 +143,7 @@ ALARMS = {
     61183: "sinumerik.swivel-plane",
     61184: "sinumerik.swivel-plane",
     61185: MACHINE_DATA, 61186: MACHINE_DATA, 61187: "raised by block search, an operator action", 61188: MACHINE_DATA,
-    61189: "not checked yet: G500 active at CYCLE800", 61190: MACHINE_DATA + " (the retract limits)",
+    61189: "sinumerik.swivel-plane", 61190: MACHINE_DATA + " (the retract limits)",
     61196: "raised in JOG, not by a part program", 61199: MACHINE_DATA,
     61191: MACHINE_DATA, 61192: MACHINE_DATA, 61193: MACHINE_DATA, 61194: MACHINE_DATA,
     61200: "the element limit is not stated", 61213: "the smallest circle radius is not stated",
