@@ -25,8 +25,8 @@ HAZARDS: dict[str, tuple[str, ...] | str] = {
     "H3": ("heidenhain.zero-depth",),  # 263-267: a zero countersink depth skips only its own step and is not reported
     "H4": ("heidenhain.usable-length",),  # Q201, Q1, 204's Q249, 232/233's Q227 - Q386; 240 by diameter is not compared with LU
     "H5": ("heidenhain.thread-depth-signs",),
-    "H6": ("heidenhain.thread-depth",),  # the derived comparison with an earlier hole's depth is not made
-    "H7": "not covered: the axial compensating move of 262/263/267 is not modelled, so the blind-hole depth it needs is not checked",
+    "H6": ("heidenhain.thread-depth", "heidenhain.thread-deeper-than-hole"),  # 263/264 depths; a tap or thread mill against a hole drilled earlier in the program
+    "H7": ("heidenhain.thread-deeper-than-hole",),  # half a pitch below 262/263 against a hole drilled earlier in the program; lateral pre-positioning is not checked
     "H8": ("heidenhain.tap-pitch",),  # 206: Q206 against S x PITCH; M3/M4 against the thread hand is not checked
     "H9": ("heidenhain.tap-pitch",),
     "H10": ("core.spindle-off-cutting",),  # 207/209 leave the spindle as they found it; the servo-spindle need is H45
@@ -247,6 +247,35 @@ def test_h8_floating_tapping_feed_not_s_times_pitch_is_reported():
     assert lines(result, "heidenhain.tap-pitch") == [9]
     assert "750" in messages(result, "heidenhain.tap-pitch")[0]
     assert not lines(check(floating_tap("+750"), project), "heidenhain.tap-pitch")
+
+
+def thread_mill_after_drilling(drilled: str) -> str:
+    return program(f"""5  {DRILL.replace("Q201=-15", "Q201=" + drilled)}
+6  L  X+30  Y+30 R0 FMAX M99
+7  CYCL DEF 262 THREAD MILLING ~
+    Q335=+10 ;NOMINAL DIAMETER ~
+    Q239=+1.5 ;THREAD PITCH ~
+    Q201=-12 ;THREAD DEPTH ~
+    Q355=+0 ;THREADS PER STEP ~
+    Q253=+750 ;F PRE-POSITIONING ~
+    Q351=+1 ;CLIMB OR UP-CUT ~
+    Q200=+2 ;SET-UP CLEARANCE ~
+    Q203=+0 ;SURFACE COORDINATE ~
+    Q204=+50 ;2ND SET-UP CLEARANCE ~
+    Q207=+500 ;FEED RATE MILLING ~
+    Q512=+0 ;FEED FOR APPROACH
+8  L  X+30  Y+30 R0 FMAX M99
+9  L  X+70  Y+30 R0 FMAX M99""")
+
+
+def test_h7_a_thread_mill_needs_half_a_pitch_below_the_thread_in_the_drilled_hole():
+    result = check(thread_mill_after_drilling("-12.5"))
+    assert lines(result, "heidenhain.thread-deeper-than-hole") == [19]
+    assert "Z-12.75" in messages(result, "heidenhain.thread-deeper-than-hole")[0]
+
+
+def test_h7_a_hole_drilled_deep_enough_or_not_drilled_here_is_not_judged():
+    assert not lines(check(thread_mill_after_drilling("-13")), "heidenhain.thread-deeper-than-hole")
 
 
 # --------------------------------------------------------------------------- core rules the map names, on Klartext

@@ -351,3 +351,35 @@ class BoringFeedPerRevolution(Rule):
         if _number(hole.cycle) == 202 and state.rule_state.get(("heidenhain", "feed_per_revolution")) and self.first_time(state, ("boring-m136", hole.span)):
             self.report("heidenhain.boring-feed-per-revolution", hole.span, "cycle 202 is called while M136 (feed per revolution) is active: the spindle stops at "
                         "the bottom of the bore and the tool is not retracted, so the next move drags it out or crashes; cancel M136 with M137 before the call (seed L1890-1897)")
+
+
+# The part of the pitch a thread goes below its depth: taps none; thread milling 262/263
+# moves up to half a pitch along the tool axis before the approach (seed L4329-4337).
+_THREAD_OVERRUN = {206: 0.0, 207: 0.0, 209: 0.0, 262: 0.5, 263: 0.5}
+
+
+@rule("heidenhain.thread-deeper-than-hole")
+class ThreadDeeperThanHole(Rule):
+    """H6 (derived) and H7: a tap or an inside thread mill needs the hole drilled before it
+    at the same point to be at least as deep as the thread (and half a pitch more for the
+    compensating move of 262/263). Holes drilled earlier on the same path are compared;
+    with no earlier hole there nothing is said."""
+
+    def hole(self, hole, state):
+        number = _number(hole.cycle)
+        if number not in _THREAD_OVERRUN or type(hole.bottom) is not float or not _untransformed(state):
+            return
+        first, second, axis = state.plane_axes
+        point = (hole.position.get(first), hole.position.get(second))
+        earlier = [bottom for x, y, bottom in state.rule_state.get(("heidenhain", "drilled"), ()) if (x, y) == point and type(bottom) is float]
+        pitch = hole.params.get("Q239", 0.0)
+        if not earlier or type(pitch) is not float or hole.params.get("Q201", -1.0) > 0:
+            return
+        needed = hole.bottom - abs(pitch) * _THREAD_OVERRUN[number]
+        drilled = min(earlier)
+        if needed >= drilled - 1e-9 or not self.first_time(state, ("thread-deeper", hole.span, point)):
+            return
+        overrun = f" and up to half the pitch more for its compensating move, to {axis}{needed:g}," if _THREAD_OVERRUN[number] else ""
+        self.report("heidenhain.thread-deeper-than-hole", hole.param_spans.get("Q201", hole.span),
+                    f"cycle {number} threads down to {axis}{hole.bottom:g}{overrun} at {first}{point[0]:g} {second}{point[1]:g}, but the hole drilled there "
+                    f"before ends at {axis}{drilled:g}: the tool runs into the bottom of the hole and breaks (reference A H6, H7)")
