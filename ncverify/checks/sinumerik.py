@@ -373,13 +373,18 @@ class CutterRadius(_ReportsMissingContext):
                         "\"Caution: finishing allowance >= tool diameter\" and leaves the roughing incomplete")
 
     def _radius(self, run, state):
-        tools = self.checker.context.get("tools") or {}
-        number = state.tool_in_spindle
-        tool = tools.get(int(number)) if type(number) is float else None
-        if tool is None or tool.radius is None:
+        radius = _spindle_tool_radius(self.checker, state)
+        if radius is None:
             self.missing("sinumerik.cutter-radius", run.span, "no tool radius for the tool in the spindle ($TC_DP6 in the program or [tools.N] radius)")
-            return None
-        return tool.radius
+        return radius
+
+
+def _spindle_tool_radius(checker, state):
+    """The radius of the tool in the spindle from the tool data, or None."""
+    tools = checker.context.get("tools") or {}
+    number = state.tool_in_spindle
+    tool = tools.get(int(number)) if type(number) is float else None
+    return None if tool is None else tool.radius
 
 
 def _rectangle(names):
@@ -673,14 +678,11 @@ class PocketContour(_ReportsMissingContext):
             if facts.points and all(type(value) is float for value in here) and math.dist(here, facts.points[0][0]) < 1e-6:
                 self.report("sinumerik.pocket-contour", run.span,
                             f"CYCLE73 called with the tool on the start point {_point(facts.points[0][0], state)} of the contour \"{facts.name}\": not allowed (seed A L9311-9360)")
-        stepover = run.params.get("_MIDA")
-        tools = self.checker.context.get("tools") or {}
-        number = state.tool_in_spindle
-        tool = tools.get(int(number)) if type(number) is float else None
-        if type(stepover) is float and stepover > 0 and tool is not None and tool.radius and stepover > 0.8 * 2 * tool.radius:
+        stepover, radius = run.params.get("_MIDA"), _spindle_tool_radius(self.checker, state)
+        if type(stepover) is float and stepover > 0 and radius and stepover > 0.8 * 2 * radius:
             self.report("sinumerik.pocket-contour", run.param_spans.get("_MIDA", run.span),
-                        f"CYCLE73: stepover _MIDA={show(stepover)} is more than 80 % of the diameter {2 * tool.radius:g} of tool T{show(number)} "
-                        f"(at most {1.6 * tool.radius:g}): would raise alarm 61982 \"stepover too large\"")
+                        f"CYCLE73: stepover _MIDA={show(stepover)} is more than 80 % of the diameter {2 * radius:g} of tool T{show(state.tool_in_spindle)} "
+                        f"(at most {1.6 * radius:g}): would raise alarm 61982 \"stepover too large\"")
 
 
 @rule("sinumerik.path-milling-contour")
