@@ -42,11 +42,11 @@ HAZARDS: dict[int, tuple[str, ...] | str] = {
     18: ("heidenhain.face-milling-blank", "heidenhain.positive-depth", "heidenhain.zero-depth", "heidenhain.parameter-range"),  # Q227 vs Q386 and the blank, Q202 > 0
     19: ("heidenhain.cylinder-clearance", "heidenhain.cylinder-radius"),
     # C. tool vs geometry
-    20: ("heidenhain.sl-allowance",),  # Q3 = 0, Q14 < Q3, Q14 + R_finish < Q3 + R_rough; contour milling with 24 (single island) is not
+    20: ("heidenhain.sl-allowance",),  # Q3 = 0, Q14 < Q3, Q14 + R_finish < Q3 + R_rough, and Q3 > Q14 + R for a single island
     21: ("heidenhain.tool-too-large", "heidenhain.plunge-angle"),  # the tool and Q3 against the resolved pocket, Q19 with ANGLE 0; centre cutting is not in TOOL.T
     22: ("heidenhain.usable-length",),  # LU against the depth; Q202 > LCUTS of 272 not reported (cutting-length covers 233/25x)
     23: ("heidenhain.tool-too-large",),  # shapes 1271-1273 and 1278 with R (1 + Q578) + Q368; corners of free OCM contours not checked
-    24: ("heidenhain.sl-allowance",),  # 274 Q14 < Q368; the contour-milling variant is not
+    24: ("heidenhain.sl-allowance",),  # 274 Q14 < Q368, and Q368 > Q14 + R for a single island
     25: ("heidenhain.parameter-range",),  # Q353 < 0 and |Q353| >= |Q359|; T-ANGLE is not a tool-table column ncverify reads
     26: ("heidenhain.ocm-tool-corner",),
     27: ("heidenhain.slot-width", "heidenhain.plunge-angle"),
@@ -567,3 +567,21 @@ def test_a_contour_definition_program_setting_q1_to_q20_is_warned():
     text = contour_definition('QC1 = "120"', 'QC2 = "121"', own="Q3 = 25\nQ103 = 4").replace("QC10", 'DECLARE CONTOUR QC3 = "122"\nQC10')
     assert "Q3" in findings(check(text), "heidenhain.sl-q-parameters")[0].message
     assert not findings(check(text.replace("Q3 = 25", "Q23 = 25")), "heidenhain.sl-q-parameters")
+
+
+ISLAND = "LBL 1\nL  X+30  Y+30 RL\nL  Y+70\nL  X+70\nL  Y+30\nL  X+30\nLBL 0\n"  # clockwise with RL: an island
+
+
+@pytest.mark.parametrize("side, reported", [("+0.5", True), ("+6", False)])
+def test_side_finishing_a_single_island_needs_an_allowance_beyond_q14_plus_the_radius(side, reported):
+    text = sl_program(ISLAND, data=contour_data(side=side), cycle=FINISH_SIDE.format(rougher="+0"))
+    result = check(text, "[tools.1]\nradius = 5")
+    assert bool([d for d in findings(result, "heidenhain.sl-allowance") if "single island" in d.message]) == reported
+
+
+@pytest.mark.parametrize("side, reported", [("+0.2", True), ("+6", False)])
+def test_ocm_side_finishing_of_a_single_island(side, reported):
+    text = program(f"CONTOUR DEF I1 = LBL 1\n{ocm_data().replace('Q368=+0.2', 'Q368=' + side)}{finishing_side('+5')}CYCL CALL\nL  Z+100 R0 FMAX M30\n"
+                   + ISLAND.replace(" RL", ""))
+    result = check(text, TOOL_R5)
+    assert bool([d for d in findings(result, "heidenhain.sl-allowance") if "single island" in d.message]) == reported

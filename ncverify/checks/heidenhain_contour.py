@@ -435,6 +435,37 @@ class SideFinishingRadius(_CycleRule):
         return tool.radius
 
 
+@rule("heidenhain.sl-allowance")
+class ContourMillingAllowance(_CycleRule):
+    """C20, C24: side finishing of a contour that is a single island mills along it; the
+    roughing allowance (Q3 of 20, Q368 of 271) must then exceed Q14 plus the tool radius
+    (seed L9836-9840, L11863-11868)."""
+
+    def judge_cycle(self, number, params, spans, span, state):
+        name = {24: "Q3", 274: "Q368"}.get(number)
+        side, finish_allowance = params.get(name), params.get("Q14")
+        if name is None or side is None or finish_allowance is None or not _single_island(params.get("@contour")):
+            return
+        if not self.first_time(state, ("contour-milling", span)):
+            return
+        tool = _tool(self, state, span, "heidenhain.sl-allowance", "radius")
+        if tool is None:
+            return
+        needed = values.add(finish_allowance, tool.radius)
+        verdict = self.checker.judge(hazard("<=", side, needed), state)
+        self.checker.report_verdict("heidenhain.sl-allowance", spans.get(name, span), f"cycle {number} mills along a single island: its side allowance {name}={show(side)} "
+                                    f"must exceed Q14={show(finish_allowance)} plus the tool radius {tool.radius:g} = {show(needed)} (seed L9836-9840, L11863-11868)", verdict, state)
+
+
+def _single_island(use) -> bool:
+    if use is None or len(use.subprograms) != 1:
+        return False
+    if use.how == "CONTOUR DEF":
+        return use.kinds == ("I",)
+    contour = use.subprograms[0].contour
+    return contour is not None and contour.pocket is False
+
+
 @rule("heidenhain.pilot-drill")
 class PilotDrill(_CycleRule):
     """C31: cycle 21 places its plunge holes for the rougher Q13; a drill wider than that
