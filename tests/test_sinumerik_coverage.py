@@ -18,7 +18,7 @@ MODELLED = "a modelling fact, not a defect: the interpreter follows it (tested i
 HAZARDS_A = {
     1: ("sinumerik.reference-plane",),
     2: ("sinumerik.reference-plane",),
-    3: ("core.cycle-depth-sign", "core.cycle-zero-depth", "sinumerik.reference-plane"),
+    3: ("core.cycle-depth-sign", "core.cycle-zero-depth", "sinumerik.reference-plane", "sinumerik.milling-depth-sign"),
     4: ("sinumerik.cycle-parameter-range",),
     5: ("sinumerik.depth-conflict",),
     6: ("sinumerik.retract-inside-clearance",),

@@ -564,3 +564,15 @@ def test_a_cycle_called_with_the_tool_under_its_reference_plane(height, reported
 def test_engraving_plunges_once_to_the_character_depth(monkeypatch):
     moves = cycle_moves(monkeypatch, 'N40 CYCLE60("AB", 10, 0, 1, -0.3, 0, 10, 10, 0, 0, 0, 5, 2, 100, 300, 0, 1252)\n', radius=0.5)
     assert [(kind, end["Z"]) for kind, end in moves] == [("rapid", 10.0), ("rapid", 1.0), ("feed", -0.3), ("rapid", 10.0)]
+
+
+@pytest.mark.parametrize("call, reported", [
+    ("POCKET2(20, 0, 2, 6, 0, 20, 60, 40, 100, 300, 3, 2, 0.2, 0)", True),
+    ("POCKET2(20, 0, 2, 0, 0, 20, 60, 40, 100, 300, 3, 2, 0.2, 0)", True),
+    ("POCKET2(20, 0, 2, 0, 6, 20, 60, 40, 100, 300, 3, 2, 0.2, 0)", False),
+    ("POCKET3(10, 0, 2, 6, 60, 40, 8, 60, 40, 0, 3, 0.2, 0.1, 300, 100, 2, 11)", True),
+    ("CYCLE90(8, -20, 2, 0, 0, 16, 14, 2, 300, 3, 0, 60, 40)", False),
+    ("CYCLE81(10, 0, 2, 6)", False),
+])
+def test_a_milling_depth_on_the_retract_side(call, reported):
+    assert bool(messages(milled(f"N40 {call}\n"), "sinumerik.milling-depth-sign")) is reported

@@ -1052,3 +1052,25 @@ class StartBelowSurface(Rule):
         self.report("sinumerik.start-below-surface", run.span,
                     f"{_cycle_name(run)} starts with the tool at {axis}{here:g}, beyond the reference plane RFP={rfp:g} (retract plane RTP={rtp:g}): "
                     "the move that brought it over this position ran under the surface; position at RTP first")
+
+
+@rule("sinumerik.milling-depth-sign")
+class MillingDepthSign(Rule):
+    """Pockets, slots, spigots, face and path milling and engraving with the depth on the
+    retract side of the reference plane or on it (reference A section 9 item 3, seed
+    L2098-2104): nothing is cut, and the control raises no alarm unless the retract plane
+    also lies between them (61101). Holes are judged by the core hole rules."""
+
+    def cycle_run(self, run, state):
+        name = _cycle_name(run) if _is_sinumerik(run) else ""
+        if run.model.get("shape") != "sinumerik_mill" or name == "CYCLE90" or name not in _PLANE_CYCLES | {"CYCLE60", "CYCLE73"}:
+            return
+        side, _start, depth = levels(run.params)
+        rfp = _number(run.params, "RFP")
+        if side is None or depth is None:
+            return
+        verdict = self.checker.judge(hazard("<=", values.mul(side, values.sub(rfp, depth)), 0.0), state)
+        self.checker.report_verdict("sinumerik.milling-depth-sign", run.param_spans.get("DP", run.param_spans.get("_DP", run.span)),
+                                    f"{name}: the depth {show(depth)} is not below the reference plane RFP={show(rfp)} (seen from the retract plane RTP={show(_number(run.params, 'RTP'))}): "
+                                    "the cycle cuts nothing, or feeds toward the retract plane; was the depth written as a distance instead of a level?",
+                                    verdict, state)
