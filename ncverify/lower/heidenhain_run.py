@@ -451,8 +451,6 @@ def _old_cycle_run(runner, op, block, model, params):
         _put(state, "sl_kinds", None)
         _put(state, "contour_source", ("cycle 14", op.span, None, None))
     elif number in _TRANSFORMS:
-        model = runner.interp.cycle_models.get(f"heidenhain.{number}", {})
-        runner.interp.observer.cycle_run(CycleRun(f"heidenhain.{number}", model, op.span, block, _numbers(params), dict(op.param_spans)), state)
         _transform(runner, op, number, params)
     return None
 
@@ -1154,3 +1152,4 @@ _SPECIAL_FAMILIES = {"engrave": heidenhain_special.engrave, "face232": heidenhai
 
 for _what, _run in _RUNNERS.items():
     cycles.register_shape(f"heidenhain.{_what}", _run)
+
