@@ -1,6 +1,6 @@
 """Time ``ncverify check`` on the same surfacing toolpath written in each dialect.
 
-    python benchmarks/dialects.py [BLOCKS]
+    python benchmarks/dialects.py [BLOCKS] [DIALECT ...]
 
 Every dialect gets the zig-zag of ``generate.py`` (straight feed moves, a tool call, a
 spindle start, a stock) as its CAM post would write it. Prints blocks per second end to
@@ -75,7 +75,8 @@ def time_check(path: Path, dialect: str) -> tuple[float, int, dict]:
 
 def main() -> None:
     blocks = int(sys.argv[1]) if len(sys.argv) > 1 else 200_000
-    for dialect, (_make, extension) in DIALECTS.items():
+    for dialect in sys.argv[2:] or DIALECTS:
+        _make, extension = DIALECTS[dialect]
         program = HERE / "out" / f"surfacing-{dialect}-{blocks}{extension}"
         if not program.exists():
             write_program(dialect, blocks, program)
