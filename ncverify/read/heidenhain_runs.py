@@ -6,8 +6,8 @@ them, exactly as ``float(text)`` would.
 
 A line with anything else ends the streak and goes through the general lowering: an
 incremental axis, an M function, a Q parameter, RL/RR, a comment, a number with more than
-9 + 6 digits. So does ``L .. Z.. FMAX``, which the
-lowering runs as a lift out of the cut rather than as a plain rapid.
+9 + 6 digits. So does ``L .. Z.. FMAX``, which the lowering runs as a lift out of the cut
+rather than as a plain rapid.
 
 The last line of a streak is left to the per-block path too: besides the position and the
 feed, a plain line leaves one more fact behind (whether the tool got to its plane point at
@@ -55,7 +55,7 @@ def read_plain_run(buffer, offset: int, line: int, limit: int = 1 << 20, minimum
     kinds = numpy.full(len(newlines), _FEED, dtype=numpy.int8)
     rapids = numpy.flatnonzero((codes[:-1] == ord("F")) & (codes[1:] == ord("M")))
     kinds[numpy.searchsorted(newlines, rapids)] = _RAPID
-    lifts = numpy.flatnonzero((kinds == _RAPID) & ~numpy.isnan(table[:, 2]))
+    lifts = numpy.flatnonzero((kinds == _RAPID) & ~numpy.isnan(table[:, 2]))  # FMAX with a Z word
     rows = (int(lifts[0]) if len(lifts) else len(newlines)) - 1
     if rows < minimum_lines:
         return None
