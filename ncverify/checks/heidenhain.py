@@ -220,29 +220,41 @@ class ToolTooLarge(_CycleRule):
         return (pocket.slot_fit(found[0], radius) if found else None), spans.get("Q219", span)
 
 
+# cycle -> (clearance height, surface, set-up clearance, manual lines): the level the moves
+# between areas and the final retract run at (part B H13, H14); no surface: not compared with it
+_CLEARANCE_HEIGHT = {
+    **dict.fromkeys(_SL_CYCLES, ("Q7", "Q5", "Q6", "seed L9384-9396")),
+    **dict.fromkeys((25, 276), ("Q7", None, None, "seed L9384-9396")),
+    **dict.fromkeys((272, 273, 274, 277), ("Q260", "Q203", "Q200", "seed L11147-11150")),
+}
+
+
 @rule("heidenhain.sl-clearance-height")
 class ContourClearanceHeight(_CycleRule):
-    """Part B H13: the SL cycles travel between areas and retract at the clearance height
-    Q7, which must lie above the set-up clearance Q5 + Q6 and above the blank."""
+    """Part B H13/H14: the SL, contour-train and OCM cycles travel between areas and retract
+    at a clearance height (Q7, Q260) that must lie above the set-up clearance and the blank."""
 
     def judge_cycle(self, number, params, spans, span, state):
-        names = ("Q7", "Q5", "Q6") if number in _SL_CYCLES else ("Q260", "Q203", "Q200")
-        height, surface, clearance = (params.get(name) for name in names)
-        if number not in _SL_CYCLES and number not in (272, 273, 274):
+        if number not in _CLEARANCE_HEIGHT:
             return
+        name, surface_name, clearance_name, lines = _CLEARANCE_HEIGHT[number]
+        height = params.get(name)
         if height is None or not self.first_time(state, ("sl-clearance", span)):
             return
-        where = spans.get(names[0], span)
+        where = spans.get(name, span)
+        surface, clearance = params.get(surface_name), params.get(clearance_name)
         if surface is not None and clearance is not None:
-            verdict = self.checker.judge(hazard("<", height, values.add(surface, values.absolute(clearance))), state)
-            self.checker.report_verdict("heidenhain.sl-clearance-height", where, f"clearance height {names[0]}={show(height)} is below the set-up clearance "
-                                        f"{names[1]} + {names[2]} = {show(values.add(surface, values.absolute(clearance)))}: the moves between areas run below the plane the cycle approaches from (seed L9384-9396)", verdict, state)
+            set_up = values.add(surface, values.absolute(clearance))
+            verdict = self.checker.judge(hazard("<", height, set_up), state)
+            self.checker.report_verdict("heidenhain.sl-clearance-height", where, f"cycle {number}: clearance height {name}={show(height)} is below the set-up "
+                                        f"clearance {surface_name} + {clearance_name} = {show(set_up)}: the moves between areas run below the plane the "
+                                        f"cycle approaches from ({lines})", verdict, state)
         stock = self.checker.context.get("stock")
         on_blank = frames.workpiece_level(state, state.plane_axes[2], height)  # the parameter is in program coordinates
         if stock is not None and on_blank is not None:
             verdict = self.checker.judge(hazard("<=", on_blank, stock.top), state)
-            self.checker.report_verdict("heidenhain.sl-clearance-height", where, f"clearance height {names[0]}={show(height)} is not above the top of the blank Z{stock.top:g}: "
-                                        "the rapids between areas and the final retract stay in the material", verdict, state)
+            self.checker.report_verdict("heidenhain.sl-clearance-height", where, f"cycle {number}: clearance height {name}={show(height)} is not above the top "
+                                        f"of the blank Z{stock.top:g}: the moves between areas and the final retract stay in the material", verdict, state)
 
 
 @rule("heidenhain.transform-at-end")

@@ -12,7 +12,7 @@ import math
 
 from shapely.geometry import Point
 
-from .. import frames, pocket, values
+from .. import pocket, values
 from ..check import hazard, rule, show
 from .heidenhain import _CycleRule, _tool
 
@@ -345,30 +345,6 @@ class RougherForgotten(_CycleRule):
             self.report("heidenhain.rougher-forgotten", spans.get("Q438", span), f"cycle {number} with Q438=-1 (the last roughing tool) after a CONTOUR DEF "
                         "and no OCM roughing since: CONTOUR DEF resets the remembered roughing tool, so the control assumes nothing was roughed and "
                         "the finishing tool takes the full material; give the roughing tool's number in Q438")
-
-
-@rule("heidenhain.sl-clearance-height")
-class TrainClearanceHeight(_CycleRule):
-    """H13/H14 for the cycles the SL/OCM check in :mod:`.heidenhain` leaves out: the
-    contour trains 25 and 276 retract to Q7, OCM chamfering 277 to Q260."""
-
-    def judge_cycle(self, number, params, spans, span, state):
-        name = "Q260" if number == 277 else "Q7"
-        height = params.get(name)
-        if number not in (25, 276, 277) or height is None or not self.first_time(state, ("train-clearance", span)):
-            return
-        where = spans.get(name, span)
-        if number == 277 and params.get("Q203") is not None and params.get("Q200") is not None:
-            set_up = values.add(params["Q203"], values.absolute(params["Q200"]))
-            verdict = self.checker.judge(hazard("<", height, set_up), state)
-            self.checker.report_verdict("heidenhain.sl-clearance-height", where, f"clearance height Q260={show(height)} is below the set-up clearance Q203 + Q200 = "
-                                        f"{show(set_up)}: the moves between contours run below the plane the cycle approaches from (seed L11147-11150)", verdict, state)
-        stock = self.checker.context.get("stock")
-        on_blank = frames.workpiece_level(state, state.plane_axes[2], height)  # the parameter is in program coordinates
-        if stock is not None and on_blank is not None:
-            verdict = self.checker.judge(hazard("<=", on_blank, stock.top), state)
-            self.checker.report_verdict("heidenhain.sl-clearance-height", where, f"cycle {number}: clearance height {name}={show(height)} is not above the top of the blank "
-                                        f"Z{stock.top:g}: the moves between contours and the final retract stay in the material", verdict, state)
 
 
 @rule("heidenhain.sl-q-parameters")
