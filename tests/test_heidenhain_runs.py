@@ -164,7 +164,7 @@ _PLAIN = st.tuples(
 ).map(lambda parts: "L " + " ".join(parts[0]) + parts[1] + parts[2])
 _OTHER = st.sampled_from([
     "L X+10 Y+10 RL F300", "L X+60 Y+10 RR", "L X+5 Y+5 R0", "L IX+5 IY-2", "L Z+20 R0 FMAX", "L X+0 Y+0 Z+10 FMAX M9",
-    "CC X+50 Y+50", "C X+50 Y+10 DR+", "CR X+30 Y+30 R+20 DR-", "; a comment", "* - ROUGHING", "LBL 5", "Q1 = 12",
+    "CC X+50 Y+50", "C X+50 Y+10 DR+", "CR X+30 Y+30 R+20 DR-", "; a comment", "* - ROUGHING", "LBL 5", "LBL 0", "CALL LBL 5 REP 1", "Q1 = 12",
     "L X+Q1 Y+4", "CYCL DEF 200 DRILLING Q200=+2 Q201=-5 Q206=+150 Q202=+5 Q210=+0 Q203=+0 Q204=+50 Q211=+0",
     "L X+20 Y+20 R0 FMAX M99", "L X+30 Y+30 FMAX M89", "CYCL CALL", "M5", "M3", "TOOL CALL 2 Z S4000", "L Z-3 F100",
     "TRANS DATUM AXIS X+10 Y+5", "TRANS DATUM RESET", "CYCL DEF 10.0 ROTATION", "CYCL DEF 10.1 ROT+30",
