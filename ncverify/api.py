@@ -9,7 +9,7 @@ import os
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from . import annotations
+from . import annotations, values
 from .check import Checker
 from .detect import Detection, detect
 from .diagnostics import Diagnostic, Severity, Status, Suppressed
@@ -110,8 +110,9 @@ def check_source(source: ProgramSource, settings: Settings, project: Context | N
                        Status.UNKNOWN, f"no reader for the {detection.dialect} dialect yet")
         result.diagnostics = checker.diagnostics
         return result
-    _run(source, settings, detection, result, project)
-    _confirm_witnesses(source, settings, detection, result, project)
+    with values.fresh_numbering():
+        _run(source, settings, detection, result, project)
+        _confirm_witnesses(source, settings, detection, result, project)
     return result
 
 

@@ -9,7 +9,10 @@ over-approximates soundly: everything the program can do is still included.
 """
 from __future__ import annotations
 
+import itertools
 import math
+from contextlib import contextmanager
+from contextvars import ContextVar
 from dataclasses import dataclass
 
 import z3
@@ -67,13 +70,28 @@ def parameter(name: str, low: float = -INF, high: float = INF) -> Sym:
     return Sym(z3.Real(name), low, high)
 
 
-_fresh_counter = [0]
+_fresh_numbers: ContextVar = ContextVar("fresh_numbers", default=None)
 
 
 def fresh(label: str, low: float = -INF, high: float = INF) -> Sym:
-    """An unknown value that no parameter names (a position after G28, a probe result)."""
-    _fresh_counter[0] += 1
-    return Sym(z3.Real(f"{label}~{_fresh_counter[0]}"), low, high, exact=False)
+    """An unknown value that no parameter names (a position after G28, a probe result).
+    Its name is ``label~n``, numbered within the current :func:`fresh_numbering`."""
+    numbers = _fresh_numbers.get()
+    if numbers is None:
+        numbers = itertools.count(1)
+        _fresh_numbers.set(numbers)
+    return Sym(z3.Real(f"{label}~{next(numbers)}"), low, high, exact=False)
+
+
+@contextmanager
+def fresh_numbering():
+    """Number the unknown values of one check from 1, so that checking the same program
+    twice in one process (an editor, a test run) gives the same findings word for word."""
+    token = _fresh_numbers.set(itertools.count(1))
+    try:
+        yield
+    finally:
+        _fresh_numbers.reset(token)
 
 
 def term_of(value: Value) -> z3.ArithRef:

@@ -67,3 +67,36 @@ def test_a_missing_feed_names_the_e60_alarm_only_on_the_e60():
                if d.rule == "core.feed-missing"]
     [sinumerik] = messages("G90 G0 X0 Y0 Z5 S1000 M3\nG1 Z-2\nM30\n", "core.feed-missing", "sinumerik")
     assert "P62" not in fanuc and "P62" not in sinumerik
+
+
+ROUNDED_DIVISOR = """
+    0 BEGIN PGM STEPS MM
+    1 Q1950 = Q1804 - Q1805
+    2 Q1951 = INT ( ( Q1950 / 2 ) + 0.99999999 )
+    3 Q1952 = Q1950 / Q1951
+    4 END PGM STEPS MM
+    """
+
+
+def test_an_unknown_value_is_shown_by_what_it_came_from_not_by_its_internal_name():
+    [message] = messages(ROUNDED_DIVISOR, "core.arithmetic-domain", "heidenhain")
+    assert "~" not in message
+    assert "(…)" in message
+
+
+def test_checking_a_program_twice_in_one_process_gives_the_same_findings_word_for_word():
+    def findings():
+        result = check_text(textwrap.dedent(ROUNDED_DIVISOR), settings=Settings(dialect="heidenhain"))
+        return [(d.rule, d.span, d.status, d.message, d.reason) for d in result.diagnostics]
+
+    assert findings() == findings()
+
+
+def test_unknown_values_are_numbered_afresh_for_every_check():
+    from ncverify import values
+
+    def first_name():
+        with values.fresh_numbering():
+            return str(values.fresh("FIX").term)
+
+    assert first_name() == first_name() == "FIX~1"
