@@ -18,7 +18,9 @@ HAZARDS: dict[str, tuple[tuple[str, ...], str]] = {
     "H1": (("core.cycle-modal-at-end", "core.cycle-modal-at-tool-change"),
            "every later motion block is modelled as a hole (NR, NR0 too), so rapids and depths of the unwanted holes are judged; "
            "which move was 'the last intended hole' is the programmer's intent"),
-    "H2": (("fagor.hole-at-unknown-position", "core.repeat-same-hole"), ""),
+    "H2": (("fagor.hole-at-unknown-position", "core.repeat-same-hole"),
+           "NR in a cycle's zone repeats the hole in the cycle runner, so NRn in G90 (or G91 without an increment) is reported; "
+           "a definition block at the position of an earlier hole of another block is not (it may be a second operation on purpose)"),
     "H3": (("core.cycle-depth-sign", "core.cycle-zero-depth", "fagor.g83-peck-count"), "judged with the tool-axis sign of #TOOL AX"),
     "H4": (("fagor.g83-depth", "core.cycle-missing-parameter"), "the intended depth is not known: judged against the stock's far face"),
     "H5": (("core.rapid-into-stock", "core.clearance-below-stock"), "clearance-below-stock along +Z only; rapid-into-stock along any axis"),

@@ -229,3 +229,38 @@ def test_a_peck_count_from_a_free_parameter_is_refuted_with_a_fractional_witness
     assert finding.status.value == "violated"
     [(name, value)] = finding.witness.items()
     assert name == "P1" and 1 <= value <= 4 and not float(value).is_integer()
+
+
+# --------------------------------------------------------------------------- NR in a cycle's zone (H1, H2)
+
+
+NR_IN_ZONE = "G0 G90 X0 Y0 Z25 F200 S900 M3\nG99 G81 Z2 I-20\n{}\nG90 G80\nM30\n"
+
+
+def test_nr_in_g90_drills_the_same_hole_again():
+    result = check(NR_IN_ZONE.format("X10 Y10 NR3"))
+    [finding] = findings(result)["core.repeat-same-hole"]
+    assert (finding.span.line, finding.span.column, finding.span.end_column) == (3, 9, 12)  # the NR3 word
+    assert "G81 NR3 in G90" in finding.message and "X10 Y10" in finding.message and "3 times" in finding.message
+
+
+def test_nr_in_the_defining_block_drills_the_same_hole_again():
+    result = check("G0 G90 X0 Y0 Z25 F200 S900 M3\nG99 G81 Z2 I-20 X10 Y10 NR2\nG80\nM30\n")
+    assert [d.span.line for d in findings(result)["core.repeat-same-hole"]] == [2]
+
+
+@pytest.mark.parametrize("block", ["G91 X10 NR3", "G91 X10 Y-5 NR4", "X10 Y10 NR0", "X10 Y10 NR1", "G91 X10 NR1"])
+def test_nr_that_spaces_the_holes_or_does_not_repeat_is_not_reported(block):
+    assert "core.repeat-same-hole" not in findings(check(NR_IN_ZONE.format(block)), "violated")
+
+
+@settings(max_examples=30, deadline=None)
+@given(strategies.integers(1, 6), strategies.integers(-20, 20).filter(bool))
+def test_nr_in_g91_makes_a_row_of_holes_one_increment_apart(count, step):
+    run = trace(NR_IN_ZONE.format(f"G91 X{step} NR{count}"))
+    assert [hole.position["X"] for hole in run.holes][1:] == [float(step * k) for k in range(1, count + 1)]
+
+
+def test_nr_outside_a_cycle_zone_still_runs_a_modal_subroutine_call():
+    run = trace("%L SPOT\nG91 G1 Z-3 F100\nG0 Z3\nG90\n#RET\nG0 G90 X0 Y0 Z5\n#MCALL SPOT\nG91 G0 X10 NR2\nG90\n#MDOFF\nM30\n")
+    assert 20.0 in [segment.end["X"] for segment in run.segments if segment.kind == "feed"]  # after the last repeat at least

@@ -116,7 +116,8 @@ class CycleShift(Rule):
 @rule("core.repeat-same-hole")
 class RepeatSameHole(Rule):
     """Each repeat is its own Hole; a repeat at the position of the one before it (from the
-    same block) drills the same hole again."""
+    same block) drills the same hole again. The repeat word is the cycle model's
+    ``repeat_letter`` (Fagor ``NR``), else ``L`` or ``K`` (lathe)."""
 
     def hole(self, hole, state):
         memory = state.rule_state
@@ -129,8 +130,9 @@ class RepeatSameHole(Rule):
         memory["repeat-same-hole"] = (hole.span, position)
         if previous is None or previous[0] != hole.span or not _same_position(previous[1], position, absolute):
             return
-        letter = "L"
-        for candidate in ("L", "K"):
+        candidates = (hole.model["repeat_letter"],) if "repeat_letter" in hole.model else ("L", "K")  # Fagor: NR
+        letter = candidates[0]
+        for candidate in candidates:
             where = hole.param_spans.get(candidate)
             if where is not None and where.line == hole.span.line:
                 letter = candidate

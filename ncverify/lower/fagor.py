@@ -52,12 +52,13 @@ _TURNING_CODES = {f"{n}" for n in range(81, 89)}
 _NO_EFFECT_INSTRUCTIONS = {"HSC", "ROUNDPAR", "MSG", "WARNING", "WAIT", "FLUSH", "SYNC", "TIME", "DSBLK", "ESBLK", "SVON",
                            "SVOFF", "TSYNC", "SELECT", "EXBLK", "MEXEC", "EXEC", "FEED", "ABORT", "CONTJOG", "COMMENT"}
 _PCALL_PARAMETERS = {letter: f"P{index}" for index, letter in enumerate("ABCDEFGHIJKLMNOPQRSTUVWXYZ")}
-_REPEAT_COPIES = 1000  # NR up to this count repeats the move op; above, the cycle runner repeats the hole
+_REPEAT_COPIES = 1000  # outside a cycle's zone, NR up to this count copies the move op
 RPT_END = "$RPT_END"
 SWITCH_VALUE = "$SWITCH"
 _MODAL_CALL, _MODAL_CALL_NAME = ir.Var("$MCALL"), ir.Var("$MCALLNAME")
 _IN_MODAL_CALL = "$INMCALL"  # 1 while the modal subroutine runs (FagorFrontend.system_variable)
 _VACANT = ir.Var("$VACANT")
+_IN_CYCLE_ZONE = ir.Var("$INCYCLE")  # 1 while a hole cycle is modal (FagorFrontend.system_variable)
 _MODAL_CALL_ARGUMENTS = re.compile(rb'(?im)#MCALL[ \t]+(?:"[^"\n]*"|[^\s;]+)([^\n;]*)')
 
 
@@ -111,7 +112,7 @@ class FagorLowering(IsoLowering):
         if line.words:
             block = self._words(block, line, path)
         self._extras(block, line, path)
-        if self.uses_modal_call and any(isinstance(op, ir.Move) and (op.targets or op.arc) for op in block.ops):
+        if self.uses_modal_call and any(isinstance(op, ir.Move) and (op.targets or op.arc) for op in _with_repeats(block.ops)):
             block.ops.append(self._modal_subroutine_call(block.span))
         if self.uses_rpt and isinstance(block.label, float):
             condition = ir.Binary("EQ", ir.Var(RPT_END), block.label)
@@ -264,18 +265,24 @@ class FagorLowering(IsoLowering):
             block.ops.extend(self._repeat_blocks(self._span(line, start, end, path), first, last, count))
 
     def _repeat(self, ops: list, notes: list, line: FagorLine, path) -> None:
-        """NR n repeats the block's move n times (in a cycle's zone, each makes a hole)."""
+        """NR n repeats the block's move n times. In a cycle's zone the cycle runner repeats
+        the hole (so each hole knows its repeat count: ``NR3`` in G90 drills one hole three
+        times); outside it the move is copied (``NR0`` and counts that are computed or above
+        the copy limit stay on the move as the word ``NR``)."""
         value, start, end = line.repeat
-        moves = [op for op in ops if isinstance(op, ir.Move)]
-        if moves and type(value) is float and value == int(value) and 1 <= value <= _REPEAT_COPIES:
-            at = ops.index(moves[-1]) + 1
-            ops[at:at] = [dataclasses.replace(moves[-1]) for _ in range(int(value) - 1)]
-        elif moves:
-            moves[-1].words["NR"] = value  # NR0 in a cycle's zone: the move without machining
-            moves[-1].word_columns["NR"] = (start, end)
-        else:
+        at = next((index for index in range(len(ops) - 1, -1, -1) if isinstance(ops[index], ir.Move)), None)
+        if at is None:
             notes.append(ir.Note("fagor.repeat-without-motion", "NR repeats a block's move (and the cycle at its end): this block has no move, so NR does nothing",
                                  self._span(line, start, end, path)))
+            return
+        move = ops[at]
+        counted = dataclasses.replace(move, words={**move.words, "NR": value}, word_columns={**move.word_columns, "NR": (start, end)})
+        copyable = type(value) is float and value == int(value) and 1 <= value <= _REPEAT_COPIES
+        if not copyable or any(isinstance(op, ir.CycleDefine) for op in ops):
+            ops[at] = counted
+            return
+        ops[at : at + 1] = [ir.Conditional(move.span, ir.Binary("EQ", _IN_CYCLE_ZONE, 1.0), [counted]),
+                            ir.Conditional(move.span, ir.Binary("EQ", _IN_CYCLE_ZONE, 0.0), [dataclasses.replace(move) for _ in range(int(value))])]
 
     @staticmethod
     def _repeat_blocks(span: Span, first, last, count) -> list[ir.Op]:
@@ -425,6 +432,12 @@ class FagorLowering(IsoLowering):
         first, last, *count = statement.args
         block.ops.extend(self._repeat_blocks(span, first, last, count[0] if count else 1.0))
         return [block]
+
+
+def _with_repeats(ops: list):
+    """The block's ops, with the moves of an ``NR`` repeat (see ``FagorLowering._repeat``)."""
+    for op in ops:
+        yield from op.then if isinstance(op, ir.Conditional) else (op,)
 
 
 def _negated(args: list) -> ir.Expr:
@@ -658,6 +671,8 @@ class FagorFrontend:
         if name == _IN_MODAL_CALL:
             modal = state.global_variables.get(_MODAL_CALL_NAME.name)
             return 1.0 if any(frame.program == modal for frame in state.frames) else 0.0
+        if name == _IN_CYCLE_ZONE.name:
+            return 0.0 if state.cycle is None else 1.0
         if name == _VACANT.name or name.startswith("$MCALLARG:"):
             return VACANT
         if name == "$PLANE":
