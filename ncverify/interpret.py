@@ -4,11 +4,11 @@ The machine state holds the position of every axis, every modal group, the activ
 offsets, spindle, coolant, the modal canned cycle and the call stack. Values are floats
 where known and :class:`~ncverify.values.Sym` where they depend on a free parameter.
 
-Control flow follows the program: jumps, loops and calls are resolved through the dialect
-front end by byte offset, so straight-line code streams and memory does not grow with it.
-A branch whose condition depends on free parameters forks the path (up to
-``Settings.max_paths``); every loop, jump chain and call nest is bounded, and hitting a
-bound is a finding, never a hang.
+This module runs blocks and carries out the operations that change the machine: modal
+codes, offsets and frames, feed, spindle, tools, moves, cycles and variables. Straight-line
+code streams, and a long streak of plain blocks runs as one batch. Where execution goes
+next (branches, jumps, loops, labels, calls and returns, program ends) is in
+:mod:`ncverify.control_flow`, a mixin of :class:`Interpreter`.
 """
 from __future__ import annotations
 
@@ -18,6 +18,7 @@ from dataclasses import dataclass, field, replace
 import numpy
 
 from . import frames, ir, values
+from .control_flow import ControlFlow, Frame, LoopFrame, PathEnd, Position
 from .cycles import ActiveCycle, CycleRunner
 from .settings import Settings
 from .source import ProgramSource, Span
@@ -28,48 +29,9 @@ from .values import VACANT, Condition, DomainError, Sym
 _ARC_KINDS = {"arc_cw": "cw", "arc_ccw": "ccw"}
 _SEGMENT_KIND = {"rapid": "rapid", "linear": "feed", "arc_cw": "arc", "arc_ccw": "arc", "thread": "thread"}
 _PLANES = {"xy": ("X", "Y", "Z"), "zx": ("Z", "X", "Y"), "yz": ("Y", "Z", "X")}
-# Fanuc argument specification I: G65 letters to local variables.
-_ARGUMENT_VARIABLES = {
-    "A": 1, "B": 2, "C": 3, "I": 4, "J": 5, "K": 6, "D": 7, "E": 8, "F": 9, "H": 11, "M": 13,
-    "Q": 17, "R": 18, "S": 19, "T": 20, "U": 21, "V": 22, "W": 23, "X": 24, "Y": 25, "Z": 26,
-}
-
-
-class PathEnd(Exception):
-    """The current path stops (program end, alarm, bound hit)."""
 
 
 # ------------------------------------------------------------------------- machine state
-
-
-@dataclass(slots=True)
-class Position:
-    """Where execution is: a line's offset in a source and the block / op inside it."""
-
-    source: ProgramSource
-    offset: int
-    block_index: int = 0
-    op_index: int = 0
-
-
-@dataclass(slots=True)
-class Frame:
-    """A subprogram or macro call on the stack."""
-
-    kind: str  # main, subprogram, macro, local
-    program: str
-    source: ProgramSource
-    start: int  # offset of the program's first line
-    return_to: Position | None
-    repeats_left: int = 0
-    local_variables: dict | None = None  # a macro's own #1-#33; None shares the caller's
-
-
-@dataclass(slots=True)
-class LoopFrame:
-    loop_id: int
-    head: Position
-    iterations: int = 0
 
 
 @dataclass(slots=True)
@@ -127,7 +89,7 @@ class MachineState:
 # ------------------------------------------------------------------------- interpreter
 
 
-class Interpreter:
+class Interpreter(ControlFlow):
     """Runs one program (and the subprograms it calls) and reports to ``observer``.
 
     ``observer`` receives ``segment``, ``hole``, ``cycle_run``, ``change``, ``fault`` and
@@ -195,32 +157,6 @@ class Interpreter:
                 pass
         self._sweep_unvisited()
 
-    def _main_program(self) -> tuple[str, int, bool]:
-        """The program to run: the first one that is not a subprogram (M99 and no M02/M30);
-        when every program in the file is a subprogram, the first, run as a called program
-        whose feed and spindle come from a caller we cannot see."""
-        programs = self._program_index(self.source)
-        if not programs:
-            return "main", 0, False
-        buffer = self.source.buffer
-        offsets = sorted(programs.values()) + [len(buffer)]
-        names = sorted(programs, key=programs.get)
-        for name in names:
-            start = programs[name]
-            end = offsets[offsets.index(start) + 1]
-            if not self.frontend.is_subprogram(buffer, start, end):
-                return name, (0 if start == offsets[0] else start), False
-        return names[0], 0, True
-
-    def _program_index(self, source: ProgramSource) -> dict[str, int]:
-        key = id(source)
-        if key not in self.programs:
-            index: dict[str, int] = {}
-            for name, offset in self.frontend.programs(source.buffer):
-                index.setdefault(name, offset)
-            self.programs[key] = index
-        return self.programs[key]
-
     def _run_path(self, position: Position) -> None:
         while True:
             position = self._run_from(position)
@@ -261,27 +197,6 @@ class Interpreter:
             return self._end_of_text(source)
         finally:
             self.visited.append((source, position.offset, streak_end))
-
-    def _closes_tape(self, source: ProgramSource, offset: int) -> bool:
-        marks = self._tape_marks(source)
-        return offset in marks and marks.index(offset) % 2 == 1
-
-    def _tape_marks(self, source: ProgramSource) -> list[int]:
-        key = ("tape", id(source))
-        if key not in self.programs:
-            self.programs[key] = self.frontend.tape_marks(source.buffer)
-        return self.programs[key]
-
-    def _off_tape(self, source: ProgramSource) -> list[tuple[int, int]]:
-        """Text after a closing '%' and before the next opening one: no control reads it."""
-        marks = self._tape_marks(source)
-        closings = marks[1::2]
-        openings = marks[2::2] + [len(source)]
-        return [(closing, opening) for closing, opening in zip(closings, openings)]
-
-    def _end_of_text(self, source: ProgramSource):
-        self._ran_off_the_end(source)
-        raise PathEnd
 
     # ------------------------------------------------------------------ batches of plain blocks
 
@@ -396,10 +311,6 @@ class Interpreter:
             if transfer is not None:
                 return transfer
         return None
-
-    def _is_first_program(self, source: ProgramSource, offset: int) -> bool:
-        programs = self._program_index(source)
-        return bool(programs) and min(programs.values()) == offset
 
     # ------------------------------------------------------------------ reporting helpers
 
@@ -585,31 +496,6 @@ class Interpreter:
         if value is VACANT:
             return False
         return values.truth(value)
-
-    # ------------------------------------------------------------------ branching
-
-    def _decide(self, condition, span, resume_false) -> bool:
-        """Decide a branch. A symbolic condition forks: this path takes ``True`` (and its
-        path condition records it), a copy takes ``False`` from ``resume_false()`` (a
-        callable, since finding that position can mean reading ahead)."""
-        if type(condition) is bool:
-            return condition
-        if self.paths_started + len(self._forks) >= self.settings.max_paths:
-            self._fault("core.path-limit", span, f"the branch depends on {', '.join(sorted(_condition_parameters(condition)))}; "
-                        f"more than {self.settings.max_paths} paths: this branch was not explored both ways", "unknown",
-                        "path budget exhausted (max_paths)")
-            raise PathEnd
-        twin = self.state.fork()
-        twin.path_condition.append(values.negate(condition))
-        self._forks.append((twin, resume_false()))
-        self.state.path_condition.append(condition)
-        return True
-
-    def _next_position(self) -> Position:
-        return self._current_position(self._op_index + 1)
-
-    def _current_position(self, op_index: int) -> Position:
-        return Position(self._line_source, self._line_offset, self._block_index, op_index)
 
     # ------------------------------------------------------------------ op handlers: state
 
@@ -991,286 +877,6 @@ class Interpreter:
         self._fault("core.macro-alarm", op.span, f"the program raises {op.statement.format(number=shown)}{text}: the control stops here")
         raise PathEnd
 
-    def _conditional(self, op: ir.Conditional, block):
-        condition = self.condition(op.condition, op.span)
-        if self._decide(condition, op.span, self._next_position):
-            for inner in op.then:
-                transfer = self._handlers[type(inner)](inner, block)
-                if transfer is not None:
-                    return transfer
-        return None
-
-    def _jump(self, op: ir.Jump, block):
-        if op.condition is not None:
-            condition = self.condition(op.condition, op.span)
-            if not self._decide(condition, op.span, self._next_position):
-                return None
-        target = self.evaluate(op.target, op.span)
-        if type(target) not in (float, str):
-            self._unsupported_here(op.span, "a jump whose target depends on a free parameter")
-            raise PathEnd
-        position = self.find_label(target, op.span, direction=op.direction)
-        self._count_jump(position, op.span, f"the jump to {self.frontend.describe_label(target)}")
-        return position
-
-    def _count_jump(self, position: Position, span, what: str) -> None:
-        key = (id(position.source), position.offset, position.block_index)
-        counts = self.state.jump_counts
-        counts[key] = counts.get(key, 0) + 1
-        if counts[key] > self.settings.loop_bound:
-            self._fault("core.loop-bound", span, f"{what} was taken {self.settings.loop_bound:,} times without the loop ending; the rest of this path is not analysed",
-                        "unknown", f"loop bound {self.settings.loop_bound} reached")
-            raise PathEnd
-
-    def _loop_start(self, op: ir.LoopStart, block):
-        condition = self.condition(op.condition, op.span)
-        head = self._current_position(self._op_index)
-        state = self.state
-        frame = next((loop for loop in state.loops if loop.loop_id == op.loop_id and loop.head == head), None)
-        if self._decide(condition, op.span, lambda: self._find_loop_end(op.loop_id, op.span)):
-            if frame is None:
-                state.loops.append(LoopFrame(op.loop_id, head))
-            return None
-        return self._exit_loop(op, frame)
-
-    def _exit_loop(self, op: ir.LoopStart, frame):
-        if frame is not None:
-            self.state.loops.remove(frame)
-        return self._find_loop_end(op.loop_id, op.span)
-
-    def _loop_end(self, op: ir.LoopEnd, block):
-        state = self.state
-        for frame in reversed(state.loops):
-            if frame.loop_id == op.loop_id:
-                frame.iterations += 1
-                if frame.iterations >= self.settings.loop_bound:
-                    self._fault("core.loop-bound", op.span, f"the loop that ends here ran {self.settings.loop_bound:,} times without its condition becoming false; "
-                                "the rest of this path is not analysed", "unknown", f"loop bound {self.settings.loop_bound} reached")
-                    raise PathEnd
-                return frame.head
-        self._fault("core.label-not-found", op.span, f"END{op.loop_id} has no matching WHILE ... DO{op.loop_id} before it")
-        return None
-
-    def _find_loop_end(self, loop_id: int, span) -> Position:
-        source = self._line_source
-        depth = 0
-        path = None if source is self.source else source.name
-        start_offset, start_block = self._line_offset, self._block_index + 1
-        for line_number, offset, _next, raw in logical_lines(source, start_offset, self.frontend):
-            blocks = self.frontend.blocks(raw, line_number, path)
-            for index in range(start_block if offset == start_offset else 0, len(blocks)):
-                for op in blocks[index].ops:
-                    if isinstance(op, ir.LoopStart) and op.loop_id == loop_id:
-                        depth += 1
-                    elif isinstance(op, ir.LoopEnd) and op.loop_id == loop_id:
-                        if depth == 0:
-                            return Position(source, offset, index + 1)
-                        depth -= 1
-        self._fault("core.label-not-found", span, f"DO{loop_id} has no matching END{loop_id}: the control alarms when the loop ends")
-        raise PathEnd
-
-    # ------------------------------------------------------------------ labels and programs
-
-    def find_label(self, label: float, span, source: ProgramSource | None = None, frame: Frame | None = None,
-                   direction: str | None = None) -> Position:
-        """The block carrying ``label``. ``direction`` ``forward`` / ``backward`` searches
-        only that way from the current block and takes the nearest (SINUMERIK GOTOF/GOTOB,
-        where a label may repeat); ``nearest`` tries forward, then backward (GOTO)."""
-        frame = frame or self.state.frames[-1]
-        source = source or frame.source
-        key = (id(source), frame.program, label)
-        found = self.label_cache.get(key)
-        if found is None:
-            found = self._scan_label(source, frame, label)
-            self.label_cache[key] = found
-        if not found:
-            self._fault("core.label-not-found", span, f"label {self.frontend.describe_label(label)} is not in program {frame.program}: the control alarms here")
-            raise PathEnd
-        current = self._line_offset if source is self._line_source else -1
-        after = [position for position in found if position.offset > current]
-        if direction is not None:
-            before = [position for position in found if position.offset < current]
-            nearest = after[:1] if direction == "forward" else before[-1:] if direction == "backward" else (after[:1] or before[-1:])
-            if not nearest:
-                self._fault("core.label-not-found", span, f"{self.frontend.describe_label(label)} is not {'after' if direction == 'forward' else 'before'} this block in {frame.program}: the control alarms here")
-                raise PathEnd
-            return nearest[0]
-        if len(found) > 1:
-            self.observer.fault(Fault("core.duplicate-label", span, f"{self.frontend.describe_label(label)} appears {len(found)} times in {frame.program}; the jump goes to the first one after the current block"))
-        return (after or found)[0]
-
-    def _scan_label(self, source: ProgramSource, frame: Frame, label: float) -> list[Position]:
-        start, end = self._program_bounds(source, frame.start)
-        path = None if source is self.source else source.name
-        found = []
-        for offset in self.frontend.label_offsets(source.buffer, label):
-            if not start <= offset < end:
-                continue
-            line_number = source.line_number_at(offset)
-            newline = source.buffer.find(b"\n", offset)
-            raw = bytes(source.buffer[offset : len(source.buffer) if newline < 0 else newline]).rstrip(b"\r")
-            for index, block in enumerate(self.frontend.blocks(raw, line_number, path)):
-                if block.label == label:
-                    found.append(Position(source, offset, index))
-        return found
-
-    def _program_bounds(self, source: ProgramSource, start: int) -> tuple[int, int]:
-        """The program that begins at ``start`` runs to the next program header; a main
-        program read from the top of the file owns the first header too."""
-        offsets = sorted(self._program_index(source).values())
-        own_header = offsets[0] if offsets and start <= offsets[0] else start
-        later = [offset for offset in offsets if offset > own_header]
-        return start, (later[0] if later else len(source))
-
-    def _find_program(self, number: float | str, span) -> tuple[ProgramSource, int] | None:
-        name = self.frontend.program_name(number)
-        for source in (self._line_source, self.source):
-            offset = self._program_index(source).get(name)
-            if offset is not None:
-                return source, offset
-        if self.library is not None:
-            found = self.library.find(name)
-            if found is not None:
-                source = found
-                offset = self._program_index(source).get(name, 0)
-                return source, offset
-        return None
-
-    # ------------------------------------------------------------------ calls
-
-    def _call(self, op: ir.Call, block):
-        state = self.state
-        repeat = self.evaluate(op.repeat, op.span)
-        repeat = 1 if repeat is VACANT else repeat
-        if type(repeat) is not float:
-            self._unsupported_here(op.span, "a call whose repeat count depends on a free parameter")
-            raise PathEnd
-        if not 0 <= repeat <= 9999:
-            self._fault("core.repeat-count-range", op.span, f"repeat count L{repeat:g} is outside 0-9999")
-        if repeat < 1:
-            return None
-        if op.kind == "local":
-            return self._local_call(op, block, int(repeat))
-        program = self.evaluate(op.program, op.span)
-        if not (type(program) is str or (type(program) is float and program >= 0)):
-            self._fault("core.program-not-found", op.span, "the call names no program number (P missing)")
-            return None
-        found = self._find_program(program, op.span)
-        if found is None:
-            where = " or on the subprogram path" if self.settings.subprogram_path else " (give its folder with --subprogram-path)"
-            if op.kind == "proc":  # called by name: the control looks in its program directories too
-                self._fault("core.program-not-found", op.span, f"subprogram {self.frontend.program_name(program)} called here is not in this file{where}: what it does is not analysed",
-                            "unknown", "a subprogram called by name may be stored on the control")
-                state.move_to(dict.fromkeys(state.position))
-                state.feed_inherited, state.spindle = True, "inherited"  # it may set feed and spindle
-                return None
-            self._fault("core.program-not-found", op.span, f"program {self.frontend.program_name(program)} called here is not in this file{where}: the control alarms")
-            return None
-        source, start = found
-        if len(state.frames) > self.settings.call_depth:
-            self._fault("core.call-depth", op.span, f"calls nest deeper than {self.settings.call_depth} levels (recursion through {self.frontend.program_name(program)}?): the control alarms")
-            raise PathEnd
-        local_variables = None
-        if op.kind == "macro":
-            local_variables = self._macro_arguments(op)
-        elif op.kind == "proc":
-            local_variables = self._proc_arguments(op, source, start)
-        frame = Frame(op.kind, self.frontend.program_name(program), source, start, self._next_position(), int(repeat) - 1)
-        if local_variables is not None:
-            frame.local_variables = state.local_variables
-            state.local_variables = local_variables
-        state.frames.append(frame)
-        self._change("call", op.span, block, None, frame.program)
-        entry = Position(source, start)
-        if op.start_label is not None:
-            label = self.evaluate(op.start_label, op.span)
-            if type(label) is float:
-                return self.find_label(label, op.span, source, frame)
-        return entry
-
-    def _macro_arguments(self, op: ir.Call) -> dict:
-        arguments = {}
-        for letter, expr in op.arguments.items():
-            number = _ARGUMENT_VARIABLES.get(letter)
-            if number is None and len(letter) < 2:
-                self._fault("core.syntax", op.span, f"address {letter} cannot pass a G65 argument")
-                continue
-            value = self.evaluate(expr, op.span)
-            if value is not VACANT:
-                arguments[f"#{number}" if number is not None else letter] = value  # a variable name as is (Fagor #PCALL P0-P25)
-        return arguments
-
-    def _proc_arguments(self, op: ir.Call, source: ProgramSource, start: int) -> dict:
-        """A call by name with positional arguments (SINUMERIK ``NAME(a, b)``): the called
-        program's own variables start as its formal parameters (``frontend.proc_parameters``);
-        an omitted argument is 0."""
-        arguments = {}
-        for index, (name, _by_reference) in enumerate(self.frontend.proc_parameters(source.buffer, start)):
-            value = self.evaluate(op.arguments.get(str(index), 0.0), op.span)
-            arguments[name] = 0.0 if value is VACANT else value
-        return arguments
-
-    def _local_call(self, op: ir.Call, block, repeat: int):
-        label = self.evaluate(op.program, op.span)
-        if type(label) not in (float, str):
-            self._fault("core.label-not-found", op.span, "the call names no label (M97 without P?)")
-            return None
-        current = self.state.frames[-1]
-        target = self.find_label(label, op.span)
-        frame = Frame("local", current.program, current.source, current.start, self._next_position(), repeat - 1)
-        frame.local_variables = None
-        self.state.frames.append(frame)
-        frame.start = target.offset
-        return target
-
-    def _return(self, op: ir.Return, block):
-        state = self.state
-        frame = state.frames[-1]
-        if op.local_only and frame.kind != "local":
-            return None
-        if frame.kind == "called":
-            self._program_end(op.span, block, "return")
-        if frame.kind == "main":
-            self._fault("core.m99-in-main", op.span, "M99 in the main program restarts it from the top: it repeats without end (bar feeder loop?)")
-            self._program_end(op.span, block, "m99")
-        if frame.repeats_left > 0:
-            frame.repeats_left -= 1
-            self._count_jump(Position(frame.source, frame.start), op.span, f"the repeat of {frame.program}")
-            return Position(frame.source, frame.start)
-        state.frames.pop()
-        if frame.local_variables is not None:
-            state.local_variables = frame.local_variables
-        self._change("return", op.span, block, frame.program, None)
-        if op.to_label is not None:
-            label = self.evaluate(op.to_label, op.span)
-            if type(label) is float:
-                return self.find_label(label, op.span)
-        return frame.return_to
-
-    def _stop(self, op: ir.Stop, block):
-        self._change("stop", op.span, block, None, op.kind)
-        if op.kind == "end":
-            self._program_end(op.span, block, "end")
-        return None
-
-    def _program_end(self, span, block, how: str):
-        self._change("end", span, block, None, how)
-        raise PathEnd
-
-    def _ran_off_the_end(self, source: ProgramSource) -> None:
-        frame = self.state.frames[-1]
-        last_line = max(source.line_number_at(len(source)) - (1 if source.buffer[-1:] == b"\n" else 0), 1) if len(source) else 1
-        span = Span(last_line, 1, last_line, 1, None if source is self.source else source.name)
-        what = "M02/M30" if frame.kind == "main" else "M99"
-        self._fault("core.program-end-missing", span, f"{frame.program if frame.program != 'main' else 'the program'} ends without {what}: the control stops at the end of the text with the spindle and coolant as they are")
-        self._change("end", span, None, None, "eof")
-
-    def _program_ran_into_next(self, block: ir.Block, frame: Frame) -> None:
-        what = "M02/M30" if frame.kind == "main" else "M99"
-        self._fault("core.program-end-missing", block.span, f"{frame.program if frame.program != 'main' else 'the program'} runs into program {block.program_start} without {what}")
-        self._change("end", block.span, block, None, "eof")
-        raise PathEnd
-
     # ------------------------------------------------------------------ computed codes
 
     def _deferred(self, op: ir.Deferred, block):
@@ -1290,24 +896,6 @@ class Interpreter:
             if transfer is not None:
                 return transfer
         return None
-
-    # ------------------------------------------------------------------ unread text
-
-    def _sweep_unvisited(self) -> None:
-        """Read the lines no path reached, for their syntax findings only."""
-        by_source: dict[int, tuple[ProgramSource, list]] = {}
-        for source, start, end in self.visited:
-            by_source.setdefault(id(source), (source, []))[1].append((start, end))
-        by_source.setdefault(id(self.source), (self.source, []))
-        for source, ranges in by_source.values():
-            path = None if source is self.source else source.name
-            for start, end in _gaps(sorted(ranges + self._off_tape(source)), len(source)):
-                for line_number, offset, _next, raw in logical_lines(source, start, self.frontend):
-                    if offset >= end:
-                        break
-                    for block in self.frontend.blocks(raw, line_number, path):
-                        for note in block.notes:
-                            self.observer.note(note)
 
 
 def op_values(written: dict, interpreter: "Interpreter", span) -> dict:
@@ -1353,16 +941,6 @@ def values_text(value) -> str:
     return show(value)
 
 
-def _gaps(ranges: list[tuple[int, int]], size: int):
-    position = 0
-    for start, end in ranges:
-        if start > position:
-            yield position, start
-        position = max(position, end)
-    if position < size:
-        yield position, size
-
-
 def _scaled(value, scale: float):
     return value if scale == 1.0 else values.mul(value, scale)
 
@@ -1380,17 +958,3 @@ def _distance(a1, a2, b1, b2):
         return math.hypot(d1, d2)
     return None
 
-
-def _condition_parameters(condition: Condition) -> set[str]:
-    import z3
-
-    found = set()
-
-    def walk(term):
-        if z3.is_const(term) and term.decl().kind() == z3.Z3_OP_UNINTERPRETED:
-            found.add(str(term))
-        for child in term.children():
-            walk(child)
-
-    walk(condition.term)
-    return found or {"a free parameter"}

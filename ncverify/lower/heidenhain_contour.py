@@ -23,8 +23,8 @@ import shapely
 from shapely.geometry import Point, Polygon
 
 from .. import ir
+from ..control_flow import PathEnd
 from ..dialect import logical_lines
-from ..interpret import PathEnd
 from ..values import VACANT
 
 _ELEMENT_LIMIT = 16384  # contour elements per SL cycle (seed L9050-9051)

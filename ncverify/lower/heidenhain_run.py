@@ -22,7 +22,8 @@ from dataclasses import dataclass, replace
 
 from .. import cycles, ir, values
 from . import heidenhain_frames, heidenhain_special
-from ..interpret import PathEnd, _distance, _distance_sq
+from ..control_flow import PathEnd
+from ..interpret import _distance, _distance_sq
 from ..trace import Arc, CycleRun, Hole
 
 _PLANES = {"xy": ("X", "Y", "Z"), "yz": ("Y", "Z", "X"), "zx": ("Z", "X", "Y")}
