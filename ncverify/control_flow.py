@@ -73,6 +73,10 @@ class ControlFlow:
     def _current_position(self, op_index: int) -> Position:
         return Position(self._line_source, self._line_offset, self._block_index, op_index)
 
+    def _path_name(self, source: ProgramSource) -> str | None:
+        """The file name spans carry for ``source``: None for the program being checked."""
+        return None if source is self.source else source.name
+
     # ------------------------------------------------------------------ branching
 
     def _decide(self, condition, span, resume_false) -> bool:
@@ -157,7 +161,7 @@ class ControlFlow:
     def _find_loop_end(self, loop_id: int, span) -> Position:
         source = self._line_source
         depth = 0
-        path = None if source is self.source else source.name
+        path = self._path_name(source)
         start_offset, start_block = self._line_offset, self._block_index + 1
         for line_number, offset, _next, raw in logical_lines(source, start_offset, self.frontend):
             blocks = self.frontend.blocks(raw, line_number, path)
@@ -256,7 +260,7 @@ class ControlFlow:
 
     def _scan_label(self, source: ProgramSource, frame: Frame, label: float) -> list[Position]:
         start, end = self._program_bounds(source, frame.start)
-        path = None if source is self.source else source.name
+        path = self._path_name(source)
         found = []
         for offset in self.frontend.label_offsets(source.buffer, label):
             if not start <= offset < end:
@@ -399,14 +403,14 @@ class ControlFlow:
     def _ran_off_the_end(self, source: ProgramSource) -> None:
         frame = self.state.frames[-1]
         last_line = max(source.line_number_at(len(source)) - (1 if source.buffer[-1:] == b"\n" else 0), 1) if len(source) else 1
-        span = Span(last_line, 1, last_line, 1, None if source is self.source else source.name)
-        what = "M02/M30" if frame.kind == "main" else "M99"
-        self._fault("core.program-end-missing", span, f"{frame.program if frame.program != 'main' else 'the program'} ends without {what}: the control stops at the end of the text with the spindle and coolant as they are")
+        span = Span(last_line, 1, last_line, 1, self._path_name(source))
+        program, end_code = _unended(frame)
+        self._fault("core.program-end-missing", span, f"{program} ends without {end_code}: the control stops at the end of the text with the spindle and coolant as they are")
         self._change("end", span, None, None, "eof")
 
     def _program_ran_into_next(self, block: ir.Block, frame: Frame) -> None:
-        what = "M02/M30" if frame.kind == "main" else "M99"
-        self._fault("core.program-end-missing", block.span, f"{frame.program if frame.program != 'main' else 'the program'} runs into program {block.program_start} without {what}")
+        program, end_code = _unended(frame)
+        self._fault("core.program-end-missing", block.span, f"{program} runs into program {block.program_start} without {end_code}")
         self._change("end", block.span, block, None, "eof")
         raise PathEnd
 
@@ -436,7 +440,7 @@ class ControlFlow:
             by_source.setdefault(id(source), (source, []))[1].append((start, end))
         by_source.setdefault(id(self.source), (self.source, []))
         for source, ranges in by_source.values():
-            path = None if source is self.source else source.name
+            path = self._path_name(source)
             for start, end in _gaps(sorted(ranges + self._off_tape(source)), len(source)):
                 for line_number, offset, _next, raw in logical_lines(source, start, self.frontend):
                     if offset >= end:
@@ -444,6 +448,12 @@ class ControlFlow:
                     for block in self.frontend.blocks(raw, line_number, path):
                         for note in block.notes:
                             self.observer.note(note)
+
+
+def _unended(frame: Frame) -> tuple[str, str]:
+    """How a message names the program of ``frame``, and the code that should end it."""
+    program = frame.program if frame.program != "main" else "the program"
+    return program, "M02/M30" if frame.kind == "main" else "M99"
 
 
 def _gaps(ranges: list[tuple[int, int]], size: int):

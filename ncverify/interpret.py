@@ -169,7 +169,7 @@ class Interpreter(ControlFlow):
         cache = self._should_cache()
         frontend_blocks = self.frontend.blocks
         is_plain = self.frontend.is_plain
-        path = None if source is self.source else source.name
+        path = self._path_name(source)
         self._line_source = source
         streak_end = position.offset
         plain_streak = 0

@@ -540,6 +540,11 @@ class ContourSectionRuns(Rule):
                             "moves at the current height, without compensation; jump over it with GOTOF or put it after M30")
 
 
+def _contour_not_found(facts, cycle: str, kind: str = "") -> str:
+    """The message for a contour ``cycle`` names that no file holds (``kind``: edge, island, finished, blank)."""
+    return f"the {kind + ' ' if kind else ''}contour \"{facts.name}\" of {cycle} is not in this file or on the subprogram path"
+
+
 def _point(point, state) -> str:
     first, second, _normal = state.plane_axes
     return f"{first}{point[0]:g} {second}{point[1]:g}"

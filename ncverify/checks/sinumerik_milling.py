@@ -13,7 +13,7 @@ from ..frames import AXES
 from ..lower.sinumerik_cycles import levels
 from ..pocket import circle_fit, rectangle_fit, slot_fit
 from .machine import _ReportsMissingContext
-from .sinumerik import _PLANE_CYCLES, _cycle_name, _digit_problem, _is_sinumerik, _number, _point
+from .sinumerik import _PLANE_CYCLES, _contour_not_found, _cycle_name, _digit_problem, _is_sinumerik, _number, _point
 
 
 # --------------------------------------------------------------------------- tool against the feature
@@ -148,7 +148,7 @@ class PocketContour(_ReportsMissingContext):
         contours = state.rule_state.get("sinumerik-pocket-contours", []) if name == "CYCLE75" else []
         state.rule_state["sinumerik-pocket-contours"] = [*contours, facts]
         if not facts.found:
-            self.missing("sinumerik.pocket-contour", span, f"the {what} contour \"{facts.name}\" of {name} is not in this file or on the subprogram path")
+            self.missing("sinumerik.pocket-contour", span, _contour_not_found(facts, name, what))
             return
         if facts.closed() is False:
             (start, _), (end, end_span) = facts.points[0], facts.points[-1]
@@ -192,7 +192,7 @@ class PathMillingContour(_ReportsMissingContext):
             return
         span = run.param_spans.get("_KNAME", run.span)
         if not facts.found:
-            self.missing("sinumerik.path-milling-contour", span, f"the contour \"{facts.name}\" of CYCLE72 is not in this file or on the subprogram path")
+            self.missing("sinumerik.path-milling-contour", span, _contour_not_found(facts, "CYCLE72"))
             return
         if facts.plane_blocks < 2:
             self.report("sinumerik.path-milling-contour", span,

@@ -10,7 +10,7 @@ from shapely.geometry import LineString, Point, Polygon
 
 from ..check import Rule, hazard, rule, show
 from .machine import _ReportsMissingContext
-from .sinumerik import _cycle_name, _is_sinumerik, _point, _shown
+from .sinumerik import _contour_not_found, _cycle_name, _is_sinumerik, _point, _shown
 
 
 # --------------------------------------------------------------------------- stock removal contours (CYCLE95, CYCLE950)
@@ -27,8 +27,7 @@ class StockRemovalContour(_ReportsMissingContext):
         if facts is None:
             return
         if not facts.found:
-            self.missing("sinumerik.stock-removal-contour", run.param_spans.get("NPP", run.span),
-                         f"the contour \"{facts.name}\" of CYCLE95 is not in this file or on the subprogram path")
+            self.missing("sinumerik.stock-removal-contour", run.param_spans.get("NPP", run.span), _contour_not_found(facts, "CYCLE95"))
             return
         for alarm, text, span in facts.problems:
             self.report("sinumerik.stock-removal-contour", span or run.param_spans.get("NPP", run.span),
@@ -97,7 +96,7 @@ class ExtendedStockRemoval(_ReportsMissingContext):
             return
         for facts, what in ((finished, "finished"), (blank, "blank")):
             if facts is not None and not facts.found:
-                self.missing("sinumerik.extended-stock-removal", run.span, f"the {what} contour \"{facts.name}\" of CYCLE950 is not in this file or on the subprogram path")
+                self.missing("sinumerik.extended-stock-removal", run.span, _contour_not_found(facts, "CYCLE950", what))
             elif facts is not None and facts.rounded_end is not None:
                 self.report("sinumerik.extended-stock-removal", facts.rounded_end,
                             f"CYCLE950: the last element of the {what} contour \"{facts.name}\" carries RND/CHF: not allowed (seed B L18265-18273)")
