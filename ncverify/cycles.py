@@ -23,6 +23,7 @@ _SHAPE_BLOCK_LIMIT = 10_000
 
 _DIALECT_SHAPES: dict = {}
 _DIALECT_LEVELS: dict = {}
+_DIALECT_PASSES: dict = {}
 
 
 def register_shape(shape: str, run) -> None:
@@ -45,6 +46,16 @@ def register_levels(name: str, resolve) -> None:
     up to it; ``entry`` (or None) where it rapids on from the R point down a hole made before
     it (Fagor thread milling from the bottom up)."""
     _DIALECT_LEVELS[name] = resolve
+
+
+def register_passes(name: str, run) -> None:
+    """Let a dialect draw what a hole cycle whose model says ``passes = "<name>"`` does
+    after the rapid to the hole position (Fagor G212 runs around a stud, not down its
+    centre): ``run(runner, cycle, span, block, levels)`` with the :class:`ActiveCycle` and
+    ``levels = (r_point, bottom, reference, entry)`` from the levels resolver (bottom known).
+    It emits the segments up to the retract (:meth:`CycleRunner._retract` ends at the
+    G98/G99 level)."""
+    _DIALECT_PASSES[name] = run
 
 
 @dataclass(slots=True)
@@ -218,6 +229,10 @@ class CycleRunner:
         if model.get("positions_in_motion_mode") and state.modal.get("motion") != "rapid":
             positioning = "feed"  # Fagor: the move to the hole is made in the interpolation in force (G1: at feed)
         self._rapid_to(targets, span, block, "between-holes", name, positioning)
+        passes = _DIALECT_PASSES.get(model.get("passes"))
+        if passes is not None:
+            passes(self, cycle, span, block, (r_point, bottom, reference, entry))
+            return
         if model.get("infeed") == "back_bore":
             self._rapid_to({axis: r_point}, span, block, "through-bore", name)
             self._rapid_to({axis: bottom}, span, block, "infeed", name, "feed")
@@ -231,8 +246,12 @@ class CycleRunner:
         self._rapid_to({axis: r_point}, span, block, "out-of-hole", name, retract_kind)
         if reference is not None:
             self._rapid_to({axis: reference}, span, block, "out-of-hole", name)
-        if state.modal.get("cycle_return") != "r_point" and initial is not None:
-            self._rapid_to({axis: initial}, span, block, "retract", name)
+        self._retract(cycle, span, block)
+
+    def _retract(self, cycle: ActiveCycle, span, block) -> None:
+        """G98: rapid back to the initial level (G99 stays at the R point)."""
+        if self.state.modal.get("cycle_return") != "r_point" and cycle.initial is not None:
+            self._rapid_to({self._drill_axis(cycle.model): cycle.initial}, span, block, "retract", cycle.cycle)
 
     def _levels(self, model: dict, axis: str, data: dict, initial, incremental: bool):
         """R point and bottom on the drilling axis (seed L2059 and the lathe table L2890)."""

@@ -22,6 +22,7 @@ class Trace:
     notes: list = field(default_factory=list)
     runs: list = field(default_factory=list)
     states: list = field(default_factory=list)
+    context: dict = field(default_factory=dict)  # what the checker would hold (the cycle runner reads "tools")
 
     def hole(self, hole, state):
         self.holes.append(hole)
@@ -54,11 +55,11 @@ class Trace:
         return [item.rule for item in self.faults + self.notes]
 
 
-def trace(program: str, machine: str = "mill") -> Trace:
+def trace(program: str, machine: str = "mill", tools: dict | None = None) -> Trace:
     source = ProgramSource.from_text(textwrap.dedent(program).lstrip("\n"), "t.pim")
     settings = Settings(machine=machine)
     dialect = setup_for("fagor", settings, Detection("fagor", 1.0), Context())
-    observer = Trace()
+    observer = Trace(context={"tools": tools or {}})
     interpreter = Interpreter(source, dialect.frontend, observer, settings, power_on=dialect.power_on, cycle_models=dialect.cycle_models,
                               twins=dialect.twins, machine=dialect.machine, increment=0.0, feed_increment=0.0,
                               library=SubprogramLibrary([], settings.extensions))

@@ -44,10 +44,11 @@ HAZARDS: dict[str, tuple[tuple[str, ...], str]] = {
     "H19": (("fagor.rigid-tapping-encoder", "core.tap-feed-pitch"), "the locked override and the spindle stop under K are what the cycle does, not hazards"),
     "H20": (("fagor.pocket-tool-fit", "fagor.bore-milling-parameters", "fagor.bore-milling-no-floor", "core.cycle-missing-parameter"), ""),
     "H21": (("fagor.thread-mill-overshoot",), "the overshoot is taken as one pitch (the manual gives no length); a blind hole's own bottom is not known"),
-    "H22": (("fagor.thread-mill-parameters", "fagor.pocket-tool-fit"),
-            "G212's passes run around the stud at a radius that depends on the tool, and the stock model holds no stud: "
-            "they are not emitted as rapids (the tool ends above the stud's centre); a thread milled upward (B negative) rapids down "
-            "the pre-drilled hole first, which core.rapid-into-stock answers unknown (the stock model holds no holes)"),
+    "H22": (("fagor.thread-mill-parameters", "fagor.pocket-tool-fit", "core.rapid-into-stock"),
+            "G212's rapids run at the entry radius |J|/2 + R + E at the start angle Q and are judged against the blank (without E: down "
+            "over the stud's centre, then out); the helix is drawn as a feed along the tool axis at the entry point, one radial pass of "
+            "several; without the tool radius in the tool table they answer unknown. A rapid down beside the stud (B negative) or down "
+            "the pre-drilled hole (G211) answers unknown: the stock model holds no cleared material or holes"),
     "H23": (("fagor.pattern-without-cycle", "fagor.pattern-parameters", "fagor.pattern-skip-list"), ""),
     "H24": (("fagor.pattern-moves", "core.rapid-into-stock"), "bosses inside a G163-G165 circle are not in the stock model"),
     "H25": ((), "not a finding: the pattern runner keeps the cycle active and leaves the tool at the last machined point"),

@@ -10,6 +10,7 @@ import pytest
 from fagor_trace import trace
 from hypothesis import given, settings, strategies
 from ncverify import Settings, check_text
+from ncverify.context import Tool
 from ncverify.project import ConfigError, load_project_text
 
 
@@ -144,6 +145,43 @@ def test_a_thread_mill_ends_above_the_centre_at_the_retract_plane():
     run = trace("G0 G90 X40 Y40 Z25 S900 M3 F300\nG98 G212 Z2 I-15 J20 K1.5 B1.5 E3\nG80\nM30\n")
     last = [segment for segment in run.segments if segment.cycle][-1]
     assert (last.end["X"], last.end["Y"], last.end["Z"]) == (40.0, 40.0, 25.0)
+
+
+STUD = "; ncverify: stock box X0:100 Y0:100 Z-30:0\nT1 D1 M6\nG0 G90 X40 Y40 Z25 S900 M3 F300\nG98 G212 Z2 D{d} I-15 J20 K1.5 B{b}{e} Q90\nG80\nM30\n"
+RADIUS_4 = "[tools.1]\nradius = 4\n"
+
+
+def test_g212_runs_around_the_stud_at_the_entry_radius_not_down_its_centre():
+    run = trace(STUD.format(d=2, b=1.5, e=" E3"), tools={1: Tool(1, radius=4.0)})
+    cycle = [(segment.role, segment.kind, segment.end["Y"], segment.end["Z"]) for segment in run.segments if segment.cycle]
+    assert cycle == [("approach", "rapid", 40.0, 2.0), ("to-thread", "rapid", 57.0, 2.0), ("to-thread", "rapid", 57.0, 0.0),  # J20/2 + 4 + E3 at Q90
+                     ("infeed", "feed", 57.0, -15.0), ("out-of-hole", "rapid", 57.0, 2.0), ("retract", "rapid", 57.0, 25.0),
+                     ("retract", "rapid", 40.0, 25.0)]
+
+
+def test_g212_entry_rapids_are_judged_against_the_blank():
+    too_low = check(STUD.format(d=4, b=1.5, e=" E3"), RADIUS_4)  # the surface taken at Z-2: the rapid beside the stud ends 2 mm in the blank
+    [finding] = findings(too_low)["core.rapid-into-stock"]
+    assert finding.span.line == 4 and "X40 Y57 Z2 to X40 Y57 Z-2" in finding.message
+    assert "core.rapid-into-stock" not in findings(check(STUD.format(d=2, b=1.5, e=" E3"), RADIUS_4))
+
+
+def test_g212_upward_without_e_rapids_down_through_the_stud():
+    result = check(STUD.format(d=0, b=-1.5, e=""), RADIUS_4)
+    messages = [d.message for d in findings(result)["core.rapid-into-stock"]]
+    assert any("over the stud's centre" in message and "to X40 Y40 Z-15" in message for message in messages)
+
+
+def test_g212_upward_with_e_goes_down_cleared_material_the_blank_does_not_know():
+    result = check(STUD.format(d=0, b=-1.5, e=" E3"), RADIUS_4)
+    assert "core.rapid-into-stock" not in findings(result)
+    assert any("beside the stud" in d.message for d in findings(result, "unknown")["core.rapid-into-stock"])
+
+
+def test_g212_without_the_tool_radius_leaves_its_passes_unjudged():
+    result = check(STUD.format(d=4, b=1.5, e=" E3"))
+    assert "core.rapid-into-stock" not in findings(result)
+    assert any("tool radius is not in the tool table" in d.message for d in findings(result, "unknown")["core.rapid-into-stock"])
 
 
 def test_g82_retract_coordinate_is_judged_along_minus_z_too():

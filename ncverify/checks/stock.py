@@ -19,7 +19,11 @@ _ROLE_WORDS = {
     "programmed": "rapid move", "reference": "rapid to the reference point", "approach": "cycle rapid to the R point",
     "retract": "cycle rapid retract", "between-holes": "rapid to the next hole", "shift": "cycle shift",
     "through-bore": "back-boring rapid entry", "into-hole": "cycle rapid into a hole drilled earlier",
+    "to-thread": "rapid to the thread's entry point", "over-stud": "rapid down over the stud's centre (no approach distance E)",
+    "beside-stud": "rapid to the thread end",
 }
+# Rapids into material the program removed earlier, which the stock model does not track
+_INTO_CLEARED = {"through-bore": "a pre-bored hole", "into-hole": "a pre-bored hole", "beside-stud": "beside the stud, through material cleared earlier,"}
 
 
 def _point(position: dict, stock) -> tuple | None:
@@ -100,9 +104,9 @@ class RapidIntoStock(_NeedsStock):
         hit = geometry.enters(stock, start, end, self.checker.context.get("rapid_path") == "dogleg")
         if hit is None:
             return
-        if segment.role in ("through-bore", "into-hole"):
-            self.report(self.rule_id, segment.span, f"{what} goes down a pre-bored hole to {_where(end)}: the stock model has no holes yet, so this entry was not checked",
-                        Status.UNKNOWN, "the stock is not updated by cutting or pre-boring")
+        if segment.role in _INTO_CLEARED:
+            self.report(self.rule_id, segment.span, f"{what} goes down {_INTO_CLEARED[segment.role]} to {_where(end)}: the stock model is the blank, "
+                        "with no holes or cleared material yet, so this entry was not checked", Status.UNKNOWN, "the stock is not updated by cutting or pre-boring")
             return
         self.report(self.rule_id, segment.span, self._message(what, start, end, hit, stock))
 

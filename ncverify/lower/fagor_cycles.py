@@ -11,7 +11,7 @@ from __future__ import annotations
 import math
 
 from .. import values
-from ..cycles import register_levels, register_shape
+from ..cycles import register_levels, register_passes, register_shape
 from ..trace import CycleRun
 
 _SKIP_LETTERS = "PQRSTUV"
@@ -21,6 +21,7 @@ def register() -> None:
     register_levels("fagor", hole_levels)
     register_shape("fagor_pattern", run_pattern)
     register_shape("fagor_turning", run_turning_cycle)
+    register_passes("fagor_stud", around_the_stud)
 
 
 def run_turning_cycle(runner, op, block, model, params):
@@ -79,6 +80,65 @@ def hole_levels(runner, cycle, data: dict):
     pitch = data.get("B")
     upward = cycle.model.get("thread_mill") and not (type(pitch) is float and pitch >= 0)
     return (values.add(surface, cycle.up) if approach == "surface_plus_1" else surface), bottom, reference, bottom if upward else None
+
+
+def around_the_stud(runner, cycle, span, block, levels) -> None:
+    """G212 (seed L1879-1901, reference §6.11 and H22), from the rapid over the stud's
+    centre: rapid to the reference plane; out to the entry point |J|/2 + R + E from the
+    centre at the start angle Q (R the tool radius); down to the entry height (the surface,
+    or the thread end when a negative B cuts upward). Without E the tool goes down over the
+    centre first and then out to the entry point (step 5, the 3-axis rapid). The thread is
+    drawn as a feed along the tool axis at the entry point (the helix's reach along the
+    axis, not its circle around the stud); then a rapid up to the reference plane, G98 to
+    the start plane, and over the centre again. The radial passes (A, L) repeat these
+    rapids: one is drawn. Without the tool radius the passes are not placed and not judged."""
+    surface, bottom, reference, upward_entry = levels
+    state = runner.state
+    axis = runner._drill_axis(cycle.model)
+    first, second, _normal = state.plane_axes
+    centre = {first: state.position.get(first), second: state.position.get(second)}
+    runner._rapid_to({axis: reference}, span, block, "approach", cycle.cycle)
+    point = _entry_point(runner, cycle, centre)
+    if point is not None:
+        start, end = (surface, bottom) if upward_entry is None else (upward_entry, surface)
+        if "E" in cycle.params:
+            runner._rapid_to(point, span, block, "to-thread", cycle.cycle)
+            runner._rapid_to({axis: start}, span, block, "to-thread" if upward_entry is None else "beside-stud", cycle.cycle)
+        else:
+            runner._rapid_to({axis: start}, span, block, "over-stud", cycle.cycle)
+            runner._rapid_to(point, span, block, "to-thread", cycle.cycle)
+        runner._rapid_to({axis: end}, span, block, "infeed", cycle.cycle, "feed")
+        runner._rapid_to({axis: reference}, span, block, "out-of-hole", cycle.cycle)
+    runner._retract(cycle, span, block)
+    runner._rapid_to(centre, span, block, "retract", cycle.cycle)
+
+
+def _entry_point(runner, cycle, centre: dict) -> dict | None:
+    """Where G212 enters the thread, or None (with an ``unknown`` finding) when the tool
+    radius or the start angle is not known."""
+    if None in centre.values():
+        return None  # the hole's position is not known (fagor.hole-at-unknown-position)
+    data = cycle.params
+    radius = _tool_radius(runner)
+    angle = parameter(cycle, data, "Q")
+    code = cycle.cycle.rsplit(".", 1)[-1]
+    if radius is None or type(angle) is not float:
+        missing = "the start angle Q is computed" if radius is not None else "the tool radius is not in the tool table"
+        runner.interp._fault("core.rapid-into-stock", cycle.param_spans.get("J", cycle.definition), f"{code} runs around the stud at |J|/2 + tool radius + E "
+                             f"from its centre, but {missing}: the rapids to the thread and back were not checked", "unknown", missing)
+        return None
+    distance = values.add(values.mul(values.absolute(data["J"]), 0.5), values.add(radius, data.get("E", 0.0)))
+    radians = math.radians(angle)
+    return {axis: values.add(centre[axis], values.mul(distance, direction)) for axis, direction in zip(centre, (math.cos(radians), math.sin(radians)))}
+
+
+def _tool_radius(runner) -> float | None:
+    """The radius of the tool in the spindle from the tool table. The table is part of the
+    check's context, which the interpreter's observer (the checker) holds."""
+    tools = (getattr(runner.interp.observer, "context", None) or {}).get("tools") or {}
+    number = runner.state.tool_in_spindle
+    tool = tools.get(int(number)) if type(number) is float else None
+    return None if tool is None else tool.radius
 
 
 def reference_plane(cycle, data: dict):
