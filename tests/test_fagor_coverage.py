@@ -39,8 +39,10 @@ HAZARDS: dict[str, tuple[tuple[str, ...], str]] = {
                 "(tests/test_fagor.py: test_tool_axis_word_in_the_cycle_block_is_the_reference_plane_in_g19)"),
     "H17": (("core.cycle-depth-sign", "core.cycle-r-above-initial"),
             "the sign of #TOOL AX [..+/-] is carried by every hole; a tool axis in the plane or a secondary axis (X2) is not modelled"),
-    "H18": (("fagor.g86-back-off",), "the back-off direction depends on the machine's spindle orientation reference, and the bar-to-bore "
-                                    "clearance on the boring bar: neither is known"),
+    "H18": (("fagor.g86-back-off",), "A0/A1 with Q and a back-off answers unknown once per definition ('verify the direction': it depends "
+                                    "on the machine's spindle orientation reference and the bar's clamping), Q with no D/E is reported; the "
+                                    "bar-to-bore clearance against hypot(D, E) needs the bar's size, which the tool table does not give; "
+                                    "R0 scratching a finish bore is the programmer's choice of retract"),
     "H19": (("fagor.rigid-tapping-encoder", "core.tap-feed-pitch"), "the locked override and the spindle stop under K are what the cycle does, not hazards"),
     "H20": (("fagor.pocket-tool-fit", "fagor.bore-milling-parameters", "fagor.bore-milling-no-floor", "core.cycle-missing-parameter"), ""),
     "H21": (("fagor.thread-mill-overshoot",), "the overshoot is taken as one pitch (the manual gives no length); a blind hole's own bottom is not known"),

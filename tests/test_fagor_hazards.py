@@ -302,3 +302,19 @@ def test_nr_in_g91_makes_a_row_of_holes_one_increment_apart(count, step):
 def test_nr_outside_a_cycle_zone_still_runs_a_modal_subroutine_call():
     run = trace("%L SPOT\nG91 G1 Z-3 F100\nG0 Z3\nG90\n#RET\nG0 G90 X0 Y0 Z5\n#MCALL SPOT\nG91 G0 X10 NR2\nG90\n#MDOFF\nM30\n")
     assert 20.0 in [segment.end["X"] for segment in run.segments if segment.kind == "feed"]  # after the last repeat at least
+
+
+# --------------------------------------------------------------------------- G86 back-off (H18)
+
+
+BORE = "T6 D6 M6\nS600 M3 M8\nG0 G90 X50 Y50 Z25 F60\nG98 G86 Z2 I-30 {}\nX80\nG80\nM30\n"
+
+
+@pytest.mark.parametrize("words, verdict", [("A0 Q0 D-0.3", "unknown"), ("A1 Q90 E0.2", "unknown"), ("A0 Q0", "violated"), ("A1 Q0 D0 E0", "violated"),
+                                            ("A0 D0.3", "violated"), ("R1", None), ("Q0 D0.2", None)])
+def test_g86_back_off_direction_is_unknown_and_a_missing_back_off_is_reported(words, verdict):
+    found = [d for d in check(BORE.format(words)).diagnostics if d.rule == "fagor.g86-back-off"]
+    assert {d.status.value for d in found} == ({verdict} if verdict else set())
+    if verdict == "unknown":
+        [finding] = found  # once for the definition, not again at X80
+        assert finding.span.line == 4 and "Q" in finding.message and "into the wall" in finding.message

@@ -210,6 +210,30 @@ class PocketToolFit(_ReportsMissingContext):
                  "the tool cannot enter the pre-drilled hole", fit.largest_radius)]
 
 
+@rule("fagor.g86-back-off")
+class G86BackOffDirection(Rule):
+    """The page's constraints catch a missing Q and a back-off that is ignored or zero. With
+    A0/A1, Q and a back-off D/E, which way the tool moves depends on the machine's spindle
+    orientation reference and on how the bar is clamped: the manual warns twice that a
+    wrong orientation drives the tool into the wall (seed L1265-1273, reference H18). That
+    is answered unknown, once per cycle definition (each definition backs off its own way)."""
+
+    def hole(self, hole, state):
+        params = hole.params
+        mode, angle = params.get("A"), params.get("Q")
+        if hole.cycle != "fagor.G86" or not (type(mode) is float and mode in (0.0, 1.0)) or angle is None:
+            return
+        back_off = " ".join(f"{letter}{show(params[letter])}" for letter in "DE" if not (type(params.get(letter, 0.0)) is float and params.get(letter, 0.0) == 0.0))
+        if not back_off or not self.first_time(state, ("fagor.g86-back-off", hole.definition)):
+            return
+        moment = "before it leaves the bore" if mode == 0.0 else "before it enters the bore"
+        self.report("fagor.g86-back-off", hole.param_spans.get("Q", hole.definition or hole.span),
+                    f"G86 A{mode:g} orients the spindle at Q{show(angle)} and backs the tool off by {back_off} {moment}: whether that moves the edge "
+                    "away from the wall or into it depends on the machine's spindle orientation reference and on how the boring bar is clamped, "
+                    "which ncverify does not know; check the direction at the machine (a wrong orientation drives the tool into the wall)",
+                    Status.UNKNOWN, "the spindle orientation reference and the bar's edge are not known")
+
+
 @rule("fagor.hole-at-unknown-position")
 class HoleAtUnknownPosition(Rule):
     """The block that defines a cycle machines where the tool is (seed L613-615; H2)."""
