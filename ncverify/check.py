@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import ast
 import math
-import re
 import tomllib
 from dataclasses import dataclass, field
 from functools import cache
@@ -233,18 +232,8 @@ def show(value) -> str:
     if type(value) is float:
         return f"{value:.4f}".rstrip("0").rstrip(".") if math.isfinite(value) else str(value)
     if isinstance(value, Sym):
-        return _UNKNOWN_VALUE.sub(_unknown_value_text, str(z3.simplify(value.term)))
+        return values.readable(str(z3.simplify(value.term)))
     return str(value)
-
-
-_UNKNOWN_VALUE = re.compile(r"([^\s()*+/~-]+)~\d+")
-
-
-def _unknown_value_text(match: re.Match) -> str:
-    """An unknown value (``values.fresh``) as a machinist reads it: what it came from, not
-    its internal number (``FIX~3`` is shown as ``FIX(…)``)."""
-    label = match.group(1)
-    return f"{label}(…)" if label.isupper() and label.isalpha() else label
 
 
 # --------------------------------------------------------------------------- the observer

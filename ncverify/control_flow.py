@@ -473,7 +473,7 @@ def _condition_parameters(condition: Condition) -> set[str]:
 
     def walk(term):
         if z3.is_const(term) and term.decl().kind() == z3.Z3_OP_UNINTERPRETED:
-            found.add(str(term))
+            found.add(values.readable(str(term)))
         for child in term.children():
             walk(child)
 

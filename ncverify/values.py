@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import itertools
 import math
+import re
 from contextlib import contextmanager
 from contextvars import ContextVar
 from dataclasses import dataclass
@@ -81,6 +82,20 @@ def fresh(label: str, low: float = -INF, high: float = INF) -> Sym:
         numbers = itertools.count(1)
         _fresh_numbers.set(numbers)
     return Sym(z3.Real(f"{label}~{next(numbers)}"), low, high, exact=False)
+
+
+_FRESH_NAME = re.compile(r"([^\s()*+/~-]+)~\d+")
+
+
+def readable(text: str) -> str:
+    """A term's text with its unknown values (:func:`fresh`) named as a machinist reads
+    them: by what they came from, not by their internal number (``FIX~3`` is ``FIX(…)``)."""
+    return _FRESH_NAME.sub(_fresh_text, text)
+
+
+def _fresh_text(match: re.Match) -> str:
+    label = match.group(1)
+    return f"{label}(…)" if label.isupper() and label.isalpha() else label
 
 
 @contextmanager

@@ -100,3 +100,17 @@ def test_unknown_values_are_numbered_afresh_for_every_check():
             return str(values.fresh("FIX").term)
 
     assert first_name() == first_name() == "FIX~1"
+
+
+def test_a_branch_on_an_unknown_value_names_it_readably_when_the_path_limit_is_hit():
+    program = """
+        0 BEGIN PGM BRANCH MM
+        1 Q10 = INT ( Q1 / 3 )
+        2 FN 9: IF +Q10 EQU +0 GOTO LBL 1
+        3 FN 9: IF +Q2 EQU +0 GOTO LBL 1
+        4 LBL 1
+        5 END PGM BRANCH MM
+        """
+    result = check_text(textwrap.dedent(program), settings=Settings(dialect="heidenhain", max_paths=1))
+    [message] = [d.message for d in result.diagnostics if d.rule == "core.path-limit"][:1]
+    assert "~" not in message
