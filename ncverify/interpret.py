@@ -376,7 +376,7 @@ class Interpreter(ControlFlow):
                 return values.mul(left, right)
             if op == "/":
                 if isinstance(right, Sym):
-                    self._symbolic_divisor(right, span)
+                    self._symbolic_divisor(right, expr.right, span)
                 return values.div(left, right)
             if op == "MOD":
                 return values.modulo(left, right)
@@ -414,14 +414,19 @@ class Interpreter(ControlFlow):
             return 0.0
         return self._as_number(value)
 
-    def _symbolic_divisor(self, divisor: Sym, span) -> None:
-        """A divisor that depends on free parameters: can it be zero on this path?"""
+    def _symbolic_divisor(self, divisor: Sym, written: ir.Expr, span) -> None:
+        """A divisor that depends on free parameters: can it be zero on this path? The
+        message names the parameter the program divides by, if it divides by one."""
         from .check import hazard, judge
 
         verdict = judge(hazard("==", divisor, 0.0), self.state.path_condition, self.settings.solver_timeout_s)
-        if verdict is not None:
-            self.observer.report_verdict("core.arithmetic-domain", span or self._block.span,
-                                         f"division by {values_text(divisor)}, which can be zero: the control stops with a calculation alarm", verdict, self.state)
+        if verdict is None:
+            return
+        value = values_text(divisor)
+        named = written.name if isinstance(written, ir.Var) and isinstance(written.name, str) else None
+        what = f"{named} = {value}" if named is not None and named != value else value
+        self.observer.report_verdict("core.arithmetic-domain", span or self._block.span,
+                                     f"division by {what}, which can be zero: the control stops with a calculation alarm", verdict, self.state)
 
     def _domain_error(self, message: str, span) -> None:
         self._fault("core.arithmetic-domain", span or self._block.span, f"{message}: the control stops with a calculation alarm")
