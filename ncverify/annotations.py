@@ -19,7 +19,7 @@ import re
 from dataclasses import dataclass, field
 
 from . import ir
-from .context import TOOL_KEYS, TOOL_TYPES, Assumption, Context, Stock, Tool
+from .context import TOOL_KEYS, TOOL_TYPES, Assumption, Context, Stock, Tool, tool_value_problem
 from .project import parse_assumption
 from .source import ProgramSource, Span, find_all
 
@@ -136,6 +136,8 @@ def _tool(text: str, span: Span) -> Tool:
                 raise ValueError(f"unknown tool type {value!r}")
             tool.type = value.lower()
         elif key in TOOL_KEYS:
+            if problem := tool_value_problem(key, float(value)):
+                raise ValueError(problem)
             setattr(tool, key, float(value))
         else:
             raise ValueError(f"unknown tool key {key!r} (known: type, {', '.join(TOOL_KEYS)})")

@@ -8,7 +8,7 @@ which context it lacks; it never assumes "safe".
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields, replace
 
 import shapely
 from shapely.geometry import Polygon
@@ -17,7 +17,12 @@ from .source import Span
 
 TOOL_TYPES = ("drill", "endmill", "ball", "bullnose", "chamfer", "spot", "tap", "threadmill", "boring", "reamer",
               "facemill", "slot", "turning", "grooving", "parting", "threading", "probe")
-TOOL_KEYS = ("radius", "corner", "length", "cutting_length", "usable_length", "angle", "pitch", "nose_radius", "edge")
+TOOL_KEYS = ("radius", "corner", "length", "cutting_length", "usable_length", "angle", "pitch", "nose_radius", "edge",
+             "clearance_angle", "edge_position")
+# Keys whose value must lie in a range, not merely be positive: a turning tool's clearance
+# angle ($TC_DP24, 0..90 degrees, 0 = the cycles do not monitor it; SINUMERIK reference B
+# section 3, seed L14840-14850) and its cutting-edge position ($TC_DP2, SL 1..9, L15650-15662).
+TOOL_RANGES = {"clearance_angle": (0.0, 90.0), "edge_position": (1.0, 9.0)}
 
 
 @dataclass(frozen=True)
@@ -87,7 +92,22 @@ class Tool:
     pitch: float | None = None
     nose_radius: float | None = None
     edge: float | None = None
+    clearance_angle: float | None = None  # degrees, the turning tool's clearance angle (TOOL_RANGES)
+    edge_position: float | None = None  # the turning tool's cutting-edge position SL (TOOL_RANGES)
     origin: str = "project file"
+
+    def filled_from(self, base: "Tool") -> "Tool":
+        """This tool, with ``base``'s values where this one says nothing."""
+        missing = {item.name: getattr(base, item.name) for item in fields(self) if getattr(self, item.name) is None}
+        return replace(self, **missing)
+
+
+def tool_value_problem(key: str, value: float) -> str | None:
+    """Why ``value`` cannot be the tool's ``key`` (outside its range in TOOL_RANGES), or None."""
+    low, high = TOOL_RANGES.get(key, (None, None))
+    if low is not None and not low <= value <= high:
+        return f"{key.replace('_', '-')} must lie in {low:g}..{high:g}, got {value:g}"
+    return None
 
 
 @dataclass
@@ -123,10 +143,10 @@ class Context:
     source: str | None = None  # the project file, when one was read
 
     def layered_over(self, base: "Context") -> "Context":
-        """This context's definitions, with ``base`` filling what this one lacks
-        (annotations over the project file; the program over both)."""
+        """This context's definitions, with ``base`` filling what this one lacks, down to
+        a tool's single values (annotations over the project file; the program over both)."""
         tools = dict(base.tools)
-        tools.update(self.tools)
+        tools.update({key: tool.filled_from(base.tools[key]) if key in base.tools else tool for key, tool in self.tools.items()})
         machine = Machine(
             self.machine.kind or base.machine.kind,
             {**base.machine.travel, **self.machine.travel},

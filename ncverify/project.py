@@ -8,7 +8,7 @@ import re
 import tomllib
 from pathlib import Path
 
-from .context import TOOL_KEYS, TOOL_TYPES, Assumption, Context, Machine, Stock, Tool
+from .context import TOOL_KEYS, TOOL_RANGES, TOOL_TYPES, Assumption, Context, Machine, Stock, Tool, tool_value_problem
 from .diagnostics import CATEGORIES, Severity
 
 FILE_NAME = "ncverify.toml"
@@ -143,7 +143,10 @@ class _Reader:
                 elif name == "name":
                     tool.name = str(value)
                 else:
-                    setattr(tool, name, self.number(value, f"{where} {name}", positive=name not in ("length",)))
+                    number = self.number(value, f"{where} {name}", positive=name not in ("length", *TOOL_RANGES))
+                    if problem := tool_value_problem(name, number):
+                        self.fail(f"{where} {name}", problem)
+                    setattr(tool, name, number)
             yield int(key), tool
 
     def machine(self, table) -> Machine:

@@ -9,3 +9,4 @@ from . import heidenhain_contour  # noqa: F401
 from . import heidenhain_transforms  # noqa: F401
 from . import heidenhain_special  # noqa: F401
 from . import sinumerik, sinumerik_milling, sinumerik_turning  # noqa: F401
+from . import sinumerik_tools  # noqa: F401

@@ -29,7 +29,7 @@ from functools import cache
 import numpy
 
 from .. import ir
-from ..context import Context, Stock, Tool
+from ..context import Context, Stock, Tool, tool_value_problem
 from ..dialect import DialectSetup
 from ..read.iso_runs import read_plain_run
 from ..read.sinumerik import Item, ReadBlock, read_line
@@ -55,6 +55,9 @@ def _swivel(item: Item, span: Span) -> list[ir.Op]:
 _FRAME_COMPONENTS = {"TRANS": "translation", "ROT": "rotation", "SCALE": "scale", "MIRROR": "mirror"}
 _AXIS_DATA_CODES = frozenset({"74", "75", "110", "111", "112", "58", "59", "25", "26"})
 _STAGE_ORDER = ("feed", "tool", "speed", "spindle", "dwell", "modal", "offset", "motion", "call", "stop")
+# The system variable holding the active cutting edge, the D number (840D programming
+# knowledge, not in the references): D and M6 write it, rules read it from the state.
+ACTIVE_EDGE = ir.Var("$P_TOOL")
 
 
 class StructureMark:
@@ -289,7 +292,7 @@ class SinumerikLowering:
                 stages["tool"].append(ir.ToolSelect(span, value))
             elif name == "D":
                 off = type(value) is float and value == 0.0
-                stages["offset"].append(ir.LengthOffset(span, "off" if off else "plus"))
+                stages["offset"].extend([ir.LengthOffset(span, "off" if off else "plus"), ir.Assign(span, ACTIVE_EDGE, value)])
             elif name in ("SPOS", "SPOSA"):
                 stages["spindle"].append(ir.Spindle(span, "orient"))
             elif name in ("TURN", "AP", "RP", "ANG", "CIP") or re.fullmatch(r"[A-Z]\d", name):
@@ -371,7 +374,7 @@ class SinumerikLowering:
             stages["spindle"].append(ir.Coolant(span, entry["state"]))
         elif effect == "tool_change":
             # The new tool's first cutting edge (D1) becomes active with the change (840D default).
-            stages["tool"].extend([ir.ToolChange(span), ir.LengthOffset(span, "plus")])
+            stages["tool"].extend([ir.ToolChange(span), ir.LengthOffset(span, "plus"), ir.Assign(span, ACTIVE_EDGE, 1.0)])
 
 
 # ---------------------------------------------------------------------- frontend
@@ -539,7 +542,10 @@ def _proc_parameters(buffer, start: int) -> list[tuple[str, bool]]:
 # ---------------------------------------------------------------------- context from the program
 
 _WORKPIECE = re.compile(r"^\s*(?:N\d+\s*)?WORKPIECE\s*\((.*)\)", re.IGNORECASE)
-_TOOL_DATA = re.compile(r"^\s*(?:N\d+\s*)?\$TC_DP(\d+)\s*\[\s*(\d+)\s*,\s*(\d+)\s*\]\s*=\s*([-+]?(?:\d+\.?\d*|\.\d+))\s*(?:;.*)?$", re.IGNORECASE)
+_TOOL_ASSIGNMENT = r"\$TC_DP(\d+)\s*\[\s*(\d+)\s*,\s*(\d+)\s*\]\s*=\s*([-+]?(?:\d+\.?\d*|\.\d+))\s*"
+# A block of tool-data assignments only, several to a block as in seed B L19033-19034.
+_TOOL_DATA_BLOCK = re.compile(rf"^\s*(?:N\d+\s*)?(?:{_TOOL_ASSIGNMENT})+(?:;.*)?$", re.IGNORECASE)
+_TOOL_DATA = re.compile(_TOOL_ASSIGNMENT, re.IGNORECASE)
 # Tool type codes (seed B L81, A section 3.1): 1xx mills, 2xx drills, 5xx turning tools.
 _TOOL_TYPES = {1: "endmill", 2: "drill", 5: "turning"}
 
@@ -554,14 +560,25 @@ def program_context(buffer: bytes) -> Context:
             stock = _workpiece(decode_line(raw).split(";")[0], number)
             if stock is not None and context.stock is None:
                 context.stock = stock
-        elif b"$TC_DP" in upper:
-            match = _TOOL_DATA.match(decode_line(raw))
-            if match and match.group(3) == "1":
-                tools.setdefault(int(match.group(2)), {})[int(match.group(1))] = float(match.group(4))
+        elif b"$TC_DP" in upper and _TOOL_DATA_BLOCK.match(text := decode_line(raw)):
+            for match in _TOOL_DATA.finditer(text):
+                if match.group(3) == "1":
+                    tools.setdefault(int(match.group(2)), {})[int(match.group(1))] = float(match.group(4))
     for number, data in tools.items():
-        kind = _TOOL_TYPES.get(int(data.get(1, 0)) // 100)
-        context.tools[number] = Tool(number, type=kind, radius=data.get(6), length=data.get(3), origin="program ($TC_DP)")
+        context.tools[number] = _tool(number, data)
     return context
+
+
+def _tool(number: int, data: dict) -> Tool:
+    """Tool ``number`` from its edge D1's offset parameters: P1 type, P2 cutting-edge
+    position, P3 length, P6 radius, P24 clearance angle (reference B section 3). A value
+    outside its range (``TOOL_RANGES``) is left unknown."""
+    def checked(key, parameter):
+        value = data.get(parameter)
+        return None if value is None or tool_value_problem(key, value) else value
+
+    return Tool(number, type=_TOOL_TYPES.get(int(data.get(1, 0)) // 100), radius=data.get(6), length=data.get(3),
+                clearance_angle=checked("clearance_angle", 24), edge_position=checked("edge_position", 2), origin="program ($TC_DP)")
 
 
 def _workpiece(text: str, line: int) -> Stock | None:

@@ -1,0 +1,192 @@
+"""SINUMERIK 840D rules on the cutting edge in use: its clearance angle against a CYCLE95
+contour (alarm 61604), its cutting-edge position at CYCLE94/96 (61608), and the edge CYCLE73
+needs (61989).
+
+The tool data are those of edge D1 (``$TC_DP..[t,1]`` in the program, ``ncverify: tool``
+annotations, ``[tools.N]``); the active edge is the ``$P_TOOL`` variable that D words and M6
+write (:mod:`ncverify.lower.sinumerik`). Reference ``sinumerik-840d-b.md`` sections 3, 6.0,
+6.3, 9 and 11.2; ``sinumerik-840d-a.md`` section 6.24.
+"""
+from __future__ import annotations
+
+import math
+from typing import NamedTuple
+
+from ..check import Rule, rule, show
+from ..frames import Frame
+from ..lower.sinumerik import ACTIVE_EDGE
+from .machine import _ReportsMissingContext
+
+
+def _active_edge(state):
+    """The active D number, or None when the program has not set it on this path."""
+    edge = state.global_variables.get(ACTIVE_EDGE.name)
+    return edge if type(edge) is float else None
+
+
+def _active_tool_number(state, lathe: bool):
+    """The tool that cuts: the one M6 loaded; on a lathe the T word changes the turret at
+    once (the part B examples call the turning cycles after ``T3 D1`` with no M6), so there
+    the selected tool, unless an M6 loaded another one (then it depends on the machine)."""
+    mounted, selected = state.tool_in_spindle, state.tool_selected
+    if not lathe or selected is None or selected == mounted:
+        return mounted if type(mounted) is float else None
+    return selected if mounted is None and type(selected) is float else None
+
+
+class _EdgeRule(_ReportsMissingContext):
+    """A rule that needs the data of the active cutting edge."""
+
+    def edge_data(self, rule_id: str, span, state, what: str):
+        """The active tool's data, when edge D1 of a known tool is active; else the missing
+        context is said once (``what`` names the datum the rule needs) and None returned."""
+        number = _active_tool_number(state, self.checker.context.get("machine") == "lathe")
+        if number is None:
+            self.missing(rule_id, span, f"which tool is active is not known, so its {what} is not known")
+            return None
+        edge = _active_edge(state)
+        if edge != 1.0:
+            known = "no D number is programmed on this path" if edge is None else f"D{show(edge)} is active and only the data of D1 are read"
+            self.missing(rule_id, span, f"the {what} of the active edge of T{show(number)} is not known: {known}")
+            return None
+        tool = (self.checker.context.get("tools") or {}).get(int(number))
+        if tool is None:
+            self.missing(rule_id, span, f"tool T{show(number)} is not defined ($TC_DP.. in the program, an ncverify: tool annotation or [tools.{show(number)}])")
+        return tool
+
+
+# --------------------------------------------------------------------------- CYCLE95: the clearance angle (61604)
+
+class UndercutEntry(NamedTuple):
+    """A contour element that dives into an undercut in the machining direction, with its
+    angle to the machining axis in degrees: ``steepest`` reading the X values as radii,
+    ``flattest`` as diameters (the program's DIAMON/DIAMOF is not modelled; both are the same
+    when X is not one of the two axes or the element runs along one axis)."""
+
+    start: tuple[float, float]
+    end: tuple[float, float]
+    span: object
+    flattest: float
+    steepest: float
+
+
+def undercut_entries(points, kind: float, plane: tuple[str, str, str]) -> list[UndercutEntry]:
+    """The elements of a CYCLE95 contour (``points``: the plane points in order, with the
+    block reaching each) that enter an undercut: they advance in the machining direction,
+    from the first contour point to the last along the machining axis, and go deeper along
+    the infeed axis (reference B section 6.3, VARI table L16166-16208: longitudinal machining
+    runs along the first plane axis with the infeed along the second, face machining the other
+    way round; external machining feeds in towards minus, internal towards plus). An element
+    that turns back against the machining direction is an overhang, not an entry."""
+    along = 0 if int(kind) % 100 % 2 == 1 else 1
+    across = 1 - along
+    inward = 1.0 if (int(kind) % 100 - 1) % 4 >= 2 else -1.0
+    direction = math.copysign(1.0, points[-1][0][along] - points[0][0][along])
+    if points[-1][0][along] == points[0][0][along]:
+        return []
+    diameter_scales = [(0.5 if plane[index] == "X" else 1.0) for index in (along, across)]
+    entries = []
+    for (start, _), (end, span) in zip(points, points[1:]):
+        advance, depth = (end[along] - start[along]) * direction, (end[across] - start[across]) * inward
+        if depth <= 1e-9 or advance < -1e-9:
+            continue
+        radius_angle = math.degrees(math.atan2(depth, advance))
+        diameter_angle = math.degrees(math.atan2(depth * diameter_scales[1], advance * diameter_scales[0]))
+        entries.append(UndercutEntry(start, end, span, min(radius_angle, diameter_angle), max(radius_angle, diameter_angle)))
+    return entries
+
+
+@rule("sinumerik.clearance-angle")
+class ClearanceAngle(_EdgeRule):
+    """CYCLE95 checks every undercut element against the clearance angle of the active edge
+    (``$TC_DP24``, 0-90 degrees, 0 = not monitored) and stops with alarm 61604 when the tool
+    would damage the contour (reference B section 6.0, C15 and section 9 item 17, seed
+    L14840-14888, L16440-16462, L19971-19978): an element entering an undercut at a steeper
+    angle to the machining axis than the clearance angle. Judged on the contour's end points:
+    an arc's chord is as steep as the arc at some point of it, so a steep chord is a steep
+    element; a steep tangent inside a shallow chord is not seen."""
+
+    def cycle_run(self, run, state):
+        facts = run.params.get("CONTOUR") if run.cycle == "sinumerik.CYCLE95" else None
+        kind = run.params.get("VARI")
+        if facts is None or not facts.points or type(kind) is not float or not 1 <= kind % 100 <= 12:
+            return
+        entries = undercut_entries(facts.points, kind, state.plane_axes)
+        if not entries:
+            return
+        if state.frame is not None and state.frame.linear != Frame().linear:
+            self.missing("sinumerik.clearance-angle", run.span,
+                         "a rotation, scale or mirror frame is active: the cycle's clearance-angle monitoring does not take it into account (seed B L14880-14884)")
+            return
+        tool = self.edge_data("sinumerik.clearance-angle", run.span, state, "clearance angle")
+        if tool is None:
+            return
+        angle = tool.clearance_angle
+        if angle is None:
+            number = show(tool.number)
+            self.missing("sinumerik.clearance-angle", run.span,
+                         f"the clearance angle of tool T{number} is not known ($TC_DP24[{number},1], clearance-angle in an ncverify: tool annotation, or [tools.{number}] clearance_angle)")
+        elif angle > 0:
+            self._judge(facts, entries, tool, state)
+
+    def _judge(self, facts, entries, tool, state):
+        angle = tool.clearance_angle
+        first, second, _normal = state.plane_axes
+        for entry in entries:
+            where = (f"CYCLE95 contour \"{facts.name}\": the element from {first}{entry.start[0]:g} {second}{entry.start[1]:g} "
+                     f"to {first}{entry.end[0]:g} {second}{entry.end[1]:g} enters an undercut at")
+            both = "" if entry.flattest == entry.steepest else f" (X read as a diameter; {entry.steepest:.1f} as a radius)"
+            if entry.flattest > angle:
+                self.report("sinumerik.clearance-angle", entry.span,
+                            f"{where} {entry.flattest:.1f} degrees{both}, steeper than the clearance angle {angle:g} of tool T{tool.number} D1: "
+                            "would raise alarm 61604 \"active tool violates programmed contour\"; use a tool with a larger clearance angle or change the contour")
+                return
+            if entry.steepest > angle:
+                self.missing("sinumerik.clearance-angle", entry.span,
+                             f"{where} {entry.steepest:.1f} degrees with X as a radius, {entry.flattest:.1f} with X as a diameter, against the clearance angle {angle:g}: "
+                             "whether X is a diameter (DIAMON) is not modelled")
+
+
+# --------------------------------------------------------------------------- CYCLE94/96: the cutting-edge position (61608)
+
+@rule("sinumerik.edge-position")
+class EdgePosition(_EdgeRule):
+    """CYCLE94 and CYCLE96 with ``_VARI=0`` take the undercut position from the cutting-edge
+    position of the active edge (``$TC_DP2``) and accept only SL 1-4: SL 5-9 raises alarm
+    61608 (reference B sections 6.2, 6.4 and 11.2, seed L15650-15662, L19994-19999)."""
+
+    def cycle_run(self, run, state):
+        if run.cycle not in ("sinumerik.CYCLE94", "sinumerik.CYCLE96") or run.params.get("_VARI", 0.0) != 0.0:
+            return
+        name = run.cycle.rsplit(".", 1)[-1]
+        tool = self.edge_data("sinumerik.edge-position", run.span, state, "cutting-edge position")
+        if tool is None:
+            return
+        position = tool.edge_position
+        if position is None:
+            number = show(tool.number)
+            self.missing("sinumerik.edge-position", run.span,
+                         f"the cutting-edge position of tool T{number} is not known ($TC_DP2[{number},1], edge-position in an ncverify: tool annotation, or [tools.{number}] edge_position)")
+        elif position >= 5:
+            self.report("sinumerik.edge-position", run.param_spans.get("_VARI", run.span),
+                        f"{name} with _VARI=0 takes the undercut position from the cutting-edge position, and the active tool T{show(tool.number)} has SL {position:g}: "
+                        "only SL 1 to 4 are allowed: would raise alarm 61608 \"wrong cutting-edge position programmed\"; program the position in _VARI (1-4) or use another edge")
+
+
+# --------------------------------------------------------------------------- CYCLE73: edge D1 (61989)
+
+@rule("sinumerik.pocket-edge")
+class PocketEdge(_ReportsMissingContext):
+    """CYCLE73 computes its paths with the offsets of edge D1 and allows no other edge (no
+    spare-tool strategy): another D raises alarm 61989 (reference A sections 6.24 and 9 item
+    39, seed L9530-9620, L10703-10775)."""
+
+    def cycle_run(self, run, state):
+        if run.cycle != "sinumerik.CYCLE73":
+            return
+        edge = _active_edge(state)
+        if edge is None:
+            self.missing("sinumerik.pocket-edge", run.span, "the active cutting edge (D number) at CYCLE73 is not known on this path")
+        elif edge != 1.0:
+            self.report("sinumerik.pocket-edge", run.span,
+                        f"CYCLE73 with edge D{show(edge)} active: the pocket cycle works only with D1: would raise alarm 61989 \"D1 not programmed as active edge\"; program D1 before the call")
