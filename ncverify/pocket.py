@@ -2,13 +2,14 @@
 
 A round tool of radius r can put its centre only in the pocket shrunk by r (shapely
 ``buffer(-r)``). The pocket can be machined at all when that region is not empty. It is
-machined *as programmed* when, in addition, the tool reaches every corner: at a corner
-whose inside angle is below 180 degrees the tool touches both edges when its centre sits on
-the bisector at r / sin(angle / 2) from the corner (the fillet of radius r every round
-tool leaves); everywhere else on the outline (walls, an island's outside corners, arcs) the
-centre must come within r of it. The outline is sampled at a quarter of the radius; a
-stretch of it farther than that from the reachable region is reported as unreached: a
-neck narrower than the tool, a fillet smaller than its radius, a lobe it cannot enter.
+machined *as programmed* when, in addition, the tool touches every place of the outline:
+the centre must come within r of it. A sharp inside corner is the exception: the tool
+fills it as far as its own radius lets it (the fillet of radius r every round tool leaves,
+its centre on the bisector at r / sin(angle / 2) from the corner), so the outline beside
+such a corner, up to where that tool position touches it, counts as reached. The outline is
+sampled at a quarter of the radius; a stretch of it farther than that from the reachable
+region is reported as unreached: a neck narrower than the tool, a fillet smaller than its
+radius, a lobe it cannot enter.
 
 Every function returns a :class:`Fit` with the largest tool radius that fits, so that a
 finding can say which tool would do. Values are concrete floats; callers with symbolic
@@ -24,6 +25,11 @@ import shapely
 from shapely.geometry import Polygon
 
 _TOLERANCE = 1e-6  # mm: distances closer than this count as touching
+# Arcs beside a sharp corner move the tool that fills it up to about 15 % farther from the
+# corner than straight edges would (r / sin(angle / 2)); a centre farther still serves a neck.
+_FILLET_SLACK = 1.25
+_TOUCH_SLACK = 1.01  # samples a quarter radius apart pass within r sqrt(1 + 1/64) of where a tool touches
+_SHARP_CORNER = math.radians(170.0)  # flatter corners are an arc's polygon (5 degree steps)
 _SEARCH_STEPS = 40  # bisection steps for the largest radius (far below a micron for any pocket)
 _ARC_STEP = math.radians(5.0)  # angle between the points an arc is approximated by
 
@@ -78,16 +84,54 @@ def polygon_fit(pocket: Polygon, tool_radius: float) -> Fit:
 
 
 def unreached_spots(pocket: Polygon, tool_radius: float) -> list[tuple[float, float]] | None:
-    """Places on the pocket's outline a tool of ``tool_radius`` cannot reach (one point per
-    stretch of outline it misses); None when its centre has nowhere to go at all."""
+    """Places on the pocket's outline a tool of ``tool_radius`` cannot reach (the point
+    farthest from the tool of each stretch of outline it misses: the middle of a neck); None
+    when its centre has nowhere to go at all."""
+    rings = _judged_samples(pocket, tool_radius)
+    if rings is None:
+        return None
+    spots = []
+    for points, distances, missed in rings:
+        for stretch in _stretches(missed):
+            worst = stretch[numpy.argmax(distances[stretch])]
+            spots.append((float(points[worst][0]), float(points[worst][1])))
+    return spots
+
+
+def clearing_radius(pocket: Polygon, spot: tuple[float, float]) -> float:
+    """The largest tool radius that reaches ``spot`` on the outline: half the width of a
+    neck there, or the radius of an inside arc."""
+
+    def reaches(radius):
+        rings = _judged_samples(pocket, radius)
+        if rings is None:
+            return False
+        points = numpy.vstack([ring[0] for ring in rings])
+        missed = numpy.concatenate([ring[2] for ring in rings])
+        return not missed[numpy.argmin(numpy.hypot(*(points - spot).T))]
+
+    low, high = 0.0, shapely.maximum_inscribed_circle(pocket, tolerance=_TOLERANCE).length * 1.01 + _TOLERANCE
+    while high - low > 1e-3:
+        middle = (low + high) / 2.0
+        low, high = (middle, high) if reaches(middle) else (low, middle)
+    return low
+
+
+def _judged_samples(pocket: Polygon, tool_radius: float):
+    """Per ring of the pocket: its sample points, their distance from where the tool centre
+    can go, and which of them the tool misses (fillets excused); None when the centre has
+    nowhere to go."""
     reachable = pocket.buffer(-tool_radius, quad_segs=32) if tool_radius > 0 else pocket
     if reachable.is_empty:
         return None
-    points, allowances = _outline_samples(pocket, tool_radius)
-    distances = shapely.distance(reachable, shapely.points(points))
-    missed = distances > allowances + _TOLERANCE * numpy.maximum(1.0, allowances)
-    starts = numpy.flatnonzero(missed & ~numpy.roll(missed, 1)) if not missed.all() else numpy.array([0])
-    return [(float(points[index][0]), float(points[index][1])) for index in starts]
+    rings = []
+    for ring, inside_on_left in _rings(pocket):
+        points, corner_samples, angles = _ring_samples(ring, inside_on_left, tool_radius)
+        distances = shapely.distance(reachable, shapely.points(points))
+        missed = distances > tool_radius + _TOLERANCE * max(1.0, tool_radius)
+        missed &= ~_corner_fillets(points, corner_samples, angles, reachable, distances, missed, tool_radius)
+        rings.append((points, distances, missed))
+    return rings
 
 
 def largest_radius(pocket: Polygon) -> float:
@@ -134,26 +178,76 @@ def arc_points(start, end, centre, clockwise: bool) -> list[tuple[float, float]]
     return points + [tuple(end)]
 
 
-def _outline_samples(pocket: Polygon, tool_radius: float):
-    """Points along every ring of the pocket, and how far the tool centre may stay from each
-    while the tool still touches it: ``tool_radius`` on a wall, more inside the fillet a
-    round tool leaves at a corner (r / sin(angle / 2) at the corner itself)."""
+def _rings(pocket: Polygon):
+    """The outline and every island's, each with the side the pocket lies on."""
+    return [(ring, ring.is_ccw == (index == 0)) for index, ring in enumerate((pocket.exterior, *pocket.interiors))]
+
+
+def _ring_samples(ring, inside_on_left: bool, tool_radius: float):
+    """Points along a ring a quarter of the radius apart, the index of the sample at each of
+    its corners, and the pocket's inside angle at each corner."""
     spacing = max(tool_radius / 4.0, _TOLERANCE * 1000)
-    points, allowances = [], []
-    for index, ring in enumerate((pocket.exterior, *pocket.interiors)):
-        inside_on_left = ring.is_ccw == (index == 0)
-        corners = numpy.asarray(ring.coords)[:-1]
-        angles = _inside_angles(corners, inside_on_left)
-        fillet_lengths = numpy.where(angles < math.pi, tool_radius / numpy.tan(numpy.minimum(angles, math.pi) / 2.0), 0.0)
-        for corner in range(len(corners)):
-            start, end = corners[corner], corners[(corner + 1) % len(corners)]
-            length = float(numpy.hypot(*(end - start)))
-            steps = min(max(1, math.ceil(length / spacing)), 2000)
-            along = numpy.arange(steps) * (length / steps)
-            points.append(start + numpy.outer(along / max(length, _TOLERANCE), end - start))
-            into_fillet = numpy.maximum(fillet_lengths[corner] - along, 0.0) + numpy.maximum(fillet_lengths[(corner + 1) % len(corners)] - (length - along), 0.0)
-            allowances.append(numpy.hypot(tool_radius, into_fillet))
-    return numpy.vstack(points), numpy.concatenate(allowances)
+    corners = numpy.asarray(shapely.remove_repeated_points(ring, _TOLERANCE).coords)[:-1]
+    points, corner_samples = [], []
+    for corner in range(len(corners)):
+        start, end = corners[corner], corners[(corner + 1) % len(corners)]
+        steps = min(max(1, math.ceil(float(numpy.hypot(*(end - start))) / spacing)), 2000)
+        corner_samples.append(sum(len(chunk) for chunk in points))
+        points.append(start + numpy.outer(numpy.arange(steps) / steps, end - start))
+    return numpy.vstack(points), numpy.array(corner_samples), _inside_angles(corners, inside_on_left)
+
+
+def _stretches(missed):
+    """The runs of consecutive missed samples of a ring (the ring is closed), as index arrays."""
+    if missed.all():
+        return [numpy.arange(len(missed))]
+    shift = int(numpy.argmin(missed))  # a reached sample: no run wraps past it
+    rolled = numpy.roll(missed, -shift)
+    edges = numpy.diff(numpy.concatenate(([0], rolled.astype(int), [0])))
+    return [(numpy.arange(start, end) + shift) % len(missed) for start, end in zip(numpy.flatnonzero(edges == 1), numpy.flatnonzero(edges == -1))]
+
+
+def _corner_fillets(points, corner_samples, angles, reachable, distances, missed, tool_radius: float):
+    """The samples inside the fillet the tool leaves in each inside corner. At a corner of an
+    arc's polygon (nearly straight) that is the corner itself, which the tool touches from
+    r / sin(angle / 2). At a sharp corner the fillet runs from the corner along both sides to
+    where the tool that fills the corner touches them; the corner counts as filled only when
+    that tool is about where r / sin(angle / 2) puts it, not farther off beyond a neck."""
+    fillets = numpy.zeros(len(points), dtype=bool)
+    inside = [corner for corner in range(len(corner_samples)) if angles[corner] < math.pi and missed[corner_samples[corner]]]
+    limits = {corner: tool_radius / math.sin(angles[corner] / 2.0) for corner in inside}
+    for corner in inside:
+        if angles[corner] >= _SHARP_CORNER:
+            fillets[corner_samples[corner]] = distances[corner_samples[corner]] <= limits[corner] * (1.0 + _TOLERANCE)
+    sharp = [corner for corner in inside if angles[corner] < _SHARP_CORNER and distances[corner_samples[corner]] <= _FILLET_SLACK * limits[corner]]
+    if not sharp:
+        return fillets
+    centres = shapely.get_coordinates(shapely.shortest_line(shapely.points(points[corner_samples[sharp]]), reachable))[1::2]
+    kinks = numpy.abs(angles - math.pi) > math.pi - _SHARP_CORNER  # sharp inside or outside corners
+    sharp_samples = set(corner_samples[kinks].tolist())
+    for corner, centre in zip(sharp, centres):
+        index = corner_samples[corner]
+        touched = numpy.hypot(*(points - centre).T) <= tool_radius * _TOUCH_SLACK + _TOLERANCE
+        sides = [_fillet_side(index, step, missed, touched, sharp_samples) for step in (1, -1)]
+        if None not in sides:
+            fillets[[index, *sides[0], *sides[1]]] = True
+    return fillets
+
+
+def _fillet_side(index, step, missed, touched, sharp_samples):
+    """The missed samples from a sharp corner on up to where the tool in the corner touches
+    the outline. None when another sharp corner comes first: the corner is then the end of a
+    slot narrower than the tool, or the tool misses the outline beyond an outside corner."""
+    side = []
+    sample = (index + step) % len(missed)
+    while missed[sample] and len(side) < len(missed):
+        if sample in sharp_samples:
+            return None
+        side.append(sample)
+        if touched[sample]:
+            break
+        sample = (sample + step) % len(missed)
+    return side
 
 
 def _inside_angles(corners, inside_on_left: bool):

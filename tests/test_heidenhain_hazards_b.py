@@ -43,7 +43,7 @@ HAZARDS: dict[int, tuple[str, ...] | str] = {
     19: ("heidenhain.cylinder-clearance", "heidenhain.cylinder-radius"),
     # C. tool vs geometry
     20: ("heidenhain.sl-allowance",),  # Q3 = 0, Q14 < Q3, Q14 + R_finish < Q3 + R_rough, and Q3 > Q14 + R for a single island
-    21: ("heidenhain.tool-too-large", "heidenhain.plunge-angle"),  # the tool and Q3 against the resolved pocket, Q19 with ANGLE 0; centre cutting is not in TOOL.T
+    21: ("heidenhain.tool-too-large", "heidenhain.residual-material", "heidenhain.plunge-angle"),  # R + Q3 against the resolved pocket: none of it reachable is an error, a neck or small inside radius residual material (a warning); Q19 with ANGLE 0; centre cutting is not in TOOL.T
     22: ("heidenhain.usable-length",),  # LU against the depth; Q202 > LCUTS of 272 not reported (cutting-length covers 233/25x)
     23: ("heidenhain.tool-too-large",),  # shapes 1271-1273 and 1278 with R (1 + Q578) + Q368; corners of free OCM contours not checked
     24: ("heidenhain.sl-allowance",),  # 274 Q14 < Q368, and Q368 > Q14 + R for a single island
@@ -585,3 +585,41 @@ def test_ocm_side_finishing_of_a_single_island(side, reported):
                    + ISLAND.replace(" RL", ""))
     result = check(text, TOOL_R5)
     assert bool([d for d in findings(result, "heidenhain.sl-allowance") if "single island" in d.message]) == reported
+
+
+def circle(label: int, x: int, start_angle: int, radius: int = 20) -> str:
+    """A clockwise (RR: pocket) full circle round X``x`` Y50 starting at ``start_angle``."""
+    return f"LBL {label}\nCC  X+{x}  Y+50\nLP  PR+{radius}  PA+{start_angle} RR\nCP  IPA-360 DR-\nLBL 0\n"
+
+
+def dumbbell(channel_low: int, channel_high: int) -> str:
+    """Two 30 x 30 recesses joined by a channel from Y``channel_low`` to Y``channel_high``."""
+    return (f"LBL 1\nL  X+10  Y+10 RR\nL  Y+40\nL  X+40\nL  Y+{channel_high}\nL  X+60\nL  Y+40\nL  X+90\nL  Y+10\nL  X+60\n"
+            f"L  Y+{channel_low}\nL  X+40\nL  Y+10\nL  X+10\nLBL 0\n")
+
+
+def test_the_corners_where_two_circular_pockets_overlap_are_the_tools_own_fillet():
+    """Each circle starts inside the other: the pocket is their lens-shaped overlap, whose
+    two sharp corners any round tool fills with its radius, as in a square corner."""
+    lens = check(sl_program(circle(1, 40, 0) + circle(2, 60, 180), labels="1 /2"), TOOL_R5)
+    assert not findings(lens, "heidenhain.tool-too-large") and not findings(lens, "heidenhain.residual-material")
+    assert not findings(lens, "heidenhain.tool-too-large", Status.UNKNOWN)  # the lens was resolved and judged
+
+
+def test_a_neck_narrower_than_the_tool_is_residual_material_not_an_alarm():
+    result = check(sl_program(dumbbell(22, 28)), TOOL_R5)
+    assert not findings(result, "heidenhain.tool-too-large")
+    [residual] = findings(result, "heidenhain.residual-material")
+    assert residual.severity.value == "warning"
+    assert "2 place(s)" in residual.message and "a neck 6 wide" in residual.message
+    assert "a tool up to R2.5 reaches it" in residual.message  # 3 - Q3 0.5
+    assert not findings(check(sl_program(dumbbell(19, 31)), TOOL_R5), "heidenhain.residual-material")  # 12 wide > 2 (5 + 0.5)
+
+
+def test_a_pocket_smaller_than_the_tool_is_not_machined_at_all():
+    small = "LBL 1\nL  X+10  Y+10 RR\nL  Y+20\nL  X+20\nL  Y+10\nL  X+10\nLBL 0\n"  # 10 x 10 against R 5 + Q3 0.5
+    result = check(sl_program(small), TOOL_R5)
+    [error] = findings(result, "heidenhain.tool-too-large")
+    assert "cannot enter" in error.message and "machines none of it" in error.message and "largest tool radius that clears it is 4.5" in error.message
+    assert not findings(result, "heidenhain.residual-material")
+    assert not findings(check(sl_program(small, data=contour_data(side="+0")), "[tools.1]\nradius = 4.9"), "heidenhain.tool-too-large")

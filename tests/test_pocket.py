@@ -7,7 +7,7 @@ import shapely
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from ncverify.pocket import arc_points, circle_fit, outline, polygon_fit, rectangle_fit, slot_fit
+from ncverify.pocket import arc_points, circle_fit, clearing_radius, outline, polygon_fit, rectangle_fit, slot_fit
 
 _L_SHAPE = shapely.Polygon([(0, 0), (40, 0), (40, 6), (6, 6), (6, 40), (0, 40)])  # two 6 mm wide arms
 
@@ -44,6 +44,24 @@ def test_a_programmed_fillet_smaller_than_the_tool_is_left_uncut():
     fit = polygon_fit(pocket, 5)
     assert not fit.fits and len(fit.unreached) == 4
     assert 1.9 <= fit.largest_radius <= 2.0
+
+
+def test_sharp_corners_between_arcs_are_filled_like_straight_ones():
+    """The lens two overlapping circles share and the crescent one leaves of the other have
+    sharp corners between arcs: every tool that fits leaves only its own fillet there."""
+    first = outline((20.0, 50.0), [("arc", (20.0, 50.0), (40.0, 50.0), False)])
+    second = outline((80.0, 50.0), [("arc", (80.0, 50.0), (60.0, 50.0), False)])
+    for pocket in (first.intersection(second), first.difference(second)):
+        assert all(polygon_fit(pocket, radius).fits for radius in (1, 5, 8))
+
+
+def test_the_end_of_a_slot_narrower_than_the_tool_is_no_fillet_however_short():
+    for length in (20, 4):
+        pocket = shapely.box(0, 0, 40, 40).union(shapely.box(40, 18, 40 + length, 22))  # 4 mm wide
+        assert polygon_fit(pocket, 1.9).fits
+        fit = polygon_fit(pocket, 5)
+        assert not fit.fits and 1.99 <= fit.largest_radius <= 2.0
+        assert [round(clearing_radius(pocket, spot), 2) for spot in fit.unreached] == [2.0]
 
 
 def test_a_full_circle_outline_is_a_circular_pocket():

@@ -147,10 +147,11 @@ class PlungeAngle(_CycleRule):
                         f"has {tool.angle:g}: the control stops with an error (seed L5810-5817)")
 
 
-@rule("heidenhain.tool-too-large")
+@rule("heidenhain.tool-too-large", "heidenhain.residual-material")
 class ToolTooLarge(_CycleRule):
     """H12/H33: the tool must fit the pocket, slot or bore it is to cut; the largest tool
-    that would is reported."""
+    that would is reported. Part B C21: a cycle-22 contour pocket the tool enters but
+    cannot clear is residual material, a warning."""
 
     def judge_cycle(self, number, params, spans, span, state):
         if number not in (208, 251, 252, 253, 254, 22, 272) or not self.first_time(state, ("tool-too-large", span)):
@@ -180,21 +181,42 @@ class ToolTooLarge(_CycleRule):
 
     def _contour_pocket(self, params, span, tool, state):
         """Cycle 22 roughs with the side allowance Q3 left on the walls: the tool centre
-        keeps R + Q3 from the contour (reference B H21)."""
+        keeps R + Q3 from the contour (reference B H21). A pocket the tool cannot enter is
+        not machined at all; where it enters, what it cannot reach (a neck narrower than
+        2 (R + Q3), an inside radius below R + Q3) stays as residual material: the control
+        machines around it without an alarm (reference B §9 item 21, seed L9575-9593)."""
         area = params.get("@region")
         allowance = params.get("Q3", 0.0)
         if area is None or type(allowance) is not float:
             self.missing("heidenhain.tool-too-large", span, "the contour of cycle 14 could not be resolved (free Q parameters, CT or FK elements, or an R0 subcontour)")
             return
-        parts = list(getattr(area, "geoms", [area]))
-        effective = tool.radius + max(allowance, 0.0)
-        for part in parts:
-            fit = pocket.polygon_fit(part, effective)
-            if not fit.fits:
-                corner = f" near X{fit.unreached[0][0]:.3f} Y{fit.unreached[0][1]:.3f}" if fit.unreached else ""
-                self.report("heidenhain.tool-too-large", span, f"cycle 22: tool T{show(state.tool_in_spindle)} (R={tool.radius:g}) with side allowance Q3={allowance:g} "
-                            f"cannot clear the contour pocket{corner}: {fit.reason}; the largest tool radius that does is {max(fit.largest_radius - max(allowance, 0.0), 0.0):g}")
-                return
+        allowance = max(allowance, 0.0)
+        tool_named = f"cycle 22: tool T{show(state.tool_in_spindle)} (R={tool.radius:g}) with side allowance Q3={allowance:g}"
+        for part in getattr(area, "geoms", [area]):
+            spots = pocket.unreached_spots(part, tool.radius + allowance)
+            if spots is None:
+                inside = part.representative_point()
+                self.report("heidenhain.tool-too-large", span, f"{tool_named} cannot enter the contour pocket around X{inside.x:.3f} Y{inside.y:.3f} at all: "
+                            f"the cycle machines none of it; the largest tool radius that clears it is {self._clearing(pocket.largest_radius(part), allowance)}")
+            elif spots:
+                self.report("heidenhain.residual-material", span, f"{tool_named} leaves material at {len(spots)} place(s) of the contour pocket, "
+                            f"{self._places(part, spots, allowance)}: the control machines around it without an alarm; "
+                            f"the largest tool radius that clears the whole pocket is {self._clearing(pocket.largest_radius(part), allowance)} (seed L9575-9593)")
+
+    _PLACES_NAMED = 3  # the residual places a finding names; the count says how many there are
+
+    @classmethod
+    def _places(cls, part, spots, allowance):
+        named = []
+        for spot in spots[:cls._PLACES_NAMED]:
+            reach = pocket.clearing_radius(part, spot)
+            named.append(f"near X{spot[0]:.3f} Y{spot[1]:.3f} (a neck {2 * reach:.3g} wide or an inside radius of {reach:.3g}: "
+                         f"a tool up to R{cls._clearing(reach, allowance)} reaches it)")
+        return "; ".join(named) + ("; ..." if len(spots) > cls._PLACES_NAMED else "")
+
+    @staticmethod
+    def _clearing(radius, allowance):
+        return f"{max(radius - allowance, 0.0):.3g}"
 
     @staticmethod
     def _fit(number, params, spans, radius, span):
