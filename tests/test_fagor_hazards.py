@@ -55,6 +55,15 @@ def test_the_start_plane_on_the_wrong_side_of_the_reference_plane_is_reported_fo
     assert {"core.cycle-depth-sign", "core.cycle-r-above-initial"} <= findings(result).keys()
 
 
+@pytest.mark.parametrize("reference, inside", [(2, True), (-2, False)])
+def test_a_reference_plane_inside_the_stock_along_minus_x_is_reported(reference, inside):
+    program = f"; ncverify: stock box X0:80 Y0:120 Z-40:0\nG19\nG0 G90 X-30 Y20 Z-12 S2000 M3\n#TOOL AX [X-]\nG98 G81 X{reference} I30 F180\nG80\nM30\n"
+    found = findings(check(program)).get("core.clearance-below-stock", [])
+    assert bool(found) is inside
+    if inside:
+        assert "R point X2" in found[0].message and "face X0" in found[0].message
+
+
 # --------------------------------------------------------------------------- the cycle set (H28)
 
 
@@ -227,7 +236,7 @@ def test_a_cycle_along_minus_z_is_the_mirror_of_the_same_cycle_along_plus_z(cycl
 
 def reported_hazards(result) -> set[str]:
     hazards = {"core.cycle-depth-sign", "core.cycle-zero-depth", "core.cycle-r-above-initial", "fagor.g82-retract-coordinate",
-               "core.rapid-into-stock", "fagor.bore-milling-no-floor"}
+               "core.rapid-into-stock", "fagor.bore-milling-no-floor", "core.clearance-below-stock"}
     return {d.rule for d in result.diagnostics if d.status.value == "violated" and d.rule in hazards}
 
 

@@ -10,7 +10,7 @@ from __future__ import annotations
 import numpy
 
 from .. import frames, geometry
-from ..check import Rule, rule, show
+from ..check import Rule, hazard, rule, show
 from ..diagnostics import Status
 from ..values import Condition, Sym
 
@@ -162,29 +162,36 @@ class RapidIntoStock(_NeedsStock):
 
 @rule("core.clearance-below-stock")
 class ClearanceBelowStock(_NeedsStock):
-    """A hole's R point or initial level (the G98 return level) below the stock top."""
+    """A hole's R point or initial level (the G98 return level) inside the stock: below its
+    top, or past the face the tool comes from along another tool axis or sign (Fagor
+    ``#TOOL AX [X-]``: ``hole.up``)."""
 
     rule_id = "core.clearance-below-stock"
 
     def hole(self, hole, state):
-        if hole.model.get("r_incremental") or hole.model.get("infeed") == "back_bore" or hole.drill_axis != "Z" or hole.up < 0:
+        axis = hole.drill_axis
+        if hole.model.get("r_incremental") or hole.model.get("infeed") == "back_bore" or axis not in ("X", "Y", "Z"):
             return
         stock = self.stock(hole.definition or hole.span)
-        if stock is None:
-            return
-        over_stock = self._over_stock(stock, hole.position)
+        if stock is None or (axis != "Z" and stock.kind != "box"):
+            return  # a polygon's face along X/Y depends on where the hole is: not modelled
+        ranges = geometry.stock_box(stock) or (None, None, stock.z_range)
+        over_stock = self._over_stock(stock, hole.position) if axis == "Z" else _across(ranges, axis, hole.position)
         if over_stock is False:
             return
         code = hole.cycle.rsplit(".", 1)[-1]
-        top = stock.top
+        low, high = ranges["XYZ".index(axis)]
+        face = high if hole.up > 0 else low
+        where = f"below the top of the stock Z{face:g}" if axis == "Z" and hole.up > 0 else f"past the stock's face {axis}{face:g} on the side the tool comes from"
         for level, name, span in ((hole.r_point, "R point", hole.param_spans.get("R", hole.span)), (hole.initial, "initial level", hole.definition or hole.span)):
             key = ("clearance violated", hole.definition, name)
             if level is None or key in state.rule_state:
                 continue  # each hole is judged until one shows the violation: holes differ in position
-            verdict = self.checker.judge(_both(over_stock, _below(level, top)), state)
+            inside = hazard("<", level, face - geometry.EPSILON) if hole.up > 0 else hazard(">", level, face + geometry.EPSILON)
+            verdict = self.checker.judge(_both(over_stock, inside), state)
             if verdict is not None and verdict.status is Status.VIOLATED:
                 state.rule_state[key] = True
-            self.checker.report_verdict(self.rule_id, span, f"{code}: the {name} Z{show(level)} is below the top of the stock Z{top:g}: "
+            self.checker.report_verdict(self.rule_id, span, f"{code}: the {name} {axis}{show(level)} is {where}: "
                                         f"the cycle rapids into the material there", verdict, state)
 
     @staticmethod
@@ -206,17 +213,23 @@ class ClearanceBelowStock(_NeedsStock):
         return abs(x) < stock.diameter
 
 
+def _across(ranges, drill_axis: str, position: dict):
+    """Is the hole over the stock's face: its position on the two other axes inside the
+    stock's extent there (True when unknown: the levels are judged anyway)?"""
+    over = True
+    for axis, (low, high) in zip("XYZ", ranges):
+        value = position.get(axis)
+        if axis != drill_axis and value is not None:
+            over = _both(_both(over, hazard(">", value, low)), hazard("<", value, high))
+    return over
+
+
 def _both(first, second):
     """Both hazard conditions (True, False or conditions)."""
-    if first is True:
+    if first is True or second is False:
         return second
+    if second is True or first is False:
+        return first
     import z3
 
-    second_term = second.term if isinstance(second, Condition) else z3.BoolVal(bool(second))
-    return Condition(z3.And(first.term, second_term))
-
-
-def _below(level, top: float):
-    from ..check import hazard
-
-    return hazard("<", level, top - geometry.EPSILON)
+    return Condition(z3.And(first.term, second.term))
