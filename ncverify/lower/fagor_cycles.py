@@ -129,7 +129,8 @@ def _entry_point(runner, cycle, centre: dict) -> dict | None:
         return None
     distance = values.add(values.mul(values.absolute(data["J"]), 0.5), values.add(radius, data.get("E", 0.0)))
     radians = math.radians(angle)
-    return {axis: values.add(centre[axis], values.mul(distance, direction)) for axis, direction in zip(centre, (math.cos(radians), math.sin(radians)))}
+    directions = (round(math.cos(radians), 12), round(math.sin(radians), 12))  # Q90 is straight along the ordinate, not 6e-17 off it
+    return {axis: values.add(centre[axis], values.mul(distance, direction)) for axis, direction in zip(centre, directions)}
 
 
 def _tool_radius(runner) -> float | None:
