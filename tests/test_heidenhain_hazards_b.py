@@ -44,7 +44,7 @@ HAZARDS: dict[int, tuple[str, ...] | str] = {
     # C. tool vs geometry
     20: ("heidenhain.sl-allowance",),  # Q3 = 0, Q14 < Q3, Q14 + R_finish < Q3 + R_rough, and Q3 > Q14 + R for a single island
     21: ("heidenhain.tool-too-large", "heidenhain.residual-material", "heidenhain.plunge-angle"),  # R + Q3 against the resolved pocket: none of it reachable is an error, a neck or small inside radius residual material (a warning); Q19 with ANGLE 0; centre cutting is not in TOOL.T
-    22: ("heidenhain.usable-length",),  # LU against the depth; Q202 > LCUTS of 272 not reported (cutting-length covers 233/25x)
+    22: ("heidenhain.usable-length", "heidenhain.cutting-length"),  # LU against the depth; Q202 against LCUTS
     23: ("heidenhain.tool-too-large",),  # shapes 1271-1273 and 1278 with R (1 + Q578) + Q368; corners of free OCM contours not checked
     24: ("heidenhain.sl-allowance",),  # 274 Q14 < Q368, and Q368 > Q14 + R for a single island
     25: ("heidenhain.parameter-range",),  # Q353 < 0 and |Q353| >= |Q359|; T-ANGLE is not a tool-table column ncverify reads
@@ -623,3 +623,14 @@ def test_a_pocket_smaller_than_the_tool_is_not_machined_at_all():
     assert "cannot enter" in error.message and "machines none of it" in error.message and "largest tool radius that clears it is 4.5" in error.message
     assert not findings(result, "heidenhain.residual-material")
     assert not findings(check(sl_program(small, data=contour_data(side="+0")), "[tools.1]\nradius = 4.9"), "heidenhain.tool-too-large")
+
+
+@pytest.mark.parametrize("infeed, reported", [("+12", True), ("+10", False)])
+def test_ocm_roughing_plunging_deeper_than_the_cutting_length_is_clipped(infeed, reported):
+    """272: Q202 > LCUTS is cut at LCUTS per infeed, with a warning (seed L11277-11279)."""
+    rough = (f"CYCL DEF 272 OCM ROUGHING ~\n    Q202={infeed} ;PLUNGING DEPTH ~\n    Q370=+0.4 ;TOOL PATH OVERLAP ~\n    Q207=+500 ;FEED RATE MILLING ~\n"
+             "    Q568=+0.6 ;PLUNGING FACTOR ~\n    Q253=+750 ;F PRE-POSITIONING ~\n    Q200=+2 ;SET-UP CLEARANCE ~\n    Q438=+0 ;ROUGH-OUT TOOL\n")
+    text = program(f"{polygon()}{rough}L  X+50  Y+50 R0 FMAX M99\nL  Z+100 R0 FMAX M30\n")
+    found = findings(check(text, TOOL_R5 + "\ncutting_length = 10"), "heidenhain.cutting-length")
+    assert bool(found) == reported
+    assert not reported or ("Q202=12" in found[0].message and "LCUTS=10" in found[0].message and "L11277" in found[0].message)

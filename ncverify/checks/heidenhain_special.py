@@ -126,14 +126,18 @@ class StudApproachRoom(_BlankRule):
         return (here[0] + step[0], here[1] + step[1]), angle_name
 
 
+# cycle -> the manual lines saying it cuts at most LCUTS per infeed (272 with a warning)
+_INFEED_LIMITED = {**dict.fromkeys((233, 251, 252, 253, 254, 256, 257, 258), "seed L5397-5399"), 272: "seed L11277-11278"}
+
+
 @rule("heidenhain.cutting-length")
 class CuttingLength(_CycleRule):
-    """H44: a plunging depth Q202 longer than the tool's cutting length LCUTS: the control
-    reduces the infeed by itself, so the cycle takes more passes than programmed."""
+    """H44, part B C22: a plunging depth Q202 longer than the tool's cutting length LCUTS:
+    the control reduces the infeed by itself, so the cycle takes more passes than programmed."""
 
     def judge_cycle(self, number, params, spans, span, state):
         infeed = params.get("Q202")
-        if number not in (233, 251, 252, 253, 254, 256, 257, 258) or infeed is None or not self.first_time(state, ("cutting-length", span)):
+        if number not in _INFEED_LIMITED or infeed is None or not self.first_time(state, ("cutting-length", span)):
             return
         tool = _tool(self, state, span, "heidenhain.cutting-length", "cutting_length")
         if tool is None:
@@ -141,7 +145,7 @@ class CuttingLength(_CycleRule):
         verdict = self.checker.judge(hazard(">", infeed, tool.cutting_length), state)
         self.checker.report_verdict("heidenhain.cutting-length", spans.get("Q202", span),
                                     f"cycle {number}: plunging depth Q202={show(infeed)} is longer than the cutting length LCUTS={tool.cutting_length:g} of tool "
-                                    f"T{show(state.tool_in_spindle)}: the control cuts at most LCUTS per infeed, so the cycle takes more passes (seed L5397-5399)", verdict, state)
+                                    f"T{show(state.tool_in_spindle)}: the control cuts at most LCUTS per infeed, so the cycle takes more passes ({_INFEED_LIMITED[number]})", verdict, state)
 
 
 @rule("heidenhain.pattern-compatibility")
