@@ -41,6 +41,8 @@ HAZARDS: dict[str, tuple[str, ...] | str] = {
     "H19": ("heidenhain.disengage-mirror",),
     "H20": "modelled, not a defect: cycle parameters are frozen at CYCL DEF and later assignments do not reach the call",
     "H21": ("heidenhain.call-without-cycle",),  # a DEF-active cycle sharing transfer parameters is not checked
+    # H22: RL/RR on at any call (M99, CYCL CALL, M89, a pattern); thread milling takes its direction from Q351 and the pitch
+    # sign (§6.13), which is no RL/RR the program gives, so nothing beyond the R0 rule is decidable
     "H22": ("heidenhain.call-without-tool", "heidenhain.cycle-with-compensation", "core.spindle-off-cutting"),
     "H23": "modelled, intent undecidable: after M89 every positioning block runs the cycle (its rapids are checked); which positions were meant as holes the program cannot say",
     "H24": ("heidenhain.call-pos-axes",),
@@ -276,6 +278,24 @@ def test_h7_a_thread_mill_needs_half_a_pitch_below_the_thread_in_the_drilled_hol
 
 def test_h7_a_hole_drilled_deep_enough_or_not_drilled_here_is_not_judged():
     assert not lines(check(thread_mill_after_drilling("-13")), "heidenhain.thread-deeper-than-hole")
+
+
+# --------------------------------------------------------------------------- H22 R0 to the start point
+
+
+@pytest.mark.parametrize("positioning, call", [("L  X+30  Y+30 RL FMAX M99", ""), ("L  X+30  Y+30 RR F500", "CYCL CALL"),
+                                               ("L  X+30  Y+30 RL F500\nL  X+40  Y+30 R0 FMAX", "CYCL CALL")])
+def test_h22_the_last_positioning_before_a_call_must_be_r0(positioning, call):
+    text = program(f"5  {DRILL}\n{positioning}\n{call}".rstrip() + "\n")
+    called = len(text.splitlines()) - 2  # the call is the body's last line
+    reported = lines(check(text), "heidenhain.cycle-with-compensation")
+    assert reported == ([] if "R0" in positioning else [called])
+
+
+def test_h22_a_thread_mill_called_with_rl_is_reported_too():
+    """Q351 and the pitch sign set the direction of 262 (§6.13): RL/RR at the call are still wrong."""
+    assert lines(check(thread_mill_after_drilling("-13").replace("8  L  X+30  Y+30 R0 FMAX M99", "8  L  X+30  Y+30 RL FMAX M99")),
+                 "heidenhain.cycle-with-compensation") == [28]
 
 
 # --------------------------------------------------------------------------- core rules the map names, on Klartext
