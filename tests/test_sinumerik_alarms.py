@@ -224,3 +224,36 @@ def test_cycle73_needs_edge_d1(tool_block, status):
     assert [d.status for d in found] == ([status] if status else [])
     if status is Status.VIOLATED:
         assert "61989" in found[0].message and found[0].span.line == 6
+
+
+@pytest.mark.parametrize("arc", ["G2 X40 Z-40 CR=5", "G2 X40 Z-40 K-5"])
+def test_an_arc_that_may_dip_into_an_undercut_between_level_end_points_is_unknown(arc):
+    result = check(_shaft(flank="31").replace("N40 X30 Z-31\n        N50 Z-40", f"N40 {arc}\n        N50 G1 Z-40"))
+    [finding] = findings(result, "sinumerik.clearance-angle")
+    assert finding.status is Status.UNKNOWN and "the arc's tangents are bounded" in finding.message and finding.span.line == 17
+
+
+def test_a_quarter_arc_rising_from_a_level_element_enters_no_undercut():
+    result = check(_shaft(flank="31", tool_data="$TC_DP1[1,1]=500").replace("N40 X30 Z-31", "N40 G2 X50 Z-35 CR=5\n        N45 G1"))
+    assert not findings(result, "sinumerik.clearance-angle")
+
+
+@hypothesis_settings(max_examples=80, deadline=None)
+@given(st.floats(1.0, 50.0), st.floats(-180.0, 180.0), st.floats(5.0, 180.0), st.booleans())
+def test_the_bound_of_an_arc_holds_at_every_point_of_it(radius, start_angle, sweep, clockwise):
+    """No piece of an arc dives more steeply than the bound its entry gives, and the chord's
+    angle is reached somewhere on it (plane axes without X: one reading)."""
+    turn = -1.0 if clockwise else 1.0
+    angles = [math.radians(start_angle + turn * sweep * k / 200) for k in range(201)]
+    arc = [(radius * math.cos(angle), radius * math.sin(angle)) for angle in angles]
+    first, last = arc[0], arc[-1]
+    direction = math.copysign(1.0, last[0] - first[0])
+    pieces = [((end[0] - start[0]) * direction, start[1] - end[1]) for start, end in zip(arc, arc[1:])]
+    if abs(last[0] - first[0]) < 1e-6 or any(advance < -1e-9 for advance, _depth in pieces):
+        return  # no machining direction, or an overhang: not an undercut entry
+    entries = undercut_entries([(first, "from"), (last, "arc")], 1.0, ("Z", "R", "Y"), {"arc": radius})
+    steepest = max((entry.steepest for entry in entries), default=0.0)
+    flattest = max((entry.flattest for entry in entries), default=0.0)
+    dives = [math.degrees(math.atan2(depth, advance)) for advance, depth in pieces if depth > 1e-12]
+    assert all(angle <= steepest + 1e-6 for angle in dives)
+    assert flattest <= max(dives, default=0.0) + 1e-6

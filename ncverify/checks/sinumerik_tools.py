@@ -58,42 +58,69 @@ class _EdgeRule(_ReportsMissingContext):
 # --------------------------------------------------------------------------- CYCLE95: the clearance angle (61604)
 
 class UndercutEntry(NamedTuple):
-    """A contour element that dives into an undercut in the machining direction, with its
-    angle to the machining axis in degrees: ``steepest`` reading the X values as radii,
-    ``flattest`` as diameters (the program's DIAMON/DIAMOF is not modelled; both are the same
-    when X is not one of the two axes or the element runs along one axis)."""
+    """A contour element that may dive into an undercut in the machining direction, with its
+    angle to the machining axis in degrees: at least ``flattest`` somewhere on the element
+    (0 when it need not enter at all), at most ``steepest`` anywhere on it, over both readings
+    of X (a radius or a diameter: the program's DIAMON/DIAMOF is not modelled)."""
 
     start: tuple[float, float]
     end: tuple[float, float]
     span: object
     flattest: float
     steepest: float
+    arc: bool = False
 
 
-def undercut_entries(points, kind: float, plane: tuple[str, str, str]) -> list[UndercutEntry]:
+def undercut_entries(points, kind: float, plane: tuple[str, str, str], arcs: dict | None = None) -> list[UndercutEntry]:
     """The elements of a CYCLE95 contour (``points``: the plane points in order, with the
-    block reaching each) that enter an undercut: they advance in the machining direction,
-    from the first contour point to the last along the machining axis, and go deeper along
-    the infeed axis (reference B section 6.3, VARI table L16166-16208: longitudinal machining
-    runs along the first plane axis with the infeed along the second, face machining the other
-    way round; external machining feeds in towards minus, internal towards plus). An element
-    that turns back against the machining direction is an overhang, not an entry."""
+    block reaching each; ``arcs``: the blocks that are arcs, by span, with their radius or
+    None) that enter an undercut: they advance in the machining direction, from the first
+    contour point to the last along the machining axis, and go deeper along the infeed axis
+    (reference B section 6.3, VARI table L16166-16208: longitudinal machining runs along the
+    first plane axis with the infeed along the second, face machining the other way round;
+    external machining feeds in towards minus, internal towards plus). An element whose chord
+    turns back against the machining direction is an overhang, not an entry."""
     along = 0 if int(kind) % 100 % 2 == 1 else 1
     across = 1 - along
     inward = 1.0 if (int(kind) % 100 - 1) % 4 >= 2 else -1.0
-    direction = math.copysign(1.0, points[-1][0][along] - points[0][0][along])
     if points[-1][0][along] == points[0][0][along]:
         return []
-    diameter_scales = [(0.5 if plane[index] == "X" else 1.0) for index in (along, across)]
+    direction = math.copysign(1.0, points[-1][0][along] - points[0][0][along])
+    readings = [[(0.5 if plane[index] == "X" and diameter else 1.0) for index in (along, across)] for diameter in (False, True)]
     entries = []
     for (start, _), (end, span) in zip(points, points[1:]):
         advance, depth = (end[along] - start[along]) * direction, (end[across] - start[across]) * inward
-        if depth <= 1e-9 or advance < -1e-9:
+        if advance < -1e-9:
             continue
-        radius_angle = math.degrees(math.atan2(depth, advance))
-        diameter_angle = math.degrees(math.atan2(depth * diameter_scales[1], advance * diameter_scales[0]))
-        entries.append(UndercutEntry(start, end, span, min(radius_angle, diameter_angle), max(radius_angle, diameter_angle)))
+        is_arc = arcs is not None and span in arcs
+        chords = [(advance * scale_along, depth * scale_across) for scale_along, scale_across in readings]
+        if is_arc:
+            # A reading in which the chord is longer than the diameter is no arc at all: the program means the other one.
+            radius = arcs[span]
+            possible = [chord for chord in chords if radius is None or math.hypot(*chord) <= 2 * radius + 1e-9] or chords
+            flattest = min(_angle(chord) for chord in possible) if depth > 1e-9 else 0.0
+            steepest = max(_arc_steepest(chord, radius) for chord in possible)
+        elif depth > 1e-9:
+            flattest, steepest = min(map(_angle, chords)), max(map(_angle, chords))
+        else:
+            continue
+        if steepest > 1e-6:  # a quarter arc rising from a level element starts level
+            entries.append(UndercutEntry(start, end, span, flattest, steepest, is_arc))
     return entries
+
+
+def _angle(chord: tuple[float, float]) -> float:
+    """The angle in degrees of an (advance, depth) direction to the machining axis."""
+    return math.degrees(math.atan2(chord[1], chord[0]))
+
+
+def _arc_steepest(chord: tuple[float, float], radius) -> float:
+    """The steepest an arc of ``radius`` (None: unknown) over ``chord`` can dive: its tangent
+    turns at most half the swept angle away from the chord's direction."""
+    if radius is None:
+        return 90.0
+    half_swept = math.degrees(math.asin(min(1.0, math.hypot(*chord) / (2 * radius))))
+    return min(90.0, _angle(chord) + half_swept)
 
 
 @rule("sinumerik.clearance-angle")
@@ -104,14 +131,15 @@ class ClearanceAngle(_EdgeRule):
     L14840-14888, L16440-16462, L19971-19978): an element entering an undercut at a steeper
     angle to the machining axis than the clearance angle. Judged on the contour's end points:
     an arc's chord is as steep as the arc at some point of it, so a steep chord is a steep
-    element; a steep tangent inside a shallow chord is not seen."""
+    element; a contour with arcs and no steep chord is unknown (a tangent inside an arc may
+    dip more steeply). Roundings and chamfers lie between the angles of their neighbours."""
 
     def cycle_run(self, run, state):
         facts = run.params.get("CONTOUR") if run.cycle == "sinumerik.CYCLE95" else None
         kind = run.params.get("VARI")
         if facts is None or not facts.points or type(kind) is not float or not 1 <= kind % 100 <= 12:
             return
-        entries = undercut_entries(facts.points, kind, state.plane_axes)
+        entries = undercut_entries(facts.points, kind, state.plane_axes, facts.arcs)
         if not entries:
             return
         if state.frame is not None and state.frame.linear != Frame().linear:
@@ -133,18 +161,25 @@ class ClearanceAngle(_EdgeRule):
         angle = tool.clearance_angle
         first, second, _normal = state.plane_axes
         for entry in entries:
-            where = (f"CYCLE95 contour \"{facts.name}\": the element from {first}{entry.start[0]:g} {second}{entry.start[1]:g} "
-                     f"to {first}{entry.end[0]:g} {second}{entry.end[1]:g} enters an undercut at")
-            both = "" if entry.flattest == entry.steepest else f" (X read as a diameter; {entry.steepest:.1f} as a radius)"
+            where = (f"CYCLE95 contour \"{facts.name}\": the {'arc' if entry.arc else 'element'} from {first}{entry.start[0]:g} {second}{entry.start[1]:g} "
+                     f"to {first}{entry.end[0]:g} {second}{entry.end[1]:g}")
             if entry.flattest > angle:
                 self.report("sinumerik.clearance-angle", entry.span,
-                            f"{where} {entry.flattest:.1f} degrees{both}, steeper than the clearance angle {angle:g} of tool T{tool.number} D1: "
+                            f"{where} enters an undercut at {_angles(entry)}, steeper than the clearance angle {angle:g} of tool T{tool.number} D1: "
                             "would raise alarm 61604 \"active tool violates programmed contour\"; use a tool with a larger clearance angle or change the contour")
                 return
             if entry.steepest > angle:
+                why = "the arc's tangents are bounded, not computed" if entry.arc else "whether X is a diameter (DIAMON) is not modelled"
                 self.missing("sinumerik.clearance-angle", entry.span,
-                             f"{where} {entry.steepest:.1f} degrees with X as a radius, {entry.flattest:.1f} with X as a diameter, against the clearance angle {angle:g}: "
-                             "whether X is a diameter (DIAMON) is not modelled")
+                             f"{where} may enter an undercut at up to {entry.steepest:.1f} degrees, against the clearance angle {angle:g}: {why}")
+
+
+def _angles(entry: UndercutEntry) -> str:
+    if entry.arc:
+        return f"{entry.flattest:.1f} degrees or more somewhere"
+    if entry.flattest == entry.steepest:
+        return f"{entry.flattest:.1f} degrees"
+    return f"{entry.flattest:.1f} to {entry.steepest:.1f} degrees (X read as a diameter or as a radius)"
 
 
 # --------------------------------------------------------------------------- CYCLE94/96: the cutting-edge position (61608)

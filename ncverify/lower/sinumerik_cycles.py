@@ -395,6 +395,7 @@ class ContourFacts:
         self.rounded_end = None  # the span of a last plane block carrying RND/CHF/CHR
         self.open_start = None  # the first plane block, when it gives only one of the two plane coordinates
         self.compensation: list = []  # the spans of G40/G41/G42 inside the contour
+        self.arcs: dict = {}  # the G2/G3 blocks moving in the plane, by span, with their radius CR (None: not a positive number)
         self.frames: list = []  # the spans of frame statements inside the contour
         self.section_lines: tuple[int, int] | None = None  # a "START:END" section of the calling program
 
@@ -513,6 +514,8 @@ def _walk_contour(interp, facts: ContourFacts, lines, path, plane) -> None:
                         facts.problems.append(("10931", f"an arc of more than 180 degrees (CR={radius:g})", op.span))
                     facts.plane_blocks += 1
                     facts.rounded_end = op.span if any(word in op.words for word in ("RND", "CHF", "CHR")) else None
+                    if motion in ("arc_cw", "arc_ccw"):
+                        facts.arcs[op.span] = radius if type(radius) is float and radius > 0 else None
                     for axis, value in in_plane.items():
                         value = _literal(value)
                         if type(value) is not float:
