@@ -1,7 +1,7 @@
 0  BEGIN PGM CONTOUR-TRAIN MM
 1  ; a guide plate: an outer edge train, a trochoidal slot, an OCM pocket with chamfer
 2  ; ncverify: tool 3 radius 4 usable-length 40 cutting-length 20
-3  ; ncverify: tool 7 radius 3 usable-length 30
+3  ; ncverify: tool 7 radius 3 usable-length 30 cutting-length 12
 4  BLK FORM 0.1 Z X+0 Y+0 Z-25
 5  BLK FORM 0.2  X+120  Y+80  Z+0
 6  TOOL CALL 3 Z S6000 F800
