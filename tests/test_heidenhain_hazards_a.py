@@ -56,7 +56,7 @@ HAZARDS: dict[str, tuple[str, ...] | str] = {
     "H32": ("heidenhain.peck-decrement",),  # Q212 without Q205; single pass and Q257 > Q202 are not reported
     "H33": ("heidenhain.tool-too-large",),
     "H34": ("heidenhain.parameter-range", "core.cycle-parameter-value"),
-    "H35": ("heidenhain.transform-at-end",),  # at the end of the program; the reset order is not checked
+    "H35": ("heidenhain.transform-at-end", "heidenhain.transform-reset-order"),  # at the end of the program; the reset order where a tilted plane is involved
     "H36": ("heidenhain.rotation-cancels-compensation",),  # cycle 10; cycle 19 with M120 is not checked
     "H37": ("heidenhain.mirror-tool-axis",),  # the tool axis; the climb/up-cut reversal under a one-axis mirror is not reported
     "H38": ("heidenhain.scaling-factor",),  # the factor ranges and arcs under cycle 26; sizes read from cycle parameters are not scaled
@@ -489,6 +489,30 @@ def test_a_plunging_depth_beyond_the_cutting_length_is_information():
 
 def test_a_plunging_depth_within_the_cutting_length_is_not_reported():
     assert not lines(check(program(stud(100)), TOOL_R5), "heidenhain.cutting-length")
+
+
+# --------------------------------------------------------------------------- H35 reset order
+
+SHIFT = "CYCL DEF 7.0 DATUM SHIFT\nCYCL DEF 7.1 X+50\n"
+SHIFT_RESET = "CYCL DEF 7.0 DATUM SHIFT\nCYCL DEF 7.1 X+0\n"
+TILT = "CYCL DEF 19.0 WORKING PLANE\nCYCL DEF 19.1 A+0 B+30 C+0\n"
+TILT_RESET = "CYCL DEF 19.0 WORKING PLANE\nCYCL DEF 19.1 A+0 B+0 C+0\n"
+ROTATION = "CYCL DEF 10.0 ROTATION\nCYCL DEF 10.1 ROT+45\n"
+ROTATION_RESET = "CYCL DEF 10.0 ROTATION\nCYCL DEF 10.1 ROT+0\n"
+
+
+@pytest.mark.parametrize("defined, reset, reported", [
+    (SHIFT + TILT, SHIFT_RESET + TILT_RESET, True),
+    (SHIFT + TILT, "TRANS DATUM RESET\n" + TILT_RESET, True),
+    (SHIFT + TILT, TILT_RESET + SHIFT_RESET, False),
+    (TILT + ROTATION, TILT_RESET + ROTATION_RESET, True),
+    (TILT + ROTATION, ROTATION_RESET + TILT_RESET, False),
+    (SHIFT + ROTATION, SHIFT_RESET + ROTATION_RESET, False),  # no tilted plane: the order is the manual's only for cycle 19
+])
+def test_h35_transformations_with_a_tilt_are_reset_in_reverse_order(defined, reset, reported):
+    text = program(f"{defined}L  Z+100 R0 FMAX\n{reset}")
+    first_reset = 6 + defined.count("\n") + 1 + (0 if reset.startswith("TRANS") else 1)  # the body starts at line 6; x.1 ends a cycle
+    assert lines(check(text), "heidenhain.transform-reset-order") == ([first_reset] if reported else [])
 
 
 # --------------------------------------------------------------------------- H46 / B H35 pattern compatibility

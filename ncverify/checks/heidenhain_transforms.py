@@ -85,3 +85,27 @@ class RotationCancelsCompensation(Rule):
             line, side = cancelled
             self.report("heidenhain.rotation-cancels-compensation", segment.span, f"the rotation (cycle 10, line {line}) cancelled {side}: this contour move "
                         f"runs uncompensated, the tool centre on the contour, so the part is cut a tool radius too deep; program {side} again after the rotation (seed L7904)")
+
+
+# The order the manual activates combined transformations in, and resets them the other way
+# round (seed L8166-8178): datum shift, tilted working plane, rotation.
+_CHAIN = {7: "the datum shift (cycle 7)", 19: "the tilted working plane (cycle 19)", 10: "the rotation (cycle 10)"}
+
+
+@rule("heidenhain.transform-reset-order")
+class TransformResetOrder(Rule):
+    """H35: with a tilted working plane, the transformations are reset in the reverse order
+    of their definition: rotation, then the tilt, then the datum shift (seed L8166-8178).
+    The activation order is the ``transforms`` change the frame lowering sends."""
+
+    def change(self, change, state):
+        if change.what != "transforms":
+            return
+        before, after = change.old, change.new
+        for reset in (number for number in before if number in _CHAIN and number not in after):
+            later = [number for number in before[before.index(reset) + 1:] if number in _CHAIN and number in after]
+            if later and 19 in (reset, *later):
+                self.report("heidenhain.transform-reset-order", change.span, f"{_CHAIN[reset]} is reset while {_CHAIN[later[-1]]}, defined after it, "
+                            "is still active: reset in the reverse order of the definitions (rotation, then the tilted plane, then the datum shift), "
+                            "or the remaining transformation is taken in the wrong coordinate system (seed L8166-8178)")
+

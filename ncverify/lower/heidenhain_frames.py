@@ -49,18 +49,28 @@ def transform(runner, op, number: int, params: dict) -> None:
     if number == 19 and data is not None:
         interp._fault("core.unsupported-code", op.span, "tilting the working plane (cycle 19, PLANE) is not modelled: positions after it are unknown "
                       "until it is reset (cycle 19 with all angles 0, PLANE RESET)", "unknown", "tilted working plane")
-    set_transforms(interp, active)
+    set_transforms(interp, active, op.span)
 
 
-def reset(interp, numbers) -> None:
-    """The transformations of cycles ``numbers`` end (TRANS ... RESET, cycle 247)."""
+def reset(interp, numbers, span=None) -> None:
+    """The transformations of cycles ``numbers`` end (TRANS ... RESET at ``span``; cycle 247,
+    which sets a new datum, with no span: it is no reset in an order)."""
     active = dict(interp.state.rule_state.get(("heidenhain", "transforms"), ()) or ())
-    set_transforms(interp, {number: data for number, data in active.items() if number not in numbers})
+    set_transforms(interp, {number: data for number, data in active.items() if number not in numbers}, span)
 
 
-def set_transforms(interp, active: dict) -> None:
-    interp.state.rule_state[("heidenhain", "transforms")] = tuple(sorted(active.items()))
+def set_transforms(interp, active: dict, span=None) -> None:
+    """Make ``active`` the transformations in force. The order they were activated in is
+    kept beside them; a change of it at ``span`` goes to the rules as a ``transforms``
+    change (old and new order), which is how the reset order (seed L8166-8178) is judged."""
+    state = interp.state
+    before = state.rule_state.get(("heidenhain", "transform-order"), ())
+    order = tuple(number for number in before if number in active) + tuple(sorted(number for number in active if number not in before))
+    state.rule_state[("heidenhain", "transforms")] = tuple(sorted(active.items()))
+    state.rule_state[("heidenhain", "transform-order")] = order
     interp.set_frame(frame_of(active))
+    if span is not None and order != before:
+        interp._change("transforms", span, None, before, order)
 
 
 def frame_of(active: dict) -> frames.Frame:

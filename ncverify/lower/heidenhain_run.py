@@ -517,7 +517,7 @@ def _trans_run(runner, op, block, model, params):
     what = params.pop("what", "DATUM")
     number = {"DATUM": 7, "MIRROR": 8, "ROTATION": 10, "SCALE": 11, "PLANE": 19}.get(what, 7)
     if params.pop("reset", None) is not None or what == "RESET":
-        heidenhain_frames.reset(runner.interp, {number})
+        heidenhain_frames.reset(runner.interp, {number}, op.span)
         return None
     _transform(runner, op, number, params)
     return None
