@@ -257,3 +257,25 @@ def test_the_bound_of_an_arc_holds_at_every_point_of_it(radius, start_angle, swe
     dives = [math.degrees(math.atan2(depth, advance)) for advance, depth in pieces if depth > 1e-12]
     assert all(angle <= steepest + 1e-6 for angle in dives)
     assert flattest <= max(dives, default=0.0) + 1e-6
+
+
+def test_face_machining_judges_the_dive_along_z():
+    program = """
+        $TC_DP1[1,1]=500 $TC_DP24[1,1]=60
+        N10 G18 G90 G54 DIAMON T1 D1
+        N20 G96 S200 LIMS=3000 M3 G95 F0.2
+        N30 G0 X90 Z5
+        N40 CYCLE95("FACE:FACE_END", 2, 0.1, 0.1, 0, 0.3, 0.15, 0.1, 10)
+        N50 G0 X100 Z50
+        N60 M30
+        FACE:
+        N100 G1 X80 Z0
+        N110 X60
+        N120 X58 Z-10
+        N130 X40
+        N140 X30 Z-2
+        N150 X20
+        FACE_END:
+    """
+    [finding] = findings(check(program), "sinumerik.clearance-angle")
+    assert finding.status is Status.VIOLATED and finding.span.line == 11 and "78.7 to 84.3 degrees" in finding.message

@@ -12,7 +12,7 @@ from __future__ import annotations
 import math
 from typing import NamedTuple
 
-from ..check import Rule, rule, show
+from ..check import rule, show
 from ..frames import Frame
 from ..lower.sinumerik import ACTIVE_EDGE
 from .machine import _ReportsMissingContext
