@@ -452,6 +452,12 @@ def test_a_cycle_after_a_tilt_and_a_move_of_every_axis_is_not():
     assert not lines(check(tilted("8  L  Z+80 R0 FMAX\n8  L  X+50  Y+50 R0 FMAX")), "heidenhain.working-plane")
 
 
+def test_a_definition_after_a_tilt_machines_nothing():
+    """A datum shift defined before the axes moved is no cycle machining: only the drilling is."""
+    result = check(tilted("8  CYCL DEF 7.0 DATUM SHIFT\n8  CYCL DEF 7.1 X+10\n8  L  X+50  Y+50 R0 FMAX"))
+    assert lines(result, "heidenhain.working-plane") == [21]
+
+
 def test_m94_while_the_plane_is_tilted_is_reported():
     assert lines(check(tilted("8  L  Z+80 R0 FMAX M94\n8  L  X+50  Y+50 R0 FMAX")), "heidenhain.working-plane") == [9]
     assert not lines(check(program("5  L  Z+80 R0 FMAX M94")), "heidenhain.working-plane")

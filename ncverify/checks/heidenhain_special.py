@@ -10,6 +10,7 @@ from shapely.geometry import Point, box
 
 from .. import ir, values
 from ..check import Rule, hazard, rule, show
+from ..lower.heidenhain_run import DEF_ACTIVE
 from .heidenhain import _CycleRule, _number, _tool
 
 _STUD_ROOM = 2.0  # mm beside the stud blank the approach keeps (seed L6429-6456, L6691-6715)
@@ -186,7 +187,8 @@ class WorkingPlane(Rule):
                             "nominal positions of the rotary axes can part after further calls; position them with Q120-Q122 instead (seed L8095-8096)")
             return
         if run.cycle != "heidenhain.19":
-            self._machining(run.span, state)
+            if _number(run.cycle) not in DEF_ACTIVE and not run.cycle.startswith("heidenhain.@"):
+                self._machining(run.span, state)  # a definition (a datum shift, contour data ...) machines nothing
             return
         given = [axis for axis in "ABC" if axis in run.params]
         if given and len(given) < 3:
