@@ -125,7 +125,7 @@ def test_clearance_angle_zero_switches_the_monitoring_off():
 
 @pytest.mark.parametrize("changes, reason", [
     ({"tool_data": "$TC_DP1[1,1]=500 $TC_DP6[1,1]=0.8"}, "$TC_DP24[1,1]"),
-    ({"edge": "D2"}, "D2 is active"),
+    ({"edge": "D2"}, "D2 of T1 is active"),
     ({"before": "ROT RPL=5"}, "rotation, scale or mirror frame"),
 ])
 def test_without_the_clearance_angle_of_the_active_edge_the_answer_is_unknown(changes, reason):
@@ -279,3 +279,32 @@ def test_face_machining_judges_the_dive_along_z():
     """
     [finding] = findings(check(program), "sinumerik.clearance-angle")
     assert finding.status is Status.VIOLATED and finding.span.line == 11 and "78.7 to 84.3 degrees" in finding.message
+
+
+# --------------------------------------------------------------------------- the infeed angle of CYCLE97/98
+
+def _thread(infeed: str, pitch: str = ", 42", tool: str = "") -> str:
+    return f"""
+        $TC_DP1[1,1]=500
+        {tool}
+        N10 G18 G90 G54 DIAMON T1 D1
+        N20 G95 S500 M3
+        N30 G0 X50 Z10
+        N40 CYCLE97({pitch}, 0, -35, 42, 42, 10, 3, 2.76, 0, {infeed}, 0, 5, 2, 3, 1)
+        N50 M30
+    """
+
+
+@pytest.mark.parametrize("infeed, pitch, tool, status", [
+    ("35", ", 42", "", Status.VIOLATED),  # a metric thread: 60 degrees
+    ("-30", ", 42", "", None),
+    ("29", ", 42", "; ncverify: tool 1 radius 0.1 angle 55", Status.VIOLATED),  # the tool's own angle wins
+    ("29", "4.5, ", "", Status.UNKNOWN),  # a pitch only: the flank angle must come from the tool
+    ("29", "4.5, ", "; ncverify: tool 1 radius 0.1 angle 60", None),
+    ("0", "4.5, ", "", None),  # radial infeed
+])
+def test_the_infeed_angle_is_at_most_half_the_flank_angle(infeed, pitch, tool, status):
+    found = findings(check(_thread(infeed, pitch, tool)), "sinumerik.thread-infeed-angle")
+    assert [d.status for d in found] == ([status] if status else [])
+    if status is Status.VIOLATED:
+        assert f"IANG={infeed}" in found[0].message and found[0].span.line == 6

@@ -96,7 +96,7 @@ HAZARDS_B = {
     32: "a unit fact (1 inch under G70), not a defect",
     33: "the internally computed start point of the turning cycles is not modelled",
     34: ("sinumerik.spindle-at-cycle",),
-    35: "the flank angle of the threading tool is not in the tool model",
+    35: ("sinumerik.thread-infeed-angle",),  # IANG < 0 on a taper thread runs single-flank: a documented behaviour
     36: MODELLED + " (no defect)",
     37: ("sinumerik.turning-parameters",),
     38: ("sinumerik.clearance-angle",),  # under a rotation or scale frame: unknown; with P24 = 0 the real angle is not known

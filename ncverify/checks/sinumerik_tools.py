@@ -1,11 +1,11 @@
 """SINUMERIK 840D rules on the cutting edge in use: its clearance angle against a CYCLE95
-contour (alarm 61604), its cutting-edge position at CYCLE94/96 (61608), and the edge CYCLE73
-needs (61989).
+contour (alarm 61604), its cutting-edge position at CYCLE94/96 (61608), the edge CYCLE73
+needs (61989), and the threading tool's flank angle against the infeed angle of CYCLE97/98.
 
 The tool data are those of edge D1 (``$TC_DP..[t,1]`` in the program, ``ncverify: tool``
 annotations, ``[tools.N]``); the active edge is the ``$P_TOOL`` variable that D words and M6
 write (:mod:`ncverify.lower.sinumerik`). Reference ``sinumerik-840d-b.md`` sections 3, 6.0,
-6.3, 9 and 11.2; ``sinumerik-840d-a.md`` section 6.24.
+6.3, 6.5, 9 and 11.2; ``sinumerik-840d-a.md`` section 6.24.
 """
 from __future__ import annotations
 
@@ -37,21 +37,25 @@ def _active_tool_number(state, lathe: bool):
 class _EdgeRule(_ReportsMissingContext):
     """A rule that needs the data of the active cutting edge."""
 
-    def edge_data(self, rule_id: str, span, state, what: str):
-        """The active tool's data, when edge D1 of a known tool is active; else the missing
-        context is said once (``what`` names the datum the rule needs) and None returned."""
+    def edge_tool(self, state):
+        """``(tool data, None)`` when edge D1 of a known tool is active, else ``(None, why not)``."""
         number = _active_tool_number(state, self.checker.context.get("machine") == "lathe")
         if number is None:
-            self.missing(rule_id, span, f"which tool is active is not known, so its {what} is not known")
-            return None
+            return None, "which tool is active is not known"
         edge = _active_edge(state)
         if edge != 1.0:
-            known = "no D number is programmed on this path" if edge is None else f"D{show(edge)} is active and only the data of D1 are read"
-            self.missing(rule_id, span, f"the {what} of the active edge of T{show(number)} is not known: {known}")
-            return None
+            return None, "no D number is programmed on this path" if edge is None else f"D{show(edge)} of T{show(number)} is active and only the data of D1 are read"
         tool = (self.checker.context.get("tools") or {}).get(int(number))
         if tool is None:
-            self.missing(rule_id, span, f"tool T{show(number)} is not defined ($TC_DP.. in the program, an ncverify: tool annotation or [tools.{show(number)}])")
+            return None, f"tool T{show(number)} is not defined ($TC_DP.. in the program, an ncverify: tool annotation or [tools.{show(number)}])"
+        return tool, None
+
+    def edge_data(self, rule_id: str, span, state, what: str):
+        """The active edge's data, or None after saying once (``what`` names the datum the
+        rule needs) why they are not known."""
+        tool, why = self.edge_tool(state)
+        if tool is None:
+            self.missing(rule_id, span, f"the {what} of the active tool is not known: {why}")
         return tool
 
 
@@ -225,3 +229,43 @@ class PocketEdge(_ReportsMissingContext):
         elif edge != 1.0:
             self.report("sinumerik.pocket-edge", run.span,
                         f"CYCLE73 with edge D{show(edge)} active: the pocket cycle works only with D1: would raise alarm 61989 \"D1 not programmed as active edge\"; program D1 before the call")
+
+
+# --------------------------------------------------------------------------- CYCLE97/98: the infeed angle against the flank angle
+
+_METRIC_FLANK_ANGLE = 60.0  # an ISO metric thread (MPIT), reference B section 9 item 35
+
+
+@rule("sinumerik.thread-infeed-angle")
+class ThreadInfeedAngle(_EdgeRule):
+    """CYCLE97 and CYCLE98 infeed along a flank at IANG, which may be at most half the flank
+    angle of the threading tool (reference B sections 6.5 and 9 item 35, seed L17147-17171):
+    the tool's ``angle`` (an ``ncverify: tool`` annotation or ``[tools.N]``), or 60 degrees for
+    a metric thread given by MPIT when the tool's angle is not known."""
+
+    def cycle_run(self, run, state):
+        infeed = run.params.get("IANG") if run.cycle in ("sinumerik.CYCLE97", "sinumerik.CYCLE98") else None
+        if type(infeed) is not float or infeed == 0.0:
+            return
+        name = run.cycle.rsplit(".", 1)[-1]
+        flank, whose = self._flank_angle(run, state)
+        if flank is None:
+            return
+        if abs(infeed) > flank / 2 + 1e-9:
+            self.report("sinumerik.thread-infeed-angle", run.param_spans.get("IANG", run.span),
+                        f"{name}: infeed angle IANG={show(infeed)} is more than half the flank angle {flank:g} of {whose}: "
+                        f"the tool cuts into the thread's flank (no alarm); at most {flank / 2:g}")
+
+    def _flank_angle(self, run, state):
+        """The flank angle and what it belongs to, or (None, None) when it is not known (said once)."""
+        size = run.params.get("MPIT")
+        metric = run.cycle == "sinumerik.CYCLE97" and type(size) is float and size != 0.0
+        tool = self.edge_tool(state)[0] if metric else self.edge_data("sinumerik.thread-infeed-angle", run.span, state, "flank angle")
+        if tool is not None and tool.angle is not None:
+            return tool.angle, f"tool T{tool.number}"
+        if metric:
+            return _METRIC_FLANK_ANGLE, f"the metric thread M{size:g}"
+        if tool is not None:
+            self.missing("sinumerik.thread-infeed-angle", run.span,
+                         f"the flank angle of threading tool T{tool.number} is not known (angle in an ncverify: tool annotation or [tools.{tool.number}])")
+        return None, None
