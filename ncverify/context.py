@@ -95,6 +95,7 @@ class Tool:
     clearance_angle: float | None = None  # degrees, the turning tool's clearance angle (TOOL_RANGES)
     edge_position: float | None = None  # the turning tool's cutting-edge position SL (TOOL_RANGES)
     origin: str = "project file"
+    edges: dict = field(default_factory=dict)  # SINUMERIK: the data of cutting edges D2, D3... by D number (the fields above: D1)
 
     def filled_from(self, base: "Tool") -> "Tool":
         """This tool, with ``base``'s values where this one says nothing."""

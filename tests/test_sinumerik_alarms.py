@@ -35,7 +35,7 @@ def test_program_context_reads_several_tool_data_assignments_in_one_block():
     tool = context.tools[3]
     assert (tool.type, tool.radius, tool.edge_position, tool.clearance_angle) == ("turning", 0.8, 3.0, 60.0)
     assert (context.tools[4].clearance_angle, context.tools[4].edge_position) == (None, None)  # out of range: unknown
-    assert 5 not in context.tools  # only edge D1 is read
+    assert context.tools[5].clearance_angle is None and context.tools[5].edges[2].clearance_angle == 30.0  # edge D2
 
 
 def test_project_file_reads_clearance_angle_and_edge_position_and_checks_their_ranges():
@@ -102,7 +102,7 @@ def test_a_flank_steeper_than_the_clearance_angle_raises_61604_at_its_block():
     [finding] = findings(check(_shaft(flank="31")), "sinumerik.clearance-angle")
     assert finding.status is Status.VIOLATED
     assert finding.span.line == 17  # N40 of the contour
-    assert "61604" in finding.message and "from Z-30 X40 to Z-31 X30" in finding.message and "clearance angle 60 of tool T1 D1" in finding.message
+    assert "61604" in finding.message and "from Z-30 X40 to Z-31 X30" in finding.message and "clearance angle 60 of T1 D1" in finding.message
 
 
 def test_a_flank_flatter_than_the_clearance_angle_either_way_is_not_reported():
@@ -125,12 +125,14 @@ def test_clearance_angle_zero_switches_the_monitoring_off():
 
 @pytest.mark.parametrize("changes, reason", [
     ({"tool_data": "$TC_DP1[1,1]=500 $TC_DP6[1,1]=0.8"}, "$TC_DP24[1,1]"),
-    ({"edge": "D2"}, "D2 of T1 is active"),
+    ({"edge": "D2"}, "the data of edge D2 of T1 are not in the program ($TC_DP..[1,2])"),
+    ({"edge": "D2", "tool_data": "$TC_DP1[1,1]=500 $TC_DP24[1,1]=60 $TC_DP24[1,2]=0"}, None),
     ({"before": "ROT RPL=5"}, "rotation, scale or mirror frame"),
 ])
-def test_without_the_clearance_angle_of_the_active_edge_the_answer_is_unknown(changes, reason):
-    [finding] = findings(check(_shaft(flank="31", **changes)), "sinumerik.clearance-angle")
-    assert finding.status is Status.UNKNOWN and reason in finding.message
+def test_the_clearance_angle_is_the_active_edges_and_without_it_the_answer_is_unknown(changes, reason):
+    found = findings(check(_shaft(flank="31", **changes)), "sinumerik.clearance-angle")
+    assert [d.status for d in found] == ([Status.UNKNOWN] if reason else [])  # D2 with P24 = 0: not monitored
+    assert not reason or reason in found[0].message
 
 
 def test_the_clearance_angle_comes_from_the_project_file_when_the_program_does_not_set_it():

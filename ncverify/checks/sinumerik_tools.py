@@ -2,9 +2,9 @@
 contour (alarm 61604), its cutting-edge position at CYCLE94/96 (61608), the edge CYCLE73
 needs (61989), and the threading tool's flank angle against the infeed angle of CYCLE97/98.
 
-The tool data are those of edge D1 (``$TC_DP..[t,1]`` in the program, ``ncverify: tool``
-annotations, ``[tools.N]``); the active edge is the ``$P_TOOL`` variable that D words and M6
-write (:mod:`ncverify.lower.sinumerik`). Reference ``sinumerik-840d-b.md`` sections 3, 6.0,
+The tool data are those of the active edge (``$TC_DP..[t,d]`` in the program; ``ncverify:
+tool`` annotations and ``[tools.N]`` describe D1); the active edge is the ``$P_TOOL`` variable
+that D words and M6 write (:mod:`ncverify.lower.sinumerik`). Reference ``sinumerik-840d-b.md`` sections 3, 6.0,
 6.3, 6.5, 9 and 11.2; ``sinumerik-840d-a.md`` section 6.24.
 """
 from __future__ import annotations
@@ -38,17 +38,20 @@ class _EdgeRule(_ReportsMissingContext):
     """A rule that needs the data of the active cutting edge."""
 
     def edge_tool(self, state):
-        """``(tool data, None)`` when edge D1 of a known tool is active, else ``(None, why not)``."""
+        """``(data of the active edge, None)`` when they are known, else ``(None, why not)``.
+        Annotations and the project file describe edge D1; ``$TC_DP..[t,d]`` any edge."""
         number = _active_tool_number(state, self.checker.context.get("machine") == "lathe")
         if number is None:
             return None, "which tool is active is not known"
         edge = _active_edge(state)
-        if edge != 1.0:
-            return None, "no D number is programmed on this path" if edge is None else f"D{show(edge)} of T{show(number)} is active and only the data of D1 are read"
+        if edge is None:
+            return None, "no D number is programmed on this path"
         tool = (self.checker.context.get("tools") or {}).get(int(number))
         if tool is None:
             return None, f"tool T{show(number)} is not defined ($TC_DP.. in the program, an ncverify: tool annotation or [tools.{show(number)}])"
-        return tool, None
+        if edge != 1.0 and int(edge) not in tool.edges:
+            return None, f"the data of edge D{show(edge)} of T{show(number)} are not in the program ($TC_DP..[{show(number)},{show(edge)}])"
+        return (tool if edge == 1.0 else tool.edges[int(edge)]), None
 
     def edge_data(self, rule_id: str, span, state, what: str):
         """The active edge's data, or None after saying once (``what`` names the datum the
@@ -57,6 +60,14 @@ class _EdgeRule(_ReportsMissingContext):
         if tool is None:
             self.missing(rule_id, span, f"the {what} of the active tool is not known: {why}")
         return tool
+
+
+def _edge_name(tool, state) -> str:
+    return f"T{tool.number} D{show(_active_edge(state))}"
+
+
+def _edge_index(tool, state) -> str:
+    return f"[{tool.number},{show(_active_edge(state))}]"
 
 
 # --------------------------------------------------------------------------- CYCLE95: the clearance angle (61604)
@@ -155,9 +166,9 @@ class ClearanceAngle(_EdgeRule):
             return
         angle = tool.clearance_angle
         if angle is None:
-            number = show(tool.number)
             self.missing("sinumerik.clearance-angle", run.span,
-                         f"the clearance angle of tool T{number} is not known ($TC_DP24[{number},1], clearance-angle in an ncverify: tool annotation, or [tools.{number}] clearance_angle)")
+                         f"the clearance angle of {_edge_name(tool, state)} is not known ($TC_DP24{_edge_index(tool, state)}, "
+                         f"clearance-angle in an ncverify: tool annotation, or [tools.{tool.number}] clearance_angle)")
         elif angle > 0:
             self._judge(facts, entries, tool, state)
 
@@ -169,7 +180,7 @@ class ClearanceAngle(_EdgeRule):
                      f"to {first}{entry.end[0]:g} {second}{entry.end[1]:g}")
             if entry.flattest > angle:
                 self.report("sinumerik.clearance-angle", entry.span,
-                            f"{where} enters an undercut at {_angles(entry)}, steeper than the clearance angle {angle:g} of tool T{tool.number} D1: "
+                            f"{where} enters an undercut at {_angles(entry)}, steeper than the clearance angle {angle:g} of {_edge_name(tool, state)}: "
                             "would raise alarm 61604 \"active tool violates programmed contour\"; use a tool with a larger clearance angle or change the contour")
                 return
             if entry.steepest > angle:
@@ -203,12 +214,12 @@ class EdgePosition(_EdgeRule):
             return
         position = tool.edge_position
         if position is None:
-            number = show(tool.number)
             self.missing("sinumerik.edge-position", run.span,
-                         f"the cutting-edge position of tool T{number} is not known ($TC_DP2[{number},1], edge-position in an ncverify: tool annotation, or [tools.{number}] edge_position)")
+                         f"the cutting-edge position of {_edge_name(tool, state)} is not known ($TC_DP2{_edge_index(tool, state)}, "
+                         f"edge-position in an ncverify: tool annotation, or [tools.{tool.number}] edge_position)")
         elif position >= 5:
             self.report("sinumerik.edge-position", run.param_spans.get("_VARI", run.span),
-                        f"{name} with _VARI=0 takes the undercut position from the cutting-edge position, and the active tool T{show(tool.number)} has SL {position:g}: "
+                        f"{name} with _VARI=0 takes the undercut position from the cutting-edge position, and the active edge {_edge_name(tool, state)} has SL {position:g}: "
                         "only SL 1 to 4 are allowed: would raise alarm 61608 \"wrong cutting-edge position programmed\"; program the position in _VARI (1-4) or use another edge")
 
 

@@ -553,7 +553,7 @@ _TOOL_TYPES = {1: "endmill", 2: "drill", 5: "turning"}
 def program_context(buffer: bytes) -> Context:
     """The blank from ``WORKPIECE(...)`` and the tools from ``$TC_DP`` assignments."""
     context = Context()
-    tools: dict[int, dict] = {}
+    tools: dict[int, dict[int, dict]] = {}  # tool -> edge -> offset parameter -> value
     for number, raw in enumerate(buffer.split(b"\n"), start=1):
         upper = raw.upper()
         if b"WORKPIECE" in upper:
@@ -562,17 +562,18 @@ def program_context(buffer: bytes) -> Context:
                 context.stock = stock
         elif b"$TC_DP" in upper and _TOOL_DATA_BLOCK.match(text := decode_line(raw)):
             for match in _TOOL_DATA.finditer(text):
-                if match.group(3) == "1":
-                    tools.setdefault(int(match.group(2)), {})[int(match.group(1))] = float(match.group(4))
-    for number, data in tools.items():
-        context.tools[number] = _tool(number, data)
+                parameter, tool, edge, value = match.groups()
+                tools.setdefault(int(tool), {}).setdefault(int(edge), {})[int(parameter)] = float(value)
+    for number, edges in tools.items():
+        context.tools[number] = _tool(number, edges.get(1, {}))
+        context.tools[number].edges = {edge: _tool(number, data) for edge, data in edges.items() if edge != 1}
     return context
 
 
 def _tool(number: int, data: dict) -> Tool:
-    """Tool ``number`` from its edge D1's offset parameters: P1 type, P2 cutting-edge
-    position, P3 length, P6 radius, P24 clearance angle (reference B section 3). A value
-    outside its range (``TOOL_RANGES``) is left unknown."""
+    """Tool ``number`` from one edge's offset parameters: P1 type, P2 cutting-edge position,
+    P3 length, P6 radius, P24 clearance angle (reference B section 3). A value outside its
+    range (``TOOL_RANGES``) is left unknown."""
     def checked(key, parameter):
         value = data.get(parameter)
         return None if value is None or tool_value_problem(key, value) else value
