@@ -32,6 +32,10 @@ _TOUCH_SLACK = 1.01  # samples a quarter radius apart pass within r sqrt(1 + 1/6
 _SHARP_CORNER = math.radians(170.0)  # flatter corners are an arc's polygon (5 degree steps)
 _SEARCH_STEPS = 40  # bisection steps for the largest radius (far below a micron for any pocket)
 _ARC_STEP = math.radians(5.0)  # angle between the points an arc is approximated by
+# An arc drawn as chords has corners where the tool centre stays r / cos(step / 2), not r,
+# from the arc: the tool radius is judged to that accuracy (0.1 %), so that a tool exactly
+# as wide as a neck between arcs fits, as it does on the control.
+_CHORD_SLACK = 1.0 / math.cos(_ARC_STEP / 2.0) - 1.0
 
 
 @dataclass(frozen=True)
@@ -114,14 +118,14 @@ def clearing_radius(pocket: Polygon, spot: tuple[float, float]) -> float:
     while high - low > 1e-3:
         middle = (low + high) / 2.0
         low, high = (middle, high) if reaches(middle) else (low, middle)
-    return low
+    return low * (1.0 - _CHORD_SLACK)
 
 
 def _judged_samples(pocket: Polygon, tool_radius: float):
     """Per ring of the pocket: its sample points, their distance from where the tool centre
     can go, and which of them the tool misses (fillets excused); None when the centre has
     nowhere to go."""
-    reachable = pocket.buffer(-tool_radius, quad_segs=32) if tool_radius > 0 else pocket
+    reachable = pocket.buffer(-tool_radius * (1.0 - _CHORD_SLACK), quad_segs=32) if tool_radius > 0 else pocket
     if reachable.is_empty:
         return None
     rings = []
@@ -135,8 +139,8 @@ def _judged_samples(pocket: Polygon, tool_radius: float):
 
 
 def largest_radius(pocket: Polygon) -> float:
-    """The largest tool radius that reaches all of ``pocket``'s outline (bisection to a micron;
-    arcs approximated by points make it a few hundredths of a mm smaller than exact)."""
+    """The largest tool radius that reaches all of ``pocket``'s outline (bisection to a
+    thousandth of a mm; arcs drawn as chords make it up to 0.1 % off)."""
     if pocket.is_empty or pocket.area <= 0:
         return 0.0
     low, high = 0.0, shapely.maximum_inscribed_circle(pocket, tolerance=_TOLERANCE).length * 1.01 + _TOLERANCE
@@ -146,7 +150,7 @@ def largest_radius(pocket: Polygon) -> float:
             low = middle
         else:
             high = middle
-    return low
+    return low * (1.0 - _CHORD_SLACK)
 
 
 def outline(start: tuple[float, float], elements) -> Polygon:

@@ -43,7 +43,7 @@ def test_a_programmed_fillet_smaller_than_the_tool_is_left_uncut():
     assert polygon_fit(pocket, 1.9).fits
     fit = polygon_fit(pocket, 5)
     assert not fit.fits and len(fit.unreached) == 4
-    assert 1.9 <= fit.largest_radius <= 2.0
+    assert 1.9 <= fit.largest_radius <= 2.01  # the fillet is drawn in 5.6 degree chords
 
 
 def test_sharp_corners_between_arcs_are_filled_like_straight_ones():
