@@ -109,9 +109,12 @@ def test_a_flank_flatter_than_the_clearance_angle_either_way_is_not_reported():
     assert not findings(check(_shaft(flank="36")), "sinumerik.clearance-angle")
 
 
-def test_a_flank_steep_only_if_x_is_a_radius_is_unknown():
-    [finding] = findings(check(_shaft(flank="34")), "sinumerik.clearance-angle")
-    assert finding.status is Status.UNKNOWN and "DIAMON" in finding.message
+@pytest.mark.parametrize("mode, status", [("DIAMON", None), ("DIAMOF", Status.VIOLATED), ("", Status.UNKNOWN)])
+def test_a_flank_steep_only_if_x_is_a_radius_depends_on_diamon(mode, status):
+    """X40 -> X30 over Z-30 -> Z-34: 51.3 degrees as diameters, 68.2 as radii, against 60."""
+    found = findings(check(_shaft(flank="34").replace("G54 DIAMON", f"G54 {mode}")), "sinumerik.clearance-angle")
+    assert [d.status for d in found] == ([status] if status else [])
+    assert status is not Status.UNKNOWN or "no DIAMON or DIAMOF before the call" in found[0].message
 
 
 def test_a_vertical_drop_into_a_groove_violates_any_clearance_angle_below_90():
@@ -280,7 +283,7 @@ def test_face_machining_judges_the_dive_along_z():
         FACE_END:
     """
     [finding] = findings(check(program), "sinumerik.clearance-angle")
-    assert finding.status is Status.VIOLATED and finding.span.line == 11 and "78.7 to 84.3 degrees" in finding.message
+    assert finding.status is Status.VIOLATED and finding.span.line == 11 and "at 84.3 degrees" in finding.message  # X58 -> X40: 1 mm radius
 
 
 # --------------------------------------------------------------------------- the infeed angle of CYCLE97/98
@@ -310,3 +313,4 @@ def test_the_infeed_angle_is_at_most_half_the_flank_angle(infeed, pitch, tool, s
     assert [d.status for d in found] == ([status] if status else [])
     if status is Status.VIOLATED:
         assert f"IANG={infeed}" in found[0].message and found[0].span.line == 6
+

@@ -75,8 +75,8 @@ def _edge_index(tool, state) -> str:
 class UndercutEntry(NamedTuple):
     """A contour element that may dive into an undercut in the machining direction, with its
     angle to the machining axis in degrees: at least ``flattest`` somewhere on the element
-    (0 when it need not enter at all), at most ``steepest`` anywhere on it, over both readings
-    of X (a radius or a diameter: the program's DIAMON/DIAMOF is not modelled)."""
+    (0 when it need not enter at all), at most ``steepest`` anywhere on it, over the readings
+    of X that may hold (a radius, a diameter, or both when the mode is not known)."""
 
     start: tuple[float, float]
     end: tuple[float, float]
@@ -86,10 +86,11 @@ class UndercutEntry(NamedTuple):
     arc: bool = False
 
 
-def undercut_entries(points, kind: float, plane: tuple[str, str, str], arcs: dict | None = None) -> list[UndercutEntry]:
+def undercut_entries(points, kind: float, plane: tuple[str, str, str], arcs: dict | None = None,
+                     diameter: bool | None = None) -> list[UndercutEntry]:
     """The elements of a CYCLE95 contour (``points``: the plane points in order, with the
     block reaching each; ``arcs``: the blocks that are arcs, by span, with their radius or
-    None) that enter an undercut: they advance in the machining direction, from the first
+    None; ``diameter``: whether X is a diameter, None when not known) that enter an undercut: they advance in the machining direction, from the first
     contour point to the last along the machining axis, and go deeper along the infeed axis
     (reference B section 6.3, VARI table L16166-16208: longitudinal machining runs along the
     first plane axis with the infeed along the second, face machining the other way round;
@@ -101,7 +102,8 @@ def undercut_entries(points, kind: float, plane: tuple[str, str, str], arcs: dic
     if points[-1][0][along] == points[0][0][along]:
         return []
     direction = math.copysign(1.0, points[-1][0][along] - points[0][0][along])
-    readings = [[(0.5 if plane[index] == "X" and diameter else 1.0) for index in (along, across)] for diameter in (False, True)]
+    modes = (False, True) if diameter is None else (diameter,)
+    readings = [[(0.5 if plane[index] == "X" and as_diameter else 1.0) for index in (along, across)] for as_diameter in modes]
     entries = []
     for (start, _), (end, span) in zip(points, points[1:]):
         advance, depth = (end[along] - start[along]) * direction, (end[across] - start[across]) * inward
@@ -154,7 +156,7 @@ class ClearanceAngle(_EdgeRule):
         kind = run.params.get("VARI")
         if facts is None or not facts.points or type(kind) is not float or not 1 <= kind % 100 <= 12:
             return
-        entries = undercut_entries(facts.points, kind, state.plane_axes, facts.arcs)
+        entries = undercut_entries(facts.points, kind, state.plane_axes, facts.arcs, _x_is_diameter(state, facts))
         if not entries:
             return
         if state.frame is not None and state.frame.linear != Frame().linear:
@@ -184,9 +186,16 @@ class ClearanceAngle(_EdgeRule):
                             "would raise alarm 61604 \"active tool violates programmed contour\"; use a tool with a larger clearance angle or change the contour")
                 return
             if entry.steepest > angle:
-                why = "the arc's tangents are bounded, not computed" if entry.arc else "whether X is a diameter (DIAMON) is not modelled"
+                why = "the arc's tangents are bounded, not computed" if entry.arc else "whether X is a diameter is not known (no DIAMON or DIAMOF before the call)"
                 self.missing("sinumerik.clearance-angle", entry.span,
                              f"{where} may enter an undercut at up to {entry.steepest:.1f} degrees, against the clearance angle {angle:g}: {why}")
+
+
+def _x_is_diameter(state, facts) -> bool | None:
+    """Whether the contour's X values are diameters: DIAMON or DIAMOF in force at the call
+    and not changed inside the contour; None when not known (DIAM90 included)."""
+    modes = {state.modal.get("diameter"), *facts.diameter_modes}
+    return {"diameter": True, "radius": False}.get(modes.pop()) if len(modes) == 1 else None
 
 
 def _angles(entry: UndercutEntry) -> str:

@@ -58,6 +58,10 @@ _STAGE_ORDER = ("feed", "tool", "speed", "spindle", "dwell", "modal", "offset", 
 # The system variable holding the active cutting edge, the D number (840D programming
 # knowledge, not in the references): D and M6 write it, rules read it from the state.
 ACTIVE_EDGE = ir.Var("$P_TOOL")
+# Whether X is a diameter: the modal group "diameter" (840D programming knowledge; the
+# references only use DIAMON in their turning examples). Rules that need it read it from
+# the state; nothing moves differently.
+DIAMETER_MODES = {"DIAMON": "diameter", "DIAMOF": "radius", "DIAM90": "diameter when absolute"}
 
 
 class StructureMark:
@@ -190,7 +194,9 @@ class SinumerikLowering:
         if kind == "unsupported":
             affects = () if item.name.startswith("a synchronised") or item.name.startswith("a curve") else ("position",)
             return [ir.Unsupported(span, item.name, affects)]
-        return []  # proc, msg, workpiece, commands: no modelled effect
+        if kind == "command" and item.name in DIAMETER_MODES:
+            return [ir.SetModal(span, "diameter", DIAMETER_MODES[item.name])]
+        return []  # proc, msg, workpiece, other commands: no modelled effect
 
     def _call(self, item: Item, span: Span, read: ReadBlock, path) -> ir.Op:
         model = self.cycles.get(item.name)

@@ -396,8 +396,14 @@ class ContourFacts:
         self.open_start = None  # the first plane block, when it gives only one of the two plane coordinates
         self.compensation: list = []  # the spans of G40/G41/G42 inside the contour
         self.arcs: dict = {}  # the G2/G3 blocks moving in the plane, by span, with their radius CR (None: not a positive number)
+        self.roundings: list = []  # the spans of the plane blocks carrying RND/CHF/CHR
+        self.diameter_modes: set = set()  # DIAMON/DIAMOF/DIAM90 set inside the contour (the "diameter" modes)
         self.frames: list = []  # the spans of frame statements inside the contour
         self.section_lines: tuple[int, int] | None = None  # a "START:END" section of the calling program
+
+    def straight(self) -> bool:
+        """Whether the contour is its points joined by straight lines (no arc, rounding or chamfer)."""
+        return not self.arcs and not self.roundings
 
     def closed(self) -> bool | None:
         """Whether the last point is the first (None when the points are not known)."""
@@ -490,6 +496,8 @@ def _walk_contour(interp, facts: ContourFacts, lines, path, plane) -> None:
                     facts.problems.append(("10931", "a plane selection (G17/G18/G19) inside the contour", op.span))
                 elif kind == "SetModal" and op.group == "distance":
                     incremental = op.value == "incremental"
+                elif kind == "SetModal" and op.group == "diameter":
+                    facts.diameter_modes.add(op.value)
                 elif kind == "CutterComp":
                     facts.compensation.append(op.span)
                     if op.side in ("left", "right"):
@@ -514,6 +522,8 @@ def _walk_contour(interp, facts: ContourFacts, lines, path, plane) -> None:
                         facts.problems.append(("10931", f"an arc of more than 180 degrees (CR={radius:g})", op.span))
                     facts.plane_blocks += 1
                     facts.rounded_end = op.span if any(word in op.words for word in ("RND", "CHF", "CHR")) else None
+                    if facts.rounded_end is not None:
+                        facts.roundings.append(op.span)
                     if motion in ("arc_cw", "arc_ccw"):
                         facts.arcs[op.span] = radius if type(radius) is float and radius > 0 else None
                     for axis, value in in_plane.items():
