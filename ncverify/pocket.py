@@ -30,7 +30,6 @@ _TOLERANCE = 1e-6  # mm: distances closer than this count as touching
 _FILLET_SLACK = 1.25
 _TOUCH_SLACK = 1.01  # samples a quarter radius apart pass within r sqrt(1 + 1/64) of where a tool touches
 _SHARP_CORNER = math.radians(170.0)  # flatter corners are an arc's polygon (5 degree steps)
-_SEARCH_STEPS = 40  # bisection steps for the largest radius (far below a micron for any pocket)
 _ARC_STEP = math.radians(5.0)  # angle between the points an arc is approximated by
 # An arc drawn as chords has corners where the tool centre stays r / cos(step / 2), not r,
 # from the arc: the tool radius is judged to that accuracy (0.1 %), so that a tool exactly
