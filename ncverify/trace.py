@@ -122,7 +122,9 @@ class Change:
     block's other words, evaluated, in ``new``: Q start angle, E lead), ``feed_mode`` /
     ``spindle_mode`` / ``path_mode`` (a G94/G95, G96/G97 or G61-G64 code ran: ``old`` and
     ``new`` values), ``set_position`` (G92/G50 with axis words, evaluated, in ``new``),
-    ``data_setting`` (G10: axis words in ``old``, the other words in ``new``)...
+    ``data_setting`` (G10: axis words in ``old``, the other words in ``new``), ``transforms``
+    (Klartext: the coordinate transformations active, in the order they were defined, before
+    and after)...
     ``words`` holds other words of the block a rule needs, evaluated (G30 ``P``)."""
 
     what: str
