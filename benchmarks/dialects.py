@@ -42,7 +42,7 @@ def _sinumerik(blocks: int) -> tuple[list[str], str, list[str]]:
 
 
 def _fagor(blocks: int) -> tuple[list[str], str, list[str]]:
-    head = ["; ncverify: stock box X-1:101 Y-1:1000 Z-20:-2", "G21 G90 G17 G40 G54", "T1 D1", "M6", "S8000 M3",
+    head = ["; ncverify: stock box X-1:101 Y-1:1000 Z-20:-2", "G71 G90 G17 G40 G54", "T1 D1", "M6", "S8000 M3",
             "G0 X0 Y0 Z50", "G0 Z5", "G1 Z-1 F800", "#MSG [\"BENCH\"]"]
     return head, "N{n} G1 X{x:.3f} Y{y:.3f} Z{z:.3f}", ["G0 Z50", "M5", "M30"]
 
