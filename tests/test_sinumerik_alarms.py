@@ -314,3 +314,38 @@ def test_the_infeed_angle_is_at_most_half_the_flank_angle(infeed, pitch, tool, s
     if status is Status.VIOLATED:
         assert f"IANG={infeed}" in found[0].message and found[0].span.line == 6
 
+
+
+# --------------------------------------------------------------------------- 61724: no material between blank and finished part
+
+def _blank_and_part(part: str, blank: str) -> str:
+    return f"""
+        $TC_DP1[1,1]=500 $TC_DP6[1,1]=0.8
+        N10 G18 G90 G54 DIAMON T1 D1
+        N20 G96 S200 LIMS=3000 M3 G95 F0.25
+        N30 G0 X90 Z5
+        N40 CYCLE950("", "PART_START", "PART_END", "ROUGH_PART", 311311, 2, 0.1, 0.1, 0.3, 0.1, 0.1, 0.1, 1, 0, 1, "", "BLANK_START", "BLANK_END")
+        N50 M30
+        PART_START:
+        {part}
+        PART_END:
+        BLANK_START:
+        {blank}
+        BLANK_END:
+    """
+
+
+_PART = "N100 G1 X20 Z0\n        N110 X40 Z-20\n        N120 Z-50"
+
+
+@pytest.mark.parametrize("part, blank, status", [
+    (_PART, "N200 G1 X0 Z0\n        N210 X20\n        N220 X40 Z-20\n        N230 Z-50\n        N240 X0\n        N250 Z0", Status.VIOLATED),
+    (_PART.replace("N110 X40 Z-20", "N110 G2 X40 Z-20 CR=30\n        N115 G1"),
+     "N200 G1 X0 Z0\n        N210 X20\n        N220 G2 X40 Z-20 CR=30\n        N230 G1 Z-50\n        N240 X0\n        N250 Z0", Status.UNKNOWN),
+    (_PART, "N200 G1 X0 Z0\n        N210 X50\n        N220 Z-50\n        N230 X0\n        N240 Z0", None),
+])
+def test_cycle950_with_the_finished_part_along_the_whole_blank_has_no_material(part, blank, status):
+    found = [d for d in findings(check(_blank_and_part(part, blank)), "sinumerik.extended-stock-removal") if "no material" in d.message]
+    assert [d.status for d in found] == ([status] if status else [])
+    if status is Status.VIOLATED:
+        assert "61724" in found[0].message

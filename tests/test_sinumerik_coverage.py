@@ -159,7 +159,7 @@ ALARMS = {
     61702: "a run without a blank is a documented option; an open blank contour is 61740",
     **{number: RUN_TIME for number in (61703, 61704, 61705, 61706, 61707, 61708, 61709, 61720, 61721, 61722, 61723,
                                         61725, 61726, 61727, 61728, 61729, 61730, 61731, 61732, 61733, 61741, 61742)},
-    61724: "not checked yet: blank equal to the finished part",
+    61724: "sinumerik.extended-stock-removal",
     61734: "which cutting-edge positions suit which cutting direction is not stated in the references",
     61735: "sinumerik.extended-stock-removal",
     61736: "the tool's plunge length is not in the tool model", 61737: "the tool's cut depths are not in the tool model",

@@ -82,9 +82,9 @@ class ContourDirection(Rule):
 class ExtendedStockRemoval(_ReportsMissingContext):
     """CYCLE950 (reference B sections 6.8 and 11.3, seed L18265-18273, L18755-18765,
     L19404-19510): a finished contour must be named (61701), a blank contour must be closed
-    (61740) and hold the finished contour (61735); neither contour may end with RND/CHF, and
-    the two must not run together in the middle of the finished contour (the material to
-    remove must be connected)."""
+    (61740) and hold the finished contour (61735) with material between them (61724); neither
+    contour may end with RND/CHF, and the two must not run together in the middle of the
+    finished contour (the material to remove must be connected)."""
 
     def cycle_run(self, run, state):
         if run.cycle != "sinumerik.CYCLE950":
@@ -119,12 +119,29 @@ class ExtendedStockRemoval(_ReportsMissingContext):
                         "would raise alarm 61735 \"finished part lies outside the blank contour\"")
             return
         edge = outline.exterior.buffer(1e-6)
+        elements = [(start, end) for (start, _), (end, _span) in zip(finished.points, finished.points[1:]) if math.dist(start, end) > 1e-6]
+        if elements and all(edge.covers(LineString(element)) for element in elements):
+            self._no_material(finished, blank)
+            return
         inner = list(zip(finished.points[1:-2], finished.points[2:-1]))
         shared = next(((start, end, span) for (start, _), (end, span) in inner if math.dist(start, end) > 1e-6 and edge.covers(LineString([start, end]))), None)
         if shared is not None:
             self.report("sinumerik.extended-stock-removal", shared[2],
                         f"CYCLE950: the finished contour \"{finished.name}\" runs along the blank contour \"{blank.name}\" from {_point(shared[0], state)} "
                         f"to {_point(shared[1], state)}: the material to remove is split in two; the contours must not coincide piecewise (seed B L18755-18765)")
+
+    def _no_material(self, finished, blank):
+        """The finished contour runs along the blank's outline all the way: alarm 61724 "no
+        material" (reference B section 11.3), certain when both are straight lines; with arcs,
+        roundings or chamfers only their end points are known to coincide."""
+        span = finished.points[1][1]
+        coincide = f"CYCLE950: the finished contour \"{finished.name}\" runs along the blank contour \"{blank.name}\" all the way"
+        if finished.straight() and blank.straight():
+            self.report("sinumerik.extended-stock-removal", span,
+                        f"{coincide}: there is no material between them to remove: would raise alarm 61724 \"no material\"")
+        else:
+            self.missing("sinumerik.extended-stock-removal", span,
+                         f"{coincide} at the end points of their elements; whether their arcs, roundings and chamfers coincide too (alarm 61724 \"no material\") is not judged")
 
 
 # --------------------------------------------------------------------------- undercuts and grooves
