@@ -30,12 +30,14 @@ def findings(result, rule: str, status: Status | None = None):
 # --------------------------------------------------------------------------- the tool model
 
 def test_program_context_reads_several_tool_data_assignments_in_one_block():
-    context = program_context(b"N10 $TC_DP1[3,1]=500 $TC_DP2[3,1]=3 $TC_DP6[3,1]=0.8 $TC_DP24[3,1]=60 ; roughing tool\n"
-                              b"$TC_DP24[4,1]=95 $TC_DP2[4,1]=0\n$TC_DP24[5,2]=30\n")
+    context = program_context(("N10 $TC_DP1[3,1]=500 $TC_DP2[3,1]=3 $TC_DP6[3,1]=0.8 $TC_DP24[3,1]=60 ; roughing tool\n"
+                               "$TC_DP24[4,1]=95 $TC_DP2[4,1]=0\n$TC_DP24[5,2]=30\n"
+                               "$TC_DP1[6,1]=120 $TC_DP6[6,1]=6 \uff1bmilling cutter T6 (full-width semicolon)\n").encode())
     tool = context.tools[3]
     assert (tool.type, tool.radius, tool.edge_position, tool.clearance_angle) == ("turning", 0.8, 3.0, 60.0)
     assert (context.tools[4].clearance_angle, context.tools[4].edge_position) == (None, None)  # out of range: unknown
     assert context.tools[5].clearance_angle is None and context.tools[5].edges[2].clearance_angle == 30.0  # edge D2
+    assert context.tools[6].radius == 6.0
 
 
 def test_project_file_reads_clearance_angle_and_edge_position_and_checks_their_ranges():

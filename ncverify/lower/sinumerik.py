@@ -549,8 +549,9 @@ def _proc_parameters(buffer, start: int) -> list[tuple[str, bool]]:
 
 _WORKPIECE = re.compile(r"^\s*(?:N\d+\s*)?WORKPIECE\s*\((.*)\)", re.IGNORECASE)
 _TOOL_ASSIGNMENT = r"\$TC_DP(\d+)\s*\[\s*(\d+)\s*,\s*(\d+)\s*\]\s*=\s*([-+]?(?:\d+\.?\d*|\.\d+))\s*"
-# A block of tool-data assignments only, several to a block as in seed B L19033-19034.
-_TOOL_DATA_BLOCK = re.compile(rf"^\s*(?:N\d+\s*)?(?:{_TOOL_ASSIGNMENT})+(?:;.*)?$", re.IGNORECASE)
+# A block of tool-data assignments only, several to a block as in seed B L19033-19034; the
+# comment may start with the full-width semicolon of the OCR'd manuals.
+_TOOL_DATA_BLOCK = re.compile(rf"^\s*(?:N\d+\s*)?(?:{_TOOL_ASSIGNMENT})+(?:[;\uff1b].*)?$", re.IGNORECASE)
 _TOOL_DATA = re.compile(_TOOL_ASSIGNMENT, re.IGNORECASE)
 # Tool type codes (seed B L81, A section 3.1): 1xx mills, 2xx drills, 5xx turning tools.
 _TOOL_TYPES = {1: "endmill", 2: "drill", 5: "turning"}
