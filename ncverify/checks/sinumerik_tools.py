@@ -61,6 +61,23 @@ class _EdgeRule(_ReportsMissingContext):
             self.missing(rule_id, span, f"the {what} of the active tool is not known: {why}")
         return tool
 
+    def edge_value(self, rule_id: str, span, state, field: str):
+        """``(active edge, its value of field)``; the value is None after saying once where
+        it would come from."""
+        what, parameter = _EDGE_FIELDS[field]
+        tool = self.edge_data(rule_id, span, state, what)
+        if tool is None:
+            return None, None
+        value = getattr(tool, field)
+        if value is None:
+            self.missing(rule_id, span, f"the {what} of {_edge_name(tool, state)} is not known ($TC_DP{parameter}{_edge_index(tool, state)}, "
+                         f"{field.replace('_', '-')} in an ncverify: tool annotation, or [tools.{tool.number}] {field})")
+        return tool, value
+
+
+# the edge data a rule may need: what a machinist calls it, and its $TC_DP parameter number
+_EDGE_FIELDS = {"clearance_angle": ("clearance angle", 24), "edge_position": ("cutting-edge position", 2)}
+
 
 def _edge_name(tool, state) -> str:
     return f"T{tool.number} D{show(_active_edge(state))}"
@@ -163,15 +180,8 @@ class ClearanceAngle(_EdgeRule):
             self.missing("sinumerik.clearance-angle", run.span,
                          "a rotation, scale or mirror frame is active: the cycle's clearance-angle monitoring does not take it into account (seed B L14880-14884)")
             return
-        tool = self.edge_data("sinumerik.clearance-angle", run.span, state, "clearance angle")
-        if tool is None:
-            return
-        angle = tool.clearance_angle
-        if angle is None:
-            self.missing("sinumerik.clearance-angle", run.span,
-                         f"the clearance angle of {_edge_name(tool, state)} is not known ($TC_DP24{_edge_index(tool, state)}, "
-                         f"clearance-angle in an ncverify: tool annotation, or [tools.{tool.number}] clearance_angle)")
-        elif angle > 0:
+        tool, angle = self.edge_value("sinumerik.clearance-angle", run.span, state, "clearance_angle")
+        if angle is not None and angle > 0:
             self._judge(facts, entries, tool, state)
 
     def _judge(self, facts, entries, tool, state):
@@ -218,15 +228,8 @@ class EdgePosition(_EdgeRule):
         if run.cycle not in ("sinumerik.CYCLE94", "sinumerik.CYCLE96") or run.params.get("_VARI", 0.0) != 0.0:
             return
         name = run.cycle.rsplit(".", 1)[-1]
-        tool = self.edge_data("sinumerik.edge-position", run.span, state, "cutting-edge position")
-        if tool is None:
-            return
-        position = tool.edge_position
-        if position is None:
-            self.missing("sinumerik.edge-position", run.span,
-                         f"the cutting-edge position of {_edge_name(tool, state)} is not known ($TC_DP2{_edge_index(tool, state)}, "
-                         f"edge-position in an ncverify: tool annotation, or [tools.{tool.number}] edge_position)")
-        elif position >= 5:
+        tool, position = self.edge_value("sinumerik.edge-position", run.span, state, "edge_position")
+        if position is not None and position >= 5:
             self.report("sinumerik.edge-position", run.param_spans.get("_VARI", run.span),
                         f"{name} with _VARI=0 takes the undercut position from the cutting-edge position, and the active edge {_edge_name(tool, state)} has SL {position:g}: "
                         "only SL 1 to 4 are allowed: would raise alarm 61608 \"wrong cutting-edge position programmed\"; program the position in _VARI (1-4) or use another edge")
