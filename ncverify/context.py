@@ -18,11 +18,12 @@ from .source import Span
 TOOL_TYPES = ("drill", "endmill", "ball", "bullnose", "chamfer", "spot", "tap", "threadmill", "boring", "reamer",
               "facemill", "slot", "turning", "grooving", "parting", "threading", "probe")
 TOOL_KEYS = ("radius", "corner", "length", "cutting_length", "usable_length", "angle", "pitch", "nose_radius", "edge",
-             "clearance_angle", "edge_position")
+             "clearance_angle", "edge_position", "point_angle")
 # Keys whose value must lie in a range, not merely be positive: a turning tool's clearance
 # angle ($TC_DP24, 0..90 degrees, 0 = the cycles do not monitor it; SINUMERIK reference B
-# section 3, seed L14840-14850) and its cutting-edge position ($TC_DP2, SL 1..9, L15650-15662).
-TOOL_RANGES = {"clearance_angle": (0.0, 90.0), "edge_position": (1.0, 9.0)}
+# section 3, seed L14840-14850), its cutting-edge position ($TC_DP2, SL 1..9, L15650-15662), and
+# a drill's point angle (HEIDENHAIN TOOL.T T-ANGLE, 0 = not entered).
+TOOL_RANGES = {"clearance_angle": (0.0, 90.0), "edge_position": (1.0, 9.0), "point_angle": (0.0, 180.0)}
 
 
 @dataclass(frozen=True)
@@ -94,6 +95,7 @@ class Tool:
     edge: float | None = None
     clearance_angle: float | None = None  # degrees, the turning tool's clearance angle (TOOL_RANGES)
     edge_position: float | None = None  # the turning tool's cutting-edge position SL (TOOL_RANGES)
+    point_angle: float | None = None  # degrees, a drill's point angle (TOOL.T T-ANGLE); 0: not entered
     origin: str = "project file"
     edges: dict = field(default_factory=dict)  # SINUMERIK: the data of cutting edges D2, D3... by D number (the fields above: D1)
 

@@ -50,7 +50,7 @@ HAZARDS: dict[str, tuple[str, ...] | str] = {
     "H26": ("heidenhain.pattern-surface",),
     "H27": ("core.clearance-below-stock",),  # the retract level Q203 + max(Q200, Q204) against the BLK FORM; fixtures are not known
     "H28": ("core.rapid-into-stock",),
-    "H29": ("heidenhain.plunge-angle",),  # ANGLE for Q366; T-ANGLE for Q395 and 240 and RCUTS are not checked
+    "H29": ("heidenhain.plunge-angle", "heidenhain.point-angle"),  # ANGLE for Q366, T-ANGLE for Q395, 240 and 277; RCUTS is not checked
     "H30": ("core.rapid-into-stock",),  # 205/241 go down to the deepened start Q379 at Q253 (FMAX: a rapid into the blank unless drilled); 240's Q342 is not modelled
     "H31": ("heidenhain.parameter-range",),
     "H32": ("heidenhain.peck-decrement",),  # Q212 without Q205; single pass and Q257 > Q202 are not reported
@@ -863,3 +863,44 @@ def test_the_233_template_faces_from_q227_0_to_q386_0_which_the_control_skips():
 
     result = _check(_framed(7480, 7528), "c233.h")
     assert any(d.rule == "heidenhain.zero-depth" and "Q227" in d.message for d in result.diagnostics)
+
+
+# --------------------------------------------------------------------------- H29: the point angle T-ANGLE
+
+POINT_ANGLE_TABLE = """BEGIN TOOL.T MM
+T    NAME                             L           R           LCUTS   ANGLE   LU      T-ANGLE
+1    DRILL_D8                         +95.5       +4          30      0       40      {angle}
+[END]
+"""
+
+CENTRING = """5  CYCL DEF 240 CENTERING ~
+    Q200=+2 ;SET-UP CLEARANCE ~
+    Q343=+1 ;SELECT DIA./DEPTH ~
+    Q201=-2 ;DEPTH ~
+    Q344=-9 ;DIAMETER ~
+    Q206=+250 ;FEED RATE FOR PLNGNG ~
+    Q211=+0 ;DWELL TIME AT DEPTH ~
+    Q203=+0 ;SURFACE COORDINATE ~
+    Q204=+50 ;2ND SET-UP CLEARANCE ~
+    Q342=+0 ;ROUGHING DIAMETER
+6  L  X+30  Y+30 R0 FMAX M99"""
+
+
+@pytest.mark.parametrize("angle, reported", [("0", True), ("", True), ("118", False)])
+def test_centring_to_a_diameter_needs_the_point_angle_of_tool_t(tmp_path, angle, reported):
+    (tmp_path / "TOOL.T").write_text(POINT_ANGLE_TABLE.format(angle=angle))
+    part = tmp_path / "part.h"
+    part.write_text(program(CENTRING))
+    found = lines(check_file(part, Settings()), "heidenhain.point-angle")
+    assert found == ([6] if reported else [])  # the CYCL DEF block
+
+
+def test_the_point_angle_of_a_project_tool_that_does_not_give_it_is_unknown():
+    result = check(program(CENTRING), "[tools.1]\nradius = 4")
+    assert lines(result, "heidenhain.point-angle", Status.UNKNOWN) == [6]
+    assert not lines(result, "heidenhain.point-angle")
+
+
+def test_centring_by_depth_needs_no_point_angle():
+    result = check(program(CENTRING.replace("Q343=+1", "Q343=+0")), "[tools.1]\nradius = 4\npoint_angle = 0")
+    assert not lines(result, "heidenhain.point-angle") and not lines(result, "heidenhain.point-angle", Status.UNKNOWN)

@@ -47,7 +47,7 @@ HAZARDS: dict[int, tuple[str, ...] | str] = {
     22: ("heidenhain.usable-length", "heidenhain.cutting-length"),  # LU against the depth; Q202 against LCUTS
     23: ("heidenhain.tool-too-large",),  # shapes 1271-1273 and 1278 with R (1 + Q578) + Q368; corners of free OCM contours not checked
     24: ("heidenhain.sl-allowance",),  # 274 Q14 < Q368, and Q368 > Q14 + R for a single island
-    25: ("heidenhain.parameter-range",),  # Q353 < 0 and |Q353| >= |Q359|; T-ANGLE is not a tool-table column ncverify reads
+    25: ("heidenhain.parameter-range", "heidenhain.point-angle"),  # Q353 < 0 and |Q353| >= |Q359|, T-ANGLE given; Q354 against T-ANGLE/2 is not judged (uncertain)
     26: ("heidenhain.ocm-tool-corner",),
     27: ("heidenhain.slot-width", "heidenhain.plunge-angle"),
     28: ("heidenhain.slot-width",),  # 28's width; the room 29 and 39 need beside the contour is not modelled

@@ -131,6 +131,42 @@ class StudApproachRoom(_BlankRule):
 _INFEED_LIMITED = {**dict.fromkeys((233, 251, 252, 253, 254, 256, 257, 258), "seed L5397-5399"), 272: "seed L11277-11278"}
 
 
+def _point_angle_use(number, params) -> str | None:
+    """Why the cycle needs the drill's point angle T-ANGLE (reference A H29, part B §9 item
+    25), or None when it does not."""
+    if number in (200, 203, 205) and params.get("Q395") == 1.0:
+        return "Q395=1 measures the depth to the cylindrical part of the tool (seed L1685-1689)"
+    if number == 240 and params.get("Q343") == 1.0:
+        return "Q343=1 centres to the diameter Q344 (seed L3440-3446)"
+    roughing = params.get("Q342") if number == 240 else None
+    if type(roughing) is float and roughing > 0:
+        return "Q342 starts deeper, at the depth of the roughing diameter (reference A H29)"
+    if number == 277:
+        return "OCM chamfering places the chamfer from the point angle (part B §9 item 25)"
+    return None
+
+
+@rule("heidenhain.point-angle")
+class PointAngle(_CycleRule):
+    """H29: a cycle that computes a depth from the tool's point angle needs T-ANGLE."""
+
+    def judge_cycle(self, number, params, spans, span, state):
+        use = _point_angle_use(number, params)
+        if use is None or not self.first_time(state, ("point-angle", span)):
+            return
+        tool_number = state.tool_in_spindle
+        tool = (self.checker.context.get("tools") or {}).get(int(tool_number)) if type(tool_number) is float else None
+        if tool is None:
+            self.missing("heidenhain.point-angle", span, "no tool table entry for the tool in the spindle (TOOL.T beside the program, or [tools.N])")
+        elif tool.point_angle is None and tool.origin != "TOOL.T":
+            self.missing("heidenhain.point-angle", span, f"tool T{show(tool_number)} has no point angle (point_angle in [tools.{show(tool_number)}], "
+                         "point-angle in an ncverify: tool annotation; 0 = not entered)")
+        elif not tool.point_angle:
+            self.report("heidenhain.point-angle", span, f"cycle {number}: {use}, which the control computes from the tool's point angle T-ANGLE, and "
+                        f"tool T{show(tool_number)} has none in the tool table: the manual requires it, or the tip does not go where the program says; "
+                        "enter T-ANGLE for the tool")
+
+
 @rule("heidenhain.cutting-length")
 class CuttingLength(_CycleRule):
     """H44, part B C22: a plunging depth Q202 longer than the tool's cutting length LCUTS:

@@ -920,7 +920,8 @@ def stock_from_text(text: str) -> Stock | None:
 
 # --------------------------------------------------------------------------- tool table
 
-_TOOL_COLUMNS = {"R": "radius", "L": "length", "LU": "usable_length", "LCUTS": "cutting_length", "ANGLE": "angle", "PITCH": "pitch", "R2": "corner"}
+_TOOL_COLUMNS = {"R": "radius", "L": "length", "LU": "usable_length", "LCUTS": "cutting_length", "ANGLE": "angle", "PITCH": "pitch", "R2": "corner",
+                 "T-ANGLE": "point_angle"}
 
 
 def read_tool_table(path) -> tuple[dict[int, Tool], dict[str, float]]:
@@ -954,7 +955,7 @@ def read_tool_table(path) -> tuple[dict[int, Tool], dict[str, float]]:
                 value = float(cells.get(column, "").replace(",", "."))
             except ValueError:
                 continue
-            if value > 0 or column in ("ANGLE", "R2"):  # LU, LCUTS, PITCH 0: not entered
+            if value > 0 or column in ("ANGLE", "R2", "T-ANGLE"):  # LU, LCUTS, PITCH 0: not entered
                 setattr(tool, field, value)
         try:
             if tool.radius is not None:
