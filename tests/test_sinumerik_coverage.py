@@ -28,7 +28,7 @@ HAZARDS_A = {
     10: "which dimensioning the programmer meant is not in the program (POCKET3 plunges where the _ZSD[2] it sets puts the centre)",
     11: ("core.cycle-modal-at-tool-change", "core.cycle-modal-at-end"),
     12: ("sinumerik.pattern-without-mcall",),
-    13: "MCALL of a subprogram is not modelled (reported as unsupported), so an MCALL inside it is never reached",
+    13: ("sinumerik.nested-mcall",),
     14: ("sinumerik.hole-count",),
     15: ("sinumerik.contour-section-runs",),
     16: ("core.label-not-found", "core.duplicate-label"),

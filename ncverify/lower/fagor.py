@@ -36,7 +36,7 @@ from ..read.iso import ReadBlock
 from ..source import Span, decode_line
 from ..tables import CodeTable, _load, code_key
 from ..values import VACANT
-from . import fagor_cycles
+from . import fagor_cycles, modal_call
 from .iso import _PLAIN_MOTION, IsoFrontend, IsoLowering
 
 _PLANE_NORMAL = {"xy": "Z", "zx": "Y", "yz": "X"}
@@ -55,15 +55,9 @@ _PCALL_PARAMETERS = {letter: f"P{index}" for index, letter in enumerate("ABCDEFG
 _REPEAT_COPIES = 1000  # outside a cycle's zone, NR up to this count copies the move op
 RPT_END = "$RPT_END"
 SWITCH_VALUE = "$SWITCH"
-_MODAL_CALL, _MODAL_CALL_NAME = ir.Var("$MCALL"), ir.Var("$MCALLNAME")
-_IN_MODAL_CALL = "$INMCALL"  # 1 while the modal subroutine runs (FagorFrontend.system_variable)
 _VACANT = ir.Var("$VACANT")
 _IN_CYCLE_ZONE = ir.Var("$INCYCLE")  # 1 while a hole cycle is modal (FagorFrontend.system_variable)
 _MODAL_CALL_ARGUMENTS = re.compile(rb'(?im)#MCALL[ \t]+(?:"[^"\n]*"|[^\s;]+)([^\n;]*)')
-
-
-def _modal_call_argument(letter: str) -> ir.Var:
-    return ir.Var(f"$MCALLARG:{letter}")
 
 
 def fagor_table(machine: str = "mill") -> CodeTable:
@@ -112,7 +106,7 @@ class FagorLowering(IsoLowering):
         if line.words:
             block = self._words(block, line, path)
         self._extras(block, line, path)
-        if self.uses_modal_call and any(isinstance(op, ir.Move) and (op.targets or op.arc) for op in _with_repeats(block.ops)):
+        if self.uses_modal_call and modal_call.moves(_with_repeats(block.ops)):
             block.ops.append(self._modal_subroutine_call(block.span))
         if self.uses_rpt and isinstance(block.label, float):
             condition = ir.Binary("EQ", ir.Var(RPT_END), block.label)
@@ -325,17 +319,14 @@ class FagorLowering(IsoLowering):
         canned cycle (its moves are resolved when it runs)."""
         name, *arguments = statement.args
         written = dict(arguments)
-        block.ops.extend([ir.Assign(span, _MODAL_CALL, 1.0), ir.Assign(span, _MODAL_CALL_NAME, name)])
-        block.ops.extend(ir.Assign(span, _modal_call_argument(letter), written.get(letter, _VACANT)) for letter in self.modal_call_letters)
+        block.ops.extend(modal_call.switch_on(span, name, written, self.modal_call_letters, _VACANT))
 
     def _modal_call_off(self, block, statement, span) -> None:
-        block.ops.append(ir.Assign(span, _MODAL_CALL, 0.0))
+        block.ops.append(modal_call.switch_off(span))
 
     def _modal_subroutine_call(self, span: Span) -> ir.Conditional:
-        outside = ir.Binary("EQ", ir.Var(_IN_MODAL_CALL), 0.0)
-        arguments = {_PCALL_PARAMETERS[letter]: _modal_call_argument(letter) for letter in self.modal_call_letters}
-        call = ir.Call(span, "macro", _MODAL_CALL_NAME, 1.0, arguments)
-        return ir.Conditional(span, ir.Binary("AND", ir.Binary("NE", _MODAL_CALL, 0.0), outside), [call])
+        parameters = {_PCALL_PARAMETERS[letter]: letter for letter in self.modal_call_letters}
+        return modal_call.call_after_move(span, "macro", parameters)
 
     def _tool_axis(self, block, statement, span) -> None:
         match = re.fullmatch(r"(?i)AX\s*\[\s*([A-Z])(\d*)\s*([+-]?)\s*\]", statement.text)
@@ -668,12 +659,12 @@ class FagorFrontend:
             return targets.get(key, f"@?{key}")
         if name == RPT_END:
             return -1.0
-        if name == _IN_MODAL_CALL:
-            modal = state.global_variables.get(_MODAL_CALL_NAME.name)
-            return 1.0 if any(frame.program == modal for frame in state.frames) else 0.0
+        modal = modal_call.system_value(name, state)
+        if modal is not None:
+            return modal
         if name == _IN_CYCLE_ZONE.name:
             return 0.0 if state.cycle is None else 1.0
-        if name == _VACANT.name or name.startswith("$MCALLARG:"):
+        if name == _VACANT.name:
             return VACANT
         if name == "$PLANE":
             return _PLANE_CODES[state.modal["plane"]]

@@ -18,7 +18,8 @@ Cycles (``CYCLE81(...)``, ``POCKET1(...)``) become :class:`ir.CycleCall` with th
 arguments named by position from ``dialects/sinumerik/cycles.toml`` (an omitted argument
 is 0, seed L668-687); ``MCALL CYCLE8x(...)`` becomes a modal :class:`ir.CycleDefine`. Any
 other name with or without arguments is a subprogram call (``PROC`` parameters are bound
-by :meth:`SinumerikFrontend.proc_parameters`).
+by :meth:`SinumerikFrontend.proc_parameters`); ``MCALL NAME(...)`` calls it after every
+later block that moves (:mod:`.modal_call`, see :meth:`SinumerikLowering._mcall`).
 """
 from __future__ import annotations
 
@@ -35,7 +36,7 @@ from ..read.iso_runs import read_plain_run
 from ..read.sinumerik import Item, ReadBlock, read_line
 from ..resources import data_dir
 from ..source import Span, decode_line
-from . import sinumerik_cycles  # noqa: F401  (registers the cycle shapes)
+from . import modal_call, sinumerik_cycles  # noqa: F401  (sinumerik_cycles registers the cycle shapes)
 
 WHILE_LOOP, FOR_LOOP, ENDLESS_LOOP, REPEAT_LOOP = 1, 2, 3, 4
 UNTIL_FLAG = "_REPEAT_UNTIL_"
@@ -104,6 +105,8 @@ class SinumerikLowering:
         self.unsupported_g = loaded["codes"]["unsupported"]
         self.m = loaded["codes"]["m"]
         self.cycles = loaded["cycles"]
+        self.uses_modal_call = False  # an MCALL of a subprogram anywhere: moves carry the modal call
+        self.modal_call_arity = 0  # the most arguments any such MCALL passes
 
     def lower(self, read: ReadBlock, path: str | None) -> list[ir.Block]:
         block = ir.Block(read.line, read.start + 1, read.end + 1, [], skippable=read.skip)
@@ -139,6 +142,9 @@ class SinumerikLowering:
             self._words(words, stages, read, path, block)
         for stage in _STAGE_ORDER:
             block.ops.extend(stages[stage])
+        if self.uses_modal_call and modal_call.moves(block.ops) and not any(item.kind == "mcall" for item in read.items):
+            positions = {str(index): str(index) for index in range(self.modal_call_arity)}
+            block.ops.append(modal_call.call_after_move(block.span, "proc", positions))
         return blocks
 
     # ------------------------------------------------------------------ statements
@@ -203,17 +209,27 @@ class SinumerikLowering:
         if model is not None:
             params, spans = self._cycle_arguments(item, model, read, path)
             return ir.CycleCall(span, f"sinumerik.{item.name}", params, spans)
-        arguments = {str(index): (0.0 if arg is None else arg) for index, arg in enumerate(item.args)}
-        return ir.Call(span, "proc", item.name, 1.0, arguments)
+        return ir.Call(span, "proc", item.name, 1.0, _positional_arguments(item))
 
     def _mcall(self, item: Item, span: Span, read: ReadBlock, path) -> list[ir.Op]:
+        """``MCALL`` ends the modal call, a cycle's or a subprogram's; ``MCALL CYCLE8x(...)``
+        makes the cycle modal; ``MCALL NAME(args)`` calls the subprogram NAME with the
+        arguments (evaluated here) after every later block with a path motion, until
+        ``MCALL`` or the next MCALL replaces it (seed A L4317-4364; not after the MCALL
+        block itself, nor after the subprogram's own moves). A modally called
+        subprogram must not contain an MCALL of its own (L4362-4364)."""
+        ops: list[ir.Op] = [ir.CycleCancel(span)]
+        if self.uses_modal_call:
+            ops.append(modal_call.switch_off(span))
+            if item.name:
+                ops.insert(0, modal_call.inside_check(span, _nested_modal_call(item.name, span)))
         if not item.name:
-            return [ir.CycleCancel(span)]
+            return ops
         model = self.cycles.get(item.name)
         if model is None:
-            return [ir.CycleCancel(span), ir.Unsupported(span, f"MCALL of subprogram {item.name}", ("position",))]
+            return ops + modal_call.switch_on(span, item.name, _positional_arguments(item), map(str, range(self.modal_call_arity)), 0.0)
         params, spans = self._cycle_arguments(item, model, read, path)
-        return [ir.CycleCancel(span), ir.CycleDefine(span, f"sinumerik.{item.name}", params, spans)]
+        return ops + [ir.CycleDefine(span, f"sinumerik.{item.name}", params, spans)]
 
     @staticmethod
     def _cycle_arguments(item: Item, model: dict, read: ReadBlock, path) -> tuple[dict, dict]:
@@ -383,12 +399,30 @@ class SinumerikLowering:
             stages["tool"].extend([ir.ToolChange(span), ir.LengthOffset(span, "plus"), ir.Assign(span, ACTIVE_EDGE, 1.0)])
 
 
+def _positional_arguments(item: Item) -> dict:
+    """A subprogram call's arguments by position ("0", "1"...); an omitted one is 0."""
+    return {str(index): (0.0 if arg is None else arg) for index, arg in enumerate(item.args)}
+
+
+def _nested_modal_call(name: str, span: Span):
+    """The resolver of an ``MCALL name`` block's :func:`modal_call.inside_check`: a finding
+    when it runs inside the modally called subprogram."""
+    def resolve(inside: tuple) -> tuple[list, list]:
+        if not inside[0]:
+            return [], []
+        message = (f"MCALL {name} inside the subprogram that MCALL calls modally: modal calls cannot nest "
+                   "(seed A L4362-4364); the control refuses it")
+        return [], [ir.Note("sinumerik.nested-mcall", message, span)]
+    return resolve
+
+
 # ---------------------------------------------------------------------- frontend
 
 _PLAIN_MOTION = re.compile(rb"[ \t]*(?:[NGXYZF][ \t]*[+-]?(?:\d+\.?\d*|\.\d+)[ \t]*)+")
 _PROGRAM_HEADER = re.compile(rb"(?mi)^[ \t]*%_N_(\w+?)_(MPF|SPF)\b")
 _PROC = re.compile(rb"(?mi)^[ \t]*(?:N\d+[ \t]*)?PROC[ \t]+(\w+)")
 _PROGRAM_END = re.compile(rb"(?mi)^[^;\n]*\bM0?(?:2|30)\b(?![ \t]*=)")
+_MODAL_CALL = re.compile(rb"(?mi)^[^;\n]*\bMCALL[ \t]+(\w+)[^\n]*")
 _SUBPROGRAM_END = re.compile(rb"(?mi)^[^;\n]*\b(?:M17|RET)\b(?![ \t]*=)")
 _STRUCTURE_LINE = re.compile(r"^\s*(?:/\d?\s*)?(?:N\d+\s*)?(?:[A-Za-z_]\w*\s*:(?!=)\s*)?(IF|ELSE|ENDIF)\b(.*)$", re.IGNORECASE)
 
@@ -404,12 +438,15 @@ class SinumerikFrontend:
 
     def is_plain(self, raw: bytes) -> bool:
         """Could this line be part of a :class:`ir.MoveRun`? (``N.. G0/G1 X Y Z F`` with
-        literal numbers, as in ISO: CAM output is the same in both languages.)"""
-        return _PLAIN_MOTION.fullmatch(raw) is not None
+        literal numbers, as in ISO: CAM output is the same in both languages. Not while a
+        subprogram may be called modally: its moves carry the call.)"""
+        return not self.lowering.uses_modal_call and _PLAIN_MOTION.fullmatch(raw) is not None
 
     def plain_run(self, buffer, offset: int, line: int, limit: int = 1 << 20):
         """The plain blocks from ``offset`` on, read as arrays by the ISO run reader; a
         SINUMERIK number is always in mm or inch (no least-increment scaling)."""
+        if self.lowering.uses_modal_call:
+            return None
         end = min(len(buffer), offset + limit)
         chunk = bytes(buffer[offset:end])
         if end < len(buffer):
@@ -428,6 +465,7 @@ class SinumerikFrontend:
         """Programs named by ``%_N_NAME_MPF/SPF`` headers; a file without one that starts
         with ``PROC NAME`` is that subprogram, and one that ends with M17/RET and never with
         M2/M30 is a subprogram stored on its own."""
+        self._find_modal_calls(buffer)
         found = [(match.group(1).decode().upper(), match.start()) for match in _PROGRAM_HEADER.finditer(buffer)]
         if found:
             return found
@@ -438,6 +476,18 @@ class SinumerikFrontend:
         if _PROGRAM_END.search(buffer) is None and _SUBPROGRAM_END.search(buffer) is not None:
             return [("(SUBPROGRAM)", 0)]
         return []
+
+    def _find_modal_calls(self, buffer) -> None:
+        """Whether the text has an MCALL of a subprogram (not of a cycle), and how many
+        arguments the longest passes: every moving block then carries the modal call."""
+        for match in _MODAL_CALL.finditer(buffer):
+            if match.group(1).decode().upper() in self.lowering.cycles:
+                continue
+            self.lowering.uses_modal_call = True
+            line = buffer[match.start() : match.end()]
+            for item in read_line(decode_line(line), 1).items:
+                if item.kind == "mcall":
+                    self.lowering.modal_call_arity = max(self.lowering.modal_call_arity, len(item.args))
 
     def is_subprogram(self, buffer, start: int, end: int) -> bool:
         header = _PROGRAM_HEADER.match(buffer, start)
@@ -466,9 +516,7 @@ class SinumerikFrontend:
         return "global" if name[:1] in ("R", "$") and (name[:1] == "$" or name[1:].split("[")[0].isdigit()) else "local"
 
     def system_variable(self, name: str, state):
-        if name.startswith(("$AA_IW[", "$AA_IM[", "$P_EP[")):
-            return None
-        return None
+        return modal_call.system_value(name, state)
 
     def label_offsets(self, buffer, label):
         if isinstance(label, str) and "#" in label:

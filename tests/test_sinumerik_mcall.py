@@ -1,0 +1,93 @@
+"""SINUMERIK ``MCALL NAME(...)``: the subprogram runs after every later block with a path
+motion until a bare ``MCALL`` (seed A L4317-4364), and may not contain an MCALL of its own."""
+from __future__ import annotations
+
+import textwrap
+
+from ncverify import Settings, check_text
+from ncverify.diagnostics import Status
+
+_DIVE = """
+    %_N_DIVE_SPF
+    PROC DIVE(REAL DEPTH)
+    G0 Z=DEPTH
+    G0 Z20
+    M17
+"""
+
+
+def _check(program: str):
+    return check_text(textwrap.dedent(program).lstrip("\n"), "t.mpf", Settings(dialect="sinumerik"))
+
+
+def _crashes(result) -> list[str]:
+    return [d.message for d in result.diagnostics if d.rule == "core.rapid-into-stock" and d.status is Status.VIOLATED]
+
+
+def _main(calls: str) -> str:
+    return """
+        %_N_MAIN_MPF
+        WORKPIECE(,"",,"BOX",0,0,-30,-80,0,0,80,60)
+        G17 G90 G54 T2 D1 M6
+        S3000 M3 F400
+        G0 X10 Y10 Z20
+    """ + textwrap.indent(textwrap.dedent(calls), "        ") + "        M30\n" + _DIVE
+
+
+def test_the_modal_subprogram_runs_after_every_move_with_its_arguments_until_mcall_alone():
+    result = _check(_main("""
+        MCALL DIVE(-4)
+        G0 X20
+        G1 X30
+        MCALL
+        G0 X40
+    """))
+    plunges = [message for message in _crashes(result) if "to X" in message and "Z-4 passes" in message]
+    assert [message.split(" to ")[1].split(" passes")[0] for message in plunges] == ["X20 Y10 Z-4", "X30 Y10 Z-4"]
+    assert not any("X40" in message or "X10 Y10 Z-4" in message for message in _crashes(result))
+
+
+def test_a_later_mcall_replaces_the_arguments_and_a_cycle_mcall_ends_the_subprogram_call():
+    result = _check(_main("""
+        MCALL DIVE(-4)
+        G0 X20
+        MCALL DIVE(5)
+        G0 X30
+        MCALL CYCLE81(20, 0, 2, -2)
+        G0 X40 Y10
+        MCALL
+    """))
+    crashes = _crashes(result)
+    assert any("to X20 Y10 Z-4 passes" in message for message in crashes)
+    assert not any("X30" in message or "X40 Y10 Z-4" in message for message in crashes)
+
+
+def test_without_mcall_the_subprogram_is_only_a_subprogram():
+    result = _check(_main("""
+        G0 X20
+        G1 X30
+    """))
+    assert _crashes(result) == []
+
+
+def test_an_mcall_inside_the_modally_called_subprogram_is_reported():
+    result = _check("""
+        %_N_MAIN_MPF
+        G17 G90 G54 T1 D1 M6
+        S1200 M3 F150
+        G0 X0 Y0 Z20
+        MCALL SPOT(2)
+        G0 X10 Y10
+        MCALL
+        SPOT(2)
+        M30
+        %_N_SPOT_SPF
+        PROC SPOT(REAL DEPTH)
+        MCALL CYCLE81(10, 0, 2, -DEPTH)
+        G0 X0
+        MCALL
+        M17
+    """)
+    [nested] = [d for d in result.diagnostics if d.rule == "sinumerik.nested-mcall"]
+    assert nested.status is Status.VIOLATED and nested.span.line == 12
+    assert "MCALL CYCLE81" in nested.message and "cannot nest" in nested.message
