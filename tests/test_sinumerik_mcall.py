@@ -6,6 +6,7 @@ import textwrap
 
 from ncverify import Settings, check_text
 from ncverify.diagnostics import Status
+from ncverify.lower.sinumerik import SinumerikFrontend, SinumerikLowering
 
 _DIVE = """
     %_N_DIVE_SPF
@@ -91,3 +92,12 @@ def test_an_mcall_inside_the_modally_called_subprogram_is_reported():
     [nested] = [d for d in result.diagnostics if d.rule == "sinumerik.nested-mcall"]
     assert nested.status is Status.VIOLATED and nested.span.line == 12
     assert "MCALL CYCLE81" in nested.message and "cannot nest" in nested.message
+
+
+def test_no_batch_of_plain_moves_once_a_subprogram_may_be_called_modally():
+    cycle_only, with_subprogram = SinumerikFrontend(SinumerikLowering()), SinumerikFrontend(SinumerikLowering())
+    cycle_only.programs(b"MCALL CYCLE81(10, 0, 2, -8)\nG0 X10\nMCALL\nM30\n")
+    with_subprogram.programs(b"N10 MCALL DIVE(-4, 2)\nG0 X10\nMCALL\nM30\n")
+    assert cycle_only.is_plain(b"G0 X10") and not with_subprogram.is_plain(b"G0 X10")
+    assert with_subprogram.plain_run(b"G0 X10\nG0 X20\n", 0, 1) is None
+    assert with_subprogram.lowering.modal_call_arity == 2
