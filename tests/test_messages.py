@@ -113,3 +113,54 @@ def test_a_branch_on_an_unknown_value_names_it_readably_when_the_path_limit_is_h
     result = check_text(textwrap.dedent(program), settings=Settings(dialect="heidenhain", max_paths=1))
     [message] = [d.message for d in result.diagnostics if d.rule == "core.path-limit"][:1]
     assert "~" not in message
+
+
+MODAL_SUBPROGRAM = {
+    "sinumerik": ("t.mpf", "MCALL", """
+        T1 D1
+        M6
+        S2000 M3
+        G0 X0 Y0 Z50
+        MCALL SPOT(2)
+        X20 Y20
+        {off}
+        T2 D1
+        M6
+        M30
+        """),
+    "fagor": ("t.pim", "#MDOFF", """
+        %L SPOT
+        G1 G91 Z-2 F100
+        G0 Z2
+        G90
+        #RET
+        T1 D1 M6
+        S2000 M3
+        G0 X0 Y0 Z50
+        #MCALL SPOT
+        X20 Y20
+        {off}
+        T2 D1 M6
+        M30
+        """),
+}
+
+
+def _modal_subprogram_findings(dialect: str, switched_off: bool) -> dict[str, list[str]]:
+    name, off, program = MODAL_SUBPROGRAM[dialect]
+    text = textwrap.dedent(program.format(off=off if switched_off else "")).lstrip("\n")
+    result = check_text(text, name, Settings(dialect=dialect))
+    rules = ("core.cycle-modal-at-tool-change", "core.cycle-modal-at-end")
+    return {rule: [d.message for d in result.diagnostics if d.rule == rule] for rule in rules}
+
+
+def test_a_modal_subprogram_call_left_on_at_the_tool_change_and_the_end_is_reported_in_the_controls_words():
+    for dialect, (_name, off, _program) in MODAL_SUBPROGRAM.items():
+        found = _modal_subprogram_findings(dialect, switched_off=False)
+        assert [len(messages) for messages in found.values()] == [1, 1], (dialect, found)
+        assert all("the modal call of SPOT is still active" in messages[0] and f"(no {off})" in messages[0] for messages in found.values())
+
+
+def test_a_modal_subprogram_call_switched_off_before_the_tool_change_is_not():
+    for dialect in MODAL_SUBPROGRAM:
+        assert _modal_subprogram_findings(dialect, switched_off=True) == {"core.cycle-modal-at-tool-change": [], "core.cycle-modal-at-end": []}

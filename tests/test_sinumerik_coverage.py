@@ -26,7 +26,7 @@ HAZARDS_A = {
     8: MODELLED + " (the infeed axis is the applicate of G17/G18/G19); 61005 needs the machine's axes",
     9: "_ZSD[1] is a setting of the machine's cycle data (GUD7), not written in part programs",
     10: "which dimensioning the programmer meant is not in the program (POCKET3 plunges where the _ZSD[2] it sets puts the centre)",
-    11: ("core.cycle-modal-at-tool-change", "core.cycle-modal-at-end"),
+    11: ("core.cycle-modal-at-tool-change", "core.cycle-modal-at-end"),  # a modal cycle or a modal subprogram call
     12: ("sinumerik.pattern-without-mcall",),
     13: ("sinumerik.nested-mcall",),
     14: ("sinumerik.hole-count",),

@@ -3,6 +3,7 @@ compensation and modal traps, boring shifts, repeats, table values, lathe format
 from __future__ import annotations
 
 from .. import ir, values
+from ..lower import modal_call
 from ..check import Rule, hazard, rule, show
 
 _COMP_CODE = {"left": "G41", "right": "G42", "auto": "G46"}
@@ -71,10 +72,16 @@ class CompensationInCycle(Rule):
 @rule("core.cycle-modal-at-end")
 class CycleModalAtEnd(Rule):
     def change(self, change, state):
-        if change.what == "end" and change.new == "end" and state.cycle is not None:
+        if change.what != "end" or change.new != "end":
+            return
+        if state.cycle is not None:
             self.report("core.cycle-modal-at-end", change.span,
                         f"canned cycle {_code(state.cycle.cycle)} is still active at the program end{self.word('cycle_cancel', ' (no {})')}: where the end does "
                         "not reset the modal state, the first block of the next program or of a restart that moves an axis makes a hole with this cycle's data")
+        elif (program := modal_call.active_program(state)) is not None:
+            self.report("core.cycle-modal-at-end", change.span,
+                        f"the modal call of {program} is still active at the program end{self.word('modal_call_cancel', ' (no {})')}: where the end does "
+                        f"not reset the modal state, the first block of the next program or of a restart that moves an axis runs {program} there")
 
 
 @rule("core.cycle-shift-missing")

@@ -4,6 +4,7 @@ from __future__ import annotations
 import numpy
 
 from ..check import Rule, rule, show
+from ..lower import modal_call
 
 
 @rule("core.d-register-range", "core.h-register-range", "core.tool-number-range")
@@ -73,6 +74,11 @@ class NoLengthOffset(Rule):
 @rule("core.cycle-modal-at-tool-change")
 class CycleModalAtToolChange(Rule):
     def change(self, change, state):
-        if change.what == "tool_change" and state.cycle is not None:
+        if change.what != "tool_change":
+            return
+        if state.cycle is not None:
             self.report("core.cycle-modal-at-tool-change", change.span, f"canned cycle {state.cycle.cycle.rsplit('.', 1)[-1]} is still active at the tool change{self.word('cycle_cancel', ' (no {})')}: "
                         "the next block that moves an axis drills with the new tool")
+        elif (program := modal_call.active_program(state)) is not None:
+            self.report("core.cycle-modal-at-tool-change", change.span, f"the modal call of {program} is still active at the tool change"
+                        f"{self.word('modal_call_cancel', ' (no {})')}: the next block that moves an axis runs {program} with the new tool")

@@ -53,6 +53,14 @@ def inside_check(span: Span, resolve) -> ir.Deferred:
     return ir.Deferred(span, (_INSIDE,), resolve)
 
 
+def active_program(state) -> str | None:
+    """The program called after every move while a modal call is on, else None."""
+    if state.global_variables.get(_SWITCH.name) in (None, 0.0, VACANT):
+        return None
+    name = state.global_variables.get(_NAME.name)
+    return name if isinstance(name, str) else "the modal subprogram"
+
+
 def running_program(state) -> str | None:
     """The name of the modally called program if it is running now."""
     name = state.global_variables.get(_NAME.name)
