@@ -409,8 +409,7 @@ class ContourFacts:
         """Whether the last point is the first (None when the points are not known)."""
         if not self.points:
             return None
-        (first, _span), (last, _end) = self.points[0], self.points[-1]
-        return math.dist(first, last) < 1e-6
+        return math.dist(self.points[0][0], self.points[-1][0]) < 1e-6
 
 
 def _named_contour(runner, op, params: dict, where: dict) -> ContourFacts | None:
