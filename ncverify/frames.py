@@ -25,7 +25,7 @@ from dataclasses import dataclass, replace
 
 import numpy
 
-from . import values
+from . import ir, values
 from .trace import Arc, Fault, MotionRun, Segment
 
 AXES = ("X", "Y", "Z")
@@ -310,3 +310,70 @@ def _clean(number: float) -> float:
         if abs(number - exact) < 1e-15:
             return exact
     return number
+
+
+# --------------------------------------------------------------------------- programmable frame statements
+
+UNMODELLED = {  # why a frame statement is not modelled, by its component
+    "rotation": " (a rotation about an axis of the working plane tilts it out of the plane)",
+    "translation": " (a shift of a rotary or auxiliary axis, or G58/G59 under a rotated or scaled frame)",
+    "scale": " (scaling a rotary or auxiliary axis)", "mirror": " (mirroring a rotary or auxiliary axis)",
+}
+
+
+def after_statement(op: ir.SetFrame, given: dict, current: Frame, layers: dict | None, plane: tuple[str, str, str]):
+    """The programmable frame after a statement (None when it is not modelled), and the
+    split of a pure translation into its absolute (TRANS, G58) and additive (ATRANS, G59)
+    parts per axis (None once the frame is more than a translation).
+
+    SINUMERIK programmable frames (840D programming knowledge; the references only name
+    them): TRANS/ROT/SCALE/MIRROR replace the whole programmable frame (without arguments
+    they reset it), ATRANS/AROT/ASCALE/AMIRROR append to it in the current, already
+    transformed system. ROT RPL= (or ROT with only the plane's normal axis) rotates in the
+    active plane from its first axis toward its second; a rotation about another axis is
+    spatial and not modelled. G58 replaces the absolute (TRANS) translation of an axis, G59
+    its additive (ATRANS) part: modelled while the frame is a pure translation."""
+    if op.layer is not None:
+        if layers is None:
+            return None, None
+        index = 0 if op.layer == "coarse" else 1
+        layers = dict(layers)
+        for axis, value in given.items():
+            pair = list(layers.get(axis, (0.0, 0.0)))
+            pair[index] = value
+            layers[axis] = tuple(pair)
+        return translation({axis: values.add(*pair) for axis, pair in layers.items()}), layers
+    part = _statement_part(op, given, plane)
+    if part is None:
+        return None, None
+    if not op.additive:
+        return part, ({axis: (value, 0.0) for axis, value in given.items()} if op.component in ("translation", "reset") else None)
+    if op.component == "translation" and layers is not None:
+        layers = dict(layers)
+        for axis, value in given.items():
+            coarse, fine = layers.get(axis, (0.0, 0.0))
+            layers[axis] = (coarse, values.add(fine, value))
+    else:
+        layers = None
+    return compose(current, part), layers
+
+
+def _statement_part(op: ir.SetFrame, given: dict, plane: tuple[str, str, str]):
+    """The transformation one statement makes; None when it is not modelled."""
+    component = op.component
+    if component == "reset":
+        return IDENTITY
+    if any(axis not in AXES and axis != "RPL" for axis in given):
+        return None  # rotary and auxiliary axes are not transformed here
+    if component == "translation":
+        return translation(given)
+    if component == "rotation":
+        normal = plane[2]
+        if any(axis != normal and axis != "RPL" and not (type(value) is float and value == 0.0) for axis, value in given.items()):
+            return None  # about an axis in the plane: a spatial rotation
+        return rotation(plane, given.get("RPL", given.get(normal, 0.0)))
+    if component == "scale":
+        return scaling(given)
+    if component == "mirror":
+        return mirror(given)
+    return None

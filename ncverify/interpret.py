@@ -671,14 +671,8 @@ class Interpreter(ControlFlow):
             self.observer = frames.WorkpieceObserver(self.observer, self)
 
     def _set_frame(self, op: ir.SetFrame, block):
-        """SINUMERIK programmable frames (840D programming knowledge; the references only
-        name them): TRANS/ROT/SCALE/MIRROR replace the whole programmable frame (without
-        arguments they reset it), ATRANS/AROT/ASCALE/AMIRROR append to it in the current,
-        already transformed system. ROT RPL= (or ROT with only the plane's normal axis)
-        rotates in the active plane from its first axis toward its second; a rotation
-        about another axis is spatial and not modelled. G58 replaces the absolute (TRANS)
-        translation of an axis, G59 its additive (ATRANS) part: modelled while the frame
-        is a pure translation."""
+        """A programmable frame statement (:func:`frames.after_statement`), or a tilted
+        plane (CYCLE800), which is kept apart and leaves positions unknown until reset."""
         state = self.state
         memory = state.rule_state
         swivel = memory.get(("frame", "swivel"), False)
@@ -686,65 +680,16 @@ class Interpreter(ControlFlow):
             swivel = op.component == "swivel"
             frame, layers = memory.get(("frame", "programmable"), frames.IDENTITY), memory.get(("frame", "layers"), {})
         else:
-            frame, layers = self._next_frame(op, op_values(op.values, self, op.span))
+            frame, layers = frames.after_statement(op, op_values(op.values, self, op.span), memory.get(("frame", "programmable"), frames.IDENTITY),
+                                                   memory.get(("frame", "layers"), {}), state.plane_axes)
         if frame is None or swivel:
-            why = _UNMODELLED_FRAMES.get(op.component, "")
+            why = frames.UNMODELLED.get(op.component, "")
             self._fault("core.unsupported-code", op.span, f"{op.what or 'this coordinate transformation'} is not modelled{why}: positions after it are unknown "
                         "until it is reset", "unknown", op.what or "a coordinate transformation")
         memory[("frame", "programmable")] = frame or frames.UNKNOWN
         memory[("frame", "layers")] = layers
         memory[("frame", "swivel")] = swivel
         self.set_frame(frames.UNKNOWN if swivel or frame is None else frame)
-        return None
-
-    def _next_frame(self, op: ir.SetFrame, given: dict):
-        """The frame after the statement (None when it is not modelled), and the split of a
-        pure translation into its absolute (TRANS, G58) and additive (ATRANS, G59) parts
-        per axis (None once the frame is more than a translation)."""
-        state = self.state
-        layers = state.rule_state.get(("frame", "layers"), {})
-        if op.layer is not None:
-            if layers is None:
-                return None, None
-            index = 0 if op.layer == "coarse" else 1
-            layers = dict(layers)
-            for axis, value in given.items():
-                pair = list(layers.get(axis, (0.0, 0.0)))
-                pair[index] = value
-                layers[axis] = tuple(pair)
-            return frames.translation({axis: values.add(*pair) for axis, pair in layers.items()}), layers
-        part = self._frame_part(op, given)
-        if part is None:
-            return None, None
-        if not op.additive:
-            return part, ({axis: (value, 0.0) for axis, value in given.items()} if op.component in ("translation", "reset") else None)
-        if op.component == "translation" and layers is not None:
-            layers = dict(layers)
-            for axis, value in given.items():
-                coarse, fine = layers.get(axis, (0.0, 0.0))
-                layers[axis] = (coarse, values.add(fine, value))
-        else:
-            layers = None
-        return frames.compose(state.rule_state.get(("frame", "programmable"), frames.IDENTITY), part), layers
-
-    def _frame_part(self, op: ir.SetFrame, given: dict):
-        """The transformation one statement makes; None when it is not modelled."""
-        component = op.component
-        if component == "reset":
-            return frames.IDENTITY
-        if any(axis not in frames.AXES and axis != "RPL" for axis in given):
-            return None  # rotary and auxiliary axes are not transformed here
-        if component == "translation":
-            return frames.translation(given)
-        if component == "rotation":
-            first, second, normal = self.state.plane_axes
-            if any(axis != normal and axis != "RPL" and not (type(value) is float and value == 0.0) for axis, value in given.items()):
-                return None  # about an axis in the plane: a spatial rotation
-            return frames.rotation((first, second, normal), given.get("RPL", given.get(normal, 0.0)))
-        if component == "scale":
-            return frames.scaling(given)
-        if component == "mirror":
-            return frames.mirror(given)
         return None
 
     def _reference_return(self, op: ir.ReferenceReturn, block):
@@ -913,11 +858,6 @@ def op_values(written: dict, interpreter: "Interpreter", span) -> dict:
     return evaluated
 
 
-_UNMODELLED_FRAMES = {  # why a frame statement is not modelled, by its component
-    "rotation": " (a rotation about an axis of the working plane tilts it out of the plane)",
-    "translation": " (a shift of a rotary or auxiliary axis, or G58/G59 under a rotated or scaled frame)",
-    "scale": " (scaling a rotary or auxiliary axis)", "mirror": " (mirroring a rotary or auxiliary axis)",
-}
 _BATCH_AFTER = 8  # plain blocks in a row before the rest of the streak is read as a batch
 _WATCHED_MODAL = frozenset({"feed_mode", "spindle_mode", "path_mode"})  # groups whose codes make a Change
 
