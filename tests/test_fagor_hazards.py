@@ -327,3 +327,8 @@ def test_g86_back_off_direction_is_unknown_and_a_missing_back_off_is_reported(wo
     if verdict == "unknown":
         [finding] = found  # once for the definition, not again at X80
         assert finding.span.line == 4 and "Q" in finding.message and "into the wall" in finding.message
+
+
+def test_g86_back_off_direction_with_a_computed_mode_is_unknown_too():
+    found = [d for d in check("; ncverify: assume 0 <= P1 <= 1\n" + BORE.format("A P1 Q0 D-0.3")).diagnostics if d.rule == "fagor.g86-back-off"]
+    assert [d.status.value for d in found if d.status.value != "proved"] == ["unknown"]  # A may be A0 or A1

@@ -221,14 +221,14 @@ class G86BackOffDirection(Rule):
     def hole(self, hole, state):
         params = hole.params
         mode, angle = params.get("A"), params.get("Q")
-        if hole.cycle != "fagor.G86" or not (type(mode) is float and mode in (0.0, 1.0)) or angle is None:
-            return
+        if hole.cycle != "fagor.G86" or mode is None or (type(mode) is float and mode not in (0.0, 1.0)) or angle is None:
+            return  # a computed A may be A0 or A1: its direction is as unknown
         back_off = " ".join(f"{letter}{show(params[letter])}" for letter in "DE" if not (type(params.get(letter, 0.0)) is float and params.get(letter, 0.0) == 0.0))
         if not back_off or not self.first_time(state, ("fagor.g86-back-off", hole.definition)):
             return
-        moment = "before it leaves the bore" if mode == 0.0 else "before it enters the bore"
+        moment = "before it leaves (A0) or enters (A1) the bore" if type(mode) is not float else "before it leaves the bore" if mode == 0.0 else "before it enters the bore"
         self.report("fagor.g86-back-off", hole.param_spans.get("Q", hole.definition or hole.span),
-                    f"G86 A{mode:g} orients the spindle at Q{show(angle)} and backs the tool off by {back_off} {moment}: whether that moves the edge "
+                    f"G86 A{show(mode)} orients the spindle at Q{show(angle)} and backs the tool off by {back_off} {moment}: whether that moves the edge "
                     "away from the wall or into it depends on the machine's spindle orientation reference and on how the boring bar is clamped, "
                     "which ncverify does not know; check the direction at the machine (a wrong orientation drives the tool into the wall)",
                     Status.UNKNOWN, "the spindle orientation reference and the bar's edge are not known")
