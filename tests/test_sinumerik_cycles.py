@@ -443,6 +443,12 @@ def test_scaling_frames_at_the_call(frame, call, expected):
     assert (found and expected in found[0]) if expected else not found, found
 
 
+def test_an_unknown_frame_at_a_scale_sensitive_cycle_is_unknown():
+    result = milled("N40 AROTS X30 Y20\nN50 CYCLE71(10, 0, 2, -1, 0, 0, 80, 60, 0, 4, 6, 5, 0, 2000, 31, 5)\n")
+    unknown = [d.message for d in result.diagnostics if d.rule == "sinumerik.scaled-cycle" and d.status is Status.UNKNOWN]
+    assert not messages(result, "sinumerik.scaled-cycle") and unknown and "whether CYCLE71 runs scaled" in unknown[0], unknown
+
+
 @pytest.mark.parametrize("speed_mode, dwell, reported", [("G97 S400", 0.1, True), ("G97 S400", 0.2, False), ("G96 S150", 0.1, False)])
 def test_groove_dwell_of_one_revolution(speed_mode, dwell, reported):
     program = f"N35 {speed_mode}\nN40 G0 X80 Z10\nN50 CYCLE93(60, -20, 5, 3, 0, 0, 0, 0, 0, 0, 0, 0.2, 0.2, 1, {dwell}, 5)\nN60 M30\n"

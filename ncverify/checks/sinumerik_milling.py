@@ -235,14 +235,20 @@ _SCALE_ALARMS = {"CYCLE71": ("61011", "scaling not permitted"), "CYCLE72": ("610
 
 
 @rule("sinumerik.scaled-cycle")
-class ScaledCycle(Rule):
+class ScaledCycle(_ReportsMissingContext):
     """CYCLE71/72 with a scale factor active (61011) and CYCLE76/77 with different factors
-    on the two plane axes (61012) [appendix L19650-19660], from the programmable frame."""
+    on the two plane axes (61012) [appendix L19650-19660], from the programmable frame;
+    unknown when an entry of the frame is not a number."""
 
     def cycle_run(self, run, state):
         alarm = _SCALE_ALARMS.get(_cycle_name(run)) if _is_sinumerik(run) else None
-        factors = _scale_factors(state.frame) if alarm else None
+        if alarm is None:
+            return
+        factors = _scale_factors(state.frame)
         if factors is None:
+            self.missing("sinumerik.scaled-cycle", run.span,
+                         f"the active programmable frame is not known (a solid-angle or symbolic frame): whether {_cycle_name(run)} runs scaled "
+                         f"(alarm {alarm[0]} \"{alarm[1]}\") is not judged")
             return
         first, second, _normal = state.plane_axes
         if alarm[0] == "61011":
