@@ -988,15 +988,13 @@ def _contour_train(runner, op, block, definition):
     levels of a pocket (Q203, Q200, Q201, Q204); 276: the heights come from the subprogram's
     Z values, only the final clearance height Q7 is known. Depth 0 skips 25 and 275 (seed
     L10020-10021, L10220-10221). All three end away from their start (seed L10002-10009)."""
-    interp = runner.interp
     state = runner.state
     number = definition.number
     if _missing_contour(runner, op, definition, "seed L10019, L10217-10218, L10453-10455"):
         return None
-    params = dict(_get(state, "train_data", ({}, {}))[0]) if number in (25, 276) else {}
-    params.update(_numbers(definition.params))
-    spans = dict(_get(state, "train_data", ({}, {}))[1]) if number in (25, 276) else {}
-    spans.update(definition.spans)
+    data, data_spans = _get(state, "train_data", ({}, {})) if number in (25, 276) else ({}, {})  # cycle 270 (275 takes none)
+    params = {**data, **_numbers(definition.params)}
+    spans = {**data_spans, **definition.spans}
     name = f"heidenhain.{number}"
     facts = {"@contour": _contour_use(runner, op), "@position": dict(state.position), "@own_q": _own_reserved(state) if number != 275 else ()}
     _observe(runner, CycleRun(name, definition.model, op.span, block, params, spans), facts)
