@@ -118,13 +118,10 @@ def thread_cutting(runner, op, block, definition, shift, surface_offset) -> None
     here = state.position.get(axis)
     if depth == 0.0 or pitch == 0.0:
         return None
-    if here is None or depth is None or isinstance(depth, str):
-        state.move_to({axis: None})
-        return None
-    name = f"heidenhain.{definition.number}"
     if type(here) is not float or type(depth) is not float:
         state.move_to({axis: None})
         return None
+    name = f"heidenhain.{definition.number}"
     spindle, saved = state.spindle, state.feed
     state.spindle = "cw"  # the cycle runs the spindle itself
     if pitch is not None and not isinstance(pitch, str):
