@@ -113,11 +113,7 @@ def clearing_radius(pocket: Polygon, spot: tuple[float, float]) -> float:
         missed = numpy.concatenate([ring[2] for ring in rings])
         return not missed[numpy.argmin(numpy.hypot(*(points - spot).T))]
 
-    low, high = 0.0, shapely.maximum_inscribed_circle(pocket, tolerance=_TOLERANCE).length * 1.01 + _TOLERANCE
-    while high - low > 1e-3:
-        middle = (low + high) / 2.0
-        low, high = (middle, high) if reaches(middle) else (low, middle)
-    return low * (1.0 - _CHORD_SLACK)
+    return _largest(pocket, reaches)
 
 
 def _judged_samples(pocket: Polygon, tool_radius: float):
@@ -142,13 +138,16 @@ def largest_radius(pocket: Polygon) -> float:
     thousandth of a mm; arcs drawn as chords make it up to 0.1 % off)."""
     if pocket.is_empty or pocket.area <= 0:
         return 0.0
+    return _largest(pocket, lambda radius: unreached_spots(pocket, radius) == [])
+
+
+def _largest(pocket: Polygon, reaches) -> float:
+    """The largest tool radius for which ``reaches(radius)`` holds, by bisection to a
+    thousandth of a mm below the pocket's inscribed circle, less the chords' slack."""
     low, high = 0.0, shapely.maximum_inscribed_circle(pocket, tolerance=_TOLERANCE).length * 1.01 + _TOLERANCE
     while high - low > 1e-3:
         middle = (low + high) / 2.0
-        if unreached_spots(pocket, middle) == []:
-            low = middle
-        else:
-            high = middle
+        low, high = (middle, high) if reaches(middle) else (low, middle)
     return low * (1.0 - _CHORD_SLACK)
 
 
