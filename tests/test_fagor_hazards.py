@@ -205,6 +205,12 @@ def test_bore_milling_without_a_floor_pass_is_reported_in_a_blind_hole_only():
     assert "fagor.bore-milling-no-floor" not in findings(check(program.format(-42)))  # through the blank
 
 
+def test_bore_milling_with_a_computed_pitch_is_judged_not_skipped():
+    program = "; ncverify: stock box X0:100 Y0:100 Z-40:0\n; ncverify: assume -3 <= P1 <= 3\nG0 G90 X50 Y50 Z25 F400 S2500 M3\nG99 G210 Z2 I-20 J30 B P1\nG80\nM30\n"
+    [finding] = findings(check(program))["fagor.bore-milling-no-floor"]
+    assert finding.witness["P1"] < 0
+
+
 def test_g83_depth_is_judged_against_the_far_face_along_minus_x():
     program = "; ncverify: stock box X0:80 Y0:120 Z-40:0\nG19\nG0 G90 X-30 Y20 Z-12 S2000 M3\n#TOOL AX [X-]\nG98 G83 X-2 I{} J4 F180\nG80\nM30\n"
     assert "fagor.g83-depth" in findings(check(program.format(30)))  # 4 pecks of 30 end at X118, far past the face at X80

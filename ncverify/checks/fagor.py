@@ -346,8 +346,8 @@ class BoreMillingNoFloor(_PastTheStock):
 
     def hole(self, hole, state):
         pitch = hole.params.get("B")
-        if hole.model.get("pocket") != "bore" or type(pitch) is not float or pitch >= 0 or hole.bottom is None:
-            return
+        if hole.model.get("pocket") != "bore" or not isinstance(pitch, (float, values.Sym)) or (type(pitch) is float and pitch >= 0) or hole.bottom is None:
+            return  # a computed B is judged: it may be negative
         if not self.first_time(state, (self.rule_id, hole.definition)):
             return
         face = self.far_face(hole)
@@ -355,7 +355,7 @@ class BoreMillingNoFloor(_PastTheStock):
             return
         limit, beyond, axis = face
         short = ">" if beyond == "<" else "<"
-        verdict = self.checker.judge(hazard(short, hole.bottom, limit), state)
+        verdict = self.checker.judge(values.logical("AND", hazard("<", pitch, 0.0), hazard(short, hole.bottom, limit)), state)
         self.checker.report_verdict(self.rule_id, hole.param_spans.get("B", hole.span),
                                     f"G210 with a negative pitch B{show(pitch)} makes no bottom pass (it is meant for through holes), but the hole ends at "
                                     f"{axis}{show(hole.bottom)}, short of the stock's far face {axis}{limit:g}: the floor of this blind hole is left as the "
