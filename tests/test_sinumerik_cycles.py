@@ -443,6 +443,13 @@ def test_scaling_frames_at_the_call(frame, call, expected):
     assert (found and expected in found[0]) if expected else not found, found
 
 
+@pytest.mark.parametrize("edge, reported", [("D1", False), ("D2", True)])
+def test_the_cutter_radius_is_that_of_the_active_edge(edge, reported):
+    program = MILL_HEAD.format(radius=5).replace("T1 D1 M6", f"T1 {edge} M6") + "$TC_DP6[1,2]=30\n"
+    result = check(program + "N40 POCKET2(10, 0, 2, -6, 0, 20, 50, 50, 100, 300, 3, 2, 0.2, 0)\nN900 M30\n")
+    assert bool(messages(result, "sinumerik.cutter-radius")) is reported
+
+
 def test_an_unknown_frame_at_a_scale_sensitive_cycle_is_unknown():
     result = milled("N40 AROTS X30 Y20\nN50 CYCLE71(10, 0, 2, -1, 0, 0, 80, 60, 0, 4, 6, 5, 0, 2000, 31, 5)\n")
     unknown = [d.message for d in result.diagnostics if d.rule == "sinumerik.scaled-cycle" and d.status is Status.UNKNOWN]

@@ -14,6 +14,7 @@ from ..lower.sinumerik_cycles import levels
 from ..pocket import circle_fit, rectangle_fit, slot_fit
 from .machine import _ReportsMissingContext
 from .sinumerik import _PLANE_CYCLES, _contour_not_found, _cycle_name, _digit_problem, _is_sinumerik, _number, _point
+from .sinumerik_tools import _active_edge
 
 
 # --------------------------------------------------------------------------- tool against the feature
@@ -88,10 +89,14 @@ class CutterRadius(_ReportsMissingContext):
 
 
 def _spindle_tool_radius(checker, state):
-    """The radius of the tool in the spindle from the tool data, or None."""
+    """The radius of the active edge of the tool in the spindle from the tool data, or None.
+    The tool's own values are edge D1's; another D number takes its ``$TC_DP6[t,d]``."""
     tools = checker.context.get("tools") or {}
     number = state.tool_in_spindle
     tool = tools.get(int(number)) if type(number) is float else None
+    edge = _active_edge(state)
+    if tool is not None and edge is not None and edge != 1.0:
+        tool = tool.edges.get(int(edge))
     return None if tool is None else tool.radius
 
 
