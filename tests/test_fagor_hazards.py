@@ -92,6 +92,11 @@ def test_rigid_tapping_needs_a_spindle_encoder():
     assert "fagor.rigid-tapping-encoder" not in findings(check(TAPPING.format(1), "[machine]\nspindle_encoder = true\n"))
 
 
+def test_rigid_tapping_from_a_computed_r_is_judged_not_skipped():
+    [finding] = findings(check("; ncverify: assume 0 <= P1 <= 1\n" + TAPPING.format("P1"), "[machine]\nspindle_encoder = false\n"))["fagor.rigid-tapping-encoder"]
+    assert finding.witness == {"P1": 1.0}
+
+
 def test_spindle_encoder_must_be_true_or_false():
     with pytest.raises(ConfigError, match="spindle_encoder"):
         load_project_text("[machine]\nspindle_encoder = 1\n", Path("ncverify.toml"))

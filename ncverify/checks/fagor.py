@@ -256,16 +256,17 @@ class RigidTappingEncoder(_ReportsMissingContext):
     L1090, L1132-1135; H19); ``[machine] spindle_encoder`` says whether the machine has one."""
 
     def hole(self, hole, state):
-        if not _is_fagor(hole.cycle) or not hole.model.get("tapping") or hole.params.get("R") != 1.0:
-            return
+        rigid = hole.params.get("R")
+        if not _is_fagor(hole.cycle) or not hole.model.get("tapping") or not (rigid == 1.0 if type(rigid) is float else isinstance(rigid, values.Sym)):
+            return  # a computed R may be R1
         span = hole.param_spans.get("R", hole.span)
         encoder = self.checker.context.get("spindle_encoder")
         if encoder is None:
             self.missing("fagor.rigid-tapping-encoder", span, "whether the spindle has an encoder is not known ([machine] spindle_encoder in ncverify.toml)")
         elif not encoder and self.first_time(state, ("fagor.rigid-tapping-encoder", hole.definition)):
-            self.report("fagor.rigid-tapping-encoder", span, "G84 R1 is rigid tapping, which needs a motor-driven spindle with an encoder, and this machine has none "
-                        "([machine] spindle_encoder = false): the feed cannot follow the spindle and the tap strips the thread or breaks; tap with R0 "
-                        "in a floating holder")
+            self.checker.report_verdict("fagor.rigid-tapping-encoder", span, "G84 R1 is rigid tapping, which needs a motor-driven spindle with an encoder, and this "
+                                        "machine has none ([machine] spindle_encoder = false): the feed cannot follow the spindle and the tap strips the thread "
+                                        "or breaks; tap with R0 in a floating holder", self.checker.judge(hazard("==", rigid, 1.0), state), state)
 
 
 class _PastTheStock(_ReportsMissingContext):
