@@ -392,6 +392,7 @@ def test_ocm_with_a_corner_radius_tool_is_warned():
     text = program(f"{circle}{rough}L  X+50  Y+50 R0 FMAX M99\nL  Z+100 R0 FMAX M30\n")
     assert findings(check(text, "[tools.1]\nradius = 5\ncorner = 1"), "heidenhain.ocm-tool-corner")
     assert not findings(check(text, "[tools.1]\nradius = 5"), "heidenhain.ocm-tool-corner")
+    assert findings(check(text), "heidenhain.ocm-tool-corner", Status.UNKNOWN)  # no tool table: not known, not clean
 
 
 def with_tool_table(text: str, tmp_path, radius: float, angle: float):

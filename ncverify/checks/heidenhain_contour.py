@@ -330,7 +330,9 @@ class OcmToolCorner(_CycleRule):
             return
         tools = self.checker.context.get("tools") or {}
         tool = tools.get(int(state.tool_in_spindle)) if type(state.tool_in_spindle) is float else None
-        if tool is not None and tool.corner:
+        if tool is None:
+            self.missing("heidenhain.ocm-tool-corner", span, "no tool table entry for the tool in the spindle (TOOL.T beside the program, or [tools.N])")
+        elif tool.corner:
             self.report("heidenhain.ocm-tool-corner", span, f"cycle {number} with tool T{show(state.tool_in_spindle)} whose corner radius R2={tool.corner:g}: "
                         "OCM ignores R2, so material is left on the floor along the walls and the next tool meets it (seed L11266-11273, L11761-11767)")
 
