@@ -120,6 +120,13 @@ def test_cycle73_with_the_tool_on_a_contour_start_point():
     assert found and "on the start point X10 Y10" in found[0]
 
 
+def test_the_cycle73_stepover_without_a_tool_radius_is_unknown():
+    program = MILL_HEAD.format(radius=5).replace("$TC_DP6[1,1]=5\n", "") + POCKET.format(**{**GOOD_POCKET, "stepover": 9}) + "N900 M30\n"
+    result = check(program)
+    unknown = [d.message for d in result.diagnostics if d.rule == "sinumerik.pocket-contour" and d.status is Status.UNKNOWN]
+    assert any("_MIDA against 80 % of the diameter (61982)" in message for message in unknown), unknown
+
+
 def test_a_cycle74_naming_nothing_raises_61900():
     assert any("61900" in message for message in messages(milled('N40 CYCLE74("", "", "")\n'), "sinumerik.pocket-contour"))
 

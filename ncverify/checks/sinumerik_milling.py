@@ -180,7 +180,10 @@ class PocketContour(_ReportsMissingContext):
                 self.report("sinumerik.pocket-contour", run.span,
                             f"CYCLE73 called with the tool on the start point {_point(facts.points[0][0], state)} of the contour \"{facts.name}\": not allowed (seed A L9311-9360)")
         stepover, radius = run.params.get("_MIDA"), _spindle_tool_radius(self.checker, state)
-        if type(stepover) is float and stepover > 0 and radius and stepover > 0.8 * 2 * radius:
+        if type(stepover) is float and stepover > 0 and radius is None:
+            self.missing("sinumerik.pocket-contour", run.param_spans.get("_MIDA", run.span),
+                         "no tool radius for the tool in the spindle ($TC_DP6 in the program or [tools.N] radius): the stepover _MIDA against 80 % of the diameter (61982)")
+        elif type(stepover) is float and stepover > 0 and radius and stepover > 0.8 * 2 * radius:
             self.report("sinumerik.pocket-contour", run.param_spans.get("_MIDA", run.span),
                         f"CYCLE73: stepover _MIDA={show(stepover)} is more than 80 % of the diameter {2 * radius:g} of tool T{show(state.tool_in_spindle)} "
                         f"(at most {1.6 * radius:g}): would raise alarm 61982 \"stepover too large\"")
