@@ -107,6 +107,11 @@ def test_a_flank_steeper_than_the_clearance_angle_raises_61604_at_its_block():
     assert "61604" in finding.message and "from Z-30 X40 to Z-31 X30" in finding.message and "clearance angle 60 of T1 D1" in finding.message
 
 
+def test_a_contour_whose_points_are_not_numbers_is_unknown():
+    [finding] = findings(check(_shaft(flank="31").replace("N40 X30 Z-31", "N40 X30 Z=R5")), "sinumerik.clearance-angle")
+    assert finding.status is Status.UNKNOWN and "are not all known numbers" in finding.message
+
+
 def test_a_flank_flatter_than_the_clearance_angle_either_way_is_not_reported():
     assert not findings(check(_shaft(flank="36")), "sinumerik.clearance-angle")
 

@@ -171,7 +171,11 @@ class ClearanceAngle(_EdgeRule):
     def cycle_run(self, run, state):
         facts = run.params.get("CONTOUR") if run.cycle == "sinumerik.CYCLE95" else None
         kind = run.params.get("VARI")
-        if facts is None or not facts.points or type(kind) is not float or not 1 <= kind % 100 <= 12:
+        if facts is None or not facts.found or type(kind) is not float or not 1 <= kind % 100 <= 12:
+            return
+        if not facts.points:
+            self.missing("sinumerik.clearance-angle", run.param_spans.get("NPP", run.span),
+                         f"the points of the CYCLE95 contour \"{facts.name}\" are not all known numbers: its undercuts are not judged against the clearance angle")
             return
         entries = undercut_entries(facts.points, kind, state.plane_axes, facts.arcs, _x_is_diameter(state, facts))
         if not entries:
