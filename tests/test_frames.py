@@ -256,6 +256,9 @@ def test_a_clearance_height_is_judged_where_the_datum_shift_puts_it():
     lowered = page.replace("9  CYCL CALL", "CYCL DEF 7.0 DATUM SHIFT\nCYCL DEF 7.1 Z-60\n9  CYCL CALL")
     assert not at(check_text(page, "t.h", Settings()), "heidenhain.sl-clearance-height")
     assert at(check_text(lowered, "t.h", Settings()), "heidenhain.sl-clearance-height")  # Q7=+50 is Z-10 on the blank
+    tilted = page.replace("9  CYCL CALL", "CYCL DEF 19.0 WORKING PLANE\nCYCL DEF 19.1 A+0 B+30 C+0\n9  CYCL CALL")
+    unknown = [d for d in check_text(tilted, "t.h", Settings()).diagnostics if d.rule == "heidenhain.sl-clearance-height"]
+    assert [d.status for d in unknown] == [Status.UNKNOWN]  # where Q7 lies on the blank is not known under a tilt
 
 
 @pytest.mark.parametrize("mirror", ["", "MIRROR X0\n"])

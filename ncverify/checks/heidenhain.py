@@ -273,7 +273,10 @@ class ContourClearanceHeight(_CycleRule):
                                         f"cycle approaches from ({lines})", verdict, state)
         stock = self.checker.context.get("stock")
         on_blank = frames.workpiece_level(state, state.plane_axes[2], height)  # the parameter is in program coordinates
-        if stock is not None and on_blank is not None:
+        if stock is not None and on_blank is None:
+            self.missing("heidenhain.sl-clearance-height", where, "the active coordinate transformation (a tilted working plane) leaves where the "
+                         "clearance height lies on the blank unknown")
+        elif stock is not None:
             verdict = self.checker.judge(hazard("<=", on_blank, stock.top), state)
             self.checker.report_verdict("heidenhain.sl-clearance-height", where, f"cycle {number}: clearance height {name}={show(height)} is not above the top "
                                         f"of the blank Z{stock.top:g}: the moves between areas and the final retract stay in the material", verdict, state)
