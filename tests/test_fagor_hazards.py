@@ -64,6 +64,13 @@ def test_a_reference_plane_inside_the_stock_along_minus_x_is_reported(reference,
         assert "R point X2" in found[0].message and "face X0" in found[0].message
 
 
+def test_a_reference_plane_along_x_over_a_polygon_stock_is_unknown_not_passed():
+    program = ("; ncverify: stock polygon X0 Y0, X80 Y0, X80 Y120, X0 Y120 Z-40:0\nG19\nG0 G90 X-30 Y20 Z-12 S2000 M3\n#TOOL AX [X-]\n"
+               "G98 G81 X2 I30 F180\nG80\nM30\n")
+    [finding] = findings(check(program), "unknown").get("core.clearance-below-stock", [])
+    assert "along X" in finding.message and "polygon" in finding.message
+
+
 # --------------------------------------------------------------------------- the cycle set (H28)
 
 
@@ -223,8 +230,9 @@ def test_g83_depth_is_judged_against_the_far_face_along_minus_x():
 
 
 def test_a_far_face_the_stock_does_not_give_answers_unknown():
-    program = "; ncverify: stock polygon X0Y0, X80Y0, X80Y120 Z-40:0\nG19\nG0 G90 X-30 Y20 Z-12 S2000 M3\n#TOOL AX [X-]\nG98 G83 X-2 I5 J4 F180\nG80\nM30\n"
-    assert "fagor.g83-depth" in findings(check(program), "unknown")
+    program = "; ncverify: stock polygon X0 Y0, X80 Y0, X80 Y120 Z-40:0\nG19\nG0 G90 X-30 Y20 Z-12 S2000 M3\n#TOOL AX [X-]\nG98 G83 X-2 I5 J4 F180\nG80\nM30\n"
+    [finding] = findings(check(program), "unknown")["fagor.g83-depth"]
+    assert finding.reason != "no stock defined"
 
 
 @settings(max_examples=60, deadline=None)

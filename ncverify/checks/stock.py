@@ -170,11 +170,14 @@ class ClearanceBelowStock(_NeedsStock):
 
     def hole(self, hole, state):
         axis = hole.drill_axis
-        if hole.model.get("r_incremental") or hole.model.get("infeed") == "back_bore" or axis not in ("X", "Y", "Z"):
+        if hole.model.get("r_incremental") or hole.model.get("infeed") == "back_bore":
             return
         stock = self.stock(hole.definition or hole.span)
-        if stock is None or (axis != "Z" and stock.kind != "box"):
-            return  # a polygon's face along X/Y depends on where the hole is: not modelled
+        if stock is None:
+            return
+        if axis != "Z" and (axis not in ("X", "Y") or stock.kind != "box"):
+            self._face_not_modelled(hole, axis, stock, state)  # a polygon's or bar's face along X/Y depends on where the hole is
+            return
         ranges = geometry.stock_box(stock) or (None, None, stock.z_range)
         over_stock = self._over_stock(stock, hole.position) if axis == "Z" else _across(ranges, axis, hole.position)
         if over_stock is False:
@@ -193,6 +196,13 @@ class ClearanceBelowStock(_NeedsStock):
                 state.rule_state[key] = True
             self.checker.report_verdict(self.rule_id, span, f"{code}: the {name} {axis}{show(level)} is {where}: "
                                         f"the cycle rapids into the material there", verdict, state)
+
+    def _face_not_modelled(self, hole, axis: str, stock, state) -> None:
+        """Once per cycle definition: the levels were not judged, which is unknown, not safe."""
+        if self.first_time(state, ("clearance-face-unknown", hole.definition)):
+            self.report(self.rule_id, hole.definition or hole.span,
+                        f"{hole.cycle.rsplit('.', 1)[-1]}: the R point and initial level along {axis} were not compared with the {stock.kind} stock: "
+                        "its face along that axis is modelled for a box stock only", Status.UNKNOWN, f"stock face along {axis} not modelled")
 
     @staticmethod
     def _over_stock(stock, position):
