@@ -175,6 +175,19 @@ def test_a_finished_contour_inside_a_closed_blank_is_accepted():
     assert not messages(result, "sinumerik.extended-stock-removal")
 
 
+def _unknown(result, rule: str) -> list[str]:
+    return [d.message for d in result.diagnostics if d.rule == rule and d.status is Status.UNKNOWN]
+
+
+def test_contours_whose_points_are_not_numbers_are_unknown():
+    extended = EXTENDED.format(finished='"", "PART_START", "PART_END"', diameter=40, close=0).replace("N230 X0", "N230 X=R5")
+    assert any("BLANK_START..BLANK_END" in message and "not all known numbers" in message for message in _unknown(turned(extended), "sinumerik.extended-stock-removal"))
+    pocket = POCKET.format(**GOOD_POCKET).replace("N120 Y60", "N120 Y=R5")
+    assert any("whether it is closed (61901)" in message for message in _unknown(milled(pocket), "sinumerik.pocket-contour"))
+    shaft = SHAFT.format(vari=9, x=30, z=-45).replace("N30 Z-40", "N30 Z=R5")
+    assert any("turns back" in message for message in _unknown(turned(shaft), "sinumerik.contour-direction"))
+
+
 # --------------------------------------------------------------------------- CYCLE800, CYCLE832, CYCLE60
 
 @pytest.mark.parametrize("call, expected", [

@@ -545,6 +545,11 @@ def _contour_not_found(facts, cycle: str, kind: str = "") -> str:
     return f"the {kind + ' ' if kind else ''}contour \"{facts.name}\" of {cycle} is not in this file or on the subprogram path"
 
 
+def _contour_points_unknown(facts, cycle: str, what: str) -> str:
+    """The message for a contour found whose points are not all numbers; ``what``: what is not judged."""
+    return f"the points of the contour \"{facts.name}\" of {cycle} are not all known numbers: {what} is not judged"
+
+
 def _point(point, state) -> str:
     first, second, _normal = state.plane_axes
     return f"{first}{point[0]:g} {second}{point[1]:g}"

@@ -13,7 +13,7 @@ from ..frames import AXES
 from ..lower.sinumerik_cycles import levels
 from ..pocket import circle_fit, rectangle_fit, slot_fit
 from .machine import _ReportsMissingContext
-from .sinumerik import _PLANE_CYCLES, _contour_not_found, _cycle_name, _digit_problem, _is_sinumerik, _number, _point
+from .sinumerik import _PLANE_CYCLES, _contour_not_found, _contour_points_unknown, _cycle_name, _digit_problem, _is_sinumerik, _number, _point
 from .sinumerik_tools import _active_edge
 
 
@@ -155,7 +155,9 @@ class PocketContour(_ReportsMissingContext):
         if not facts.found:
             self.missing("sinumerik.pocket-contour", span, _contour_not_found(facts, name, what))
             return
-        if facts.closed() is False:
+        if facts.closed() is None:
+            self.missing("sinumerik.pocket-contour", span, _contour_points_unknown(facts, name, "whether it is closed (61901)"))
+        elif facts.closed() is False:
             (start, _), (end, end_span) = facts.points[0], facts.points[-1]
             self.report("sinumerik.pocket-contour", end_span,
                         f"{name}: the {what} contour \"{facts.name}\" ends at {_point(end, state)}, not at its start {_point(start, state)}: would raise alarm 61901 \"contour not closed\"")

@@ -10,7 +10,7 @@ from shapely.geometry import LineString, Point, Polygon
 
 from ..check import Rule, hazard, rule, show
 from .machine import _ReportsMissingContext
-from .sinumerik import _contour_not_found, _cycle_name, _is_sinumerik, _point, _shown
+from .sinumerik import _contour_not_found, _contour_points_unknown, _cycle_name, _is_sinumerik, _point, _shown
 
 
 # --------------------------------------------------------------------------- stock removal contours (CYCLE95, CYCLE950)
@@ -47,7 +47,7 @@ class StockRemovalContour(_ReportsMissingContext):
 
 
 @rule("sinumerik.contour-direction")
-class ContourDirection(Rule):
+class ContourDirection(_ReportsMissingContext):
     """CYCLE95 takes its machining direction from the contour's first and last points and
     machines undercuts, but an element that turns back against that direction (an overhang)
     is neither machined nor reported (reference B section 9 items 22 and 24, seed
@@ -62,6 +62,9 @@ class ContourDirection(Rule):
                         f"CYCLE95 contour \"{facts.name}\": the first block moving in the plane does not give both {state.plane_axes[0]} and {state.plane_axes[1]}: "
                         "the contour's start point, from which the cycle takes its machining direction, is not fully programmed")
         kind = run.params.get("VARI")
+        if facts is not None and facts.found and not facts.points:
+            self.missing("sinumerik.contour-direction", run.param_spans.get("NPP", run.span),
+                         _contour_points_unknown(facts, "CYCLE95", "whether it turns back against the machining direction"))
         if facts is None or not facts.points or len(facts.points) < 2 or type(kind) is not float or not 1 <= kind % 100 <= 12:
             return
         longitudinal = int(kind) % 100 % 2 == 1
@@ -100,6 +103,10 @@ class ExtendedStockRemoval(_ReportsMissingContext):
             elif facts is not None and facts.rounded_end is not None:
                 self.report("sinumerik.extended-stock-removal", facts.rounded_end,
                             f"CYCLE950: the last element of the {what} contour \"{facts.name}\" carries RND/CHF: not allowed (seed B L18265-18273)")
+        for facts, what in ((finished, "finished"), (blank, "blank")):
+            if facts is not None and facts.found and not facts.points:
+                self.missing("sinumerik.extended-stock-removal", run.span,
+                             _contour_points_unknown(facts, "CYCLE950", f"the {what} contour's closure and the finished part against the blank"))
         if blank is None or not blank.found or not blank.points:
             return
         if not blank.closed():
