@@ -901,6 +901,11 @@ def test_the_point_angle_of_a_project_tool_that_does_not_give_it_is_unknown():
     assert not lines(result, "heidenhain.point-angle")
 
 
+def test_the_depth_of_centring_to_a_diameter_is_not_compared_with_the_usable_length_and_says_so():
+    result = check(program(CENTRING), "[tools.1]\nradius = 4\nusable_length = 1")
+    assert lines(result, "heidenhain.usable-length", Status.UNKNOWN) == [6] and not lines(result, "heidenhain.usable-length")
+
+
 def test_centring_by_depth_needs_no_point_angle():
     result = check(program(CENTRING.replace("Q343=+1", "Q343=+0")), "[tools.1]\nradius = 4\npoint_angle = 0")
     assert not lines(result, "heidenhain.point-angle") and not lines(result, "heidenhain.point-angle", Status.UNKNOWN)

@@ -76,6 +76,9 @@ class UsableLength(_CycleRule):
         if number not in _DEPTH_CHECKED and number not in _SL_CYCLES and number not in _DEPTH_OF:
             return
         names, depth = _machining_depth(number, params)
+        if depth is None and names == ("Q344",):
+            self.missing("heidenhain.usable-length", span, "cycle 240 centres to the diameter Q344: the depth follows from the tool's point angle, "
+                         "which is not computed, so it is not compared with the usable length LU")
         if depth is None or not self.first_time(state, ("usable-length", span)):
             return
         tool = _tool(self, state, span, "heidenhain.usable-length", "usable_length")
