@@ -481,6 +481,7 @@ def test_groove_dwell_of_one_revolution(speed_mode, dwell, reported):
     program = f"N35 {speed_mode}\nN40 G0 X80 Z10\nN50 CYCLE93(60, -20, 5, 3, 0, 0, 0, 0, 0, 0, 0, 0.2, 0.2, 1, {dwell}, 5)\nN60 M30\n"
     found = messages(turned(program), "sinumerik.groove-dwell")
     assert bool(found) is reported and (not found or "shorter than one revolution at S400 (0.15 s)" in found[0])
+    assert bool(_unknown(turned(program), "sinumerik.groove-dwell")) is speed_mode.startswith("G96")
 
 
 def test_a_contour_whose_first_block_gives_one_coordinate_leaves_the_direction_open():

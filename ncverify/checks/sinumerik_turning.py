@@ -188,15 +188,19 @@ class UndercutFeed(Rule):
 
 
 @rule("sinumerik.groove-dwell")
-class GrooveDwell(Rule):
+class GrooveDwell(_ReportsMissingContext):
     """CYCLE93's dwell DTB at the groove base should last at least one spindle revolution
     (reference B section 9 item 29, seed L15201-15205): judged under G97, where the speed S
-    is the revolutions per minute."""
+    is the revolutions per minute; unknown otherwise."""
 
     def cycle_run(self, run, state):
         dwell = run.params.get("DTB") if run.cycle == "sinumerik.CYCLE93" else None
         speed = state.spindle_speed
-        if type(dwell) is not float or dwell <= 0 or state.modal.get("spindle_mode") != "rpm" or type(speed) is not float or speed <= 0:
+        if type(dwell) is not float or dwell <= 0:
+            return
+        if state.modal.get("spindle_mode") != "rpm" or type(speed) is not float or speed <= 0:
+            self.missing("sinumerik.groove-dwell", run.param_spans.get("DTB", run.span),
+                         "the spindle revolutions at CYCLE93 are not known (no G97 with a positive S): its dwell DTB against one revolution")
             return
         revolution = 60.0 / speed
         if dwell < revolution:
