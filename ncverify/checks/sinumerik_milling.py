@@ -84,7 +84,7 @@ class CutterRadius(_ReportsMissingContext):
     def _radius(self, run, state):
         radius = _spindle_tool_radius(self.checker, state)
         if radius is None:
-            self.missing("sinumerik.cutter-radius", run.span, "no tool radius for the tool in the spindle ($TC_DP6 in the program or [tools.N] radius)")
+            self.missing("sinumerik.cutter-radius", run.span, "no tool radius for the active edge of the tool in the spindle ($TC_DP6[t,d] in the program; [tools.N] radius describes D1)")
         return radius
 
 
@@ -184,7 +184,7 @@ class PocketContour(_ReportsMissingContext):
         stepover, radius = run.params.get("_MIDA"), _spindle_tool_radius(self.checker, state)
         if type(stepover) is float and stepover > 0 and radius is None:
             self.missing("sinumerik.pocket-contour", run.param_spans.get("_MIDA", run.span),
-                         "no tool radius for the tool in the spindle ($TC_DP6 in the program or [tools.N] radius): the stepover _MIDA against 80 % of the diameter (61982)")
+                         "no tool radius for the active edge of the tool in the spindle ($TC_DP6[t,d] in the program; [tools.N] radius describes D1): the stepover _MIDA against 80 % of the diameter (61982)")
         elif type(stepover) is float and stepover > 0 and radius and stepover > 0.8 * 2 * radius:
             self.report("sinumerik.pocket-contour", run.param_spans.get("_MIDA", run.span),
                         f"CYCLE73: stepover _MIDA={show(stepover)} is more than 80 % of the diameter {2 * radius:g} of tool T{show(state.tool_in_spindle)} "
