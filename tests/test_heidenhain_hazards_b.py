@@ -191,6 +191,8 @@ def test_two_overlapping_pockets_where_the_first_starts_inside_the_second_give_t
     inside = check(sl_program(CIRCLES.format(x=60, bx=90, side="RR"), labels="1 /2"))
     assert "intersection" in findings(inside, "heidenhain.contour-overlap-start")[0].message
     assert not findings(check(sl_program(CIRCLES.format(x=10, bx=90, side="RR"), labels="1 /2")), "heidenhain.contour-overlap-start")
+    free = check(sl_program(CIRCLES.format(x="Q50", bx=90, side="RR"), labels="1 /2"))  # where LBL 1 starts is a free parameter
+    assert findings(free, "heidenhain.contour-overlap-start", Status.UNKNOWN) and not findings(free, "heidenhain.contour-overlap-start")
 
 
 def test_an_island_must_start_inside_the_pocket_it_is_taken_from():

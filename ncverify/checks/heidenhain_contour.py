@@ -144,7 +144,11 @@ class ContourOverlapStart(_CycleRule):
         if use is None or number not in _SL or use.how != "cycle 14":
             return
         found = [subprogram.contour for subprogram in use.subprograms]
-        if len(found) < 2 or any(contour is None or contour.pocket is None for contour in found) or not self.first_time(state, ("overlap", use.span)):
+        if len(found) < 2 or not self.first_time(state, ("overlap", use.span)):
+            return
+        if any(contour is None or contour.pocket is None for contour in found):
+            self.missing("heidenhain.contour-overlap-start", use.span, "a subcontour of cycle 14 could not be resolved (free Q parameters, CT or FK "
+                         "elements, or an R0 subcontour), so whether the superimposed subcontours start where they must is not known")
             return
         names = [_label(subprogram) for subprogram in use.subprograms]
         for index, message in _overlap_faults(found, names):
