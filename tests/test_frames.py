@@ -305,3 +305,12 @@ def test_plain_blocks_under_a_frame_give_the_same_findings_in_a_batch_as_one_by_
         return sorted((d.rule, d.span.line, d.status.value, d.message) for d in result.diagnostics)
 
     assert found(False) == found(True)
+
+
+def test_a_disengaging_direction_from_a_free_parameter_under_a_mirror_is_unknown():
+    from ncverify.check import rule_definitions
+
+    page = rule_definitions()["heidenhain.disengage-mirror"].example("Example")
+    found = check_text(page.replace("Q214=+1 ", "Q214=+Q50 "), "t.h", Settings())
+    assert at(found, "heidenhain.disengage-mirror", Status.UNKNOWN) and not at(found, "heidenhain.disengage-mirror")
+    assert not at(check_text(page.replace("Q214=+1 ", "Q214=+0 "), "t.h", Settings()), "heidenhain.disengage-mirror", Status.UNKNOWN)

@@ -4,6 +4,7 @@ active transformations are the path's ``("heidenhain", "transforms")`` dialect s
 from __future__ import annotations
 
 from ..check import Rule, rule
+from .machine import _ReportsMissingContext
 
 # Q214 of 202/204: 1 minus reference axis, 2 minus minor axis, 3 plus reference axis, 4 plus minor axis.
 _DISENGAGE = {1.0: (0, "-"), 2.0: (1, "-"), 3.0: (0, "+"), 4.0: (1, "+")}
@@ -37,7 +38,7 @@ class ArcUnderAxisScaling(Rule):
 
 
 @rule("heidenhain.disengage-mirror")
-class DisengageUnderMirror(Rule):
+class DisengageUnderMirror(_ReportsMissingContext):
     """H19: 202 and 204 move the tool off in the direction Q214 names, and that direction
     ignores a mirror image (seed L1880-1881, L2296-2297)."""
 
@@ -52,6 +53,9 @@ class DisengageUnderMirror(Rule):
             return
         direction = _DISENGAGE.get(params.get("Q214"))
         mirrored = _active(state).get(8, ())
+        if direction is None and mirrored and params.get("Q214") is not None and type(params["Q214"]) is not float:
+            self.missing("heidenhain.disengage-mirror", spans.get("Q214", span), "the disengaging direction Q214 depends on a parameter that is not "
+                         "known, so whether it points along a mirrored axis is not known")
         if direction is None or not mirrored:
             return
         axis = state.plane_axes[direction[0]]
