@@ -249,6 +249,8 @@ def test_h8_floating_tapping_feed_not_s_times_pitch_is_reported():
     assert lines(result, "heidenhain.tap-pitch") == [9]
     assert "750" in messages(result, "heidenhain.tap-pitch")[0]
     assert not lines(check(floating_tap("+750"), project), "heidenhain.tap-pitch")
+    no_speed = check(floating_tap("+150").replace("TOOL CALL 1 Z S500", "TOOL CALL 1 Z"), project)
+    assert lines(no_speed, "heidenhain.tap-pitch", Status.UNKNOWN) and not lines(no_speed, "heidenhain.tap-pitch")
 
 
 def thread_mill_after_drilling(drilled: str) -> str:

@@ -115,7 +115,10 @@ class TapPitch(_CycleRule):
 
     def _floating_feed(self, params, spans, span, state):
         feed, speed = params.get("Q206"), state.spindle_speed
-        if feed is None or speed is None or not self.first_time(state, ("tap-feed", span)):
+        if feed is None or not self.first_time(state, ("tap-feed", span)):
+            return
+        if speed is None:
+            self.missing("heidenhain.tap-pitch", span, "no spindle speed S at cycle 206, so its feed Q206 is not compared with S x PITCH")
             return
         tool = _tool(self, state, span, "heidenhain.tap-pitch", "pitch")
         if tool is None:
