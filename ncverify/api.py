@@ -106,14 +106,42 @@ def check_source(source: ProgramSource, settings: Settings, project: Context | N
     project = project or Context()
     if setup_for(detection.dialect, settings, detection, project) is None:
         checker = Checker(settings, {})
-        checker.report("core.dialect-unsupported", Span(1, 1, 1, 1), f"{detection.dialect} programs are recognised but not checked yet: nothing in this file was verified",
-                       Status.UNKNOWN, f"no reader for the {detection.dialect} dialect yet")
+        what = detection.reason or f"{detection.dialect} programs are recognised but not checked yet"
+        checker.report("core.dialect-unsupported", Span(1, 1, 1, 1), f"{what}: nothing in this file was verified",
+                       Status.UNKNOWN, f"no reader for this language yet ({what})")
         result.diagnostics = checker.diagnostics
         return result
     with values.fresh_numbering():
         _run(source, settings, detection, result, project)
         _confirm_witnesses(source, settings, detection, result, project)
+        _inputs_are_not_mistakes(result, _assumed_names(source, settings, detection, project))
     return result
+
+
+def _assumed_names(source: ProgramSource, settings: Settings, detection: Detection, project: Context) -> set[str]:
+    """The parameters an ``assume`` (annotation or project file) gives a range."""
+    from .project import assumption_names, parameter_name
+
+    frontend = setup_for(detection.dialect, settings, detection, project).frontend
+    assumptions = annotations.collect(source, frontend).context.layered_over(project).assumptions
+    return {parameter_name(node) for assumption in assumptions for node in assumption_names(assumption.tree)}
+
+
+def _inputs_are_not_mistakes(result: FileResult, assumed: set[str]) -> None:
+    """A hazard whose witness needs a value the program receives from outside (a parameter
+    it never sets, an argument, a system variable) that no ``assume`` bounds is not evidence
+    of a fault: it becomes ``unknown`` with the input and its example value, which stay in
+    the JSON witness. With every such input in an ``assume`` range it stays ``violated``.
+    The program's own guards (``IF R5<=0 GOTOF ERR``) are already in the path condition the
+    witness satisfies, so they narrow the inputs but do not bound them for this purpose."""
+    for diagnostic in result.diagnostics:
+        if diagnostic.status is not Status.VIOLATED or not diagnostic.witness:
+            continue
+        inputs = {name: value for name, value in diagnostic.witness.items() if name not in assumed}
+        if inputs:
+            shown = ", ".join(f"{name} = {value:g}" for name, value in sorted(inputs.items()))
+            diagnostic.status = Status.UNKNOWN
+            diagnostic.reason = f"depends on the input {shown}; give it a range with `assume` to have it judged"
 
 
 def _with_project_settings(settings: Settings, project: Context | None) -> Settings:
@@ -186,7 +214,7 @@ def _run(source: ProgramSource, settings: Settings, detection: Detection, result
     folders = list(settings.subprogram_path)
     if source.path is not None:
         folders.append(source.path.parent)
-    library = SubprogramLibrary(folders, settings.extensions)
+    library = SubprogramLibrary(folders, settings.extensions, explicit=len(settings.subprogram_path))
     interpreter = Interpreter(
         source, frontend, checker, settings, power_on=dialect.power_on, cycle_models=dialect.cycle_models,
         twins=dialect.twins, machine=dialect.machine, increment=dialect.increment or 0.0,

@@ -315,11 +315,12 @@ class Checker:
         self.report(note.rule, note.span, note.message)
 
     def fault(self, fault) -> None:
-        self.report(fault.rule, fault.span, fault.message, Status(fault.status), fault.reason)
+        self.report(fault.rule, fault.span, fault.message, Status(fault.status), fault.reason,
+                    severity=Severity(fault.severity) if fault.severity else None)
 
     # -- reporting
     def report(self, rule_id: str, span: Span, message: str, status: Status = Status.VIOLATED,
-               reason: str | None = None, witness: dict | None = None) -> None:
+               reason: str | None = None, witness: dict | None = None, severity: Severity | None = None) -> None:
         if rule_id in self.settings.disabled_rules:
             return
         definition = self.definitions.get(rule_id)
@@ -342,7 +343,7 @@ class Checker:
         if count > self.settings.max_findings_per_rule:
             self.truncated[rule_id] = self.truncated.get(rule_id, 0) + 1
             return
-        severity = self._severity(definition)
+        severity = severity or self._severity(definition)
         if status is Status.PROVED:
             severity = Severity.INFO
         self.diagnostics.append(Diagnostic(rule_id, definition.category, severity, span, message, status, reason, witness or {}))

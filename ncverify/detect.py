@@ -53,6 +53,40 @@ _NOT_A_PROGRAM = [
     (r"(?s)^\s*<\?xml|^\s*<html", "XML or HTML"),
 ]
 
+# Languages of the ISO family's look that no reader here claims: (name, signals); a file
+# showing two or more distinct signals of one of them is reported as that language, once,
+# instead of being read as ISO and failing on every statement the ISO reader refuses.
+_LOOKALIKES: list[tuple[str, list[tuple[str, str]]]] = [
+    ("Fadal format", [
+        (r"(?im)^\s*(?:N\d+\s*)?L\d{3,4}\s*$", "an L subroutine label line (L100)"),
+        (r"(?im)^\s*(?:N\d+\s*)?L\d{2,3}0[1-9]\s*$", "an L subroutine call with a repeat suffix (L101)"),
+        (r"(?im)\bG0?0\b[^\n(;]*\bE\d{1,2}\b", "an E fixture-offset word on a rapid (E1)"),
+        (r"(?im)^\s*(?:N\d+\s*)?H\d+\s+Z", "a length offset H without G43 (H6 Z10.)"),
+        (r"(?im)^\s*(?:N\d+\s*)?G8\s*$", "a G8 block"),
+    ]),
+    ("MillMaster Pro", [
+        (r"(?m)^\s*//", "'//' comment lines"),
+        (r"(?im)^\s*G70\s*$", "G70 alone on a line (inch on MillMaster, a finishing cycle in ISO)"),
+        (r"(?im)\bMillmaster\b", "the name MillMaster in a comment"),
+    ]),
+    ("Okuma OSP", [
+        (r"(?im)\bV[CS]\d+\s*=", "common variables VC1="),
+        (r"(?im)\bCALL\s+O\w+", "CALL O.. subprogram calls"),
+        (r"(?im)^\s*(?:N\d+\s*)?IF\s*\[[^\]]*\]\s*N\w+", "IF [..] N.. jumps"),
+        (r"(?im)\bRTS\b", "RTS subprogram ends"),
+    ]),
+]
+
+
+def lookalike(head: str) -> tuple[str, list[str]] | None:
+    """The unclaimed language the text looks like, with the signals seen, or None."""
+    for name, signals in _LOOKALIKES:
+        seen = [what for pattern, what in signals if re.search(pattern, head)]
+        if len(seen) >= 2:
+            return name, seen
+    return None
+
+
 _HAAS = re.compile(r"(?im)\b(?:G187|G103|G47|M97|G154|HAAS)\b")
 _FANUC_LATHE = re.compile(r"(?im)\bG50\s*S\d|\bG9[024]\s*[XUZW]")
 _MITSUBISHI = re.compile(r"(?im)(?:,[IJR]\s*-?\d|\bG1[23]\s*I[-.\d]+\s*D\d|\bG7[789]\b)")
@@ -92,6 +126,10 @@ def detect(head: str, raw_head: bytes = b"") -> Detection:
     confidence = scores[best] / total * min(1.0, scores[best] / 10.0)
     if best != "iso":
         return Detection(best, round(confidence, 2))
+    other = lookalike(head)
+    if other is not None:
+        name, seen = other
+        return Detection("unclaimed", round(confidence, 2), f"looks like {name} ({', '.join(seen)}), not a language ncverify reads")
     machine = detect_machine(head)
     return Detection("iso", round(confidence, 2), profile=detect_iso_profile(head, machine), machine=machine,
                      whole_units=integers_look_whole(head))
