@@ -11,7 +11,7 @@ from pathlib import Path
 
 from . import annotations, values
 from .check import Checker
-from .detect import Detection, detect
+from .detect import Detection, detect, profile_evidence
 from .diagnostics import Diagnostic, Severity, Status, Suppressed
 from .interpret import Interpreter
 from .context import Context
@@ -42,6 +42,7 @@ class FileResult:
     truncated: dict[str, int] = field(default_factory=dict)
     free_parameters: list[str] = field(default_factory=list)
     least_input_increment: float | None = None
+    detection_evidence: str = ""  # why this dialect, profile and machine type (--verbose)
 
     def to_json(self) -> dict:
         entry = {"path": self.path, "dialect": self.dialect, "dialect_confidence": self.dialect_confidence}
@@ -98,7 +99,8 @@ def project_for(program: Path | None, settings: Settings) -> Context | None:
 
 def check_source(source: ProgramSource, settings: Settings, project: Context | None = None) -> FileResult:
     detection = _detection(source, settings)
-    result = FileResult(source.name, detection.dialect, detection.confidence, profile=detection.profile, machine=detection.machine)
+    result = FileResult(source.name, detection.dialect, detection.confidence, profile=detection.profile, machine=detection.machine,
+                        detection_evidence=detection.evidence)
     if detection.dialect is None:
         result.skipped = detection.reason
         return result
@@ -115,7 +117,18 @@ def check_source(source: ProgramSource, settings: Settings, project: Context | N
         _run(source, settings, detection, result, project)
         _confirm_witnesses(source, settings, detection, result, project)
         _inputs_are_not_mistakes(result, _assumed_names(source, settings, detection, project))
+    if detection.dialect == "iso" and settings.profile is None and not profile_evidence(source.head(), detection.machine):
+        _codes_of_an_assumed_profile(result)
     return result
+
+
+def _codes_of_an_assumed_profile(result: FileResult) -> None:
+    """Nothing in the text named the control, so the E60 profile is an assumption: a code it
+    lacks (G91.1, G15 on a Fanuc) says more about the assumption than about the program."""
+    for diagnostic in result.diagnostics:
+        if diagnostic.rule == "core.unknown-code" and diagnostic.status is Status.VIOLATED:
+            diagnostic.status = Status.UNKNOWN
+            diagnostic.reason = f"the {result.profile} profile was assumed, nothing in the program names its control; give --profile"
 
 
 def _assumed_names(source: ProgramSource, settings: Settings, detection: Detection, project: Context) -> set[str]:
@@ -157,7 +170,7 @@ def _with_project_settings(settings: Settings, project: Context | None) -> Setti
 
 def _detection(source: ProgramSource, settings: Settings) -> Detection:
     head_bytes = bytes(source.buffer[:65536])
-    found = detect(source.head(), head_bytes)
+    found = detect(source.head(), head_bytes, source.path.suffix if source.path is not None else "")
     if settings.dialect is None:
         return found
     if found.dialect is None and "binary" in found.reason:

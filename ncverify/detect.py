@@ -109,9 +109,17 @@ class Detection:
     profile: str | None = None
     machine: str | None = None
     whole_units: bool = False  # integer coordinates are meant as whole mm/inch
+    evidence: str = ""  # why: the scores, the extension, the profile's and machine type's signals (--verbose)
 
 
-def detect(head: str, raw_head: bytes = b"") -> Detection:
+# The file extension is one signal among the content's: it tips a close call (a Fagor program
+# without '#'/'$' statements in a .pim file) but never outweighs clear statements.
+_EXTENSIONS = {".h": "heidenhain", ".mpf": "sinumerik", ".spf": "sinumerik", ".pim": "fagor", ".pit": "fagor",
+               ".nc": "iso", ".cnc": "iso", ".tap": "iso", ".min": "iso"}
+_EXTENSION_WEIGHT = 6
+
+
+def detect(head: str, raw_head: bytes = b"", suffix: str = "") -> Detection:
     if _looks_binary(raw_head or head.encode("utf-8", "replace")):
         return Detection(None, 1.0, "binary data, not a CNC program")
     for pattern, what in _NOT_A_PROGRAM:
@@ -119,20 +127,35 @@ def detect(head: str, raw_head: bytes = b"") -> Detection:
             return Detection(None, 0.9, f"looks like {what}, not a CNC program")
     scores = {dialect: sum(weight * min(len(re.findall(pattern, head)), 3) for pattern, weight in signatures)
               for dialect, signatures in _SIGNATURES.items()}
+    if max(scores.values()) == 0:
+        return Detection(None, 0.5, "no G-code, Klartext or SINUMERIK/Fagor statements found")
+    by_extension = _EXTENSIONS.get(suffix.lower())
+    if by_extension is not None:
+        scores[by_extension] += _EXTENSION_WEIGHT
     best = max(scores, key=scores.get)
     total = sum(scores.values())
-    if scores[best] == 0:
-        return Detection(None, 0.5, "no G-code, Klartext or SINUMERIK/Fagor statements found")
     confidence = scores[best] / total * min(1.0, scores[best] / 10.0)
+    evidence = "signature scores " + ", ".join(f"{name} {score:g}" for name, score in sorted(scores.items(), key=lambda item: -item[1]) if score)
+    if by_extension is not None:
+        evidence += f" (the extension {suffix} counted {_EXTENSION_WEIGHT} for {by_extension})"
     if best != "iso":
-        return Detection(best, round(confidence, 2))
+        return Detection(best, round(confidence, 2), evidence=evidence)
     other = lookalike(head)
     if other is not None:
         name, seen = other
-        return Detection("unclaimed", round(confidence, 2), f"looks like {name} ({', '.join(seen)}), not a language ncverify reads")
+        return Detection("unclaimed", round(confidence, 2), f"looks like {name} ({', '.join(seen)}), not a language ncverify reads",
+                         evidence=evidence)
     machine = detect_machine(head)
-    return Detection("iso", round(confidence, 2), profile=detect_iso_profile(head, machine), machine=machine,
-                     whole_units=integers_look_whole(head))
+    profile = detect_iso_profile(head, machine)
+    evidence += f"; machine {machine or 'not told'} (lathe score {_score(_LATHE, head)}, mill score {_score(_MILL, head)})"
+    evidence += f"; profile {profile}" + ("" if profile_evidence(head, machine) else " (assumed: no Haas, E60 or Fanuc-lathe codes seen)")
+    return Detection("iso", round(confidence, 2), profile=profile, machine=machine,
+                     whole_units=integers_look_whole(head), evidence=evidence)
+
+
+def profile_evidence(head: str, machine: str | None = None) -> bool:
+    """Does the text show which ISO control it is for, or is the E60 profile only assumed?"""
+    return bool(_HAAS.search(head) or _MITSUBISHI.search(head) or (machine == "lathe" and _FANUC_LATHE.search(head)))
 
 
 def detect_iso_profile(head: str, machine: str | None = None) -> str:
@@ -166,9 +189,12 @@ def integers_look_whole(head: str) -> bool:
     return mostly_small and (points == 0 or len(integers) >= 0.25 * (len(integers) + points))
 
 
+def _score(patterns, head: str) -> int:
+    return sum(weight * min(len(pattern.findall(head)), 3) for pattern, weight in patterns)
+
+
 def detect_machine(head: str) -> str | None:
-    lathe = sum(weight * min(len(pattern.findall(head)), 3) for pattern, weight in _LATHE)
-    mill = sum(weight * min(len(pattern.findall(head)), 3) for pattern, weight in _MILL)
+    lathe, mill = _score(_LATHE, head), _score(_MILL, head)
     if lathe >= 4 and lathe > mill:
         return "lathe"
     if mill > 0:
