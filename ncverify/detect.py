@@ -116,7 +116,7 @@ class Detection:
 # without '#'/'$' statements in a .pim file) but never outweighs clear statements.
 _EXTENSIONS = {".h": "heidenhain", ".mpf": "sinumerik", ".spf": "sinumerik", ".pim": "fagor", ".pit": "fagor",
                ".nc": "iso", ".cnc": "iso", ".tap": "iso", ".min": "iso"}
-_EXTENSION_WEIGHT = 6
+_EXTENSION_WEIGHT = 12
 
 
 def detect(head: str, raw_head: bytes = b"", suffix: str = "") -> Detection:
