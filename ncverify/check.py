@@ -343,7 +343,7 @@ class Checker:
         if count > self.settings.max_findings_per_rule:
             self.truncated[rule_id] = self.truncated.get(rule_id, 0) + 1
             return
-        severity = severity or self._severity(definition)
+        severity = self._severity(definition, severity)
         if status is Status.PROVED:
             severity = Severity.INFO
         self.diagnostics.append(Diagnostic(rule_id, definition.category, severity, span, message, status, reason, witness or {}))
@@ -361,9 +361,11 @@ class Checker:
             message = f"proved impossible for every value of the free parameters: {message}"
         self.report(rule_id, span, message, verdict.status, verdict.reason, verdict.witness)
 
-    def _severity(self, definition: RuleDefinition) -> Severity:
+    def _severity(self, definition: RuleDefinition, suggested: Severity | None = None) -> Severity:
+        """The project file's severity for the rule or its category, else the one the rule
+        suggests for this finding (a guard exit is info), else the rule's default."""
         override = self.severity_overrides.get(definition.id) or self.severity_overrides.get(definition.category)
-        return Severity(override) if override else definition.severity
+        return Severity(override) if override else suggested or definition.severity
 
     # -- constraints from rules/
     def _constraints_on_hole(self, hole, state) -> None:
