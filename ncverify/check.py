@@ -257,6 +257,7 @@ class Checker:
         self._per_rule: dict[str, int] = {}
         self.truncated: dict[str, int] = {}
         self.path_condition: list = []
+        self.call_site = lambda: None  # the interpreter's: where the checked file called into another
         rules = [cls(self) for cls in _RULE_CLASSES if not set(cls.ids) <= settings.disabled_rules]
         self.rules = rules
         self._segment = _handlers(rules, "segment")
@@ -346,7 +347,8 @@ class Checker:
         severity = self._severity(definition, severity)
         if status is Status.PROVED:
             severity = Severity.INFO
-        self.diagnostics.append(Diagnostic(rule_id, definition.category, severity, span, message, status, reason, witness or {}))
+        related = self.call_site() if span.path is not None else None
+        self.diagnostics.append(Diagnostic(rule_id, definition.category, severity, span, message, status, reason, witness or {}, related))
 
     def judge(self, hazard, state) -> "Verdict | None":
         """:func:`judge` under the path's condition and the configured solver timeout."""

@@ -53,6 +53,7 @@ class Frame:
     return_to: Position | None
     repeats_left: int = 0
     local_variables: dict | None = None  # a macro's own #1-#33; None shares the caller's
+    called_at: Span | None = None  # the calling block, for findings in another file
 
 
 @dataclass(slots=True)
@@ -305,7 +306,8 @@ class ControlFlow:
             local_variables = self._macro_arguments(op)
         elif op.kind == "proc":
             local_variables = self._proc_arguments(op, source, start)
-        frame = Frame(op.kind, self.frontend.program_name(program), source, start, self._next_position(), int(repeat) - 1)
+        frame = Frame(op.kind, self.frontend.program_name(program), source, start, self._next_position(), int(repeat) - 1,
+                      called_at=op.span)
         if local_variables is not None:
             frame.local_variables = state.local_variables
             state.local_variables = local_variables
@@ -317,6 +319,14 @@ class ControlFlow:
             if type(label) is float:
                 return self.find_label(label, op.span, source, frame)
         return entry
+
+    def call_site(self) -> Span | None:
+        """Where the main file called into another file, on the current path (the outermost
+        such call): a finding in the called file is reported with it."""
+        for frame in self.state.frames:
+            if frame.source is not self.source and frame.called_at is not None:
+                return frame.called_at
+        return None
 
     def _program_not_here(self, program, span) -> None:
         """A called program this run cannot read: it may be stored on the control (a CALL

@@ -122,6 +122,8 @@ class Interpreter(ControlFlow):
         self.state = MachineState()
         self.state.path_condition = self._assume(assumptions)
         self.assumed_conditions = len(self.state.path_condition)  # what a path knows before any branch
+        if hasattr(observer, "call_site"):
+            observer.call_site = self.call_site
         self._handlers = {
             ir.SetModal: self._set_modal, ir.Move: self._move, ir.Dwell: self._nothing,
             ir.CutterComp: self._cutter_comp, ir.LengthOffset: self._length_offset,

@@ -99,7 +99,8 @@ def _finding_lines(result: FileResult, d, quoter: _Quoter, texts: dict[str, str]
     label = d.severity.value if d.status is Status.VIOLATED else d.status.value
     reason = f" [{d.reason}]" if d.status is Status.UNKNOWN and d.reason else ""
     witness = "" if not d.witness else " (for example " + ", ".join(f"{name}={value:g}" for name, value in sorted(d.witness.items())) + ")"
-    lines = [f"{path}:{d.span.line}:{d.span.column}: {label} {d.rule}: {d.message}{witness}{reason}"]
+    called = f" (called from {d.related.path or result.path}:{d.related.line})" if d.related is not None else ""
+    lines = [f"{path}:{d.span.line}:{d.span.column}: {label} {d.rule}: {d.message}{witness}{reason}{called}"]
     source_line = texts[path].splitlines()[d.span.line - 1] if texts and path in texts and d.span.line <= len(texts[path].splitlines()) else quoter.line(path, d.span.line)
     if source_line.strip():
         lines.append(f"    {d.span.line:>5} | {source_line.rstrip()}")

@@ -73,6 +73,7 @@ def test_a_guard_the_program_writes_itself_bounds_the_input_on_the_path_past_it(
 @pytest.mark.parametrize("program, path", [
     ("O200\nIF [#1 LT 0] THEN #3000 = 5 (NEGATIVE)\nG0 X#1\nM30\n", "g.nc"),
     ("IF R1 < 0\n  SETAL(65000)\nENDIF\nG0 X=R1\nM30\n", "g.mpf"),
+    ("$IF P1 < 0\n#ERROR [\"NEGATIVE\"]\n$ENDIF\nG0 X[P1]\nM30\n", "g.pim"),
     ("0 BEGIN PGM G MM\n1 FN 12: IF +Q1 LT +0 GOTO LBL 9\n2 L X+Q1 R0 FMAX\n3 M30\n4 LBL 9\n5 FN 14: ERROR = 1000\n6 END PGM G MM\n", "g.h"),
 ])
 def test_an_alarm_reached_only_for_some_inputs_is_an_info_guard(program, path):
@@ -265,3 +266,14 @@ def test_proved_verdicts_are_listed_only_on_request(tmp_path, capsys):
     shown = capsys.readouterr().out
     assert ": info core.arithmetic-domain" not in plain and "proved" in plain
     assert "core.arithmetic-domain" in shown
+
+
+def test_a_finding_in_a_called_file_carries_its_call_site(tmp_path, capsys):
+    (tmp_path / "O5001.nc").write_text("O5001\nG1 X4.\nM99\n")
+    main_program = tmp_path / "main.nc"
+    main_program.write_text("O1\nS1000 M3\nG0 X0. Y0.\nM98 P5001\nM30\n")
+    [finding] = found(check_file(main_program), "core.feed-missing")
+    assert finding.span.path == str(tmp_path / "O5001.nc")
+    assert finding.to_json()["related"] == [{"line": 4, "column": 1, "message": "called from here"}]
+    main(["check", str(main_program)])
+    assert f"(called from {main_program}:4)" in capsys.readouterr().out
