@@ -277,3 +277,23 @@ def test_a_finding_in_a_called_file_carries_its_call_site(tmp_path, capsys):
     assert finding.to_json()["related"] == [{"line": 4, "column": 1, "message": "called from here"}]
     main(["check", str(main_program)])
     assert f"(called from {main_program}:4)" in capsys.readouterr().out
+
+
+# --------------------------------------------------------------------------- annotations
+
+
+@pytest.mark.parametrize("written, meant", [("face-mill", "facemill"), ("groove", "grooving"), ("thread", "threading"),
+                                            ("Ball_Nose", "ball"), ("spot-drill", "spot"), ("cut-off", "parting")])
+def test_tool_types_accept_common_spellings(written, meant):
+    result = check(f"(ncverify: tool 3 radius 4 type {written})\nG21 G90\nM30\n")
+    assert not found(result, "core.bad-annotation", None)
+    from ncverify.context import canonical_tool_type
+    assert canonical_tool_type(written) == meant
+
+
+def test_a_grooving_tool_takes_a_width_and_an_unknown_type_or_key_lists_the_accepted_ones():
+    assert not found(check("(ncverify: tool 4 radius 0.2 type groove width 3)\nG21 G90\nM30\n"), "core.bad-annotation", None)
+    [bad_type] = found(check("(ncverify: tool 4 radius 2 type wobbler)\nG21 G90\nM30\n"), "core.bad-annotation", None)
+    assert "accepted:" in bad_type.message and "facemill" in bad_type.message
+    [bad_key] = found(check("(ncverify: tool 4 radius 2 flutes 3)\nG21 G90\nM30\n"), "core.bad-annotation", None)
+    assert "accepted:" in bad_key.message and "width" in bad_key.message
