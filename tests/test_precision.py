@@ -297,3 +297,13 @@ def test_a_grooving_tool_takes_a_width_and_an_unknown_type_or_key_lists_the_acce
     assert "accepted:" in bad_type.message and "facemill" in bad_type.message
     [bad_key] = found(check("(ncverify: tool 4 radius 2 flutes 3)\nG21 G90\nM30\n"), "core.bad-annotation", None)
     assert "accepted:" in bad_key.message and "width" in bad_key.message
+
+
+# --------------------------------------------------------------------------- system constants
+
+
+def test_pi_is_a_value_and_machine_data_an_input_never_a_violation():
+    result = check("R1=$PI\nR2=10/(R1-3)\nR4=10/$AA_IM[X]\nG0 X=R2 Y=R4\nM30\n", "c.mpf")
+    assert "$PI" not in result.free_parameters
+    divisions = found(result, "core.arithmetic-domain", None)
+    assert [d.span.line for d in divisions] == [3] and divisions[0].status is Status.UNKNOWN
