@@ -87,17 +87,21 @@ def lookalike(head: str) -> tuple[str, list[str]] | None:
     return None
 
 
-_HAAS = re.compile(r"(?im)\b(?:G187|G103|G47|M97|G154|HAAS)\b")
-_FANUC_LATHE = re.compile(r"(?im)\bG50\s*S\d|\bG9[024]\s*[XUZW]")
-_MITSUBISHI = re.compile(r"(?im)(?:,[IJR]\s*-?\d|\bG1[23]\s*I[-.\d]+\s*D\d|\bG7[789]\b)")
+# Code words are found whether or not blocks put spaces between words (N10G50S2000): a word
+# starts after anything but a letter and its number ends before anything but a digit.
+_W = r"(?<![A-Z])"
+_END = r"(?![0-9])"
+_HAAS = re.compile(rf"(?im){_W}(?:G187|G103|G47|M97|G154){_END}|\bHAAS\b")
+_FANUC_LATHE = re.compile(rf"(?im){_W}G50\s*S\d|{_W}G9[024]\s*[XUZW]")
+_MITSUBISHI = re.compile(rf"(?im)(?:,[IJR]\s*-?\d|{_W}G1[23]\s*I[-.\d]+\s*D\d|{_W}G7[789]{_END})")
 _LATHE = [
-    (re.compile(r"(?im)\bT\d{4}\b"), 3), (re.compile(r"(?im)\bG7[0-6]\s*P\d+\s*Q\d+"), 4), (re.compile(r"(?im)\bG96\b"), 2),
-    (re.compile(r"(?im)\bG50\s*S"), 2), (re.compile(r"(?im)\bG76\s*P\d{6}"), 3), (re.compile(r"(?im)\b[UW]-?\d*\.\d*"), 1),
-    (re.compile(r"(?im)\bG9[89]\b.*\bX"), 1), (re.compile(r"(?im)\bG18\b"), 1), (re.compile(r"(?im)\bG7[0-3]\s*U"), 3),
+    (re.compile(rf"(?im){_W}T\d{{4}}{_END}"), 3), (re.compile(rf"(?im){_W}G7[0-6]\s*P\d+\s*Q\d+"), 4), (re.compile(rf"(?im){_W}G96{_END}"), 2),
+    (re.compile(rf"(?im){_W}G50\s*S"), 2), (re.compile(rf"(?im){_W}G76\s*P\d{{6}}"), 3), (re.compile(rf"(?im){_W}[UW]-?\d*\.\d*"), 1),
+    (re.compile(rf"(?im){_W}G9[89]{_END}.*{_W}X"), 1), (re.compile(rf"(?im){_W}G18{_END}"), 1), (re.compile(rf"(?im){_W}G7[0-3]\s*U"), 3),
 ]
 _MILL = [
-    (re.compile(r"(?im)\bY-?\d*\.?\d"), 2), (re.compile(r"(?im)\bG4[34]\s*[HZ]"), 3), (re.compile(r"(?im)\bG8[1-9]\b"), 1),
-    (re.compile(r"(?im)\bG17\b"), 1), (re.compile(r"(?im)\bG5[4-9]\b"), 1), (re.compile(r"(?im)\bM0?6\b"), 2),
+    (re.compile(rf"(?im){_W}Y-?\d*\.?\d"), 2), (re.compile(rf"(?im){_W}G4[34]\s*[HZ]"), 3), (re.compile(rf"(?im){_W}G8[1-9]{_END}"), 1),
+    (re.compile(rf"(?im){_W}G17{_END}"), 1), (re.compile(rf"(?im){_W}G5[4-9]{_END}"), 1), (re.compile(rf"(?im){_W}M0?6{_END}"), 2),
 ]
 
 

@@ -307,3 +307,16 @@ def test_pi_is_a_value_and_machine_data_an_input_never_a_violation():
     assert "$PI" not in result.free_parameters
     divisions = found(result, "core.arithmetic-domain", None)
     assert [d.span.line for d in divisions] == [3] and divisions[0].status is Status.UNKNOWN
+
+
+# --------------------------------------------------------------------------- profile and machine type
+
+
+@pytest.mark.parametrize("text, profile, machine", [
+    ("N10G50S2000\nN20G96S200M3\nN30T0101\nN40G0X50.Z2.\nN50G1Z-10.F0.2\nM30\n", "fanuc", "lathe"),
+    ("N1G21G90G54\nN2T1M6\nN3G43H1Z50.\nN4G187P1\nN5S1000M3\nN6G0X10.Y10.\nM30\n", "haas", "mill"),
+    ("N10 G50 S2000\nN20 G96 S200 M3\nN30 T0101\nN40 G0 X50. Z2.\nM30\n", "fanuc", "lathe"),
+])
+def test_profile_and_machine_type_are_found_in_blocks_written_without_spaces(text, profile, machine):
+    found_here = detect(text)
+    assert (found_here.profile, found_here.machine) == (profile, machine)
