@@ -170,7 +170,7 @@ def _with_project_settings(settings: Settings, project: Context | None) -> Setti
 
 def _detection(source: ProgramSource, settings: Settings) -> Detection:
     head_bytes = bytes(source.buffer[:65536])
-    found = detect(source.head(), head_bytes, source.path.suffix if source.path is not None else "")
+    found = detect(source.head(), head_bytes, Path(source.name).suffix)
     if settings.dialect is None:
         return found
     if found.dialect is None and "binary" in found.reason:

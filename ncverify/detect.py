@@ -118,9 +118,9 @@ class Detection:
 
 # The file extension is one signal among the content's: it tips a close call (a Fagor program
 # without '#'/'$' statements in a .pim file) but never outweighs clear statements.
-_EXTENSIONS = {".h": "heidenhain", ".mpf": "sinumerik", ".spf": "sinumerik", ".pim": "fagor", ".pit": "fagor",
-               ".nc": "iso", ".cnc": "iso", ".tap": "iso", ".min": "iso"}
-_EXTENSION_WEIGHT = 12
+# A control's own extension weighs more than the generic ones many posts write.
+_EXTENSIONS = {".h": ("heidenhain", 15), ".mpf": ("sinumerik", 15), ".spf": ("sinumerik", 15), ".pim": ("fagor", 15),
+               ".pit": ("fagor", 15), ".nc": ("iso", 6), ".cnc": ("iso", 6), ".tap": ("iso", 6), ".min": ("iso", 6)}
 
 
 def detect(head: str, raw_head: bytes = b"", suffix: str = "") -> Detection:
@@ -133,15 +133,15 @@ def detect(head: str, raw_head: bytes = b"", suffix: str = "") -> Detection:
               for dialect, signatures in _SIGNATURES.items()}
     if max(scores.values()) == 0:
         return Detection(None, 0.5, "no G-code, Klartext or SINUMERIK/Fagor statements found")
-    by_extension = _EXTENSIONS.get(suffix.lower())
+    by_extension, extension_weight = _EXTENSIONS.get(suffix.lower(), (None, 0))
     if by_extension is not None:
-        scores[by_extension] += _EXTENSION_WEIGHT
+        scores[by_extension] += extension_weight
     best = max(scores, key=scores.get)
     total = sum(scores.values())
     confidence = scores[best] / total * min(1.0, scores[best] / 10.0)
     evidence = "signature scores " + ", ".join(f"{name} {score:g}" for name, score in sorted(scores.items(), key=lambda item: -item[1]) if score)
     if by_extension is not None:
-        evidence += f" (the extension {suffix} counted {_EXTENSION_WEIGHT} for {by_extension})"
+        evidence += f" (the extension {suffix} counted {extension_weight} for {by_extension})"
     if best != "iso":
         return Detection(best, round(confidence, 2), evidence=evidence)
     other = lookalike(head)

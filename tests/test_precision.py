@@ -320,3 +320,9 @@ def test_pi_is_a_value_and_machine_data_an_input_never_a_violation():
 def test_profile_and_machine_type_are_found_in_blocks_written_without_spaces(text, profile, machine):
     found_here = detect(text)
     assert (found_here.profile, found_here.machine) == (profile, machine)
+
+
+def test_m05_acts_after_the_motion_on_fagor_too():
+    result = check("G90 G0 X0 Y0 Z1\nS1000 M3\nG1 Z-1 F100\nG1 X10 M5\nG1 X20\nM30\n", "f.pim")
+    assert result.dialect == "fagor"
+    assert [d.span.line for d in found(result, "core.spindle-off-cutting")] == [5]
