@@ -2,7 +2,7 @@
 
 Rule *definitions* (id, category, default severity, page, parameter constraints) are data
 in ``rules/``; rule *logic* that needs more than a constraint is a class in
-``ncverify/checks/`` registered with :func:`rule`. The :class:`Checker` is the
+``ncverify/checks/`` registered with :func:`ncverify.rule_registry.rule`. The :class:`Checker` is the
 interpreter's observer: it hands each trace event to the rules that handle it.
 """
 from __future__ import annotations
@@ -19,6 +19,7 @@ import z3
 from . import values
 from .diagnostics import CATEGORIES, Diagnostic, Severity, Status, Suppressed
 from .resources import data_dir
+from .rule_registry import rule, rule_classes  # noqa: F401  (rule classes take their decorator from here, with Rule)
 from .source import Span
 from .values import Condition, Sym
 
@@ -103,41 +104,7 @@ def rule_definitions() -> dict[str, RuleDefinition]:
     return definitions
 
 
-# --------------------------------------------------------------------------- rule logic registry
-
-_RULE_CLASSES: list[type] = []
-
-
-def rule(*ids: str):
-    """Register a rule class reporting the given rule ids."""
-
-    def register(cls):
-        cls.ids = ids
-        _RULE_CLASSES.append(cls)
-        return cls
-
-    return register
-
-
-def implemented_rule_ids() -> set[str]:
-    from . import checks  # noqa: F401  (registers the rule classes)
-
-    ids = {rule_id for cls in _RULE_CLASSES for rule_id in cls.ids}
-    ids |= {definition.id for definition in rule_definitions().values() if definition.constraints}
-    return ids | _REPORTED_FROM_TRACE
-
-
-# Rules reported straight from reader/lowering notes and interpreter faults.
-_REPORTED_FROM_TRACE = {
-    "core.syntax", "core.unknown-code", "core.unsupported-code", "core.bare-g", "core.same-group-codes",
-    "core.too-many-m-codes", "core.duplicate-address", "core.label-not-found", "core.program-not-found",
-    "core.arithmetic-domain", "core.undefined-variable", "core.loop-bound", "core.call-depth", "core.macro-alarm",
-    "core.program-end-missing", "core.m99-in-main", "core.path-limit", "core.duplicate-label",
-    "core.repeat-count-range", "core.shape-order", "core.dialect-unsupported", "core.decimal-point", "core.bad-annotation",
-    "heidenhain.call-without-cycle", "heidenhain.cycle-with-compensation", "heidenhain.call-pos-axes", "heidenhain.sl-prerequisites",
-    "heidenhain.position-after-cycle", "heidenhain.program-name-mismatch", "heidenhain.mirror-tool-axis", "heidenhain.call-without-tool", "heidenhain.pattern-surface",
-    "heidenhain.pattern-tool-axis", "sinumerik.nested-mcall",
-}
+# --------------------------------------------------------------------------- rule logic
 
 
 class Rule:
@@ -162,7 +129,7 @@ class Rule:
     def word(self, key: str, form: str = "{}") -> str:
         """The control's own word for ``key`` (``dialects/<dialect>/wording.toml``) put into
         ``form``, or "" when this dialect has none."""
-        found = self.checker.context.get("wording", {}).get(key)
+        found = self.checker.context.wording.get(key)
         return form.format(found) if found else ""
 
     def segment(self, segment, state): ...
@@ -244,8 +211,6 @@ class Checker:
     configured severities and disabled rules."""
 
     def __init__(self, settings, context: dict, severity_overrides: dict | None = None, suppressions: dict | None = None):
-        from . import checks  # noqa: F401
-
         self.settings = settings
         self.context = context  # register limits, machine type, stock, tools, travel: what rules may assume
         self.suppressions = suppressions or {}  # line -> rule ids / categories from "ignore" annotations
@@ -257,7 +222,7 @@ class Checker:
         self._per_rule: dict[str, int] = {}
         self.truncated: dict[str, int] = {}
         self.path_condition: list = []
-        rules = [cls(self) for cls in _RULE_CLASSES if not set(cls.ids) <= settings.disabled_rules]
+        rules = [cls(self) for cls in rule_classes() if not set(cls.ids) <= settings.disabled_rules]
         self.rules = rules
         self._segment = _handlers(rules, "segment")
         self._motion_run = _handlers(rules, "motion_run")

@@ -11,7 +11,7 @@ import os
 import sys
 from pathlib import Path
 
-from . import __version__
+from . import __version__, rule_registry
 from .api import FileResult, InputError, check_file, check_source, iter_program_files, project_for
 from .check import RuleFileError, rule_definitions
 from .project import ConfigError
@@ -63,7 +63,8 @@ def build_parser() -> argparse.ArgumentParser:
     explain = commands.add_parser("explain", help="show a rule's page")
     explain.add_argument("rule")
 
-    commands.add_parser("rules", help="list the rules")
+    rules = commands.add_parser("rules", help="list the rules")
+    rules.add_argument("--where", action="store_true", help="add where each rule is implemented (module:Class, the page's constraints, or the modules that report it)")
     return parser
 
 
@@ -85,7 +86,7 @@ def main(argv: list[str] | None = None) -> int:
         if arguments.command == "explain":
             return _explain(arguments.rule)
         if arguments.command == "rules":
-            return _list_rules()
+            return _list_rules(arguments.where)
         return _check(arguments)
     except RuleFileError as error:
         print(f"ncverify: broken rule definition: {error}", file=sys.stderr)
@@ -225,9 +226,13 @@ def _print_markdown(text: str) -> None:
         print(text)
 
 
-def _list_rules() -> int:
+def _list_rules(where: bool = False) -> int:
+    implementations = rule_registry.implementations() if where else {}
     for definition in rule_definitions().values():
-        print(f"{definition.id:34} {definition.category:16} {definition.severity.value:8} {definition.summary}")
+        line = f"{definition.id:34} {definition.category:16} {definition.severity.value:8} {definition.summary}"
+        if where:
+            line += f"  [{implementations[definition.id].where}]"
+        print(line)
     return EXIT_OK
 
 

@@ -12,9 +12,9 @@ import math
 
 from shapely.geometry import Point
 
-from .. import pocket, values
+from .. import values
 from ..check import hazard, rule, show
-from .heidenhain import _CycleRule, _tool
+from .heidenhain import CycleRuleOfParts, _CycleRule, _tool
 
 _SL = {21, 22, 23, 24}
 _TRAINS = {25, 275, 276}
@@ -274,7 +274,7 @@ class CylinderRadius(_CycleRule):
 
     def judge_cycle(self, number, params, spans, span, state):
         radius = params.get("Q16")
-        stock = self.checker.context.get("stock")
+        stock = self.checker.context.stock
         if number not in _CYLINDER or radius is None or not self.first_time(state, ("cylinder-radius", span)):
             return
         if stock is None or stock.kind != "cylinder" or stock.diameter is None:
@@ -332,8 +332,7 @@ class OcmToolCorner(_CycleRule):
     def judge_cycle(self, number, params, spans, span, state):
         if number not in (272, 273) or not self.first_time(state, ("ocm-tool-corner", span)):
             return
-        tools = self.checker.context.get("tools") or {}
-        tool = tools.get(int(state.tool_in_spindle)) if type(state.tool_in_spindle) is float else None
+        tool = self.checker.context.tools.in_spindle(state)
         if tool is None:
             self.missing("heidenhain.ocm-tool-corner", span, "no tool table entry for the tool in the spindle (TOOL.T beside the program, or [tools.N])")
         elif tool.corner:
@@ -366,26 +365,7 @@ class SlQParameters(_CycleRule):
                         "cycle's data; use Q parameters above 20 (or QL) for the program's own values")
 
 
-@rule("heidenhain.plunge-angle")
-class ContourPlungeAngle(_CycleRule):
-    """C21, C27: 22 ROUGH-OUT with a reciprocating feed Q19 and 275 with a reciprocating
-    plunge Q366 = 2 need the tool's plunge ANGLE (seed L9582-9593, L10305-10311); the
-    pocket cycles are judged in :mod:`.heidenhain`."""
-
-    def judge_cycle(self, number, params, spans, span, state):
-        name = {22: "Q19", 275: "Q366"}.get(number)
-        value = params.get(name) if name else None
-        if type(value) is not float or value == 0.0 or (number == 275 and value != 2.0) or not self.first_time(state, ("contour-plunge-angle", span)):
-            return
-        tool = _tool(self, state, span, "heidenhain.plunge-angle", "angle")
-        if tool is not None and tool.angle == 0.0:
-            what = "a reciprocating plunge feed Q19" if number == 22 else "the reciprocating plunge Q366=2"
-            self.report("heidenhain.plunge-angle", spans.get(name, span), f"cycle {number} with {what} needs the tool's plunge angle, but ANGLE of "
-                        f"T{show(state.tool_in_spindle)} is 0: the control stops with an error")
-
-
-@rule("heidenhain.sl-allowance")
-class SideFinishingRadius(_CycleRule):
+class _SideFinishingRadius(_CycleRule):
     """C20: for 24 the finishing allowance plus the finishing tool's radius must stay below
     the roughing allowance Q3 plus the rougher's radius (seed L9833-9834); Q438 names the
     rougher (-1: the tool of the last 22, 0: none)."""
@@ -409,16 +389,14 @@ class SideFinishingRadius(_CycleRule):
         number = params.get("@last_rougher") if reference == -1.0 else reference
         if reference == 0.0:
             return 0.0
-        tools = self.checker.context.get("tools") or {}
-        tool = tools.get(int(number)) if type(number) is float else None
+        tool = self.checker.context.tools.numbered(number)
         if tool is None or tool.radius is None:
             self.missing("heidenhain.sl-allowance", span, "the radius of the roughing tool cycle 24 refers to (Q438, or the tool of the last cycle 22) is not known")
             return None
         return tool.radius
 
 
-@rule("heidenhain.sl-allowance")
-class ContourMillingAllowance(_CycleRule):
+class _ContourMillingAllowance(_CycleRule):
     """C20, C24: side finishing of a contour that is a single island mills along it; the
     roughing allowance (Q3 of 20, Q368 of 271) must then exceed Q14 plus the tool radius
     (seed L9836-9840, L11863-11868)."""
@@ -437,6 +415,14 @@ class ContourMillingAllowance(_CycleRule):
         verdict = self.checker.judge(hazard("<=", side, needed), state)
         self.checker.report_verdict("heidenhain.sl-allowance", spans.get(name, span), f"cycle {number} mills along a single island: its side allowance {name}={show(side)} "
                                     f"must exceed Q14={show(finish_allowance)} plus the tool radius {tool.radius:g} = {show(needed)} (seed L9836-9840, L11863-11868)", verdict, state)
+
+
+@rule("heidenhain.sl-allowance")
+class SlAllowance(CycleRuleOfParts):
+    """The allowances of side finishing 24 and 274 against the tools' radii (the page adds
+    the parameter-only constraints)."""
+
+    parts = (_SideFinishingRadius, _ContourMillingAllowance)
 
 
 def _single_island(use) -> bool:
@@ -458,8 +444,7 @@ class PilotDrill(_CycleRule):
         if number != 21 or type(rougher) is not float or rougher == 0.0 or not self.first_time(state, ("pilot-drill", span)):
             return
         drill = _tool(self, state, span, "heidenhain.pilot-drill", "radius")
-        tools = self.checker.context.get("tools") or {}
-        roughing = tools.get(int(rougher))
+        roughing = self.checker.context.tools.numbered(rougher)
         if drill is None:
             return
         if roughing is None or roughing.radius is None:
@@ -481,28 +466,3 @@ class ToleranceText(_CycleRule):
             if self.first_time(state, ("tolerance", where)):
                 self.report("heidenhain.tolerance", where, f"cycle {number}: {name}=\"{text}\" is not a tolerance the control reads (10+0.01-0.015, an ISO 286 fit "
                             "such as 10H7, or an ISO 2768 class such as 10m; H is a hole, h a shaft): machining stops with an error (seed L12155-12190)")
-
-
-@rule("heidenhain.tool-too-large")
-class PolygonPocketFit(_CycleRule):
-    """C23: a 1278 polygon pocket must hold the tool: its inscribed circle (Q571 itself, or
-    Q571 cos(180/n) when Q571 is the circumscribed circle) against R (1 + Q578) + Q368, as
-    for the circle 1272 (seed L12600-12744, L10990-10997)."""
-
-    def judge_cycle(self, number, params, spans, span, state):
-        if number != 272 or params.get("@shape") != 1278.0 or params.get("Q650", 0.0) != 0.0 or not self.first_time(state, ("polygon-fit", span)):
-            return
-        diameter, corners, circumscribed = params.get("Q571"), params.get("Q572"), params.get("Q573", 0.0)
-        factor, allowance = params.get("Q578", 0.0), params.get("Q368", 0.0)
-        if any(type(value) is not float for value in (diameter, corners, circumscribed, factor, allowance)) or corners < 3:
-            self.missing("heidenhain.tool-too-large", span, "a polygon size that depends on a free parameter")
-            return
-        tool = _tool(self, state, span, "heidenhain.tool-too-large", "radius")
-        if tool is None:
-            return
-        inscribed = diameter * math.cos(math.pi / corners) if circumscribed == 1.0 else diameter
-        fit = pocket.circle_fit(inscribed, tool.radius * (1.0 + factor) + allowance)
-        if not fit.fits:
-            self.report("heidenhain.tool-too-large", spans.get("Q571", span), f"cycle 272 in the {corners:g}-cornered polygon of inscribed diameter {inscribed:g}: "
-                        f"{fit.reason} (tool T{show(state.tool_in_spindle)}, R={tool.radius:g}, with the inside corner factor Q578={factor:g} "
-                        f"and the allowance Q368={allowance:g}); the largest tool radius that fits is {max((fit.largest_radius - allowance) / (1.0 + factor), 0.0):.3g}")

@@ -10,7 +10,6 @@ from shapely.geometry import Point, box
 
 from .. import ir, values
 from ..check import Rule, hazard, rule, show
-from ..lower.heidenhain_run import DEF_ACTIVE
 from .heidenhain import _CycleRule, _number, _tool
 
 _STUD_ROOM = 2.0  # mm beside the stud blank the approach keeps (seed L6429-6456, L6691-6715)
@@ -52,7 +51,7 @@ class _BlankRule(_CycleRule):
     and no coordinate transformation."""
 
     def blank_outline(self, rule_id: str, span, state):
-        stock = self.checker.context.get("stock")
+        stock = self.checker.context.stock
         if stock is None:
             self.missing(rule_id, span, "no blank (BLK FORM, an annotation or [stock])")
             return None, None
@@ -155,7 +154,7 @@ class PointAngle(_CycleRule):
         if use is None or not self.first_time(state, ("point-angle", span)):
             return
         tool_number = state.tool_in_spindle
-        tool = (self.checker.context.get("tools") or {}).get(int(tool_number)) if type(tool_number) is float else None
+        tool = self.checker.context.tools.in_spindle(state)
         if tool is None:
             self.missing("heidenhain.point-angle", span, "no tool table entry for the tool in the spindle (TOOL.T beside the program, or [tools.N])")
         elif tool.point_angle is None and tool.origin != "TOOL.T":
@@ -223,7 +222,7 @@ class WorkingPlane(Rule):
                             "nominal positions of the rotary axes can part after further calls; position them with Q120-Q122 instead (seed L8095-8096)")
             return
         if run.cycle != "heidenhain.19":
-            if _number(run.cycle) not in DEF_ACTIVE and not run.cycle.startswith("heidenhain.@"):
+            if run.model.get("activity") != "def" and not run.cycle.startswith("heidenhain.@"):
                 self._machining(run.span, state)  # a definition (a datum shift, contour data ...) machines nothing
             return
         given = [axis for axis in "ABC" if axis in run.params]
@@ -302,7 +301,7 @@ class ThreadCuttingPosition(_CycleRule):
             return
         axis = state.plane_axes[2]
         here, depth = state.position.get(axis), params.get("DEPTH")
-        stock = self.checker.context.get("stock")
+        stock = self.checker.context.stock
         if here is None or depth is None:
             self.missing("heidenhain.thread-cutting-position", span, "the tool-axis position at cycle 18 or its depth is not known")
             return
@@ -376,7 +375,7 @@ class ServoSpindle(_CycleRule):
     def judge_model(self, cycle, model, span, state):
         if "servo-spindle" not in model.get("requires", ()):
             return
-        encoder = self.checker.context.get("spindle_encoder")
+        encoder = self.checker.context.machine.spindle_encoder
         if encoder is None:
             self.missing("heidenhain.servo-spindle", span, "whether the spindle is servo-controlled is not known ([machine] spindle_encoder in ncverify.toml)")
         elif not encoder and self.first_time(state, ("servo-spindle", span)):

@@ -12,7 +12,7 @@ from ..check import Rule, hazard, rule, show
 from ..frames import AXES
 from ..lower.sinumerik_cycles import levels
 from ..pocket import circle_fit, rectangle_fit, slot_fit
-from .machine import _ReportsMissingContext
+from .common import ReportsMissingContext
 from .sinumerik import _PLANE_CYCLES, _contour_not_found, _contour_points_unknown, _cycle_name, _digit_problem, _is_sinumerik, _number, _point
 from .sinumerik_tools import _active_edge
 
@@ -20,7 +20,7 @@ from .sinumerik_tools import _active_edge
 # --------------------------------------------------------------------------- tool against the feature
 
 @rule("sinumerik.cutter-radius")
-class CutterRadius(_ReportsMissingContext):
+class CutterRadius(ReportsMissingContext):
     """Alarm 61105 "cutter radius too large" (POCKET1-4, SLOT1/2, LONGHOLE), 61111 "infeed
     width > tool diameter" (POCKET3/4, CYCLE71), 61117/61112 for a radius the cycle cannot use,
     and a slot tool below half the slot width, from the tool radius in the tool data ($TC_DP6
@@ -91,12 +91,10 @@ class CutterRadius(_ReportsMissingContext):
 def _spindle_tool_radius(checker, state):
     """The radius of the active edge of the tool in the spindle from the tool data, or None.
     The tool's own values are edge D1's; another D number takes its ``$TC_DP6[t,d]``."""
-    tools = checker.context.get("tools") or {}
-    number = state.tool_in_spindle
-    tool = tools.get(int(number)) if type(number) is float else None
+    tool = checker.context.tools.in_spindle(state)
     edge = _active_edge(state)
-    if tool is not None and edge is not None and edge != 1.0:
-        tool = tool.edges.get(int(edge))
+    if tool is not None and edge is not None:
+        tool = tool.edge_data(edge)
     return None if tool is None else tool.radius
 
 
@@ -129,7 +127,7 @@ _FEATURES = {
 # --------------------------------------------------------------------------- pocket and path-milling contours (CYCLE72-75)
 
 @rule("sinumerik.pocket-contour")
-class PocketContour(_ReportsMissingContext):
+class PocketContour(ReportsMissingContext):
     """CYCLE74/75 contours and the CYCLE73 call (reference A section 6.24, seed L9311-9360,
     L9905-9914, L10703-10775): a contour named (61900), closed contours (61901), G0 to the first
     point, no RND/CHF at the last element, a roughing tool _TN (61984), the stepover at most 80 %
@@ -192,7 +190,7 @@ class PocketContour(_ReportsMissingContext):
 
 
 @rule("sinumerik.path-milling-contour")
-class PathMillingContour(_ReportsMissingContext):
+class PathMillingContour(ReportsMissingContext):
     """CYCLE72's contour (reference A section 6.21, seed L8306-8320): at least two blocks in
     the plane, no G40/G41/G42 inside (the cycle selects the compensation itself), no frame."""
 
@@ -245,7 +243,7 @@ _SCALE_ALARMS = {"CYCLE71": ("61011", "scaling not permitted"), "CYCLE72": ("610
 
 
 @rule("sinumerik.scaled-cycle")
-class ScaledCycle(_ReportsMissingContext):
+class ScaledCycle(ReportsMissingContext):
     """CYCLE71/72 with a scale factor active (61011) and CYCLE76/77 with different factors
     on the two plane axes (61012) [appendix L19650-19660], from the programmable frame;
     unknown when an entry of the frame is not a number."""

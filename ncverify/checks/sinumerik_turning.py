@@ -9,14 +9,14 @@ import math
 from shapely.geometry import LineString, Point, Polygon
 
 from ..check import Rule, hazard, rule, show
-from .machine import _ReportsMissingContext
+from .common import ReportsMissingContext
 from .sinumerik import _contour_not_found, _contour_points_unknown, _cycle_name, _is_sinumerik, _point, _shown
 
 
 # --------------------------------------------------------------------------- stock removal contours (CYCLE95, CYCLE950)
 
 @rule("sinumerik.stock-removal-contour")
-class StockRemovalContour(_ReportsMissingContext):
+class StockRemovalContour(ReportsMissingContext):
     """CYCLE95's contour rules on the contour's own geometry (reference B section 6.3, C2-C13):
     enough plane blocks, only lines and arcs up to 180 degrees, no plane, frame or G41/G42
     inside, G0-G3 in the first block, no G41/G42 at the call, and the start position
@@ -47,7 +47,7 @@ class StockRemovalContour(_ReportsMissingContext):
 
 
 @rule("sinumerik.contour-direction")
-class ContourDirection(_ReportsMissingContext):
+class ContourDirection(ReportsMissingContext):
     """CYCLE95 takes its machining direction from the contour's first and last points and
     machines undercuts, but an element that turns back against that direction (an overhang)
     is neither machined nor reported (reference B section 9 items 22 and 24, seed
@@ -82,7 +82,7 @@ class ContourDirection(_ReportsMissingContext):
 
 
 @rule("sinumerik.extended-stock-removal")
-class ExtendedStockRemoval(_ReportsMissingContext):
+class ExtendedStockRemoval(ReportsMissingContext):
     """CYCLE950 (reference B sections 6.8 and 11.3, seed L18265-18273, L18755-18765,
     L19404-19510): a finished contour must be named (61701), a blank contour must be closed
     (61740) and hold the finished contour (61735) with material between them (61724); neither
@@ -188,7 +188,7 @@ class UndercutFeed(Rule):
 
 
 @rule("sinumerik.groove-dwell")
-class GrooveDwell(_ReportsMissingContext):
+class GrooveDwell(ReportsMissingContext):
     """CYCLE93's dwell DTB at the groove base should last at least one spindle revolution
     (reference B section 9 item 29, seed L15201-15205): judged under G97, where the speed S
     is the revolutions per minute; unknown otherwise."""
