@@ -6,7 +6,6 @@ it is not checked; the tests below run each rule on a small program both ways.
 from __future__ import annotations
 
 import textwrap
-from pathlib import Path
 
 import pytest
 from hypothesis import given, settings as hypothesis_settings, strategies as st
@@ -14,7 +13,6 @@ from hypothesis import given, settings as hypothesis_settings, strategies as st
 from ncverify import Settings, check_text
 from ncverify.check import rule_definitions
 from ncverify.diagnostics import Status
-from ncverify.project import load_project_text
 
 # Reference B §9, item -> rule ids (a comment says where the coverage is partial) or the
 # reason the item is not decided from the program text.
@@ -91,9 +89,11 @@ def program(body: str, blank: str = "BLK FORM 0.1 Z X+0 Y+0 Z-20\n2  BLK FORM 0.
     return "\n".join(lines + ["99 END PGM T MM"]) + "\n"
 
 
+from conftest import project
+
+
 def check(text: str, tools: str = ""):
-    context = load_project_text(tools, Path("ncverify.toml")) if tools else None
-    return check_text(text, "t.h", Settings(dialect="heidenhain"), context)
+    return check_text(text, "t.h", Settings(dialect="heidenhain"), project(tools))
 
 
 def findings(result, rule: str, status=Status.VIOLATED) -> list:
