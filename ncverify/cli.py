@@ -16,10 +16,10 @@ from .api import FileResult, InputError, check_file, check_source, iter_program_
 from .check import RuleFileError, rule_definitions
 from .project import ConfigError
 from .diagnostics import Severity, Status
+from .dialect import DIALECTS, MACHINES
 from .report import render_json, render_sarif, render_text
 from .settings import Settings
 from .source import ProgramSource
-from .tables import iso_profiles
 
 EXIT_OK, EXIT_FINDINGS, EXIT_USAGE = 0, 1, 2
 
@@ -40,9 +40,9 @@ def build_parser() -> argparse.ArgumentParser:
     check.add_argument("paths", nargs="+", metavar="PATH")
     check.add_argument("--format", choices=("text", "json", "sarif"), default="text")
     check.add_argument("--output", "-o", metavar="FILE", help="write the report to FILE instead of stdout")
-    check.add_argument("--dialect", choices=("iso", "heidenhain", "sinumerik", "fagor"), help="skip detection")
-    check.add_argument("--profile", choices=iso_profiles(), help="ISO profile (default: detected, else mitsubishi-e60)")
-    check.add_argument("--machine", choices=("mill", "lathe"), help="machine type where the program cannot tell")
+    check.add_argument("--dialect", choices=tuple(DIALECTS), help="skip detection")
+    check.add_argument("--profile", choices=DIALECTS["iso"].profiles(), help="ISO profile (default: detected, else mitsubishi-e60)")
+    check.add_argument("--machine", choices=MACHINES, help="machine type where the program cannot tell")
     check.add_argument("--fail-on", choices=("error", "warning", "info", "never"), default="error")
     check.add_argument("--fail-on-unknown", action="store_true", help="unknown verdicts fail the run too")
     check.add_argument("--loop-bound", type=_positive_int, default=Settings.loop_bound, metavar="N",

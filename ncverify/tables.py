@@ -67,7 +67,3 @@ def _overlay(codes: dict, additions: dict, removals: list) -> None:
     for key in removals:
         codes.pop(key, None)
     codes.update(additions)
-
-
-def iso_profiles() -> list[str]:
-    return sorted(_load("iso", "profiles.toml"))
