@@ -30,6 +30,7 @@ import dataclasses
 import re
 
 from .. import ir
+from ..cycle_models import load_cycle_table
 from ..dialect import DialectSetup
 from ..read.fagor import FagorLine, Statement, read_fagor_line
 from ..read.iso import ReadBlock
@@ -62,7 +63,7 @@ _MODAL_CALL_ARGUMENTS = re.compile(rb'(?im)#MCALL[ \t]+(?:"[^"\n]*"|[^\s;]+)([^\
 
 def fagor_table(machine: str = "mill") -> CodeTable:
     data = _load("fagor", "mill.toml")
-    cycles = _load("fagor", "cycles.toml")["cycle"]
+    cycles = load_cycle_table("fagor")
     settings = dict(data.get("settings", {}))
     settings.update(data.get("conventions", {}))
     return CodeTable("fagor-8065", machine, dict(data["g"]), dict(data["m"]), dict(data["words"]), dict(data["power_on"]), settings, cycles)

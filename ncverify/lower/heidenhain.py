@@ -15,14 +15,13 @@ jumps, Q/QL/QR parameters ``Assign``.
 from __future__ import annotations
 
 import re
-import tomllib
 
 from .. import ir
 from ..context import Context, Stock, Tool
+from ..cycle_models import load_cycle_table
 from ..dialect import DialectSetup
 from ..read.heidenhain import Cursor, ReadError, continues as _continues, split
 from ..read.heidenhain_runs import is_plain_line, read_plain_run
-from ..resources import data_dir
 from ..source import Span
 from . import heidenhain_run
 
@@ -969,8 +968,7 @@ def read_tool_table(path) -> tuple[dict[int, Tool], dict[str, float]]:
 
 
 def _cycle_models() -> dict:
-    with (data_dir("dialects") / "heidenhain" / "cycles.toml").open("rb") as handle:
-        models = tomllib.load(handle)["cycle"]
+    models = load_cycle_table("heidenhain")
     models.update(heidenhain_run.pseudo_models())
     return models
 

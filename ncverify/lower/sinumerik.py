@@ -31,6 +31,7 @@ import numpy
 
 from .. import ir
 from ..context import Context, Stock, Tool, tool_value_problem
+from ..cycle_models import load_cycle_table
 from ..dialect import DialectSetup
 from ..read.iso_runs import read_plain_run
 from ..read.sinumerik import Item, ReadBlock, read_line
@@ -89,9 +90,7 @@ def tables() -> dict:
     folder = data_dir("dialects") / "sinumerik"
     with (folder / "codes.toml").open("rb") as handle:
         codes = tomllib.load(handle)
-    with (folder / "cycles.toml").open("rb") as handle:
-        cycles = tomllib.load(handle)["cycle"]
-    return {"codes": codes, "cycles": cycles}
+    return {"codes": codes, "cycles": load_cycle_table("sinumerik")}
 
 
 def _code_key(value: float) -> str:
