@@ -109,6 +109,16 @@ def test_no_new_import_points_against_the_pipeline():
     assert wrong_arrows() - KNOWN_WRONG == set()
 
 
+def test_no_rule_module_imports_private_names():
+    """Helpers rule modules share are public (checks/common.py, or the dialect's module)."""
+    private = []
+    for path in (PACKAGE / "checks").glob("*.py"):
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if isinstance(node, ast.ImportFrom):
+                private += [f"{path.name}: {alias.name}" for alias in node.names if alias.name.startswith("_")]
+    assert private == []
+
+
 def test_the_stages_are_told_apart():
     assert stage("ncverify.read.iso") == "read" and stage("ncverify.lower.iso") == "lower"
     assert stage("ncverify.interpret") == stage("ncverify.interpret.runtime") == stage("ncverify.control_flow") == "interpret"

@@ -1,5 +1,9 @@
-"""Helpers the rule modules share: the one place a rule says which context it lacked, and
-the tool radius lookup the milling rules of every dialect use."""
+"""Helpers the rule modules of every dialect share: the one place a rule says which context
+it lacked, and the tool radius lookup the milling rules use. Helpers of one dialect's
+rules are public in that dialect's first module (``checks.heidenhain``: ``CycleRule``,
+``cycle_number``, ``spindle_tool``; ``checks.sinumerik``: ``cycle_name``,
+``is_sinumerik``, ...; ``checks.sinumerik_tools``: ``active_edge``); no rule module
+imports another's private names."""
 from __future__ import annotations
 
 from ..check import Rule, show

@@ -16,14 +16,14 @@ _PLUNGE_CHECKED = {251, 252, 253, 254}
 _SL_CYCLES = {21, 22, 23, 24}
 
 
-def _number(cycle: str) -> int | None:
+def cycle_number(cycle: str) -> int | None:
     if not cycle.startswith("heidenhain."):
         return None
     tail = cycle.rsplit(".", 1)[-1]
     return int(tail) if tail.isdigit() else None
 
 
-def _tool(rule_instance, state, span, rule_id, what: str):
+def spindle_tool(rule_instance, state, span, rule_id, what: str):
     """The tool in the spindle from TOOL.T / the project file, or None (said once)."""
     number = state.tool_in_spindle
     tool = rule_instance.checker.context.tools.in_spindle(state)
@@ -56,24 +56,24 @@ def _machining_depth(number, params):
     return names, found[0] if len(found) == 1 else values.sub(*found)
 
 
-class _CycleRule(ReportsMissingContext):
+class CycleRule(ReportsMissingContext):
     """Judges every cycle execution, hole or pocket, once per definition and place."""
 
     def hole(self, hole, state):
-        self.judge_cycle(_number(hole.cycle), hole.params, hole.param_spans, hole.definition or hole.span, state)
+        self.judge_cycle(cycle_number(hole.cycle), hole.params, hole.param_spans, hole.definition or hole.span, state)
 
     def cycle_run(self, run, state):
         if not run.first_block:
-            self.judge_cycle(_number(run.cycle), run.params, run.param_spans, run.span, state)
+            self.judge_cycle(cycle_number(run.cycle), run.params, run.param_spans, run.span, state)
 
     def judge_cycle(self, number, params, spans, span, state): ...
 
 
-class CycleRuleOfParts(_CycleRule):
+class CycleRuleOfParts(CycleRule):
     """One rule judged by independent parts (say, the pocket cycles and the contour cycles),
     in order; each part keeps its own memory of the context it has said is missing."""
 
-    parts: tuple[type[_CycleRule], ...] = ()
+    parts: tuple[type[CycleRule], ...] = ()
 
     def __init__(self, checker):
         super().__init__(checker)
@@ -85,7 +85,7 @@ class CycleRuleOfParts(_CycleRule):
 
 
 @rule("heidenhain.usable-length")
-class UsableLength(_CycleRule):
+class UsableLength(CycleRule):
     """H4: the control stops when the tool's usable length LU is shorter than the depth."""
 
     def judge_cycle(self, number, params, spans, span, state):
@@ -97,7 +97,7 @@ class UsableLength(_CycleRule):
                          "which is not computed, so it is not compared with the usable length LU")
         if depth is None or not self.first_time(state, ("usable-length", span)):
             return
-        tool = _tool(self, state, span, "heidenhain.usable-length", "usable_length")
+        tool = spindle_tool(self, state, span, "heidenhain.usable-length", "usable_length")
         if tool is None:
             return
         verdict = self.checker.judge(hazard(">", values.absolute(depth), tool.usable_length), state)
@@ -107,7 +107,7 @@ class UsableLength(_CycleRule):
 
 
 @rule("heidenhain.tap-pitch")
-class TapPitch(_CycleRule):
+class TapPitch(CycleRule):
     """H9: with a PITCH in the tool table, 207/209 compare it with Q239 and stop on a mismatch.
     H8: 206 in a floating holder feeds Q206, which must be S x PITCH."""
 
@@ -120,7 +120,7 @@ class TapPitch(_CycleRule):
         pitch = params.get("Q239")
         if number not in (207, 209) or pitch is None or not self.first_time(state, ("tap-pitch", span)):
             return
-        tool = _tool(self, state, span, "heidenhain.tap-pitch", "pitch")
+        tool = spindle_tool(self, state, span, "heidenhain.tap-pitch", "pitch")
         if tool is None:
             return
         verdict = self.checker.judge(hazard(">", values.absolute(values.sub(values.absolute(pitch), abs(tool.pitch))), 1e-6), state)
@@ -136,7 +136,7 @@ class TapPitch(_CycleRule):
         if speed is None:
             self.missing("heidenhain.tap-pitch", span, "no spindle speed S at cycle 206, so its feed Q206 is not compared with S x PITCH")
             return
-        tool = _tool(self, state, span, "heidenhain.tap-pitch", "pitch")
+        tool = spindle_tool(self, state, span, "heidenhain.tap-pitch", "pitch")
         if tool is None:
             return
         expected = values.absolute(values.mul(speed, tool.pitch))
@@ -146,7 +146,7 @@ class TapPitch(_CycleRule):
                                     f"T{show(state.tool_in_spindle)} = {show(expected)}: the tap cuts a second thread or breaks (seed L3786-3788)", verdict, state)
 
 
-class _PocketPlungeAngle(_CycleRule):
+class _PocketPlungeAngle(CycleRule):
     """H11: a helical or reciprocating plunge needs the tool's ANGLE; 252's vertical plunge
     takes only ANGLE 0 or 90."""
 
@@ -156,7 +156,7 @@ class _PocketPlungeAngle(_CycleRule):
             return
         if strategy == 0.0 and number != 252:
             return
-        tool = _tool(self, state, span, "heidenhain.plunge-angle", "angle")
+        tool = spindle_tool(self, state, span, "heidenhain.plunge-angle", "angle")
         if tool is None:
             return
         where = spans.get("Q366", span)
@@ -168,7 +168,7 @@ class _PocketPlungeAngle(_CycleRule):
                         f"has {tool.angle:g}: the control stops with an error (seed L5810-5817)")
 
 
-class _PocketFit(_CycleRule):
+class _PocketFit(CycleRule):
     """H12/H33: the tool must fit the pocket, slot or bore it is to cut; the largest tool
     that would is reported. Part B C21: a cycle-22 contour pocket the tool enters but
     cannot clear is residual material, a warning."""
@@ -178,7 +178,7 @@ class _PocketFit(_CycleRule):
             return
         if number == 272 and (params.get("@shape") not in (1271.0, 1272.0, 1273.0) or params.get("Q650", 0.0) != 0.0):
             return  # a free OCM contour or an island / boundary shape: no pocket to fit
-        tool = _tool(self, state, span, "heidenhain.tool-too-large", "radius")
+        tool = spindle_tool(self, state, span, "heidenhain.tool-too-large", "radius")
         if tool is None:
             return
         if number == 22:
@@ -271,7 +271,7 @@ _CLEARANCE_HEIGHT = {
 }
 
 
-class _ContourPlungeAngle(_CycleRule):
+class _ContourPlungeAngle(CycleRule):
     """C21, C27: 22 ROUGH-OUT with a reciprocating feed Q19 and 275 with a reciprocating
     plunge Q366 = 2 need the tool's plunge ANGLE (seed L9582-9593, L10305-10311); the
     pocket cycles are judged by :class:`_PocketPlungeAngle`."""
@@ -281,14 +281,14 @@ class _ContourPlungeAngle(_CycleRule):
         value = params.get(name) if name else None
         if type(value) is not float or value == 0.0 or (number == 275 and value != 2.0) or not self.first_time(state, ("contour-plunge-angle", span)):
             return
-        tool = _tool(self, state, span, "heidenhain.plunge-angle", "angle")
+        tool = spindle_tool(self, state, span, "heidenhain.plunge-angle", "angle")
         if tool is not None and tool.angle == 0.0:
             what = "a reciprocating plunge feed Q19" if number == 22 else "the reciprocating plunge Q366=2"
             self.report("heidenhain.plunge-angle", spans.get(name, span), f"cycle {number} with {what} needs the tool's plunge angle, but ANGLE of "
                         f"T{show(state.tool_in_spindle)} is 0: the control stops with an error")
 
 
-class _PolygonPocketFit(_CycleRule):
+class _PolygonPocketFit(CycleRule):
     """C23: a 1278 polygon pocket must hold the tool: its inscribed circle (Q571 itself, or
     Q571 cos(180/n) when Q571 is the circumscribed circle) against R (1 + Q578) + Q368, as
     for the circle 1272 (seed L12600-12744, L10990-10997)."""
@@ -301,7 +301,7 @@ class _PolygonPocketFit(_CycleRule):
         if any(type(value) is not float for value in (diameter, corners, circumscribed, factor, allowance)) or corners < 3:
             self.missing("heidenhain.tool-too-large", span, "a polygon size that depends on a free parameter")
             return
-        tool = _tool(self, state, span, "heidenhain.tool-too-large", "radius")
+        tool = spindle_tool(self, state, span, "heidenhain.tool-too-large", "radius")
         if tool is None:
             return
         inscribed = diameter * math.cos(math.pi / corners) if circumscribed == 1.0 else diameter
@@ -327,7 +327,7 @@ class ToolTooLarge(CycleRuleOfParts):
 
 
 @rule("heidenhain.sl-clearance-height")
-class ContourClearanceHeight(_CycleRule):
+class ContourClearanceHeight(CycleRule):
     """Part B H13/H14: the SL, contour-train and OCM cycles travel between areas and retract
     at a clearance height (Q7, Q260) that must lie above the set-up clearance and the blank."""
 
@@ -376,7 +376,7 @@ class DepthThroughBlank(ReportsMissingContext):
     table (a through hole needs a spacer under the part)."""
 
     def hole(self, hole, state):
-        if _number(hole.cycle) is None or hole.bottom is None or not self.first_time(state, ("through-blank", hole.definition)):
+        if cycle_number(hole.cycle) is None or hole.bottom is None or not self.first_time(state, ("through-blank", hole.definition)):
             return
         stock = self.checker.context.stock
         if stock is None:
@@ -384,5 +384,5 @@ class DepthThroughBlank(ReportsMissingContext):
         low = stock.z_range[0]
         verdict = self.checker.judge(hazard("<", hole.bottom, low), state)
         self.checker.report_verdict("heidenhain.depth-through-blank", hole.param_spans.get("Q201", hole.definition or hole.span),
-                                    f"cycle {_number(hole.cycle)}: the hole bottom Z{show(hole.bottom)} (Q203 + Q201) is below the underside of the blank Z{low:g}: "
+                                    f"cycle {cycle_number(hole.cycle)}: the hole bottom Z{show(hole.bottom)} (Q203 + Q201) is below the underside of the blank Z{low:g}: "
                                     "the tool cuts into what the part lies on (seed L3527-3539)", verdict, state)

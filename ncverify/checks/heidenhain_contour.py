@@ -14,7 +14,7 @@ from shapely.geometry import Point
 
 from .. import values
 from ..check import hazard, rule, show
-from .heidenhain import CycleRuleOfParts, _CycleRule, _tool
+from .heidenhain import CycleRuleOfParts, CycleRule, spindle_tool
 
 _SL = {21, 22, 23, 24}
 _TRAINS = {25, 275, 276}
@@ -32,7 +32,7 @@ def _label(subprogram) -> str:
 
 
 @rule("heidenhain.contour-subprogram")
-class ContourSubprogram(_CycleRule):
+class ContourSubprogram(CycleRule):
     """A3, A5, A6: what a contour subprogram may hold, how many a contour train takes, and
     how a trochoidal slot starts."""
 
@@ -95,7 +95,7 @@ def _turn_degrees(before, at, after) -> float:
 
 
 @rule("heidenhain.contour-feed")
-class ContourFeed(_CycleRule):
+class ContourFeed(CycleRule):
     """A3 (part): feed rates and M functions in a contour subprogram, which describes only
     the geometry (seed L9071)."""
 
@@ -111,7 +111,7 @@ class ContourFeed(_CycleRule):
 
 
 @rule("heidenhain.contour-compensation")
-class ContourCompensation(_CycleRule):
+class ContourCompensation(CycleRule):
     """A1, A4: cycle-14 subcontours of SL cycles need RL or RR (pocket or island comes from
     it); with cycle 270 or CONTOUR DEF the subprograms must have none."""
 
@@ -134,7 +134,7 @@ class ContourCompensation(_CycleRule):
 
 
 @rule("heidenhain.contour-overlap-start")
-class ContourOverlapStart(_CycleRule):
+class ContourOverlapStart(CycleRule):
     """A2: where superimposed subcontours start decides union, difference or intersection
     (seed L9254-9320): the first pocket must start outside the pockets and islands it
     overlaps (else only the common area is machined), an island inside a pocket."""
@@ -172,7 +172,7 @@ def _overlap_faults(found, names):
 
 
 @rule("heidenhain.contour-def")
-class ContourDefinition(_CycleRule):
+class ContourDefinition(CycleRule):
     """A7-A9: CONTOUR DEF limits, subcontour depths against the cycle depth, and the kinds
     Q569 of cycle 271 demands; a shape island with no boundary."""
 
@@ -234,7 +234,7 @@ class ContourDefinition(_CycleRule):
 
 
 @rule("heidenhain.below-clearance-height")
-class BelowClearanceHeight(_CycleRule):
+class BelowClearanceHeight(CycleRule):
     """H16: cycle 276 stops with an error when the tool is below the clearance height Q7 at
     the call (seed L10444-10446)."""
 
@@ -253,14 +253,14 @@ class BelowClearanceHeight(_CycleRule):
 
 
 @rule("heidenhain.cylinder-clearance")
-class CylinderClearance(_CycleRule):
+class CylinderClearance(CycleRule):
     """H19: the set-up clearance Q6 of a cylinder-surface cycle must exceed the tool radius."""
 
     def judge_cycle(self, number, params, spans, span, state):
         clearance = params.get("Q6")
         if number not in _CYLINDER or clearance is None or not self.first_time(state, ("cylinder-clearance", span)):
             return
-        tool = _tool(self, state, span, "heidenhain.cylinder-clearance", "radius")
+        tool = spindle_tool(self, state, span, "heidenhain.cylinder-clearance", "radius")
         if tool is None:
             return
         verdict = self.checker.judge(hazard("<=", clearance, tool.radius), state)
@@ -269,7 +269,7 @@ class CylinderClearance(_CycleRule):
 
 
 @rule("heidenhain.cylinder-radius")
-class CylinderRadius(_CycleRule):
+class CylinderRadius(CycleRule):
     """H19: Q16 should be the radius of the BLK FORM CYLINDER the depth is measured from."""
 
     def judge_cycle(self, number, params, spans, span, state):
@@ -288,7 +288,7 @@ class CylinderRadius(_CycleRule):
 
 
 @rule("heidenhain.cylinder-spindle")
-class CylinderSpindle(_CycleRule):
+class CylinderSpindle(CycleRule):
     """H30: 28, 29 and 39 must be called with the spindle running (seed L13641-13642)."""
 
     def judge_cycle(self, number, params, spans, span, state):
@@ -298,7 +298,7 @@ class CylinderSpindle(_CycleRule):
 
 
 @rule("heidenhain.slot-width")
-class SlotWidth(_CycleRule):
+class SlotWidth(CycleRule):
     """C27, C28: the trochoidal slot 275 needs a width between the tool diameter and twice
     it; the cylinder slot 28 a width of at least the tool diameter plus both allowances."""
 
@@ -309,7 +309,7 @@ class SlotWidth(_CycleRule):
         width = params.get(name)
         if width is None:
             return
-        tool = _tool(self, state, span, "heidenhain.slot-width", "radius")
+        tool = spindle_tool(self, state, span, "heidenhain.slot-width", "radius")
         if tool is None:
             return
         diameter, where = 2.0 * tool.radius, spans.get(name, span)
@@ -326,7 +326,7 @@ class SlotWidth(_CycleRule):
 
 
 @rule("heidenhain.ocm-tool-corner")
-class OcmToolCorner(_CycleRule):
+class OcmToolCorner(CycleRule):
     """C26: 272 and 273 compute their paths without the tool's corner radius R2."""
 
     def judge_cycle(self, number, params, spans, span, state):
@@ -341,7 +341,7 @@ class OcmToolCorner(_CycleRule):
 
 
 @rule("heidenhain.rougher-forgotten")
-class RougherForgotten(_CycleRule):
+class RougherForgotten(CycleRule):
     """H37: CONTOUR DEF makes the control forget the last roughing tool; Q438 = -1 then
     means 'no roughing before' (seed L11284-11286)."""
 
@@ -353,7 +353,7 @@ class RougherForgotten(_CycleRule):
 
 
 @rule("heidenhain.sl-q-parameters")
-class SlQParameters(_CycleRule):
+class SlQParameters(CycleRule):
     """H36: the SL and cylinder cycles keep their parameters in Q1-Q20 (seed L9360-9361)."""
 
     def judge_cycle(self, number, params, spans, span, state):
@@ -365,7 +365,7 @@ class SlQParameters(_CycleRule):
                         "cycle's data; use Q parameters above 20 (or QL) for the program's own values")
 
 
-class _SideFinishingRadius(_CycleRule):
+class _SideFinishingRadius(CycleRule):
     """C20: for 24 the finishing allowance plus the finishing tool's radius must stay below
     the roughing allowance Q3 plus the rougher's radius (seed L9833-9834); Q438 names the
     rougher (-1: the tool of the last 22, 0: none)."""
@@ -374,7 +374,7 @@ class _SideFinishingRadius(_CycleRule):
         side, finish_allowance = params.get("Q3"), params.get("Q14")
         if number != 24 or side is None or finish_allowance is None or not self.first_time(state, ("side-finishing-radius", span)):
             return
-        finisher = _tool(self, state, span, "heidenhain.sl-allowance", "radius")
+        finisher = spindle_tool(self, state, span, "heidenhain.sl-allowance", "radius")
         rougher = self._rougher_radius(params, span)
         if finisher is None or rougher is None:
             return
@@ -396,7 +396,7 @@ class _SideFinishingRadius(_CycleRule):
         return tool.radius
 
 
-class _ContourMillingAllowance(_CycleRule):
+class _ContourMillingAllowance(CycleRule):
     """C20, C24: side finishing of a contour that is a single island mills along it; the
     roughing allowance (Q3 of 20, Q368 of 271) must then exceed Q14 plus the tool radius
     (seed L9836-9840, L11863-11868)."""
@@ -408,7 +408,7 @@ class _ContourMillingAllowance(_CycleRule):
             return
         if not self.first_time(state, ("contour-milling", span)):
             return
-        tool = _tool(self, state, span, "heidenhain.sl-allowance", "radius")
+        tool = spindle_tool(self, state, span, "heidenhain.sl-allowance", "radius")
         if tool is None:
             return
         needed = values.add(finish_allowance, tool.radius)
@@ -435,7 +435,7 @@ def _single_island(use) -> bool:
 
 
 @rule("heidenhain.pilot-drill")
-class PilotDrill(_CycleRule):
+class PilotDrill(CycleRule):
     """C31: cycle 21 places its plunge holes for the rougher Q13; a drill wider than that
     rougher may not fit where the rougher does (seed L9483-9490)."""
 
@@ -443,7 +443,7 @@ class PilotDrill(_CycleRule):
         rougher = params.get("Q13")
         if number != 21 or type(rougher) is not float or rougher == 0.0 or not self.first_time(state, ("pilot-drill", span)):
             return
-        drill = _tool(self, state, span, "heidenhain.pilot-drill", "radius")
+        drill = spindle_tool(self, state, span, "heidenhain.pilot-drill", "radius")
         roughing = self.checker.context.tools.numbered(rougher)
         if drill is None:
             return
@@ -457,7 +457,7 @@ class PilotDrill(_CycleRule):
 
 
 @rule("heidenhain.tolerance")
-class ToleranceText(_CycleRule):
+class ToleranceText(CycleRule):
     """A10: a toleranced dimension of an OCM shape that is none of the forms the control reads."""
 
     def judge_cycle(self, number, params, spans, span, state):

@@ -18,7 +18,7 @@ from ..lower.sinumerik import ACTIVE_EDGE
 from .common import ReportsMissingContext
 
 
-def _active_edge(state):
+def active_edge(state):
     """The active D number, or None when the program has not set it on this path."""
     edge = state.global_variables.get(ACTIVE_EDGE.name)
     return edge if type(edge) is float else None
@@ -43,7 +43,7 @@ class _EdgeRule(ReportsMissingContext):
         number = _active_tool_number(state, self.checker.context.lathe)
         if number is None:
             return None, "which tool is active is not known"
-        edge = _active_edge(state)
+        edge = active_edge(state)
         if edge is None:
             return None, "no D number is programmed on this path"
         tool = self.checker.context.tools.numbered(number)
@@ -81,11 +81,11 @@ _EDGE_FIELDS = {"clearance_angle": ("clearance angle", 24), "edge_position": ("c
 
 
 def _edge_name(tool, state) -> str:
-    return f"T{tool.number} D{show(_active_edge(state))}"
+    return f"T{tool.number} D{show(active_edge(state))}"
 
 
 def _edge_index(tool, state) -> str:
-    return f"[{tool.number},{show(_active_edge(state))}]"
+    return f"[{tool.number},{show(active_edge(state))}]"
 
 
 # --------------------------------------------------------------------------- CYCLE95: the clearance angle (61604)
@@ -251,7 +251,7 @@ class PocketEdge(ReportsMissingContext):
     def cycle_run(self, run, state):
         if run.cycle != "sinumerik.CYCLE73":
             return
-        edge = _active_edge(state)
+        edge = active_edge(state)
         if edge is None:
             self.missing("sinumerik.pocket-edge", run.span, "the active cutting edge (D number) at CYCLE73 is not known on this path")
         elif edge != 1.0:
