@@ -17,6 +17,7 @@ from pathlib import Path
 import z3
 
 from . import values
+from .context import RuleContext
 from .diagnostics import CATEGORIES, Diagnostic, Severity, Status, Suppressed
 from .resources import data_dir
 from .rule_registry import rule, rule_classes  # noqa: F401  (rule classes take their decorator from here, with Rule)
@@ -210,9 +211,9 @@ class Checker:
     """Collects findings from the trace: dedups them, caps them per rule, applies the
     configured severities and disabled rules."""
 
-    def __init__(self, settings, context: dict, severity_overrides: dict | None = None, suppressions: dict | None = None):
+    def __init__(self, settings, context: RuleContext, severity_overrides: dict | None = None, suppressions: dict | None = None):
         self.settings = settings
-        self.context = context  # register limits, machine type, stock, tools, travel: what rules may assume
+        self.context = context  # stock, tools, machine, register limits: what rules may assume
         self.suppressions = suppressions or {}  # line -> rule ids / categories from "ignore" annotations
         self.suppressed: list[Suppressed] = []
         self.definitions = rule_definitions()
