@@ -7,8 +7,9 @@ A rule's *definition* (id, category, severity, page) is its page in ``rules/``. 
   parameter constraints the class does not repeat);
 - parameter constraints only, written in its page (``[[constraint]]``);
 - a finding the reader, lowering or interpreter reports itself (a syntax error, a jump to
-  a missing label, a cycle called with no cycle defined): :data:`REPORTED_BY` names the
-  modules that report it.
+  a missing label, a cycle called with no cycle defined): it is listed in
+  :data:`REPORTED_BEFORE_THE_CHECKER`, and :func:`reporting_modules` finds the modules
+  that report it.
 
 :func:`implementations` joins the three into one table; a rule id registered twice is an
 error when the table is built, and a test holds pages and table to each other.
@@ -16,6 +17,8 @@ error when the table is built, and a test holds pages and table to each other.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cache
+from pathlib import Path
 
 _RULE_CLASSES: list[type] = []
 
@@ -38,54 +41,39 @@ def rule_classes() -> list[type]:
     return _RULE_CLASSES
 
 
-# Findings reported by the stages before the checker, as notes of the reader/lowering or
-# faults of the interpreter, with the modules that report them.
-REPORTED_BY: dict[str, tuple[str, ...]] = {
-    "core.arithmetic-domain": ("ncverify.interpret",),
-    "core.bad-annotation": ("ncverify.annotations",),
-    "core.bare-g": ("ncverify.lower.iso",),
-    "core.call-depth": ("ncverify.control_flow",),
-    "core.decimal-point": ("ncverify.lower.iso",),
-    "core.dialect-unsupported": ("ncverify.api",),
-    "core.duplicate-address": ("ncverify.lower.iso", "ncverify.lower.fagor"),
-    "core.duplicate-label": ("ncverify.control_flow",),
-    "core.label-not-found": ("ncverify.control_flow",),
-    "core.loop-bound": ("ncverify.interpret", "ncverify.control_flow"),
-    "core.m99-in-main": ("ncverify.control_flow",),
-    "core.macro-alarm": ("ncverify.interpret",),
-    "core.path-limit": ("ncverify.control_flow",),
-    "core.program-end-missing": ("ncverify.control_flow",),
-    "core.program-not-found": ("ncverify.control_flow",),
-    "core.repeat-count-range": ("ncverify.cycles", "ncverify.control_flow"),
-    "core.same-group-codes": ("ncverify.lower.iso",),
-    "core.shape-order": ("ncverify.cycles",),
-    "core.syntax": ("ncverify.lower.iso", "ncverify.lower.heidenhain", "ncverify.lower.sinumerik", "ncverify.lower.fagor",
-                    "ncverify.control_flow"),
-    "core.too-many-m-codes": ("ncverify.lower.iso",),
-    "core.undefined-variable": ("ncverify.interpret",),
-    "core.unknown-code": ("ncverify.lower.iso",),
-    "core.unsupported-code": ("ncverify.interpret", "ncverify.frames", "ncverify.lower.iso", "ncverify.lower.heidenhain",
-                              "ncverify.lower.heidenhain_run", "ncverify.lower.heidenhain_frames", "ncverify.lower.heidenhain_special",
-                              "ncverify.lower.sinumerik", "ncverify.lower.sinumerik_cycles", "ncverify.lower.fagor",
-                              "ncverify.lower.fagor_cycles"),
-    "fagor.cycle-data-without-cycle": ("ncverify.lower.fagor",),
-    "fagor.pattern-parameters": ("ncverify.lower.fagor_cycles",),
-    "fagor.pattern-skip-list": ("ncverify.lower.fagor_cycles",),
-    "fagor.pattern-without-cycle": ("ncverify.lower.fagor_cycles",),
-    "fagor.repeat-without-motion": ("ncverify.lower.fagor",),
-    "fagor.turning-cycle": ("ncverify.lower.fagor_cycles",),
-    "heidenhain.call-pos-axes": ("ncverify.lower.heidenhain_run",),
-    "heidenhain.call-without-cycle": ("ncverify.lower.heidenhain_run", "ncverify.lower.heidenhain_special"),
-    "heidenhain.call-without-tool": ("ncverify.lower.heidenhain_run",),
-    "heidenhain.cycle-with-compensation": ("ncverify.lower.heidenhain_run",),
-    "heidenhain.mirror-tool-axis": ("ncverify.lower.heidenhain_run",),
-    "heidenhain.pattern-surface": ("ncverify.lower.heidenhain_run",),
-    "heidenhain.pattern-tool-axis": ("ncverify.lower.heidenhain_run",),
-    "heidenhain.position-after-cycle": ("ncverify.lower.heidenhain_run",),
-    "heidenhain.program-name-mismatch": ("ncverify.lower.heidenhain",),
-    "heidenhain.sl-prerequisites": ("ncverify.lower.heidenhain_run",),
-    "sinumerik.nested-mcall": ("ncverify.lower.sinumerik",),
-}
+# Findings the stages before the checker report themselves, as notes of the reader or
+# lowering and faults of the interpreter; :func:`reporting_modules` finds where.
+REPORTED_BEFORE_THE_CHECKER: frozenset[str] = frozenset({
+    "core.arithmetic-domain", "core.bad-annotation", "core.bare-g", "core.call-depth", "core.decimal-point",
+    "core.dialect-unsupported", "core.duplicate-address", "core.duplicate-label", "core.label-not-found",
+    "core.loop-bound", "core.m99-in-main", "core.macro-alarm", "core.path-limit", "core.program-end-missing",
+    "core.program-not-found", "core.repeat-count-range", "core.same-group-codes", "core.shape-order",
+    "core.syntax", "core.too-many-m-codes", "core.undefined-variable", "core.unknown-code",
+    "core.unsupported-code", "fagor.cycle-data-without-cycle", "fagor.pattern-parameters",
+    "fagor.pattern-skip-list", "fagor.pattern-without-cycle", "fagor.repeat-without-motion",
+    "fagor.turning-cycle", "heidenhain.call-pos-axes", "heidenhain.call-without-cycle",
+    "heidenhain.call-without-tool", "heidenhain.cycle-with-compensation", "heidenhain.mirror-tool-axis",
+    "heidenhain.pattern-surface", "heidenhain.pattern-tool-axis", "heidenhain.position-after-cycle",
+    "heidenhain.program-name-mismatch", "heidenhain.sl-prerequisites", "sinumerik.nested-mcall",
+})
+
+
+@cache
+def _sources() -> dict[str, str]:
+    package = Path(__file__).parent
+    sources = {}
+    for path in sorted(package.rglob("*.py")):
+        relative = path.relative_to(package)
+        if relative.parts[0] == "checks" or relative.name in ("check.py", "rule_registry.py"):
+            continue
+        module = ".".join(("ncverify",) + relative.with_suffix("").parts).removesuffix(".__init__")
+        sources[module] = path.read_text(encoding="utf-8")
+    return sources
+
+
+def reporting_modules(rule_id: str) -> tuple[str, ...]:
+    """The modules before the checker whose code names ``rule_id``: where it is reported."""
+    return tuple(module for module, text in _sources().items() if f'"{rule_id}"' in text)
 
 
 @dataclass(frozen=True)
@@ -96,14 +84,19 @@ class Implementation:
     rule_id: str
     rule_class: str | None = None
     constraints: bool = False
-    reported_by: tuple[str, ...] = ()
+    reported_before_the_checker: bool = False
+
+    @property
+    def reported_by(self) -> tuple[str, ...]:
+        """The modules that report it, for a rule the stages before the checker report."""
+        return reporting_modules(self.rule_id) if self.reported_before_the_checker else ()
 
     @property
     def where(self) -> str:
         """Where to read the rule's logic, as ``ncverify rules --where`` prints it."""
         parts = [self.rule_class] if self.rule_class else []
-        if self.reported_by:
-            parts.append("reported by " + ", ".join(self.reported_by))
+        if self.reported_before_the_checker:
+            parts.append("reported by " + (", ".join(self.reported_by) or "no module (a defect)"))
         if self.constraints:
             parts.append(f"constraints in rules/{self.rule_id.replace('.', '/', 1)}.md")
         return " + ".join(parts)
@@ -124,10 +117,11 @@ def implementations() -> dict[str, Implementation]:
             if rule_id in classes:
                 raise DuplicateRegistration(f"rule {rule_id} is registered by {classes[rule_id]} and by {name}")
             classes[rule_id] = name
-    for rule_id in REPORTED_BY.keys() & classes.keys():
-        raise DuplicateRegistration(f"rule {rule_id} is registered by {classes[rule_id]} and as reported by {', '.join(REPORTED_BY[rule_id])}")
+    for rule_id in REPORTED_BEFORE_THE_CHECKER & classes.keys():
+        raise DuplicateRegistration(f"rule {rule_id} is registered by {classes[rule_id]} and as reported before the checker")
     constrained = {definition.id for definition in rule_definitions().values() if definition.constraints}
     table = {}
-    for rule_id in sorted(classes.keys() | constrained | REPORTED_BY.keys()):
-        table[rule_id] = Implementation(rule_id, classes.get(rule_id), rule_id in constrained, REPORTED_BY.get(rule_id, ()))
+    for rule_id in sorted(classes.keys() | constrained | REPORTED_BEFORE_THE_CHECKER):
+        reported = rule_id in REPORTED_BEFORE_THE_CHECKER
+        table[rule_id] = Implementation(rule_id, classes.get(rule_id), rule_id in constrained, reported)
     return table
