@@ -25,6 +25,8 @@ from .source import ProgramSource, Span
 from .trace import Arc, Change, Fault, MotionRun, Segment
 from .dialect import logical_lines
 from .values import VACANT, Condition, DomainError, Sym
+from .verdict import evaluate_constraint, hazard, judge, show
+from .project import assumption_bounds, assumption_names, parameter_name
 
 _ARC_KINDS = {"arc_cw": "cw", "arc_ccw": "ccw"}
 _SEGMENT_KIND = {"rapid": "rapid", "linear": "feed", "arc_cw": "arc", "arc_ccw": "arc", "thread": "thread"}
@@ -417,12 +419,10 @@ class Interpreter(ControlFlow):
     def _symbolic_divisor(self, divisor: Sym, written: ir.Expr, span) -> None:
         """A divisor that depends on free parameters: can it be zero on this path? The
         message names the parameter the program divides by, if it divides by one."""
-        from .check import hazard, judge
-
         verdict = judge(hazard("==", divisor, 0.0), self.state.path_condition, self.settings.solver_timeout_s)
         if verdict is None:
             return
-        value = values_text(divisor)
+        value = show(divisor)
         named = written.name if isinstance(written, ir.Var) and isinstance(written.name, str) else None
         what = f"{named} = {value}" if named is not None and named != value else value
         self.observer.report_verdict("core.arithmetic-domain", span or self._block.span,
@@ -460,9 +460,6 @@ class Interpreter(ControlFlow):
     def _assume(self, assumptions) -> list:
         """Free parameters named in assumptions get their bounds; the assumptions start
         every path's condition."""
-        from .check import evaluate_constraint
-        from .project import assumption_bounds, assumption_names, parameter_name
-
         conditions = []
         for assumption in assumptions:
             unbounded = {node: values.parameter(parameter_name(node)) for node in assumption_names(assumption.tree)}
@@ -878,12 +875,6 @@ def _forward_fill(column, empty, initial: float):
     numpy.maximum.accumulate(index, out=index)
     padded = numpy.concatenate(([initial], numpy.where(missing, numpy.nan, column)))
     return padded[index]
-
-
-def values_text(value) -> str:
-    from .check import show
-
-    return show(value)
 
 
 def _scaled(value, scale: float):
