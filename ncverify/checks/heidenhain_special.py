@@ -10,7 +10,7 @@ from shapely.geometry import Point, box
 
 from .. import ir, values
 from ..check import Rule, hazard, rule, show
-from ..lower.heidenhain_run import DEF_ACTIVE
+from ..interpret.heidenhain.runtime import DEF_ACTIVE
 from .heidenhain import _CycleRule, _number, _tool
 
 _STUD_ROOM = 2.0  # mm beside the stud blank the approach keeps (seed L6429-6456, L6691-6715)

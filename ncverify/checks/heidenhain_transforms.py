@@ -1,6 +1,6 @@
 """Klartext hazards of the coordinate transformations (reference A §9, H19, H36, H38). The
 active transformations are the path's ``("heidenhain", "transforms")`` dialect state
-(:mod:`ncverify.lower.heidenhain_frames`)."""
+(:mod:`ncverify.interpret.heidenhain.transforms`)."""
 from __future__ import annotations
 
 from ..check import Rule, rule

@@ -10,7 +10,7 @@ import math
 from .. import values
 from ..check import Rule, hazard, rule, show
 from ..frames import AXES
-from ..lower.sinumerik_cycles import levels
+from ..interpret.sinumerik_cycles import levels
 from ..pocket import circle_fit, rectangle_fit, slot_fit
 from .machine import _ReportsMissingContext
 from .sinumerik import _PLANE_CYCLES, _contour_not_found, _contour_points_unknown, _cycle_name, _digit_problem, _is_sinumerik, _number, _point

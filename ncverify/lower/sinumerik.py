@@ -36,7 +36,8 @@ from ..read.iso_runs import read_plain_run
 from ..read.sinumerik import Item, ReadBlock, read_line
 from ..resources import data_dir
 from ..source import Span, decode_line
-from . import modal_call, sinumerik_cycles  # noqa: F401  (sinumerik_cycles registers the cycle shapes)
+from . import modal_call
+from ..interpret import modal_call as running_modal_call
 
 WHILE_LOOP, FOR_LOOP, ENDLESS_LOOP, REPEAT_LOOP = 1, 2, 3, 4
 UNTIL_FLAG = "_REPEAT_UNTIL_"
@@ -516,7 +517,7 @@ class SinumerikFrontend:
         return "global" if name[:1] in ("R", "$") and (name[:1] == "$" or name[1:].split("[")[0].isdigit()) else "local"
 
     def system_variable(self, name: str, state):
-        return modal_call.system_value(name, state)
+        return running_modal_call.system_value(name, state)
 
     def label_offsets(self, buffer, label):
         if isinstance(label, str) and "#" in label:

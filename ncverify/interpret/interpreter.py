@@ -8,7 +8,7 @@ This module runs blocks and carries out the operations that change the machine: 
 codes, offsets and frames, feed, spindle, tools, moves, cycles and variables. Straight-line
 code streams, and a long streak of plain blocks runs as one batch. Where execution goes
 next (branches, jumps, loops, labels, calls and returns, program ends) is in
-:mod:`ncverify.control_flow`, a mixin of :class:`Interpreter`.
+:mod:`ncverify.interpret.control_flow`, a mixin of :class:`Interpreter`.
 """
 from __future__ import annotations
 
@@ -17,16 +17,16 @@ from dataclasses import dataclass, field, replace
 
 import numpy
 
-from . import frames, ir, values
+from .. import frames, ir, values
 from .control_flow import ControlFlow, Frame, LoopFrame, PathEnd, Position
 from .cycles import ActiveCycle, CycleRunner
-from .settings import Settings
-from .source import ProgramSource, Span
-from .trace import Arc, Change, Fault, MotionRun, Segment
-from .dialect import logical_lines
-from .values import VACANT, Condition, DomainError, Sym
-from .verdict import evaluate_constraint, hazard, judge, show
-from .project import assumption_bounds, assumption_names, parameter_name
+from ..settings import Settings
+from ..source import ProgramSource, Span
+from ..trace import Arc, Change, Fault, MotionRun, Segment
+from ..dialect import logical_lines
+from ..values import VACANT, Condition, DomainError, Sym
+from ..verdict import evaluate_constraint, hazard, judge, show
+from ..project import assumption_bounds, assumption_names, parameter_name
 
 _ARC_KINDS = {"arc_cw": "cw", "arc_ccw": "ccw"}
 _SEGMENT_KIND = {"rapid": "rapid", "linear": "feed", "arc_cw": "arc", "arc_ccw": "arc", "thread": "thread"}
@@ -778,8 +778,8 @@ class Interpreter(ControlFlow):
             radius = self.value(radius_expr, op.span)
             if radius is VACANT:
                 return Arc(direction, (first, second, normal), None, None, None)
-            return Arc(direction, (first, second, normal), None, None, None, radius, _distance(s1, s2, e1, e2),
-                       chord_sq=_distance_sq(s1, s2, e1, e2))
+            return Arc(direction, (first, second, normal), None, None, None, radius, values.distance(s1, s2, e1, e2),
+                       chord_sq=values.distance_sq(s1, s2, e1, e2))
         centre_letters = {"X": "I", "Y": "J", "Z": "K"}
         offset1 = self.value(arc_words.get(centre_letters[first], 0.0), op.span)
         offset2 = self.value(arc_words.get(centre_letters[second], 0.0), op.span)
@@ -789,10 +789,10 @@ class Interpreter(ControlFlow):
             c1, c2 = offset1, offset2
         else:
             c1, c2 = values.add(s1, offset1), values.add(s2, offset2)
-        start_radius = _distance(s1, s2, c1, c2)
-        end_radius = _distance(e1, e2, c1, c2)
+        start_radius = values.distance(s1, s2, c1, c2)
+        end_radius = values.distance(e1, e2, c1, c2)
         return Arc(direction, (first, second, normal), (c1, c2), start_radius, end_radius,
-                   start_radius_sq=_distance_sq(s1, s2, c1, c2), end_radius_sq=_distance_sq(e1, e2, c1, c2))
+                   start_radius_sq=values.distance_sq(s1, s2, c1, c2), end_radius_sq=values.distance_sq(e1, e2, c1, c2))
 
     # ------------------------------------------------------------------ cycles
 
@@ -879,18 +879,3 @@ def _forward_fill(column, empty, initial: float):
 
 def _scaled(value, scale: float):
     return value if scale == 1.0 else values.mul(value, scale)
-
-
-def _distance_sq(a1, a2, b1, b2):
-    d1, d2 = values.sub(a1, b1), values.sub(a2, b2)
-    return values.add(values.mul(d1, d1), values.mul(d2, d2))
-
-
-def _distance(a1, a2, b1, b2):
-    """Distance of two points; None when it depends on free parameters (the arc rule then
-    answers unknown rather than compare radii it cannot compute exactly)."""
-    d1, d2 = values.sub(a1, b1), values.sub(a2, b2)
-    if type(d1) is float and type(d2) is float:
-        return math.hypot(d1, d2)
-    return None
-

@@ -15,11 +15,11 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from . import ir, values
-from .dialect import logical_lines
-from .source import ProgramSource, Span
-from .trace import Fault
-from .values import VACANT, Condition
+from .. import ir, values
+from ..dialect import logical_lines
+from ..source import ProgramSource, Span
+from ..trace import Fault
+from ..values import VACANT, Condition
 
 # Fanuc argument specification I: G65 letters to local variables.
 _ARGUMENT_VARIABLES = {
