@@ -20,6 +20,7 @@ import numpy
 from .. import frames, ir, values
 from .control_flow import ControlFlow, Frame, LoopFrame, PathEnd, Position
 from .cycles import ActiveCycle, CycleRunner
+from .heidenhain.state import KlartextState
 from ..settings import Settings
 from ..source import ProgramSource, Span
 from ..trace import Arc, Change, Fault, MotionRun, Segment
@@ -64,7 +65,8 @@ class MachineState:
     jump_counts: dict = field(default_factory=dict)
     path_condition: list = field(default_factory=list)
     last_reference_via: dict = field(default_factory=dict)
-    rule_state: dict = field(default_factory=dict)  # per-path memory of the rules
+    rule_state: dict = field(default_factory=dict)  # per-path memory of the rules (and of nothing else)
+    klartext: KlartextState = field(default_factory=KlartextState)  # HEIDENHAIN dialect state (replaced, never changed in place)
     feed_inherited: bool = False  # a called program checked alone: its caller set the feed
     coordinate_shift: dict = field(default_factory=dict)  # G92/G52: machine = program + work offset + shift (None: unknown)
     frame: frames.Frame | None = None  # program -> workpiece coordinates (None: the identity)

@@ -2,9 +2,9 @@
 
 The lowering (:mod:`ncverify.lower.heidenhain`) turns constructs that need machine state
 into ``ir.CycleCall`` operations of pseudo cycles ``heidenhain.@<what>``; each is run here
-as shapes of the shared cycle runner (:class:`ncverify.interpret.cycles.DialectCycles`). Dialect state lives in
-``state.rule_state`` under ``("heidenhain", key)`` and is never changed in place (paths
-fork by copying that dict shallowly).
+as shapes of the shared cycle runner (:class:`ncverify.interpret.cycles.DialectCycles`). Dialect state lives in the
+path's :class:`~ncverify.interpret.heidenhain.state.KlartextState` (``state.klartext``),
+replaced, never changed in place, so that forked paths keep their own.
 
 Cycle motion (reference A §6.0, "generic hole-cycle kinematics"):
 
@@ -18,11 +18,12 @@ from __future__ import annotations
 
 import math
 import re
-from dataclasses import dataclass, replace
+from dataclasses import replace
 
 from ... import ir, values
 from .. import cycles
 from . import special, transforms
+from .state import Definition
 from ..control_flow import PathEnd
 from ...trace import Arc, CycleRun, Hole
 
@@ -35,23 +36,9 @@ _TRANSFORMS = frozenset({7, 8, 10, 11, 19, 26})
 _HOLE_FAMILIES = frozenset({"drill", "tap", "thread"})
 
 
-@dataclass(frozen=True)
-class Definition:
-    """A CALL-active cycle as its CYCL DEF left it."""
-
-    number: int
-    params: dict
-    spans: dict
-    span: object
-    model: dict
-
-
-def _get(state, key, default=None):
-    return state.rule_state.get(("heidenhain", key), default)
-
-
-def _put(state, key, value) -> None:
-    state.rule_state[("heidenhain", key)] = value
+def _put(state, **changes) -> None:
+    """Change the path's Klartext state (a new value: a forked path keeps its own)."""
+    state.klartext = replace(state.klartext, **changes)
 
 
 def system_variable(name: str, state):
@@ -61,7 +48,7 @@ def system_variable(name: str, state):
     if not name.startswith("@"):
         return None
     if name == "@TOOLF":
-        feed = _get(state, "tool_feed")
+        feed = state.klartext.tool_feed
         return feed if feed is not None else values.fresh("FAUTO", 0.0)
     return values.fresh(name[1:])
 
@@ -80,7 +67,7 @@ def _plane(state):
 def _pole_run(runner, op, block, model, params):
     state = runner.state
     first, second, normal = _plane(state)
-    pole = dict(_get(state, "pole", {}))
+    pole = dict(state.klartext.pole)
     given = []
     for word, value in params.items():
         axis = word[-1]
@@ -93,15 +80,15 @@ def _pole_run(runner, op, block, model, params):
     if not given:
         pole[first], pole[second] = state.position.get(first), state.position.get(second)
         given = [first, second]
-    _put(state, "pole", pole)
-    _put(state, "pole_axes", tuple(axis for axis in "XYZ" if axis in given) if len(given) == 2 else (first, second))
+    _put(state, pole=pole)
+    _put(state, pole_axes=tuple(axis for axis in "XYZ" if axis in given) if len(given) == 2 else (first, second))
     return None
 
 
 def _pole_plane(state):
     """The plane of the arcs about CC: the two axes CC was given in (CAM output writes
     ``CC Y.. Z..`` for arcs in YZ), else the working plane."""
-    axes = _get(state, "pole_axes")
+    axes = state.klartext.pole_axes
     working = _plane(state)
     if not axes or set(axes) == set(working[:2]):
         return working
@@ -130,7 +117,7 @@ def _targets(runner, params: dict, span) -> dict:
 def _arc_run(runner, op, block, model, params):
     state = runner.state
     first, second, normal = _pole_plane(state)
-    pole = _get(state, "pole", {})
+    pole = state.klartext.pole
     targets = _targets(runner, params, op.span)
     direction = "ccw" if params.get("DR", 1.0) > 0 else "cw"
     _emit_arc(runner, op, block, targets, (pole.get(first), pole.get(second)), (first, second, normal), direction)
@@ -151,7 +138,7 @@ def _emit_arc(runner, op, block, targets, centre, plane, direction) -> None:
         arc = Arc(direction, plane, (c1, c2), values.distance(s1, s2, c1, c2), values.distance(e1, e2, c1, c2),
                   start_radius_sq=values.distance_sq(s1, s2, c1, c2), end_radius_sq=values.distance_sq(e1, e2, c1, c2))
     runner.emit("arc", start, op.span, block, "programmed", None, arc)
-    _put(state, "fed_at", _plane_point(state))
+    _put(state, fed_at=_plane_point(state))
 
 
 def _plane_point(state):
@@ -168,7 +155,7 @@ def _lift_run(runner, op, block, model, params):
     current, target = state.position.get("Z"), targets.get("Z")
     rising = type(current) is float and type(target) is float and target > current
     in_place = all(targets[axis] == state.position.get(axis) for axis in ("X", "Y") if axis in targets)
-    fed_here = _get(state, "fed_at") == _plane_point(state) and None not in _plane_point(state)
+    fed_here = state.klartext.fed_at == _plane_point(state) and None not in _plane_point(state)
     state.modal["motion"] = "rapid"
     state.motion_seen = True
     role = "out-of-hole" if rising and fed_here and in_place else "programmed"
@@ -193,7 +180,7 @@ def _polar_run(runner, op, block, model, params):
     """LP / CP: a point given by radius PR and angle PA about the pole CC."""
     state = runner.state
     first, second, normal = _pole_plane(state)
-    pole = _get(state, "pole", {})
+    pole = state.klartext.pole
     c1, c2 = pole.get(first), pole.get(second)
     s1, s2 = state.position.get(first), state.position.get(second)
     end = _polar_end(params, c1, c2, s1, s2)
@@ -281,7 +268,7 @@ def _approach_run(runner, op, block, model, params):
 
 def _tool_feed_run(runner, op, block, model, params):
     if "F" in params:
-        _put(runner.state, "tool_feed", params["F"])
+        _put(runner.state, tool_feed=params["F"])
     return None
 
 
@@ -304,13 +291,13 @@ def _label_call_run(runner, op, block, model, params):
     target = runner.find_label(label, op.span)
     here = runner.current_offset
     if target.source is runner.current_source and target.offset < here and not _returns_between(runner, target, here):
-        key = ("rep", here)
-        done = _get(state, key, 0)
+        repeats = state.klartext.label_repeats
+        done = repeats.get(here, 0)
         if done < repeat:
-            _put(state, key, done + 1)
+            _put(state, label_repeats={**repeats, here: done + 1})
             runner.count_jump(target, op.span, f"the repeat of {runner.frontend.describe_label(label)}")
             return target
-        _put(state, key, 0)
+        _put(state, label_repeats={**repeats, here: 0})
         return None
     call = ir.Call(op.span, "local", label, repeat + 1.0)
     return runner.call_subprogram(call, block)
@@ -339,7 +326,7 @@ def _define_run(runner, op, block, model, params):
     state = runner.state
     number = int(params.pop("@number", -1))
     cycle_model = runner.cycle_model(f"heidenhain.{number}")
-    defaults = _get(state, "global", {})
+    defaults = state.klartext.global_defaults
     for name, value in list(params.items()):
         if value == "PREDEF":
             if name in defaults:
@@ -351,8 +338,8 @@ def _define_run(runner, op, block, model, params):
     if number in DEF_ACTIVE:
         return _def_active(runner, op, block, number, params, cycle_model)
     definition = Definition(number, params, dict(op.param_spans), op.span, cycle_model)
-    _put(state, "cycle", definition)
-    _put(state, "m89", False)
+    _put(state, cycle=definition)
+    _put(state, m89=False)
     if not cycle_model:
         runner.fault("core.unsupported-code", op.span, f"cycle {number} is read but not modelled; checks that depend on its motion answer unknown",
                       "unknown", f"cycle {number}")
@@ -392,25 +379,25 @@ def _def_active(runner, op, block, number, params, cycle_model):
         transforms.reset(runner, transforms.RESET_BY_DATUM_SETTING)  # seed L8221-8223
         return None
     if number == 20:
-        _put(state, "sl_data", (_numbers(params), dict(op.param_spans), op.span))
+        _put(state, sl_data=(_numbers(params), dict(op.param_spans), op.span))
         return None
     if number == 14:
-        _put(state, "sl_labels", tuple(value for key, value in sorted(params.items()) if key.startswith("L")))
-        _put(state, "contour_source", ("cycle 14", op.span, None, None))
+        _put(state, sl_labels=tuple(value for key, value in sorted(params.items()) if key.startswith("L")))
+        _put(state, contour_source=("cycle 14", op.span, None, None))
         return None
     if number == 270:  # the contour train data of 25 and 276 (seed L9908-9974)
-        _put(state, "train_data", (_numbers(params), dict(op.param_spans)))
+        _put(state, train_data=(_numbers(params), dict(op.param_spans)))
         return None
     if number in (9, 32, 13, 239):
         return None
     if number == 224:
         return special.datamatrix(runner, op, block)
     if number in (271, 1271, 1272, 1273, 1278):  # OCM data, with a standard shape (reference B 6.21)
-        _put(state, "ocm", (number, _numbers(params), dict(op.param_spans)))
-        _put(state, "ocm_boundary", None)  # a shape cancels the boundary before it (seed L12143-12145)
+        _put(state, ocm=(number, _numbers(params), dict(op.param_spans)))
+        _put(state, ocm_boundary=None)  # a shape cancels the boundary before it (seed L12143-12145)
         return None
     if number in (1281, 1282):
-        _put(state, "ocm_boundary", number)
+        _put(state, ocm_boundary=number)
         return None
     if number in _TRANSFORMS:
         if params:  # without words it is the header of the old-style sub-blocks (CYCL DEF 7.0 DATUM SHIFT)
@@ -429,22 +416,22 @@ def _old_cycle_run(runner, op, block, model, params):
     sub = int(params.pop("@sub"))
     cycle_model = runner.cycle_model(f"heidenhain.{number}")
     if sub == 0:
-        _put(state, "old_cycle", (number, {}))
+        _put(state, old_cycle=(number, {}))
         if number not in DEF_ACTIVE:
-            _put(state, "cycle", Definition(number, {}, {}, op.span, cycle_model))
-            _put(state, "m89", False)
+            _put(state, cycle=Definition(number, {}, {}, op.span, cycle_model))
+            _put(state, m89=False)
         return None
     if number not in DEF_ACTIVE:
-        definition = _get(state, "cycle")
+        definition = state.klartext.cycle
         if definition is not None and definition.number == number:
-            _put(state, "cycle", replace(definition, params={**definition.params, **params}, spans={**definition.spans, **op.param_spans}))
+            _put(state, cycle=replace(definition, params={**definition.params, **params}, spans={**definition.spans, **op.param_spans}))
         return None
     runner.report_cycle(CycleRun(f"heidenhain.{number}", cycle_model, op.span, block, _numbers(params), dict(op.param_spans)))
     if number == 14:
         labels = tuple(params[key] for key in sorted((key for key in params if key.startswith("L")), key=lambda key: int(key[1:])))
-        _put(state, "sl_labels", labels)
-        _put(state, "sl_kinds", None)
-        _put(state, "contour_source", ("cycle 14", op.span, None, None))
+        _put(state, sl_labels=labels)
+        _put(state, sl_kinds=None)
+        _put(state, contour_source=("cycle 14", op.span, None, None))
     elif number in _TRANSFORMS:
         _transform(runner, op, number, params)
     return None
@@ -464,9 +451,9 @@ def _transform(runner, op, number, params) -> None:
 
 def _global_def_run(runner, op, block, model, params):
     state = runner.state
-    merged = dict(_get(state, "global", {}))
+    merged = dict(state.klartext.global_defaults)
     merged.update(params)
-    _put(state, "global", merged)
+    _put(state, global_defaults=merged)
     return None
 
 
@@ -476,11 +463,11 @@ def _contour_def_run(runner, op, block, model, params):
     radius of the last roughing tool (seed L11284-11286)."""
     order = sorted((key for key in params if key[0] in "PIV"), key=lambda key: int(key[1:]))
     state = runner.state
-    _put(state, "sl_labels", tuple(params[key] for key in order))
-    _put(state, "sl_kinds", tuple(key[0] == "P" for key in order))
+    _put(state, sl_labels=tuple(params[key] for key in order))
+    _put(state, sl_kinds=tuple(key[0] == "P" for key in order))
     depths = tuple(params.get(f"D{key[1:]}") for key in order)
-    _put(state, "contour_source", ("CONTOUR DEF", op.span, tuple(key[0] for key in order), depths))
-    _put(state, "roughed_since_contour_def", False)
+    _put(state, contour_source=("CONTOUR DEF", op.span, tuple(key[0] for key in order), depths))
+    _put(state, roughed_since_contour_def=False)
     return None
 
 
@@ -488,10 +475,10 @@ def _select_contour_run(runner, op, block, model, params):
     """SEL CONTOUR: a contour the SL and OCM cycles may use, from a program not read here;
     like CONTOUR DEF it makes the control forget the last roughing tool (seed L11284-11286)."""
     state = runner.state
-    _put(state, "sl_labels", ())
-    _put(state, "sl_kinds", None)
-    _put(state, "contour_source", ("SEL CONTOUR", op.span, None, None))
-    _put(state, "roughed_since_contour_def", False)
+    _put(state, sl_labels=())
+    _put(state, sl_kinds=None)
+    _put(state, contour_source=("SEL CONTOUR", op.span, None, None))
+    _put(state, roughed_since_contour_def=False)
     return None
 
 
@@ -500,8 +487,8 @@ def _declare_contour_run(runner, op, block, model, params):
     declaration so far had a DEPTH (all or none must, seed L14464-14465) and the Q1-Q20 the
     program has set, which the SL cycles also use (seed L9360-9361)."""
     state = runner.state
-    declared = _get(state, "declared_depths", ()) + ("DEPTH" in params,)
-    _put(state, "declared_depths", declared)
+    declared = state.klartext.declared_depths + ("DEPTH" in params,)
+    _put(state, declared_depths=declared)
     _observe(runner, CycleRun("heidenhain.declare-contour", {}, op.span, block, {}), {"@declared_depths": declared, "@own_q": _own_reserved(state)})
     return None
 
@@ -532,7 +519,7 @@ def _pattern_run(runner, op, block, model, params):
             points = None
             break
         points.extend(found)
-    _put(runner.state, "pattern", None if points is None else tuple(points))
+    _put(runner.state, pattern=None if points is None else tuple(points))
     return None
 
 
@@ -602,9 +589,9 @@ def _call_run(runner, op, block, model, params):
     """CYCL CALL / CYCL CALL PAT / CYCL CALL POS / M99 / M89 (seed L692-791)."""
     state = runner.state
     how = params.get("how", "CALL")
-    definition = _get(state, "cycle")
+    definition = state.klartext.cycle
     if how in ("M89", "M99"):
-        _put(state, "m89", how == "M89")
+        _put(state, m89=how == "M89")
     if definition is None:
         runner.fault("heidenhain.call-without-cycle", op.span, f"{_call_words(how)} with no machining cycle defined before it: the control stops with an error "
                       "(define the cycle with CYCL DEF first)")
@@ -613,7 +600,7 @@ def _call_run(runner, op, block, model, params):
         runner.fault("heidenhain.call-without-tool", op.span, f"{_call_words(how)} runs cycle {definition.number} before any TOOL CALL: the control needs a "
                       "called tool to run a cycle (seed L655-664)")
     if how == "PAT":
-        points = _get(state, "pattern")
+        points = state.klartext.pattern
         if points is None:
             runner.fault("core.unsupported-code", op.span, "CYCL CALL PAT without a PATTERN DEF whose points are known (a point table?) is not modelled",
                           "unknown", "CYCL CALL PAT")
@@ -635,16 +622,16 @@ def _positioned_run(runner, op, block, model, params):
     """After M89 every positioning block runs the cycle, until M99 or a new CYCL DEF
     (seed L742-752)."""
     state = runner.state
-    _put(state, "fed_at", _plane_point(state) if params.get("fed") else None)
-    ended = _get(state, "ended_elsewhere")
+    _put(state, fed_at=_plane_point(state) if params.get("fed") else None)
+    ended = state.klartext.ended_elsewhere
     if ended is not None and params.get("plane"):
-        _put(state, "ended_elsewhere", None)
+        _put(state, ended_elsewhere=None)
         if params.get("relative") or params.get("plane") < 2:
             runner.fault("heidenhain.position-after-cycle", op.span, f"cycle {ended} leaves the tool at the clearance height but not over its start point: "
                                  "the first positioning after it must give both plane axes absolute; an incremental or single-axis move goes somewhere else (seed L5930-5940)")
-    if not _get(state, "m89"):
+    if not state.klartext.m89:
         return None
-    definition = _get(state, "cycle")
+    definition = state.klartext.cycle
     if definition is None:
         return None
     return run_cycle(runner, op, block, definition)
@@ -654,7 +641,7 @@ def positioning_is_inert(state) -> bool:
     """Does a positioning line do nothing beyond moving and noting the point it reached at
     feed (no M89 cycle to run at each position, no cycle end to check)? Then plain lines
     may run as a batch (lower/heidenhain.py ``batch_allowed``)."""
-    return not _get(state, "m89") and _get(state, "ended_elsewhere") is None
+    return not state.klartext.m89 and state.klartext.ended_elsewhere is None
 
 
 def _call_words(how: str) -> str:
@@ -668,14 +655,14 @@ def _run_at_points(runner, op, block, points, feed=None, pattern: dict | None = 
     replace the machining cycle's for this and every later call, and with Q301 = 0 the
     tool moves between points at the set-up clearance only (reference B H34, H17)."""
     state = runner.state
-    definition = _get(state, "cycle")
+    definition = state.klartext.cycle
     if definition is None:
         runner.fault("heidenhain.call-without-cycle", op.span, "a pattern runs with no machining cycle defined before it: the control stops with an error")
         return None
     if pattern is not None:
         overrides = {name: pattern[name] for name in ("Q200", "Q203", "Q204") if name in pattern}
         definition = replace(definition, params={**definition.params, **overrides})
-        _put(state, "cycle", definition)
+        _put(state, cycle=definition)
     low = pattern is not None and pattern.get("Q301") == 0.0 and "Q200" in definition.params
     first, second_axis, axis = _plane(state)
     name = f"heidenhain.{definition.number}"
@@ -855,9 +842,9 @@ def _sl_cycle(runner, op, block, definition):
     from .contour import contours, region
     state = runner.state
     name = f"heidenhain.{definition.number}"
-    labels = _get(state, "sl_labels")
-    data = _get(state, "sl_data")
-    contour = labels or _get(state, "contour_source", ("",))[0] == "SEL CONTOUR"
+    labels = state.klartext.sl_labels
+    data = state.klartext.sl_data
+    contour = labels or (state.klartext.contour_source or ("",))[0] == "SEL CONTOUR"
     if not contour or data is None:
         missing = " and ".join(what for what, have in (("a contour (cycle 14 or CONTOUR DEF)", contour), ("contour data (cycle 20)", data)) if not have)
         runner.fault("heidenhain.sl-prerequisites", op.span, f"cycle {definition.number} is called without {missing} defined before it: the control stops with an error (seed L9532-9535)")
@@ -869,14 +856,14 @@ def _sl_cycle(runner, op, block, definition):
     spans.update(definition.spans)
     use = _contour_use(runner, op)
     found = contours(use.subprograms, labels)
-    kinds = _get(state, "sl_kinds")
+    kinds = state.klartext.sl_kinds
     if found is not None and kinds is not None:
         found = [replace(contour, pocket=pocket) for contour, pocket in zip(found, kinds)]
     area = region(found, by_start_points=use.how == "cycle 14") if found else None
-    facts = {"@region": area, "@contour": use, "@own_q": _own_reserved(state), "@last_rougher": _get(state, "sl_rougher")}
+    facts = {"@region": area, "@contour": use, "@own_q": _own_reserved(state), "@last_rougher": state.klartext.sl_rougher}
     _observe(runner, CycleRun(name, definition.model, op.span, block, params, spans), facts)
     if definition.number == 22:
-        _put(state, "sl_rougher", state.tool_in_spindle)  # what Q438 = -1 of cycle 24 refers to (seed L9818-9840)
+        _put(state, sl_rougher=state.tool_in_spindle)  # what Q438 = -1 of cycle 24 refers to (seed L9818-9840)
     first, second, axis = _plane(state)
     surface, clearance, depth, height = (params.get(q) for q in ("Q5", "Q6", "Q1", "Q7"))
     if any(type(value) is not float for value in (surface, clearance, depth, height)):
@@ -888,7 +875,7 @@ def _sl_cycle(runner, op, block, definition):
     with _cycle_feed(state, {"Q206": params.get("Q11", params.get("Q12"))}):
         runner.move_to({axis: surface + depth}, op.span, block, "infeed", name, "feed")
     runner.move_to({axis: height}, op.span, block, "out-of-hole", name)
-    _put(state, "ended_elsewhere", definition.number)  # posAfterContPocket may leave the tool anywhere (reference B §4.5)
+    _put(state, ended_elsewhere=definition.number)  # posAfterContPocket may leave the tool anywhere (reference B §4.5)
     return None
 
 
@@ -898,7 +885,7 @@ def _ocm_cycle(runner, op, block, definition):
     position then unknown. The shape's number goes to the rules as ``@shape``."""
     state = runner.state
     name = f"heidenhain.{definition.number}"
-    data = _get(state, "ocm")
+    data = state.klartext.ocm
     if data is None:
         runner.fault("heidenhain.sl-prerequisites", op.span, f"cycle {definition.number} is called without OCM data (cycle 271 or a shape 1271-1278) defined before it: "
                       "the control stops with an error (seed L11211-11215)")
@@ -910,11 +897,11 @@ def _ocm_cycle(runner, op, block, definition):
     params["@shape"] = float(shape)
     spans = dict(spans_)
     spans.update(definition.spans)
-    facts = {"@contour": _contour_use(runner, op) if shape == 271 else None, "@boundary": _get(state, "ocm_boundary"),
-             "@rougher_forgotten": _get(state, "roughed_since_contour_def") is False}
+    facts = {"@contour": _contour_use(runner, op) if shape == 271 else None, "@boundary": state.klartext.ocm_boundary,
+             "@rougher_forgotten": state.klartext.roughed_since_contour_def is False}
     _observe(runner, CycleRun(name, definition.model, op.span, block, params, spans), facts)
     if definition.number == 272:
-        _put(state, "roughed_since_contour_def", True)
+        _put(state, roughed_since_contour_def=True)
     first, second, axis = _plane(state)
     surface, clearance, depth, height = (params.get(q) for q in ("Q203", "Q200", _depth_name(definition), "Q260"))
     state.move_to({first: None, second: None})
@@ -925,7 +912,7 @@ def _ocm_cycle(runner, op, block, definition):
     with _cycle_feed(state, {"Q207": params.get("Q207", params.get("Q385"))}):  # 273/274 finish at Q385
         runner.move_to({axis: surface + depth}, op.span, block, "infeed", name, "feed")
     runner.move_to({axis: height}, op.span, block, "out-of-hole", name)
-    _put(state, "ended_elsewhere", definition.number)
+    _put(state, ended_elsewhere=definition.number)
     return None
 
 
@@ -935,8 +922,8 @@ def _contour_use(runner, op):
     from .contour import ContourUse, subprograms
 
     state = runner.state
-    labels = _get(state, "sl_labels") or ()
-    how, span, kinds, depths = _get(state, "contour_source", ("cycle 14", op.span, None, None))
+    labels = state.klartext.sl_labels or ()
+    how, span, kinds, depths = state.klartext.contour_source or ("cycle 14", op.span, None, None)
     if not labels and how != "SEL CONTOUR":
         return None
     return ContourUse(how, span, tuple(labels), kinds, depths, tuple(subprograms(runner, labels, op.span)))
@@ -959,7 +946,7 @@ def _observe(runner, run: CycleRun, facts: dict) -> None:
 
 def _missing_contour(runner, op, definition, seed: str) -> bool:
     """Report a contour cycle called with no cycle 14 before it (reference B H33)."""
-    if _get(runner.state, "sl_labels"):
+    if runner.state.klartext.sl_labels:
         return False
     runner.fault("heidenhain.sl-prerequisites", op.span, f"cycle {definition.number} is called without a contour (cycle 14) defined before it: "
                          f"the control stops with an error ({seed})")
@@ -978,7 +965,7 @@ def _contour_train(runner, op, block, definition):
     number = definition.number
     if _missing_contour(runner, op, definition, "seed L10019, L10217-10218, L10453-10455"):
         return None
-    data, data_spans = _get(state, "train_data", ({}, {})) if number in (25, 276) else ({}, {})  # cycle 270 (275 takes none)
+    data, data_spans = state.klartext.train_data if number in (25, 276) else ({}, {})  # cycle 270 (275 takes none)
     params = {**data, **_numbers(definition.params)}
     spans = {**data_spans, **definition.spans}
     name = f"heidenhain.{number}"
@@ -1010,7 +997,7 @@ def _contour_train(runner, op, block, definition):
             state.move_to({axis: None})
             return None
         runner.move_to({axis: height}, op.span, block, "out-of-hole", name)
-    _put(state, "ended_elsewhere", number)
+    _put(state, ended_elsewhere=number)
     return None
 
 
@@ -1032,7 +1019,7 @@ def _cylinder_cycle(runner, op, block, definition):
                   "unknown", f"cycle {number} (cylinder surface)")
     state.move_to(dict.fromkeys(state.position))
     if number == 28:
-        _put(state, "ended_elsewhere", number)  # the slot ends at the opposite wall (seed L13776-13785)
+        _put(state, ended_elsewhere=number)  # the slot ends at the opposite wall (seed L13776-13785)
     return None
 
 
@@ -1042,14 +1029,14 @@ def _predrilled(state, level) -> bool:
     point = _plane_point(state)
     if type(level) is not float or None in point:
         return False
-    return any(x == point[0] and y == point[1] and type(bottom) is float and bottom <= level for x, y, bottom in _get(state, "drilled", ()))
+    return any(x == point[0] and y == point[1] and type(bottom) is float and bottom <= level for x, y, bottom in state.klartext.drilled)
 
 
 def _remember_hole(state, bottom) -> None:
-    drilled = _get(state, "drilled", ())
+    drilled = state.klartext.drilled
     point = _plane_point(state)
     if None not in point and len(drilled) < 10_000:
-        _put(state, "drilled", drilled + ((point[0], point[1], bottom),))
+        _put(state, drilled=drilled + ((point[0], point[1], bottom),))
 
 
 def _pitch_feed(state, pitch):
@@ -1067,7 +1054,7 @@ class _cycle_feed:
         feed = params.get("Q206", params.get("Q207"))
         if feed is None and "Q239" in params and not isinstance(params["Q239"], str):
             feed = _pitch_feed(state, params["Q239"])  # rigid tapping: S x pitch (seed L3887-3898)
-        self.feed = feed if feed is not None and not isinstance(feed, str) else (_get(state, "tool_feed") if feed == "AUTO" else None)
+        self.feed = feed if feed is not None and not isinstance(feed, str) else (state.klartext.tool_feed if feed == "AUTO" else None)
 
     def __enter__(self):
         self.saved = self.state.feed
@@ -1117,7 +1104,7 @@ def _pocket(runner, op, block, definition, shift, surface_offset):
     runner.move_to({axis: retract}, op.span, block, "retract", name)
     if model.get("ends_elsewhere") or (model.get("family") == "slot" and params.get("Q367", 0.0) != 0.0):
         state.move_to({first: None, second: None})
-        _put(state, "ended_elsewhere", definition.number)
+        _put(state, ended_elsewhere=definition.number)
     return None
 
 

@@ -37,7 +37,7 @@ def datamatrix(runner, op, block) -> None:
     cells are dark is not computed, so the holes are not placed and the tool ends somewhere
     on the code at the 2nd set-up clearance (seed L8675-8702)."""
     state = runner.state
-    if run._get(state, "cycle") is None:
+    if state.klartext.cycle is None:
         runner.fault("heidenhain.call-without-cycle", op.span, "cycle 224 runs the last machining cycle at the cells of its code, but no machining cycle is defined before it")
     runner.fault("core.unsupported-code", op.span, "cycle 224's cells come from the DataMatrix code of its text, which is not computed: the holes it machines "
                   "are not placed and the position after it is unknown", "unknown", "cycle 224")
@@ -186,7 +186,7 @@ def select_pattern_run(runner, op, block, model, params):
     if points is None:
         runner.fault("core.unsupported-code", op.span, f"point table {name} is not beside the program: the points CYCL CALL PAT machines are unknown",
                              "unknown", "point table")
-    run._put(runner.state, "pattern", None if points is None else tuple(points))
+    run._put(runner.state, pattern=None if points is None else tuple(points))
     return None
 
 
@@ -195,6 +195,6 @@ def m_function_run(runner, op, block, model, params):
     cycle); M94 and the others reach the rules as a run of ``heidenhain.@M<n>``."""
     number = params["M"]
     if number in (136.0, 137.0):
-        run._put(runner.state, "feed_per_revolution", number == 136.0)
+        run._put(runner.state, feed_per_revolution=number == 136.0)
     runner.report_cycle(CycleRun(f"heidenhain.@M{number:g}", {}, op.span, block, {}, {}))
     return None

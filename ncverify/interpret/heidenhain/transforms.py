@@ -2,7 +2,7 @@
 and ``TRANS``, as one :class:`ncverify.frames.Frame`.
 
 The active transformations are kept per cycle number in the path's dialect state
-``("heidenhain", "transforms")`` (a sorted tuple of ``(number, data)``, empty when none is
+``state.klartext.transforms`` (a sorted tuple of ``(number, data)``, empty when none is
 active); every change rebuilds the frame and hands it to the interpreter. How they combine
 (my reading, tested in tests/test_frames.py):
 
@@ -29,6 +29,8 @@ active); every change rebuilds the frame and hands it to the interpreter. How th
 """
 from __future__ import annotations
 
+from dataclasses import replace
+
 from ... import frames, values
 
 _NEUTRAL_FACTOR = 1.0
@@ -39,7 +41,7 @@ _XYZ = frozenset(frames.AXES)
 def transform(runner, op, number: int, params: dict) -> None:
     """One transformation cycle (or a sub-block of one, or TRANS) runs."""
     state = runner.state
-    active = dict(state.rule_state.get(("heidenhain", "transforms"), ()) or ())
+    active = dict(state.klartext.transforms)
     data = _component(runner, op, number, params, active.get(number), state.plane_axes)
     if data is None:
         active.pop(number, None)
@@ -54,7 +56,7 @@ def transform(runner, op, number: int, params: dict) -> None:
 def reset(runner, numbers, span=None) -> None:
     """The transformations of cycles ``numbers`` end (TRANS ... RESET at ``span``; cycle 247,
     which sets a new datum, with no span: it is no reset in an order)."""
-    active = dict(runner.state.rule_state.get(("heidenhain", "transforms"), ()) or ())
+    active = dict(runner.state.klartext.transforms)
     set_transforms(runner, {number: data for number, data in active.items() if number not in numbers}, span)
 
 
@@ -63,10 +65,9 @@ def set_transforms(runner, active: dict, span=None) -> None:
     kept beside them; a change of it at ``span`` goes to the rules as a ``transforms``
     change (old and new order), which is how the reset order (seed L8166-8178) is judged."""
     state = runner.state
-    before = state.rule_state.get(("heidenhain", "transform-order"), ())
+    before = state.klartext.transform_order
     order = tuple(number for number in before if number in active) + tuple(sorted(number for number in active if number not in before))
-    state.rule_state[("heidenhain", "transforms")] = tuple(sorted(active.items()))
-    state.rule_state[("heidenhain", "transform-order")] = order
+    state.klartext = replace(state.klartext, transforms=tuple(sorted(active.items())), transform_order=order)
     runner.set_frame(frame_of(active))
     if span is not None and order != before:
         runner.change("transforms", span, None, before, order)
