@@ -18,7 +18,7 @@ from dataclasses import dataclass, field, replace
 import numpy
 
 from .. import frames, ir, values
-from .control_flow import ControlFlow, Frame, LoopFrame, PathEnd, Position
+from .control_flow import ControlFlow, CallFrame, LoopFrame, PathEnd, Position
 from .cycles import ActiveCycle, CycleRunner
 from .heidenhain.state import KlartextState
 from ..settings import Settings
@@ -35,6 +35,17 @@ _PLANES = {"xy": ("X", "Y", "Z"), "zx": ("Z", "X", "Y"), "yz": ("Y", "Z", "X")}
 
 
 # ------------------------------------------------------------------------- machine state
+
+
+@dataclass(frozen=True)
+class FrameStatements:
+    """The programmable frame statements in force (:func:`frames.after_statement`), and
+    whether a tilted plane (CYCLE800) is on, which is kept apart from them. Replaced, never
+    changed in place, so that it forks with the path."""
+
+    programmable: frames.Frame = frames.IDENTITY
+    layers: dict = field(default_factory=dict)
+    swivel: bool = False
 
 
 @dataclass(slots=True)
@@ -60,7 +71,7 @@ class MachineState:
     motion_seen: bool = False
     global_variables: dict = field(default_factory=dict)
     local_variables: dict = field(default_factory=dict)
-    frames: list = field(default_factory=list)
+    call_stack: list = field(default_factory=list)  # CallFrame per running program, the main program first
     loops: list = field(default_factory=list)
     jump_counts: dict = field(default_factory=dict)
     path_condition: list = field(default_factory=list)
@@ -70,13 +81,14 @@ class MachineState:
     feed_inherited: bool = False  # a called program checked alone: its caller set the feed
     coordinate_shift: dict = field(default_factory=dict)  # G92/G52: machine = program + work offset + shift (None: unknown)
     frame: frames.Frame | None = None  # program -> workpiece coordinates (None: the identity)
+    frame_statements: FrameStatements = field(default_factory=FrameStatements)
 
     def fork(self) -> "MachineState":
         twin = MachineState(**{name: getattr(self, name) for name in self.__slots__})
         for name in ("position", "modal", "cycle_data", "lathe_cycle_data", "global_variables", "jump_counts", "last_reference_via", "rule_state", "coordinate_shift"):
             setattr(twin, name, dict(getattr(self, name)))
         twin.local_variables = dict(self.local_variables)
-        twin.frames = [Frame(**{n: getattr(f, n) for n in f.__slots__}) for f in self.frames]
+        twin.call_stack = [CallFrame(**{n: getattr(f, n) for n in f.__slots__}) for f in self.call_stack]
         twin.loops = [LoopFrame(l.loop_id, l.head, l.iterations) for l in self.loops]
         twin.path_condition = list(self.path_condition)
         return twin
@@ -146,7 +158,7 @@ class Interpreter(ControlFlow):
         main_name, main_start, called = self._main_program()
         state = self.state
         state.modal = dict(self.power_on)
-        state.frames = [Frame("called" if called else "main", main_name, self.source, main_start, None)]
+        state.call_stack = [CallFrame("called" if called else "main", main_name, self.source, main_start, None)]
         if called:
             state.spindle = "inherited"
             state.feed_inherited = True
@@ -275,7 +287,7 @@ class Interpreter(ControlFlow):
         return block_of
 
     def _should_cache(self) -> bool:
-        return bool(self.state.loops) or len(self.state.frames) > 1
+        return bool(self.state.loops) or len(self.state.call_stack) > 1
 
     def _blocks(self, source, offset, line_number, raw, path, cache, frontend_blocks):
         if cache or self.state.loops:
@@ -293,7 +305,7 @@ class Interpreter(ControlFlow):
         """Run one block's operations; returns a Position when control transfers."""
         state = self.state
         if block.program_start and first_op == 0:
-            frame = state.frames[-1]
+            frame = state.call_stack[-1]
             if frame.start != self._line_offset and not (frame.start == 0 and self._is_first_program(self._line_source, self._line_offset)):
                 self._program_ran_into_next(block, frame)
         if block.notes:
@@ -475,7 +487,7 @@ class Interpreter(ControlFlow):
         return conditions
 
     def _in_macro(self) -> bool:
-        return any(frame.kind == "macro" for frame in self.state.frames)
+        return any(frame.kind == "macro" for frame in self.state.call_stack)
 
     def _free_parameter(self, name: str) -> Sym:
         if name in self.pins:
@@ -673,21 +685,19 @@ class Interpreter(ControlFlow):
         """A programmable frame statement (:func:`frames.after_statement`), or a tilted
         plane (CYCLE800), which is kept apart and leaves positions unknown until reset."""
         state = self.state
-        memory = state.rule_state
-        swivel = memory.get(("frame", "swivel"), False)
+        statements = state.frame_statements
+        swivel = statements.swivel
         if op.component in ("swivel", "swivel_off"):  # a tilted plane (CYCLE800): a frame of its own, kept apart from the programmable one
             swivel = op.component == "swivel"
-            frame, layers = memory.get(("frame", "programmable"), frames.IDENTITY), memory.get(("frame", "layers"), {})
+            frame, layers = statements.programmable, statements.layers
         else:
-            frame, layers = frames.after_statement(op, op_values(op.values, self, op.span), memory.get(("frame", "programmable"), frames.IDENTITY),
-                                                   memory.get(("frame", "layers"), {}), state.plane_axes)
+            frame, layers = frames.after_statement(op, op_values(op.values, self, op.span), statements.programmable,
+                                                   statements.layers, state.plane_axes)
         if frame is None or swivel:
             why = frames.UNMODELLED.get(op.component, "")
             self._fault("core.unsupported-code", op.span, f"{op.what or 'this coordinate transformation'} is not modelled{why}: positions after it are unknown "
                         "until it is reset", "unknown", op.what or "a coordinate transformation")
-        memory[("frame", "programmable")] = frame or frames.UNKNOWN
-        memory[("frame", "layers")] = layers
-        memory[("frame", "swivel")] = swivel
+        state.frame_statements = FrameStatements(frame or frames.UNKNOWN, layers, swivel)
         self.set_frame(frames.UNKNOWN if swivel or frame is None else frame)
         return None
 

@@ -20,7 +20,7 @@ def active_program(state) -> str | None:
 def running_program(state) -> str | None:
     """The name of the modally called program if it is running now."""
     name = state.global_variables.get(NAME)
-    return name if any(frame.program == name for frame in state.frames) else None
+    return name if any(frame.program == name for frame in state.call_stack) else None
 
 
 def system_value(name: str, state):

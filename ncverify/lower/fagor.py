@@ -656,7 +656,7 @@ class FagorFrontend:
     def system_variable(self, name: str, state):
         if name.startswith("$@"):
             key = name[2:]
-            targets = self._structure(state.frames[-1].source.buffer)
+            targets = self._structure(state.call_stack[-1].source.buffer)
             return targets.get(key, f"@?{key}")
         if name == RPT_END:
             return -1.0

@@ -311,10 +311,10 @@ def _returns_between(runner, target, end: int) -> bool:
 
 def _end_pgm_run(runner, op, block, model, params):
     """END PGM ends the main program like M30 and returns from a called one."""
-    frames = runner.state.frames
-    while frames[-1].kind == "local" and len(frames) > 1:
-        frames.pop()  # a subprogram without LBL 0 that runs into END PGM ends its program
-    if frames[-1].kind in ("main", "called"):
+    call_stack = runner.state.call_stack
+    while call_stack[-1].kind == "local" and len(call_stack) > 1:
+        call_stack.pop()  # a subprogram without LBL 0 that runs into END PGM ends its program
+    if call_stack[-1].kind in ("main", "called"):
         runner.end_program(op.span, block, "end")
     return runner.return_from(ir.Return(op.span), block)
 
@@ -596,7 +596,7 @@ def _call_run(runner, op, block, model, params):
         runner.fault("heidenhain.call-without-cycle", op.span, f"{_call_words(how)} with no machining cycle defined before it: the control stops with an error "
                       "(define the cycle with CYCL DEF first)")
         return None
-    if state.tool_in_spindle is None and state.frames[0].kind == "main":
+    if state.tool_in_spindle is None and state.call_stack[0].kind == "main":
         runner.fault("heidenhain.call-without-tool", op.span, f"{_call_words(how)} runs cycle {definition.number} before any TOOL CALL: the control needs a "
                       "called tool to run a cycle (seed L655-664)")
     if how == "PAT":
