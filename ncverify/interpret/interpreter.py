@@ -196,7 +196,7 @@ class Interpreter(ControlFlow):
                     plain_streak = 0
                     run = self.frontend.plain_run(source.buffer, offset, line_number)
                     if run is not None:
-                        self._execute_run(run, source, path)
+                        self._execute_batch(run, source, path)
                         streak_end = run.end_offset
                         return Position(source, run.end_offset) if run.end_offset < len(source) else self._end_of_text(source)
                 blocks = self._blocks(source, offset, line_number, raw, path, cache, frontend_blocks)
@@ -220,7 +220,7 @@ class Interpreter(ControlFlow):
         state = self.state
         return (not self.settings.per_block_only and state.cycle is None and not state.loops
                 and (state.frame is None or state.frame.is_numeric)
-                and state.modal.get("motion") in ir.MoveRun.KINDS and not isinstance(state.feed, Sym)
+                and state.modal.get("motion") in ir.MoveBatch.KINDS and not isinstance(state.feed, Sym)
                 and not any(isinstance(value, Sym) for value in state.position.values())
                 and self._dialect_allows_batch(state))
 
@@ -229,12 +229,12 @@ class Interpreter(ControlFlow):
         allows = getattr(self.frontend, "batch_allowed", None)
         return allows is None or allows(state)
 
-    def _execute_run(self, run: ir.MoveRun, source: ProgramSource, path) -> None:
+    def _execute_batch(self, run: ir.MoveBatch, source: ProgramSource, path) -> None:
         """Run a batch of plain blocks with arrays (the per-block path's twin)."""
         state = self.state
         axes = run.axes
         start_point = numpy.array([_as_float(state.position.get(axis)) for axis in axes])
-        kinds = _forward_fill(run.kinds.astype(numpy.float64), -1, float(ir.MoveRun.KINDS.index(state.modal["motion"])))
+        kinds = _forward_fill(run.kinds.astype(numpy.float64), -1, float(ir.MoveBatch.KINDS.index(state.modal["motion"])))
         scale = self.increment / 10.0 if state.modal.get("units") == "inch" else self.increment
         written = ~numpy.isnan(run.values)
         values = numpy.where(run.scaled, run.values * scale, run.values)
@@ -251,7 +251,7 @@ class Interpreter(ControlFlow):
         segment_points = numpy.vstack([start_point, points[moving]])
         segment_kinds = kinds[moving].astype(numpy.int8)
         others = {axis: value for axis, value in state.position.items() if axis not in axes}
-        block_of = self._run_block_reader(run, moving, source, path)
+        block_of = self._batch_block_reader(run, moving, source, path)
 
         def span(index: int) -> Span:
             block = block_of(index)
@@ -268,12 +268,12 @@ class Interpreter(ControlFlow):
             self.observer.motion_run(MotionRun(axes, segment_points, segment_kinds, feeds[moving], written[moving], span, segment), state)
         final = points[-1]
         state.position = dict(state.position, **{axis: _as_value(value) for axis, value in zip(axes, final)})
-        state.modal["motion"] = ir.MoveRun.KINDS[int(kinds[-1])]
+        state.modal["motion"] = ir.MoveBatch.KINDS[int(kinds[-1])]
         if not numpy.isnan(feeds[-1]):
             state.feed = float(feeds[-1])
         state.motion_seen = state.motion_seen or bool(len(moving))
 
-    def _run_block_reader(self, run: ir.MoveRun, moving_rows, source: ProgramSource, path):
+    def _batch_block_reader(self, run: ir.MoveBatch, moving_rows, source: ProgramSource, path):
         """Re-reads the block of the run's ``index``-th move (its row in ``moving_rows``), for
         a report's span (rare, so not kept)."""
 

@@ -825,11 +825,11 @@ class KlartextFrontend:
         return _continues(raw)
 
     def is_plain(self, raw: bytes) -> bool:
-        """Could this line be part of a :class:`ir.MoveRun` (``n L X.. Y.. Z.. [R0] [F..|FMAX]``,
+        """Could this line be part of a :class:`ir.MoveBatch` (``n L X.. Y.. Z.. [R0] [F..|FMAX]``,
         see :mod:`ncverify.read.heidenhain_runs`)?"""
         return is_plain_line(raw)
 
-    def plain_run(self, buffer, offset: int, line: int, limit: int = 1 << 20) -> ir.MoveRun | None:
+    def plain_run(self, buffer, offset: int, line: int, limit: int = 1 << 20) -> ir.MoveBatch | None:
         return read_plain_run(buffer, offset, line, limit)
 
     @staticmethod

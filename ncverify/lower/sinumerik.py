@@ -438,7 +438,7 @@ class SinumerikFrontend:
         return self.lowering.lower(read_line(decode_line(raw), line), path)
 
     def is_plain(self, raw: bytes) -> bool:
-        """Could this line be part of a :class:`ir.MoveRun`? (``N.. G0/G1 X Y Z F`` with
+        """Could this line be part of a :class:`ir.MoveBatch`? (``N.. G0/G1 X Y Z F`` with
         literal numbers, as in ISO: CAM output is the same in both languages. Not while a
         subprogram may be called modally: its moves carry the call.)"""
         return not self.lowering.uses_modal_call and _PLAIN_MOTION.fullmatch(raw) is not None
@@ -459,7 +459,7 @@ class SinumerikFrontend:
         motion = table[:, 1]
         kinds = numpy.where(numpy.isnan(motion), -1, motion).astype(numpy.int8)
         unscaled = numpy.zeros((len(kinds), 3), dtype=bool)
-        return ir.MoveRun(offset, offset + run.length, line, run.line_starts + offset, kinds, ("X", "Y", "Z"), table[:, 2:5],
+        return ir.MoveBatch(offset, offset + run.length, line, run.line_starts + offset, kinds, ("X", "Y", "Z"), table[:, 2:5],
                           unscaled, table[:, 5], numpy.zeros(len(kinds), dtype=bool), run.blocks)
 
     def programs(self, buffer) -> list[tuple[str, int]]:
