@@ -14,7 +14,7 @@ from ncverify import Settings, check_file, check_text
 from ncverify.check import rule_definitions
 from ncverify.diagnostics import Status
 from ncverify.lower.heidenhain import KlartextLowering
-from ncverify.lower.heidenhain_special import engraved_characters
+from ncverify.interpret.heidenhain.special import engraved_characters
 
 # Reference A §9, hazard by hazard: the rules that check it, or why none does. A rule that
 # covers only part of a hazard says which part in the comment.

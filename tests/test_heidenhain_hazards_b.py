@@ -493,7 +493,7 @@ def test_cycle_14_takes_at_most_twelve_labels():
 
 @pytest.mark.parametrize("text, size", [("10+0.01-0.015", 9.9975), ("10m", 10.0), ("60", None), ("10H", None), ("10h7", "fit"), ("10js6", "fit"), ("10Hh7", None)])
 def test_toleranced_sizes_read_as_the_middle_of_their_band(text, size):
-    from ncverify.lower.heidenhain_tolerance import toleranced
+    from ncverify.interpret.heidenhain.tolerance import toleranced
 
     found = toleranced(text)
     if size == "fit":
@@ -525,7 +525,7 @@ def test_overlapping_pockets_are_combined_by_their_start_points():
     intersection (seed L9254-9320); CONTOUR DEF pockets are always joined."""
     from shapely.geometry import Polygon
 
-    from ncverify.lower.heidenhain_contour import Contour, region
+    from ncverify.interpret.heidenhain.contour import Contour, region
 
     first, second = Polygon([(0, 0), (20, 0), (20, 10), (0, 10)]), Polygon([(10, 0), (30, 0), (30, 10), (10, 10)])
     outside, inside = Contour(1, first, True, (0.0, 0.0)), Contour(1, first, True, (15.0, 5.0))

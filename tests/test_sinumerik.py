@@ -18,7 +18,7 @@ from ncverify.check import Checker
 from ncverify.detect import detect
 from ncverify.diagnostics import Status
 from ncverify.lower.sinumerik import SinumerikFrontend, SinumerikLowering, program_context
-from ncverify.lower.sinumerik_cycles import levels, pattern_positions
+from ncverify.interpret.sinumerik_cycles import levels, pattern_positions
 from ncverify.read.sinumerik import read_line
 
 

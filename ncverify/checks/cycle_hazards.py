@@ -3,7 +3,7 @@ compensation and modal traps, boring shifts, repeats, table values, lathe format
 from __future__ import annotations
 
 from .. import ir, values
-from ..lower import modal_call
+from ..interpret import modal_call
 from ..check import Rule, hazard, rule, show
 
 _COMP_CODE = {"left": "G41", "right": "G42", "auto": "G46"}

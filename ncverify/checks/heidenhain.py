@@ -367,7 +367,7 @@ class TransformAtEnd(Rule):
     M30 or END PGM reset it is a machine parameter (seed L7738-7745): do not rely on it."""
 
     def change(self, change, state):
-        active = state.rule_state.get(("heidenhain", "transforms"))
+        active = state.klartext.transforms
         if change.what == "end" and change.new in ("end", "eof") and active:
             cycles = ", ".join(str(number) for number, _values in active)
             self.report("heidenhain.transform-at-end", change.span, f"coordinate transformation (cycle {cycles}) is still active at the end of the program: "

@@ -2,7 +2,7 @@
 
 The cycle runner hands each contour cycle's run over with the contour it machines
 (``@contour``: cycle 14 or CONTOUR DEF and what each subprogram holds, see
-:mod:`ncverify.lower.heidenhain_contour`) and the machine state the rules need (``@position``
+:mod:`ncverify.interpret.heidenhain.contour`) and the machine state the rules need (``@position``
 at the call, ``@spindle``, the OCM ``@boundary``, ``@rougher_forgotten``). Parameter-only
 hazards of these cycles are constraints in ``rules/heidenhain/*.md``.
 """

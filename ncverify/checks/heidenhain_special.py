@@ -193,7 +193,7 @@ class PatternCompatibility(Rule):
         number = cycle_number(run.cycle)
         if number not in (221, 224):
             return
-        definition = state.rule_state.get(("heidenhain", "cycle"))
+        definition = state.klartext.cycle
         if definition is None:
             return  # heidenhain.call-without-cycle
         if number == 224 and definition.number not in run.model.get("compatible", ()):
@@ -389,7 +389,7 @@ class BoringFeedPerRevolution(Rule):
     of the bore and does not retract the tool (seed L1890-1897)."""
 
     def hole(self, hole, state):
-        if cycle_number(hole.cycle) == 202 and state.rule_state.get(("heidenhain", "feed_per_revolution")) and self.first_time(state, ("boring-m136", hole.span)):
+        if cycle_number(hole.cycle) == 202 and state.klartext.feed_per_revolution and self.first_time(state, ("boring-m136", hole.span)):
             self.report("heidenhain.boring-feed-per-revolution", hole.span, "cycle 202 is called while M136 (feed per revolution) is active: the spindle stops at "
                         "the bottom of the bore and the tool is not retracted, so the next move drags it out or crashes; cancel M136 with M137 before the call (seed L1890-1897)")
 
@@ -412,7 +412,7 @@ class ThreadDeeperThanHole(Rule):
             return
         first, second, axis = state.plane_axes
         point = (hole.position.get(first), hole.position.get(second))
-        earlier = [bottom for x, y, bottom in state.rule_state.get(("heidenhain", "drilled"), ()) if (x, y) == point and type(bottom) is float]
+        earlier = [bottom for x, y, bottom in state.klartext.drilled if (x, y) == point and type(bottom) is float]
         pitch = hole.params.get("Q239", 0.0)
         if not earlier or type(pitch) is not float or hole.params.get("Q201", -1.0) > 0:
             return

@@ -1,6 +1,6 @@
 """Klartext hazards of the coordinate transformations (reference A §9, H19, H36, H38). The
-active transformations are the path's ``("heidenhain", "transforms")`` dialect state
-(:mod:`ncverify.lower.heidenhain_frames`)."""
+active transformations are the path's ``state.klartext.transforms``
+(:mod:`ncverify.interpret.heidenhain.transforms`)."""
 from __future__ import annotations
 
 from ..check import Rule, rule
@@ -12,7 +12,7 @@ _DISENGAGING_CYCLES = ("heidenhain.202", "heidenhain.204")
 
 
 def _active(state) -> dict:
-    return dict(state.rule_state.get(("heidenhain", "transforms"), ()) or ())
+    return dict(state.klartext.transforms)
 
 
 @rule("heidenhain.scaling-factor")

@@ -40,7 +40,7 @@ def _repeating(state) -> str | None:
     """Why a block may run more than once: it is inside a loop, a subprogram or a macro."""
     if state.loops:
         return "inside a WHILE loop"
-    for frame in reversed(state.frames):
+    for frame in reversed(state.call_stack):
         if frame.kind == "macro":
             return f"inside macro {frame.program}"
         if frame.kind in ("subprogram", "called"):

@@ -16,7 +16,7 @@ import math
 
 from .. import values
 from ..check import Rule, hazard, rule, show
-from ..lower.sinumerik_cycles import COARSE_PITCH, levels
+from ..interpret.sinumerik_cycles import COARSE_PITCH, levels
 
 
 def cycle_name(run) -> str:

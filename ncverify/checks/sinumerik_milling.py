@@ -10,7 +10,7 @@ import math
 from .. import values
 from ..check import Rule, hazard, rule, show
 from ..frames import AXES
-from ..lower.sinumerik_cycles import levels
+from ..interpret.sinumerik_cycles import levels
 from ..pocket import circle_fit, rectangle_fit, slot_fit
 from .common import ReportsMissingContext
 from .sinumerik import PLANE_CYCLES, contour_not_found, contour_points_unknown, cycle_name, digit_problem, is_sinumerik, numeric_parameter, plane_point

@@ -4,7 +4,7 @@ from __future__ import annotations
 import numpy
 
 from ..check import Rule, rule, show
-from ..lower import modal_call
+from ..interpret import modal_call
 
 
 @rule("core.d-register-range", "core.h-register-range", "core.tool-number-range")
