@@ -87,9 +87,9 @@ def test_a_reference_return_cancels_the_local_origin():
 # --------------------------------------------------------------------------- 2. the path budget
 
 BRANCHES = """
-    (ncverify: stock box X0:100 Y0:100 Z-20:0)
+    (ncverify: stock box X0:100 Y0:100 Z-20:0) (ncverify: tool 1 radius 2 length 60)
     (ncverify: assume 0 <= #1 <= 10 and 0 <= #2 <= 10)
-    G21 G90 G54 G17
+    G21 G90 G54 G17 T1 M06
     G00 X-20. Y50. Z50.
     G00 Z-5.
     #3 = -10.
@@ -284,3 +284,53 @@ def test_the_stock_check_and_the_travel_check_see_the_same_point(dialect, data, 
     # the end point is inside the small stock around the point, and within 0.5 mm of it in the travel
     assert statuses(result, "core.rapid-into-stock", line) == [Status.VIOLATED], text
     assert Status.VIOLATED not in statuses(result, "core.travel-limit", line), text
+
+
+# --------------------------------------------------------------------------- 4. the tool as a cylinder
+
+BESIDE = """
+    (ncverify: stock box X0:100 Y0:100 Z-20:0)
+    {tool}
+    (ncverify: assume {low} <= #1 <= {high})
+    G21 G90 G54 {plane}
+    T1 M06
+    G00 X-30. Y50. Z50.
+    G00 X[-#1]
+    G00 Z-5.
+"""
+TOOL_R5 = "(ncverify: tool 1 radius 5 length 60)"
+
+
+def _beside(tool=TOOL_R5, low=2, high=20, plane="G17"):
+    return check_text(iso(BESIDE.format(tool=tool, low=low, high=high, plane=plane)))
+
+
+def test_a_rapid_whose_axis_misses_the_stock_but_whose_side_is_over_it_is_violated():
+    result = _beside()
+    [plunge] = [d for d in result.diagnostics if d.rule == "core.rapid-into-stock" and d.span.line == 10]
+    assert plunge.status is Status.VIOLATED and 2 <= plunge.witness["#1"] < 5  # the axis 2-5 mm from the face
+
+
+def test_a_rapid_a_tool_radius_clear_of_the_stock_is_proved():
+    assert statuses(_beside(low=6), "core.rapid-into-stock", 10) == [Status.PROVED]
+
+
+def test_without_the_tool_radius_or_along_another_tool_axis_the_rapid_is_not_proved():
+    without_radius = _beside(tool="", low=6)
+    assert statuses(without_radius, "core.rapid-into-stock", 10) == [Status.UNKNOWN]
+    assert "tool radius not known" in [d for d in without_radius.diagnostics if d.span.line == 10 and d.rule == "core.rapid-into-stock"][0].reason
+    tool_along_y = _beside(low=6, plane="G18")
+    assert statuses(tool_along_y, "core.rapid-into-stock", 10) == [Status.UNKNOWN]
+
+
+def test_the_tool_body_above_a_tip_below_the_stock_touches_it():
+    # the tip at Z-30 under a plate 20 deep: the body up to Z30 passes through it
+    result = check_text(iso("""
+        (ncverify: stock box X0:100 Y0:100 Z-20:0)
+        (ncverify: tool 1 radius 5 length 60)
+        G21 G90 G54 G17
+        T1 M06
+        G00 X-30. Y50. Z-30.
+        G00 X50.
+    """))
+    assert statuses(result, "core.rapid-into-stock", 8) == [Status.VIOLATED]
