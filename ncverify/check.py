@@ -315,7 +315,7 @@ class Checker:
             handler(change, state)
 
     def note(self, note) -> None:
-        self.report(note.rule, note.span, note.message)
+        self.report(note.rule, note.span, note.message, Status(note.status), note.reason)
 
     def fault(self, fault) -> None:
         if fault.rule in _PATH_ENDS and fault.status == "unknown":

@@ -164,3 +164,10 @@ class Context:
             {**base.settings, **self.settings}, base.disabled | self.disabled, {**base.severity, **self.severity},
             self.source or base.source,
         )
+
+
+def radius_delta(state):
+    """The radius delta the active tool call adds to the tool table's radius (Klartext
+    ``TOOL CALL .. DR``): 0.0 where none is programmed; a symbolic value when it depends
+    on a free parameter (rules then answer unknown)."""
+    return state.global_variables.get("@TOOLDR", 0.0)

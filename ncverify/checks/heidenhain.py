@@ -5,8 +5,11 @@ runner raises (a call with no cycle, RL/RR at a call) are reported from the trac
 """
 from __future__ import annotations
 
+from dataclasses import replace
+
 from .. import frames, pocket, values
 from ..check import Rule, hazard, rule, show
+from ..context import radius_delta
 from .machine import _ReportsMissingContext
 
 _DEPTH_CHECKED = {200, 201, 202, 203, 205, 208, 241, 206, 207, 209, 251, 252, 253, 254, 256, 257, 258, 272, 273, 274}
@@ -32,7 +35,11 @@ def _tool(rule_instance, state, span, rule_id, what: str):
     if getattr(tool, what) is None:
         rule_instance.missing(rule_id, span, f"tool T{show(number)} has no {what.replace('_', ' ')} in the tool table")
         return None
-    return tool
+    delta = radius_delta(state)
+    if type(delta) is not float:
+        rule_instance.missing(rule_id, span, "the radius delta DR of the TOOL CALL depends on a free parameter")
+        return None
+    return tool if delta == 0.0 or tool.radius is None else replace(tool, radius=tool.radius + delta)
 
 
 # Where the depth the usable length must reach is not Q201 (reference A H4): back boring

@@ -13,7 +13,7 @@ import numpy
 
 from .. import frames, geometry
 from ..check import Rule, Verdict, hazard, rule, show
-from ..context import Stock
+from ..context import Stock, radius_delta
 from ..diagnostics import Status
 from ..values import Condition, Sym
 
@@ -70,9 +70,10 @@ def _cylinder_tool(rule_instance, stock, state):
         return None
     number = state.tool_in_spindle
     tool = (rule_instance.checker.context.get("tools") or {}).get(int(number)) if type(number) is float else None
-    if tool is None or tool.radius is None:
+    delta = radius_delta(state)
+    if tool is None or tool.radius is None or type(delta) is not float:
         return None
-    return tool.radius, tool.length
+    return tool.radius + delta, tool.length
 
 
 def _tool_axis_problem(state) -> str | None:
