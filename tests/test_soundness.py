@@ -334,3 +334,46 @@ def test_the_tool_body_above_a_tip_below_the_stock_touches_it():
         G00 X50.
     """))
     assert statuses(result, "core.rapid-into-stock", 8) == [Status.VIOLATED]
+
+
+# --------------------------------------------------------------------------- what the stock proof reads
+
+# A symbolic rapid clear of the stock in the plain state (tool along +Z, radius known, no
+# frame, every path explored). Under each state the rule models it stays provable; under
+# each state it does not read, it must not be proved.
+CLEAR = """
+    ; ncverify: stock box X0:100 Y0:100 Z-20:0
+    ; ncverify: tool 1 radius 5 length 60
+    ; ncverify: assume 10 <= R1 <= 20
+    G90 G54 {plane}
+    T1 D1 M6
+    G0 X-50 Y50 Z50
+    {state}
+    G0 X=-R1-20 Y50 Z=-5
+"""
+MODELLED = {"none": "", "translation": "TRANS X=-10", "rotation": "ROT RPL=180", "scale": "SCALE X=2 Y=2", "mirror": "MIRROR Y0"}
+NOT_MODELLED = {
+    "tilted plane": "ROT X=30",
+    "rotation by a free parameter": "ROT RPL=R1",
+    "scale by a free parameter": "SCALE X=R1 Y=R1",
+    "tool axis Y (G18)": "G18",
+    "tool axis X (G19)": "G19",
+    "no tool radius": "T2 D1 M6",
+}
+
+
+def _clear(state: str):
+    text = textwrap.dedent(CLEAR.format(plane="G17", state=state)).lstrip()
+    return check_text(text, "part.mpf", Settings(dialect="sinumerik"))
+
+
+def test_the_rapid_is_proved_under_every_state_the_stock_rule_models():
+    for name, state in MODELLED.items():
+        assert statuses(_clear(state), "core.rapid-into-stock", 8) == [Status.PROVED], name
+
+
+def test_the_rapid_is_never_proved_under_a_state_the_stock_rule_does_not_read():
+    for name, state in NOT_MODELLED.items():
+        result = _clear(state)
+        assert Status.PROVED not in statuses(result, "core.rapid-into-stock", 8), name
+        assert [d for d in result.diagnostics if d.rule == "core.rapid-into-stock" and d.status is Status.UNKNOWN], name  # said, not silent
