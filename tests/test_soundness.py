@@ -377,3 +377,17 @@ def test_the_rapid_is_never_proved_under_a_state_the_stock_rule_does_not_read():
         result = _clear(state)
         assert Status.PROVED not in statuses(result, "core.rapid-into-stock", 8), name
         assert [d for d in result.diagnostics if d.rule == "core.rapid-into-stock" and d.status is Status.UNKNOWN], name  # said, not silent
+
+
+# --------------------------------------------------------------------------- proof reach: symbolic cycle sizes
+
+POCKET_252 = Path(__file__).with_name("data_symbolic_pocket.h")
+
+
+def test_a_klartext_circular_pocket_of_symbolic_diameter_gets_a_verdict():
+    template = POCKET_252.read_text()
+    tight = check_text(template.replace("{low}", "8"), "p.h")
+    [finding] = [d for d in tight.diagnostics if d.rule == "heidenhain.tool-too-large"]
+    assert finding.status is Status.VIOLATED and 8 <= finding.witness["Q1"] <= 10  # a 10 mm tool in a pocket of 10 or less
+    roomy = check_text(template.replace("{low}", "10.5"), "p.h")
+    assert [d.status for d in roomy.diagnostics if d.rule == "heidenhain.tool-too-large"] == [Status.PROVED]
