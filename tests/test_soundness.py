@@ -391,3 +391,21 @@ def test_a_klartext_circular_pocket_of_symbolic_diameter_gets_a_verdict():
     assert finding.status is Status.VIOLATED and 8 <= finding.witness["Q1"] <= 10  # a 10 mm tool in a pocket of 10 or less
     roomy = check_text(template.replace("{low}", "10.5"), "p.h")
     assert [d.status for d in roomy.diagnostics if d.rule == "heidenhain.tool-too-large"] == [Status.PROVED]
+
+
+def test_the_stock_proof_takes_the_radius_of_the_active_cutting_edge():
+    text = textwrap.dedent("""
+        ; ncverify: stock box X0:100 Y0:100 Z-20:0
+        ; ncverify: assume 5 <= R1 <= 20
+        $TC_DP1[1,1]=120 $TC_DP6[1,1]=2 $TC_DP3[1,1]=60
+        $TC_DP1[1,2]=120 $TC_DP6[1,2]=8 $TC_DP3[1,2]=60
+        G17 G90 G54
+        T1 {edge} M6
+        G0 X-50 Y50 Z50
+        G0 X=-R1 Y50 Z=-5
+        M30
+    """).lstrip()
+    small = check_text(text.format(edge="D1"), "part.mpf", Settings(dialect="sinumerik"))
+    assert statuses(small, "core.rapid-into-stock", 8) == [Status.PROVED]
+    large = check_text(text.format(edge="D2"), "part.mpf", Settings(dialect="sinumerik"))
+    assert statuses(large, "core.rapid-into-stock", 8) == [Status.VIOLATED]  # the 8 mm edge reaches over the face from 5 mm away

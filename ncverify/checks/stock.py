@@ -15,6 +15,7 @@ from .. import frames, geometry
 from ..check import Rule, Verdict, hazard, rule, show
 from ..context import Stock, radius_delta
 from ..diagnostics import Status
+from ..lower.sinumerik import ACTIVE_EDGE
 from ..values import Condition, Sym
 
 _RAPID = 0  # MotionRun kind code
@@ -71,6 +72,9 @@ def _cylinder_tool(rule_instance, stock, state):
     number = state.tool_in_spindle
     tool = (rule_instance.checker.context.get("tools") or {}).get(int(number)) if type(number) is float else None
     delta = radius_delta(state)
+    edge = state.global_variables.get(ACTIVE_EDGE.name, 1.0)  # SINUMERIK: the active cutting edge D
+    if tool is not None and edge != 1.0:
+        tool = tool.edges.get(int(edge)) if type(edge) is float else None
     if tool is None or tool.radius is None or type(delta) is not float:
         return None
     return tool.radius + delta, tool.length
