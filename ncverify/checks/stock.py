@@ -69,8 +69,7 @@ def _cylinder_tool(rule_instance, stock, state):
     that)."""
     if stock.kind == "cylinder" or _tool_axis_problem(state) is not None:
         return None
-    number = state.tool_in_spindle
-    tool = (rule_instance.checker.context.get("tools") or {}).get(int(number)) if type(number) is float else None
+    tool = rule_instance.checker.context.tools.in_spindle(state)
     delta = radius_delta(state)
     edge = state.global_variables.get(ACTIVE_EDGE.name, 1.0)  # SINUMERIK: the active cutting edge D
     if tool is not None and edge != 1.0:
@@ -125,7 +124,7 @@ class _NeedsStock(Rule):
     looked_at = None
 
     def stock(self, span):
-        stock = self.checker.context.get("stock")
+        stock = self.checker.context.stock
         if stock is None and self.looked_at is None:
             self.looked_at = span
         return stock
@@ -167,7 +166,7 @@ class RapidIntoStock(_NeedsStock):
         if any(isinstance(value, Sym) for value in (*start, *end)):
             self._symbolic(stock, start, end, segment.span, what, state, tool)
             return
-        hit = _enters(stock, start, end, tool, self.checker.context.get("rapid_path") == "dogleg")
+        hit = _enters(stock, start, end, tool, self.checker.context.rapid_path == "dogleg")
         if hit is None:
             return
         if segment.role in _INTO_CLEARED:
@@ -183,7 +182,7 @@ class RapidIntoStock(_NeedsStock):
         stock = self.stock(run.span(int(rapids[0])))
         if stock is None:
             return
-        if self.checker.context.get("rapid_path") == "dogleg" or stock.kind == "polygon" or len(run.axes) != 3:
+        if self.checker.context.rapid_path == "dogleg" or stock.kind == "polygon" or len(run.axes) != 3:
             for index in rapids:
                 self.segment(run.segment(int(index)), state)
             return
@@ -219,15 +218,15 @@ class RapidIntoStock(_NeedsStock):
             self.report(self.rule_id, span, message, Status.UNKNOWN, "position unknown")
 
     def _symbolic(self, stock, start, end, span, what, state, tool):
-        condition = _may_enter(stock, start, end, tool, self.checker.context.get("rapid_path") == "dogleg")
+        condition = _may_enter(stock, start, end, tool, self.checker.context.rapid_path == "dogleg")
         self._judge(condition, f"{what} from {_where(start)} to {_where(end)} passes through the stock ({stock.describe()})", span, state, tool)
 
     def _judge(self, condition, message, span, state, tool):
         """A symbolic verdict; with no tool radius known only the tool's axis was judged,
         which proves nothing about its side: ``proved`` becomes ``unknown``."""
         verdict = self.checker.judge(Condition(condition), state)
-        if verdict is not None and verdict.status is Status.PROVED and tool is None and self.checker.context.get("stock").kind != "cylinder":
-            verdict = Verdict(Status.UNKNOWN, reason=_no_tool_reason(self.checker.context.get("stock"), state))
+        if verdict is not None and verdict.status is Status.PROVED and tool is None and self.checker.context.stock.kind != "cylinder":
+            verdict = Verdict(Status.UNKNOWN, reason=_no_tool_reason(self.checker.context.stock, state))
         self.checker.report_verdict(self.rule_id, span, message, verdict, state)
 
     @staticmethod
