@@ -13,9 +13,8 @@ import numpy
 
 from .. import frames, geometry
 from ..check import Rule, Verdict, hazard, rule, show
-from ..context import Stock, radius_delta
+from ..context import Stock, active_edge, radius_delta
 from ..diagnostics import Status
-from ..lower.sinumerik import ACTIVE_EDGE
 from ..values import Condition, Sym
 
 _RAPID = 0  # MotionRun kind code
@@ -71,7 +70,7 @@ def _cylinder_tool(rule_instance, stock, state):
         return None
     tool = rule_instance.checker.context.tools.in_spindle(state)
     delta = radius_delta(state)
-    edge = state.global_variables.get(ACTIVE_EDGE.name, 1.0)  # SINUMERIK: the active cutting edge D
+    edge = active_edge(state)
     if tool is not None and edge != 1.0:
         tool = tool.edges.get(int(edge)) if type(edge) is float else None
     if tool is None or tool.radius is None or type(delta) is not float:
