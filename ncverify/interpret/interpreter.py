@@ -222,7 +222,7 @@ class Interpreter(ControlFlow):
     def _batch_allowed(self) -> bool:
         state = self.state
         return (not self.settings.per_block_only and state.cycle is None and not state.loops
-                and (state.frame is None or state.frame.is_numeric)
+                and (frames.program_to_workpiece(state) is None or frames.program_to_workpiece(state).is_numeric)
                 and state.modal.get("motion") in ir.MoveBatch.KINDS and not isinstance(state.feed, Sym)
                 and not any(isinstance(value, Sym) for value in state.position.values())
                 and self._dialect_allows_batch(state))
@@ -660,13 +660,30 @@ class Interpreter(ControlFlow):
             self._change("data_setting", op.span, block, op_values(op.values, self, op.span), op_values(op.words, self, op.span))
         elif op.kind == "local":
             shifted = {}
-            for axis, shift in op_values(op.values, self, op.span).items():
+            for axis, local in op_values(op.values, self, op.span).items():
+                before = self._set_local_origin(axis, local)  # G52 replaces the local origin; it does not add to it
+                change = None if local is None or before is None else values.sub(local, before)
                 current = self.state.position.get(axis)
-                shifted[axis] = None if current is None else values.sub(current, shift)
-                known = self.state.coordinate_shift.get(axis, 0.0)
-                self.state.coordinate_shift[axis] = None if known is None else values.add(known, shift)
+                shifted[axis] = None if current is None or change is None else values.sub(current, change)
             self.state.move_to(shifted)
+        self._watch_workpiece()
         return None
+
+    def _set_local_origin(self, axis: str, local):
+        """Make ``local`` the G52 local origin of ``axis`` (part of the coordinate shift,
+        beside G92's part); returns the local origin it replaces."""
+        memory, shift = self.state.rule_state, self.state.coordinate_shift
+        before = memory.get(("local-origin", axis), 0.0)
+        memory[("local-origin", axis)] = local
+        known = shift.get(axis, 0.0)
+        shift[axis] = None if known is None or local is None else values.add(values.sub(known, before), local)
+        return before
+
+    def _watch_workpiece(self) -> None:
+        """From the first frame or coordinate shift on, the observer gets the trace in
+        workpiece coordinates (:func:`frames.program_to_workpiece`)."""
+        if not isinstance(self.observer, frames.WorkpieceObserver):
+            self.observer = frames.WorkpieceObserver(self.observer, self)
 
     def set_frame(self, frame: frames.Frame) -> None:
         """Make ``frame`` the map from program to workpiece coordinates. The tool does not
@@ -682,8 +699,8 @@ class Interpreter(ControlFlow):
         else:
             state.position = back.to_workpiece(workpiece)
         state.frame = new
-        if new is not None and not isinstance(self.observer, frames.WorkpieceObserver):
-            self.observer = frames.WorkpieceObserver(self.observer, self)
+        if new is not None:
+            self._watch_workpiece()
 
     def _set_frame(self, op: ir.SetFrame, block):
         """A programmable frame statement (:func:`frames.after_statement`), or a tilted
@@ -726,6 +743,9 @@ class Interpreter(ControlFlow):
         self._change("reference_return", op.span, block, op_values(written_absolute, self, op.span), op.which, None,
                      op_values({"P": op.words["P"]}, self, op.span) if "P" in op.words else {})
         state.move_to(dict.fromkeys(targets))  # at the machine reference point: unknown in work coordinates
+        for axis in targets:  # a reference return cancels the axis's G52 local origin
+            if ("local-origin", axis) in state.rule_state:
+                self._set_local_origin(axis, 0.0)
         return None
 
     def _machine_move(self, op: ir.MachineMove, block):
