@@ -96,8 +96,11 @@ def project_for(program: Path | None, settings: Settings) -> Context | None:
     return load_project(path) if path is not None else None
 
 
-def check_source(source: ProgramSource, settings: Settings, project: Context | None = None) -> FileResult:
-    detection = _detection(source, settings)
+def check_source(source: ProgramSource, settings: Settings, project: Context | None = None,
+                 detection: Detection | None = None) -> FileResult:
+    """``detection``: the dialect settled earlier for this program (an editor re-checking a
+    buffer after each edit); by default it is detected from the text."""
+    detection = detection or detect_dialect(source, settings)
     result = FileResult(source.name, detection.dialect, detection.confidence, profile=detection.profile, machine=detection.machine)
     if detection.dialect is None:
         result.skipped = detection.reason
@@ -127,7 +130,8 @@ def _with_project_settings(settings: Settings, project: Context | None) -> Setti
     return settings.with_(**changes)
 
 
-def _detection(source: ProgramSource, settings: Settings) -> Detection:
+def detect_dialect(source: ProgramSource, settings: Settings) -> Detection:
+    """The program's dialect, ISO profile and machine type: ``settings`` over detection."""
     head_bytes = bytes(source.buffer[:65536])
     found = detect(source.head(), head_bytes)
     if settings.dialect is None:

@@ -1,6 +1,6 @@
 """Quick fixes for ncverify's diagnostics: an ``ncverify: ignore`` annotation at the line,
 and the fixes whose text the finding itself states (the cancel word a modal cycle lacks,
-the feed a cutting move lacks)."""
+a feed for a cutting move that has none)."""
 from __future__ import annotations
 
 import re
@@ -29,11 +29,12 @@ def code_actions(uri: str, lines: list[str], dialect: str | None, diagnostics: l
             position = types.Position(line=line, character=0)
             edit = types.TextEdit(range=types.Range(start=position, end=position), new_text=f"{indent}{match.group(1)}\n")
             found.append(_action(f"Insert {match.group(1)} before this block", uri, diagnostic, edit, preferred=True))
-        if rule == "core.feed-missing" and (feed := _last_feed(lines, line)) is not None:
+        if rule == "core.feed-missing" and (feed := _nearest_feed(lines, line)) is not None:
+            value, where = feed
             end = len(_code(lines[line]).rstrip())
             position = types.Position(line=line, character=end)
-            edit = types.TextEdit(range=types.Range(start=position, end=position), new_text=f" F{feed}")
-            found.append(_action(f"Add the feed F{feed} programmed last", uri, diagnostic, edit, preferred=True))
+            edit = types.TextEdit(range=types.Range(start=position, end=position), new_text=f" F{value}")
+            found.append(_action(f"Add the feed F{value} programmed {where}", uri, diagnostic, edit, preferred=True))
     return found
 
 
@@ -68,9 +69,12 @@ def _suppression(text: str, line: int, rule: str, dialect: str | None) -> types.
     return types.TextEdit(range=types.Range(start=position, end=position), new_text=new_text)
 
 
-def _last_feed(lines: list[str], line: int) -> str | None:
-    for index in range(line, -1, -1):
-        matches = _FEED.findall(_code(lines[index]))
-        if matches and index != line:
-            return matches[-1]
+def _nearest_feed(lines: list[str], line: int) -> tuple[str, str] | None:
+    """A non-zero feed to give the move: the last one before it (the finding then means an F0
+    in force), else the first one after it (the feed the program gives its cuts too late)."""
+    for where, numbers in (("last", range(line - 1, -1, -1)), ("next", range(line + 1, len(lines)))):
+        for index in numbers:
+            feeds = [value for value in _FEED.findall(_code(lines[index])) if float(value) > 0]
+            if feeds:
+                return (feeds[-1] if where == "last" else feeds[0]), where
     return None

@@ -13,7 +13,8 @@ import traceback
 from dataclasses import dataclass
 from pathlib import Path
 
-from ..api import FileResult, check_source, project_for
+from ..api import FileResult, check_source, detect_dialect, project_for
+from ..detect import Detection
 from ..project import ConfigError
 from ..settings import Settings
 from ..source import ProgramSource
@@ -82,18 +83,23 @@ class EditorSettings:
         return Settings(**values, explicit=frozenset(explicit))
 
 
-def analyse(text: str, path: Path | None, name: str, settings: Settings) -> tuple[FileResult | None, str | None]:
-    """Check one buffer as ``ncverify check`` checks the file: same settings, same project file."""
+def analyse(text: str, path: Path | None, name: str, settings: Settings,
+            detection: Detection | None = None) -> tuple[FileResult | None, str | None, Detection | None]:
+    """Check one buffer as ``ncverify check`` checks the file: same settings, same project
+    file. ``detection``: the dialect settled when the document was opened or saved (detection
+    reads the first 64 KiB and costs more than checking a few thousand lines, so it is not
+    repeated on every keystroke). Returns the result or a problem, and the detection used."""
     try:
         source = ProgramSource(text.encode("utf-8", errors="replace"), name, path)
+        detection = detection or detect_dialect(source, settings)
         project = project_for(path, settings)
-        return check_source(source, settings, project), None
+        return check_source(source, settings, project, detection), None, detection
     except ConfigError as error:
-        return None, f"ncverify: error in the project file: {error}"
+        return None, f"ncverify: error in the project file: {error}", detection
     except RecursionError:
-        return None, "ncverify: the program nests too deeply to be analysed"
+        return None, "ncverify: the program nests too deeply to be analysed", detection
     except Exception as error:  # noqa: BLE001 - an editor session must survive an internal error
-        return None, "ncverify: internal error while checking: " + "".join(traceback.format_exception_only(error)).strip()
+        return None, "ncverify: internal error while checking: " + "".join(traceback.format_exception_only(error)).strip(), detection
 
 
 class Worker:
@@ -133,11 +139,11 @@ class Runner:
         if not self._idle:
             self._idle.append(Worker())
 
-    async def run(self, key: str, text: str, path: Path | None, name: str, settings: Settings):
+    async def run(self, key: str, text: str, path: Path | None, name: str, settings: Settings, detection: Detection | None = None):
         self.cancel(key)
         worker = self._idle.pop() if self._idle else Worker()
         self._busy[key] = worker
-        answer = await asyncio.get_running_loop().run_in_executor(None, worker.ask, (text, path, name, settings))
+        answer = await asyncio.get_running_loop().run_in_executor(None, worker.ask, (text, path, name, settings, detection))
         if self._busy.get(key) is worker:
             del self._busy[key]
             if answer is not None and len(self._idle) < 2:

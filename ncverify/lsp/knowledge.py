@@ -90,10 +90,11 @@ def parameter_names(cycle: str) -> list[tuple[str, str]]:
 # --------------------------------------------------------------------------- hover
 
 def hover_markdown(dialect: str | None, profile: str | None, machine: str | None, lines: list[str], line: int, character: int) -> str | None:
-    """Markdown describing what is at 0-based ``line``/``character``, or ``None``."""
+    """Markdown describing what is at 0-based ``line``/``character``, or ``None``. ``lines``
+    may keep their line ends."""
     if not 0 <= line < len(lines):
         return None
-    text = lines[line]
+    text = lines[line].rstrip("\r\n")
     dialect = dialect or "iso"
     if dialect == "sinumerik":
         found = _sinumerik_argument(text, character)
@@ -214,7 +215,7 @@ _Q_WORD = re.compile(r"(?i)\bQ(\d+)\s*=")
 
 
 def _heidenhain(lines: list[str], line: int, character: int) -> str | None:
-    text = lines[line]
+    text = lines[line].rstrip("\r\n")
     definition = _CYCL_DEF.search(text)
     if definition and definition.start() <= character <= definition.end() + 40:
         cycle = _cycle_table("heidenhain").get(f"heidenhain.{definition.group(1)}")

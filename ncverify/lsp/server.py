@@ -45,13 +45,19 @@ class NcVerifyServer(LanguageServer):
         self.pending: dict[str, asyncio.Task] = {}
         self.pull = False
         self.outlines: dict[str, tuple[int | None, Outline]] = {}
+        self.detections: dict[str, object] = {}  # uri -> the Detection settled at open or save
+        self.split: dict[str, tuple[int | None, list[str]]] = {}
+        self.guesses: dict[str, object] = {}  # uri -> a Detection made for hover before any analysis
 
     # ------------------------------------------------------------------ analysis
 
-    def schedule(self, uri: str, delay: float | None = None) -> None:
+    def schedule(self, uri: str, delay: float | None = None, detect_again: bool = False) -> None:
         """Check the document's current version after the debounce delay; an older check
-        of the same document, waiting or running, is abandoned."""
+        of the same document, waiting or running, is abandoned. The dialect is detected
+        again on open, save and settings changes, and kept while the user types."""
         self.forget_pending(uri)
+        if detect_again:
+            self.detections.pop(uri, None)
         document = self.workspace.get_text_document(uri)
         wait = self.editor.debounce_ms / 1000 if delay is None else delay
         task = asyncio.get_running_loop().create_task(self._analyse(uri, document.version, wait))
@@ -70,10 +76,12 @@ class NcVerifyServer(LanguageServer):
         document = self.workspace.get_text_document(uri)
         text = document.source
         path = Path(to_fs_path(uri)) if uri.startswith("file:") else None
-        answer = await self.runner.run(uri, text, path, str(path or uri), self.check_settings())
+        answer = await self.runner.run(uri, text, path, str(path or uri), self.check_settings(), self.detections.get(uri))
         if answer is None or uri not in self.workspace.text_documents or self.workspace.get_text_document(uri).version != version:
             return  # superseded, or the document was closed meanwhile
-        result, problem = answer
+        result, problem, detection = answer
+        if detection is not None and detection.dialect is not None:
+            self.detections[uri] = detection
         lines = text.splitlines()
         analysis = Analysis(version, lines, result)
         if problem:
@@ -117,15 +125,26 @@ class NcVerifyServer(LanguageServer):
         analysis = self.last(uri)
         if analysis is not None and analysis.result is not None and analysis.result.dialect:
             return analysis.result.dialect, analysis.result.profile, analysis.result.machine
-        source = self.workspace.get_text_document(uri).source
-        found = detect(source[:65536], source[:65536].encode("utf-8", errors="replace"))
+        found = self.detections.get(uri) or self.guesses.get(uri)
+        if found is None:  # before the first analysis: detected once here, then settled by the analysis
+            head = self.workspace.get_text_document(uri).source[:65536]
+            found = self.guesses[uri] = detect(head, head.encode("utf-8", errors="replace"))
         return self.editor.dialect or found.dialect, self.editor.profile or found.profile, self.editor.machine or found.machine
+
+    def lines_of(self, uri: str) -> list[str]:
+        """The document's lines without their ends, split once per version (a 200,000-line
+        buffer is not split again for every hover)."""
+        document = self.workspace.get_text_document(uri)
+        cached = self.split.get(uri)
+        if cached is None or cached[0] != document.version:
+            cached = self.split[uri] = (document.version, document.source.splitlines())
+        return cached[1]
 
     def outline_of(self, uri: str) -> Outline:
         document = self.workspace.get_text_document(uri)
         cached = self.outlines.get(uri)
         if cached is None or cached[0] != document.version:
-            cached = (document.version, outline([line.rstrip("\r\n") for line in document.lines], self.dialect_of(uri)[0]))
+            cached = (document.version, outline(self.lines_of(uri), self.dialect_of(uri)[0]))
             self.outlines[uri] = cached
         return cached[1]
 
@@ -143,7 +162,7 @@ class NcVerifyServer(LanguageServer):
 
     def reanalyse_all(self) -> None:
         for uri in list(self.workspace.text_documents):
-            self.schedule(uri, delay=0)
+            self.schedule(uri, delay=0, detect_again=True)
         diagnostics = self.client_capabilities.workspace.diagnostics if self.client_capabilities.workspace else None
         if self.pull and diagnostics is not None and diagnostics.refresh_support:
             self.workspace_diagnostic_refresh(None)
@@ -188,7 +207,7 @@ async def configuration_changed(ls: NcVerifyServer, params: types.DidChangeConfi
 
 @server.feature(types.TEXT_DOCUMENT_DID_OPEN)
 def did_open(ls: NcVerifyServer, params: types.DidOpenTextDocumentParams) -> None:
-    ls.schedule(params.text_document.uri, delay=0)
+    ls.schedule(params.text_document.uri, delay=0, detect_again=True)
 
 
 @server.feature(types.TEXT_DOCUMENT_DID_CHANGE)
@@ -198,7 +217,7 @@ def did_change(ls: NcVerifyServer, params: types.DidChangeTextDocumentParams) ->
 
 @server.feature(types.TEXT_DOCUMENT_DID_SAVE)
 def did_save(ls: NcVerifyServer, params: types.DidSaveTextDocumentParams) -> None:
-    ls.schedule(params.text_document.uri, delay=0)
+    ls.schedule(params.text_document.uri, delay=0, detect_again=True)
 
 
 @server.feature(types.TEXT_DOCUMENT_DID_CLOSE)
@@ -207,6 +226,9 @@ def did_close(ls: NcVerifyServer, params: types.DidCloseTextDocumentParams) -> N
     ls.forget_pending(uri)
     ls.analyses.pop(uri, None)
     ls.outlines.pop(uri, None)
+    ls.detections.pop(uri, None)
+    ls.guesses.pop(uri, None)
+    ls.split.pop(uri, None)
     if not ls.pull:
         ls.text_document_publish_diagnostics(types.PublishDiagnosticsParams(uri=uri, diagnostics=[]))
 
@@ -229,10 +251,8 @@ def hover(ls: NcVerifyServer, params: types.HoverParams) -> types.Hover | None:
                 page = explain_text(str(diagnostic.code))
                 if page and page not in parts:
                     parts.append(page)
-    document = ls.workspace.get_text_document(uri)
     dialect, profile, machine = ls.dialect_of(uri)
-    lines = [line.rstrip("\r\n") for line in document.lines]
-    described = hover_markdown(dialect, profile, machine, lines, position.line, position.character)
+    described = hover_markdown(dialect, profile, machine, ls.lines_of(uri), position.line, position.character)
     if described:
         parts.insert(0, described)
     if not parts:
@@ -251,11 +271,11 @@ def inlay_hints(ls: NcVerifyServer, params: types.InlayHintParams) -> list[types
     uri = params.text_document.uri
     if ls.dialect_of(uri)[0] != "sinumerik":
         return []
-    document = ls.workspace.get_text_document(uri)
+    lines = ls.lines_of(uri)
     hints = []
-    last = min(params.range.end.line, len(document.lines) - 1)
+    last = min(params.range.end.line, len(lines) - 1)
     for number in range(max(params.range.start.line, 0), last + 1):
-        for call in cycle_calls(document.lines[number]):
+        for call in cycle_calls(lines[number]):
             names = parameter_names(call.name)
             for argument in call.arguments:
                 if argument.text and argument.index < len(names):
@@ -268,19 +288,17 @@ def inlay_hints(ls: NcVerifyServer, params: types.InlayHintParams) -> list[types
 @server.feature(types.TEXT_DOCUMENT_CODE_ACTION, types.CodeActionOptions(code_action_kinds=[types.CodeActionKind.QuickFix]))
 def actions(ls: NcVerifyServer, params: types.CodeActionParams) -> list[types.CodeAction]:
     uri = params.text_document.uri
-    document = ls.workspace.get_text_document(uri)
-    lines = [line.rstrip("\r\n") for line in document.lines]
-    return code_actions(uri, lines, ls.dialect_of(uri)[0], params.context.diagnostics)
+    return code_actions(uri, ls.lines_of(uri), ls.dialect_of(uri)[0], params.context.diagnostics)
 
 
 @server.feature(types.TEXT_DOCUMENT_DOCUMENT_SYMBOL)
 def document_symbols(ls: NcVerifyServer, params: types.DocumentSymbolParams) -> list[types.DocumentSymbol]:
-    lines = ls.workspace.get_text_document(params.text_document.uri).lines
+    lines = ls.lines_of(params.text_document.uri)
     symbols = []
     for symbol in ls.outline_of(params.text_document.uri).symbols:
         last = min(max(symbol.last_line, symbol.place.line), len(lines) - 1)
         whole = types.Range(start=types.Position(line=symbol.place.line, character=0),
-                            end=types.Position(line=last, character=len(lines[last].rstrip("\r\n")) if lines else 0))
+                            end=types.Position(line=last, character=len(lines[last]) if lines else 0))
         selection = symbol.place.range()
         if selection.end.line == whole.end.line and selection.end.character > whole.end.character:
             whole = types.Range(start=whole.start, end=selection.end)
