@@ -149,6 +149,11 @@ async def test_hover_explains_codes_cycle_parameters_and_findings(client: Langua
     page = await _hover(client, BRACKET, line, column + 9)
     assert explain_text("core.comp-on-arc") in page and "circular interpolation CW" in page
     assert "R point" in await _hover(client, BRACKET, *_position(BRACKET, "R2.", 0))
+    parametric = CORPUS / "iso" / "param-depth-violated.nc"
+    await open_and_wait(client, parametric)
+    line = next(number for number, text in enumerate(parametric.read_text(encoding="utf-8").splitlines()) if "Z#1" in text.replace(" ", "") or "Z[#1" in text)
+    column = parametric.read_text(encoding="utf-8").splitlines()[line].index("#1")
+    assert "free parameter" in await _hover(client, parametric, line, column)
 
     sinumerik = tmp_path / "part.mpf"
     sinumerik.write_text("G17 G90 T1 D1 M6\nS1000 M3\nG0 X0 Y0 Z50\nCYCLE81(50, 0, 2, -10)\nM30\n", encoding="utf-8")

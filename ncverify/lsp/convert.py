@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import re
 from bisect import bisect_left
-from functools import cache
 from pathlib import Path
 
 from lsprotocol import types
@@ -78,6 +77,7 @@ class LineIndex:
     def __init__(self, text: str, dialect: str | None):
         self.lines = text.splitlines()
         self.dialect = dialect or "iso"
+        self._found: dict[str, list[int]] = {}
 
     def last_before(self, pattern: str, line: int) -> int | None:
         """The last line at or before 1-based ``line`` matching ``pattern``."""
@@ -93,12 +93,10 @@ class LineIndex:
         return None
 
     def _matches(self, pattern: str) -> list[int]:
-        cache_key = f"_matches_{pattern}"
-        found = self.__dict__.get(cache_key)
+        found = self._found.get(pattern)
         if found is None:
             compiled = re.compile(pattern, re.IGNORECASE)
-            found = [number for number, text in enumerate(self.lines, 1) if compiled.search(_code_part(text))]
-            self.__dict__[cache_key] = found
+            found = self._found[pattern] = [number for number, text in enumerate(self.lines, 1) if compiled.search(_code_part(text))]
         return found
 
     def line_range(self, line: int) -> types.Range:
@@ -155,9 +153,3 @@ def _causes(item: Diagnostic, uri: str, index: LineIndex) -> list[types.Diagnost
             causes.append(types.DiagnosticRelatedInformation(
                 location=types.Location(uri=uri, range=index.line_range(tool)), message="the tool call in force here"))
     return causes
-
-
-@cache
-def rule_summary(rule: str) -> str:
-    definition = rule_definitions().get(rule)
-    return definition.summary if definition else rule

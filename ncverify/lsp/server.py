@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import asyncio
 import logging
+import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -30,7 +31,6 @@ class Analysis:
     """The last finished check of one document version."""
 
     version: int | None
-    lines: list[str]
     result: FileResult | None
     diagnostics: list[types.Diagnostic] = field(default_factory=list)
 
@@ -82,8 +82,7 @@ class NcVerifyServer(LanguageServer):
         result, problem, detection = answer
         if detection is not None and detection.dialect is not None:
             self.detections[uri] = detection
-        lines = text.splitlines()
-        analysis = Analysis(version, lines, result)
+        analysis = Analysis(version, result)
         if problem:
             analysis.diagnostics = [_file_level(problem, types.DiagnosticSeverity.Error)]
         elif result.skipped:
@@ -255,9 +254,26 @@ def hover(ls: NcVerifyServer, params: types.HoverParams) -> types.Hover | None:
     described = hover_markdown(dialect, profile, machine, ls.lines_of(uri), position.line, position.character)
     if described:
         parts.insert(0, described)
+    if analysis is not None and analysis.result is not None and (free := _free_parameter_at(ls.lines_of(uri), position, analysis.result)):
+        parts.insert(0, free)
     if not parts:
         return None
     return types.Hover(contents=types.MarkupContent(kind=types.MarkupKind.Markdown, value="\n\n---\n\n".join(parts)))
+
+
+_VARIABLE = re.compile(r"(?i)#\d+|\bQ[LR]?\d+|\bR\d+|\bP\d+")
+
+
+def _free_parameter_at(lines: list[str], position: types.Position, result: FileResult) -> str | None:
+    """A parameter the program reads and never sets: the checks hold it as any value its
+    assumptions allow."""
+    if not 0 <= position.line < len(lines) or not result.free_parameters:
+        return None
+    for match in _VARIABLE.finditer(lines[position.line]):
+        if match.start() <= position.character <= match.end() and match.group().upper() in result.free_parameters:
+            return (f"**{match.group().upper()}**: a free parameter: the program reads it and never sets it, so every check "
+                    "holds it as any value the `assume` annotations and `[assume]` of the project file allow")
+    return None
 
 
 def _contains(region: types.Range, position: types.Position) -> bool:
