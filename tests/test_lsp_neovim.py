@@ -13,7 +13,8 @@ import pytest
 
 from ncverify import check_file
 
-pytest.importorskip("pygls", reason="the lsp extra is not installed")
+if not os.environ.get("CI"):  # in CI the test extra installs it: a missing pygls fails there
+    pytest.importorskip("pygls", reason="the lsp extra is not installed")
 
 ROOT = Path(__file__).resolve().parent.parent
 PROGRAMS = [ROOT / "corpus" / "iso" / "quickstart-bracket.nc", ROOT / "corpus" / "heidenhain" / "pocket.h",
