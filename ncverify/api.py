@@ -10,7 +10,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from . import annotations, values
-from .check import Checker
+from .check import Checker, show
 from .detect import Detection, detect
 from .diagnostics import Diagnostic, Severity, Status, Suppressed
 from .interpret import Interpreter
@@ -42,6 +42,7 @@ class FileResult:
     truncated: dict[str, int] = field(default_factory=dict)
     free_parameters: list[str] = field(default_factory=list)
     least_input_increment: float | None = None
+    values: dict[int, list[tuple[str, str]]] = field(default_factory=dict)  # with Settings.record_values: line -> (variable, value shown)
 
     def to_json(self) -> dict:
         entry = {"path": self.path, "dialect": self.dialect, "dialect_confidence": self.dialect_confidence}
@@ -206,6 +207,16 @@ def _run(source: ProgramSource, settings: Settings, detection: Detection, result
     result.blocks = interpreter.blocks_run
     result.paths = interpreter.paths_started
     result.free_parameters = sorted(interpreter.free_parameters)
+    result.values = {line: [(name, _shown(value)) for name, value in assigned] for line, assigned in interpreter.assigned.items()}
+
+
+def _shown(value) -> str:
+    """A value for an editor: the number, or the expression and its interval when symbolic."""
+    low, high = values.interval(value) if isinstance(value, (float, values.Sym)) else (None, None)
+    text = show(value)
+    if isinstance(value, values.Sym) and low is not None and (low > -values.INF or high < values.INF):
+        text += f" in [{show(float(low))}, {show(float(high))}]"
+    return text
 
 
 def iter_program_files(paths: list[str], settings: Settings):

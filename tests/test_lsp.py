@@ -181,6 +181,19 @@ async def test_inlay_hints_name_positional_cycle_arguments(client: LanguageClien
     assert [(hint.label, hint.position.character) for hint in hints] == [("RTP:", 8), ("RFP:", 12), ("DP:", 17)]
 
 
+@pytest.mark.asyncio(loop_scope="module")
+async def test_values_the_interpreter_computed_in_inlay_hints_and_hover(client: LanguageClient, tmp_path: Path):
+    program = tmp_path / "macro.nc"
+    program.write_text("O1000\n#1=0\nWHILE [#1 LT 3] DO1\n#1=#1+1\nEND1\n#2=#500*2\nG00 X#2\nM30\n", encoding="utf-8")
+    await open_and_wait(client, program)
+    hints = await client.text_document_inlay_hint_async(types.InlayHintParams(
+        text_document=types.TextDocumentIdentifier(uri=program.as_uri()),
+        range=types.Range(start=types.Position(line=0, character=0), end=types.Position(line=7, character=0))))
+    assert {(hint.position.line, hint.label) for hint in hints} == {(1, "#1 = 0"), (3, "#1 = 1, 2, 3"), (5, "#2 = 2*#500")}
+    assert "**#2** = 2*#500 (assigned at line 6)" in await _hover(client, program, 6, 6)
+    assert "free parameter" in await _hover(client, program, 5, 5)
+
+
 async def _actions(client, path: Path, diagnostic: types.Diagnostic) -> list[types.CodeAction]:
     return await client.text_document_code_action_async(types.CodeActionParams(
         text_document=types.TextDocumentIdentifier(uri=path.resolve().as_uri()), range=diagnostic.range,

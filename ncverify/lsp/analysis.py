@@ -80,7 +80,7 @@ class EditorSettings:
             explicit.add("solver_timeout_s")
         if self.subprogram_path:
             explicit.add("subprogram_path")
-        return Settings(**values, explicit=frozenset(explicit))
+        return Settings(**values, explicit=frozenset(explicit), record_values=True)
 
 
 def analyse(text: str, path: Path | None, name: str, settings: Settings,

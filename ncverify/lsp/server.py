@@ -254,26 +254,42 @@ def hover(ls: NcVerifyServer, params: types.HoverParams) -> types.Hover | None:
     described = hover_markdown(dialect, profile, machine, ls.lines_of(uri), position.line, position.character)
     if described:
         parts.insert(0, described)
-    if analysis is not None and analysis.result is not None and (free := _free_parameter_at(ls.lines_of(uri), position, analysis.result)):
-        parts.insert(0, free)
+    if analysis is not None and analysis.result is not None and (variable := _variable_at(ls.lines_of(uri), position, analysis.result)):
+        parts.insert(0, variable)
     if not parts:
         return None
     return types.Hover(contents=types.MarkupContent(kind=types.MarkupKind.Markdown, value="\n\n---\n\n".join(parts)))
 
 
-_VARIABLE = re.compile(r"(?i)#\d+|\bQ[LR]?\d+|\bR\d+|\bP\d+")
+_VARIABLE = re.compile(r"(?i)#\d+|\bQ[LR]?\d+|\bR\d+|\bP\d+|\b[A-Z_][A-Z0-9_]*")
+_SHOWN_VALUES = 4
 
 
-def _free_parameter_at(lines: list[str], position: types.Position, result: FileResult) -> str | None:
-    """A parameter the program reads and never sets: the checks hold it as any value its
-    assumptions allow."""
-    if not 0 <= position.line < len(lines) or not result.free_parameters:
+def _variable_at(lines: list[str], position: types.Position, result: FileResult) -> str | None:
+    """What the analysis knows of the variable under the cursor: free (read, never set), or
+    the values its last assignment above this line computed."""
+    if not 0 <= position.line < len(lines):
         return None
     for match in _VARIABLE.finditer(lines[position.line]):
-        if match.start() <= position.character <= match.end() and match.group().upper() in result.free_parameters:
-            return (f"**{match.group().upper()}**: a free parameter: the program reads it and never sets it, so every check "
+        if not match.start() <= position.character <= match.end():
+            continue
+        name = match.group().upper()
+        if name in result.free_parameters:
+            return (f"**{name}**: a free parameter: the program reads it and never sets it, so every check "
                     "holds it as any value the `assume` annotations and `[assume]` of the project file allow")
+        assigned = [(line, value) for line, pairs in result.values.items() if line <= position.line + 1
+                    for variable, value in pairs if variable.upper() == name]
+        if assigned:
+            line = max(line for line, _ in assigned)
+            return f"**{name}** = " + _values_text([value for at, value in assigned if at == line]) + f" (assigned at line {line})"
     return None
+
+
+def _values_text(shown: list[str]) -> str:
+    """The distinct values one line computed (a loop runs it several times), in order."""
+    distinct = list(dict.fromkeys(shown))
+    text = ", ".join(distinct[:_SHOWN_VALUES])
+    return text + (", ..." if len(distinct) > _SHOWN_VALUES else "")
 
 
 def _contains(region: types.Range, position: types.Position) -> bool:
@@ -285,12 +301,20 @@ def _contains(region: types.Range, position: types.Position) -> bool:
 @server.feature(types.TEXT_DOCUMENT_INLAY_HINT)
 def inlay_hints(ls: NcVerifyServer, params: types.InlayHintParams) -> list[types.InlayHint]:
     uri = params.text_document.uri
-    if ls.dialect_of(uri)[0] != "sinumerik":
-        return []
     lines = ls.lines_of(uri)
     hints = []
-    last = min(params.range.end.line, len(lines) - 1)
-    for number in range(max(params.range.start.line, 0), last + 1):
+    first, last = max(params.range.start.line, 0), min(params.range.end.line, len(lines) - 1)
+    analysis = ls.last(uri)
+    if analysis is not None and analysis.result is not None and analysis.version == ls.workspace.get_text_document(uri).version:
+        for line, assigned in sorted(analysis.result.values.items()):
+            if first <= line - 1 <= last < len(lines):
+                # only what the line itself writes (a D word sets $P_TOOL behind the scenes)
+                written = [(name, value) for name, value in assigned if name.upper() in lines[line - 1].upper()]
+                if written:
+                    hints.append(_value_hint(lines[line - 1], line - 1, written))
+    if ls.dialect_of(uri)[0] != "sinumerik":
+        return hints
+    for number in range(first, last + 1):
         for call in cycle_calls(lines[number]):
             names = parameter_names(call.name)
             for argument in call.arguments:
@@ -299,6 +323,15 @@ def inlay_hints(ls: NcVerifyServer, params: types.InlayHintParams) -> list[types
                         position=types.Position(line=number, character=argument.start), label=f"{names[argument.index][0]}:",
                         kind=types.InlayHintKind.Parameter, padding_right=True))
     return hints
+
+
+def _value_hint(text: str, line: int, assigned: list[tuple[str, str]]) -> types.InlayHint:
+    """``= value`` after an assignment the interpreter evaluated."""
+    by_name: dict[str, list[str]] = {}
+    for name, value in assigned:
+        by_name.setdefault(name, []).append(value)
+    label = "; ".join(f"{name} = {_values_text(shown)}" for name, shown in by_name.items())
+    return types.InlayHint(position=types.Position(line=line, character=len(text)), label=label, padding_left=True)
 
 
 @server.feature(types.TEXT_DOCUMENT_CODE_ACTION, types.CodeActionOptions(code_action_kinds=[types.CodeActionKind.QuickFix]))
