@@ -320,3 +320,26 @@ def test_settings_of_the_editor_win_over_the_project_file_and_bad_values_are_ign
     rules = {d.rule for d in result.diagnostics}
     assert "core.comp-on-arc" not in rules and "core.tool-not-in-table" not in rules
     assert editor.settings().solver_timeout_s == Settings().solver_timeout_s
+
+
+def test_a_newer_version_ends_the_worker_checking_the_older_one():
+    from ncverify.lsp.analysis import EditorSettings, Runner
+
+    big = "O1000\nG21 G90 G54\nS1000 M03\n" + "G01 X1. Y1. F100.\nX2. Y2.\n" * 100000 + "M30\n"
+    small = BRACKET.read_text(encoding="utf-8")
+    settings = EditorSettings().settings()
+
+    async def race():
+        runner = Runner()
+        try:
+            slow = asyncio.ensure_future(runner.run("doc", big, None, "doc", settings))
+            await asyncio.sleep(0.5)
+            worker = runner._busy["doc"]
+            fast = await runner.run("doc", small, None, "doc", settings)
+            return await slow, worker.process.is_alive(), fast
+        finally:
+            runner.cancel_all()
+
+    stale, alive, fresh = asyncio.run(race())
+    assert stale is None and not alive
+    assert "core.comp-on-arc" in {d.rule for d in fresh[0].diagnostics}

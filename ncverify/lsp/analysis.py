@@ -119,12 +119,13 @@ class Worker:
             self.connection.send(job)
             return self.connection.recv()
         except (EOFError, OSError):
+            self.connection.close()  # only this thread uses the connection while a job runs
             return None
 
     def end(self) -> None:
+        """Stop the process; a thread blocked in :meth:`ask` then sees the pipe break."""
         if self.process.is_alive():
             self.process.kill()
-        self.connection.close()
 
 
 class Runner:
@@ -150,6 +151,7 @@ class Runner:
                 self._idle.append(worker)
                 return answer
             worker.end()
+            worker.connection.close()
         return answer
 
     def cancel(self, key: str) -> None:
@@ -161,6 +163,8 @@ class Runner:
     def cancel_all(self) -> None:
         for worker in [*self._busy.values(), *self._idle]:
             worker.end()
+        for worker in self._idle:
+            worker.connection.close()
         self._busy.clear()
         self._idle.clear()
 

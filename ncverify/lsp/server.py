@@ -77,9 +77,11 @@ class NcVerifyServer(LanguageServer):
         text = document.source
         path = Path(to_fs_path(uri)) if uri.startswith("file:") else None
         answer = await self.runner.run(uri, text, path, str(path or uri), self.check_settings(), self.detections.get(uri))
-        if answer is None or uri not in self.workspace.text_documents or self.workspace.get_text_document(uri).version != version:
+        if uri not in self.workspace.text_documents or self.workspace.get_text_document(uri).version != version:
             return  # superseded, or the document was closed meanwhile
-        result, problem, detection = answer
+        # No answer for the current version: the worker ended on its own (a newer version
+        # would have cancelled this task before it got here).
+        result, problem, detection = answer or (None, "ncverify: the analysis stopped unexpectedly (its worker process ended)", None)
         if detection is not None and detection.dialect is not None:
             self.detections[uri] = detection
         analysis = Analysis(version, result)
