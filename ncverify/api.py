@@ -10,7 +10,8 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 from . import annotations, values
-from .check import Checker, show
+from .check import Checker
+from .verdict import show
 from .detect import Detection, detect
 from .diagnostics import Diagnostic, Severity, Status, Suppressed
 from .interpret import Interpreter
