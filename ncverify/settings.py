@@ -29,6 +29,7 @@ class Settings:
     solver_timeout_s: float = 5.0  # per Z3 query
     rapid_path: str = "straight"  # or "dogleg": each axis moves on its own at rapid
     config: Path | None = None  # the project file; None: ncverify.toml found upward
+    record_values: bool = False  # editors: keep what each assignment computes, by line (FileResult.values)
     explicit: frozenset[str] = frozenset()  # settings given on the command line: the project file does not override them
 
     def with_(self, **changes) -> "Settings":

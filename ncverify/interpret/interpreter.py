@@ -116,6 +116,7 @@ class Interpreter(ControlFlow):
                  feed_increment: float = 0.0, library=None, assumptions=(), pins: dict | None = None):
         self.cycle_models = cycle_models
         self.twins = twins
+        self.assigned: dict[int, list[tuple[str, object]]] = {}  # line -> (variable, value) of assignment statements, with settings.record_values
         self.source = source
         self.frontend = frontend
         self.observer = observer
@@ -502,10 +503,12 @@ class Interpreter(ControlFlow):
             self.free_parameters[name] = parameter
         return parameter
 
-    def write_variable(self, var: ir.Var, value, span=None) -> None:
+    def write_variable(self, var: ir.Var, value, span=None, assignment: bool = False) -> None:
         name = self.variable_name(var, span)
         if isinstance(value, (bool, Condition)):
             value = 1.0 if value is True else 0.0 if value is False else values.fresh("condition", 0.0, 1.0)
+        if assignment and self.settings.record_values and span is not None and span.path is None:
+            self.assigned.setdefault(span.line, []).append((name, value))
         if self.frontend.variable_scope(name) == "local":
             self.state.local_variables[name] = value
         else:
@@ -850,7 +853,7 @@ class Interpreter(ControlFlow):
 
     def _assign(self, op: ir.Assign, block):
         value = self.evaluate(op.value, op.span)
-        self.write_variable(op.target, value, op.span)
+        self.write_variable(op.target, value, op.span, assignment=True)
         return None
 
     def _alarm(self, op: ir.Alarm, block):
