@@ -96,7 +96,9 @@ def project_for(program: Path | None, settings: Settings) -> Context | None:
     return load_project(path) if path is not None else None
 
 
-def check_source(source: ProgramSource, settings: Settings, project: Context | None = None) -> FileResult:
+def check_source(source: ProgramSource, settings: Settings, project: Context | None = None, checker_class=Checker) -> FileResult:
+    """``checker_class``: a :class:`Checker` subclass that also watches the trace (the plot
+    records the toolpath with it); witness replays use the plain one."""
     detection = _detection(source, settings)
     result = FileResult(source.name, detection.dialect, detection.confidence, profile=detection.profile, machine=detection.machine)
     if detection.dialect is None:
@@ -111,7 +113,7 @@ def check_source(source: ProgramSource, settings: Settings, project: Context | N
         result.diagnostics = checker.diagnostics
         return result
     with values.fresh_numbering():
-        _run(source, settings, detection, result, project)
+        _run(source, settings, detection, result, project, checker_class=checker_class)
         _confirm_witnesses(source, settings, detection, result, project)
     return result
 
@@ -158,7 +160,7 @@ def _confirm_witnesses(source, settings, detection, result: FileResult, project:
 
 
 def _run(source: ProgramSource, settings: Settings, detection: Detection, result: FileResult, project: Context,
-         pins: dict | None = None) -> None:
+         pins: dict | None = None, checker_class=Checker) -> None:
     dialect = setup_for(detection.dialect, settings, detection, project)
     frontend = dialect.frontend
     found = annotations.collect(source, frontend)
@@ -180,7 +182,7 @@ def _run(source: ProgramSource, settings: Settings, detection: Detection, result
         "solver_timeout_s": settings.solver_timeout_s,
         "wording": wording(detection.dialect, dialect.profile),
     })
-    checker = Checker(settings, limits, context.severity, found.suppressions)
+    checker = checker_class(settings, limits, context.severity, found.suppressions)
     for note in found.notes:
         checker.note(note)
     folders = list(settings.subprogram_path)

@@ -257,6 +257,7 @@ class Checker:
         self._per_rule: dict[str, int] = {}
         self.truncated: dict[str, int] = {}
         self.path_condition: list = []
+        self._call_sites: list[Span] = []  # the calls seen so far, for the call site of a finding in another file
         rules = [cls(self) for cls in _RULE_CLASSES if not set(cls.ids) <= settings.disabled_rules]
         self.rules = rules
         self._segment = _handlers(rules, "segment")
@@ -308,6 +309,8 @@ class Checker:
             handler(run, state)
 
     def change(self, change, state) -> None:
+        if change.what == "call":
+            self._call_sites.append(change.span)
         for handler in self._change:
             handler(change, state)
 
@@ -345,7 +348,19 @@ class Checker:
         severity = self._severity(definition)
         if status is Status.PROVED:
             severity = Severity.INFO
-        self.diagnostics.append(Diagnostic(rule_id, definition.category, severity, span, message, status, reason, witness or {}))
+        self.diagnostics.append(Diagnostic(rule_id, definition.category, severity, span, message, status, reason, witness or {},
+                                           self._call_site(span)))
+
+    def _call_site(self, span: Span) -> tuple:
+        """For a finding in a subprogram file, the latest call made from another file: the
+        call that brought the program there (calls the subprogram makes itself are in its
+        own file and are passed over)."""
+        if span.path is None:
+            return ()
+        for call in reversed(self._call_sites):
+            if call.path != span.path:
+                return ((call, "called from here"),)
+        return ()
 
     def judge(self, hazard, state) -> "Verdict | None":
         """:func:`judge` under the path's condition and the configured solver timeout."""

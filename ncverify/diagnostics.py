@@ -58,6 +58,7 @@ class Diagnostic:
     status: Status = Status.VIOLATED
     reason: str | None = None
     witness: dict[str, float] = field(default_factory=dict)
+    related: tuple[tuple[Span, str], ...] = ()  # other places that explain the finding (the call site), with what they are
 
     def sort_key(self):
         return (self.span.path or "", self.span.line, self.span.column, self.rule)

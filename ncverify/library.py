@@ -4,6 +4,7 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
+from .dependencies import note_lookup
 from .source import ProgramSource
 
 _FIRST_PROGRAM = re.compile(rb"(?mi)^[ \t]*(?:%[ \t]*)?(?:N\d+[ \t]*)?[O:][ \t]*(\d+)")
@@ -21,14 +22,19 @@ class SubprogramLibrary:
         self._open: dict[Path, ProgramSource] = {}
 
     def find(self, name: str) -> ProgramSource | None:
-        if self._index is None:
-            self._index = self._build_index()
-        path = self._index.get(name)
+        path = self.resolve(name)
+        note_lookup(name, path, self.folders)
         if path is None:
             return None
         if path not in self._open:
             self._open[path] = ProgramSource.open(path)
         return self._open[path]
+
+    def resolve(self, name: str) -> Path | None:
+        """The file that holds program ``name``, without opening it."""
+        if self._index is None:
+            self._index = self._build_index()
+        return self._index.get(name)
 
     def _build_index(self) -> dict[str, Path]:
         """A file whose first program is O1000 wins over one that only holds O1000 further

@@ -15,6 +15,7 @@ FILE_NAME = "ncverify.toml"
 SETTINGS = {
     "loop_bound": int, "call_depth": int, "max_paths": int, "solver_timeout_s": float, "machine": str,
     "profile": str, "dialect": str, "subprogram_path": list, "rapid_path": str, "least_input_increment": float,
+    "cache_dir": str,
 }
 _CHOICES = {"machine": ("mill", "lathe"), "rapid_path": ("straight", "dogleg"), "dialect": ("iso", "heidenhain", "sinumerik", "fagor")}
 _AXES = ("x", "y", "z", "a", "b", "c", "u", "v", "w")
@@ -95,6 +96,8 @@ class _Reader:
                 if not all(isinstance(item, str) for item in value):
                     self.fail(f"[settings] {key}", "expected a list of folder names")
                 value = tuple((self.path.parent / item) for item in value)
+            if key == "cache_dir":
+                value = self.path.parent / value
             settings[key] = value
         return settings
 
