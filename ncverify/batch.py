@@ -15,6 +15,7 @@ from typing import Callable, Iterable, Iterator
 from .api import FileResult, InputError, check_file
 from .cache import ResultCache, folder_for
 from .dependencies import ReadLog, recording
+from .library import shared_indexes
 from .project import ConfigError
 from .pool import WorkerFailure, run_in_workers
 from .settings import Settings
@@ -41,7 +42,7 @@ class FileOutcome:
 def check_path(task: tuple[Path, Settings]) -> FileOutcome:
     """Check one file; a file that cannot be read is an outcome with ``error``."""
     path, settings = task
-    with recording() as log:
+    with recording() as log, shared_indexes():
         try:
             result = check_file(path, settings)
         except InputError as error:
@@ -78,7 +79,8 @@ def run_batch(inputs: Iterable[tuple[Path, bool]], settings: Settings, dispatch:
     caches: dict[int, tuple[ResultCache, str]] = {}
     missing: list[int] = []
     for index, (path, explicit) in enumerate(inputs):
-        cached = _lookup(path, settings) if use_cache else None
+        with shared_indexes():
+            cached = _lookup(path, settings) if use_cache else None
         if cached is not None:
             caches[index] = cached[:2]
             if cached[2] is not None:

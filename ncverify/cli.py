@@ -159,6 +159,19 @@ def _check(arguments) -> int:
     except ClusterError as error:
         print(f"ncverify: error: {error}", file=sys.stderr)
         return EXIT_USAGE
+    results, errors, texts = _run_batch(arguments, inputs, settings, dispatch)
+    if arguments.format != "jsonl":
+        _write(arguments, results, errors, texts)
+    elif errors:
+        _print_errors(errors)
+    if arguments.plot:
+        _plot_failing(results, settings, Path(arguments.plot))
+    return _exit_code(results, errors, settings)
+
+
+def _run_batch(arguments, inputs, settings: Settings, dispatch) -> tuple[list[FileResult], list[str], dict[str, str]]:
+    """Check the inputs with the progress bar and, for ``--format jsonl``, a line per file
+    as it finishes. A broken project file stops the run (exit 2), as before batches."""
     progress = BatchProgress(len(inputs))
     with _Lines(arguments) as lines:
         def finished(outcome: FileOutcome) -> None:
@@ -176,13 +189,7 @@ def _check(arguments) -> int:
         if not results and not errors:
             errors.append("no program files found in " + ", ".join(arguments.paths))
         lines.write({"summary": summary(results, errors)})
-    if arguments.format != "jsonl":
-        _write(arguments, results, errors, texts)
-    elif errors:
-        _print_errors(errors)
-    if arguments.plot:
-        _plot_failing(results, settings, Path(arguments.plot))
-    return _exit_code(results, errors, settings)
+    return results, errors, texts
 
 
 def _dispatch(arguments):

@@ -5,6 +5,7 @@ from __future__ import annotations
 import io
 import json
 import os
+import re
 import shutil
 import socket
 import subprocess
@@ -245,6 +246,25 @@ def test_a_broken_entry_is_ignored_and_rewritten(tmp_path):
     assert run_batch(inputs, settings, local_dispatch(1))[0].cached
 
 
+def test_a_batch_indexes_the_library_folder_once(tmp_path, monkeypatch):
+    from ncverify.library import SubprogramLibrary
+
+    builds = []
+    original = SubprogramLibrary._build_index
+    monkeypatch.setattr(SubprogramLibrary, "_build_index", lambda self: builds.append(1) or original(self))
+    for number in range(3):
+        (tmp_path / f"main{number}.nc").write_text(MAIN_CALLING)
+    (tmp_path / "O2000.nc").write_text(SUBPROGRAM)
+    inputs = [(path, False) for path in sorted(tmp_path.glob("main*.nc"))]
+    outcomes = run_batch(inputs, Settings(), local_dispatch(1), use_cache=False)
+    assert len(builds) == 1
+    assert all("core.program-not-found" not in {d.rule for d in o.result.diagnostics} for o in outcomes)
+    time.sleep(0.01)
+    (tmp_path / "O3000.nc").write_text(SUBPROGRAM.replace("O2000", "O3000"))  # the folder changed: indexed again
+    run_batch(inputs[:1], Settings(), local_dispatch(1), use_cache=False)
+    assert len(builds) == 2
+
+
 def test_cache_dir_from_the_project_file(tmp_path, capsys):
     (tmp_path / "ncverify.toml").write_text('[settings]\ncache_dir = "results"\n')
     (tmp_path / "bad.nc").write_text(BAD)
@@ -328,14 +348,12 @@ def test_pre_commit_hook_passes_a_good_program_and_fails_a_bad_one(tmp_path):
     for command in (["git", "init", "-q"], ["git", "add", "."]):
         subprocess.run(command, cwd=repository, check=True, env=environment)
 
-    def try_hook(*files):
-        return subprocess.run([sys.executable, "-m", "pre_commit", "try-repo", str(ROOT), "ncverify", "--files", *files],
-                              cwd=repository, env=environment, capture_output=True, text=True, timeout=600)
-
-    good = try_hook("good.nc", "notes.md")
-    assert good.returncode == 0, good.stdout + good.stderr
-    bad = try_hook("good.nc", "bad.nc")
-    assert bad.returncode == 1 and "core.feed-missing" in bad.stdout
+    hook = subprocess.run([sys.executable, "-m", "pre_commit", "try-repo", str(ROOT), "ncverify", "--files", "good.nc", "bad.nc", "notes.md"],
+                          cwd=repository, env=environment, capture_output=True, text=True, timeout=900)
+    assert hook.returncode == 1, hook.stdout + hook.stderr
+    assert re.search(r"^bad\.nc:2:\d+: error core\.feed-missing", hook.stdout, re.MULTILINE), hook.stdout
+    assert "good.nc:" not in hook.stdout.replace("good.nc: note", "")  # the good program has no finding
+    assert "notes.md" not in hook.stdout  # not a program extension: not handed to the hook
 
 
 # --------------------------------------------------------------------------- plot
