@@ -365,8 +365,8 @@ def test_plot_draws_the_toolpath_and_the_findings(tmp_path, capsys):
     code, _, err = run(capsys, "plot", ROOT / "corpus" / "iso" / "quickstart-bracket.nc", "-o", "bracket.svg")
     assert code == 0, err
     picture = Path("bracket.svg").read_text()
-    assert "quickstart-bracket.nc" in picture and "core.comp-on-arc, line 14" in picture
-    for label in ("cutting move", "rapid", "stock", "tool change", "finding"):
+    assert "quickstart-bracket.nc" in picture and "1  line 14  core.comp-on-arc" in picture
+    for label in ("cutting move", "rapid", "stock", "tool change", "finding (numbered as listed below)"):
         assert label in picture
 
 
