@@ -96,7 +96,7 @@ def project_for(program: Path | None, settings: Settings) -> Context | None:
     return load_project(path) if path is not None else None
 
 
-def check_source(source: ProgramSource, settings: Settings, project: Context | None = None, checker_class=Checker) -> FileResult:
+def check_source(source: ProgramSource, settings: Settings, project: Context | None = None, checker_class=None) -> FileResult:
     """``checker_class``: a :class:`Checker` subclass that also watches the trace (the plot
     records the toolpath with it); witness replays use the plain one."""
     detection = _detection(source, settings)
@@ -160,7 +160,7 @@ def _confirm_witnesses(source, settings, detection, result: FileResult, project:
 
 
 def _run(source: ProgramSource, settings: Settings, detection: Detection, result: FileResult, project: Context,
-         pins: dict | None = None, checker_class=Checker) -> None:
+         pins: dict | None = None, checker_class=None) -> None:
     dialect = setup_for(detection.dialect, settings, detection, project)
     frontend = dialect.frontend
     found = annotations.collect(source, frontend)
@@ -182,7 +182,7 @@ def _run(source: ProgramSource, settings: Settings, detection: Detection, result
         "solver_timeout_s": settings.solver_timeout_s,
         "wording": wording(detection.dialect, dialect.profile),
     })
-    checker = checker_class(settings, limits, context.severity, found.suppressions)
+    checker = (checker_class or Checker)(settings, limits, context.severity, found.suppressions)
     for note in found.notes:
         checker.note(note)
     folders = list(settings.subprogram_path)
