@@ -6,15 +6,15 @@ file entry of the JSON contract; ``check_paths`` walks files and folders for the
 from __future__ import annotations
 
 import os
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 from . import annotations, values
 from .check import Checker
-from .detect import Detection, detect
+from .detect import Detection, detect, profile_evidence
 from .diagnostics import Diagnostic, Severity, Status, Suppressed
 from .interpret import Interpreter
-from .context import Context
+from .context import Context, RegisterLimits, RuleContext, ToolTable
 from .dialect import setup_for
 from .library import SubprogramLibrary
 from .project import find_project_file, load_project
@@ -42,6 +42,7 @@ class FileResult:
     truncated: dict[str, int] = field(default_factory=dict)
     free_parameters: list[str] = field(default_factory=list)
     least_input_increment: float | None = None
+    detection_evidence: str = ""  # why this dialect, profile and machine type (--verbose)
 
     def to_json(self) -> dict:
         entry = {"path": self.path, "dialect": self.dialect, "dialect_confidence": self.dialect_confidence}
@@ -100,22 +101,62 @@ def check_source(source: ProgramSource, settings: Settings, project: Context | N
     """``checker_class``: a :class:`Checker` subclass that also watches the trace (the plot
     records the toolpath with it); witness replays use the plain one."""
     detection = _detection(source, settings)
-    result = FileResult(source.name, detection.dialect, detection.confidence, profile=detection.profile, machine=detection.machine)
+    result = FileResult(source.name, detection.dialect, detection.confidence, profile=detection.profile, machine=detection.machine,
+                        detection_evidence=detection.evidence)
     if detection.dialect is None:
         result.skipped = detection.reason
         return result
     settings = _with_project_settings(settings, project)
     project = project or Context()
     if setup_for(detection.dialect, settings, detection, project) is None:
-        checker = Checker(settings, {})
-        checker.report("core.dialect-unsupported", Span(1, 1, 1, 1), f"{detection.dialect} programs are recognised but not checked yet: nothing in this file was verified",
-                       Status.UNKNOWN, f"no reader for the {detection.dialect} dialect yet")
+        checker = Checker(settings, RuleContext())
+        what = detection.reason or f"{detection.dialect} programs are recognised but not checked yet"
+        checker.report("core.dialect-unsupported", Span(1, 1, 1, 1), f"{what}: nothing in this file was verified",
+                       Status.UNKNOWN, f"no reader for this language yet ({what})")
         result.diagnostics = checker.diagnostics
         return result
     with values.fresh_numbering():
         _run(source, settings, detection, result, project, checker_class=checker_class)
         _confirm_witnesses(source, settings, detection, result, project)
+        _inputs_are_not_mistakes(result, _assumed_names(source, settings, detection, project))
+    if detection.dialect == "iso" and settings.profile is None and not profile_evidence(source.head(), detection.machine):
+        _codes_of_an_assumed_profile(result)
     return result
+
+
+def _codes_of_an_assumed_profile(result: FileResult) -> None:
+    """Nothing in the text named the control, so the E60 profile is an assumption: a code it
+    lacks (G91.1, G15 on a Fanuc) says more about the assumption than about the program."""
+    for diagnostic in result.diagnostics:
+        if diagnostic.rule == "core.unknown-code" and diagnostic.status is Status.VIOLATED:
+            diagnostic.status = Status.UNKNOWN
+            diagnostic.reason = f"the {result.profile} profile was assumed, nothing in the program names its control; give --profile"
+
+
+def _assumed_names(source: ProgramSource, settings: Settings, detection: Detection, project: Context) -> set[str]:
+    """The parameters an ``assume`` (annotation or project file) gives a range."""
+    from .project import assumption_names, parameter_name
+
+    frontend = setup_for(detection.dialect, settings, detection, project).frontend
+    assumptions = annotations.collect(source, frontend).context.layered_over(project).assumptions
+    return {parameter_name(node) for assumption in assumptions for node in assumption_names(assumption.tree)}
+
+
+def _inputs_are_not_mistakes(result: FileResult, assumed: set[str]) -> None:
+    """A hazard whose witness needs a value the program receives from outside (a parameter
+    it never sets, an argument, a system variable) that no ``assume`` bounds is not evidence
+    of a fault: it becomes ``unknown`` with the input and its example value, which stay in
+    the JSON witness. With every such input in an ``assume`` range it stays ``violated``.
+    The program's own guards (``IF R5<=0 GOTOF ERR``) are already in the path condition the
+    witness satisfies, so they narrow the inputs but do not bound them for this purpose."""
+    for diagnostic in result.diagnostics:
+        if diagnostic.status is not Status.VIOLATED or not diagnostic.witness:
+            continue
+        inputs = {name: value for name, value in diagnostic.witness.items() if name not in assumed}
+        if inputs:
+            shown = ", ".join(f"{name} = {value:g}" for name, value in sorted(inputs.items()))
+            diagnostic.status = Status.UNKNOWN
+            diagnostic.reason = f"depends on the input {shown}; give it a range with `assume` to have it judged"
 
 
 def _with_project_settings(settings: Settings, project: Context | None) -> Settings:
@@ -131,7 +172,7 @@ def _with_project_settings(settings: Settings, project: Context | None) -> Setti
 
 def _detection(source: ProgramSource, settings: Settings) -> Detection:
     head_bytes = bytes(source.buffer[:65536])
-    found = detect(source.head(), head_bytes)
+    found = detect(source.head(), head_bytes, Path(source.name).suffix)
     if settings.dialect is None:
         return found
     if found.dialect is None and "binary" in found.reason:
@@ -167,28 +208,17 @@ def _run(source: ProgramSource, settings: Settings, detection: Detection, result
     context = found.context.layered_over(project)
     if hasattr(frontend, "program_context"):
         context = frontend.program_context(source).layered_over(context)
-    limits = dict(dialect.limits)
-    limits.update({
-        "machine": dialect.machine,
-        "stock": context.stock,
-        "tools": context.tools,
-        "travel": context.machine.travel,
-        "work_offsets": context.machine.work_offsets,
-        "lathe_x": context.machine.lathe_x,
-        "max_spindle": context.machine.max_spindle,
-        "max_feed": context.machine.max_feed,
-        "spindle_encoder": context.machine.spindle_encoder,
-        "rapid_path": settings.rapid_path,
-        "solver_timeout_s": settings.solver_timeout_s,
-        "wording": wording(detection.dialect, dialect.profile),
-    })
-    checker = (checker_class or Checker)(settings, limits, context.severity, found.suppressions)
+    rule_context = RuleContext(
+        machine=replace(context.machine, kind=dialect.machine), stock=context.stock, tools=ToolTable(context.tools),
+        limits=RegisterLimits(**dialect.limits), rapid_path=settings.rapid_path, wording=wording(detection.dialect, dialect.profile),
+    )
+    checker = (checker_class or Checker)(settings, rule_context, context.severity, found.suppressions)
     for note in found.notes:
         checker.note(note)
     folders = list(settings.subprogram_path)
     if source.path is not None:
         folders.append(source.path.parent)
-    library = SubprogramLibrary(folders, settings.extensions)
+    library = SubprogramLibrary(folders, settings.extensions, explicit=len(settings.subprogram_path))
     interpreter = Interpreter(
         source, frontend, checker, settings, power_on=dialect.power_on, cycle_models=dialect.cycle_models,
         twins=dialect.twins, machine=dialect.machine, increment=dialect.increment or 0.0,

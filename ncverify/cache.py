@@ -78,7 +78,8 @@ class ResultCache:
             return None  # missing or broken: checked again and rewritten
 
     def store(self, key: str, result: FileResult, log: ReadLog) -> None:
-        entry = {"key": key, "files": {}, "lookups": log.lookups, "folders": log.folders, "result": result_to_dict(result)}
+        entry = {"key": key, "files": {}, "lookups": log.lookups, "folders": log.folders, "explicit": log.explicit,
+                 "result": result_to_dict(result)}
         try:
             entry["files"] = {path: _file_hash(Path(path)) for path in sorted(log.files)}
             target = self._path(key)
@@ -135,10 +136,11 @@ def _still_valid(entry: dict, settings: Settings) -> bool:
         except OSError:
             return False
     if entry["lookups"]:
-        library = SubprogramLibrary([Path(folder) for folder in entry["folders"]], settings.extensions)
-        for name, path in entry["lookups"].items():
-            found = library.resolve(name)
-            if (str(found.resolve()) if found is not None else None) != path:
+        folders = [Path(folder) for folder in entry["folders"]]
+        explicit = [folder for folder in folders if str(folder) in entry["explicit"]]
+        library = SubprogramLibrary(explicit + [folder for folder in folders if folder not in explicit], settings.extensions, len(explicit))
+        for name, paths in entry["lookups"].items():
+            if [str(path.resolve()) for path in library.candidates(name)] != paths:
                 return False
     return True
 
@@ -164,10 +166,10 @@ def _diagnostic_to_dict(diagnostic: Diagnostic) -> dict:
     return {"rule": diagnostic.rule, "category": diagnostic.category, "severity": diagnostic.severity.value,
             "span": list(diagnostic.span), "message": diagnostic.message, "status": diagnostic.status.value,
             "reason": diagnostic.reason, "witness": diagnostic.witness,
-            "related": [[list(span), text] for span, text in diagnostic.related]}
+            "related": list(diagnostic.related) if diagnostic.related is not None else None}
 
 
 def _diagnostic_from_dict(entry: dict) -> Diagnostic:
     return Diagnostic(entry["rule"], entry["category"], Severity(entry["severity"]), Span(*entry["span"]), entry["message"],
                       Status(entry["status"]), entry["reason"], entry["witness"],
-                      tuple((Span(*span), text) for span, text in entry["related"]))
+                      Span(*entry["related"]) if entry["related"] is not None else None)

@@ -12,11 +12,12 @@ import os
 import sys
 from pathlib import Path
 
-from . import __version__
+from . import __version__, rule_registry
 from .api import FileResult, InputError, check_source, iter_program_files, project_for
 from .check import RuleFileError, rule_definitions
 from .project import ConfigError
 from .diagnostics import Severity, Status
+from .dialect import DIALECTS, MACHINES
 from .batch import FileOutcome, default_jobs, local_dispatch, run_batch
 from .cluster import ClusterError
 from .progress import BatchProgress
@@ -24,7 +25,6 @@ from .report import render_json, render_text, summary
 from .sarif import render_gitlab, render_sarif
 from .settings import Settings
 from .source import ProgramSource
-from .tables import iso_profiles
 
 EXIT_OK, EXIT_FINDINGS, EXIT_USAGE = 0, 1, 2
 
@@ -45,11 +45,13 @@ def build_parser() -> argparse.ArgumentParser:
     check.add_argument("paths", nargs="+", metavar="PATH")
     check.add_argument("--format", choices=("text", "json", "jsonl", "sarif", "gitlab"), default="text")
     check.add_argument("--output", "-o", metavar="FILE", help="write the report to FILE instead of stdout")
-    check.add_argument("--dialect", choices=("iso", "heidenhain", "sinumerik", "fagor"), help="skip detection")
-    check.add_argument("--profile", choices=iso_profiles(), help="ISO profile (default: detected, else mitsubishi-e60)")
-    check.add_argument("--machine", choices=("mill", "lathe"), help="machine type where the program cannot tell")
+    check.add_argument("--dialect", choices=tuple(DIALECTS), help="skip detection")
+    check.add_argument("--profile", choices=DIALECTS["iso"].profiles(), help="ISO profile (default: detected, else mitsubishi-e60)")
+    check.add_argument("--machine", choices=MACHINES, help="machine type where the program cannot tell")
     check.add_argument("--fail-on", choices=("error", "warning", "info", "never"), default="error")
     check.add_argument("--fail-on-unknown", action="store_true", help="unknown verdicts fail the run too")
+    check.add_argument("--show-proved", action="store_true", help="list proved verdicts in the text report (they are always in JSON)")
+    check.add_argument("--verbose", "-v", action="store_true", help="say on stderr why each file was read as its dialect, profile and machine type")
     check.add_argument("--loop-bound", type=_positive_int, default=Settings.loop_bound, metavar="N",
                        help="iterations of one loop or repeats of one jump before the analysis gives up (default %(default)s)")
     check.add_argument("--max-paths", type=_positive_int, default=Settings.max_paths, metavar="N")
@@ -75,13 +77,14 @@ def build_parser() -> argparse.ArgumentParser:
     plot = commands.add_parser("plot", help="draw a program's toolpath with its findings")
     plot.add_argument("program", metavar="PROGRAM")
     plot.add_argument("--output", "-o", required=True, metavar="FILE", help="the picture: .svg or .png")
-    plot.add_argument("--dialect", choices=("iso", "heidenhain", "sinumerik", "fagor"), help="skip detection")
-    plot.add_argument("--machine", choices=("mill", "lathe"), help="machine type where the program cannot tell")
+    plot.add_argument("--dialect", choices=tuple(DIALECTS), help="skip detection")
+    plot.add_argument("--machine", choices=MACHINES, help="machine type where the program cannot tell")
 
     explain = commands.add_parser("explain", help="show a rule's page")
     explain.add_argument("rule")
 
-    commands.add_parser("rules", help="list the rules")
+    rules = commands.add_parser("rules", help="list the rules")
+    rules.add_argument("--where", action="store_true", help="add where each rule is implemented (module:Class, the page's constraints, or the modules that report it)")
     return parser
 
 
@@ -103,7 +106,7 @@ def main(argv: list[str] | None = None) -> int:
         if arguments.command == "explain":
             return _explain(arguments.rule)
         if arguments.command == "rules":
-            return _list_rules()
+            return _list_rules(arguments.where)
         if arguments.command == "plot":
             return _plot(arguments)
         return _check(arguments)
@@ -185,7 +188,7 @@ def _run_batch(arguments, inputs, settings: Settings, dispatch) -> tuple[list[Fi
         broken = next((outcome for outcome in outcomes if outcome.project_file_error), None)
         if broken is not None:
             raise ConfigError(broken.error)
-        results, errors, texts = _collect(outcomes)
+        results, errors, texts = _collect(outcomes, arguments.verbose)
         if not results and not errors:
             errors.append("no program files found in " + ", ".join(arguments.paths))
         lines.write({"summary": summary(results, errors)})
@@ -220,7 +223,7 @@ def _check_stdin(settings: Settings) -> FileOutcome:
     return FileOutcome("<stdin>", True, result, text=data.decode("utf-8", errors="replace"))
 
 
-def _collect(outcomes: list[FileOutcome]) -> tuple[list[FileResult], list[str], dict[str, str]]:
+def _collect(outcomes: list[FileOutcome], verbose: bool = False) -> tuple[list[FileResult], list[str], dict[str, str]]:
     results: list[FileResult] = []
     errors: list[str] = []
     texts: dict[str, str] = {}
@@ -228,6 +231,10 @@ def _collect(outcomes: list[FileOutcome]) -> tuple[list[FileResult], list[str], 
         if outcome.error is not None:
             errors.append(outcome.error)
             continue
+        result = outcome.result
+        if verbose:
+            print(f"{result.path}: read as {result.dialect} ({result.dialect_confidence:g}): {result.detection_evidence or result.skipped or 'given'}",
+                  file=sys.stderr)
         if outcome.explicit and outcome.result.skipped:
             errors.append(f"{outcome.result.path}: not checked: {outcome.result.skipped}")
         if outcome.text is not None:
@@ -284,7 +291,7 @@ def _write(arguments, results, errors, texts) -> None:
     elif arguments.format == "gitlab":
         rendered = render_gitlab(results)
     else:
-        rendered = render_text(results, errors, texts)
+        rendered = render_text(results, errors, texts, show_proved=arguments.show_proved)
     if arguments.output:
         Path(arguments.output).write_text(rendered + "\n", encoding="utf-8")
     else:
@@ -363,9 +370,13 @@ def _print_markdown(text: str) -> None:
         print(text)
 
 
-def _list_rules() -> int:
+def _list_rules(where: bool = False) -> int:
+    implementations = rule_registry.implementations() if where else {}
     for definition in rule_definitions().values():
-        print(f"{definition.id:34} {definition.category:16} {definition.severity.value:8} {definition.summary}")
+        line = f"{definition.id:34} {definition.category:16} {definition.severity.value:8} {definition.summary}"
+        if where:
+            line += f"  [{implementations[definition.id].where}]"
+        print(line)
     return EXIT_OK
 
 

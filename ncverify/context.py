@@ -8,6 +8,8 @@ which context it lacks; it never assumes "safe".
 """
 from __future__ import annotations
 
+import math
+from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, field, fields, replace
 
 import shapely
@@ -18,7 +20,29 @@ from .source import Span
 TOOL_TYPES = ("drill", "endmill", "ball", "bullnose", "chamfer", "spot", "tap", "threadmill", "boring", "reamer",
               "facemill", "slot", "turning", "grooving", "parting", "threading", "probe")
 TOOL_KEYS = ("radius", "corner", "length", "cutting_length", "usable_length", "angle", "pitch", "nose_radius", "edge",
-             "clearance_angle", "edge_position", "point_angle")
+             "clearance_angle", "edge_position", "point_angle", "width")
+# Common spellings of the tool types (hyphens, underscores and blanks are dropped first).
+_TOOL_TYPE_SPELLINGS = {
+    "facemill": ("face", "shellmill", "facingmill"), "endmill": ("flat", "flatendmill", "squareendmill", "mill", "cutter"),
+    "ball": ("ballmill", "ballnose", "ballendmill", "ballnoseendmill"), "bullnose": ("torus", "radiusmill", "bullnoseendmill", "toroidal"),
+    "spot": ("spotdrill", "centre", "center", "centredrill", "centerdrill", "ncspotdrill"), "chamfer": ("chamfermill", "countersink", "chamfertool"),
+    "threadmill": ("threadmilling", "threadmiller"), "threading": ("thread", "threadturning", "threadingtool", "threadtool"),
+    "grooving": ("groove", "groover", "groovingtool", "grooveturning"), "parting": ("part", "partingoff", "cutoff", "partoff"),
+    "turning": ("turn", "turningtool", "lathe"), "boring": ("bore", "boringbar", "boringhead"), "reamer": ("ream", "reaming"),
+    "slot": ("slotmill", "slotting", "keyseat", "slittingsaw", "saw"), "tap": ("tapping", "rigidtap"), "drill": ("twistdrill", "drilling"),
+    "probe": ("touchprobe", "touchtrigger"),
+}
+_TOOL_TYPE_LOOKUP = {alias: canonical for canonical, aliases in _TOOL_TYPE_SPELLINGS.items() for alias in (canonical, *aliases)}
+
+
+def canonical_tool_type(written: str) -> str:
+    """The tool type a common spelling means (``face-mill`` -> facemill, ``groove`` ->
+    grooving); ValueError listing the accepted ones for anything else."""
+    key = "".join(character for character in written.lower() if character not in "-_ ")
+    if key in _TOOL_TYPE_LOOKUP:
+        return _TOOL_TYPE_LOOKUP[key]
+    raise ValueError(f"unknown tool type {written!r} (accepted: {', '.join(TOOL_TYPES)}, and spellings such as face-mill, "
+                     "end-mill, ball-nose, spot-drill, groove, thread, cut-off)")
 # Keys whose value must lie in a range, not merely be positive: a turning tool's clearance
 # angle ($TC_DP24, 0..90 degrees, 0 = the cycles do not monitor it; SINUMERIK reference B
 # section 3, seed L14840-14850), its cutting-edge position ($TC_DP2, SL 1..9, L15650-15662), and
@@ -96,8 +120,14 @@ class Tool:
     clearance_angle: float | None = None  # degrees, the turning tool's clearance angle (TOOL_RANGES)
     edge_position: float | None = None  # the turning tool's cutting-edge position SL (TOOL_RANGES)
     point_angle: float | None = None  # degrees, a drill's point angle (TOOL.T T-ANGLE); 0: not entered
+    width: float | None = None  # a grooving or parting tool's cutting width
     origin: str = "project file"
     edges: dict = field(default_factory=dict)  # SINUMERIK: the data of cutting edges D2, D3... by D number (the fields above: D1)
+
+    def edge_data(self, edge: float) -> "Tool | None":
+        """The data of cutting edge D``edge`` (this tool's own values are edge D1's), or None
+        when that edge is not described."""
+        return self if edge == 1.0 else self.edges.get(int(edge))
 
     def filled_from(self, base: "Tool") -> "Tool":
         """This tool, with ``base``'s values where this one says nothing."""
@@ -111,6 +141,34 @@ def tool_value_problem(key: str, value: float) -> str | None:
     if low is not None and not low <= value <= high:
         return f"{key.replace('_', '-')} must lie in {low:g}..{high:g}, got {value:g}"
     return None
+
+
+class ToolTable(Mapping[int, Tool]):
+    """The tools by number, and the one place where a computed T number becomes a tool.
+
+    Reads the machine state only through ``state.tool_in_spindle``, so that it sits below
+    the interpreter as well as the rules."""
+
+    def __init__(self, tools: Mapping[int, Tool] | None = None):
+        self._tools = dict(tools or {})
+
+    def __getitem__(self, number: int) -> Tool:
+        return self._tools[number]
+
+    def __iter__(self) -> Iterator[int]:
+        return iter(self._tools)
+
+    def __len__(self) -> int:
+        return len(self._tools)
+
+    def numbered(self, number) -> Tool | None:
+        """The tool a T (or H, D) number the program computed names: None when the number is
+        not known (absent, symbolic) or the table has no such tool."""
+        return self._tools.get(int(number)) if type(number) is float else None
+
+    def in_spindle(self, state) -> Tool | None:
+        """The tool in the spindle on this path, or None when it is not known or not in the table."""
+        return self.numbered(state.tool_in_spindle)
 
 
 @dataclass
@@ -164,3 +222,37 @@ class Context:
             {**base.settings, **self.settings}, base.disabled | self.disabled, {**base.severity, **self.severity},
             self.source or base.source,
         )
+
+
+@dataclass(frozen=True)
+class RegisterLimits:
+    """The largest tool number and offset registers the control takes (the dialect's tables)."""
+
+    tool_number_max: float = math.inf
+    h_register_max: float = math.inf
+    d_register_max: float = math.inf
+
+
+@dataclass(frozen=True)
+class RuleContext:
+    """What the rules may assume besides the trace: the program's stock, tools and machine
+    (after layering program, annotations and project file), the control's register limits,
+    how rapids move, and the control's own words for messages."""
+
+    machine: Machine = field(default_factory=Machine)  # ``kind``: the machine type this run settled on
+    stock: Stock | None = None
+    tools: ToolTable = field(default_factory=ToolTable)
+    limits: RegisterLimits = field(default_factory=RegisterLimits)
+    rapid_path: str = "straight"
+    wording: Mapping[str, str] = field(default_factory=dict)
+
+    @property
+    def lathe(self) -> bool:
+        return self.machine.kind == "lathe"
+
+    def get(self, key: str):
+        """The tool table by its old dictionary key, for the Fagor pattern runner that still
+        reaches the checker's context (it moves to the interpreter's runtime interface)."""
+        if key != "tools":
+            raise KeyError(key)
+        return self.tools

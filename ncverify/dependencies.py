@@ -16,8 +16,9 @@ from pathlib import Path
 @dataclass
 class ReadLog:
     files: set[str] = field(default_factory=set)  # absolute paths read
-    lookups: dict[str, str | None] = field(default_factory=dict)  # subprogram name -> absolute path, None: not found
-    folders: list[str] = field(default_factory=list)  # the subprogram search folders used
+    lookups: dict[str, list[str]] = field(default_factory=dict)  # subprogram name -> the absolute paths of the files holding it
+    folders: list[str] = field(default_factory=list)  # the subprogram search folders used, in order
+    explicit: list[str] = field(default_factory=list)  # those of them named by the user (--subprogram-path)
 
 
 _current: ContextVar[ReadLog | None] = ContextVar("ncverify_read_log", default=None)
@@ -40,10 +41,13 @@ def note_file(path: Path) -> None:
         log.files.add(str(Path(path).resolve()))
 
 
-def note_lookup(name: str, path: Path | None, folders: list[Path]) -> None:
+def note_lookup(name: str, paths: list[Path], folders: list[Path], explicit: set[Path]) -> None:
     log = _current.get()
     if log is not None:
-        log.lookups[name] = str(Path(path).resolve()) if path is not None else None
+        log.lookups[name] = [str(Path(path).resolve()) for path in paths]
         for folder in folders:
-            if str(folder.resolve()) not in log.folders:
-                log.folders.append(str(folder.resolve()))
+            resolved = str(folder.resolve())
+            if resolved not in log.folders:
+                log.folders.append(resolved)
+                if folder.resolve() in explicit:
+                    log.explicit.append(resolved)

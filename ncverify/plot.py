@@ -218,7 +218,7 @@ def plot_program(program: Path, output: Path, settings: Settings | None = None) 
     full_points, full_kinds = recorder.path()
     tools = [(full_points[count:], tool) for count, tool in recorder.tool_changes]
     points, kinds = decimate(full_points, full_kinds)
-    stock = recorder.checker.context.get("stock") if recorder.checker is not None else None
+    stock = recorder.checker.context.stock if recorder.checker is not None else None
     for axes, (horizontal, vertical) in zip(axes_list[0], views):
         _draw_view(axes, points, kinds, horizontal, vertical, stock, tools, recorder, findings)
     figure.suptitle(f"{program.name}: {len(findings)} finding(s), {result.blocks:,} blocks", fontsize=12)

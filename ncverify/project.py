@@ -8,8 +8,9 @@ import re
 import tomllib
 from pathlib import Path
 
-from .context import TOOL_KEYS, TOOL_RANGES, TOOL_TYPES, Assumption, Context, Machine, Stock, Tool, tool_value_problem
+from .context import TOOL_KEYS, TOOL_RANGES, Assumption, canonical_tool_type, Context, Machine, Stock, Tool, tool_value_problem
 from .diagnostics import CATEGORIES, Severity
+from .dialect import DIALECTS, MACHINES
 
 FILE_NAME = "ncverify.toml"
 SETTINGS = {
@@ -17,7 +18,7 @@ SETTINGS = {
     "profile": str, "dialect": str, "subprogram_path": list, "rapid_path": str, "least_input_increment": float,
     "cache_dir": str,
 }
-_CHOICES = {"machine": ("mill", "lathe"), "rapid_path": ("straight", "dogleg"), "dialect": ("iso", "heidenhain", "sinumerik", "fagor")}
+_CHOICES = {"machine": MACHINES, "rapid_path": ("straight", "dogleg"), "dialect": tuple(DIALECTS)}
 _AXES = ("x", "y", "z", "a", "b", "c", "u", "v", "w")
 
 
@@ -140,9 +141,10 @@ class _Reader:
             tool = Tool(int(key))
             for name, value in spec.items():
                 if name == "type":
-                    if value not in TOOL_TYPES:
-                        self.fail(f"{where} type", f"unknown tool type {value!r} (known: {', '.join(TOOL_TYPES)})")
-                    tool.type = value
+                    try:
+                        tool.type = canonical_tool_type(str(value))
+                    except ValueError as error:
+                        self.fail(f"{where} type", str(error))
                 elif name == "name":
                     tool.name = str(value)
                 else:

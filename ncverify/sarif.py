@@ -122,9 +122,8 @@ def _sarif_result(result: FileResult, d, index: dict, fingerprints: Fingerprints
         "partialFingerprints": {"primaryLocationLineHash": fingerprints.line_hash(path, d.rule, d.span.line)},
         "properties": {"category": d.category, "status": d.status.value},
     }
-    if d.related:
-        entry["relatedLocations"] = [dict(_location(span.path or result.path, span, text), id=number)
-                                     for number, (span, text) in enumerate(d.related, 1)]
+    if d.related is not None:
+        entry["relatedLocations"] = [dict(_location(d.related.path or result.path, d.related, "called from here"), id=1)]
     if d.status is Status.PROVED:
         entry["kind"] = "pass"
         entry["level"] = "none"

@@ -18,7 +18,7 @@ from ncverify.check import Checker
 from ncverify.detect import detect
 from ncverify.diagnostics import Status
 from ncverify.lower.sinumerik import SinumerikFrontend, SinumerikLowering, program_context
-from ncverify.lower.sinumerik_cycles import levels, pattern_positions
+from ncverify.interpret.sinumerik_cycles import levels, pattern_positions
 from ncverify.read.sinumerik import read_line
 
 
@@ -26,8 +26,7 @@ def check(program: str, **settings):
     return check_text(textwrap.dedent(program).lstrip("\n"), "t.mpf", Settings(dialect="sinumerik", **settings))
 
 
-def findings(result, rule: str, status: Status | None = None):
-    return [d for d in result.diagnostics if d.rule == rule and (status is None or d.status is status)]
+from conftest import findings
 
 
 def probes(result) -> list[float]:
@@ -490,6 +489,7 @@ def test_more_alarms_are_predicted(call, rule, text):
 
 def test_planes_from_free_parameters_are_judged_for_every_value():
     result = check("""
+        ; ncverify: assume -50 <= R1 <= 50
         G17 G90 T1 D1 M6
         S1000 M3 F100
         G0 X50 Y50 Z20

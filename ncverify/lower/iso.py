@@ -196,10 +196,12 @@ class IsoLowering:
             if entry is None:
                 continue  # machine-specific M codes (clamps, doors, chip conveyor): no modelled effect
             effect = entry["effect"]
+            # switching on acts before the block's motion, switching off after it (G1 X10 M5 cuts with the spindle on)
+            stage = _STOP if entry.get("state") in ("off", "orient") else _SPINDLE
             if effect == "spindle":
-                stages[_SPINDLE].append(ir.Spindle(span, entry["state"]))
+                stages[stage].append(ir.Spindle(span, entry["state"]))
             elif effect == "coolant":
-                stages[_SPINDLE].append(ir.Coolant(span, entry["state"]))
+                stages[stage].append(ir.Coolant(span, entry["state"]))
             elif effect == "tool_change":
                 stages[_TOOL].append(ir.ToolChange(span))
             elif effect == "stop":
@@ -512,11 +514,11 @@ class IsoFrontend:
         return block
 
     def is_plain(self, raw: bytes) -> bool:
-        """Could this line be part of a :class:`ir.MoveRun`?"""
+        """Could this line be part of a :class:`ir.MoveBatch`?"""
         return _PLAIN_MOTION.fullmatch(raw) is not None
 
-    def plain_run(self, buffer, offset: int, line: int, limit: int = 1 << 20) -> ir.MoveRun | None:
-        """The plain blocks from ``offset`` on as one :class:`ir.MoveRun` (see
+    def plain_run(self, buffer, offset: int, line: int, limit: int = 1 << 20) -> ir.MoveBatch | None:
+        """The plain blocks from ``offset`` on as one :class:`ir.MoveBatch` (see
         :mod:`ncverify.read.iso_runs`); None when the streak is short."""
         if self.lowering.twins or "X" not in self.lowering.axis_letters:
             return None
@@ -530,7 +532,7 @@ class IsoFrontend:
         table, pointless = run.table, run.pointless
         motion = table[:, 1]
         kinds = numpy.where(numpy.isnan(motion), -1, motion).astype(numpy.int8)
-        return ir.MoveRun(offset, offset + run.length, line, run.line_starts + offset, kinds, ("X", "Y", "Z"), table[:, 2:5],
+        return ir.MoveBatch(offset, offset + run.length, line, run.line_starts + offset, kinds, ("X", "Y", "Z"), table[:, 2:5],
                           pointless[:, 2:5] & bool(self.lowering.increment), table[:, 5],
                           pointless[:, 5] & bool(self.lowering.feed_increment), run.blocks)
 
