@@ -100,9 +100,11 @@ def project_for(program: Path | None, settings: Settings) -> Context | None:
 
 
 def check_source(source: ProgramSource, settings: Settings, project: Context | None = None,
-                 detection: Detection | None = None) -> FileResult:
+                 detection: Detection | None = None, checker_class=None) -> FileResult:
     """``detection``: the dialect settled earlier for this program (an editor re-checking a
-    buffer after each edit); by default it is detected from the text."""
+    buffer after each edit); by default it is detected from the text. ``checker_class``: a
+    :class:`Checker` subclass that also watches the trace (the plot records the toolpath with
+    it); witness replays use the plain one."""
     detection = detection or detect_dialect(source, settings)
     result = FileResult(source.name, detection.dialect, detection.confidence, profile=detection.profile, machine=detection.machine,
                         detection_evidence=detection.evidence)
@@ -119,7 +121,7 @@ def check_source(source: ProgramSource, settings: Settings, project: Context | N
         result.diagnostics = checker.diagnostics
         return result
     with values.fresh_numbering():
-        _run(source, settings, detection, result, project)
+        _run(source, settings, detection, result, project, checker_class=checker_class)
         _confirm_witnesses(source, settings, detection, result, project)
         _inputs_are_not_mistakes(result, _assumed_names(source, settings, detection, project))
     if detection.dialect == "iso" and settings.profile is None and not profile_evidence(source.head(), detection.machine):
@@ -205,7 +207,7 @@ def _confirm_witnesses(source, settings, detection, result: FileResult, project:
 
 
 def _run(source: ProgramSource, settings: Settings, detection: Detection, result: FileResult, project: Context,
-         pins: dict | None = None) -> None:
+         pins: dict | None = None, checker_class=None) -> None:
     dialect = setup_for(detection.dialect, settings, detection, project)
     frontend = dialect.frontend
     found = annotations.collect(source, frontend)
@@ -216,7 +218,7 @@ def _run(source: ProgramSource, settings: Settings, detection: Detection, result
         machine=replace(context.machine, kind=dialect.machine), stock=context.stock, tools=ToolTable(context.tools),
         limits=RegisterLimits(**dialect.limits), rapid_path=settings.rapid_path, wording=wording(detection.dialect, dialect.profile),
     )
-    checker = Checker(settings, rule_context, context.severity, found.suppressions)
+    checker = (checker_class or Checker)(settings, rule_context, context.severity, found.suppressions)
     for note in found.notes:
         checker.note(note)
     folders = list(settings.subprogram_path)

@@ -7,17 +7,22 @@ is too large or is not a program).
 from __future__ import annotations
 
 import argparse
+import json
 import os
 import sys
 from pathlib import Path
 
 from . import __version__, rule_registry
-from .api import FileResult, InputError, check_file, check_source, iter_program_files, project_for
+from .api import FileResult, InputError, check_source, iter_program_files, project_for
 from .check import RuleFileError, rule_definitions
 from .project import ConfigError
 from .diagnostics import Severity, Status
 from .dialect import DIALECTS, MACHINES
-from .report import render_json, render_sarif, render_text
+from .batch import FileOutcome, default_jobs, local_dispatch, run_batch
+from .cluster import ClusterError
+from .progress import BatchProgress
+from .report import render_json, render_text, summary
+from .sarif import render_gitlab, render_sarif
 from .settings import Settings
 from .source import ProgramSource
 
@@ -38,7 +43,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     check = commands.add_parser("check", help="check programs (files, folders, or - for stdin)")
     check.add_argument("paths", nargs="+", metavar="PATH")
-    check.add_argument("--format", choices=("text", "json", "sarif"), default="text")
+    check.add_argument("--format", choices=("text", "json", "jsonl", "sarif", "gitlab"), default="text")
     check.add_argument("--output", "-o", metavar="FILE", help="write the report to FILE instead of stdout")
     check.add_argument("--dialect", choices=tuple(DIALECTS), help="skip detection")
     check.add_argument("--profile", choices=DIALECTS["iso"].profiles(), help="ISO profile (default: detected, else mitsubishi-e60)")
@@ -61,6 +66,19 @@ def build_parser() -> argparse.ArgumentParser:
     check.add_argument("--rapid-path", choices=("straight", "dogleg"), default=Settings.rapid_path,
                        help="how G00 moves: interpolated straight, or each axis on its own (default %(default)s)")
     check.add_argument("--solver-timeout", type=float, default=Settings.solver_timeout_s, metavar="S", help="seconds per solver query (default %(default)s)")
+    check.add_argument("--jobs", "-j", type=_positive_int, default=None, metavar="N", help="worker processes (default: the machine's cores)")
+    check.add_argument("--no-cache", action="store_true", help="verify every file again instead of reusing cached results")
+    check.add_argument("--cache-dir", metavar="DIR", help="where results are cached (default: [settings] cache_dir, else the user cache folder)")
+    check.add_argument("--dask", metavar="ADDRESS", help="run the checks on the Dask cluster whose scheduler is at ADDRESS (tcp://host:8786)")
+    check.add_argument("--sarif-proved", action="store_true", help="SARIF: list proved verdicts as results too (code scanning shows every result as an alert)")
+    check.add_argument("--sarif-category", default="ncverify", metavar="NAME", help="SARIF: the run's automationDetails category (one per analysed library)")
+    check.add_argument("--plot", metavar="DIR", help="draw the toolpath of every failing file into DIR (needs ncverify[plot])")
+
+    plot = commands.add_parser("plot", help="draw a program's toolpath with its findings")
+    plot.add_argument("program", metavar="PROGRAM")
+    plot.add_argument("--output", "-o", required=True, metavar="FILE", help="the picture: .svg or .png")
+    plot.add_argument("--dialect", choices=tuple(DIALECTS), help="skip detection")
+    plot.add_argument("--machine", choices=MACHINES, help="machine type where the program cannot tell")
 
     explain = commands.add_parser("explain", help="show a rule's page")
     explain.add_argument("rule")
@@ -92,6 +110,8 @@ def main(argv: list[str] | None = None) -> int:
             return _list_rules(arguments.where)
         if arguments.command == "lsp":
             return _serve_lsp()
+        if arguments.command == "plot":
+            return _plot(arguments)
         return _check(arguments)
     except RuleFileError as error:
         print(f"ncverify: broken rule definition: {error}", file=sys.stderr)
@@ -126,6 +146,7 @@ def _settings(arguments) -> Settings:
         fail_on=arguments.fail_on, fail_on_unknown=arguments.fail_on_unknown, disabled_rules=frozenset(arguments.disable),
         max_file_bytes=arguments.max_file_size, config=Path(arguments.config) if arguments.config else None,
         rapid_path=arguments.rapid_path, solver_timeout_s=arguments.solver_timeout, explicit=getattr(arguments, "given", frozenset()),
+        cache_dir=Path(arguments.cache_dir) if arguments.cache_dir else None,
     )
 
 
@@ -138,32 +159,115 @@ def _check(arguments) -> int:
     if unknown:
         print(f"ncverify: error: --disable names no rule or category: {', '.join(sorted(unknown))}", file=sys.stderr)
         return EXIT_USAGE
+    inputs = list(_inputs(arguments.paths, settings))
+    try:
+        dispatch = _dispatch(arguments)
+    except ClusterError as error:
+        print(f"ncverify: error: {error}", file=sys.stderr)
+        return EXIT_USAGE
+    results, errors, texts = _run_batch(arguments, inputs, settings, dispatch)
+    if arguments.format != "jsonl":
+        _write(arguments, results, errors, texts)
+    elif errors:
+        _print_errors(errors)
+    if arguments.plot:
+        _plot_failing(results, settings, Path(arguments.plot))
+    return _exit_code(results, errors, settings)
+
+
+def _run_batch(arguments, inputs, settings: Settings, dispatch) -> tuple[list[FileResult], list[str], dict[str, str]]:
+    """Check the inputs with the progress bar and, for ``--format jsonl``, a line per file
+    as it finishes. A broken project file stops the run (exit 2), as before batches."""
+    progress = BatchProgress(len(inputs))
+    with _Lines(arguments) as lines:
+        def finished(outcome: FileOutcome) -> None:
+            progress.advance(outcome)
+            lines.write(outcome.to_json())
+
+        try:
+            outcomes = _run_inputs(inputs, settings, dispatch, not arguments.no_cache, finished)
+        finally:
+            progress.close()
+        broken = next((outcome for outcome in outcomes if outcome.project_file_error), None)
+        if broken is not None:
+            raise ConfigError(broken.error)
+        results, errors, texts = _collect(outcomes, arguments.verbose)
+        if not results and not errors:
+            errors.append("no program files found in " + ", ".join(arguments.paths))
+        lines.write({"summary": summary(results, errors)})
+    return results, errors, texts
+
+
+def _dispatch(arguments):
+    if arguments.dask:
+        from .cluster import dask_dispatch
+
+        return dask_dispatch(arguments.dask)
+    return local_dispatch(arguments.jobs or default_jobs())
+
+
+def _run_inputs(inputs, settings: Settings, dispatch, use_cache: bool, finished) -> list[FileOutcome]:
+    """Files through the batch (workers, cache); standard input here, at its place."""
+    files = [(path, explicit) for path, explicit in inputs if path != "-"]
+    outcomes = run_batch(files, settings, dispatch, use_cache, finished)
+    for position, (path, _) in enumerate(inputs):
+        if path == "-":
+            outcome = _check_stdin(settings)
+            finished(outcome)
+            outcomes.insert(position, outcome)
+    return outcomes
+
+
+def _check_stdin(settings: Settings) -> FileOutcome:
+    data = sys.stdin.buffer.read(settings.max_file_bytes + 1)
+    if len(data) > settings.max_file_bytes:
+        return FileOutcome("<stdin>", True, error=f"<stdin>: larger than the limit of {settings.max_file_bytes:,} bytes")
+    result = check_source(ProgramSource.from_bytes(data, "<stdin>"), settings, project_for(None, settings))
+    return FileOutcome("<stdin>", True, result, text=data.decode("utf-8", errors="replace"))
+
+
+def _collect(outcomes: list[FileOutcome], verbose: bool = False) -> tuple[list[FileResult], list[str], dict[str, str]]:
     results: list[FileResult] = []
     errors: list[str] = []
     texts: dict[str, str] = {}
-    for path, explicit in _inputs(arguments.paths, settings):
-        try:
-            if path == "-":
-                data = sys.stdin.buffer.read(settings.max_file_bytes + 1)
-                if len(data) > settings.max_file_bytes:
-                    raise InputError(f"<stdin>: larger than the limit of {settings.max_file_bytes:,} bytes")
-                result = check_source(ProgramSource.from_bytes(data, "<stdin>"), settings, project_for(None, settings))
-                texts["<stdin>"] = data.decode("utf-8", errors="replace")
-            else:
-                result = check_file(path, settings)
-        except InputError as error:
-            errors.append(str(error))
+    for outcome in outcomes:
+        if outcome.error is not None:
+            errors.append(outcome.error)
             continue
-        if arguments.verbose:
+        result = outcome.result
+        if verbose:
             print(f"{result.path}: read as {result.dialect} ({result.dialect_confidence:g}): {result.detection_evidence or result.skipped or 'given'}",
                   file=sys.stderr)
-        if explicit and result.skipped:
-            errors.append(f"{result.path}: not checked: {result.skipped}")
-        results.append(result)
-    if not results and not errors:
-        errors.append("no program files found in " + ", ".join(arguments.paths))
-    _write(arguments, results, errors, texts)
-    return _exit_code(results, errors, settings)
+        if outcome.explicit and outcome.result.skipped:
+            errors.append(f"{outcome.result.path}: not checked: {outcome.result.skipped}")
+        if outcome.text is not None:
+            texts[outcome.path] = outcome.text
+        results.append(outcome.result)
+    return results, errors, texts
+
+
+class _Lines:
+    """``--format jsonl``: one JSON line per file as it finishes, then the summary line;
+    for the other formats it writes nothing."""
+
+    def __init__(self, arguments):
+        self.enabled = arguments.format == "jsonl"
+        self.output = arguments.output
+        self.stream = None
+
+    def __enter__(self):
+        if self.enabled:
+            self.stream = open(self.output, "w", encoding="utf-8") if self.output else sys.stdout
+        return self
+
+    def write(self, entry: dict) -> None:
+        if self.stream is not None:
+            self.stream.write(json.dumps(entry, ensure_ascii=False) + "\n")
+            self.stream.flush()
+
+    def __exit__(self, *exc):
+        if self.stream is not None and self.stream is not sys.stdout:
+            self.stream.close()
 
 
 def _inputs(paths: list[str], settings: Settings):
@@ -186,7 +290,9 @@ def _write(arguments, results, errors, texts) -> None:
     if arguments.format == "json":
         rendered = render_json(results, errors)
     elif arguments.format == "sarif":
-        rendered = render_sarif(results, errors)
+        rendered = render_sarif(results, errors, include_proved=arguments.sarif_proved, category=arguments.sarif_category)
+    elif arguments.format == "gitlab":
+        rendered = render_gitlab(results)
     else:
         rendered = render_text(results, errors, texts, show_proved=arguments.show_proved)
     if arguments.output:
@@ -194,8 +300,41 @@ def _write(arguments, results, errors, texts) -> None:
     else:
         sys.stdout.write(rendered + "\n")
     if arguments.format != "text":
-        for error in errors:
-            print(f"ncverify: error: {error}", file=sys.stderr)
+        _print_errors(errors)
+
+
+def _print_errors(errors: list[str]) -> None:
+    for error in errors:
+        print(f"ncverify: error: {error}", file=sys.stderr)
+
+
+def _plot(arguments) -> int:
+    from .plot import PlotError, plot_program
+
+    settings = Settings(dialect=arguments.dialect, machine=arguments.machine)
+    try:
+        plot_program(Path(arguments.program), Path(arguments.output), settings)
+    except (InputError, PlotError) as error:
+        print(f"ncverify: error: {error}", file=sys.stderr)
+        return EXIT_USAGE
+    return EXIT_OK
+
+
+def _plot_failing(results: list[FileResult], settings: Settings, folder: Path) -> None:
+    """``--plot DIR``: one SVG per failing file, named after its path."""
+    from .plot import PlotError, plot_program
+
+    threshold = None if settings.fail_on == "never" else Severity(settings.fail_on).rank
+    folder.mkdir(parents=True, exist_ok=True)
+    for result in results:
+        if threshold is None or result.path == "<stdin>":
+            continue
+        if any(d.status is Status.VIOLATED and d.severity.rank >= threshold for d in result.diagnostics):
+            target = folder / (Path(result.path).as_posix().strip("/").replace("/", "__").replace(":", "") + ".svg")
+            try:
+                plot_program(Path(result.path), target, settings)
+            except (InputError, PlotError) as error:
+                print(f"ncverify: error: {error}", file=sys.stderr)
 
 
 def _exit_code(results: list[FileResult], errors: list[str], settings: Settings) -> int:

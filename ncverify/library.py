@@ -2,12 +2,36 @@
 from __future__ import annotations
 
 import re
+from contextlib import contextmanager
+from contextvars import ContextVar
 from pathlib import Path
 
+from .dependencies import note_lookup
 from .source import ProgramSource
 
 _FIRST_PROGRAM = re.compile(rb"(?mi)^[ \t]*(?:%[ \t]*)?(?:N\d+[ \t]*)?[O:][ \t]*(\d+)")
 _MAX_FILES = 5000
+
+
+_shared: ContextVar[dict | None] = ContextVar("ncverify_shared_indexes", default=None)
+_PROCESS_INDEXES: dict = {}
+
+
+@contextmanager
+def shared_indexes():
+    """Share folder indexes between the checks run inside (a batch in one process)."""
+    token = _shared.set(_PROCESS_INDEXES)
+    try:
+        yield
+    finally:
+        _shared.reset(token)
+
+
+def _modified(folder: Path) -> int:
+    try:
+        return folder.stat().st_mtime_ns
+    except OSError:
+        return -1
 
 
 class SubprogramLibrary:
@@ -29,9 +53,10 @@ class SubprogramLibrary:
     def candidates(self, name: str) -> list[Path]:
         """Every file that holds the program, the ones in user-named folders alone if any."""
         if self._index is None:
-            self._index = self._build_index()
+            self._index = self._shared_index()
         found = self._index.get(name, [])
         chosen = [path for path in found if path.parent.resolve() in self.explicit]
+        note_lookup(name, chosen or found, self.folders, self.explicit)
         return chosen or found
 
     def find(self, name: str) -> ProgramSource | None:
@@ -43,6 +68,20 @@ class SubprogramLibrary:
         if path not in self._open:
             self._open[path] = ProgramSource.open(path)
         return self._open[path]
+
+    def _shared_index(self) -> dict[str, list[Path]]:
+        """Inside :func:`shared_indexes`, one index per set of folders for the whole batch
+        (a library of thousands of programs in one folder is indexed once, not once per
+        calling program); built again when a folder's modification time changes."""
+        shared = _shared.get()
+        if shared is None:
+            return self._build_index()
+        key = (tuple(self.folders), frozenset(self.extensions))
+        stamp = tuple(_modified(folder) for folder in self.folders)
+        known = shared.get(key)
+        if known is None or known[0] != stamp:
+            known = shared[key] = (stamp, self._build_index())
+        return known[1]
 
     def _build_index(self) -> dict[str, list[Path]]:
         """Name -> the files holding it: a file whose first program is O1000 comes before one

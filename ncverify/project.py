@@ -16,6 +16,7 @@ FILE_NAME = "ncverify.toml"
 SETTINGS = {
     "loop_bound": int, "call_depth": int, "max_paths": int, "solver_timeout_s": float, "machine": str,
     "profile": str, "dialect": str, "subprogram_path": list, "rapid_path": str, "least_input_increment": float,
+    "cache_dir": str,
 }
 _CHOICES = {"machine": MACHINES, "rapid_path": ("straight", "dogleg"), "dialect": tuple(DIALECTS)}
 _AXES = ("x", "y", "z", "a", "b", "c", "u", "v", "w")
@@ -96,6 +97,8 @@ class _Reader:
                 if not all(isinstance(item, str) for item in value):
                     self.fail(f"[settings] {key}", "expected a list of folder names")
                 value = tuple((self.path.parent / item) for item in value)
+            if key == "cache_dir":
+                value = self.path.parent / value
             settings[key] = value
         return settings
 

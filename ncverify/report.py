@@ -1,16 +1,12 @@
-"""Stage 5, report: findings as text, JSON (the contract, ``version: 1``) and SARIF 2.1.0."""
+"""Stage 5, report: findings as text and JSON (the contract, ``version: 1``); SARIF and
+GitLab Code Quality are in ``sarif.py``."""
 from __future__ import annotations
 
 import json
 from pathlib import Path
 
-from . import __version__
 from .api import FileResult
-from .check import rule_definitions
 from .diagnostics import Severity, Status
-
-_SARIF_LEVEL = {Severity.ERROR: "error", Severity.WARNING: "warning", Severity.INFO: "note"}
-SARIF_SCHEMA = "https://docs.oasis-open.org/sarif/sarif/v2.1.0/errata01/os/schemas/sarif-schema-2.1.0.json"
 
 
 def summary(results: list[FileResult], errors: list[str]) -> dict:
@@ -163,66 +159,3 @@ def _failures(results: list[FileResult], most: int = 5) -> list[str]:
 def _is_context_gap(diagnostic) -> bool:
     """An ``unknown`` that only says which context (stock, travel, tools) was missing."""
     return diagnostic.status is Status.UNKNOWN and diagnostic.message.startswith("not checked: ")
-
-
-# --------------------------------------------------------------------------- SARIF
-
-
-def render_sarif(results: list[FileResult], errors: list[str]) -> str:
-    definitions = rule_definitions()
-    used = sorted({d.rule for result in results for d in result.diagnostics})
-    index = {rule_id: position for position, rule_id in enumerate(used)}
-    rules = [_sarif_rule(definitions[rule_id]) for rule_id in used]
-    sarif_results = [_sarif_result(result, d, index) for result in results for d in result.diagnostics]
-    run = {
-        "tool": {"driver": {"name": "ncverify", "version": __version__, "informationUri": "https://github.com/ncverify/ncverify", "rules": rules}},
-        "columnKind": "unicodeCodePoints",
-        "results": sarif_results,
-        "invocations": [{
-            "executionSuccessful": not errors,
-            "toolExecutionNotifications": [{"level": "error", "message": {"text": error}} for error in errors],
-        }],
-    }
-    return json.dumps({"$schema": SARIF_SCHEMA, "version": "2.1.0", "runs": [run]}, indent=2, ensure_ascii=False)
-
-
-def _sarif_rule(definition) -> dict:
-    return {
-        "id": definition.id,
-        "name": definition.id.split(".", 1)[1].replace("-", " "),
-        "shortDescription": {"text": definition.summary},
-        "fullDescription": {"text": definition.section("What it checks") or definition.summary},
-        "help": {"text": definition.page, "markdown": definition.page},
-        "defaultConfiguration": {"level": _SARIF_LEVEL[definition.severity]},
-        "properties": {"category": definition.category, "tags": [definition.category]},
-    }
-
-
-def _sarif_result(result: FileResult, d, index: dict) -> dict:
-    uri = Path(d.span.path or result.path).as_posix()
-    entry = {
-        "ruleId": d.rule,
-        "ruleIndex": index[d.rule],
-        "level": _SARIF_LEVEL[d.severity],
-        "message": {"text": d.message},
-        "locations": [{
-            "physicalLocation": {
-                "artifactLocation": {"uri": uri},
-                "region": {"startLine": d.span.line, "startColumn": d.span.column, "endLine": d.span.end_line, "endColumn": max(d.span.end_column, d.span.column)},
-            }
-        }],
-        "properties": {"category": d.category, "status": d.status.value},
-    }
-    if d.status is Status.PROVED:
-        entry["kind"] = "pass"
-        entry["level"] = "none"
-    elif d.status is Status.UNKNOWN:
-        entry["kind"] = "review"
-        entry["level"] = "none"  # SARIF: a result that is not a failure has level none
-    if d.reason:
-        entry["properties"]["reason"] = d.reason
-    if d.witness:
-        entry["properties"]["witness"] = dict(d.witness)
-    return entry
-
-

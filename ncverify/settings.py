@@ -30,6 +30,7 @@ class Settings:
     rapid_path: str = "straight"  # or "dogleg": each axis moves on its own at rapid
     config: Path | None = None  # the project file; None: ncverify.toml found upward
     record_values: bool = False  # editors: keep what each assignment computes, by line (FileResult.values)
+    cache_dir: Path | None = None  # None: [settings] cache_dir of the project file, else the user cache folder
     explicit: frozenset[str] = frozenset()  # settings given on the command line: the project file does not override them
 
     def with_(self, **changes) -> "Settings":

@@ -11,6 +11,8 @@ import mmap
 from pathlib import Path
 from typing import NamedTuple
 
+from .dependencies import note_file
+
 
 class Span(NamedTuple):
     """A 1-based source range; ``end_column`` is exclusive. ``path`` is set only when the
@@ -92,6 +94,7 @@ class ProgramSource:
 
     @classmethod
     def open(cls, path: Path) -> "ProgramSource":
+        note_file(path)
         with path.open("rb") as handle:
             size = path.stat().st_size
             if size == 0:

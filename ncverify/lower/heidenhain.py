@@ -19,6 +19,7 @@ import re
 from .. import ir
 from ..context import Context, Stock, Tool
 from ..cycle_models import load_cycle_table
+from ..dependencies import note_file
 from ..dialect import DialectSetup
 from ..read.heidenhain import Cursor, ReadError, continues as _continues, split
 from ..read.heidenhain_runs import is_plain_line, read_plain_run
@@ -931,6 +932,7 @@ _TOOL_COLUMNS = {"R": "radius", "L": "length", "LU": "usable_length", "LCUTS": "
 def read_tool_table(path) -> tuple[dict[int, Tool], dict[str, float]]:
     """TOOL.T: a header line naming the columns, then one line per tool (fixed columns,
     split here by the header's column starts). R + DR is the radius the control uses."""
+    note_file(path)
     try:
         lines = path.read_text(encoding="utf-8", errors="replace").splitlines()
     except OSError:

@@ -14,6 +14,7 @@ from pathlib import Path
 
 from ... import ir
 from . import runtime as run
+from ...dependencies import note_file
 from ...trace import CycleRun
 
 # One printed character of an engraving text: an escape (%% %ae %time08 %count9 \\ \t) or a
@@ -160,6 +161,7 @@ def point_table(runner, op, name: str):
     candidate = (Path(here).parent if here else Path(".")) / re.split(r"[\\/:]", name)[-1]
     if not candidate.is_file():
         return None
+    note_file(candidate)
     columns, points = None, []
     for line in candidate.read_text(encoding="utf-8", errors="replace").splitlines():
         fields = line.split()
