@@ -85,6 +85,15 @@ class Var:
     prefix: str = "#"  # of an indirect reference's name: "#", "Q", "R", "P"
 
 
+# The variables a modal call lives in (written by ncverify.lower.modal_call, read by the
+# interpreter, ncverify.interpret.modal_call): on/off, the program, one per argument, and
+# whether the modally called program runs now.
+MODAL_CALL_SWITCH, MODAL_CALL_NAME, INSIDE_MODAL_CALL = "$MCALL", "$MCALLNAME", "$INMCALL"
+MODAL_CALL_ARGUMENT = "$MCALLARG:"
+# The SINUMERIK cutting edge in use (D word, M6), written by the lowering, read by the tool rules.
+ACTIVE_EDGE = "$P_TOOL"
+
+
 @dataclass(frozen=True, slots=True)
 class Unary:
     op: str  # "-" or "+"

@@ -60,7 +60,7 @@ def trace(program: str, machine: str = "mill", tools: dict | None = None) -> Tra
     settings = Settings(machine=machine)
     dialect = setup_for("fagor", settings, Detection("fagor", 1.0), Context())
     observer = Trace(context={"tools": tools or {}})
-    interpreter = Interpreter(source, dialect.frontend, observer, settings, power_on=dialect.power_on, cycle_models=dialect.cycle_models,
+    interpreter = Interpreter(source, dialect.frontend, observer, settings, power_on=dialect.power_on, cycle_models=dialect.cycle_models, runtime=dialect.runtime,
                               twins=dialect.twins, machine=dialect.machine, increment=0.0, feed_increment=0.0,
                               library=SubprogramLibrary([], settings.extensions))
     interpreter.run()

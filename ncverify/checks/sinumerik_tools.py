@@ -12,15 +12,15 @@ from __future__ import annotations
 import math
 from typing import NamedTuple
 
+from .. import ir
 from ..check import rule, show
 from ..frames import Frame
-from ..lower.sinumerik import ACTIVE_EDGE
 from .common import ReportsMissingContext
 
 
 def active_edge(state):
     """The active D number, or None when the program has not set it on this path."""
-    edge = state.global_variables.get(ACTIVE_EDGE.name)
+    edge = state.global_variables.get(ir.ACTIVE_EDGE)
     return edge if type(edge) is float else None
 
 

@@ -21,6 +21,7 @@ from .. import frames, ir, values
 from .control_flow import ControlFlow, CallFrame, LoopFrame, PathEnd, Position
 from .cycles import ActiveCycle, CycleRunner
 from .heidenhain.state import KlartextState
+from .modal_call import system_value as modal_call_value
 from ..settings import Settings
 from ..source import ProgramSource, Span
 from ..trace import Arc, Change, Fault, MotionRun, Segment
@@ -109,12 +110,17 @@ class Interpreter(ControlFlow):
     """Runs one program (and the subprograms it calls) and reports to ``observer``.
 
     ``observer`` receives ``segment``, ``hole``, ``cycle_run``, ``change``, ``fault`` and
-    ``note`` calls (see :mod:`ncverify.check`)."""
+    ``note`` calls (see :mod:`ncverify.check`). ``runtime`` is the dialect's run-time hooks
+    (:attr:`ncverify.dialect.DialectInfo.runtime`), if it has any."""
 
     def __init__(self, source: ProgramSource, frontend, observer, settings: Settings, *, power_on: dict,
                  cycle_models: dict, twins: dict, machine: str = "mill", increment: float = 0.0,
-                 feed_increment: float = 0.0, library=None, assumptions=(), pins: dict | None = None):
-        self.cycle_models = cycle_models
+                 feed_increment: float = 0.0, library=None, assumptions=(), pins: dict | None = None, runtime=None):
+        extra_models = getattr(runtime, "pseudo_models", None)
+        self.cycle_models = cycle_models if extra_models is None else {**cycle_models, **extra_models()}
+        self._dialect_batch_allowed = getattr(runtime, "batch_allowed", None)
+        self._system_variables = tuple(hook for hook in (modal_call_value, getattr(runtime, "system_variable", None),
+                                                         getattr(frontend, "system_variable", None)) if hook is not None)
         self.twins = twins
         self.source = source
         self.frontend = frontend
@@ -226,8 +232,7 @@ class Interpreter(ControlFlow):
 
     def _dialect_allows_batch(self, state) -> bool:
         """A dialect whose plain blocks also change state of its own says when a batch may skip that."""
-        allows = getattr(self.frontend, "batch_allowed", None)
-        return allows is None or allows(state)
+        return self._dialect_batch_allowed is None or self._dialect_batch_allowed(state)
 
     def _execute_batch(self, run: ir.MoveBatch, source: ProgramSource, path) -> None:
         """Run a batch of plain blocks with arrays (the per-block path's twin)."""
@@ -466,9 +471,10 @@ class Interpreter(ControlFlow):
             return self._free_parameter(name)
         if name in state.global_variables:
             return state.global_variables[name]
-        system = self.frontend.system_variable(name, state)
-        if system is not None:
-            return system
+        for answer in self._system_variables:
+            system = answer(name, state)
+            if system is not None:
+                return system
         return self._free_parameter(name)
 
     def _assume(self, assumptions) -> list:

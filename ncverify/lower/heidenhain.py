@@ -23,7 +23,6 @@ from ..dialect import DialectSetup
 from ..read.heidenhain import Cursor, ReadError, continues as _continues, split
 from ..read.heidenhain_runs import is_plain_line, read_plain_run
 from ..source import Span
-from ..interpret.heidenhain import runtime as heidenhain_runtime
 
 _AXES = ("X", "Y", "Z", "A", "B", "C", "U", "V", "W")
 _TOOL_AXIS_PLANE = {"Z": "xy", "X": "yz", "Y": "zx"}
@@ -831,12 +830,6 @@ class KlartextFrontend:
     def plain_run(self, buffer, offset: int, line: int, limit: int = 1 << 20) -> ir.MoveBatch | None:
         return read_plain_run(buffer, offset, line, limit)
 
-    @staticmethod
-    def batch_allowed(state) -> bool:
-        """A run skips what each line's R0 and positioning step would do: nothing while the
-        compensation is off and no cycle waits on positions (see :mod:`ncverify.interpret.heidenhain.runtime`)."""
-        return state.comp_side == "off" and heidenhain_runtime.positioning_is_inert(state)
-
     def programs(self, buffer) -> list[tuple[str, int]]:
         return [(_called_name(match.group(1).decode("utf-8", "replace")), match.start()) for match in _PROGRAM_START.finditer(buffer)]
 
@@ -865,9 +858,6 @@ class KlartextFrontend:
     def variable_scope(name: str) -> str:
         """QL parameters belong to one program (reference A §3); Q and QR are global."""
         return "local" if name.startswith("QL") else "global"
-
-    def system_variable(self, name: str, state):
-        return heidenhain_runtime.system_variable(name, state)
 
     def program_context(self, source) -> Context:
         """The BLK FORM of the program as its stock, TOOL.T beside it as its tools."""
@@ -967,10 +957,6 @@ def read_tool_table(path) -> tuple[dict[int, Tool], dict[str, float]]:
     return tools, by_name
 
 
-def _cycle_models() -> dict:
-    models = load_cycle_table("heidenhain")
-    models.update(heidenhain_runtime.pseudo_models())
-    return models
 
 
 def setup(settings, detection, project) -> DialectSetup:
@@ -988,4 +974,4 @@ def setup(settings, detection, project) -> DialectSetup:
     power_on = {"plane": "xy", "units": "mm", "distance": "absolute", "feed_mode": "per_minute", "motion": "rapid",
                 "arc_distance": "incremental", "path_mode": "exact", "cycle_return": "initial", "spindle_mode": "rpm"}
     limits = {"tool_number_max": 32767.0, "h_register_max": 32767.0, "d_register_max": 32767.0}
-    return DialectSetup(KlartextFrontend(lowering, tools), power_on, _cycle_models(), None, "mill", {}, None, 0.0, limits)
+    return DialectSetup(KlartextFrontend(lowering, tools), power_on, load_cycle_table("heidenhain"), None, "mill", {}, None, 0.0, limits)

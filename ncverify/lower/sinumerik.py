@@ -38,7 +38,6 @@ from ..read.sinumerik import Item, ReadBlock, read_line
 from ..resources import data_dir
 from ..source import Span, decode_line
 from . import modal_call
-from ..interpret import modal_call as running_modal_call
 
 WHILE_LOOP, FOR_LOOP, ENDLESS_LOOP, REPEAT_LOOP = 1, 2, 3, 4
 UNTIL_FLAG = "_REPEAT_UNTIL_"
@@ -60,7 +59,7 @@ _AXIS_DATA_CODES = frozenset({"74", "75", "110", "111", "112", "58", "59", "25",
 _STAGE_ORDER = ("feed", "tool", "speed", "spindle", "dwell", "modal", "offset", "motion", "call", "stop")
 # The system variable holding the active cutting edge, the D number (840D programming
 # knowledge, not in the references): D and M6 write it, rules read it from the state.
-ACTIVE_EDGE = ir.Var("$P_TOOL")
+ACTIVE_EDGE = ir.Var(ir.ACTIVE_EDGE)
 # Whether X is a diameter: the modal group "diameter" (840D programming knowledge; the
 # references only use DIAMON in their turning examples). Rules that need it read it from
 # the state; nothing moves differently.
@@ -514,9 +513,6 @@ class SinumerikFrontend:
         """R parameters and system variables ($...) are global; DEF variables and PROC
         parameters belong to the program that defines them."""
         return "global" if name[:1] in ("R", "$") and (name[:1] == "$" or name[1:].split("[")[0].isdigit()) else "local"
-
-    def system_variable(self, name: str, state):
-        return running_modal_call.system_value(name, state)
 
     def label_offsets(self, buffer, label):
         if isinstance(label, str) and "#" in label:
