@@ -226,10 +226,3 @@ class RuleContext:
     @property
     def lathe(self) -> bool:
         return self.machine.kind == "lathe"
-
-    def get(self, key: str):
-        """The tool table by its old dictionary key, for the Fagor pattern runner that still
-        reaches the checker's context (it moves to the interpreter's runtime interface)."""
-        if key != "tools":
-            raise KeyError(key)
-        return self.tools

@@ -22,6 +22,7 @@ from .control_flow import ControlFlow, CallFrame, LoopFrame, PathEnd, Position
 from .cycles import ActiveCycle, CycleRunner
 from .heidenhain.state import KlartextState
 from .modal_call import system_value as modal_call_value
+from ..context import ToolTable
 from ..settings import Settings
 from ..source import ProgramSource, Span
 from ..trace import Arc, Change, Fault, MotionRun, Segment
@@ -111,17 +112,20 @@ class Interpreter(ControlFlow):
 
     ``observer`` receives ``segment``, ``hole``, ``cycle_run``, ``change``, ``fault`` and
     ``note`` calls (see :mod:`ncverify.check`). ``runtime`` is the dialect's run-time hooks
-    (:attr:`ncverify.dialect.DialectInfo.runtime`), if it has any."""
+    (:attr:`ncverify.dialect.DialectInfo.runtime`), if it has any; ``tools`` the tool table
+    cycles read the tool in the spindle from."""
 
     def __init__(self, source: ProgramSource, frontend, observer, settings: Settings, *, power_on: dict,
                  cycle_models: dict, twins: dict, machine: str = "mill", increment: float = 0.0,
-                 feed_increment: float = 0.0, library=None, assumptions=(), pins: dict | None = None, runtime=None):
+                 feed_increment: float = 0.0, library=None, assumptions=(), pins: dict | None = None, runtime=None,
+                 tools: ToolTable | None = None):
         extra_models = getattr(runtime, "pseudo_models", None)
         self.cycle_models = cycle_models if extra_models is None else {**cycle_models, **extra_models()}
         self._dialect_batch_allowed = getattr(runtime, "batch_allowed", None)
         self._system_variables = tuple(hook for hook in (modal_call_value, getattr(runtime, "system_variable", None),
                                                          getattr(frontend, "system_variable", None)) if hook is not None)
         self.twins = twins
+        self.tools = tools if tools is not None else ToolTable()
         self.source = source
         self.frontend = frontend
         self.observer = observer
