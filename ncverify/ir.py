@@ -42,7 +42,7 @@ Operations (all carry the ``span`` of the words they came from):
 ``MachineMove``     a one-shot move in machine coordinates (G53)
 ``SetFeed``         feed rate word
 ``SetSpindleSpeed`` spindle speed word (or a speed clamp)
-``Spindle``         spindle start cw / ccw, stop, orient
+``Spindle``         spindle start cw / ccw, stop, orient (``apart``: reported without the block's moves)
 ``Coolant``         coolant on (flood, mist, through-tool) / off
 ``ToolSelect``      a tool number is selected (T word); ``offset`` for lathe T0101 forms
 ``ToolChange``      the selected tool goes into the spindle (M06)
@@ -83,6 +83,12 @@ class Var:
     name: "str | Expr"
     span: Span | None = None
     prefix: str = "#"  # of an indirect reference's name: "#", "Q", "R", "P"
+
+
+def cycle_code(cycle: str) -> str:
+    """The control's own code of a cycle id ``<dialect>.<code>``: ``CYCLE81`` of
+    ``sinumerik.CYCLE81``, ``G81`` of ``iso.G81``, ``200`` of ``heidenhain.200``."""
+    return cycle.rsplit(".", 1)[-1]
 
 
 # The variables a modal call lives in (written by ncverify.lower.modal_call, read by the
@@ -228,6 +234,7 @@ class SetSpindleSpeed(Op):
 @dataclass(slots=True)
 class Spindle(Op):
     state: str  # cw, ccw, off, orient
+    apart: bool = False  # the change is reported without the block's moves (Klartext: M3/M4 act before them, M5 after)
 
 
 @dataclass(slots=True)

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import math
 
+from ..ir import cycle_code
 from .. import frames, pocket, values
 from ..check import Rule, hazard, rule, show
 from .common import ReportsMissingContext
@@ -19,7 +20,7 @@ _SL_CYCLES = {21, 22, 23, 24}
 def cycle_number(cycle: str) -> int | None:
     if not cycle.startswith("heidenhain."):
         return None
-    tail = cycle.rsplit(".", 1)[-1]
+    tail = cycle_code(cycle)
     return int(tail) if tail.isdigit() else None
 
 

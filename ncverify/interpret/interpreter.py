@@ -595,6 +595,8 @@ class Interpreter(ControlFlow):
         old = state.spindle
         if op.state != "orient":
             state.spindle = op.state
+        if op.apart:
+            block = ir.Block(block.line, block.start_column, block.end_column, [])
         self._change("spindle", op.span, block, old, op.state)
         return None
 

@@ -374,7 +374,7 @@ class KlartextLowering:
         """M functions that act at the start of the block (spindle and coolant on)."""
         for number, span in m_words:
             if number in _M_SPINDLE and _M_SPINDLE[number] != "off":
-                block.ops.append(_pseudo(span, "spindle", {"state": _M_SPINDLE[number]}))
+                block.ops.append(ir.Spindle(span, _M_SPINDLE[number], apart=True))
             if number in _M_COOLANT and _M_COOLANT[number] != "off":
                 block.ops.append(ir.Coolant(span, _M_COOLANT[number]))
 
@@ -384,7 +384,7 @@ class KlartextLowering:
         calls, stops (the TNC fixes for each M function when it acts)."""
         for number, m_span in m_words:
             if _M_SPINDLE.get(number) == "off":
-                block.ops.append(_pseudo(m_span, "spindle", {"state": "off"}))
+                block.ops.append(ir.Spindle(m_span, "off", apart=True))
             if _M_COOLANT.get(number) == "off":
                 block.ops.append(ir.Coolant(m_span, "off"))
         for number, m_span in m_words:

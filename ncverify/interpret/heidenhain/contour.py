@@ -134,7 +134,7 @@ def _walk(runner, label, span) -> Subprogram:
 
 
 _MOTION_PSEUDO = {"arc", "tangent", "polar", "lift"}
-_M_PSEUDO = {"spindle", "call"}
+_M_PSEUDO = {"call"}
 _TRANSFORMS = {7.0, 8.0, 10.0, 11.0, 19.0, 26.0, 247.0}  # allowed in a subcontour, and they stay active after it (seed L9061-9062)
 
 
@@ -154,7 +154,7 @@ class _Content:
     def take(self, op) -> None:
         if isinstance(op, ir.SetFeed):
             self.technology.append(("a feed rate F", op.span))
-        elif isinstance(op, (ir.Coolant, ir.Stop)):
+        elif isinstance(op, (ir.Coolant, ir.Stop, ir.Spindle)):
             self.technology.append(("an M function", op.span))
         elif isinstance(op, ir.Move) and op.targets:
             self.motion(op, set(op.targets), op.arc is None)
