@@ -178,6 +178,7 @@ class Dwell(Op):
 class CutterComp(Op):
     side: str  # left, right, auto, off
     register: Expr | None = None
+    only_if_changed: bool = False  # writing the side already in force does nothing (Klartext R0/RL/RR)
 
 
 @dataclass(slots=True)

@@ -3,6 +3,7 @@ active transformations are the path's ``state.klartext.transforms``
 (:mod:`ncverify.interpret.heidenhain.transforms`)."""
 from __future__ import annotations
 
+from .. import ir
 from ..ir import cycle_code
 from ..check import Rule, rule
 from .common import ReportsMissingContext
@@ -85,7 +86,7 @@ class RotationCancelsCompensation(Rule):
         if cancelled is None or segment.role != "programmed":
             return
         state.rule_state[("heidenhain", "rotation-cancelled")] = None
-        reprogrammed = any(getattr(op, "cycle", None) == "heidenhain.@comp" for op in segment.block.ops)
+        reprogrammed = any(isinstance(op, ir.CutterComp) for op in segment.block.ops)
         if segment.kind in ("feed", "arc") and not reprogrammed:
             line, side = cancelled
             self.report("heidenhain.rotation-cancels-compensation", segment.span, f"the rotation (cycle 10, line {line}) cancelled {side}: this contour move "

@@ -539,6 +539,8 @@ class Interpreter(ControlFlow):
         return None
 
     def _cutter_comp(self, op: ir.CutterComp, block):
+        if op.only_if_changed and op.side == self.state.comp_side:
+            return None
         old, register = self._switch_offset(op.side, op.register, op.span, "comp_side", "comp_register")
         self._change("cutter_comp", op.span, block, old, self.state.comp_side, register)
         return None

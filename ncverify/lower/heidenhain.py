@@ -350,7 +350,7 @@ class KlartextLowering:
             block.ops.append(ir.SetFeed(span, words["feed"]))
         self._m_before(block, words["m"])
         if words["comp"] is not None:
-            block.ops.append(ir.CycleCall(words["comp"][1], "heidenhain.@comp", {"side": words["comp"][0]}))
+            block.ops.append(ir.CutterComp(words["comp"][1], words["comp"][0], only_if_changed=True))
         if arc_pseudo is not None:
             block.ops.append(arc_pseudo)
         elif words["targets"]:

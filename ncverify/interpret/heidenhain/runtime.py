@@ -244,14 +244,6 @@ def _tool_length_run(runner, op, block, model, params):
     return None
 
 
-def _comp_run(runner, op, block, model, params):
-    """R0 / RL / RR are modal: writing the side already in force changes nothing."""
-    side = params.get("side")
-    if side != runner.state.comp_side:
-        runner.execute(ir.CutterComp(op.span, side), block)
-    return None
-
-
 def _approach_run(runner, op, block, model, params):
     """APPR / DEP: a marker for the contour checks; the move itself follows as an ``L``."""
     return None
@@ -1045,7 +1037,7 @@ _RUNNERS = {
     "tool_feed": _tool_feed_run, "label_call": _label_call_run, "end_pgm": _end_pgm_run, "define": _define_run,
     "old_cycle": _old_cycle_run, "trans": _trans_run, "pattern": _pattern_run, "call": _call_run,
     "select_pattern": special.select_pattern_run, "m_function": special.m_function_run,
-    "positioned": _positioned_run, "tool_length": _tool_length_run, "lift": _lift_run, "comp": _comp_run, "contour_def": _contour_def_run, "global_def": _global_def_run,
+    "positioned": _positioned_run, "tool_length": _tool_length_run, "lift": _lift_run, "contour_def": _contour_def_run, "global_def": _global_def_run,
     "approach": _approach_run, "select_contour": _select_contour_run, "declare_contour": _declare_contour_run,
 }
 _SPECIAL_FAMILIES = {"engrave": special.engrave, "face232": special.face_milling,
