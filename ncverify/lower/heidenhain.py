@@ -8,7 +8,7 @@ centre ``CC``, polar coordinates, the cycle that ``CYCL CALL`` runs, a label cal
 a section repeat or a subprogram call, the end of a called program) are lowered to
 ``ir.CycleCall`` operations of pseudo cycles ``heidenhain.@...`` whose motion is run by
 :mod:`ncverify.interpret.heidenhain.runtime`. Everything else is
-plain IR: ``L`` is a ``Move``, ``R0/RL/RR`` a ``CutterComp``, ``TOOL CALL`` a tool change
+plain IR: ``L`` is a ``Move``, ``R0/RL/RR`` a ``CutterComp``, ``M3/M4/M5`` a ``Spindle``, ``TOOL CALL`` a tool change
 with the length compensation Klartext applies by itself, ``FN 9``-``FN 12`` conditional
 jumps, Q/QL/QR parameters ``Assign``.
 """
