@@ -228,7 +228,7 @@ def _run(source: ProgramSource, settings: Settings, detection: Detection, result
     interpreter = Interpreter(
         source, frontend, checker, settings, power_on=dialect.power_on, cycle_models=dialect.cycle_models,
         twins=dialect.twins, machine=dialect.machine, increment=dialect.increment or 0.0,
-        feed_increment=dialect.feed_increment, library=library, assumptions=context.assumptions, pins=pins,
+        feed_increment=dialect.feed_increment, runtime=dialect.runtime, tools=rule_context.tools, library=library, assumptions=context.assumptions, pins=pins,
     )
     interpreter.run()
     checker.finish()

@@ -15,6 +15,7 @@ from dataclasses import dataclass, field, fields, replace
 import shapely
 from shapely.geometry import Polygon
 
+from .ir import ACTIVE_EDGE
 from .source import Span
 
 TOOL_TYPES = ("drill", "endmill", "ball", "bullnose", "chamfer", "spot", "tap", "threadmill", "boring", "reamer",
@@ -250,13 +251,6 @@ class RuleContext:
     def lathe(self) -> bool:
         return self.machine.kind == "lathe"
 
-    def get(self, key: str):
-        """The tool table by its old dictionary key, for the Fagor pattern runner that still
-        reaches the checker's context (it moves to the interpreter's runtime interface)."""
-        if key != "tools":
-            raise KeyError(key)
-        return self.tools
-
 
 def radius_delta(state):
     """The radius delta the active tool call adds to the tool table's radius (Klartext
@@ -265,10 +259,7 @@ def radius_delta(state):
     return state.global_variables.get("@TOOLDR", 0.0)
 
 
-ACTIVE_EDGE_VARIABLE = "$P_TOOL"  # SINUMERIK: the active cutting edge D, set by D words and read as $P_TOOL
-
-
 def active_edge(state):
     """The active SINUMERIK cutting edge (1.0 where no D word set one; a symbolic value
     when it depends on a free parameter)."""
-    return state.global_variables.get(ACTIVE_EDGE_VARIABLE, 1.0)
+    return state.global_variables.get(ACTIVE_EDGE, 1.0)

@@ -19,10 +19,6 @@ The frontend is the object the interpreter asks about text. Its methods:
     method every line is one logical line.
 ``is_plain(raw)`` / ``plain_run(buffer, offset, line)``
     The batch fast path for plain motion; a dialect without one answers False / None.
-``batch_allowed(state) -> bool`` (optional)
-    Whether a batch may run now, for a dialect whose plain blocks also change state of its
-    own (Klartext: an M89 cycle runs at every position); without it, whenever the
-    interpreter's own conditions hold.
 ``programs(buffer) -> [(name, offset)]``, ``is_subprogram(buffer, start, end)``,
 ``tape_marks(buffer)``, ``program_name(number_or_name) -> str``
     Where programs start in a file, which are subprograms, and how a called program is
@@ -30,11 +26,25 @@ The frontend is the object the interpreter asks about text. Its methods:
 ``label_offsets(buffer, label)``, ``describe_label(label) -> str``
     Offsets of lines that may carry a label (the interpreter confirms each by reading it),
     and the label as the dialect writes it, for messages.
-``variable_scope(name) -> "local" | "global"``, ``system_variable(name, state)``
+``variable_scope(name) -> "local" | "global"``, ``system_variable(name, state)`` (optional)
     Which parameters a call gets fresh copies of, and the values of the system variables the
     machine state can answer (None: not a system variable, or one we cannot know).
 ``program_context(source) -> Context`` (optional)
     What the program itself declares about its context (stock, tools), found before it runs.
+
+A dialect whose operations need run-time code of their own names its run-time module
+(``DialectInfo.runtime``, in ``ncverify/interpret/``); :func:`setup_for` hands it to the
+interpreter as ``DialectSetup.runtime``. The lowering never imports it. Its optional hooks:
+
+``batch_allowed(state) -> bool``
+    Whether a batch may run now, for a dialect whose plain blocks also change state of its
+    own (Klartext: an M89 cycle runs at every position); without it, whenever the
+    interpreter's own conditions hold.
+``system_variable(name, state)``
+    Values of hidden variables the lowering writes into expressions (asked before the
+    frontend's ``system_variable``).
+``pseudo_models() -> dict``
+    Models of cycles the run-time module adds to the dialect's cycle table.
 """
 from __future__ import annotations
 
@@ -58,6 +68,7 @@ class DialectInfo:
     lowering: str
     machines: tuple[str, ...] = ("mill",)
     profiles_table: str | None = None  # dialects/<id>/<file> whose tables are the profiles (ISO)
+    runtime: str | None = None  # the module of its run-time hooks, if it has any
 
     def profiles(self) -> list[str]:
         """The profiles a ``--profile`` may name, sorted; none for a dialect without them."""
@@ -70,7 +81,8 @@ class DialectInfo:
 DIALECTS: dict[str, DialectInfo] = {info.id: info for info in (
     DialectInfo("iso", "ISO family (Mitsubishi E60/M60, Fanuc-style, Haas)", (".nc", ".ngc", ".cnc", ".tap", ".eia", ".iso"),
                 "ncverify.lower.iso", ("mill", "lathe"), "profiles.toml"),
-    DialectInfo("heidenhain", "HEIDENHAIN TNC 620 Klartext", (".h", ".i"), "ncverify.lower.heidenhain"),
+    DialectInfo("heidenhain", "HEIDENHAIN TNC 620 Klartext", (".h", ".i"), "ncverify.lower.heidenhain",
+                runtime="ncverify.interpret.heidenhain.runtime"),
     DialectInfo("sinumerik", "SINUMERIK 840D", (".mpf", ".spf"), "ncverify.lower.sinumerik", ("mill", "lathe")),
     DialectInfo("fagor", "Fagor 8060/8065", (".pim", ".pit"), "ncverify.lower.fagor"),
 )}
@@ -90,6 +102,7 @@ class DialectSetup:
     increment: float | None = None  # least input increment of an integer length word (0: whole units; None: no such notion)
     feed_increment: float = 0.0
     limits: dict = field(default_factory=dict)  # dialect limits the rules read (register ranges)
+    runtime: object = None  # the dialect's run-time hooks (DialectInfo.runtime), set by setup_for
 
 
 def setup_for(dialect: str, settings, detection, project: Context) -> DialectSetup | None:
@@ -97,8 +110,10 @@ def setup_for(dialect: str, settings, detection, project: Context) -> DialectSet
     info = DIALECTS.get(dialect)
     if info is None:
         return None
-    module = importlib.import_module(info.lowering)
-    return module.setup(settings, detection, project)
+    setup = importlib.import_module(info.lowering).setup(settings, detection, project)
+    if info.runtime is not None:
+        setup.runtime = importlib.import_module(info.runtime)
+    return setup
 
 
 def logical_lines(source, offset: int, frontend):

@@ -42,7 +42,7 @@ Operations (all carry the ``span`` of the words they came from):
 ``MachineMove``     a one-shot move in machine coordinates (G53)
 ``SetFeed``         feed rate word
 ``SetSpindleSpeed`` spindle speed word (or a speed clamp)
-``Spindle``         spindle start cw / ccw, stop, orient
+``Spindle``         spindle start cw / ccw, stop, orient (``apart``: reported without the block's moves)
 ``Coolant``         coolant on (flood, mist, through-tool) / off
 ``ToolSelect``      a tool number is selected (T word); ``offset`` for lathe T0101 forms
 ``ToolChange``      the selected tool goes into the spindle (M06)
@@ -83,6 +83,21 @@ class Var:
     name: "str | Expr"
     span: Span | None = None
     prefix: str = "#"  # of an indirect reference's name: "#", "Q", "R", "P"
+
+
+def cycle_code(cycle: str) -> str:
+    """The control's own code of a cycle id ``<dialect>.<code>``: ``CYCLE81`` of
+    ``sinumerik.CYCLE81``, ``G81`` of ``iso.G81``, ``200`` of ``heidenhain.200``."""
+    return cycle.rsplit(".", 1)[-1]
+
+
+# The variables a modal call lives in (written by ncverify.lower.modal_call, read by the
+# interpreter, ncverify.interpret.modal_call): on/off, the program, one per argument, and
+# whether the modally called program runs now.
+MODAL_CALL_SWITCH, MODAL_CALL_NAME, INSIDE_MODAL_CALL = "$MCALL", "$MCALLNAME", "$INMCALL"
+MODAL_CALL_ARGUMENT = "$MCALLARG:"
+# The SINUMERIK cutting edge in use (D word, M6), written by the lowering, read by the tool rules.
+ACTIVE_EDGE = "$P_TOOL"
 
 
 @dataclass(frozen=True, slots=True)
@@ -163,6 +178,7 @@ class Dwell(Op):
 class CutterComp(Op):
     side: str  # left, right, auto, off
     register: Expr | None = None
+    only_if_changed: bool = False  # writing the side already in force does nothing (Klartext R0/RL/RR)
 
 
 @dataclass(slots=True)
@@ -219,6 +235,7 @@ class SetSpindleSpeed(Op):
 @dataclass(slots=True)
 class Spindle(Op):
     state: str  # cw, ccw, off, orient
+    apart: bool = False  # the change is reported without the block's moves (Klartext: M3/M4 act before them, M5 after)
 
 
 @dataclass(slots=True)

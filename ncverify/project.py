@@ -206,7 +206,7 @@ class _Reader:
     def rules(self, table):
         table = self.table(table, "[rules]")
         self.keys(table, {"disable", "severity"}, "[rules]")
-        from .check import rule_definitions
+        from .rule_pages import rule_definitions
 
         known = set(rule_definitions()) | CATEGORIES
         disabled = table.get("disable", [])

@@ -6,7 +6,7 @@ import textwrap
 from dataclasses import dataclass, field
 
 from ncverify import Settings
-from ncverify.context import Context
+from ncverify.context import Context, ToolTable
 from ncverify.detect import Detection
 from ncverify.dialect import setup_for
 from ncverify.interpret import Interpreter
@@ -22,7 +22,6 @@ class Trace:
     notes: list = field(default_factory=list)
     runs: list = field(default_factory=list)
     states: list = field(default_factory=list)
-    context: dict = field(default_factory=dict)  # what the checker would hold (the cycle runner reads "tools")
 
     def hole(self, hole, state):
         self.holes.append(hole)
@@ -59,8 +58,8 @@ def trace(program: str, machine: str = "mill", tools: dict | None = None) -> Tra
     source = ProgramSource.from_text(textwrap.dedent(program).lstrip("\n"), "t.pim")
     settings = Settings(machine=machine)
     dialect = setup_for("fagor", settings, Detection("fagor", 1.0), Context())
-    observer = Trace(context={"tools": tools or {}})
-    interpreter = Interpreter(source, dialect.frontend, observer, settings, power_on=dialect.power_on, cycle_models=dialect.cycle_models,
+    observer = Trace()
+    interpreter = Interpreter(source, dialect.frontend, observer, settings, power_on=dialect.power_on, cycle_models=dialect.cycle_models, runtime=dialect.runtime, tools=ToolTable(tools),
                               twins=dialect.twins, machine=dialect.machine, increment=0.0, feed_increment=0.0,
                               library=SubprogramLibrary([], settings.extensions))
     interpreter.run()

@@ -236,7 +236,7 @@ def sinumerik_trace(text: str) -> Recorder:
     dialect = setup_for("sinumerik", Settings(dialect="sinumerik"), Detection("sinumerik", 1.0), Context())
     recorder = Recorder()
     Interpreter(ProgramSource.from_text(text, "t.mpf"), dialect.frontend, recorder, Settings(dialect="sinumerik"), power_on=dialect.power_on,
-                cycle_models=dialect.cycle_models, twins={}).run()
+                cycle_models=dialect.cycle_models, twins={}, runtime=dialect.runtime).run()
     return recorder
 
 

@@ -83,7 +83,7 @@ def trace(text: str) -> Recorder:
     dialect = setup_for("heidenhain", Settings(), Detection("heidenhain", 1.0), Context())
     recorder = Recorder()
     interpreter = Interpreter(ProgramSource.from_text(text, "t.h"), dialect.frontend, recorder, Settings(), power_on=dialect.power_on,
-                              cycle_models=dialect.cycle_models, twins={})
+                              cycle_models=dialect.cycle_models, twins={}, runtime=dialect.runtime)
     interpreter.run()
     return recorder
 

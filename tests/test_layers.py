@@ -3,7 +3,8 @@ with the shared vocabulary (values, verdicts, IR, source, context, tables ...) b
 
 A module may import its own stage, the stages before it and the base; the rules (check)
 read the trace, never the text or its lowering, so they import neither ``read`` nor
-``lower``. Imports inside functions count: they are dependencies too.
+``lower``. Imports inside functions count: they are dependencies too. No module imports
+itself through others when it is loaded (no import cycle).
 """
 from __future__ import annotations
 
@@ -14,48 +15,17 @@ import ncverify
 
 PACKAGE = Path(ncverify.__file__).parent
 STAGES = ("base", "read", "lower", "interpret", "check", "report")
-_INTERPRET = {"ncverify.interpret", "ncverify.control_flow", "ncverify.cycles"}  # with the ncverify.interpret package
 _CHECK = {"ncverify.check", "ncverify.rule_registry"}
 _REPORT = {"ncverify", "ncverify.api", "ncverify.cli", "ncverify.report", "ncverify.lsp",
            # batches over libraries and what they write: the API's callers
            "ncverify.batch", "ncverify.cache", "ncverify.cluster", "ncverify.plot", "ncverify.pool", "ncverify.progress", "ncverify.sarif"}
-
-# Arrows that point the wrong way today, each to be removed by the change named beside it;
-# this list may only shrink.
-KNOWN_WRONG = {
-    # the interpreter judges hazards with the checker's verdict functions (they move below it)
-    ("ncverify.interpret", "ncverify.check"),
-    # the run-time halves of the dialects still live in lower/ (they move to interpret/)
-    ("ncverify.lower.heidenhain_run", "ncverify.interpret"),
-    ("ncverify.lower.heidenhain_run", "ncverify.control_flow"),
-    ("ncverify.lower.heidenhain_run", "ncverify.cycles"),
-    ("ncverify.lower.heidenhain_contour", "ncverify.control_flow"),
-    ("ncverify.lower.fagor_cycles", "ncverify.cycles"),
-    ("ncverify.lower.sinumerik_cycles", "ncverify.cycles"),
-    # rules reading facts of the lowering (they become dialect table data)
-    ("ncverify.checks.cycle_hazards", "ncverify.lower.modal_call"),
-    ("ncverify.checks.tools", "ncverify.lower.modal_call"),
-    ("ncverify.checks.heidenhain_special", "ncverify.lower.heidenhain_run"),
-    ("ncverify.checks.sinumerik", "ncverify.lower.sinumerik_cycles"),
-    ("ncverify.checks.sinumerik_milling", "ncverify.lower.sinumerik_cycles"),
-    ("ncverify.checks.sinumerik_tools", "ncverify.lower.sinumerik"),
-    # the project file checks rule ids against the rule definitions
-    ("ncverify.project", "ncverify.check"),
-    # once the run-time code is in the interpret package: the lowering still installs its
-    # dialect's runtime and uses the modal-call helper of the interpreter
-    ("ncverify.lower.heidenhain", "ncverify.interpret.heidenhain.runtime"),
-    ("ncverify.lower.fagor", "ncverify.interpret.modal_call"),
-    ("ncverify.lower.sinumerik", "ncverify.interpret.modal_call"),
-    ("ncverify.lower.modal_call", "ncverify.interpret.modal_call"),
-}
-
 
 def stage(module: str) -> str:
     if module.startswith("ncverify.read."):
         return "read"
     if module.startswith("ncverify.lower."):
         return "lower"
-    if module in _INTERPRET or module.startswith("ncverify.interpret."):
+    if module == "ncverify.interpret" or module.startswith("ncverify.interpret."):
         return "interpret"
     if module in _CHECK or module.startswith("ncverify.checks"):
         return "check"
@@ -78,15 +48,16 @@ def _resolve(name: str) -> str:
     return name
 
 
-def imports(path: Path) -> set[str]:
-    return imports_in(path.read_text(encoding="utf-8"), _module_name(path), path.name == "__init__.py")
+def imports(path: Path, on_load_only: bool = False) -> set[str]:
+    return imports_in(path.read_text(encoding="utf-8"), _module_name(path), path.name == "__init__.py", on_load_only)
 
 
-def imports_in(source: str, module: str, is_package: bool = False) -> set[str]:
-    """The ncverify modules ``source`` (the text of ``module``) imports, anywhere in it."""
+def imports_in(source: str, module: str, is_package: bool = False, on_load_only: bool = False) -> set[str]:
+    """The ncverify modules ``source`` (the text of ``module``) imports, anywhere in it, or
+    only where it runs when the module is loaded (outside functions)."""
     package = module if is_package else module.rsplit(".", 1)[0]
     found = set()
-    for node in ast.walk(ast.parse(source)):
+    for node in _loaded_nodes(ast.parse(source)) if on_load_only else ast.walk(ast.parse(source)):
         if isinstance(node, ast.ImportFrom):
             base = package.split(".")[: len(package.split(".")) - node.level + 1] if node.level else []
             target = ".".join(base + ([node.module] if node.module else []))
@@ -94,6 +65,15 @@ def imports_in(source: str, module: str, is_package: bool = False) -> set[str]:
         elif isinstance(node, ast.Import):
             found |= {_resolve(alias.name) for alias in node.names if alias.name.startswith("ncverify")}
     return found - {module}
+
+
+def _loaded_nodes(tree):
+    """The nodes that run when the module is loaded: everything but function bodies."""
+    pending = [tree]
+    while pending:
+        node = pending.pop()
+        yield node
+        pending.extend(child for child in ast.iter_child_nodes(node) if not isinstance(child, (ast.FunctionDef, ast.AsyncFunctionDef)))
 
 
 def wrong_arrows() -> set[tuple[str, str]]:
@@ -113,8 +93,56 @@ def _allowed(importer: str, imported: str) -> bool:
     return STAGES.index(imported) <= STAGES.index(importer)
 
 
-def test_no_new_import_points_against_the_pipeline():
-    assert wrong_arrows() - KNOWN_WRONG == set()
+def import_graph() -> dict[str, set[str]]:
+    """Which module imports which when it is loaded. An import inside a function is left
+    out: the one such loop is the rule registry loading the rule modules when first asked
+    (``rule_registry.rule_classes``), which build on the checker that asks."""
+    return {_module_name(path): imports(path, on_load_only=True) for path in PACKAGE.rglob("*.py")}
+
+
+def import_cycles(graph: dict[str, set[str]]) -> list[list[str]]:
+    """The strongly connected groups of more than one module (Tarjan's algorithm)."""
+    index, low, stack, on_stack, groups = {}, {}, [], set(), []
+
+    def visit(module):
+        index[module] = low[module] = len(index)
+        stack.append(module)
+        on_stack.add(module)
+        for imported in graph.get(module, ()):
+            if imported not in index:
+                visit(imported)
+                low[module] = min(low[module], low[imported])
+            elif imported in on_stack:
+                low[module] = min(low[module], index[imported])
+        if low[module] == index[module]:
+            group = []
+            while True:
+                member = stack.pop()
+                on_stack.discard(member)
+                group.append(member)
+                if member == module:
+                    break
+            if len(group) > 1:
+                groups.append(sorted(group))
+
+    for module in sorted(graph):
+        if module not in index:
+            visit(module)
+    return groups
+
+
+def test_no_import_points_against_the_pipeline():
+    assert wrong_arrows() == set()
+
+
+def test_no_import_cycle():
+    assert import_cycles(import_graph()) == []
+
+
+def test_a_cycle_is_found():
+    """The check above would pass on anything if the search missed cycles."""
+    graph = {"a": {"b"}, "b": {"c"}, "c": {"a"}, "d": {"a"}}
+    assert import_cycles(graph) == [["a", "b", "c"]]
 
 
 def test_no_rule_module_imports_private_names():
@@ -129,7 +157,7 @@ def test_no_rule_module_imports_private_names():
 
 def test_the_stages_are_told_apart():
     assert stage("ncverify.read.iso") == "read" and stage("ncverify.lower.iso") == "lower"
-    assert stage("ncverify.interpret") == stage("ncverify.interpret.runtime") == stage("ncverify.control_flow") == "interpret"
+    assert stage("ncverify.interpret") == stage("ncverify.interpret.runtime") == stage("ncverify.interpret.control_flow") == "interpret"
     assert stage("ncverify.checks.stock") == stage("ncverify.check") == "check"
     assert stage("ncverify.values") == stage("ncverify.verdict") == stage("ncverify.context") == "base"
 
@@ -138,9 +166,18 @@ def test_imports_are_read_from_every_form():
     source = "from ..lower import modal_call\nfrom ..check import show\nimport ncverify.values\n\ndef f():\n    from ..read.iso import read_line\n"
     assert imports_in(source, "ncverify.checks.x") == {"ncverify.lower.modal_call", "ncverify.check", "ncverify.values", "ncverify.read.iso"}
     assert imports_in("from . import holes\n", "ncverify.checks", is_package=True) == {"ncverify.checks.holes"}
+    assert imports_in(source, "ncverify.checks.x", on_load_only=True) == {"ncverify.lower.modal_call", "ncverify.check", "ncverify.values"}
 
 
 def test_which_arrows_are_wrong():
     assert not _allowed("base", "interpret") and not _allowed("lower", "interpret")
     assert not _allowed("check", "lower") and not _allowed("check", "read")
     assert _allowed("report", "check") and _allowed("check", "interpret") and _allowed("lower", "read") and _allowed("read", "base")
+
+
+def test_the_interpreter_sits_between_the_lowering_and_the_checker():
+    """The verdicts and values sit below the interpreter; nothing in ``interpret/`` reaches
+    up into the checker or back into the stages that make its input."""
+    assert stage("ncverify.verdict") == stage("ncverify.values") == stage("ncverify.ir") == "base"
+    interpreter = imports(PACKAGE / "interpret" / "interpreter.py")
+    assert "ncverify.verdict" in interpreter and not any(stage(name) in ("read", "lower", "check", "report") for name in interpreter)

@@ -12,9 +12,6 @@ _PLANE_CODE = {"xy": "G17", "zx": "G18", "yz": "G19"}
 _ROUGHING = ("G71", "G72", "G73")
 
 
-def _code(cycle: str) -> str:
-    return cycle.rsplit(".", 1)[-1]
-
 
 def _all(conditions) -> "bool | values.Condition":
     """AND of hazard conditions, short-circuiting concrete ones."""
@@ -65,7 +62,7 @@ class CompensationInCycle(Rule):
         code = _COMP_CODE.get(side, "radius compensation")
         register = f" D{show(state.comp_register)}" if state.comp_register is not None else ""
         self.report("core.comp-in-cycle", hole.definition or hole.span,
-                    f"{_code(hole.cycle)} makes holes while {code}{register} radius compensation is on: a hole cycle positions on the "
+                    f"{ir.cycle_code(hole.cycle)} makes holes while {code}{register} radius compensation is on: a hole cycle positions on the "
                     "programmed point, so depending on the control the holes move by the cutter radius or the cycle alarms; cancel with G40 before the cycle")
 
 
@@ -76,7 +73,7 @@ class CycleModalAtEnd(Rule):
             return
         if state.cycle is not None:
             self.report("core.cycle-modal-at-end", change.span,
-                        f"canned cycle {_code(state.cycle.cycle)} is still active at the program end{self.word('cycle_cancel', ' (no {})')}: where the end does "
+                        f"canned cycle {ir.cycle_code(state.cycle.cycle)} is still active at the program end{self.word('cycle_cancel', ' (no {})')}: where the end does "
                         "not reset the modal state, the first block of the next program or of a restart that moves an axis makes a hole with this cycle's data")
         elif (program := modal_call.active_program(state)) is not None:
             self.report("core.cycle-modal-at-end", change.span,
@@ -96,7 +93,7 @@ class CycleShift(Rule):
         letters = _SHIFT_LETTERS.get(plane, ("I", "J"))
         params = hole.params
         given = [params[letter] for letter in (*letters, "Q") if letter in params]
-        code = _code(hole.cycle)
+        code = ir.cycle_code(hole.cycle)
         key = ("core.cycle-shift-missing", hole.definition)
         if key in state.rule_state:
             return
@@ -149,7 +146,7 @@ class RepeatSameHole(Rule):
             span = hole.span
         mode = "G90 (absolute)" if absolute else "G91 with no positioning increment"
         self.report("core.repeat-same-hole", span,
-                    f"{_code(hole.cycle)} {letter}{int(hole.repeat)} in {mode}: every repeat goes back to {_position_text(hole)}, so the same hole is "
+                    f"{ir.cycle_code(hole.cycle)} {letter}{int(hole.repeat)} in {mode}: every repeat goes back to {_position_text(hole)}, so the same hole is "
                     f"made {int(hole.repeat)} times; repeats space holes only in G91 with an X/Y increment")
 
 
@@ -198,7 +195,7 @@ class CycleParameterValue(Rule):
             choices = " or ".join(f"{letter}{choice:g}" for choice in allowed)
             meaning = f": {spec['meaning']}" if spec.get("meaning") else ""
             self.checker.report_verdict("core.cycle-parameter-value", spans.get(letter, default_span),
-                                        f"{_code(cycle)} {letter}{show(value)} is not a value this cycle takes ({choices}{meaning}): "
+                                        f"{ir.cycle_code(cycle)} {letter}{show(value)} is not a value this cycle takes ({choices}{meaning}): "
                                         "the control stops with a program error or runs the cycle in a mode you did not choose", verdict, state)
 
 
@@ -228,7 +225,7 @@ class FinishShapeMismatch(Rule):
     def cycle_run(self, run, state):
         if run.model.get("shape") != "contour" or run.first_block:
             return
-        code = _code(run.cycle)
+        code = ir.cycle_code(run.cycle)
         params = run.params
         shape = (params.get("A"), params.get("P"), params.get("Q"))
         blocks = (shape[0], frozenset(shape[1:]))  # P/Q swapped is core.shape-order's finding
@@ -266,7 +263,7 @@ class TwoBlockMixture(Rule):
         params = run.params
         if "R" not in params or not ("P" in params or "Q" in params):
             return
-        code = _code(run.cycle)
+        code = ir.cycle_code(run.cycle)
         first = " ".join(f"{letter}_" for letter in model.get("first_block", ()))
         written = " ".join(f"{letter}{show(value)}" for letter, value in params.items())
         meanings = model.get("params", {})
@@ -285,7 +282,7 @@ class ThreadParameters(Rule):
     def cycle_run(self, run, state):
         if run.first_block or run.model.get("shape") != "thread" or not run.model.get("two_blocks"):
             return
-        code = _code(run.cycle)
+        code = ir.cycle_code(run.cycle)
         height = run.params.get("P")
         allowance = state.lathe_cycle_data.get(run.cycle, {}).get("first_R")
         if height is not None and allowance is not None and not (type(height) is float and height <= 0):

@@ -6,14 +6,12 @@ holds what needs the tool table, the machine state or the pattern runner's fault
 """
 from __future__ import annotations
 
+from ..ir import cycle_code
 from .. import pocket, values
 from ..check import Rule, hazard, rule, show
 from ..diagnostics import Status
 from .common import ReportsMissingContext
 
-
-def _code(cycle: str) -> str:
-    return cycle.rsplit(".", 1)[-1]
 
 
 def _is_fagor(cycle: str) -> bool:
@@ -27,7 +25,7 @@ class CycleStartsSpindle(Rule):
     def hole(self, hole, state):
         if not _is_fagor(hole.cycle) or state.spindle != "off" or not self.first_time(state, ("fagor.cycle-starts-spindle", hole.definition)):
             return
-        code = _code(hole.cycle)
+        code = cycle_code(hole.cycle)
         speed = state.spindle_speed
         if speed is None or speed == 0.0:
             self.report("fagor.cycle-starts-spindle", hole.span, f"{code} starts the stopped spindle clockwise (M03), but no spindle speed S is programmed: "
@@ -46,7 +44,7 @@ class UnknownStartPlane(Rule):
             return
         default = "" if "Z" in hole.params else " and the reference plane defaults to it (no Z written)"
         self.report("fagor.unknown-start-plane", hole.definition or hole.span,
-                    f"{_code(hole.cycle)} is defined where the tool-axis position is not known (no {hole.drill_axis} move since the start, "
+                    f"{cycle_code(hole.cycle)} is defined where the tool-axis position is not known (no {hole.drill_axis} move since the start, "
                     f"a tool change or a home search): the start plane Zi the G98 retract goes back to is unknown{default}")
 
 
@@ -65,7 +63,7 @@ class PocketIncrementalDepth(Rule):
         from_start = values.add(initial, depth)
         verdict = self.checker.judge(hazard("!=", from_reference, from_start), state)
         self.checker.report_verdict("fagor.pocket-incremental-depth", hole.param_spans.get("I", hole.span),
-                                    f"{_code(hole.cycle)} in G91: I{show(depth)} gives the floor at {show(from_reference)} measured from the reference plane (the manual's text) "
+                                    f"{cycle_code(hole.cycle)} in G91: I{show(depth)} gives the floor at {show(from_reference)} measured from the reference plane (the manual's text) "
                                     f"but at {show(from_start)} measured from the start plane (the manual's examples): program the floor in G90", verdict, state)
 
 
@@ -80,7 +78,7 @@ class CycleDataAbsolute(Rule):
         if not self.first_time(state, ("fagor.vc-absolute", hole.definition)):
             return
         letters = " ".join(f"V.C.{letter}={show(hole.params.get(letter))}" for letter in sorted(cycle.absolute) if letter in hole.params)
-        self.report("fagor.vc-absolute", hole.span, f"{_code(hole.cycle)} machines in G91 with {letters} set through V.C: those are absolute coordinates "
+        self.report("fagor.vc-absolute", hole.span, f"{cycle_code(hole.cycle)} machines in G91 with {letters} set through V.C: those are absolute coordinates "
                     "(from part zero), not distances like the G91 values written in the cycle block")
 
 
@@ -93,7 +91,7 @@ class ArcPositioning(Rule):
             return
         if all(hole.position.get(axis) is state.position.get(axis) for axis in state.plane_axes[:2]):
             return  # machined where the tool is: no positioning move
-        self.report("fagor.arc-positioning-in-cycle", hole.span, f"{_code(hole.cycle)} positions to this hole in G0{2 if state.modal['motion'] == 'arc_cw' else 3} "
+        self.report("fagor.arc-positioning-in-cycle", hole.span, f"{cycle_code(hole.cycle)} positions to this hole in G0{2 if state.modal['motion'] == 'arc_cw' else 3} "
                     "(the interpolation in force): the move to the hole is an arc, not a straight line")
 
 
@@ -127,14 +125,14 @@ class PocketToolFit(ReportsMissingContext):
             return
         params = hole.params
         if not all(type(params.get(letter, 0.0)) is float for letter in "JKCLQ"):
-            self.report("fagor.pocket-tool-fit", hole.span, f"{_code(hole.cycle)}: the sizes are computed values; the tool fit was not checked",
+            self.report("fagor.pocket-tool-fit", hole.span, f"{cycle_code(hole.cycle)}: the sizes are computed values; the tool fit was not checked",
                         Status.UNKNOWN, "symbolic pocket size")
             return
         problems = getattr(self, f"_{kind}")(params, radius)
         for letter, reason, largest in problems:
             fits = f"; the largest tool that fits has a radius of {largest:g}" if largest is not None else ""
             self.report("fagor.pocket-tool-fit", hole.param_spans.get(letter, hole.span),
-                        f"{_code(hole.cycle)} with tool T{show(state.tool_in_spindle)} (radius {radius:g}): {reason}{fits}")
+                        f"{cycle_code(hole.cycle)} with tool T{show(state.tool_in_spindle)} (radius {radius:g}): {reason}{fits}")
 
     @staticmethod
     def _stepover(params, radius) -> list:
@@ -229,7 +227,7 @@ class HoleAtUnknownPosition(Rule):
             return
         if self.first_time(state, ("fagor.hole-at-unknown-position", hole.definition)):
             self.report("fagor.hole-at-unknown-position", hole.span,
-                        f"{_code(hole.cycle)} machines at a {first}{second} position that is not known here (no {first}/{second} move since the start, a tool change, "
+                        f"{cycle_code(hole.cycle)} machines at a {first}{second} position that is not known here (no {first}/{second} move since the start, a tool change, "
                         "a home search or an unmodelled statement): the defining block drills wherever the tool happens to be")
 
 
@@ -293,7 +291,7 @@ class ThreadMillOvershoot(_PastTheStock):
         reach = values.sub(hole.bottom, values.mul(hole.up, values.absolute(pitch)))
         verdict = self.checker.judge(hazard(beyond, reach, limit), state)
         self.checker.report_verdict(self.rule_id, hole.param_spans.get("I", hole.span),
-                                    f"{_code(hole.cycle)} ends the thread at {axis}{show(hole.bottom)}, but its helical exit runs on past it by up to one pitch "
+                                    f"{cycle_code(hole.cycle)} ends the thread at {axis}{show(hole.bottom)}, but its helical exit runs on past it by up to one pitch "
                                     f"(B{show(values.absolute(pitch))}) to about {axis}{show(reach)}, past the stock's far face {axis}{limit:g}: "
                                     "the tool reaches the table or the fixture behind the part", verdict, state)
 

@@ -8,6 +8,7 @@ from __future__ import annotations
 import math
 from dataclasses import replace
 
+from ..ir import cycle_code
 from .. import frames, geometry, pocket, values
 from ..check import Rule, hazard, rule, show
 from ..diagnostics import Status
@@ -23,7 +24,7 @@ _SL_CYCLES = {21, 22, 23, 24}
 def cycle_number(cycle: str) -> int | None:
     if not cycle.startswith("heidenhain."):
         return None
-    tail = cycle.rsplit(".", 1)[-1]
+    tail = cycle_code(cycle)
     return int(tail) if tail.isdigit() else None
 
 

@@ -3,6 +3,8 @@ active transformations are the path's ``state.klartext.transforms``
 (:mod:`ncverify.interpret.heidenhain.transforms`)."""
 from __future__ import annotations
 
+from .. import ir
+from ..ir import cycle_code
 from ..check import Rule, rule
 from .common import ReportsMissingContext
 
@@ -61,7 +63,7 @@ class DisengageUnderMirror(ReportsMissingContext):
         axis = state.plane_axes[direction[0]]
         if axis not in mirrored or not self.first_time(state, ("disengage-mirror", span)):
             return
-        self.report("heidenhain.disengage-mirror", spans.get("Q214", span), f"cycle {cycle.rsplit('.', 1)[-1]} disengages toward {direction[1]}{axis} "
+        self.report("heidenhain.disengage-mirror", spans.get("Q214", span), f"cycle {cycle_code(cycle)} disengages toward {direction[1]}{axis} "
                     f"(Q214={params['Q214']:g}) while cycle 8 mirrors {axis}: the disengaging direction is not mirrored, so on the mirrored part "
                     "the tool moves into the wall instead of away from it (seed L1880-1881, L2296-2297)")
 
@@ -84,7 +86,7 @@ class RotationCancelsCompensation(Rule):
         if cancelled is None or segment.role != "programmed":
             return
         state.rule_state[("heidenhain", "rotation-cancelled")] = None
-        reprogrammed = any(getattr(op, "cycle", None) == "heidenhain.@comp" for op in segment.block.ops)
+        reprogrammed = any(isinstance(op, ir.CutterComp) for op in segment.block.ops)
         if segment.kind in ("feed", "arc") and not reprogrammed:
             line, side = cancelled
             self.report("heidenhain.rotation-cancels-compensation", segment.span, f"the rotation (cycle 10, line {line}) cancelled {side}: this contour move "

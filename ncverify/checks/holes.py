@@ -1,11 +1,9 @@
 """Rules on the holes canned cycles make: levels, parameters, spindle."""
 from __future__ import annotations
 
+from ..ir import cycle_code
 from ..check import Rule, hazard, rule, show
 
-
-def _code(cycle: str) -> str:
-    return cycle.rsplit(".", 1)[-1]
 
 
 @rule("core.cycle-missing-parameter")
@@ -13,7 +11,7 @@ class MissingParameter(Rule):
     def hole(self, hole, state):
         if hole.missing and self.first_time(state, ("core.cycle-missing-parameter", hole.definition)):
             meanings = ", ".join(f"{letter} ({hole.model['params'][letter]['meaning']})" for letter in hole.missing)
-            self.report("core.cycle-missing-parameter", hole.definition or hole.span, f"{_code(hole.cycle)} makes holes without {meanings}: the control alarms at the first hole")
+            self.report("core.cycle-missing-parameter", hole.definition or hole.span, f"{cycle_code(hole.cycle)} makes holes without {meanings}: the control alarms at the first hole")
 
 
 @rule("core.cycle-depth-sign", "core.cycle-zero-depth", "core.cycle-r-above-initial")
@@ -22,7 +20,7 @@ class HoleLevels(Rule):
         bottom, r_point, initial = hole.bottom, hole.r_point, hole.initial
         if bottom is None or r_point is None or hole.model.get("r_incremental"):
             return
-        code, axis = _code(hole.cycle), hole.drill_axis
+        code, axis = cycle_code(hole.cycle), hole.drill_axis
         span = hole.param_spans.get(axis, hole.span)
         report = self.checker.report_verdict
         if hole.model.get("infeed") == "back_bore":
@@ -47,7 +45,7 @@ class PeckDepth(Rule):
         if hole.model.get("infeed", "").startswith("peck") and not hole.model.get("r_incremental"):
             depth = hole.params.get("Q")
             if depth is not None:
-                self.checker.report_verdict("core.peck-depth", hole.param_spans.get("Q", hole.span), f"{_code(hole.cycle)}: peck depth Q{show(depth)} is not positive: the control alarms",
+                self.checker.report_verdict("core.peck-depth", hole.param_spans.get("Q", hole.span), f"{cycle_code(hole.cycle)}: peck depth Q{show(depth)} is not positive: the control alarms",
                                             self.checker.judge(hazard("<=", depth, 0.0), state), state)
 
 
@@ -56,7 +54,7 @@ class DwellFraction(Rule):
     def hole(self, hole, state):
         dwell = hole.params.get("P")
         if type(dwell) is float and dwell != int(dwell):
-            self.report("core.dwell-fraction", hole.param_spans.get("P", hole.span), f"{_code(hole.cycle)}: dwell P{show(dwell)} has a fraction, which the cycle ignores: it dwells P{int(dwell)}")
+            self.report("core.dwell-fraction", hole.param_spans.get("P", hole.span), f"{cycle_code(hole.cycle)}: dwell P{show(dwell)} has a fraction, which the cycle ignores: it dwells P{int(dwell)}")
 
 
 @rule("core.tapping-spindle-direction")
@@ -69,7 +67,7 @@ class TappingSpindle(Rule):
             return
         wanted = "M03 (clockwise)" if expected == "cw" else "M04 (counter-clockwise)"
         actual = {"off": "stopped", "cw": "clockwise (M03)", "ccw": "counter-clockwise (M04)"}[state.spindle]
-        self.report("core.tapping-spindle-direction", hole.span, f"{_code(hole.cycle)} tapping needs the spindle running {wanted}, but it is {actual}: the tap strips the thread or breaks")
+        self.report("core.tapping-spindle-direction", hole.span, f"{cycle_code(hole.cycle)} tapping needs the spindle running {wanted}, but it is {actual}: the tap strips the thread or breaks")
 
 
 @rule("core.css-without-clamp")

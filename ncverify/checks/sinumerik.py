@@ -14,13 +14,14 @@ from __future__ import annotations
 
 import math
 
+from ..ir import cycle_code
 from .. import values
 from ..check import Rule, hazard, rule, show
 from ..interpret.sinumerik_cycles import COARSE_PITCH, levels
 
 
 def cycle_name(run) -> str:
-    return run.cycle.rsplit(".", 1)[-1]
+    return cycle_code(run.cycle)
 
 
 def is_sinumerik(run) -> bool:

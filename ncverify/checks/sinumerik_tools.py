@@ -12,15 +12,15 @@ from __future__ import annotations
 import math
 from typing import NamedTuple
 
+from .. import ir
 from ..check import rule, show
 from ..frames import Frame
-from ..lower.sinumerik import ACTIVE_EDGE
 from .common import ReportsMissingContext
 
 
 def active_edge(state):
     """The active D number, or None when the program has not set it on this path."""
-    edge = state.global_variables.get(ACTIVE_EDGE.name)
+    edge = state.global_variables.get(ir.ACTIVE_EDGE)
     return edge if type(edge) is float else None
 
 
@@ -232,7 +232,7 @@ class EdgePosition(_EdgeRule):
     def cycle_run(self, run, state):
         if run.cycle not in ("sinumerik.CYCLE94", "sinumerik.CYCLE96") or run.params.get("_VARI", 0.0) != 0.0:
             return
-        name = run.cycle.rsplit(".", 1)[-1]
+        name = ir.cycle_code(run.cycle)
         tool, position = self.edge_value("sinumerik.edge-position", run.span, state, "edge_position")
         if position is not None and position >= 5:
             self.report("sinumerik.edge-position", run.param_spans.get("_VARI", run.span),
@@ -275,7 +275,7 @@ class ThreadInfeedAngle(_EdgeRule):
         infeed = run.params.get("IANG") if run.cycle in ("sinumerik.CYCLE97", "sinumerik.CYCLE98") else None
         if type(infeed) is not float or infeed == 0.0:
             return
-        name = run.cycle.rsplit(".", 1)[-1]
+        name = ir.cycle_code(run.cycle)
         flank, whose = self._flank_angle(run, state)
         if flank is None:
             return

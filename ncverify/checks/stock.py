@@ -11,6 +11,7 @@ import math
 
 import numpy
 
+from ..ir import cycle_code
 from .. import frames, geometry
 from ..check import Rule, Verdict, hazard, rule, show
 from ..context import Stock, active_edge, radius_delta
@@ -147,7 +148,7 @@ class RapidIntoStock(_NeedsStock):
         start, end = _point(segment.start, stock), _point(segment.end, stock)
         what = _ROLE_WORDS.get(segment.role, "rapid move")
         if segment.cycle:
-            what = f"{segment.cycle.rsplit('.', 1)[-1]} {what}"
+            what = f"{cycle_code(segment.cycle)} {what}"
         tool = _cylinder_tool(self, stock, state)
         if _separated(stock, segment.start, segment.end, tool):
             return
@@ -256,7 +257,7 @@ class ClearanceBelowStock(_NeedsStock):
         over_stock = self._over_stock(stock, hole.position) if axis == "Z" else _across(ranges, axis, hole.position)
         if over_stock is False:
             return
-        code = hole.cycle.rsplit(".", 1)[-1]
+        code = cycle_code(hole.cycle)
         low, high = ranges["XYZ".index(axis)]
         face = high if hole.up > 0 else low
         where = f"below the top of the stock Z{face:g}" if axis == "Z" and hole.up > 0 else f"past the stock's face {axis}{face:g} on the side the tool comes from"
@@ -275,7 +276,7 @@ class ClearanceBelowStock(_NeedsStock):
         """Once per cycle definition: the levels were not judged, which is unknown, not safe."""
         if self.first_time(state, ("clearance-face-unknown", hole.definition)):
             self.report(self.rule_id, hole.definition or hole.span,
-                        f"{hole.cycle.rsplit('.', 1)[-1]}: the R point and initial level along {axis} were not compared with the {stock.kind} stock: "
+                        f"{cycle_code(hole.cycle)}: the R point and initial level along {axis} were not compared with the {stock.kind} stock: "
                         "its face along that axis is modelled for a box stock only", Status.UNKNOWN, f"stock face along {axis} not modelled")
 
     @staticmethod

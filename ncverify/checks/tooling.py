@@ -4,6 +4,7 @@ comes from the tool table (``[tools.N]`` or ``ncverify: tool``) for the tool in 
 spindle; without it each rule answers ``unknown`` once per file."""
 from __future__ import annotations
 
+from ..ir import cycle_code
 from .. import frames, values
 from ..check import hazard, rule, show
 from .common import ReportsMissingContext
@@ -25,7 +26,7 @@ class CircleSmallerThanTool(ReportsMissingContext):
         circle = values.absolute(run.params["I"])
         verdict = self.checker.judge(hazard("<=", values.sub(circle, radius), 0.0), state)
         self.checker.report_verdict("core.tool-too-large", run.param_spans.get("I", run.span),
-                                    f"{run.cycle.rsplit('.', 1)[-1]}: the circle of radius {show(circle)} is not larger than the tool radius {radius:g}: "
+                                    f"{cycle_code(run.cycle)}: the circle of radius {show(circle)} is not larger than the tool radius {radius:g}: "
                                     f"the largest tool that fits has a radius below {show(circle)} (the control alarms: circle radius error)", verdict, state)
 
 
@@ -75,5 +76,5 @@ class TapFeedMatchesPitch(ReportsMissingContext):
         verdict = self.checker.judge(hazard(">", off, values.mul(values.absolute(expected), self.tolerance)), state)
         unit = "mm/rev" if per_revolution else "per minute"
         self.checker.report_verdict("core.tap-feed-pitch", hole.definition or hole.span,
-                                    f"{hole.cycle.rsplit('.', 1)[-1]}: feed F{show(feed)} does not match the tap's pitch {tool.pitch:g}: "
+                                    f"{cycle_code(hole.cycle)}: feed F{show(feed)} does not match the tap's pitch {tool.pitch:g}: "
                                     f"it should be {show(expected)} {unit}; the tap cuts a second thread or breaks", verdict, state)

@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import numpy
 
+from ..ir import cycle_code
 from ..check import Rule, rule, show
 from ..interpret import modal_call
 
@@ -31,7 +32,7 @@ class CircleCuttingRegister(Rule):
             return
         register = run.params.get("D")
         if register is None:
-            self.report("core.g12-missing-d", run.span, f"{run.cycle.rsplit('.', 1)[-1]} circle cutting has no D offset register: the control alarms")
+            self.report("core.g12-missing-d", run.span, f"{cycle_code(run.cycle)} circle cutting has no D offset register: the control alarms")
         elif type(register) is float and not 1 <= register <= self.checker.context.limits.d_register_max:
             self.report("core.d-register-range", run.param_spans.get("D", run.span), f"offset register D{show(register)} is outside 1-{self.checker.context.limits.d_register_max:g} on this control: alarm")
 
@@ -77,7 +78,7 @@ class CycleModalAtToolChange(Rule):
         if change.what != "tool_change":
             return
         if state.cycle is not None:
-            self.report("core.cycle-modal-at-tool-change", change.span, f"canned cycle {state.cycle.cycle.rsplit('.', 1)[-1]} is still active at the tool change{self.word('cycle_cancel', ' (no {})')}: "
+            self.report("core.cycle-modal-at-tool-change", change.span, f"canned cycle {cycle_code(state.cycle.cycle)} is still active at the tool change{self.word('cycle_cancel', ' (no {})')}: "
                         "the next block that moves an axis drills with the new tool")
         elif (program := modal_call.active_program(state)) is not None:
             self.report("core.cycle-modal-at-tool-change", change.span, f"the modal call of {program} is still active at the tool change"

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import math
 
+from ..ir import cycle_code
 from .. import values
 from .cycles import DialectCycles
 from ..trace import CycleRun
@@ -113,7 +114,7 @@ def _entry_point(runner, cycle, centre: dict) -> dict | None:
     data = cycle.params
     radius = _tool_radius(runner)
     angle = parameter(cycle, data, "Q")
-    code = cycle.cycle.rsplit(".", 1)[-1]
+    code = cycle_code(cycle.cycle)
     if radius is None or type(angle) is not float:
         missing = "the start angle Q is computed" if radius is not None else "the tool radius is not in the tool table"
         runner.fault("core.rapid-into-stock", cycle.param_spans.get("J", cycle.definition), f"{code} runs around the stud at |J|/2 + tool radius + E "
@@ -149,7 +150,7 @@ class PatternError(Exception):
 
 def run_pattern(runner, op, block, model, params):
     state = runner.state
-    code = op.cycle.rsplit(".", 1)[-1]
+    code = cycle_code(op.cycle)
     runner.report_cycle(CycleRun(op.cycle, model, op.span, block, dict(params), dict(op.param_spans)))
     cycle = state.cycle
     if cycle is None:

@@ -21,6 +21,8 @@ from .. import frames, ir, values
 from .control_flow import ControlFlow, CallFrame, LoopFrame, PathEnd, Position
 from .cycles import ActiveCycle, CycleRunner
 from .heidenhain.state import KlartextState
+from .modal_call import system_value as modal_call_value
+from ..context import ToolTable
 from ..settings import Settings
 from ..source import ProgramSource, Span
 from ..trace import Arc, Change, Fault, MotionRun, Segment
@@ -109,14 +111,22 @@ class Interpreter(ControlFlow):
     """Runs one program (and the subprograms it calls) and reports to ``observer``.
 
     ``observer`` receives ``segment``, ``hole``, ``cycle_run``, ``change``, ``fault`` and
-    ``note`` calls (see :mod:`ncverify.check`)."""
+    ``note`` calls (see :mod:`ncverify.check`). ``runtime`` is the dialect's run-time hooks
+    (:attr:`ncverify.dialect.DialectInfo.runtime`), if it has any; ``tools`` the tool table
+    cycles read the tool in the spindle from."""
 
     def __init__(self, source: ProgramSource, frontend, observer, settings: Settings, *, power_on: dict,
                  cycle_models: dict, twins: dict, machine: str = "mill", increment: float = 0.0,
-                 feed_increment: float = 0.0, library=None, assumptions=(), pins: dict | None = None):
-        self.cycle_models = cycle_models
+                 feed_increment: float = 0.0, library=None, assumptions=(), pins: dict | None = None, runtime=None,
+                 tools: ToolTable | None = None):
+        extra_models = getattr(runtime, "pseudo_models", None)
+        self.cycle_models = cycle_models if extra_models is None else {**cycle_models, **extra_models()}
+        self._dialect_batch_allowed = getattr(runtime, "batch_allowed", None)
+        self._system_variables = tuple(hook for hook in (modal_call_value, getattr(runtime, "system_variable", None),
+                                                         getattr(frontend, "system_variable", None)) if hook is not None)
         self.twins = twins
         self.assigned: dict[int, list[tuple[str, object]]] = {}  # line -> (variable, value) of assignment statements, with settings.record_values
+        self.tools = tools if tools is not None else ToolTable()
         self.source = source
         self.frontend = frontend
         self.observer = observer
@@ -230,8 +240,7 @@ class Interpreter(ControlFlow):
 
     def _dialect_allows_batch(self, state) -> bool:
         """A dialect whose plain blocks also change state of its own says when a batch may skip that."""
-        allows = getattr(self.frontend, "batch_allowed", None)
-        return allows is None or allows(state)
+        return self._dialect_batch_allowed is None or self._dialect_batch_allowed(state)
 
     def _execute_batch(self, run: ir.MoveBatch, source: ProgramSource, path) -> None:
         """Run a batch of plain blocks with arrays (the per-block path's twin)."""
@@ -471,9 +480,10 @@ class Interpreter(ControlFlow):
             return self._free_parameter(name)
         if name in state.global_variables:
             return state.global_variables[name]
-        system = self.frontend.system_variable(name, state)
-        if system is not None:
-            return system
+        for answer in self._system_variables:
+            system = answer(name, state)
+            if system is not None:
+                return system
         return self._free_parameter(name)
 
     def _assume(self, assumptions) -> list:
@@ -536,6 +546,8 @@ class Interpreter(ControlFlow):
         return None
 
     def _cutter_comp(self, op: ir.CutterComp, block):
+        if op.only_if_changed and op.side == self.state.comp_side:
+            return None
         old, register = self._switch_offset(op.side, op.register, op.span, "comp_side", "comp_register")
         self._change("cutter_comp", op.span, block, old, self.state.comp_side, register)
         return None
@@ -592,6 +604,8 @@ class Interpreter(ControlFlow):
         old = state.spindle
         if op.state != "orient":
             state.spindle = op.state
+        if op.apart:
+            block = ir.Block(block.line, block.start_column, block.end_column, [])
         self._change("spindle", op.span, block, old, op.state)
         return None
 

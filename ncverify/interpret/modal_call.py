@@ -3,10 +3,8 @@ values of the variables the lowering (:mod:`ncverify.lower.modal_call`) reads an
 """
 from __future__ import annotations
 
+from ..ir import INSIDE_MODAL_CALL as INSIDE, MODAL_CALL_ARGUMENT as ARGUMENT_PREFIX, MODAL_CALL_NAME as NAME, MODAL_CALL_SWITCH as SWITCH
 from ..values import VACANT
-
-SWITCH, NAME, INSIDE = "$MCALL", "$MCALLNAME", "$INMCALL"
-ARGUMENT_PREFIX = "$MCALLARG:"
 
 
 def active_program(state) -> str | None:

@@ -33,11 +33,8 @@ class Runtime:
 
     def tool_in_spindle(self):
         """The tool-table entry of the tool in the spindle, or None when the tool or its
-        entry is not known. The table is part of the check's context, which the
-        interpreter's observer holds."""
-        tools = (getattr(self._interp.observer, "context", None) or {}).get("tools") or {}
-        number = self.state.tool_in_spindle
-        return tools.get(int(number)) if type(number) is float else None
+        entry is not known."""
+        return self._interp.tools.in_spindle(self.state)
 
     # ------------------------------------------------------------------ motion
 

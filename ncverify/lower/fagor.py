@@ -37,7 +37,6 @@ from ..read.iso import ReadBlock
 from ..source import Span, decode_line
 from ..tables import CodeTable, _load, code_key
 from ..values import VACANT
-from ..interpret import modal_call as running_modal_call
 from . import modal_call
 from .iso import _PLAIN_MOTION, IsoFrontend, IsoLowering
 
@@ -667,9 +666,6 @@ class FagorFrontend:
             return targets.get(key, f"@?{key}")
         if name == RPT_END:
             return -1.0
-        modal = running_modal_call.system_value(name, state)
-        if modal is not None:
-            return modal
         if name == _IN_CYCLE_ZONE.name:
             return 0.0 if state.cycle is None else 1.0
         if name == _VACANT.name:

@@ -8,7 +8,7 @@ centre ``CC``, polar coordinates, the cycle that ``CYCL CALL`` runs, a label cal
 a section repeat or a subprogram call, the end of a called program) are lowered to
 ``ir.CycleCall`` operations of pseudo cycles ``heidenhain.@...`` whose motion is run by
 :mod:`ncverify.interpret.heidenhain.runtime`. Everything else is
-plain IR: ``L`` is a ``Move``, ``R0/RL/RR`` a ``CutterComp``, ``TOOL CALL`` a tool change
+plain IR: ``L`` is a ``Move``, ``R0/RL/RR`` a ``CutterComp``, ``M3/M4/M5`` a ``Spindle``, ``TOOL CALL`` a tool change
 with the length compensation Klartext applies by itself, ``FN 9``-``FN 12`` conditional
 jumps, Q/QL/QR parameters ``Assign``.
 """
@@ -24,7 +24,6 @@ from ..dialect import DialectSetup
 from ..read.heidenhain import Cursor, ReadError, continues as _continues, split
 from ..read.heidenhain_runs import is_plain_line, read_plain_run
 from ..source import Span
-from ..interpret.heidenhain import runtime as heidenhain_runtime
 
 _AXES = ("X", "Y", "Z", "A", "B", "C", "U", "V", "W")
 _TOOL_AXIS_PLANE = {"Z": "xy", "X": "yz", "Y": "zx"}
@@ -353,7 +352,7 @@ class KlartextLowering:
             block.ops.append(ir.SetFeed(span, words["feed"]))
         self._m_before(block, words["m"])
         if words["comp"] is not None:
-            block.ops.append(ir.CycleCall(words["comp"][1], "heidenhain.@comp", {"side": words["comp"][0]}))
+            block.ops.append(ir.CutterComp(words["comp"][1], words["comp"][0], only_if_changed=True))
         if arc_pseudo is not None:
             block.ops.append(arc_pseudo)
         elif words["targets"]:
@@ -377,7 +376,7 @@ class KlartextLowering:
         """M functions that act at the start of the block (spindle and coolant on)."""
         for number, span in m_words:
             if number in _M_SPINDLE and _M_SPINDLE[number] != "off":
-                block.ops.append(_pseudo(span, "spindle", {"state": _M_SPINDLE[number]}))
+                block.ops.append(ir.Spindle(span, _M_SPINDLE[number], apart=True))
             if number in _M_COOLANT and _M_COOLANT[number] != "off":
                 block.ops.append(ir.Coolant(span, _M_COOLANT[number]))
 
@@ -387,7 +386,7 @@ class KlartextLowering:
         calls, stops (the TNC fixes for each M function when it acts)."""
         for number, m_span in m_words:
             if _M_SPINDLE.get(number) == "off":
-                block.ops.append(_pseudo(m_span, "spindle", {"state": "off"}))
+                block.ops.append(ir.Spindle(m_span, "off", apart=True))
             if _M_COOLANT.get(number) == "off":
                 block.ops.append(ir.Coolant(m_span, "off"))
         for number, m_span in m_words:
@@ -837,12 +836,6 @@ class KlartextFrontend:
     def plain_run(self, buffer, offset: int, line: int, limit: int = 1 << 20) -> ir.MoveBatch | None:
         return read_plain_run(buffer, offset, line, limit)
 
-    @staticmethod
-    def batch_allowed(state) -> bool:
-        """A run skips what each line's R0 and positioning step would do: nothing while the
-        compensation is off and no cycle waits on positions (see :mod:`ncverify.interpret.heidenhain.runtime`)."""
-        return state.comp_side == "off" and heidenhain_runtime.positioning_is_inert(state)
-
     def programs(self, buffer) -> list[tuple[str, int]]:
         return [(_called_name(match.group(1).decode("utf-8", "replace")), match.start()) for match in _PROGRAM_START.finditer(buffer)]
 
@@ -871,9 +864,6 @@ class KlartextFrontend:
     def variable_scope(name: str) -> str:
         """QL parameters belong to one program (reference A §3); Q and QR are global."""
         return "local" if name.startswith("QL") else "global"
-
-    def system_variable(self, name: str, state):
-        return heidenhain_runtime.system_variable(name, state)
 
     def program_context(self, source) -> Context:
         """The BLK FORM of the program as its stock, TOOL.T beside it as its tools."""
@@ -974,10 +964,6 @@ def read_tool_table(path) -> tuple[dict[int, Tool], dict[str, float]]:
     return tools, by_name
 
 
-def _cycle_models() -> dict:
-    models = load_cycle_table("heidenhain")
-    models.update(heidenhain_runtime.pseudo_models())
-    return models
 
 
 def setup(settings, detection, project) -> DialectSetup:
@@ -995,7 +981,7 @@ def setup(settings, detection, project) -> DialectSetup:
     power_on = {"plane": "xy", "units": "mm", "distance": "absolute", "feed_mode": "per_minute", "motion": "rapid",
                 "arc_distance": "incremental", "path_mode": "exact", "cycle_return": "initial", "spindle_mode": "rpm"}
     limits = {"tool_number_max": 32767.0, "h_register_max": 32767.0, "d_register_max": 32767.0}
-    return DialectSetup(KlartextFrontend(lowering, tools), power_on, _cycle_models(), None, "mill", {}, None, 0.0, limits)
+    return DialectSetup(KlartextFrontend(lowering, tools), power_on, load_cycle_table("heidenhain"), None, "mill", {}, None, 0.0, limits)
 
 
 TOOL_CALL_DR = "@TOOLDR"

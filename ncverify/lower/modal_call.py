@@ -11,13 +11,12 @@ from __future__ import annotations
 
 from .. import ir
 from ..source import Span
-from ..interpret.modal_call import ARGUMENT_PREFIX, INSIDE, NAME, SWITCH
 
-_SWITCH, _NAME, _INSIDE = ir.Var(SWITCH), ir.Var(NAME), ir.Var(INSIDE)
+_SWITCH, _NAME, _INSIDE = ir.Var(ir.MODAL_CALL_SWITCH), ir.Var(ir.MODAL_CALL_NAME), ir.Var(ir.INSIDE_MODAL_CALL)
 
 
 def _argument(key: str) -> ir.Var:
-    return ir.Var(f"{ARGUMENT_PREFIX}{key}")
+    return ir.Var(f"{ir.MODAL_CALL_ARGUMENT}{key}")
 
 
 def switch_on(span: Span, program: ir.Expr, arguments: dict, keys, missing: ir.Expr) -> list[ir.Op]:

@@ -31,7 +31,7 @@ from functools import cache
 import numpy
 
 from .. import ir
-from ..context import ACTIVE_EDGE_VARIABLE, Context, Stock, Tool, tool_value_problem
+from ..context import Context, Stock, Tool, tool_value_problem
 from ..cycle_models import load_cycle_table
 from ..dialect import DialectSetup
 from ..read.iso_runs import read_plain_run
@@ -39,7 +39,6 @@ from ..read.sinumerik import Item, ReadBlock, read_line
 from ..resources import data_dir
 from ..source import Span, decode_line
 from . import modal_call
-from ..interpret import modal_call as running_modal_call
 
 WHILE_LOOP, FOR_LOOP, ENDLESS_LOOP, REPEAT_LOOP = 1, 2, 3, 4
 UNTIL_FLAG = "_REPEAT_UNTIL_"
@@ -61,7 +60,7 @@ _AXIS_DATA_CODES = frozenset({"74", "75", "110", "111", "112", "58", "59", "25",
 _STAGE_ORDER = ("feed", "tool", "speed", "spindle", "dwell", "modal", "offset", "motion", "call", "stop")
 # The system variable holding the active cutting edge, the D number (840D programming
 # knowledge, not in the references): D and M6 write it, rules read it from the state.
-ACTIVE_EDGE = ir.Var(ACTIVE_EDGE_VARIABLE)
+ACTIVE_EDGE = ir.Var(ir.ACTIVE_EDGE)
 # Whether X is a diameter: the modal group "diameter" (840D programming knowledge; the
 # references only use DIAMON in their turning examples). Rules that need it read it from
 # the state; nothing moves differently.
@@ -518,9 +517,10 @@ class SinumerikFrontend:
 
     def system_variable(self, name: str, state):
         """System constants are values (``$PI``); machine data and the rest are the
-        machine's, read as inputs (unknown without an ``assume``), never set to 0 freely."""
+        machine's, read as inputs (unknown without an ``assume``), never set to 0 freely
+        (the modal-call variables the interpreter answers itself)."""
         constant = _SYSTEM_CONSTANTS.get(name.upper())
-        return constant if constant is not None else running_modal_call.system_value(name, state)
+        return constant
 
     def label_offsets(self, buffer, label):
         if isinstance(label, str) and "#" in label:

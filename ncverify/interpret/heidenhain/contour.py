@@ -134,7 +134,7 @@ def _walk(runner, label, span) -> Subprogram:
 
 
 _MOTION_PSEUDO = {"arc", "tangent", "polar", "lift"}
-_M_PSEUDO = {"spindle", "call"}
+_M_PSEUDO = {"call"}
 _TRANSFORMS = {7.0, 8.0, 10.0, 11.0, 19.0, 26.0, 247.0}  # allowed in a subcontour, and they stay active after it (seed L9061-9062)
 
 
@@ -154,10 +154,12 @@ class _Content:
     def take(self, op) -> None:
         if isinstance(op, ir.SetFeed):
             self.technology.append(("a feed rate F", op.span))
-        elif isinstance(op, (ir.Coolant, ir.Stop)):
+        elif isinstance(op, (ir.Coolant, ir.Stop, ir.Spindle)):
             self.technology.append(("an M function", op.span))
         elif isinstance(op, ir.Move) and op.targets:
             self.motion(op, set(op.targets), op.arc is None)
+        elif isinstance(op, ir.CutterComp):
+            self.sides.append((op.side, op.span))
         elif isinstance(op, ir.CycleCall) and op.cycle.startswith("heidenhain.@"):
             self.pseudo(op, op.cycle[len("heidenhain.@"):])
 
@@ -166,8 +168,6 @@ class _Content:
         if what == "approach":
             self.forbidden.append(("an APPR/DEP block", op.span))
             self.approach_pending = self.first_axes is None
-        elif what == "comp":
-            self.sides.append((params["side"], op.span))
         elif what in _M_PSEUDO:
             self.technology.append(("an M function", op.span))
         elif what in ("define", "old_cycle") and params.get("@number") not in _TRANSFORMS:
@@ -252,12 +252,13 @@ class _Walker:
             else:
                 self.points.append(end)
             return
+        if isinstance(op, ir.CutterComp):
+            self.side = op.side
+            return
         if not isinstance(op, ir.CycleCall) or not op.cycle.startswith("heidenhain.@"):
             return
         what, params = op.cycle[len("heidenhain.@"):], op.params
-        if what == "comp":
-            self.side = params["side"]
-        elif what == "pole":
+        if what == "pole":
             self.pole = self.point(params) if params else self.here
         elif what in ("arc", "tangent"):
             end = self.point(params)

@@ -23,6 +23,8 @@ from dataclasses import replace
 from ... import ir, values
 from .. import cycles
 from . import special, transforms
+from .common import (cycle_feed as _cycle_feed, levels, numbers as _numbers, offset_surface as _offset_surface,
+                     plane as _plane, put as _put)
 from .state import Definition
 from ..control_flow import PathEnd
 from ...trace import Arc, CycleRun, Hole
@@ -34,11 +36,6 @@ DEF_ACTIVE = frozenset({7, 8, 9, 10, 11, 13, 14, 19, 20, 26, 32, 220, 221, 224, 
 _SUBPROGRAM_END = re.compile(rb"(?m)^[ \t]*\d*[ \t]*LBL[ \t]*0(?![0-9.])")
 _TRANSFORMS = frozenset({7, 8, 10, 11, 19, 26})
 _HOLE_FAMILIES = frozenset({"drill", "tap", "thread"})
-
-
-def _put(state, **changes) -> None:
-    """Change the path's Klartext state (a new value: a forked path keeps its own)."""
-    state.klartext = replace(state.klartext, **changes)
 
 
 def system_variable(name: str, state):
@@ -54,14 +51,17 @@ def system_variable(name: str, state):
 
 
 def pseudo_models() -> dict:
+    """The models of the pseudo cycles, beside the dialect's cycle table."""
     return {f"heidenhain.@{what}": {"shape": f"heidenhain.{what}", "pseudo": True} for what in _RUNNERS}
 
 
+def batch_allowed(state) -> bool:
+    """A batch of plain lines skips what each line's R0 and positioning step would do:
+    nothing while the compensation is off and no cycle waits on positions."""
+    return state.comp_side == "off" and positioning_is_inert(state)
+
+
 # --------------------------------------------------------------------------- contour geometry
-
-
-def _plane(state):
-    return state.plane_axes
 
 
 def _pole_run(runner, op, block, model, params):
@@ -241,23 +241,6 @@ def _tool_length_run(runner, op, block, model, params):
     state = runner.state
     state.length_mode = "plus" if params.get("on") else "off"
     state.length_register = params.get("T")
-    return None
-
-
-def _spindle_run(runner, op, block, model, params):
-    """M3/M4/M13/M14 act at the start of their block and M5 at its end on every TNC, so a
-    spindle code beside a cut is never ambiguous: the change is reported without the block's
-    moves."""
-    alone = ir.Block(block.line, block.start_column, block.end_column, [])
-    runner.execute(ir.Spindle(op.span, params["state"]), alone)
-    return None
-
-
-def _comp_run(runner, op, block, model, params):
-    """R0 / RL / RR are modal: writing the side already in force changes nothing."""
-    side = params.get("side")
-    if side != runner.state.comp_side:
-        runner.execute(ir.CutterComp(op.span, side), block)
     return None
 
 
@@ -640,7 +623,7 @@ def _positioned_run(runner, op, block, model, params):
 def positioning_is_inert(state) -> bool:
     """Does a positioning line do nothing beyond moving and noting the point it reached at
     feed (no M89 cycle to run at each position, no cycle end to check)? Then plain lines
-    may run as a batch (lower/heidenhain.py ``batch_allowed``)."""
+    may run as a batch (:func:`batch_allowed`)."""
     return not state.klartext.m89 and state.klartext.ended_elsewhere is None
 
 
@@ -718,31 +701,6 @@ def run_cycle(runner, op, block, definition: Definition, shift=None, surface_off
                   "unknown", f"cycle {definition.number}")
     state.move_to(dict.fromkeys(state.position))
     return None
-
-
-def _numbers(params: dict) -> dict:
-    """The parameters rules compare: keyword values (FMAX, AUTO, PREDEF) and strings left out."""
-    return {name: value for name, value in params.items() if not isinstance(value, str)}
-
-
-def levels(params: dict, depth_name: str = "Q201"):
-    """Set-up clearance level, bottom and retract level of a hole or pocket cycle, and the
-    direction (reference A §6.0); None where a parameter is missing or not a number."""
-    depth, surface, clearance = params.get(depth_name), params.get("Q203"), params.get("Q200")
-    second = params.get("Q204", 0.0)
-    if any(value is None or isinstance(value, str) for value in (depth, surface, clearance)):
-        return None
-    if isinstance(second, str):
-        second = 0.0
-    direction = 1.0 if type(depth) is float and depth > 0 else -1.0
-    set_up = values.sub(surface, values.mul(direction, clearance))
-    bottom = values.add(surface, depth)
-    if type(second) is float and type(clearance) is float:
-        retract_height = max(second, clearance)
-    else:
-        retract_height = second
-    retract = values.sub(surface, values.mul(direction, retract_height))
-    return set_up, bottom, retract, direction
 
 
 def _depth_name(definition: Definition) -> str:
@@ -1039,40 +997,6 @@ def _remember_hole(state, bottom) -> None:
         _put(state, drilled=drilled + ((point[0], point[1], bottom),))
 
 
-def _pitch_feed(state, pitch):
-    speed = state.spindle_speed
-    if speed is None:
-        return values.fresh("S*Q239", 0.0)
-    return values.absolute(values.mul(speed, pitch))
-
-
-class _cycle_feed:
-    """The cycle cuts at its own feed (Q206, else Q207); the programmed feed is back after it."""
-
-    def __init__(self, state, params):
-        self.state = state
-        feed = params.get("Q206", params.get("Q207"))
-        if feed is None and "Q239" in params and not isinstance(params["Q239"], str):
-            feed = _pitch_feed(state, params["Q239"])  # rigid tapping: S x pitch (seed L3887-3898)
-        self.feed = feed if feed is not None and not isinstance(feed, str) else (state.klartext.tool_feed if feed == "AUTO" else None)
-
-    def __enter__(self):
-        self.saved = self.state.feed
-        if self.feed is not None:
-            self.state.feed = self.feed
-
-    def __exit__(self, *exc):
-        self.state.feed = self.saved
-        return False
-
-
-def _offset_surface(params: dict, shift, surface_offset) -> None:
-    """CYCL CALL POS's tool-axis value and a pattern point's Z act on top of Q203."""
-    for extra in (shift, surface_offset):
-        if extra is not None and "Q203" in params and not isinstance(params["Q203"], str):
-            params["Q203"] = values.add(params["Q203"], extra)
-
-
 def _pocket(runner, op, block, definition, shift, surface_offset):
     """Pockets, studs, slots and face milling: the levels are those of a hole (the cutting
     paths in the plane are not traced); the cycle ends at the 2nd set-up clearance, over
@@ -1113,7 +1037,7 @@ _RUNNERS = {
     "tool_feed": _tool_feed_run, "label_call": _label_call_run, "end_pgm": _end_pgm_run, "define": _define_run,
     "old_cycle": _old_cycle_run, "trans": _trans_run, "pattern": _pattern_run, "call": _call_run,
     "select_pattern": special.select_pattern_run, "m_function": special.m_function_run,
-    "positioned": _positioned_run, "tool_length": _tool_length_run, "lift": _lift_run, "comp": _comp_run, "spindle": _spindle_run, "contour_def": _contour_def_run, "global_def": _global_def_run,
+    "positioned": _positioned_run, "tool_length": _tool_length_run, "lift": _lift_run, "contour_def": _contour_def_run, "global_def": _global_def_run,
     "approach": _approach_run, "select_contour": _select_contour_run, "declare_contour": _declare_contour_run,
 }
 _SPECIAL_FAMILIES = {"engrave": special.engrave, "face232": special.face_milling,

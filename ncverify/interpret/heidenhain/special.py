@@ -13,7 +13,7 @@ import re
 from pathlib import Path
 
 from ... import ir
-from . import runtime as run
+from . import common
 from ...dependencies import note_file
 from ...trace import CycleRun
 
@@ -28,7 +28,7 @@ def engraved_characters(text: str) -> int:
 
 
 def _observe(runner, op, block, definition, params, extra: dict | None = None) -> None:
-    numbers = run._numbers(params)
+    numbers = common.numbers(params)
     numbers.update(extra or {})
     runner.report_cycle(CycleRun(f"heidenhain.{definition.number}", definition.model, op.span, block, numbers, dict(definition.spans)))
 
@@ -52,13 +52,13 @@ def engrave(runner, op, block, definition, shift, surface_offset) -> None:
     not executed."""
     state = runner.state
     params = dict(definition.params)
-    run._offset_surface(params, shift, surface_offset)
+    common.offset_surface(params, shift, surface_offset)
     text = params.get("QS500")
     _observe(runner, op, block, definition, params, {"text_characters": float(engraved_characters(text))} if isinstance(text, str) else None)
-    found = run.levels(params)
+    found = common.levels(params)
     if params.get("Q201") == 0.0:
         return None
-    first, second, axis = run._plane(state)
+    first, second, axis = common.plane(state)
     if found is None:
         state.move_to(dict.fromkeys(state.position))
         return None
@@ -69,7 +69,7 @@ def engrave(runner, op, block, definition, shift, surface_offset) -> None:
         runner.move_to({axis: retract}, op.span, block, "retract", name)
     state.move_to({first: None, second: None})
     runner.move_to({axis: set_up}, op.span, block, "approach", name)
-    with run._cycle_feed(state, params):
+    with common.cycle_feed(state, params):
         runner.move_to({axis: bottom}, op.span, block, "infeed", name, "feed")
     runner.move_to({axis: set_up}, op.span, block, "out-of-hole", name)
     runner.move_to({axis: retract}, op.span, block, "retract", name)
@@ -84,7 +84,7 @@ def face_milling(runner, op, block, definition, shift, surface_offset) -> None:
     state = runner.state
     params = dict(definition.params)
     _observe(runner, op, block, definition, params)
-    first, second, axis = run._plane(state)
+    first, second, axis = common.plane(state)
     start, end = params.get("Q227"), params.get("Q386")
     clearance, second_clearance = params.get("Q200", 0.0), params.get("Q204", 0.0)
     if type(start) is float and type(end) is float and start <= end:
@@ -100,7 +100,7 @@ def face_milling(runner, op, block, definition, shift, surface_offset) -> None:
     state.move_to({first: None, second: None})
     runner.move_to({axis: safe}, op.span, block, "approach", name)
     feed = params.get("Q253")
-    with run._cycle_feed(state, {"Q206": feed if type(feed) is float else params.get("Q207")}):
+    with common.cycle_feed(state, {"Q206": feed if type(feed) is float else params.get("Q207")}):
         runner.move_to({axis: end}, op.span, block, "infeed", name, "rapid" if feed == "FMAX" else "feed")
     runner.move_to({axis: safe}, op.span, block, "out-of-hole", name)
     return None
@@ -113,7 +113,7 @@ def thread_cutting(runner, op, block, definition, shift, surface_offset) -> None
     state = runner.state
     params = dict(definition.params)
     _observe(runner, op, block, definition, params, {"spindle_running": 1.0 if state.spindle in ("cw", "ccw") else 0.0})
-    axis = run._plane(state)[2]
+    axis = common.plane(state)[2]
     depth, pitch = params.get("DEPTH"), params.get("PITCH")
     here = state.position.get(axis)
     if depth == 0.0 or pitch == 0.0:
@@ -125,7 +125,7 @@ def thread_cutting(runner, op, block, definition, shift, surface_offset) -> None
     spindle, saved = state.spindle, state.feed
     state.spindle = "cw"  # the cycle runs the spindle itself
     if pitch is not None and not isinstance(pitch, str):
-        state.feed = run._pitch_feed(state, pitch)
+        state.feed = common.pitch_feed(state, pitch)
     runner.move_to({axis: here + depth}, op.span, block, "infeed", name, "feed")
     state.spindle, state.feed = spindle, saved
     return None
@@ -188,7 +188,7 @@ def select_pattern_run(runner, op, block, model, params):
     if points is None:
         runner.fault("core.unsupported-code", op.span, f"point table {name} is not beside the program: the points CYCL CALL PAT machines are unknown",
                              "unknown", "point table")
-    run._put(runner.state, pattern=None if points is None else tuple(points))
+    common.put(runner.state, pattern=None if points is None else tuple(points))
     return None
 
 
@@ -197,6 +197,6 @@ def m_function_run(runner, op, block, model, params):
     cycle); M94 and the others reach the rules as a run of ``heidenhain.@M<n>``."""
     number = params["M"]
     if number in (136.0, 137.0):
-        run._put(runner.state, feed_per_revolution=number == 136.0)
+        common.put(runner.state, feed_per_revolution=number == 136.0)
     runner.report_cycle(CycleRun(f"heidenhain.@M{number:g}", {}, op.span, block, {}, {}))
     return None

@@ -1,0 +1,94 @@
+"""Rule definitions: the pages in ``rules/`` (id, category, default severity, page,
+parameter constraints) read into :class:`RuleDefinition` objects.
+
+Below the stages: the checker runs them, the project file and the command line check rule
+ids against them.
+"""
+from __future__ import annotations
+
+import ast
+import tomllib
+from dataclasses import dataclass, field
+from functools import cache
+from pathlib import Path
+
+from .diagnostics import CATEGORIES, Severity
+from .resources import data_dir
+
+
+@dataclass(frozen=True)
+class Constraint:
+    cycles: tuple[str, ...]
+    when: str
+    message: str
+    tree: ast.Expression
+
+
+@dataclass(frozen=True)
+class RuleDefinition:
+    id: str
+    category: str
+    severity: Severity
+    summary: str
+    page: str
+    path: Path
+    dialect: str = "iso"
+    example_settings: dict = field(default_factory=dict)
+    example_project: str = ""  # ncverify.toml text the examples run with
+    once_per_file: bool = False  # report only the first finding of the file
+    constraints: tuple[Constraint, ...] = ()
+
+    def section(self, title: str) -> str:
+        """The text of one ``## title`` section of the page."""
+        marker = f"## {title}"
+        if marker not in self.page:
+            return ""
+        text = self.page.split(marker, 1)[1]
+        return text.split("\n## ", 1)[0].strip()
+
+    def example(self, title: str) -> str:
+        """The program in the ```nc fence of a section."""
+        text = self.section(title)
+        if "```" not in text:
+            return ""
+        body = text.split("```", 2)[1]
+        return body.split("\n", 1)[1] if "\n" in body else ""
+
+
+class RuleFileError(ValueError):
+    pass
+
+
+def parse_rule_file(path: Path) -> RuleDefinition:
+    text = path.read_text(encoding="utf-8")
+    if not text.startswith("+++"):
+        raise RuleFileError(f"{path}: a rule file starts with a +++ TOML front matter block")
+    try:
+        _, front, page = text.split("+++", 2)
+        meta = tomllib.loads(front)
+    except (ValueError, tomllib.TOMLDecodeError) as error:
+        raise RuleFileError(f"{path}: {error}") from error
+    expected = f"{path.parent.name}.{path.stem}"
+    if meta.get("id") != expected:
+        raise RuleFileError(f"{path}: id {meta.get('id')!r} does not match the file's place ({expected!r})")
+    if meta.get("category") not in CATEGORIES:
+        raise RuleFileError(f"{path}: category {meta.get('category')!r} is not in the contract's list")
+    constraints = tuple(
+        Constraint(tuple(item["cycles"]), item["when"], item["message"], ast.parse(item["when"], mode="eval"))
+        for item in meta.get("constraint", [])
+    )
+    return RuleDefinition(
+        id=meta["id"], category=meta["category"], severity=Severity(meta["severity"]), summary=meta["summary"],
+        page=page.strip(), path=path, dialect=meta.get("dialect", "iso"),
+        example_settings=meta.get("example_settings", {}), example_project=meta.get("example_project", ""), once_per_file=meta.get("once_per_file", False), constraints=constraints,
+    )
+
+
+@cache
+def rule_definitions() -> dict[str, RuleDefinition]:
+    root = data_dir("rules")
+    definitions = {}
+    for path in sorted(root.glob("*/*.md")):
+        definition = parse_rule_file(path)
+        definitions[definition.id] = definition
+    return definitions
