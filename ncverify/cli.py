@@ -2,12 +2,15 @@
 
 Exit codes: 0 nothing at or above ``--fail-on``; 1 findings at or above it (or unknown
 verdicts with ``--fail-on-unknown``); 2 usage or input errors (a file that cannot be read,
-is too large or is not a program).
+is too large or is not a program), and a file whose analysis failed (an internal error, or
+past its time or memory budget): never 1, so a crash does not read as findings.
 """
 from __future__ import annotations
 
 import argparse
+import math
 import os
+import re
 import sys
 from pathlib import Path
 
@@ -20,6 +23,7 @@ from .report import render_json, render_sarif, render_text
 from .settings import Settings
 from .source import ProgramSource
 from .tables import iso_profiles
+from .watchdog import Budget, is_not_checked, memory_cap, run_within_budget
 
 EXIT_OK, EXIT_FINDINGS, EXIT_USAGE = 0, 1, 2
 
@@ -45,10 +49,10 @@ def build_parser() -> argparse.ArgumentParser:
     check.add_argument("--machine", choices=("mill", "lathe"), help="machine type where the program cannot tell")
     check.add_argument("--fail-on", choices=("error", "warning", "info", "never"), default="error")
     check.add_argument("--fail-on-unknown", action="store_true", help="unknown verdicts fail the run too")
-    check.add_argument("--loop-bound", type=_positive_int, default=Settings.loop_bound, metavar="N",
+    check.add_argument("--loop-bound", type=_bounded_int(_MAX_LOOP_BOUND), default=Settings.loop_bound, metavar="N",
                        help="iterations of one loop or repeats of one jump before the analysis gives up (default %(default)s)")
-    check.add_argument("--max-paths", type=_positive_int, default=Settings.max_paths, metavar="N")
-    check.add_argument("--least-input-increment", type=float, metavar="MM",
+    check.add_argument("--max-paths", type=_bounded_int(_MAX_PATHS), default=Settings.max_paths, metavar="N")
+    check.add_argument("--least-input-increment", type=_finite(minimum=0.0), metavar="MM",
                        help="what 1 means in a length word without a decimal point (0: a whole unit)")
     check.add_argument("--subprogram-path", action="append", default=[], metavar="DIR", help="folder searched for called programs")
     check.add_argument("--extensions", metavar="LIST", help="comma-separated extensions read in folders (default: %(default)s)",
@@ -58,13 +62,21 @@ def build_parser() -> argparse.ArgumentParser:
     check.add_argument("--config", metavar="FILE", help="project file (default: ncverify.toml found upward from each program)")
     check.add_argument("--rapid-path", choices=("straight", "dogleg"), default=Settings.rapid_path,
                        help="how G00 moves: interpolated straight, or each axis on its own (default %(default)s)")
-    check.add_argument("--solver-timeout", type=float, default=Settings.solver_timeout_s, metavar="S", help="seconds per solver query (default %(default)s)")
+    check.add_argument("--solver-timeout", type=_finite(above=0.0), default=Settings.solver_timeout_s, metavar="S", help="seconds per solver query (default %(default)s)")
+    check.add_argument("--file-timeout", type=_finite(above=0.0), default=Budget.seconds, metavar="S",
+                       help="wall-clock seconds for one file's analysis; past it the file is reported not checked (default %(default)s)")
+    check.add_argument("--file-memory", type=_bounded_int(1 << 30), default=Budget.memory_bytes >> 20, metavar="MIB",
+                       help="memory for one file's analysis in MiB; past it the file is reported not checked (default %(default)s)")
 
     explain = commands.add_parser("explain", help="show a rule's page")
     explain.add_argument("rule")
 
     commands.add_parser("rules", help="list the rules")
     return parser
+
+
+_MAX_LOOP_BOUND = 100_000_000  # beyond this a loop bound no longer bounds the run time
+_MAX_PATHS = 100_000
 
 
 def _positive_int(text: str) -> int:
@@ -75,6 +87,32 @@ def _positive_int(text: str) -> int:
     if value < 1:
         raise argparse.ArgumentTypeError("must be at least 1")
     return value
+
+
+def _bounded_int(maximum: int):
+    def parse(text: str) -> int:
+        value = _positive_int(text)
+        if value > maximum:
+            raise argparse.ArgumentTypeError(f"{value:,} is above the largest accepted value, {maximum:,}")
+        return value
+    return parse
+
+
+def _finite(minimum: float | None = None, above: float | None = None):
+    """A number option: finite, and at least ``minimum`` or above ``above``."""
+    def parse(text: str) -> float:
+        try:
+            value = float(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
+        if not math.isfinite(value):
+            raise argparse.ArgumentTypeError(f"{text!r} is not a finite number")
+        if minimum is not None and value < minimum:
+            raise argparse.ArgumentTypeError(f"must be at least {minimum:g}")
+        if above is not None and value <= above:
+            raise argparse.ArgumentTypeError(f"must be above {above:g}")
+        return value
+    return parse
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -125,8 +163,9 @@ def _settings(arguments) -> Settings:
 
 def _check(arguments) -> int:
     settings = _settings(arguments)
-    if settings.config is not None and not settings.config.is_file():
-        print(f"ncverify: error: --config {settings.config}: no such file", file=sys.stderr)
+    problem = _usage_problem(arguments, settings)
+    if problem:
+        print(f"ncverify: error: {problem}", file=sys.stderr)
         return EXIT_USAGE
     unknown = [name for name in settings.disabled_rules if name not in rule_definitions() and not _is_category(name)]
     if unknown:
@@ -135,26 +174,49 @@ def _check(arguments) -> int:
     results: list[FileResult] = []
     errors: list[str] = []
     texts: dict[str, str] = {}
-    for path, explicit in _inputs(arguments.paths, settings):
-        try:
-            if path == "-":
-                data = sys.stdin.buffer.read(settings.max_file_bytes + 1)
-                if len(data) > settings.max_file_bytes:
-                    raise InputError(f"<stdin>: larger than the limit of {settings.max_file_bytes:,} bytes")
-                result = check_source(ProgramSource.from_bytes(data, "<stdin>"), settings, project_for(None, settings))
-                texts["<stdin>"] = data.decode("utf-8", errors="replace")
-            else:
-                result = check_file(path, settings)
-        except InputError as error:
-            errors.append(str(error))
-            continue
-        if explicit and result.skipped:
-            errors.append(f"{result.path}: not checked: {result.skipped}")
-        results.append(result)
+    budget = Budget(arguments.file_timeout, arguments.file_memory << 20)
+    with memory_cap(budget):
+        for path, explicit in _inputs(arguments.paths, settings):
+            try:
+                if path == "-":
+                    data = sys.stdin.buffer.read(settings.max_file_bytes + 1)
+                    if len(data) > settings.max_file_bytes:
+                        raise InputError(f"<stdin>: larger than the limit of {settings.max_file_bytes:,} bytes")
+                    result = run_within_budget("<stdin>", lambda: check_source(ProgramSource.from_bytes(data, "<stdin>"), settings,
+                                                                              project_for(None, settings)), budget)
+                    texts["<stdin>"] = data.decode("utf-8", errors="replace")
+                else:
+                    result = run_within_budget(str(path), lambda: check_file(path, settings), budget)
+            except InputError as error:
+                errors.append(str(error))
+                continue
+            if (explicit and result.skipped) or is_not_checked(result):
+                errors.append(f"{result.path}: not checked: {result.skipped}")
+            results.append(result)
     if not results and not errors:
         errors.append("no program files found in " + ", ".join(arguments.paths))
-    _write(arguments, results, errors, texts)
+    try:
+        _write(arguments, results, errors, texts)
+    except OSError as error:
+        print(f"ncverify: error: --output {arguments.output}: cannot write: {error.strerror or error}", file=sys.stderr)
+        return EXIT_USAGE
     return _exit_code(results, errors, settings)
+
+
+def _usage_problem(arguments, settings: Settings) -> str | None:
+    """What makes the command line unusable before any file is read, if anything."""
+    if settings.config is not None and not settings.config.is_file():
+        return f"--config {settings.config}: " + ("is a folder, not a project file" if settings.config.is_dir() else "no such file")
+    missing = [str(folder) for folder in settings.subprogram_path if not folder.is_dir()]
+    if missing:
+        return f"--subprogram-path {', '.join(missing)}: no such folder"
+    if arguments.output:
+        output = Path(arguments.output)
+        if output.is_dir():
+            return f"--output {output}: is a folder; name a file to write the report to"
+        if not output.parent.is_dir():
+            return f"--output {output}: the folder {output.parent} does not exist"
+    return None
 
 
 def _inputs(paths: list[str], settings: Settings):
@@ -180,6 +242,7 @@ def _write(arguments, results, errors, texts) -> None:
         rendered = render_sarif(results, errors)
     else:
         rendered = render_text(results, errors, texts)
+    rendered = _valid_unicode(rendered, escape="\\\\" if arguments.format != "text" else "\\")
     if arguments.output:
         Path(arguments.output).write_text(rendered + "\n", encoding="utf-8")
     else:
@@ -187,6 +250,20 @@ def _write(arguments, results, errors, texts) -> None:
     if arguments.format != "text":
         for error in errors:
             print(f"ncverify: error: {error}", file=sys.stderr)
+
+
+_SURROGATE = re.compile("[\ud800-\udfff]")
+
+
+def _valid_unicode(rendered: str, escape: str) -> str:
+    """A file name that is not valid UTF-8 reaches Python with its stray bytes as lone
+    surrogates, which cannot be written as UTF-8. Each is written ``\\xNN`` (the byte) or
+    ``\\uNNNN``; ``escape`` is the backslash as the format spells it (doubled in JSON
+    strings, where the names are)."""
+    def spelled(match: re.Match) -> str:
+        code = ord(match.group())
+        return f"{escape}x{code - 0xDC00:02x}" if 0xDC80 <= code <= 0xDCFF else f"{escape}u{code:04x}"
+    return _SURROGATE.sub(spelled, rendered)
 
 
 def _exit_code(results: list[FileResult], errors: list[str], settings: Settings) -> int:

@@ -362,6 +362,8 @@ class Interpreter(ControlFlow):
         if op in values.COMPARISONS:
             if left is VACANT or right is VACANT:
                 return self._compare_vacant(op, left, right)
+            if isinstance(left, str) or isinstance(right, str):
+                return self._compare_text(op, left, right)
             return values.compare(op, self._as_number(left), self._as_number(right))
         if op in ("AND", "OR", "XOR"):
             return values.logical(op, 0.0 if left is VACANT else left, 0.0 if right is VACANT else right)
@@ -395,6 +397,15 @@ class Interpreter(ControlFlow):
         return values.compare(op, left, right)
 
     @staticmethod
+    def _compare_text(op: str, left, right) -> "bool | Condition":
+        """Strings compare with strings (``IF $MN_.. <> "X"`` once both are known); a string
+        against a number or an unknown value is not followed: either outcome."""
+        if isinstance(left, str) and isinstance(right, str):
+            return {"EQ": left == right, "NE": left != right, "LT": left < right, "LE": left <= right,
+                    "GT": left > right, "GE": left >= right}[op]
+        return values.truth(values.fresh("text", 0.0, 1.0))
+
+    @staticmethod
     def _as_number(value):
         """A comparison's outcome used as a number: 1 or 0 (between 0 and 1 when symbolic)."""
         if isinstance(value, (bool, Condition)):
@@ -412,6 +423,8 @@ class Interpreter(ControlFlow):
             where = expr.span if isinstance(expr, ir.Var) and expr.span else span or self._block.span
             self._fault("core.undefined-variable", where, f"{name} is vacant (never set, not passed as an argument); the control computes with 0")
             return 0.0
+        if isinstance(value, str):
+            return values.fresh("text")  # a string in arithmetic: a value the checker does not follow
         return self._as_number(value)
 
     def _symbolic_divisor(self, divisor: Sym, written: ir.Expr, span) -> None:

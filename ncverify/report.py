@@ -8,6 +8,7 @@ from . import __version__
 from .api import FileResult
 from .check import rule_definitions
 from .diagnostics import Severity, Status
+from .source import normalise
 
 _SARIF_LEVEL = {Severity.ERROR: "error", Severity.WARNING: "warning", Severity.INFO: "note"}
 SARIF_SCHEMA = "https://docs.oasis-open.org/sarif/sarif/v2.1.0/errata01/os/schemas/sarif-schema-2.1.0.json"
@@ -56,7 +57,7 @@ class _Quoter:
                 raw = Path(path).read_bytes() if Path(path).is_file() else b""
             except OSError:
                 raw = b""
-            lines = raw.decode("utf-8", errors="replace").splitlines() if len(raw) < 50_000_000 else []
+            lines = normalise(raw).decode("utf-8", errors="replace").split("\n") if len(raw) < 50_000_000 else []
             self._lines[path] = lines
         return lines[number - 1] if 0 < number <= len(lines) else ""
 

@@ -340,7 +340,7 @@ def logical(op: str, a, b) -> "bool | Condition | float":
         ta = a.term if isinstance(a, Condition) else z3.BoolVal(a)
         tb = b.term if isinstance(b, Condition) else z3.BoolVal(b)
         return Condition({"AND": z3.And, "OR": z3.Or, "XOR": z3.Xor}[op](ta, tb))
-    if type(a) is float and type(b) is float:
+    if type(a) is float and type(b) is float and math.isfinite(a) and math.isfinite(b):
         ia, ib = int(a), int(b)
         return float({"AND": ia & ib, "OR": ia | ib, "XOR": ia ^ ib}[op])
     return fresh(op)

@@ -305,7 +305,8 @@ def _label_call_run(runner, op, block, model, params):
         raise PathEnd
     target = interp.find_label(label, op.span)
     here = interp._line_offset
-    if target.source is interp._line_source and target.offset < here and not _returns_between(interp, target, here):
+    if (target.source is interp._line_source and target.offset < here and not _returns_between(interp, target, here)
+            and not _inside_subprogram(state, target)):
         key = ("rep", here)
         done = _get(state, key, 0)
         if done < repeat:
@@ -316,6 +317,12 @@ def _label_call_run(runner, op, block, model, params):
         return None
     call = ir.Call(op.span, "local", label, repeat + 1.0)
     return interp._call(call, block)
+
+
+def _inside_subprogram(state, target) -> bool:
+    """Is the label's own subprogram running (a call to it from inside is recursion, which
+    the control refuses, not a section repeat)?"""
+    return any(frame.kind == "local" and frame.source is target.source and frame.start == target.offset for frame in state.frames)
 
 
 def _returns_between(interp, target, end: int) -> bool:
