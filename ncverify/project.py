@@ -18,6 +18,7 @@ SETTINGS = {
     "profile": str, "dialect": str, "subprogram_path": list, "rapid_path": str, "least_input_increment": float,
 }
 _CHOICES = {"machine": ("mill", "lathe"), "rapid_path": ("straight", "dogleg"), "dialect": ("iso", "heidenhain", "sinumerik", "fagor")}
+_LARGEST = {"loop_bound": 100_000_000, "call_depth": 1000, "max_paths": 100_000}  # beyond these a bound no longer bounds the run
 _AXES = ("x", "y", "z", "a", "b", "c", "u", "v", "w")
 
 
@@ -96,6 +97,10 @@ class _Reader:
                 self.fail(f"[settings] {key}", f"expected one of {', '.join(_CHOICES[key])}, got {value!r}")
             if kind in (int, float) and value <= 0 and key != "least_input_increment" or key == "least_input_increment" and value < 0:
                 self.fail(f"[settings] {key}", f"must be positive, got {value!r}")
+            if kind is float and not math.isfinite(value):
+                self.fail(f"[settings] {key}", f"expected a finite number, got {value!r}")
+            if value is not None and key in _LARGEST and value > _LARGEST[key]:
+                self.fail(f"[settings] {key}", f"{value:,} is above the largest accepted value, {_LARGEST[key]:,}")
             if key == "subprogram_path":
                 if not all(isinstance(item, str) for item in value):
                     self.fail(f"[settings] {key}", "expected a list of folder names")

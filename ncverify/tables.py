@@ -1,6 +1,7 @@
 """Dialect tables (``dialects/<family>/*.toml``) loaded into lookups the lowering uses."""
 from __future__ import annotations
 
+import math
 import tomllib
 from dataclasses import dataclass
 from functools import cache
@@ -30,6 +31,8 @@ class CodeTable:
 
 def code_key(number: float) -> str:
     """``1.0`` -> ``"1"``, ``54.1`` -> ``"54.1"``: the key form the tables use."""
+    if not math.isfinite(number):
+        return str(number)  # "inf", "nan": in no table, so an unknown code, never a crash
     whole = int(number)
     return str(whole) if number == whole else f"{number:g}"
 
@@ -69,5 +72,6 @@ def _overlay(codes: dict, additions: dict, removals: list) -> None:
     codes.update(additions)
 
 
-def iso_profiles() -> list[str]:
-    return sorted(_load("iso", "profiles.toml"))
+@cache
+def iso_profiles() -> tuple[str, ...]:
+    return tuple(sorted(_load("iso", "profiles.toml")))

@@ -103,10 +103,28 @@ def fresh_numbering():
     """Number the unknown values of one check from 1, so that checking the same program
     twice in one process (an editor, a test run) gives the same findings word for word."""
     token = _fresh_numbers.set(itertools.count(1))
+    display = _display_context.set({})
     try:
         yield
     finally:
+        _display_context.reset(display)
         _fresh_numbers.reset(token)
+
+
+_display_context: ContextVar = ContextVar("display_context", default=None)
+
+
+def simplified_text(term) -> str:
+    """``z3.simplify`` of a term, as text. Simplification orders the arguments of And/Or by
+    Z3's internal ids, which depend on every term the process made before; translated into
+    a context of the current check's own (one per :func:`fresh_numbering`), the text
+    depends on the program alone, so a second check in the same process reads the same."""
+    holder = _display_context.get()
+    if holder is None:
+        return str(z3.simplify(term))
+    if "context" not in holder:
+        holder["context"] = z3.Context()
+    return str(z3.simplify(term.translate(holder["context"])))
 
 
 def term_of(value: Value) -> z3.ArithRef:

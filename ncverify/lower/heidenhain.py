@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import re
 import tomllib
+from functools import cache
 
 from .. import ir
 from ..context import Context, Stock, Tool
@@ -968,6 +969,7 @@ def read_tool_table(path) -> tuple[dict[int, Tool], dict[str, float]]:
     return tools, by_name
 
 
+@cache  # read-only: parse the TOML once per process
 def _cycle_models() -> dict:
     with (data_dir("dialects") / "heidenhain" / "cycles.toml").open("rb") as handle:
         models = tomllib.load(handle)["cycle"]

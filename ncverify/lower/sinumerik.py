@@ -23,6 +23,7 @@ later block that moves (:mod:`.modal_call`, see :meth:`SinumerikLowering._mcall`
 """
 from __future__ import annotations
 
+import math
 import re
 import tomllib
 from functools import cache
@@ -95,6 +96,8 @@ def tables() -> dict:
 
 
 def _code_key(value: float) -> str:
+    if not math.isfinite(value):
+        return str(value)  # in no table: an unknown code, never a crash
     return str(int(value)) if value == int(value) else f"{value:g}"
 
 
