@@ -376,6 +376,7 @@ def test_a_symbolic_message_reads_the_same_on_a_second_check_in_one_process():
 
 @pytest.mark.parametrize("program, dialect", [
     ("G" + "9" * 400 + " X1.\nM30\n", "iso"),  # a code number beyond a float's range is infinite
+    ("#" + "9" * 400 + "=1\n#2=#" + "9" * 400 + "\nWHILE [#2 LT 2] DO" + "9" * 400 + "\nEND" + "9" * 400 + "\nM30\n", "iso"),
     ("G" + "9" * 400 + " X1\nM30\n", "sinumerik"),
     ("G1EX400 X1\nM30\n", "sinumerik"),
     ("G" + "9" * 400 + " X1\nM30\n", "fagor"),

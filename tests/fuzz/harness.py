@@ -38,6 +38,7 @@ EXIT_CODES = frozenset({0, 1, 2})
 FILE_TIMEOUT_S = 20.0  # the watchdog's budget per input: reaching it counts as a hang
 LOOP_BOUND = 20  # small, so that every input is quick and only an unbounded loop reaches the timeout
 MAX_PATHS = 8
+SOLVER_TIMEOUT_S = 1  # per query: hostile inputs make hard queries, and the verdict is not what is tested
 MEMORY_BOUND_MIB = 3072  # peak resident memory of the whole fuzzing process
 
 # Statements of each dialect and hostile fragments spliced into programs.
@@ -230,7 +231,7 @@ class Runner:
         program = self.work / f"input{suffix}"
         program.write_bytes(data)
         options = ["--format", report_format, "--file-timeout", f"{FILE_TIMEOUT_S:g}", "--loop-bound", str(LOOP_BOUND),
-                   "--max-paths", str(MAX_PATHS)] + (["--dialect", dialect] if dialect else [])
+                   "--max-paths", str(MAX_PATHS), "--solver-timeout", str(SOLVER_TIMEOUT_S)] + (["--dialect", dialect] if dialect else [])
         failure = self._one(data, program, options, repeat=tally.inputs % self.repeat_every == 0)
         if failure is not None:
             tally.failures.append(failure)
