@@ -326,6 +326,8 @@ class Interpreter(ControlFlow):
         """Value of an IR expression; VACANT passes through (callers decide what it means)."""
         kind = type(expr)
         if kind is float:
+            if expr - expr != 0.0:  # inf or nan: a number no control holds
+                self._domain_error("a number beyond the control's range", span)
             return expr
         if kind is ir.IncrementCount:
             return self._scale_increment(expr)
@@ -339,7 +341,10 @@ class Interpreter(ControlFlow):
             operand = self._arithmetic_operand(self.evaluate(expr.operand, span), expr.operand, span)
             return values.neg(operand)
         if kind is ir.Binary:
-            return self._binary(expr, span)
+            result = self._binary(expr, span)
+            if type(result) is float and result - result != 0.0:
+                self._domain_error("the result overflows the control's number range", span)
+            return result
         if kind is ir.Func:
             arguments = [self._arithmetic_operand(self.evaluate(arg, span), arg, span) for arg in expr.args]
             try:

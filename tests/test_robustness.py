@@ -381,6 +381,13 @@ def test_a_symbolic_message_reads_the_same_on_a_second_check_in_one_process():
     ("G1EX400 X1\nM30\n", "sinumerik"),
     ("G" + "9" * 400 + " X1\nM30\n", "fagor"),
     ("P1 = " + "+".join(["1"] * 10_000) + "\nM30\n", "fagor"),
+    ("O" + "9" * 400 + "\nT" + "9" * 400 + "01 M06\nM98 P" + "9" * 400 + "\nN" + "9" * 400 + " GOTO " + "9" * 400 + "\nM30\n", "iso"),
+    ("G21 G18\nT" + "9" * 400 + "01\nG96 S100\nM30\n", "iso"),
+    ("#1=99999999\n#2=[#1*#1*#1*#1*#1*#1*#1*#1*#1*#1*#1*#1*#1*#1*#1*#1*#1*#1*#1*#1*#1*#1*#1*#1*#1*#1*#1*#1*#1*#1*#1*#1*#1*#1*#1*#1*#1*#1*#1*#1]\n"
+     "T#2 M06\nM30\n", "iso"),
+    ("BEGIN PGM A MM\nTOOL CALL " + "9" * 400 + " Z S100\nFN " + "9" * 400 + ": Q1 = 1\nCYCL DEF " + "9" * 400 + " X\nEND PGM A MM\n", "heidenhain"),
+    ("TRANS X" + "9" * 400 + "\nROT RPL=1EX400\nG0 X1\nM30\n", "sinumerik"),
+    ("G160 A0 I" + "9" * 400 + " K" + "9" * 400 + "\nM30\n", "fagor"),
 ])
 def test_numbers_and_expressions_beyond_any_range_do_not_crash(program, dialect):
     result = check_text(program, settings=Settings(dialect=dialect))  # used to raise OverflowError / RecursionError

@@ -215,6 +215,8 @@ class Cursor:
             raise ReadError("expected a number here", self.here())
         self.index += 1
         value = float(token.text.replace(",", "."))
+        if value - value != 0.0:
+            raise ReadError("a number beyond any control's range", token.span)
         span = token.span if sign is None else sign.span.cover(token.span)
         return (-value if sign is not None and sign.text == "-" else value), span
 
