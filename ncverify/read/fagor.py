@@ -432,20 +432,14 @@ class _Expressions:
                 return left
 
     def unary(self) -> ir.Expr:
-        self._enter(term=False)
+        """Every nested value passes through here: the nesting is counted here."""
+        if self.depth >= MAX_NESTING:
+            raise _Error(nesting_message(MAX_NESTING), self.position)
+        self.depth += 1
         try:
             return self._signed()
         finally:
             self.depth -= 1
-
-    def _enter(self, term: bool = True) -> None:
-        """One level deeper (and one more value); refuse past the limits."""
-        self.terms += term
-        if self.terms > MAX_TERMS:
-            raise _Error(terms_message(MAX_TERMS), self.position)
-        if self.depth >= MAX_NESTING:
-            raise _Error(nesting_message(MAX_NESTING), self.position)
-        self.depth += 1
 
     def _signed(self) -> ir.Expr:
         self.skip()
@@ -466,11 +460,10 @@ class _Expressions:
         return base
 
     def atom(self) -> ir.Expr:
-        self._enter()
-        try:
-            return self._atom()
-        finally:
-            self.depth -= 1
+        self.terms += 1
+        if self.terms > MAX_TERMS:
+            raise _Error(terms_message(MAX_TERMS), self.position)
+        return self._atom()
 
     def _atom(self) -> ir.Expr:
         self.skip()
