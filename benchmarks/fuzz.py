@@ -7,7 +7,8 @@ alone with ``--first-chunk i --chunks 1``) through ``ncverify check`` in every r
 format and dialect, with the checks of ``tests/fuzz/harness.py``. Each chunk appends one
 JSON line to ``OUT/progress.jsonl``; each failing input is saved as
 ``OUT/failure-<chunk>-<index><ext>`` with its options and what broke in a ``.json`` beside
-it. The exit code is 1 if anything failed.
+it. ``--replay OUT`` runs every saved failure again with its options (after a fix). The
+exit code is 1 if anything failed.
 """
 from __future__ import annotations
 
@@ -34,7 +35,10 @@ def main() -> int:
     parser.add_argument("--out", type=Path, default=Path("fuzz-out"))
     parser.add_argument("--work", type=Path, default=Path("/dev/shm") if Path("/dev/shm").is_dir() else None,
                         help="folder for the input and report files (default: memory-backed /dev/shm where there is one, else OUT/work)")
+    parser.add_argument("--replay", type=Path, metavar="OUT", help="run the failures saved in OUT again and say which still fail")
     arguments = parser.parse_args()
+    if arguments.replay:
+        return replay(arguments.replay)
     arguments.out.mkdir(parents=True, exist_ok=True)
     seeds = seed_programs()
     failed = 0
@@ -60,6 +64,22 @@ def main() -> int:
             log.write(json.dumps(line) + "\n")
         print(json.dumps(line), flush=True)
     return 1 if failed else 0
+
+
+def replay(folder: Path) -> int:
+    """Each saved failure run again as it was run; prints what still fails."""
+    runner = Runner(folder / "replay-work")
+    still = 0
+    for description in sorted(folder.glob("failure-*.json")):
+        saved = json.loads(description.read_text())
+        data_path = next(path for path in folder.glob(description.stem + ".*") if path.suffix != ".json")
+        options = saved["options"]
+        dialect = options[options.index("--dialect") + 1] if "--dialect" in options else None
+        failure = runner.check(data_path.read_bytes(), data_path.suffix, options[options.index("--format") + 1], dialect)
+        still += failure is not None
+        print(f"{description.stem}: {'still fails: ' + failure.kind if failure else 'passes'}")
+    shutil.rmtree(folder / "replay-work", ignore_errors=True)
+    return 1 if still else 0
 
 
 if __name__ == "__main__":
