@@ -194,12 +194,17 @@ def judge(hazard: "bool | Condition", path_condition: list, timeout_s: float = 5
         return Verdict(Status.VIOLATED)
     if hazard is False:
         return None
-    solver = z3.Solver()
+    context = values.check_context()  # the check's own: a model that depends on the program alone
+
+    def local(term):
+        return term if context is None else term.translate(context)
+
+    solver = z3.Solver(ctx=context)
     solver.set("timeout", int(timeout_s * 1000))
     for condition in path_condition:
         if isinstance(condition, Condition):
-            solver.add(condition.term)
-    solver.add(hazard.term)
+            solver.add(local(condition.term))
+    solver.add(local(hazard.term))
     answer = solver.check()
     if answer == z3.unsat:
         return Verdict(Status.PROVED)

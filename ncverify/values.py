@@ -114,17 +114,24 @@ def fresh_numbering():
 _display_context: ContextVar = ContextVar("display_context", default=None)
 
 
-def simplified_text(term) -> str:
-    """``z3.simplify`` of a term, as text. Simplification orders the arguments of And/Or by
-    Z3's internal ids, which depend on every term the process made before; translated into
-    a context of the current check's own (one per :func:`fresh_numbering`), the text
-    depends on the program alone, so a second check in the same process reads the same."""
+def check_context() -> "z3.Context | None":
+    """The Z3 context of the current check (one per :func:`fresh_numbering`), or None
+    outside a check. Z3 orders the arguments of a simplified And/Or and picks a model's
+    values by its internal ids, which depend on every term the process made before; terms
+    translated into the check's own context give text and witnesses that depend on the
+    program alone, so a second check in the same process (an editor, a batch) reads the same."""
     holder = _display_context.get()
     if holder is None:
-        return str(z3.simplify(term))
+        return None
     if "context" not in holder:
         holder["context"] = z3.Context()
-    return str(z3.simplify(term.translate(holder["context"])))
+    return holder["context"]
+
+
+def simplified_text(term) -> str:
+    """``z3.simplify`` of a term, as text, in the check's own context."""
+    context = check_context()
+    return str(z3.simplify(term if context is None else term.translate(context)))
 
 
 def term_of(value: Value) -> z3.ArithRef:

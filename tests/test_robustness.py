@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import json
 import os
+import subprocess
+import sys
 import time
 from pathlib import Path
 
@@ -415,3 +417,19 @@ def test_witnesses_list_their_values_in_the_same_order_on_every_check():
     reports = [json.dumps(check_file(program).to_json()) for _ in range(4)]
     assert '"witness"' in reports[0]
     assert all(report == reports[0] for report in reports)
+
+
+def test_witness_values_are_the_same_on_every_check_in_one_process():
+    """The solver's model depends on every term the process made before unless each check
+    solves in a context of its own: the first check of this program used to find another
+    counterexample than the next ones."""
+    program = ("BEGIN PGM STEPS MM\nQ20 = Q11 - Q10\nQ21 = Q13 - Q12\nFN 12: IF +Q21 LT +Q20 GOTO LBL 1\nQ22 = Q20\n"
+               "FN 9: IF +0 EQU +0 GOTO LBL 2\nLBL 1\nQ22 = Q21\nLBL 2\nQ22 = Q22 + Q14 * 2\n"
+               "Q23 = INT ( ( Q22 / Q15 ) + 0.999 )\nQ24 = Q22 / Q23\nEND PGM STEPS MM\n")
+    code = (  # the first check in a fresh process is the one that differed: all three run in one
+"import json, sys\nfrom ncverify import check_text\ntext = sys.stdin.read()\n"
+            "print(json.dumps([check_text(text).to_json() for _ in range(3)]))\n")
+    output = subprocess.run([sys.executable, "-c", code], input=program, capture_output=True, text=True, check=True).stdout
+    first, *rest = json.loads(output)
+    assert any(d.get("witness") for d in first["diagnostics"])
+    assert all(run == first for run in rest)
