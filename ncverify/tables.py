@@ -6,6 +6,7 @@ import tomllib
 from dataclasses import dataclass
 from functools import cache
 
+from .cycle_models import load_cycle_table
 from .resources import data_dir
 
 
@@ -62,7 +63,7 @@ def iso_table(profile: str = "mitsubishi-e60", machine: str = "mill") -> CodeTab
     _overlay(g, machine_overrides.get("g", {}), machine_overrides.get("remove_g", []))
     m.update(profile_data.get("m", {}))
     settings = {key: value for key, value in profile_data.items() if not isinstance(value, dict)}
-    cycles = _load("iso", "cycles.toml")["cycle"]
+    cycles = load_cycle_table("iso")
     return CodeTable(profile, machine, g, m, words, power_on, settings, cycles)
 
 
@@ -70,8 +71,3 @@ def _overlay(codes: dict, additions: dict, removals: list) -> None:
     for key in removals:
         codes.pop(key, None)
     codes.update(additions)
-
-
-@cache
-def iso_profiles() -> tuple[str, ...]:
-    return tuple(sorted(_load("iso", "profiles.toml")))
