@@ -433,3 +433,16 @@ def test_witness_values_are_the_same_on_every_check_in_one_process():
     first, *rest = json.loads(output)
     assert any(d.get("witness") for d in first["diagnostics"])
     assert all(run == first for run in rest)
+
+
+def test_witnesses_do_not_depend_on_fresh_names_numbered_per_process():
+    """The rapid-into-stock and arc checks named their helper unknowns with z3.FreshReal,
+    numbered per process, and the names steer the solver's model: the second check of
+    this program (RTP declared with a typo, so free) found another counterexample."""
+    program = ('WORKPIECE(,"",,"BOX",0,0,-20,-80,0,0,120,80)\n$TC_DP1[3,1]=220\n$TC_DP3[3,1]=95\n$TC_DP6[3,1]=4.25\n'
+               "DEF RE]L RTP=10, RFP=0, SDIS=2\nN10 G17 G90 G54 G71\nN20 T3 D1 M6\nN30 S1800 M3 F160 M8\nN40 G0 X10 Y40 Z50\n"
+               "N50 G0 Z=RTP\nN60 MCALL CYCLE81(RTP, RFP, SDIS, -24)\nN70 HOLES1(10, 40, 0, 10, 25, 5)\nN80 MCALL\nN90 G0 Z50 M9\nM30\n")
+    settings = Settings(dialect="sinumerik", loop_bound=20, max_paths=8, solver_timeout_s=1)
+    reports = [json.dumps(check_text(program, settings=settings).to_json()) for _ in range(3)]
+    assert '"witness"' in reports[0]
+    assert reports[1] == reports[0] and reports[2] == reports[0]
