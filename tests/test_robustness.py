@@ -446,3 +446,20 @@ def test_witnesses_do_not_depend_on_fresh_names_numbered_per_process():
     reports = [json.dumps(check_text(program, settings=settings).to_json()) for _ in range(3)]
     assert '"witness"' in reports[0]
     assert reports[1] == reports[0] and reports[2] == reports[0]
+
+
+def test_a_tool_offset_beyond_any_range_is_left_unknown():
+    program = "$TC_DP1[3,1]=" + "9" * 400 + "\n$TC_DP6[3,1]=" + "9" * 400 + "\nT3 D1 M6\nG0 X0\nM30\n"
+    result = check_text(program, settings=Settings(dialect="sinumerik"))  # used to raise OverflowError
+    assert result.dialect == "sinumerik" and result.skipped is None
+
+
+def test_a_pattern_of_a_hundred_million_points_is_not_expanded():
+    program = ("BEGIN PGM P MM\nBLK FORM 0.1 Z X+0 Y+0 Z-25\nBLK FORM 0.2 X+120 Y+80 Z+0\nTOOL CALL 3 Z S3200 F200\n"
+               "L Z+100 R0 FMAX M3\nPATTERN DEF ~\nROW1( X+20 Y+20 D+25 NUM99999999 ROT+0 Z+0 )\n"
+               "CYCL DEF 200 DRILLING ~\nQ200=+2 ~\nQ201=-10 ~\nQ206=+150 ~\nQ202=+5 ~\nQ210=+0 ~\nQ203=+0 ~\nQ204=+50 ~\nQ211=+0\n"
+               "CYCL CALL PAT F500 M13\nEND PGM P MM\n")
+    started = time.monotonic()
+    result = check_text(program)  # used to build every point: minutes and gigabytes
+    assert time.monotonic() - started < 30
+    assert result.skipped is None

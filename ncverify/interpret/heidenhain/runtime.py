@@ -530,12 +530,18 @@ def _pattern_run(runner, op, block, model, params):
     return None
 
 
+_MAX_PATTERN_POINTS = 100_000
+
+
 def _pattern_form_points(form: dict, earlier: list):
     """The X, Y (and surface Z) of one PATTERN DEF element (reference A §4.5)."""
     kind = form.get("form")
     words = {key: value for key, value in form.items() if key != "form"}
     if any(type(value) is not float for value in words.values()):
         return None
+    counts = [words.get(key, 1.0) for key in ("NUM", "NUMX", "NUMY")]
+    if not all(math.isfinite(count) for count in counts) or math.prod(max(count, 1.0) for count in counts) > _MAX_PATTERN_POINTS:
+        return None  # far more points than a pattern holds: not expanded (time, memory), the positions stay unknown
     z = words.get("Z", 0.0)
     if kind == "POS":
         last = earlier[-1] if earlier else (0.0, 0.0, 0.0)
