@@ -6,6 +6,7 @@ file entry of the JSON contract; ``check_paths`` walks files and folders for the
 from __future__ import annotations
 
 import os
+import stat
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 
@@ -45,6 +46,7 @@ class FileResult:
     least_input_increment: float | None = None
     detection_evidence: str = ""  # why this dialect, profile and machine type (--verbose)
     values: dict[int, list[tuple[str, str]]] = field(default_factory=dict)  # with Settings.record_values: line -> (variable, value shown)
+    failed: bool = False  # the analysis itself failed (ncverify.watchdog): not checked, exit code 2
 
     def to_json(self) -> dict:
         entry = {"path": self.path, "dialect": self.dialect, "dialect_confidence": self.dialect_confidence}
@@ -78,13 +80,16 @@ def check_file(path: str | os.PathLike, settings: Settings | None = None) -> Fil
     settings = settings or Settings()
     file_path = Path(path)
     try:
-        size = file_path.stat().st_size
+        status = file_path.stat()
     except OSError as error:
         raise InputError(f"{path}: cannot read: {error.strerror or error}") from error
     if file_path.is_dir():
         raise InputError(f"{path}: is a folder")
-    if size > settings.max_file_bytes:
-        raise InputError(f"{path}: {size:,} bytes is larger than the limit of {settings.max_file_bytes:,} (--max-file-size)")
+    if not stat.S_ISREG(status.st_mode):
+        # a FIFO or device would block or never end: never opened
+        return FileResult(str(path), None, 0.0, skipped="not a regular file (a FIFO, socket or device): not opened")
+    if status.st_size > settings.max_file_bytes:
+        raise InputError(f"{path}: {status.st_size:,} bytes is larger than the limit of {settings.max_file_bytes:,} (--max-file-size)")
     try:
         source = ProgramSource.open(file_path)
     except OSError as error:

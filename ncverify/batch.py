@@ -12,13 +12,14 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Callable, Iterable, Iterator
 
-from .api import FileResult, InputError, check_file
+from .api import FileResult, InputError
 from .cache import ResultCache, folder_for
 from .dependencies import ReadLog, recording
 from .library import shared_indexes
 from .project import ConfigError
 from .pool import WorkerFailure, run_in_workers
 from .settings import Settings
+from .watchdog import Budget, check_within_budget, is_not_checked
 
 
 @dataclass
@@ -44,7 +45,7 @@ def check_path(task: tuple[Path, Settings]) -> FileOutcome:
     path, settings = task
     with recording() as log, shared_indexes():
         try:
-            result = check_file(path, settings)
+            result = check_within_budget(path, settings, Budget.of(settings))
         except InputError as error:
             return FileOutcome(str(path), error=str(error), log=log)
         except ConfigError as error:
@@ -95,7 +96,7 @@ def run_batch(inputs: Iterable[tuple[Path, bool]], settings: Settings, dispatch:
         outcome = _outcome(value, path)
         outcome.explicit = explicit
         outcomes[index] = outcome
-        if index in caches and outcome.result is not None:
+        if index in caches and outcome.result is not None and not is_not_checked(outcome.result):
             cache, key = caches[index]
             cache.store(key, outcome.result, outcome.log)
         _announce(outcome, on_outcome)

@@ -2,13 +2,16 @@
 
 Exit codes: 0 nothing at or above ``--fail-on``; 1 findings at or above it (or unknown
 verdicts with ``--fail-on-unknown``); 2 usage or input errors (a file that cannot be read,
-is too large or is not a program).
+is too large or is not a program), and a file whose analysis failed (an internal error, or
+past its time or memory budget): never 1, so a crash does not read as findings.
 """
 from __future__ import annotations
 
 import argparse
 import json
+import math
 import os
+import re
 import sys
 from pathlib import Path
 
@@ -25,6 +28,7 @@ from .report import render_json, render_text, summary
 from .sarif import render_gitlab, render_sarif
 from .settings import Settings
 from .source import ProgramSource
+from .watchdog import Budget, is_not_checked, memory_cap, run_within_budget
 
 EXIT_OK, EXIT_FINDINGS, EXIT_USAGE = 0, 1, 2
 
@@ -52,10 +56,10 @@ def build_parser() -> argparse.ArgumentParser:
     check.add_argument("--fail-on-unknown", action="store_true", help="unknown verdicts fail the run too")
     check.add_argument("--show-proved", action="store_true", help="list proved verdicts in the text report (they are always in JSON)")
     check.add_argument("--verbose", "-v", action="store_true", help="say on stderr why each file was read as its dialect, profile and machine type")
-    check.add_argument("--loop-bound", type=_positive_int, default=Settings.loop_bound, metavar="N",
+    check.add_argument("--loop-bound", type=_bounded_int(_MAX_LOOP_BOUND), default=Settings.loop_bound, metavar="N",
                        help="iterations of one loop or repeats of one jump before the analysis gives up (default %(default)s)")
-    check.add_argument("--max-paths", type=_positive_int, default=Settings.max_paths, metavar="N")
-    check.add_argument("--least-input-increment", type=float, metavar="MM",
+    check.add_argument("--max-paths", type=_bounded_int(_MAX_PATHS), default=Settings.max_paths, metavar="N")
+    check.add_argument("--least-input-increment", type=_finite(minimum=0.0), metavar="MM",
                        help="what 1 means in a length word without a decimal point (0: a whole unit)")
     check.add_argument("--subprogram-path", action="append", default=[], metavar="DIR", help="folder searched for called programs")
     check.add_argument("--extensions", metavar="LIST", help="comma-separated extensions read in folders (default: %(default)s)",
@@ -65,7 +69,11 @@ def build_parser() -> argparse.ArgumentParser:
     check.add_argument("--config", metavar="FILE", help="project file (default: ncverify.toml found upward from each program)")
     check.add_argument("--rapid-path", choices=("straight", "dogleg"), default=Settings.rapid_path,
                        help="how G00 moves: interpolated straight, or each axis on its own (default %(default)s)")
-    check.add_argument("--solver-timeout", type=float, default=Settings.solver_timeout_s, metavar="S", help="seconds per solver query (default %(default)s)")
+    check.add_argument("--solver-timeout", type=_finite(above=0.0), default=Settings.solver_timeout_s, metavar="S", help="seconds per solver query (default %(default)s)")
+    check.add_argument("--file-timeout", type=_finite(above=0.0), default=Budget.seconds, metavar="S",
+                       help="wall-clock seconds for one file's analysis; past it the file is reported not checked (default %(default)s)")
+    check.add_argument("--file-memory", type=_bounded_int(1 << 30), default=Budget.memory_bytes >> 20, metavar="MIB",
+                       help="memory for one file's analysis in MiB; past it the file is reported not checked (default %(default)s)")
     check.add_argument("--jobs", "-j", type=_positive_int, default=None, metavar="N", help="worker processes (default: the machine's cores)")
     check.add_argument("--no-cache", action="store_true", help="verify every file again instead of reusing cached results")
     check.add_argument("--cache-dir", metavar="DIR", help="where results are cached (default: [settings] cache_dir, else the user cache folder)")
@@ -89,6 +97,10 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+_MAX_LOOP_BOUND = 100_000_000  # beyond this a loop bound no longer bounds the run time
+_MAX_PATHS = 100_000
+
+
 def _positive_int(text: str) -> int:
     try:
         value = int(text)
@@ -97,6 +109,32 @@ def _positive_int(text: str) -> int:
     if value < 1:
         raise argparse.ArgumentTypeError("must be at least 1")
     return value
+
+
+def _bounded_int(maximum: int):
+    def parse(text: str) -> int:
+        value = _positive_int(text)
+        if value > maximum:
+            raise argparse.ArgumentTypeError(f"{value:,} is above the largest accepted value, {maximum:,}")
+        return value
+    return parse
+
+
+def _finite(minimum: float | None = None, above: float | None = None):
+    """A number option: finite, and at least ``minimum`` or above ``above``."""
+    def parse(text: str) -> float:
+        try:
+            value = float(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
+        if not math.isfinite(value):
+            raise argparse.ArgumentTypeError(f"{text!r} is not a finite number")
+        if minimum is not None and value < minimum:
+            raise argparse.ArgumentTypeError(f"must be at least {minimum:g}")
+        if above is not None and value <= above:
+            raise argparse.ArgumentTypeError(f"must be above {above:g}")
+        return value
+    return parse
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -145,15 +183,17 @@ def _settings(arguments) -> Settings:
         subprogram_path=tuple(Path(p) for p in arguments.subprogram_path), extensions=extensions + ("",),
         fail_on=arguments.fail_on, fail_on_unknown=arguments.fail_on_unknown, disabled_rules=frozenset(arguments.disable),
         max_file_bytes=arguments.max_file_size, config=Path(arguments.config) if arguments.config else None,
-        rapid_path=arguments.rapid_path, solver_timeout_s=arguments.solver_timeout, explicit=getattr(arguments, "given", frozenset()),
+        rapid_path=arguments.rapid_path, solver_timeout_s=arguments.solver_timeout,
+        file_timeout_s=arguments.file_timeout, file_memory_bytes=arguments.file_memory << 20, explicit=getattr(arguments, "given", frozenset()),
         cache_dir=Path(arguments.cache_dir) if arguments.cache_dir else None,
     )
 
 
 def _check(arguments) -> int:
     settings = _settings(arguments)
-    if settings.config is not None and not settings.config.is_file():
-        print(f"ncverify: error: --config {settings.config}: no such file", file=sys.stderr)
+    problem = _usage_problem(arguments, settings)
+    if problem:
+        print(f"ncverify: error: {problem}", file=sys.stderr)
         return EXIT_USAGE
     unknown = [name for name in settings.disabled_rules if name not in rule_definitions() and not _is_category(name)]
     if unknown:
@@ -165,7 +205,8 @@ def _check(arguments) -> int:
     except ClusterError as error:
         print(f"ncverify: error: {error}", file=sys.stderr)
         return EXIT_USAGE
-    results, errors, texts = _run_batch(arguments, inputs, settings, dispatch)
+    with memory_cap(Budget.of(settings)):
+        results, errors, texts = _run_batch(arguments, inputs, settings, dispatch)
     if arguments.format != "jsonl":
         _write(arguments, results, errors, texts)
     elif errors:
@@ -222,7 +263,8 @@ def _check_stdin(settings: Settings) -> FileOutcome:
     data = sys.stdin.buffer.read(settings.max_file_bytes + 1)
     if len(data) > settings.max_file_bytes:
         return FileOutcome("<stdin>", True, error=f"<stdin>: larger than the limit of {settings.max_file_bytes:,} bytes")
-    result = check_source(ProgramSource.from_bytes(data, "<stdin>"), settings, project_for(None, settings))
+    result = run_within_budget("<stdin>", lambda: check_source(ProgramSource.from_bytes(data, "<stdin>"), settings, project_for(None, settings)),
+                               Budget.of(settings))
     return FileOutcome("<stdin>", True, result, text=data.decode("utf-8", errors="replace"))
 
 
@@ -238,7 +280,7 @@ def _collect(outcomes: list[FileOutcome], verbose: bool = False) -> tuple[list[F
         if verbose:
             print(f"{result.path}: read as {result.dialect} ({result.dialect_confidence:g}): {result.detection_evidence or result.skipped or 'given'}",
                   file=sys.stderr)
-        if outcome.explicit and outcome.result.skipped:
+        if (outcome.explicit and result.skipped) or is_not_checked(result):
             errors.append(f"{outcome.result.path}: not checked: {outcome.result.skipped}")
         if outcome.text is not None:
             texts[outcome.path] = outcome.text
@@ -270,6 +312,22 @@ class _Lines:
             self.stream.close()
 
 
+def _usage_problem(arguments, settings: Settings) -> str | None:
+    """What makes the command line unusable before any file is read, if anything."""
+    if settings.config is not None and not settings.config.is_file():
+        return f"--config {settings.config}: " + ("is a folder, not a project file" if settings.config.is_dir() else "no such file")
+    missing = [str(folder) for folder in settings.subprogram_path if not folder.is_dir()]
+    if missing:
+        return f"--subprogram-path {', '.join(missing)}: no such folder"
+    if arguments.output:
+        output = Path(arguments.output)
+        if output.is_dir():
+            return f"--output {output}: is a folder; name a file to write the report to"
+        if not output.parent.is_dir():
+            return f"--output {output}: the folder {output.parent} does not exist"
+    return None
+
+
 def _inputs(paths: list[str], settings: Settings):
     for name in paths:
         if name == "-":
@@ -295,6 +353,7 @@ def _write(arguments, results, errors, texts) -> None:
         rendered = render_gitlab(results)
     else:
         rendered = render_text(results, errors, texts, show_proved=arguments.show_proved)
+    rendered = _valid_unicode(rendered, escape="\\\\" if arguments.format != "text" else "\\")
     if arguments.output:
         Path(arguments.output).write_text(rendered + "\n", encoding="utf-8")
     else:
@@ -335,6 +394,20 @@ def _plot_failing(results: list[FileResult], settings: Settings, folder: Path) -
                 plot_program(Path(result.path), target, settings)
             except (InputError, PlotError) as error:
                 print(f"ncverify: error: {error}", file=sys.stderr)
+
+
+_SURROGATE = re.compile("[\ud800-\udfff]")
+
+
+def _valid_unicode(rendered: str, escape: str) -> str:
+    """A file name that is not valid UTF-8 reaches Python with its stray bytes as lone
+    surrogates, which cannot be written as UTF-8. Each is written ``\\xNN`` (the byte) or
+    ``\\uNNNN``; ``escape`` is the backslash as the format spells it (doubled in JSON
+    strings, where the names are)."""
+    def spelled(match: re.Match) -> str:
+        code = ord(match.group())
+        return f"{escape}x{code - 0xDC00:02x}" if 0xDC80 <= code <= 0xDCFF else f"{escape}u{code:04x}"
+    return _SURROGATE.sub(spelled, rendered)
 
 
 def _exit_code(results: list[FileResult], errors: list[str], settings: Settings) -> int:

@@ -75,6 +75,8 @@ class Stock:
 
     @classmethod
     def polygon(cls, points, z, origin="project file", span=None) -> "Stock":
+        if not all(math.isfinite(float(value)) for point in points for value in point):
+            raise ValueError("a stock polygon point is not a finite number")
         outline = Polygon(points)
         if not outline.is_valid or outline.area <= 0:
             raise ValueError("the stock polygon is not a simple closed outline with an area")
@@ -83,8 +85,8 @@ class Stock:
 
     @classmethod
     def cylinder(cls, diameter, z, origin="project file", span=None) -> "Stock":
-        if diameter <= 0:
-            raise ValueError("the stock diameter must be positive")
+        if not diameter > 0 or not math.isfinite(diameter):
+            raise ValueError("the stock diameter must be a positive finite number")
         return cls("cylinder", _ordered(z), diameter=float(diameter), origin=origin, span=span)
 
     def describe(self) -> str:
@@ -97,6 +99,8 @@ class Stock:
 
 def _ordered(pair) -> tuple[float, float]:
     low, high = (float(value) for value in pair)
+    if not (math.isfinite(low) and math.isfinite(high)):
+        raise ValueError(f"the range {low:g}..{high:g} is not made of finite numbers")
     if low > high:
         low, high = high, low
     if low == high:

@@ -19,13 +19,15 @@ _SIGNATURES: dict[str, list[tuple[str, float]]] = {
     "sinumerik": [
         # a cycle called with its arguments in parentheses cannot be ISO, so one such call outweighs a short program's G/M words
         (r"(?im)^%_N_\w+_(?:MPF|SPF)", 30), (r"(?im)\bCYCLE\d{2,3}\s*\(", 12), (r"(?im)(?<!#)\bMCALL[ \t]+\w+\s*\(", 8), (r"(?im)\bDEF\s+(?:REAL|INT|BOOL|STRING|CHAR|AXIS|FRAME)\b", 4),
-        (r"(?im)\bGOTO[FB]\b", 3), (r"(?im)\bMSG\s*\(", 3), (r"(?im)\bWORKPIECE\s*\(", 10), (r"(?im)\$TC_DP", 3),
+        (r"(?im)\bGOTO[FB]\b", 6), (r"(?im)\bMSG\s*\(", 3), (r"(?im)\bWORKPIECE\s*\(", 10), (r"(?im)\$TC_DP", 3),
         (r"(?im)\bT\s*=\s*\"", 3), (r"(?im)\b(?:ENDIF|ENDWHILE|ENDFOR|ENDLOOP)\b", 3), (r"(?im)\bCR\s*=", 2),
         (r"(?im)\b(?:POCKET[1-4]|SLOT[12]|LONGHOLE|HOLES[12])\s*\(", 12), (r"(?im)\bM17\b", 1), (r"(?im)\b(?:AC|IC)\s*\(", 2),
         (r"(?im)^\s*(?:N\d+\s*)?PROC\s+\w+", 15), (r"(?im)\bR\d+\s*=", 3), (r"(?im)\b[XYZ]\s*=\s*[-A-Z(]", 3),
         (r"(?im)\b(?:ISOCALL|STOPRE|SETAL|DIAMON|DIAMOF|ATRANS|MCALL|REPEAT|WHENEVER|SPOS|EXTCALL)\b", 3),
         (r"(?im)\$(?:P|A|AA|AC|MC|MN|MA|SC|TC)_\w", 3), (r"(?im)^\s*(?:N\d+\s*)?[A-Z_]\w+:\s*(?:;|$)", 2),
         (r"(?im)^\s*(?:N\d+\s*)?_[A-Z]\w*\s*\(", 3), (r"(?im)\bIF\s+[A-Z(]", 2),
+        # structured control flow on its own line (ISO macros write WHILE [..] DOn / ENDn, Fagor $IF / $ENDIF)
+        (r"(?im)^\s*(?:N\d+\s*)?(?:ELSE|ENDIF|ENDWHILE|ENDFOR|ENDLOOP|LOOP|REPEAT|UNTIL)\b", 5),
     ],
     "fagor": [
         (r"(?im)#(?:MCALL|PCALL|CALL|MDOFF|LATHECY|MILLCY|TOOL\s+AX)\b", 6), (r"(?im)\$(?:IF|GOTO|WHILE|FOR|SWITCH|ELSE|ENDIF)\b", 5),
@@ -124,7 +126,10 @@ _EXTENSIONS = {".h": ("heidenhain", 15), ".mpf": ("sinumerik", 15), ".spf": ("si
 
 
 def detect(head: str, raw_head: bytes = b"", suffix: str = "") -> Detection:
-    if _looks_binary(raw_head or head.encode("utf-8", "replace")):
+    raw = raw_head or head.encode("utf-8", "replace")
+    if _looks_binary(raw):
+        if _looks_utf16(raw):
+            return Detection(None, 1.0, "UTF-16 text without a byte-order mark: save the program as UTF-8 (or UTF-16 with its byte-order mark)")
         return Detection(None, 1.0, "binary data, not a CNC program")
     for pattern, what in _NOT_A_PROGRAM:
         if re.search(pattern, head) and not re.search(r"(?im)^\s*(?:N\d+\s*)?G\d", head):
@@ -204,6 +209,17 @@ def detect_machine(head: str) -> str | None:
     if mill > 0:
         return "mill"
     return None
+
+
+def _looks_utf16(raw: bytes) -> bool:
+    """Text in UTF-16 (either byte order): one of each pair of bytes is almost always NUL,
+    the other almost never."""
+    sample = raw[:8192]
+    if len(sample) < 4:
+        return False
+    halves = (sample[0::2], sample[1::2])
+    nul_share = [half.count(0) / len(half) for half in halves]
+    return max(nul_share) > 0.9 and min(nul_share) < 0.1
 
 
 def _looks_binary(raw: bytes) -> bool:

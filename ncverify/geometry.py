@@ -146,9 +146,10 @@ def may_enter_symbolic(stock: Stock, start, end, dogleg: bool = False) -> z3.Boo
     of the box its ends span, so each axis gets its own t. A polygon prism is the union of
     the triangles of its outline (strictly inside across the outline's own edges, on either
     side of the edges the triangulation adds)."""
-    shared = z3.FreshReal("t")
-    ts = [z3.FreshReal("t") for _ in range(3)] if dogleg else [shared] * 3
-    constraints = [z3.And(t >= 0, t <= 1) for t in set(ts)]
+    # named per check (z3.FreshReal numbers per process, and the names steer the solver's model)
+    distinct = [values.fresh("t").term for _ in range(3 if dogleg else 1)]
+    ts = distinct if dogleg else distinct * 3
+    constraints = [z3.And(t >= 0, t <= 1) for t in distinct]
     point = []
     for a, b, t in zip(start, end, ts):
         a_term, b_term = values.term_of(a), values.term_of(b)

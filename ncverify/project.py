@@ -4,6 +4,7 @@ gives one, the line, else the key path (``[stock] box.x``); the CLI exits with c
 from __future__ import annotations
 
 import ast
+import math
 import re
 import tomllib
 from pathlib import Path
@@ -19,6 +20,7 @@ SETTINGS = {
     "cache_dir": str,
 }
 _CHOICES = {"machine": MACHINES, "rapid_path": ("straight", "dogleg"), "dialect": tuple(DIALECTS)}
+_LARGEST = {"loop_bound": 100_000_000, "call_depth": 1000, "max_paths": 100_000}  # beyond these a bound no longer bounds the run
 _AXES = ("x", "y", "z", "a", "b", "c", "u", "v", "w")
 
 
@@ -33,12 +35,14 @@ def find_project_file(start: Path | None) -> Path | None:
     folder = start.resolve().parent if start.is_file() or not start.exists() else start.resolve()
     for candidate in (folder, *folder.parents):
         path = candidate / FILE_NAME
-        if path.is_file():
+        if path.exists():  # a folder of that name is reported, not passed over
             return path
     return None
 
 
 def load_project(path: Path) -> Context:
+    if path.is_dir():
+        raise ConfigError(f"{path}: is a folder, not a project file")
     try:
         text = path.read_text(encoding="utf-8")
     except (OSError, UnicodeDecodeError) as error:
@@ -52,6 +56,8 @@ def load_project_text(text: str, path: Path) -> Context:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as error:
         raise ConfigError(f"{path}: {error}") from error
+    except RecursionError:
+        raise ConfigError(f"{path}: arrays or tables nested too deeply to read") from None
     return _Reader(path).context(data)
 
 
@@ -93,6 +99,10 @@ class _Reader:
                 self.fail(f"[settings] {key}", f"expected one of {', '.join(_CHOICES[key])}, got {value!r}")
             if kind in (int, float) and value <= 0 and key != "least_input_increment" or key == "least_input_increment" and value < 0:
                 self.fail(f"[settings] {key}", f"must be positive, got {value!r}")
+            if kind is float and not math.isfinite(value):
+                self.fail(f"[settings] {key}", f"expected a finite number, got {value!r}")
+            if value is not None and key in _LARGEST and value > _LARGEST[key]:
+                self.fail(f"[settings] {key}", f"{value:,} is above the largest accepted value, {_LARGEST[key]:,}")
             if key == "subprogram_path":
                 if not all(isinstance(item, str) for item in value):
                     self.fail(f"[settings] {key}", "expected a list of folder names")
@@ -238,8 +248,8 @@ class _Reader:
                 self.fail(where, f"{key} is missing")
 
     def number(self, value, where: str, positive: bool = False) -> float:
-        if isinstance(value, bool) or not isinstance(value, (int, float)):
-            self.fail(where, f"expected a number, got {value!r}")
+        if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+            self.fail(where, f"expected a finite number, got {value!r}")
         if positive and value <= 0:
             self.fail(where, f"must be positive, got {value!r}")
         return float(value)

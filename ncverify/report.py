@@ -7,6 +7,7 @@ from pathlib import Path
 
 from .api import FileResult
 from .diagnostics import Severity, Status
+from .source import normalise
 
 
 def summary(results: list[FileResult], errors: list[str]) -> dict:
@@ -52,7 +53,7 @@ class _Quoter:
                 raw = Path(path).read_bytes() if Path(path).is_file() else b""
             except OSError:
                 raw = b""
-            lines = raw.decode("utf-8", errors="replace").splitlines() if len(raw) < 50_000_000 else []
+            lines = normalise(raw).decode("utf-8", errors="replace").split("\n") if len(raw) < 50_000_000 else []
             self._lines[path] = lines
         return lines[number - 1] if 0 < number <= len(lines) else ""
 

@@ -27,6 +27,8 @@ class Settings:
     disabled_rules: frozenset[str] = field(default_factory=frozenset)
     per_block_only: bool = False  # tests: run plain blocks one by one, to compare with batches
     solver_timeout_s: float = 5.0  # per Z3 query
+    file_timeout_s: float = 600.0  # wall clock for one file's analysis (ncverify.watchdog)
+    file_memory_bytes: int = 8 << 30  # memory for one file's analysis
     rapid_path: str = "straight"  # or "dogleg": each axis moves on its own at rapid
     config: Path | None = None  # the project file; None: ncverify.toml found upward
     record_values: bool = False  # editors: keep what each assignment computes, by line (FileResult.values)

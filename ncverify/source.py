@@ -8,6 +8,7 @@ contract says.
 from __future__ import annotations
 
 import mmap
+import re
 from pathlib import Path
 from typing import NamedTuple
 
@@ -46,6 +47,28 @@ def decode_line(raw: bytes) -> str:
         return raw.decode("utf-8", errors="replace")
 
 
+_UTF8_BOM = b"\xef\xbb\xbf"
+_UTF16_BOMS = (b"\xff\xfe", b"\xfe\xff")
+_LONE_CR = re.compile(rb"\r(?!\n)")
+
+
+def normalise(buffer: bytes | mmap.mmap) -> bytes | mmap.mmap:
+    """The bytes every reader sees: a UTF-8 byte-order mark dropped, UTF-16 with a
+    byte-order mark re-encoded as UTF-8, lone-CR and mixed line ends turned into LF, and
+    tabs into spaces (one character for one, so columns do not move). CRLF is left as it
+    is (every reader strips the CR), so the usual file is not copied."""
+    head = bytes(buffer[:3])
+    if head.startswith(_UTF16_BOMS):
+        buffer = bytes(buffer).decode("utf-16", errors="replace").encode("utf-8")
+    elif head == _UTF8_BOM:
+        buffer = bytes(buffer[3:])
+    if buffer.find(b"\r") >= 0 and _LONE_CR.search(buffer):
+        buffer = _LONE_CR.sub(b"\n", bytes(buffer).replace(b"\r\n", b"\n"))
+    if buffer.find(b"\t") >= 0:
+        buffer = bytes(buffer).replace(b"\t", b" ")
+    return buffer
+
+
 def find_all(buffer, needles: tuple[bytes, ...], start: int = 0):
     """Offsets of every occurrence of any of ``needles``, in order. Byte searches run at
     memchr speed, where a regex with a character class would test every position."""
@@ -79,7 +102,7 @@ class ProgramSource:
     """
 
     def __init__(self, buffer: bytes | mmap.mmap, name: str, path: Path | None = None):
-        self.buffer = buffer
+        self.buffer = normalise(buffer)
         self.name = name
         self.path = path
         self._line_cache: dict[int, int] = {0: 1}
@@ -119,7 +142,8 @@ class ProgramSource:
     def lines_from(self, offset: int = 0, line_number: int | None = None):
         """Yield ``(line_number, start_offset, next_offset, raw_bytes)`` from ``offset`` on.
 
-        Line ends are LF, CRLF or a lone CR; the yielded bytes exclude them.
+        Line ends are LF or CRLF (``normalise`` turned lone CRs into LF); the yielded
+        bytes exclude them.
         """
         buffer = self.buffer
         size = len(buffer)
@@ -132,21 +156,9 @@ class ProgramSource:
             next_offset = end + 1
             if raw.endswith(b"\r"):
                 raw = raw[:-1]
-            if b"\r" in raw:
-                yield from self._split_lone_cr(number, offset, raw)
-                number += raw.count(b"\r")
-            else:
-                yield number, offset, next_offset, raw
+            yield number, offset, next_offset, raw
             number += 1
             offset = next_offset
-
-    @staticmethod
-    def _split_lone_cr(number: int, offset: int, raw: bytes):
-        """Old Mac line ends: a lone CR separates lines too."""
-        parts = raw.split(b"\r")
-        for index, part in enumerate(parts):
-            yield number + index, offset, offset + len(part) + 1, part
-            offset += len(part) + 1
 
     def head(self, size: int = 65536) -> str:
         return decode_line(bytes(self.buffer[:size]))

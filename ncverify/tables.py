@@ -1,6 +1,7 @@
 """Dialect tables (``dialects/<family>/*.toml``) loaded into lookups the lowering uses."""
 from __future__ import annotations
 
+import math
 import tomllib
 from dataclasses import dataclass
 from functools import cache
@@ -31,6 +32,8 @@ class CodeTable:
 
 def code_key(number: float) -> str:
     """``1.0`` -> ``"1"``, ``54.1`` -> ``"54.1"``: the key form the tables use."""
+    if not math.isfinite(number):
+        return str(number)  # "inf", "nan": in no table, so an unknown code, never a crash
     whole = int(number)
     return str(whole) if number == whole else f"{number:g}"
 

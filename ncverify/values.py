@@ -103,10 +103,35 @@ def fresh_numbering():
     """Number the unknown values of one check from 1, so that checking the same program
     twice in one process (an editor, a test run) gives the same findings word for word."""
     token = _fresh_numbers.set(itertools.count(1))
+    display = _display_context.set({})
     try:
         yield
     finally:
+        _display_context.reset(display)
         _fresh_numbers.reset(token)
+
+
+_display_context: ContextVar = ContextVar("display_context", default=None)
+
+
+def check_context() -> "z3.Context | None":
+    """The Z3 context of the current check (one per :func:`fresh_numbering`), or None
+    outside a check. Z3 orders the arguments of a simplified And/Or and picks a model's
+    values by its internal ids, which depend on every term the process made before; terms
+    translated into the check's own context give text and witnesses that depend on the
+    program alone, so a second check in the same process (an editor, a batch) reads the same."""
+    holder = _display_context.get()
+    if holder is None:
+        return None
+    if "context" not in holder:
+        holder["context"] = z3.Context()
+    return holder["context"]
+
+
+def simplified_text(term) -> str:
+    """``z3.simplify`` of a term, as text, in the check's own context."""
+    context = check_context()
+    return str(z3.simplify(term if context is None else term.translate(context)))
 
 
 def term_of(value: Value) -> z3.ArithRef:
@@ -340,7 +365,7 @@ def logical(op: str, a, b) -> "bool | Condition | float":
         ta = a.term if isinstance(a, Condition) else z3.BoolVal(a)
         tb = b.term if isinstance(b, Condition) else z3.BoolVal(b)
         return Condition({"AND": z3.And, "OR": z3.Or, "XOR": z3.Xor}[op](ta, tb))
-    if type(a) is float and type(b) is float:
+    if type(a) is float and type(b) is float and math.isfinite(a) and math.isfinite(b):
         ia, ib = int(a), int(b)
         return float({"AND": ia & ib, "OR": ia | ib, "XOR": ia ^ ib}[op])
     return fresh(op)

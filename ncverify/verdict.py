@@ -34,12 +34,17 @@ def judge(hazard: "bool | Condition", path_condition: list, timeout_s: float = 5
         return Verdict(Status.VIOLATED)
     if hazard is False:
         return None
-    solver = z3.Solver()
+    context = values.check_context()  # the check's own: a model that depends on the program alone
+
+    def local(term):
+        return term if context is None else term.translate(context)
+
+    solver = z3.Solver(ctx=context)
     solver.set("timeout", int(timeout_s * 1000))
     for condition in path_condition:
         if isinstance(condition, Condition):
-            solver.add(condition.term)
-    solver.add(hazard.term)
+            solver.add(local(condition.term))
+    solver.add(local(hazard.term))
     answer = solver.check()
     if answer == z3.unsat:
         return Verdict(Status.PROVED)
@@ -52,7 +57,8 @@ def judge(hazard: "bool | Condition", path_condition: list, timeout_s: float = 5
                 witness[declaration.name()] = float(value.numerator_as_long()) / float(value.denominator_as_long())
             elif z3.is_algebraic_value(value):
                 witness[declaration.name()] = float(value.approx(10).as_decimal(10).rstrip("?"))
-        return Verdict(Status.VIOLATED, {k: v for k, v in witness.items() if "~" not in k and "!" not in k})
+        # sorted: the model lists its values in an order that varies from one check to the next in one process
+        return Verdict(Status.VIOLATED, {k: v for k, v in sorted(witness.items()) if "~" not in k and "!" not in k})
     return Verdict(Status.UNKNOWN, reason=f"the solver gave no answer within {timeout_s:g} s ({solver.reason_unknown()})")
 
 
@@ -72,7 +78,7 @@ def show(value) -> str:
     if type(value) is float:
         return f"{value:.4f}".rstrip("0").rstrip(".") if math.isfinite(value) else str(value)
     if isinstance(value, Sym):
-        return values.readable(str(z3.simplify(value.term)))
+        return values.readable(values.simplified_text(value.term))
     return str(value)
 
 

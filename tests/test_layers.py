@@ -16,7 +16,7 @@ import ncverify
 PACKAGE = Path(ncverify.__file__).parent
 STAGES = ("base", "read", "lower", "interpret", "check", "report")
 _CHECK = {"ncverify.check", "ncverify.rule_registry"}
-_REPORT = {"ncverify", "ncverify.api", "ncverify.cli", "ncverify.report", "ncverify.lsp",
+_REPORT = {"ncverify", "ncverify.api", "ncverify.watchdog", "ncverify.cli", "ncverify.report", "ncverify.lsp",  # watchdog: api under a budget
            # batches over libraries and what they write: the API's callers
            "ncverify.batch", "ncverify.cache", "ncverify.cluster", "ncverify.plot", "ncverify.pool", "ncverify.progress", "ncverify.sarif"}
 

@@ -375,6 +375,10 @@ class ControlFlow:
             return None
         current = self.state.call_stack[-1]
         target = self.find_label(label, op.span)
+        if len(self.state.call_stack) > self.settings.call_depth:
+            self._fault("core.call-depth", op.span, f"calls nest deeper than {self.settings.call_depth} levels (recursion through "
+                        f"{self.frontend.describe_label(label)}?): the control alarms")
+            raise PathEnd
         frame = CallFrame("local", current.program, current.source, current.start, self._next_position(), repeat - 1)
         frame.local_variables = None
         self.state.call_stack.append(frame)

@@ -356,6 +356,8 @@ class Interpreter(ControlFlow):
         """Value of an IR expression; VACANT passes through (callers decide what it means)."""
         kind = type(expr)
         if kind is float:
+            if expr - expr != 0.0:  # inf or nan: a number no control holds
+                self._domain_error("a number beyond the control's range", span)
             return expr
         if kind is ir.IncrementCount:
             return self._scale_increment(expr)
@@ -369,7 +371,10 @@ class Interpreter(ControlFlow):
             operand = self._arithmetic_operand(self.evaluate(expr.operand, span), expr.operand, span)
             return values.neg(operand)
         if kind is ir.Binary:
-            return self._binary(expr, span)
+            result = self._binary(expr, span)
+            if type(result) is float and result - result != 0.0:
+                self._domain_error("the result overflows the control's number range", span)
+            return result
         if kind is ir.Func:
             arguments = [self._arithmetic_operand(self.evaluate(arg, span), arg, span) for arg in expr.args]
             try:
@@ -392,6 +397,8 @@ class Interpreter(ControlFlow):
         if op in values.COMPARISONS:
             if left is VACANT or right is VACANT:
                 return self._compare_vacant(op, left, right)
+            if isinstance(left, str) or isinstance(right, str):
+                return self._compare_text(op, left, right)
             return values.compare(op, self._as_number(left), self._as_number(right))
         if op in ("AND", "OR", "XOR"):
             return values.logical(op, 0.0 if left is VACANT else left, 0.0 if right is VACANT else right)
@@ -425,6 +432,15 @@ class Interpreter(ControlFlow):
         return values.compare(op, left, right)
 
     @staticmethod
+    def _compare_text(op: str, left, right) -> "bool | Condition":
+        """Strings compare with strings (``IF $MN_.. <> "X"`` once both are known); a string
+        against a number or an unknown value is not followed: either outcome."""
+        if isinstance(left, str) and isinstance(right, str):
+            return {"EQ": left == right, "NE": left != right, "LT": left < right, "LE": left <= right,
+                    "GT": left > right, "GE": left >= right}[op]
+        return values.truth(values.fresh("text", 0.0, 1.0))
+
+    @staticmethod
     def _as_number(value):
         """A comparison's outcome used as a number: 1 or 0 (between 0 and 1 when symbolic)."""
         if isinstance(value, (bool, Condition)):
@@ -442,6 +458,8 @@ class Interpreter(ControlFlow):
             where = expr.span if isinstance(expr, ir.Var) and expr.span else span or self._block.span
             self._fault("core.undefined-variable", where, f"{name} is vacant (never set, not passed as an argument); the control computes with 0")
             return 0.0
+        if isinstance(value, str):
+            return values.fresh("text")  # a string in arithmetic: a value the checker does not follow
         return self._as_number(value)
 
     def _symbolic_divisor(self, divisor: Sym, written: ir.Expr, span) -> None:

@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import dataclasses
 import re
+from functools import cache
 
 from .. import ir
 from ..cycle_models import load_cycle_table
@@ -61,6 +62,7 @@ _IN_CYCLE_ZONE = ir.Var("$INCYCLE")  # 1 while a hole cycle is modal (FagorFront
 _MODAL_CALL_ARGUMENTS = re.compile(rb'(?im)#MCALL[ \t]+(?:"[^"\n]*"|[^\s;]+)([^\n;]*)')
 
 
+@cache  # the tables are read-only: parse the TOML once per process, like iso_table
 def fagor_table(machine: str = "mill") -> CodeTable:
     data = _load("fagor", "mill.toml")
     cycles = load_cycle_table("fagor")

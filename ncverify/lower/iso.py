@@ -6,6 +6,7 @@ G65 call, a G10 data setting or a canned cycle consumes) and the order a block e
 """
 from __future__ import annotations
 
+import math
 import re
 
 import numpy
@@ -127,7 +128,7 @@ class IsoLowering:
             elif letter == "N":
                 block.label = word.value if isinstance(word.value, float) else None
             elif letter == "O":
-                block.program_start = f"O{int(word.value)}" if isinstance(word.value, float) else None
+                block.program_start = f"O{int(word.value)}" if isinstance(word.value, float) and math.isfinite(word.value) else None
             else:
                 if letter in rest:
                     block.notes.append(ir.Note("core.duplicate-address", f"address {letter} appears twice in the block; the control uses one of them (alarm on most controls)", self._span(read, word.start, word.end, path)))
@@ -298,7 +299,7 @@ class IsoLowering:
     def _tool_select(self, word: Word, read, path) -> ir.ToolSelect:
         span = self._span(read, word.start, word.end, path)
         value = word.value
-        if not self.lathe or not isinstance(value, float):
+        if not self.lathe or not isinstance(value, float) or not math.isfinite(value):
             return ir.ToolSelect(span, value)
         digits = word.end - word.start - 1
         if value >= 100 or digits >= 3:

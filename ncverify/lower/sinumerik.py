@@ -95,6 +95,8 @@ def tables() -> dict:
 
 
 def _code_key(value: float) -> str:
+    if not math.isfinite(value):
+        return str(value)  # in no table: an unknown code, never a crash
     return str(int(value)) if value == int(value) else f"{value:g}"
 
 
@@ -623,7 +625,8 @@ def program_context(buffer: bytes) -> Context:
         elif b"$TC_DP" in upper and _TOOL_DATA_BLOCK.match(text := decode_line(raw)):
             for match in _TOOL_DATA.finditer(text):
                 parameter, tool, edge, value = match.groups()
-                tools.setdefault(int(tool), {}).setdefault(int(edge), {})[int(parameter)] = float(value)
+                if math.isfinite(float(value)):  # a value beyond any range leaves the parameter unknown
+                    tools.setdefault(int(tool), {}).setdefault(int(edge), {})[int(parameter)] = float(value)
     for number, edges in tools.items():
         context.tools[number] = _tool(number, edges.get(1, {}))
         context.tools[number].edges = {edge: _tool(number, data) for edge, data in edges.items() if edge != 1}

@@ -22,6 +22,7 @@ import re
 from dataclasses import dataclass, field
 
 from .. import ir
+from .limits import MAX_NESTING, MAX_TERMS, nesting_message, terms_message
 from .iso import SyntaxProblem, Word
 
 _UPPER = str.maketrans("abcdefghijklmnopqrstuvwxyz", "ABCDEFGHIJKLMNOPQRSTUVWXYZ")
@@ -315,6 +316,8 @@ class _Expressions:
     def __init__(self, code: str, position: int):
         self.code = code
         self.position = position
+        self.depth = 0  # values open inside one another (limits.MAX_NESTING)
+        self.terms = 0  # values read in this block (limits.MAX_TERMS)
 
     def skip(self) -> None:
         self.position = _skip_spaces(self.code, self.position)
@@ -429,6 +432,16 @@ class _Expressions:
                 return left
 
     def unary(self) -> ir.Expr:
+        """Every nested value passes through here: the nesting is counted here."""
+        if self.depth >= MAX_NESTING:
+            raise _Error(nesting_message(MAX_NESTING), self.position)
+        self.depth += 1
+        try:
+            return self._signed()
+        finally:
+            self.depth -= 1
+
+    def _signed(self) -> ir.Expr:
         self.skip()
         char = self.code[self.position : self.position + 1]
         if char in ("+", "-"):
@@ -447,6 +460,12 @@ class _Expressions:
         return base
 
     def atom(self) -> ir.Expr:
+        self.terms += 1
+        if self.terms > MAX_TERMS:
+            raise _Error(terms_message(MAX_TERMS), self.position)
+        return self._atom()
+
+    def _atom(self) -> ir.Expr:
         self.skip()
         code, start = self.code, self.position
         if start >= len(code):

@@ -16,6 +16,8 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass
 
+from .limits import MAX_NESTING, MAX_TERMS, nesting_message, terms_message
+
 from .. import ir
 from ..source import Span, decode_line
 
@@ -155,6 +157,8 @@ class Cursor:
         self.tokens = tokens
         self.index = 0
         self.end_span = end_span
+        self.depth = 0  # expressions open inside one another (limits.MAX_NESTING)
+        self.terms = 0  # operands read in this block (limits.MAX_TERMS)
 
     def peek(self, ahead: int = 0) -> Token | None:
         position = self.index + ahead
@@ -211,6 +215,8 @@ class Cursor:
             raise ReadError("expected a number here", self.here())
         self.index += 1
         value = float(token.text.replace(",", "."))
+        if value - value != 0.0:
+            raise ReadError("a number beyond any control's range", token.span)
         span = token.span if sign is None else sign.span.cover(token.span)
         return (-value if sign is not None and sign.text == "-" else value), span
 
@@ -254,8 +260,17 @@ class Cursor:
         return base
 
     def _unary(self):
+        self.terms += 1
+        if self.terms > MAX_TERMS:
+            raise ReadError(terms_message(MAX_TERMS), self.here())
+        if self.depth >= MAX_NESTING:
+            raise ReadError(nesting_message(MAX_NESTING), self.here())
+        self.depth += 1
         sign = self.take_symbol("+", "-")
-        operand = self._primary()
+        try:
+            operand = self._primary()
+        finally:
+            self.depth -= 1
         if sign is not None and sign.text == "-":
             return operand * -1.0 if type(operand) is float else ir.Unary("-", operand)
         return operand

@@ -9,6 +9,7 @@ property test checks.
 """
 from __future__ import annotations
 
+import math
 import re
 from dataclasses import dataclass, field
 from functools import cache
@@ -192,6 +193,16 @@ _MAX_OPERATORS = 200
 _OPERATOR = re.compile(r"[-+*/]|AND|OR|XOR|MOD|EQ|NE|GT|GE|LT|LE")
 
 
+def _whole(text: str) -> int:
+    """A whole number as written (``#12``, ``DO1``), however many digits: through ``float``
+    a 400-digit number would be infinite. A fraction is cut as the control cuts it."""
+    try:
+        return int(text)
+    except ValueError:
+        value = float(text)
+        return int(value) if math.isfinite(value) else -1
+
+
 def _too_complex(segment: str) -> str | None:
     """Controls nest brackets a few levels deep (Fanuc: 5); an expression far beyond what
     any control takes is refused here rather than parsed recursively."""
@@ -314,12 +325,12 @@ class _ToItems(Transformer):
     @v_args(meta=True)
     def while_do(self, meta, children):
         start, end = self._cols(meta)
-        return Statement("while", start, end, condition=children[0], number=int(float(children[-1])))
+        return Statement("while", start, end, condition=children[0], number=_whole(children[-1]))
 
     @v_args(meta=True)
     def loop_end(self, meta, children):
         start, end = self._cols(meta)
-        return Statement("end", start, end, number=int(float(children[0])))
+        return Statement("end", start, end, number=_whole(children[0]))
 
     @v_args(meta=True)
     def goto(self, meta, children):
@@ -336,7 +347,7 @@ class _ToItems(Transformer):
     def variable(self, meta, children):
         start, end = self._cols(meta)
         index = children[0]
-        name = f"#{int(float(index))}" if isinstance(index, Token) else index
+        name = f"#{_whole(index)}" if isinstance(index, Token) else index
         return ir.Var(name, Span.on_line(self.line, start, end))
 
     def comparison(self, children):

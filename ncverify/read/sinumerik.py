@@ -17,6 +17,7 @@ from dataclasses import dataclass, field
 
 from .. import ir
 from .iso import SyntaxProblem
+from .limits import MAX_NESTING, MAX_TERMS, nesting_message, terms_message
 
 _TWINS = str.maketrans({"；": ";", "（": "(", "）": ")", "，": ",", "、": ",", "：": ":", "“": '"', "”": '"', "„": '"',
                         "‟": '"', "–": "-", "—": "-", "＝": "=", "　": " ", "\t": " "})
@@ -147,6 +148,8 @@ class _BlockParser:
         self.block = block
         self.tokens = self._tokenize(code)
         self.index = 0
+        self.depth = 0  # expressions open inside one another (limits.MAX_NESTING)
+        self.terms = 0  # operands read in this block (limits.MAX_TERMS)
 
     # ------------------------------------------------------------------ tokens
 
@@ -678,6 +681,18 @@ class _BlockParser:
         return left
 
     def _unary(self):
+        self.terms += 1
+        if self.terms > MAX_TERMS:
+            raise _Fail(terms_message(MAX_TERMS), self.peek()[2])
+        if self.depth >= MAX_NESTING:
+            raise _Fail(nesting_message(MAX_NESTING), self.peek()[2])
+        self.depth += 1
+        try:
+            return self._signed()
+        finally:
+            self.depth -= 1
+
+    def _signed(self):
         if self.at("<<"):
             self.take()
             self._unary()
@@ -722,7 +737,7 @@ class _BlockParser:
 def _number(text: str) -> float:
     if "EX" in text.upper():
         mantissa, exponent = text.upper().split("EX")
-        return float(mantissa) * 10.0 ** int(exponent)
+        return float(f"{mantissa}e{int(exponent)}")
     return float(text)
 
 

@@ -273,7 +273,8 @@ def _label_call_run(runner, op, block, model, params):
         raise PathEnd
     target = runner.find_label(label, op.span)
     here = runner.current_offset
-    if target.source is runner.current_source and target.offset < here and not _returns_between(runner, target, here):
+    if (target.source is runner.current_source and target.offset < here and not _returns_between(runner, target, here)
+            and not _inside_subprogram(state, target)):
         repeats = state.klartext.label_repeats
         done = repeats.get(here, 0)
         if done < repeat:
@@ -284,6 +285,12 @@ def _label_call_run(runner, op, block, model, params):
         return None
     call = ir.Call(op.span, "local", label, repeat + 1.0)
     return runner.call_subprogram(call, block)
+
+
+def _inside_subprogram(state, target) -> bool:
+    """Is the label's own subprogram running (a call to it from inside is recursion, which
+    the control refuses, not a section repeat)?"""
+    return any(frame.kind == "local" and frame.source is target.source and frame.start == target.offset for frame in state.call_stack)
 
 
 def _returns_between(runner, target, end: int) -> bool:
@@ -506,12 +513,18 @@ def _pattern_run(runner, op, block, model, params):
     return None
 
 
+_MAX_PATTERN_POINTS = 100_000
+
+
 def _pattern_form_points(form: dict, earlier: list):
     """The X, Y (and surface Z) of one PATTERN DEF element (reference A §4.5)."""
     kind = form.get("form")
     words = {key: value for key, value in form.items() if key != "form"}
     if any(type(value) is not float for value in words.values()):
         return None
+    counts = [words.get(key, 1.0) for key in ("NUM", "NUMX", "NUMY")]
+    if not all(math.isfinite(count) for count in counts) or math.prod(max(count, 1.0) for count in counts) > _MAX_PATTERN_POINTS:
+        return None  # far more points than a pattern holds: not expanded (time, memory), the positions stay unknown
     z = words.get("Z", 0.0)
     if kind == "POS":
         last = earlier[-1] if earlier else (0.0, 0.0, 0.0)

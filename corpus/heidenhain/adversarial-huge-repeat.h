@@ -1,0 +1,11 @@
+0 BEGIN PGM ADVREP MM
+1 ; a program section repeated 65,534 times and a subprogram called 65,535 times
+2 LBL 1
+3 L IX+0.001 R0 FMAX
+4 CALL LBL 1 REP 65534
+5 CALL LBL 2 REP 65534
+6 M30
+7 LBL 2
+8 L IY+0.001 R0 FMAX
+9 LBL 0
+10 END PGM ADVREP MM

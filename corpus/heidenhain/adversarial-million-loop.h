@@ -1,0 +1,7 @@
+0 BEGIN PGM ADVLOOP MM
+1 ; a loop counted to a million with FN 12
+2 Q1 = 0
+3 LBL 1
+4 Q1 = Q1 + 1
+5 FN 12: IF +Q1 LT +1000000 GOTO LBL 1
+6 END PGM ADVLOOP MM

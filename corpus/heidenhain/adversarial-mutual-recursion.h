@@ -1,0 +1,17 @@
+0 BEGIN PGM ADVREC MM
+1 ; label subprograms 1 and 2 call each other, and 3 calls itself
+2 CALL LBL 1
+3 CALL LBL 3
+4 M30
+5 LBL 1
+6 L X+1 R0 FMAX
+7 CALL LBL 2
+8 LBL 0
+9 LBL 2
+10 L X+2 R0 FMAX
+11 CALL LBL 1
+12 LBL 0
+13 LBL 3
+14 CALL LBL 3
+15 LBL 0
+16 END PGM ADVREC MM
