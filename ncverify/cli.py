@@ -40,7 +40,7 @@ def build_parser() -> argparse.ArgumentParser:
     check.add_argument("paths", nargs="+", metavar="PATH")
     check.add_argument("--format", choices=("text", "json", "sarif"), default="text")
     check.add_argument("--output", "-o", metavar="FILE", help="write the report to FILE instead of stdout")
-    check.add_argument("--dialect", choices=("iso", "heidenhain", "sinumerik", "fagor"), help="skip detection")
+    check.add_argument("--dialect", choices=("iso", "heidenhain", "sinumerik", "fagor", "linuxcnc"), help="skip detection")
     check.add_argument("--profile", choices=iso_profiles(), help="ISO profile (default: detected, else mitsubishi-e60)")
     check.add_argument("--machine", choices=("mill", "lathe"), help="machine type where the program cannot tell")
     check.add_argument("--fail-on", choices=("error", "warning", "info", "never"), default="error")

@@ -447,7 +447,7 @@ class Interpreter(ControlFlow):
         if self.frontend.variable_scope(name) == "local":
             if name in state.local_variables:
                 return state.local_variables[name]
-            if self._in_macro():
+            if self._in_macro() or getattr(self.frontend, "unset_is_vacant", _never)(name):
                 return VACANT
             return self._free_parameter(name)
         if name in state.global_variables:
@@ -903,3 +903,7 @@ def _distance(a1, a2, b1, b2):
         return math.hypot(d1, d2)
     return None
 
+
+def _never(name: str) -> bool:
+    """A dialect's parameters are free until set, unless its frontend says otherwise."""
+    return False
