@@ -130,6 +130,8 @@ def _with_project_settings(settings: Settings, project: Context | None) -> Setti
 def _detection(source: ProgramSource, settings: Settings) -> Detection:
     head_bytes = bytes(source.buffer[:65536])
     found = detect(source.head(), head_bytes)
+    if found.dialect == "iso" and source.name.lower().endswith(".ngc"):
+        found = Detection("linuxcnc", found.confidence, machine=found.machine)  # LinuxCNC's own extension decides plain G-code
     if settings.dialect is None:
         return found
     if found.dialect is None and "binary" in found.reason:

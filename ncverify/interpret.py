@@ -380,6 +380,8 @@ class Interpreter(ControlFlow):
                 return values.div(left, right)
             if op == "MOD":
                 return values.modulo(left, right)
+            if op == "**":
+                return values.power(left, right)
         except DomainError as error:
             self._domain_error(str(error), span)
         raise ValueError(f"unknown operator {op}")

@@ -37,6 +37,7 @@ from ..tables import CodeTable
 from ..values import VACANT
 from .iso import IsoFrontend, IsoLowering, _PLAIN_MOTION
 
+LAST_PARAMETER = 5602.0  # the highest numbered parameter
 ARGUMENTS = 30  # #1-#30 are a subroutine's arguments
 _VALUE = ir.Var("#<_value>")
 _VACANT = ir.Var("#0")
@@ -76,11 +77,20 @@ def _logical(expr):
         return ir.Unary(expr.op, _logical(expr.operand))
     if isinstance(expr, ir.Func):
         if expr.name == "EXISTS":
-            return ir.Binary("NE", expr.args[0], _VACANT)
+            return _exists(expr.args[0])
         return ir.Func(expr.name, tuple(_logical(arg) for arg in expr.args), expr.span)
     if isinstance(expr, ir.Var) and not isinstance(expr.name, str):
         return ir.Var(_logical(expr.name), expr.span, expr.prefix)
     return expr
+
+
+def _exists(target: ir.Var) -> ir.Expr:
+    """Numbered parameters #1-#5602 always exist, others never; a named one once it is set."""
+    if not isinstance(target.name, str):
+        return ir.Binary("AND", ir.Binary("GE", _logical(target.name), 1.0), ir.Binary("LE", _logical(target.name), LAST_PARAMETER))
+    if target.name.startswith("#<"):
+        return ir.Binary("NE", target, _VACANT)
+    return 1.0 if 1 <= int(target.name[1:]) <= LAST_PARAMETER else 0.0
 
 
 class LinuxcncLowering(IsoLowering):

@@ -156,7 +156,7 @@ def _read_oword(body: _Text) -> OWord:
     start = body.column()
     body.position += 1
     if body.peek() == "<":
-        name = "o" + _read_name(body)
+        name = f"o<{_read_name(body)}>"
     else:
         number = _read_number(body)
         name = f"o{int(number)}"

@@ -1,0 +1,71 @@
+"""The LinuxCNC dialect on its own: detection, expressions, O-word control flow, tool table."""
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from ncverify import Settings, check_file, check_text
+from ncverify.detect import detect
+from ncverify.lower.linuxcnc import read_tool_table
+from rs274 import run_ncverify
+
+CORPUS = Path(__file__).resolve().parent.parent.parent / "shared" / "corpus-realworld" / "linuxcnc"
+
+
+def _ends(program: str) -> list[tuple]:
+    ours, _trace = run_ncverify(program)
+    return [point for line in sorted(ours.moves) for point in ours.moves[line]]
+
+
+def test_detected_from_o_words_named_parameters_and_active_comments():
+    assert detect("o100 sub\nG1 X#1\no100 endsub\nM2\n").dialect == "linuxcnc"
+    assert detect("#<depth> = 2\nG1 Z-#<depth> F100 ; cut\nM2\n").dialect == "linuxcnc"
+    assert detect("G0 X1\n(print, hello)\n(debug, #1)\nM30\n").dialect == "linuxcnc"
+    assert detect("O1000\nG0 X1.\n#1=2\nM30\n").dialect == "iso"
+
+
+def test_every_corpus_program_is_checked_as_linuxcnc():
+    """O-words, named parameters and active comments tell most; plain G-code by its .ngc name."""
+    if not CORPUS.is_dir():
+        pytest.skip("the real-world LinuxCNC corpus is not here")
+    wrong = [path.name for path in sorted(CORPUS.glob("*.ngc")) if check_file(path).dialect != "linuxcnc"]
+    assert wrong == []
+
+
+def test_expression_precedence_power_before_product_and_logical_operators():
+    ends = _ends("G0 X[2 + 3 * 2 ** 2] Y[1 AND 2] Z[0 OR 0]\nM2\n")
+    assert ends == [(14.0, 1.0, 0.0)]
+
+
+def test_if_elseif_else_takes_one_branch():
+    program = "#<a> = 2\no1 if [#<a> EQ 1]\nG0 X1\no1 elseif [#<a> EQ 2]\nG0 X2\no1 else\nG0 X3\no1 endif\nM2\n"
+    assert [point[0] for point in _ends(program)] == [2.0]
+
+
+def test_do_while_runs_its_body_before_testing_and_break_leaves_a_loop():
+    program = ("#1 = 0\no2 do\n#1 = [#1 + 1]\nG0 X#1\no2 while [#1 LT 3]\n"
+               "o3 while [1]\nG0 Y5\no3 break\no3 endwhile\nM2\n")
+    assert _ends(program) == [(1.0, None, None), (2.0, None, None), (3.0, None, None), (3.0, 5.0, None)]
+
+
+def test_subroutine_arguments_are_local_and_return_a_value():
+    program = ("o<twice> sub\n#<local> = [#1 * 2]\no<twice> endsub [#<local>]\n"
+               "o<twice> call [4]\nG0 X#<_value>\nG0 Y[EXISTS[#<local>]]\nM2\n")
+    assert _ends(program) == [(8.0, None, None), (8.0, 0.0, None)]
+
+
+def test_reading_a_named_parameter_never_set_is_a_finding():
+    result = check_text("G21\nG0 X[#<nowhere> + 1]\nM2\n", Settings(dialect="linuxcnc"))
+    assert any(finding.rule == "core.undefined-variable" and finding.span.line == 2 for finding in result.diagnostics)
+
+
+def test_an_endless_while_loop_hits_the_loop_bound():
+    result = check_text("o1 while [1]\nG91 G0 X1\no1 endwhile\nM2\n", Settings(dialect="linuxcnc", loop_bound=50))
+    assert any(finding.rule == "core.loop-bound" for finding in result.diagnostics)
+
+
+def test_tool_table_lines_give_number_radius_and_length():
+    tools = read_tool_table("T1 P1 D6.0 Z-12.5 ;end mill\n;comment\nT7 P3 Z0.5 D0.25\n")
+    assert (tools[1].radius, tools[1].length) == (3.0, -12.5)
+    assert (tools[7].radius, tools[7].length) == (0.125, 0.5)
