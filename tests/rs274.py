@@ -50,6 +50,7 @@ class Run:
     """Moves per source line (end points X, Y, Z in order), and where the run stopped."""
 
     moves: dict[int, list[tuple]] = field(default_factory=dict)
+    lines_run: set = field(default_factory=set)
     error: str | None = None
     error_line: int | None = None
 
@@ -105,6 +106,7 @@ def run_rs274(text: str, folder: Path | None = None, name: str = "program.ngc", 
             found = re.fullmatch(r'"L(\d+)"', arguments.strip())
             if found:
                 line = int(found.group(1))
+                run.lines_run.add(line)
         elif call == "SELECT_PLANE":
             plane = _PLANES.get(arguments.strip(), plane)
         elif call in ("STRAIGHT_TRAVERSE", "STRAIGHT_FEED"):
@@ -158,6 +160,7 @@ def run_ncverify(text: str, folder: Path | None = None, name: str = "program.ngc
     settings = Settings(dialect="linuxcnc", subprogram_path=(folder,) if folder else ())
     detection = Detection("linuxcnc", 1.0)
     setup = setup_for("linuxcnc", settings, detection, Context())
+    setup.frontend.program_context(source)  # as the pipeline does before a run: the O-word structure
     trace = Trace()
     library = SubprogramLibrary([folder] if folder else [], settings.extensions)
     Interpreter(source, setup.frontend, trace, settings, power_on=setup.power_on, cycle_models=setup.cycle_models,
@@ -169,6 +172,13 @@ def run_ncverify(text: str, folder: Path | None = None, name: str = "program.ngc
         end = tuple(value if type(value) is float else None for value in (segment.end.get(axis) for axis in "XYZ"))
         run.moves.setdefault(segment.span.line, []).append(end)
     return run, trace
+
+
+def error_lines(run: Run) -> range:
+    """Where rs274's error may be: its last line run, or a line after it that it read
+    without running (a subroutine body it skipped, a construct it scanned for its end)."""
+    later = [line for line in run.lines_run if line > run.error_line]
+    return range(run.error_line, min(later) if later else 1 << 30)
 
 
 def _without_repeats(moves: list[tuple]) -> list[tuple]:

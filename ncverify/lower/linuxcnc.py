@@ -224,6 +224,7 @@ class LinuxcncFrontend(IsoFrontend):
     def __init__(self, lowering: LinuxcncLowering, tool_table: Path | None = None):
         super().__init__(lowering)
         self.tool_table = tool_table
+        self.structure_notes: dict[int, list[ir.Note]] = {}  # line -> O-word structure findings of the main file
 
     def blocks(self, raw: bytes, line: int, path: str | None) -> list[ir.Block]:
         if _PLAIN_MOTION.fullmatch(raw):
@@ -234,6 +235,12 @@ class LinuxcncFrontend(IsoFrontend):
         blocks = []
         for read in read_line(text, line):
             blocks.extend(self.lowering.lower_line(read, path))
+        return self._with_structure_notes(blocks, line, path)
+
+    def _with_structure_notes(self, blocks: list[ir.Block], line: int, path) -> list[ir.Block]:
+        notes = self.structure_notes.get(line) if path is None else None
+        if notes and blocks:
+            blocks[0].notes.extend(note for note in notes if note not in blocks[0].notes)
         return blocks
 
     def programs(self, buffer) -> list[tuple[str, int]]:
@@ -336,12 +343,77 @@ class LinuxcncFrontend(IsoFrontend):
     def program_context(self, source) -> Context:
         """LinuxCNC's tool table (``tool.tbl``) beside the program, or the one given."""
         context = Context()
+        self.structure_notes = oword_structure(source.buffer)
         table = self.tool_table
         if table is None and source.path is not None:
             table = next((candidate for candidate in source.path.parent.iterdir() if candidate.name.lower() == "tool.tbl"), None)
         if table is not None:
             context.tools = read_tool_table(table.read_text(encoding="utf-8", errors="replace"))
         return context
+
+
+_OPENERS = {"SUB": "sub", "IF": "if", "WHILE": "while", "DO": "do", "REPEAT": "repeat"}
+_CLOSERS = {"ENDSUB": "sub", "ENDIF": "if", "ENDWHILE": "while", "ENDREPEAT": "repeat"}
+
+
+def oword_structure(buffer) -> dict[int, list[ir.Note]]:
+    """O-word lines that do not pair up as RS274NGC requires, which its interpreter refuses
+    before it runs them: a closing or middle O-word with no open construct of the same
+    name, a subroutine defined inside another, an O-name opening two constructs in one
+    subroutine, constructs never closed. Only lines that start with an O-word are read."""
+    notes: dict[int, list[ir.Note]] = {}
+    stack: list[tuple[str, str, int, Span]] = []  # (kind, name, line, span)
+    opened: list[dict[str, int]] = [{}]  # per subroutine level: name -> line that opened it
+
+    def report(span: Span, message: str) -> None:
+        notes.setdefault(span.line, []).append(ir.Note("linuxcnc.oword-structure", message, span))
+
+    pattern = re.compile(_OWORD_LINE)
+    for match in pattern.finditer(buffer):
+        start = match.start()
+        newline = buffer.find(b"\n", start)
+        raw = bytes(buffer[start : len(buffer) if newline < 0 else newline])
+        line = buffer.count(b"\n", 0, start) + 1
+        for read in read_line(decode_line(raw), line):
+            for item in read.items:
+                if isinstance(item, OWord):
+                    _pair(item, Span(line, item.start + 1, line, item.end + 1), stack, opened, report)
+    for kind, name, _line, span in stack:
+        report(span, f"{name} {kind} is never closed (no {name} end{kind if kind != 'do' else ''}{' or ' + name + ' while' if kind == 'do' else ''}): "
+                     "LinuxCNC stops when it looks for it")
+    return notes
+
+
+def _pair(oword: OWord, span: Span, stack, opened, report) -> None:
+    name, keyword = oword.name, oword.keyword
+    if keyword == "WHILE" and stack and stack[-1][:2] == ("do", name):
+        stack.pop()
+        return
+    if keyword in _OPENERS:
+        kind = _OPENERS[keyword]
+        if kind == "sub" and any(entry[0] == "sub" for entry in stack):
+            report(span, f"{name} sub is defined inside another subroutine: LinuxCNC refuses nested subroutine definitions")
+        scope = opened[-1]
+        if kind != "sub" and name in scope:
+            report(span, f"{name} already opens the construct in line {scope[name]}: LinuxCNC refuses a duplicate O-word label")
+        scope.setdefault(name, span.line)
+        stack.append((kind, name, span.line, span))
+        if kind == "sub":
+            opened.append({})
+        return
+    if keyword in _CLOSERS:
+        kind = _CLOSERS[keyword]
+        if stack and stack[-1][:2] == (kind, name):
+            stack.pop()
+            if kind == "sub" and len(opened) > 1:
+                opened.pop()
+            return
+        report(span, f"{name} {keyword.lower()} closes no open {name} {kind}" + (f" (the innermost open construct is {stack[-1][1]} {stack[-1][0]})" if stack else "")
+               + ": LinuxCNC stops here")
+        return
+    wanted = {"ELSEIF": ("if",), "ELSE": ("if",), "BREAK": ("while", "do", "repeat"), "CONTINUE": ("while", "do", "repeat"), "RETURN": ("sub",)}.get(keyword)
+    if wanted is not None and not any(entry[0] in wanted and entry[1] == name for entry in stack):
+        report(span, f"{name} {keyword.lower()} is outside any {name} {' / '.join(wanted)}: LinuxCNC stops here")
 
 
 def _oword_name(raw: bytes) -> str:
