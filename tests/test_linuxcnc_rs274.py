@@ -27,8 +27,6 @@ EXPLAINED_MOVES = {
     "008_linuxcnc-bad-ccomp-gouging.ngc": "cutter compensation: rs274 reports the offset path, ncverify the programmed one",
     "012_linuxcnc-comp-g1.ngc": "cutter compensation: rs274 reports the offset path, ncverify the programmed one",
     "039_linuxcnc-inverse-time-with-comp.ngc": "cutter compensation: rs274 reports the offset path (with corner arcs), ncverify the programmed one",
-    "023_linuxcnc-g17-g98-g81.ngc": "G98 with the tool below R: rs274 first rises to R, then moves in the plane, and returns to the higher "
-                                    "of the initial level and R; ncverify's ISO hole model moves in the plane first",
     "029_lathe-g70-71-demo.ngc": "lathe cycles G70/G71 are read but their passes are not modelled",
     "030_linuxcnc-g71-endless-loop.ngc": "lathe cycle G71 is not modelled (and rs274 does not finish on it)",
     "034_linuxcnc-hole-circle.ngc": "'^60' is taken by rs274 without complaint; ncverify reads '^' as a syntax error",
@@ -143,9 +141,10 @@ _statement = st.one_of(
     st.sampled_from(["G54", "G55", "G59"]),
     _axis_words.map(lambda words: "G52 " + _words(words)),
     _axis_words.map(lambda words: "G92 " + _words(words)),
-    st.just("G92.1"),
-    st.tuples(_coordinate, _coordinate, st.integers(-40, -1)).map(
-        lambda hole: f"G0 Z5\nG81 X{hole[0]:g} Y{hole[1]:g} Z{hole[2] / 8:g} R2 F100\nG80"),
+    st.sampled_from(["G98", "G99", "G4 P0.5"]),
+    st.tuples(st.sampled_from(["G81", "G82 P0.2", "G85", "G89 P0.1"]), _coordinate, _coordinate,
+              st.integers(-40, -1), st.integers(-4, 30)).map(
+        lambda hole: f"{hole[0].split()[0]} X{hole[1]:g} Y{hole[2]:g} Z{hole[3] / 8:g} R{hole[4] / 4:g} F100 {' '.join(hole[0].split()[1:])}\nG80"),
     st.integers(1, 4).map(lambda count: f"#<n> = 0\noLOOP while [#<n> LT {count}]\nG91 G1 X1 F100\nG90\n#<n> = [#<n> + 1]\noLOOP endwhile"),
     st.tuples(_coordinate, _coordinate).map(lambda point: f"o<segment> call [{point[0]:g}] [{point[1]:g}]"),
     st.integers(1, 3).map(lambda count: f"oLOOP repeat [{count}]\nG91 G0 Y0.5\nG90\noLOOP endrepeat"),
@@ -159,11 +158,13 @@ _SUBROUTINE = "o<segment> sub\nG1 X#1 Y#2 F150\no<segment> endsub\n"
 def test_generated_programs_agree_with_rs274(units, statements):
     """Units are chosen once at the top: after a G20/G21 switch rs274 reports the position
     converted to the new unit, while ncverify keeps the numbers it had (a known difference).
-    Each loop gets its own O-number (rs274 refuses a reused one)."""
+    Each loop gets its own O-number (rs274 refuses a reused one). The peck cycles G73/G83
+    are left out: rs274 reports every peck as a move, ncverify drills them as one infeed."""
     rs274_available()
     body = "\n".join(statement.replace("oLOOP", f"o{100 + index}") for index, statement in enumerate(statements))
     program = _SUBROUTINE + f"{units} G90 G17 G40 G49 G80\nG0 X0 Y0 Z10\n" + body + "\nM2\n"
     theirs = run_rs274(program)
-    ours, _trace = run_ncverify(program)
-    assert theirs.error is None, theirs.error
+    ours, trace = run_ncverify(program)
     assert compare(theirs, ours) == []
+    if theirs.error is not None:  # an R point below the hole bottom
+        assert [rule for rule, line, status in trace.findings if line in error_lines(theirs) and status == "violated"], theirs.error

@@ -58,6 +58,8 @@ def linuxcnc_table(machine: str = "mill") -> CodeTable:
         g.update(lathe.get("g", {}))
         words.update(lathe.get("words", {}))
         power_on.update(lathe.get("power_on", {}))
+    # RS274NGC hole cycles: a tool below R rises to it first; G98 returns to the higher of the initial level and R
+    cycles = {name: {**model, "rises_to_r": True, "retract_to_higher": True} if "infeed" in model else model for name, model in cycles.items()}
     return CodeTable("linuxcnc", machine, g, m, words, power_on, dict(mill["settings"]), cycles)
 
 
@@ -100,6 +102,11 @@ class LinuxcncLowering(IsoLowering):
         super().__init__(table, 0.0)
         self.max_m_words = 5  # RS274NGC: one M word per modal group, up to five groups
         self.loops: dict[tuple, tuple[str, int]] = {}  # (path, o-name) -> (loop kind, line of its head)
+
+    def _dwell_seconds(self, rest: dict) -> ir.Expr | None:
+        """G4 P is in seconds, with or without a decimal point."""
+        word = rest.pop("P", None)
+        return None if word is None else word.value
 
     def lower_line(self, read: ReadBlock, path) -> list[ir.Block]:
         for item in read.items:
