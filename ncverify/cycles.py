@@ -247,21 +247,21 @@ class CycleRunner:
             self._rapid_to({axis: entry}, span, block, "into-hole", name)
         self._rapid_to({axis: bottom}, span, block, "infeed", name, "feed")
         retract_kind = "feed" if model.get("retract") == "feed" else "rapid"
-        straight_out = model.get("retract_to_higher") and retract_kind == "rapid" and reference is None and state.modal.get("cycle_return") != "r_point"
-        if not straight_out:  # LinuxCNC rapids out of the hole straight to the G98 level
+        straight_out = model.get("retract_to_higher") and reference is None and state.modal.get("cycle_return") != "r_point"
+        if not straight_out:  # LinuxCNC leaves the hole straight to the G98 level, at the cycle's retract kind
             self._rapid_to({axis: r_point}, span, block, "out-of-hole", name, retract_kind)
         if reference is not None:
             self._rapid_to({axis: reference}, span, block, "out-of-hole", name)
-        self._retract(cycle, span, block, r_point)
+        self._retract(cycle, span, block, r_point, retract_kind if straight_out else "rapid")
 
-    def _retract(self, cycle: ActiveCycle, span, block, r_point=None) -> None:
+    def _retract(self, cycle: ActiveCycle, span, block, r_point=None, kind: str = "rapid") -> None:
         """G98: rapid back to the initial level (G99 stays at the R point); with
         ``retract_to_higher`` (LinuxCNC) to the higher of the initial level and R."""
         if self.state.modal.get("cycle_return") != "r_point" and cycle.initial is not None:
             level = cycle.initial
             if cycle.model.get("retract_to_higher") and type(level) is float and type(r_point) is float:
                 level = max(level * cycle.up, r_point * cycle.up) * cycle.up
-            self._rapid_to({self._drill_axis(cycle.model): level}, span, block, "retract", cycle.cycle)
+            self._rapid_to({self._drill_axis(cycle.model): level}, span, block, "retract", cycle.cycle, kind)
 
     def _levels(self, model: dict, axis: str, data: dict, initial, incremental: bool):
         """R point and bottom on the drilling axis (seed L2059 and the lathe table L2890)."""

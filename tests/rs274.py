@@ -9,6 +9,7 @@ like ncverify's segments.
 """
 from __future__ import annotations
 
+import math
 import os
 import re
 import subprocess
@@ -50,9 +51,32 @@ class Run:
     """Moves per source line (end points X, Y, Z in order), and where the run stopped."""
 
     moves: dict[int, list[tuple]] = field(default_factory=dict)
+    sequence: list[tuple[int, tuple]] = field(default_factory=list)  # (line, move) in execution order
     lines_run: set = field(default_factory=set)
     error: str | None = None
     error_line: int | None = None
+
+    def add(self, line: int, move: tuple) -> None:
+        self.moves.setdefault(line, []).append(move)
+        self.sequence.append((line, move))
+
+    def simplified(self) -> dict[int, list[tuple]]:
+        """Moves per line without zero-length moves (measured from wherever the move
+        before, of any line, ended), and with a rapid that only stops on the way of the
+        next rapid of its line merged into it (rs274 rapids out of a G98 hole in one move,
+        the ISO model in two)."""
+        lines: dict[int, list[tuple]] = {}
+        previous = None
+        for line, point in self.sequence:
+            if previous is not None and not _differs(point, previous):
+                continue
+            previous = point
+            kept = lines.setdefault(line, [])
+            if len(kept) >= 2 and kept[-1][3] == point[3] == "rapid" and _between(kept[-1], kept[-2], point):
+                kept[-1] = point
+                continue
+            kept.append(point)
+        return lines
 
 
 _CALL = re.compile(r"^\s*\d+ N\.+\s+(\w+)\((.*)\)\s*$")
@@ -111,12 +135,12 @@ def run_rs274(text: str, folder: Path | None = None, name: str = "program.ngc", 
             plane = _PLANES.get(arguments.strip(), plane)
         elif call in ("STRAIGHT_TRAVERSE", "STRAIGHT_FEED"):
             numbers = [float(value) for value in arguments.split(",")]
-            run.moves.setdefault(line, []).append(tuple(numbers[:3]))
+            run.add(line, (*numbers[:3], "rapid" if call == "STRAIGHT_TRAVERSE" else "feed"))
         elif call == "ARC_FEED":
             numbers = [float(value) for value in arguments.split(",")]
             point = [0.0, 0.0, 0.0]
             point[plane[0]], point[plane[1]], point[plane[2]] = numbers[0], numbers[1], numbers[5]
-            run.moves.setdefault(line, []).append(tuple(point))
+            run.add(line, (*point, "feed"))
     if returncode != 0:
         messages = [text for text in stderr.strip().splitlines() if text.strip() and text.strip() != "executing"]
         run.error = messages[0] if messages else "error"
@@ -154,23 +178,25 @@ class Trace:
         self.findings.append((rule, span.line, "violated"))
 
 
-def run_ncverify(text: str, folder: Path | None = None, name: str = "program.ngc") -> tuple[Run, Trace]:
+def run_ncverify(text: str, folder: Path | None = None, name: str = "program.ngc", dialect: str = "linuxcnc",
+                 profile: str | None = None) -> tuple[Run, Trace]:
     """ncverify's moves per line (main file only; None where an axis is unknown)."""
     source = ProgramSource.from_text(text, name)
-    settings = Settings(dialect="linuxcnc", subprogram_path=(folder,) if folder else ())
-    detection = Detection("linuxcnc", 1.0)
-    setup = setup_for("linuxcnc", settings, detection, Context())
-    setup.frontend.program_context(source)  # as the pipeline does before a run: the O-word structure
+    settings = Settings(dialect=dialect, profile=profile, subprogram_path=(folder,) if folder else ())
+    detection = Detection(dialect, 1.0, profile=profile)
+    setup = setup_for(dialect, settings, detection, Context())
+    if hasattr(setup.frontend, "program_context"):
+        setup.frontend.program_context(source)  # as the pipeline does before a run (LinuxCNC: the O-word structure)
     trace = Trace()
     library = SubprogramLibrary([folder] if folder else [], settings.extensions)
     Interpreter(source, setup.frontend, trace, settings, power_on=setup.power_on, cycle_models=setup.cycle_models,
-                twins=setup.twins, machine=setup.machine, increment=0.0, library=library).run()
+                twins=setup.twins, machine=setup.machine, increment=setup.increment or 0.0, library=library).run()
     run = Run()
     for segment in trace.segments:
         if segment.span.path is not None:
             continue
         end = tuple(value if type(value) is float else None for value in (segment.end.get(axis) for axis in "XYZ"))
-        run.moves.setdefault(segment.span.line, []).append(end)
+        run.add(segment.span.line, (*end, "rapid" if segment.kind == "rapid" else "feed"))
     return run, trace
 
 
@@ -181,21 +207,33 @@ def error_lines(run: Run) -> range:
     return range(run.error_line, min(later) if later else 1 << 30)
 
 
-def _without_repeats(moves: list[tuple]) -> list[tuple]:
-    kept = []
-    for point in moves:
-        if not kept or any(a is not None and b is not None and abs(a - b) > PRINTED for a, b in zip(point, kept[-1])):
-            kept.append(point)
-    return kept
+def _differs(a: tuple, b: tuple) -> bool:
+    return any(x is not None and y is not None and abs(x - y) > PRINTED for x, y in zip(a[:3], b[:3]))
+
+
+def _between(middle: tuple, first: tuple, last: tuple) -> bool:
+    """Is ``middle`` on the straight segment from ``first`` to ``last`` (all known)?"""
+    points = [point[:3] for point in (first, middle, last)]
+    if any(value is None for point in points for value in point):
+        return False
+    (ax, ay, az), (mx, my, mz), (bx, by, bz) = points
+    span = (bx - ax, by - ay, bz - az)
+    length = math.sqrt(sum(c * c for c in span))
+    if length <= PRINTED:
+        return False
+    t = sum(c * d for c, d in zip(span, (mx - ax, my - ay, mz - az))) / (length * length)
+    closest = (ax + t * span[0], ay + t * span[1], az + t * span[2])
+    return -PRINTED <= t * length <= length + PRINTED and math.dist(closest, (mx, my, mz)) <= PRINTED
 
 
 def compare(expected: Run, actual: Run) -> list[str]:
     """Lines whose moves differ: a different number of moves (zero-length moves aside), or
     an end point that ncverify knows and that is off by more than the tolerance."""
     problems = []
-    for line in sorted(set(expected.moves) | set(actual.moves)):
-        theirs = _without_repeats(expected.moves.get(line, []))
-        ours = _without_repeats(actual.moves.get(line, []))
+    expected_lines, actual_lines = expected.simplified(), actual.simplified()
+    for line in sorted(set(expected_lines) | set(actual_lines)):
+        theirs = expected_lines.get(line, [])
+        ours = actual_lines.get(line, [])
         if expected.error is not None:  # rs274 stopped at its error; ncverify went on
             if line >= expected.error_line:
                 continue
@@ -204,7 +242,7 @@ def compare(expected: Run, actual: Run) -> list[str]:
             problems.append(f"line {line}: rs274 made {len(theirs)} moves, ncverify {len(ours)}: {theirs[:4]} / {ours[:4]}")
             continue
         for index, (their, our) in enumerate(zip(theirs, ours)):
-            for axis, a, b in zip("XYZ", their, our):
+            for axis, a, b in zip("XYZ", their[:3], our[:3]):
                 if b is not None and abs(a - b) > PRINTED:
                     problems.append(f"line {line} move {index + 1}: {axis} is {a} in rs274, {b} in ncverify")
     return problems

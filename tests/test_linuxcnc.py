@@ -15,7 +15,7 @@ CORPUS = Path(__file__).resolve().parent.parent.parent / "shared" / "corpus-real
 
 def _ends(program: str) -> list[tuple]:
     ours, _trace = run_ncverify(program)
-    return [point for line in sorted(ours.moves) for point in ours.moves[line]]
+    return [point[:3] for line in sorted(ours.moves) for point in ours.moves[line]]
 
 
 def test_detected_from_o_words_named_parameters_and_active_comments():

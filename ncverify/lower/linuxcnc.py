@@ -376,11 +376,13 @@ def oword_structure(buffer) -> dict[int, list[ir.Note]]:
         notes.setdefault(span.line, []).append(ir.Note("linuxcnc.oword-structure", message, span))
 
     pattern = re.compile(_OWORD_LINE)
+    line, counted = 1, 0
     for match in pattern.finditer(buffer):
         start = match.start()
         newline = buffer.find(b"\n", start)
         raw = bytes(buffer[start : len(buffer) if newline < 0 else newline])
-        line = buffer.count(b"\n", 0, start) + 1
+        line += bytes(buffer[counted:start]).count(b"\n")  # a file may be an mmap: count piecewise
+        counted = start
         for read in read_line(decode_line(raw), line):
             for item in read.items:
                 if isinstance(item, OWord):
