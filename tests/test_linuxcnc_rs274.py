@@ -29,9 +29,8 @@ EXPLAINED_MOVES = {
     "039_linuxcnc-inverse-time-with-comp.ngc": "cutter compensation: rs274 reports the offset path (with corner arcs), ncverify the programmed one",
     "029_lathe-g70-71-demo.ngc": "lathe cycles G70/G71 are read but their passes are not modelled",
     "030_linuxcnc-g71-endless-loop.ngc": "lathe cycle G71 is not modelled (and rs274 does not finish on it)",
-    "034_linuxcnc-hole-circle.ngc": "'^60' is taken by rs274 without complaint; ncverify reads '^' as a syntax error",
+    "034_linuxcnc-hole-circle.ngc": "polar coordinates ('^60', the angle word) are read but not modelled: the holes' places are unknown",
     "048_linuxcnc-m19.ngc": "M19 R.. Q.. P..: ncverify reads the R/Q/P words as a move to an unknown place, rs274 as the orientation's words",
-    "052_linuxcnc-m98m99-basics.ngc": "Fanuc-style O1 ... M99 subprograms called by M98 are not read by the LinuxCNC dialect",
 }
 # Files where rs274 stops with an error ncverify does not report at that line, and why.
 EXPLAINED_ERRORS = {
@@ -50,9 +49,7 @@ EXPLAINED_ERRORS = {
 BROKEN = {
     "016_linuxcnc-bad-exists-1.ngc": "EXISTS of something that is not a parameter (rs274: 'Expected # reading parameter')",
     "028_linuxcnc-g68-frame.ngc": "G68 is not an RS274NGC code (rs274: 'Unknown g code used')",
-    "034_linuxcnc-hole-circle.ngc": "'^60' is no word of any axis",
     "043_lagun-HEMA-P004-merge-conflict.ngc": "a version-control merge conflict left in the file (<<<<<<< lines)",
-    "052_linuxcnc-m98m99-basics.ngc": "a Fanuc-style O1 program number line",
     "055_nestedcall-callsub.ngc": "text after an O-word call that is not a bracketed argument",
     "060_probescreen-psng_xplus.ngc": "an O-word call with an unbracketed argument",
 }

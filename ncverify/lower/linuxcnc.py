@@ -30,7 +30,7 @@ from .. import ir
 from ..context import Context, Tool
 from ..dialect import DialectSetup
 from ..read.iso import ReadBlock, Statement
-from ..read.linuxcnc import OWord, read_line
+from ..read.linuxcnc import POLAR, OWord, read_line
 from ..resources import data_dir
 from ..source import Span, decode_line, find_all, line_start
 from ..tables import CodeTable
@@ -116,7 +116,11 @@ class LinuxcncLowering(IsoLowering):
                 item.value = _logical(item.value)
         owords = [item for item in read.items if isinstance(item, OWord)]
         if not owords or read.problem:
+            polar = [item for item in read.items if getattr(item, "letter", None) in POLAR]
+            read.items = [item for item in read.items if item not in polar]
             block = self.lower(read, path)
+            if polar:
+                self._polar_unsupported(block, polar, read, path)
             self._comment_actions(block)
             return [block]
         oword = owords[0]
@@ -198,6 +202,16 @@ class LinuxcncLowering(IsoLowering):
         result.notes.append(ir.Note("core.syntax", f"{name} {keyword.lower()} is not an O-word statement", span))
         return [result]
 
+    @staticmethod
+    def _polar_unsupported(block: ir.Block, polar: list, read: ReadBlock, path) -> None:
+        """``@`` (distance) and ``^`` (angle): polar coordinates are read, not modelled; the
+        block's motion (and a cycle it defines) goes somewhere unknown."""
+        span = Span(read.line, polar[0].start + 1, read.line, polar[-1].end + 1, path)
+        block.ops = [op for op in block.ops if not isinstance(op, (ir.Move, ir.CycleDefine))]  # a cycle would drill at the wrong place
+        block.ops.append(ir.Unsupported(span, "polar coordinates (@ distance, ^ angle)", ("position",)))
+        block.notes.append(ir.Note("core.unsupported-code", "polar coordinates (@ distance, ^ angle) are read but not modelled; "
+                                   "checks that depend on where this block moves answer unknown", span))
+
     # ------------------------------------------------------------------ active comments
 
     def _comment_actions(self, block: ir.Block) -> None:
@@ -210,6 +224,7 @@ class LinuxcncLowering(IsoLowering):
 
 _OWORD_LINE = rb"(?im)^[ \t]*(?:/[ \t]*)?(?:N[ \t]*[\d.]+[ \t]*)?O[ \t]*"
 _SUB = re.compile(_OWORD_LINE + rb"(\d+|<[^>\n]*>)[ \t]*S[ \t]*U[ \t]*B(?![ \t]*[A-Z])")
+_FANUC_PROGRAM = re.compile(rb"(?im)^[ \t]*O[ \t]*(\d+)[ \t]*(?:\([^)\n]*\)[ \t]*|;[^\n]*)?\r?$")  # O1 ... M99, called by M98
 _ENDSUB = rb"[ \t]*E[ \t]*N[ \t]*D[ \t]*S[ \t]*U[ \t]*B"
 _PROGRAM_END = re.compile(rb"(?im)^[^;(\n]*\bM0*(?:2|30)(?![0-9.])|^[ \t]*%[ \t]*$")
 
@@ -253,6 +268,8 @@ class LinuxcncFrontend(IsoFrontend):
     def programs(self, buffer) -> list[tuple[str, int]]:
         """The main program at the top, then each subroutine from the line after its ``sub``."""
         found = [("main", 0)]
+        for match in _FANUC_PROGRAM.finditer(buffer):
+            found.append((f"O{int(match.group(1))}", match.start()))
         for match in _SUB.finditer(buffer):
             newline = buffer.find(b"\n", match.end())
             body = len(buffer) if newline < 0 else newline + 1
@@ -262,7 +279,7 @@ class LinuxcncFrontend(IsoFrontend):
     def program_extent(self, buffer, start: int) -> int:
         """Where the program starting at ``start`` ends: a subroutine at the end of its
         ``endsub`` line, the main program at the end of the file."""
-        if start == 0:
+        if start == 0 or _FANUC_PROGRAM.match(buffer, start):
             return len(buffer)
         sub_line = line_start(buffer, max(start - 2, 0))
         match = _SUB.match(buffer, sub_line)

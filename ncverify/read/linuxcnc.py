@@ -28,6 +28,7 @@ _NUMBER = re.compile(r"[+-]?(?:\d+\.?\d*|\.\d+)")
 _FUNCTION = re.compile("|".join(sorted(FUNCTIONS, key=len, reverse=True)))
 _KEYWORD = re.compile("|".join(sorted(OWORD_KEYWORDS, key=len, reverse=True)))
 _MAX_DEPTH = 60
+POLAR = "@^"  # polar distance and angle words
 
 
 @dataclass(slots=True)
@@ -144,7 +145,7 @@ def _read_items(body: _Text, block: ReadBlock) -> None:
             body.expect("=")
             value = _read_value(body)
             block.items.append(Statement("assign", start, body.column(body.position - 1) + 1, target=target, value=value))
-        elif char.isalpha():
+        elif char.isalpha() or char in POLAR:
             body.position += 1
             value = _read_value(body)
             block.items.append(Word(char, value, True, start, body.column(body.position - 1) + 1))
@@ -152,7 +153,7 @@ def _read_items(body: _Text, block: ReadBlock) -> None:
             raise ReadError(f"'{char}' cannot start a word here", start)
 
 
-def _read_oword(body: _Text) -> OWord:
+def _read_oword(body: _Text) -> "OWord | Word":
     start = body.column()
     body.position += 1
     if body.peek() == "<":
@@ -161,6 +162,8 @@ def _read_oword(body: _Text) -> OWord:
         number = _read_number(body)
         name = f"o{int(number)}"
     match = _KEYWORD.match(body.chars, body.position)
+    if match is None and body.at_end() and not name.startswith("o<"):
+        return Word("O", float(name[1:]), True, start, body.column(body.position - 1) + 1)  # a Fanuc-style program number (M98 target)
     if match is None:
         raise ReadError(f"{name} needs a keyword (sub, call, if, while, ...)", body.column())
     body.position = match.end()
