@@ -19,7 +19,7 @@ from pathlib import Path
 
 import pytest
 
-from ncverify import Settings
+from ncverify import Settings, check_text
 from ncverify.context import Context
 from ncverify.detect import Detection
 from ncverify.dialect import setup_for
@@ -152,6 +152,7 @@ def run_rs274(text: str, folder: Path | None = None, name: str = "program.ngc", 
 class Trace:
     segments: list = field(default_factory=list)
     findings: list = field(default_factory=list)
+    errors: dict = field(default_factory=dict)  # line -> a rule that found an error there (severity error, violated)
 
     def segment(self, segment, state):
         self.segments.append(segment)
@@ -180,7 +181,8 @@ class Trace:
 
 def run_ncverify(text: str, folder: Path | None = None, name: str = "program.ngc", dialect: str = "linuxcnc",
                  profile: str | None = None) -> tuple[Run, Trace]:
-    """ncverify's moves per line (main file only; None where an axis is unknown)."""
+    """ncverify's moves per line (main file only; None where an axis is unknown), and its
+    findings: the interpreter's own and the rules' (the program is checked as well)."""
     source = ProgramSource.from_text(text, name)
     settings = Settings(dialect=dialect, profile=profile, subprogram_path=(folder,) if folder else ())
     detection = Detection(dialect, 1.0, profile=profile)
@@ -191,6 +193,10 @@ def run_ncverify(text: str, folder: Path | None = None, name: str = "program.ngc
     library = SubprogramLibrary([folder] if folder else [], settings.extensions)
     Interpreter(source, setup.frontend, trace, settings, power_on=setup.power_on, cycle_models=setup.cycle_models,
                 twins=setup.twins, machine=setup.machine, increment=setup.increment or 0.0, library=library).run()
+    checked = check_text(text, name, settings)  # the rules' findings, through the whole pipeline
+    main_file = [finding for finding in checked.diagnostics if finding.span.path is None]
+    trace.findings += [(finding.rule, finding.span.line, finding.status.value) for finding in main_file]
+    trace.errors = {finding.span.line: finding.rule for finding in main_file if finding.status.value == "violated" and finding.severity.value == "error"}
     run = Run()
     for segment in trace.segments:
         if segment.span.path is not None:

@@ -56,12 +56,12 @@ def test_subroutine_arguments_are_local_and_return_a_value():
 
 
 def test_reading_a_named_parameter_never_set_is_a_finding():
-    result = check_text("G21\nG0 X[#<nowhere> + 1]\nM2\n", Settings(dialect="linuxcnc"))
+    result = check_text("G21\nG0 X[#<nowhere> + 1]\nM2\n", "t.ngc", Settings(dialect="linuxcnc"))
     assert any(finding.rule == "core.undefined-variable" and finding.span.line == 2 for finding in result.diagnostics)
 
 
 def test_an_endless_while_loop_hits_the_loop_bound():
-    result = check_text("o1 while [1]\nG91 G0 X1\no1 endwhile\nM2\n", Settings(dialect="linuxcnc", loop_bound=50))
+    result = check_text("o1 while [1]\nG91 G0 X1\no1 endwhile\nM2\n", "t.ngc", Settings(dialect="linuxcnc", loop_bound=50))
     assert any(finding.rule == "core.loop-bound" for finding in result.diagnostics)
 
 

@@ -29,7 +29,7 @@ from pathlib import Path
 from .. import ir
 from ..context import Context, Tool
 from ..dialect import DialectSetup
-from ..read.iso import ReadBlock, Statement
+from ..read.iso import ReadBlock, Statement, Word
 from ..read.linuxcnc import POLAR, OWord, read_line
 from ..resources import data_dir
 from ..source import Span, decode_line, find_all, line_start
@@ -116,12 +116,15 @@ class LinuxcncLowering(IsoLowering):
                 item.value = _logical(item.value)
         owords = [item for item in read.items if isinstance(item, OWord)]
         if not owords or read.problem:
-            polar = [item for item in read.items if getattr(item, "letter", None) in POLAR]
+            polar = [item for item in read.items if isinstance(item, Word) and item.letter in POLAR]
             read.items = [item for item in read.items if item not in polar]
             block = self.lower(read, path)
             if polar:
                 self._polar_unsupported(block, polar, read, path)
             self._comment_actions(block)
+            for note in block.notes:
+                if note.rule == "core.unknown-code":  # LinuxCNC refuses the block: an error, not a warning
+                    note.rule, note.message = "linuxcnc.unknown-code", note.message.replace("its effect is not modelled", "LinuxCNC stops with 'Unknown g code used'")
             return [block]
         oword = owords[0]
         read.items = [item for item in read.items if not isinstance(item, OWord)]
