@@ -645,6 +645,13 @@ class Interpreter(ControlFlow):
                 self._change("set_position", op.span, block, None, new)
         elif op.kind == "data":
             self._change("data_setting", op.span, block, op_values(op.values, self, op.span), op_values(op.words, self, op.span))
+        elif op.kind == "shared_offset":  # LinuxCNC G52: sets, not adds to, the offset G92 shares
+            shifted = {}
+            for axis, value in op_values(op.values, self, op.span).items():
+                current, known = self.state.position.get(axis), self.state.coordinate_shift.get(axis, 0.0)
+                shifted[axis] = None if current is None or known is None else values.sub(values.add(current, known), value)
+                self.state.coordinate_shift[axis] = value
+            self.state.move_to(shifted)
         elif op.kind == "local":
             shifted = {}
             for axis, shift in op_values(op.values, self, op.span).items():

@@ -66,7 +66,7 @@ class Run:
         next rapid of its line merged into it (rs274 rapids out of a G98 hole in one move,
         the ISO model in two)."""
         lines: dict[int, list[tuple]] = {}
-        previous = None
+        previous = (0.0, 0.0, 0.0, "rapid")  # rs274 starts at machine zero
         for line, point in self.sequence:
             if previous is not None and not _differs(point, previous):
                 continue
@@ -214,7 +214,8 @@ def error_lines(run: Run) -> range:
 
 
 def _differs(a: tuple, b: tuple) -> bool:
-    return any(x is not None and y is not None and abs(x - y) > PRINTED for x, y in zip(a[:3], b[:3]))
+    """Are two end points apart (an unknown coordinate may be anywhere: apart)?"""
+    return any(x is None or y is None or abs(x - y) > PRINTED for x, y in zip(a[:3], b[:3]))
 
 
 def _between(middle: tuple, first: tuple, last: tuple) -> bool:
