@@ -136,7 +136,7 @@ _REPORTED_FROM_TRACE = {
     "core.repeat-count-range", "core.shape-order", "core.dialect-unsupported", "core.decimal-point", "core.bad-annotation",
     "heidenhain.call-without-cycle", "heidenhain.cycle-with-compensation", "heidenhain.call-pos-axes", "heidenhain.sl-prerequisites",
     "heidenhain.position-after-cycle", "heidenhain.program-name-mismatch", "heidenhain.mirror-tool-axis", "heidenhain.call-without-tool", "heidenhain.pattern-surface",
-    "heidenhain.pattern-tool-axis", "sinumerik.nested-mcall",
+    "heidenhain.pattern-tool-axis", "sinumerik.nested-mcall", "linuxcnc.oword-structure", "linuxcnc.unknown-code",
 }
 
 
