@@ -22,7 +22,6 @@ from __future__ import annotations
 
 import re
 import tomllib
-import zlib
 from functools import cache
 from pathlib import Path
 
@@ -32,7 +31,7 @@ from ..dialect import DialectSetup
 from ..read.iso import ReadBlock, Statement, Word
 from ..read.linuxcnc import POLAR, OWord, read_line
 from ..resources import data_dir
-from ..source import Span, decode_line, find_all, line_start
+from ..source import Span, decode_line, line_start
 from ..tables import CodeTable
 from ..values import VACANT
 from .iso import IsoFrontend, IsoLowering, _PLAIN_MOTION
