@@ -4,6 +4,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
+from hypothesis import given, settings, strategies as st
 
 from ncverify import Settings, check_file, check_text
 from ncverify.detect import detect
@@ -69,3 +70,17 @@ def test_tool_table_lines_give_number_radius_and_length():
     tools = read_tool_table("T1 P1 D6.0 Z-12.5 ;end mill\n;comment\nT7 P3 Z0.5 D0.25\n")
     assert (tools[1].radius, tools[1].length) == (3.0, -12.5)
     assert (tools[7].radius, tools[7].length) == (0.125, 0.5)
+
+
+_LINE_PIECES = st.sampled_from(["G1", "X", "#<a>", "#1", "=", "[", "]", "1.5", "-", "**", "AND", "o100", "o<s>", "sub", "if",
+                                "endif", "call", "while", "do", "(c)", "(abort,x)", ";x", "@", "^", "EXISTS", "ATAN", "/", "M98",
+                                "O1", "N10", " ", "SIN"])
+
+
+@settings(max_examples=300, deadline=None)
+@given(st.lists(st.lists(_LINE_PIECES, max_size=8).map("".join), min_size=1, max_size=6))
+def test_any_text_is_read_and_run_without_a_crash(lines):
+    """Whatever the lines hold, the reader, the lowering and the interpreter answer with
+    findings, never an exception."""
+    result = check_text("\n".join(lines) + "\nM2\n", "t.ngc", Settings(dialect="linuxcnc", loop_bound=20))
+    assert result.dialect == "linuxcnc"
