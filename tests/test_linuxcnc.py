@@ -84,3 +84,12 @@ def test_any_text_is_read_and_run_without_a_crash(lines):
     findings, never an exception."""
     result = check_text("\n".join(lines) + "\nM2\n", "t.ngc", Settings(dialect="linuxcnc", loop_bound=20))
     assert result.dialect == "linuxcnc"
+
+
+def test_tool_table_beside_the_program_is_its_context(tmp_path):
+    (tmp_path / "tool.tbl").write_text("T1 P1 D6.0 Z0 ;end mill\n", encoding="ascii")
+    program = tmp_path / "part.ngc"
+    program.write_text("G21 G90\nT5 M6\nG43 H5\nM2\n", encoding="ascii")
+    assert any(finding.rule == "core.tool-not-in-table" for finding in check_file(program).diagnostics)
+    program.write_text("G21 G90\nT1 M6\nG43 H1\nM2\n", encoding="ascii")
+    assert not any(finding.rule == "core.tool-not-in-table" for finding in check_file(program).diagnostics)
