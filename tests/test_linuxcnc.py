@@ -93,3 +93,11 @@ def test_tool_table_beside_the_program_is_its_context(tmp_path):
     assert any(finding.rule == "core.tool-not-in-table" for finding in check_file(program).diagnostics)
     program.write_text("G21 G90\nT1 M6\nG43 H1\nM2\n", encoding="ascii")
     assert not any(finding.rule == "core.tool-not-in-table" for finding in check_file(program).diagnostics)
+
+
+def test_a_subroutine_file_is_found_by_its_name(tmp_path):
+    (tmp_path / "corner.ngc").write_text("o<corner> sub\nG1 X#1 Y#2 F100\no<corner> endsub\nM2\n", encoding="ascii")
+    program = "G21 G90 G0 X0 Y0 Z5\no<corner> call [3] [4]\nG0 X[#5420 + 1]\nM2\n"
+    ours, trace = run_ncverify(program, tmp_path, "main.ngc")
+    assert [point[:3] for point in ours.moves[3]] == [(4.0, 4.0, 5.0)]
+    assert "core.program-not-found" not in {rule for rule, _line, _status in trace.findings}
