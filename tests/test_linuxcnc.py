@@ -101,3 +101,10 @@ def test_a_subroutine_file_is_found_by_its_name(tmp_path):
     ours, trace = run_ncverify(program, tmp_path, "main.ngc")
     assert [point[:3] for point in ours.moves[3]] == [(4.0, 4.0, 5.0)]
     assert "core.program-not-found" not in {rule for rule, _line, _status in trace.findings}
+
+
+def test_the_words_of_an_m_code_are_not_a_hole_of_a_modal_cycle():
+    program = "G21 G90 G0 X0 Y0 Z5\nG99 G81 X1 Y1 Z-2 R1 F100\nM66 P0 L3 Q2\nM19 R90 Q2\nX2\nG80\nM2\n"
+    ours, _trace = run_ncverify(program)
+    assert 3 not in ours.moves and 4 not in ours.moves
+    assert ours.moves[5][-1][:3] == (2.0, 1.0, 1.0)

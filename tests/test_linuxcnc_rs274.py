@@ -34,7 +34,6 @@ EXPLAINED_MOVES = {
     "029_lathe-g70-71-demo.ngc": "lathe cycles G70/G71 are read but their passes are not modelled",
     "030_linuxcnc-g71-endless-loop.ngc": "lathe cycle G71 is not modelled (and rs274 does not finish on it)",
     "034_linuxcnc-hole-circle.ngc": "polar coordinates ('^60', the angle word) are read but not modelled: the holes' places are unknown",
-    "048_linuxcnc-m19.ngc": "M19 R.. Q.. P..: ncverify reads the R/Q/P words as a move to an unknown place, rs274 as the orientation's words",
 }
 # Files where rs274 stops with an error ncverify does not report at that line, and why.
 EXPLAINED_ERRORS = {

@@ -39,6 +39,7 @@ from .iso import IsoFrontend, IsoLowering, _PLAIN_MOTION
 LAST_PARAMETER = 5602.0  # the highest numbered parameter
 ARGUMENTS = 30  # #1-#30 are a subroutine's arguments
 _VALUE = ir.Var("#<_value>")
+_M_CODE_WORDS = {19.0: "RQP", 61.0: "Q", 62.0: "P", 63.0: "P", 64.0: "P", 65.0: "P", 66.0: "PELQ", 67.0: "EQ", 68.0: "EQ"}
 _VACANT = ir.Var("#0")
 
 
@@ -113,6 +114,7 @@ class LinuxcncLowering(IsoLowering):
                 item.value = _logical(item.value)
             elif hasattr(item, "value") and isinstance(item.value, (ir.Binary, ir.Unary, ir.Func, ir.Var)):
                 item.value = _logical(item.value)
+        self._drop_m_code_words(read)
         owords = [item for item in read.items if isinstance(item, OWord)]
         if not owords or read.problem:
             polar = [item for item in read.items if isinstance(item, Word) and item.letter in POLAR]
@@ -203,6 +205,17 @@ class LinuxcncLowering(IsoLowering):
         result = block()
         result.notes.append(ir.Note("core.syntax", f"{name} {keyword.lower()} is not an O-word statement", span))
         return [result]
+
+    @staticmethod
+    def _drop_m_code_words(read: ReadBlock) -> None:
+        """The words an M code takes (M19 R Q P, M66 P E L Q, M62-M65 P, M67/M68 E Q, M61 Q)
+        are its own: left in, they would read as a move (and drill a hole under a modal cycle)."""
+        taken = set()
+        for item in read.items:
+            if isinstance(item, Word) and item.letter == "M" and isinstance(item.value, float):
+                taken |= set(_M_CODE_WORDS.get(item.value, ""))
+        if taken:
+            read.items = [item for item in read.items if not (isinstance(item, Word) and item.letter in taken)]
 
     @staticmethod
     def _polar_unsupported(block: ir.Block, polar: list, read: ReadBlock, path) -> None:
