@@ -169,3 +169,16 @@ def test_generated_programs_agree_with_rs274(units, statements):
     assert compare(theirs, ours) == []
     if theirs.error is not None:  # an R point below the hole bottom
         assert [rule for line, rule in trace.errors.items() if line in error_lines(theirs)], theirs.error
+
+
+@settings(max_examples=30, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(st.sampled_from(["G20", "G21"]), st.sampled_from(["G2", "G3"]), st.integers(1, 80), st.integers(-400, 400))
+def test_an_arc_is_refused_exactly_when_rs274_refuses_it(units, code, radius, offset):
+    """The centre moved off the chord's perpendicular bisector by ``offset`` ten-thousandths:
+    LinuxCNC refuses the arc when the two radii differ by more than 0.001 in and 0.1 %."""
+    rs274_available()
+    half = radius / 4.0
+    program = f"{units} G90 G0 X0 Y0 Z1\nG1 F100\n{code} X{2 * half:g} Y0 I{half + offset / 10000:.4f} J0\nM2\n"
+    theirs = run_rs274(program)
+    _ours, trace = run_ncverify(program)
+    assert (theirs.error is not None) == (trace.errors.get(3) == "core.arc-geometry"), (theirs.error, trace.errors)

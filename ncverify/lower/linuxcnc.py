@@ -483,6 +483,9 @@ def setup(settings, detection, project) -> DialectSetup:
     machine = settings.machine or project.machine.kind or detection.machine or "mill"
     table = linuxcnc_table(machine)
     lowering = LinuxcncLowering(table)
-    limits = {"d_register_max": 99999.0, "h_register_max": 99999.0, "tool_number_max": 99999.0}
+    # LinuxCNC refuses an arc whose end radius differs from its start radius by more than 0.001 in
+    # (0.0254 mm) and by more than 0.1 % of the start radius (found by running rs274)
+    limits = {"d_register_max": 99999.0, "h_register_max": 99999.0, "tool_number_max": 99999.0, "arc_tolerance_mm": 0.0254,
+              "arc_relative_tolerance": 0.001}
     return DialectSetup(LinuxcncFrontend(lowering), table.power_on, table.cycles, None, machine,
                         dict(table.words.get("incremental_twins", {})), 0.0, 0.0, limits)
