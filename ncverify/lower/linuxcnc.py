@@ -23,7 +23,6 @@ from __future__ import annotations
 import re
 import tomllib
 from functools import cache
-from pathlib import Path
 
 from .. import ir
 from ..context import Context, Tool
@@ -258,9 +257,8 @@ class LinuxcncFrontend(IsoFrontend):
 
     dialect = "linuxcnc"
 
-    def __init__(self, lowering: LinuxcncLowering, tool_table: Path | None = None):
+    def __init__(self, lowering: LinuxcncLowering):
         super().__init__(lowering)
-        self.tool_table = tool_table
         self.structure_notes: dict[int, list[ir.Note]] = {}  # line -> O-word structure findings of the main file
 
     def blocks(self, raw: bytes, line: int, path: str | None) -> list[ir.Block]:
@@ -308,9 +306,11 @@ class LinuxcncFrontend(IsoFrontend):
         return len(buffer) if newline < 0 else newline + 1
 
     def is_subprogram(self, buffer, start: int, end: int) -> bool:
+        """Everything but the main code at the top is called (``sub`` bodies, ``O1`` programs)."""
         return start != 0
 
     def tape_marks(self, buffer) -> list[int]:
+        """'%' only brackets a LinuxCNC file; no program text lies outside the marks."""
         return []
 
     def program_name(self, number) -> str:
@@ -380,11 +380,12 @@ class LinuxcncFrontend(IsoFrontend):
         return VACANT if not name.startswith("ini[") and not name.startswith("hal[") else None
 
     def program_context(self, source) -> Context:
-        """LinuxCNC's tool table (``tool.tbl``) beside the program, or the one given."""
+        """LinuxCNC's tool table (``tool.tbl``) beside the program; the O-word structure of
+        the program is checked here too, once, before it runs."""
         context = Context()
         self.structure_notes = oword_structure(source.buffer)
-        table = self.tool_table
-        if table is None and source.path is not None:
+        table = None
+        if source.path is not None:
             table = next((candidate for candidate in source.path.parent.iterdir() if candidate.name.lower() == "tool.tbl"), None)
         if table is not None:
             context.tools = read_tool_table(table.read_text(encoding="utf-8", errors="replace"))
