@@ -10,13 +10,14 @@ from pathlib import Path
 
 from .context import TOOL_KEYS, TOOL_RANGES, TOOL_TYPES, Assumption, Context, Machine, Stock, Tool, tool_value_problem
 from .diagnostics import CATEGORIES, Severity
+from .dialect import DIALECTS, MACHINES
 
 FILE_NAME = "ncverify.toml"
 SETTINGS = {
     "loop_bound": int, "call_depth": int, "max_paths": int, "solver_timeout_s": float, "machine": str,
     "profile": str, "dialect": str, "subprogram_path": list, "rapid_path": str, "least_input_increment": float,
 }
-_CHOICES = {"machine": ("mill", "lathe"), "rapid_path": ("straight", "dogleg"), "dialect": ("iso", "heidenhain", "sinumerik", "fagor")}
+_CHOICES = {"machine": MACHINES, "rapid_path": ("straight", "dogleg"), "dialect": tuple(DIALECTS)}
 _AXES = ("x", "y", "z", "a", "b", "c", "u", "v", "w")
 
 

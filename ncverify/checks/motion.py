@@ -127,13 +127,13 @@ class CompensationAtEnd(Rule):
 
 @rule("core.arc-geometry")
 class ArcGeometry(Rule):
-    tolerance = 0.01  # in program units, unless the dialect states its control's tolerance in mm (arc_tolerance_mm)
+    tolerance = 0.01  # in program units, unless the dialect states its control's own (RuleContext.arc_tolerance)
 
     def _tolerance(self, state) -> float:
-        in_mm = self.checker.context.get("arc_tolerance_mm")
-        if in_mm is None:
+        own = self.checker.context.arc_tolerance
+        if own is None:
             return self.tolerance
-        return in_mm / 25.4 if state.modal.get("units") == "inch" else in_mm
+        return own.absolute_mm / 25.4 if state.modal.get("units") == "inch" else own.absolute_mm
 
     def motion_run(self, run, state):
         """Runs hold no arcs."""
@@ -168,9 +168,9 @@ class ArcGeometry(Rule):
             return
         difference = values.absolute(values.sub(arc.start_radius, arc.end_radius))
         tolerance = self._tolerance(state)
-        relative = self.checker.context.get("arc_relative_tolerance")
-        if relative is not None and type(arc.start_radius) is float:  # LinuxCNC: refused only when off by both measures
-            tolerance = max(tolerance, relative * arc.start_radius)
+        own = self.checker.context.arc_tolerance
+        if own is not None and type(arc.start_radius) is float:  # LinuxCNC: refused only when off by both measures
+            tolerance = max(tolerance, own.relative * arc.start_radius)
         verdict = self.checker.judge(hazard(">", difference, tolerance), state)
         if arc.start_radius == 0.0:
             message = "arc with no centre: I/J/K are all zero or missing and no R is given, so the centre is the start point (is G02/G03 still modal where a G01 was meant?)"

@@ -25,7 +25,8 @@ import tomllib
 from functools import cache
 
 from .. import ir
-from ..context import Context, Tool
+from ..context import ArcTolerance, Context, Tool
+from ..cycle_models import load_cycle_table
 from ..dialect import DialectSetup
 from ..read.iso import ReadBlock, Statement, Word
 from ..read.linuxcnc import POLAR, OWord, read_line
@@ -44,12 +45,10 @@ _VACANT = ir.Var("#0")
 
 @cache
 def linuxcnc_table(machine: str = "mill") -> CodeTable:
-    """LinuxCNC's codes; the cycles reuse the ISO family's hole models."""
+    """LinuxCNC's codes; the cycles are the ISO family's hole models with LinuxCNC's levels."""
     folder = data_dir("dialects")
     with (folder / "linuxcnc" / "mill.toml").open("rb") as handle:
         mill = tomllib.load(handle)
-    with (folder / "iso" / "cycles.toml").open("rb") as handle:
-        cycles = tomllib.load(handle)["cycle"]
     g, m, words, power_on = dict(mill["g"]), dict(mill["m"]), dict(mill["words"]), dict(mill["power_on"])
     if machine == "lathe":
         with (folder / "linuxcnc" / "lathe.toml").open("rb") as handle:
@@ -57,8 +56,8 @@ def linuxcnc_table(machine: str = "mill") -> CodeTable:
         g.update(lathe.get("g", {}))
         words.update(lathe.get("words", {}))
         power_on.update(lathe.get("power_on", {}))
-    # RS274NGC hole cycles: a tool below R rises to it first; G98 returns to the higher of the initial level and R
-    cycles = {name: {**model, "rises_to_r": True, "retract_to_higher": True} if "infeed" in model else model for name, model in cycles.items()}
+    levels = load_cycle_table("linuxcnc")  # what RS274NGC does differently at the levels of the ISO hole cycles
+    cycles = {name: {**model, **levels.get(name, {})} for name, model in load_cycle_table("iso").items()}
     return CodeTable("linuxcnc", machine, g, m, words, power_on, dict(mill["settings"]), cycles)
 
 
@@ -484,9 +483,8 @@ def setup(settings, detection, project) -> DialectSetup:
     machine = settings.machine or project.machine.kind or detection.machine or "mill"
     table = linuxcnc_table(machine)
     lowering = LinuxcncLowering(table)
+    limits = {"d_register_max": 99999.0, "h_register_max": 99999.0, "tool_number_max": 99999.0}
     # LinuxCNC refuses an arc whose end radius differs from its start radius by more than 0.001 in
     # (0.0254 mm) and by more than 0.1 % of the start radius (found by running rs274)
-    limits = {"d_register_max": 99999.0, "h_register_max": 99999.0, "tool_number_max": 99999.0, "arc_tolerance_mm": 0.0254,
-              "arc_relative_tolerance": 0.001}
     return DialectSetup(LinuxcncFrontend(lowering), table.power_on, table.cycles, None, machine,
-                        dict(table.words.get("incremental_twins", {})), 0.0, 0.0, limits)
+                        dict(table.words.get("incremental_twins", {})), 0.0, 0.0, limits, ArcTolerance(0.0254, 0.001))
