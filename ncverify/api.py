@@ -184,6 +184,8 @@ def detect_dialect(source: ProgramSource, settings: Settings) -> Detection:
     """The program's dialect, ISO profile and machine type: ``settings`` over detection."""
     head_bytes = bytes(source.buffer[:65536])
     found = detect(source.head(), head_bytes, Path(source.name).suffix)
+    if found.dialect == "iso" and source.name.lower().endswith(".ngc"):
+        found = Detection("linuxcnc", found.confidence, machine=found.machine)  # LinuxCNC's own extension decides plain G-code
     if settings.dialect is None:
         return found
     if found.dialect is None and "binary" in found.reason:
@@ -222,6 +224,7 @@ def _run(source: ProgramSource, settings: Settings, detection: Detection, result
     rule_context = RuleContext(
         machine=replace(context.machine, kind=dialect.machine), stock=context.stock, tools=ToolTable(context.tools),
         limits=RegisterLimits(**dialect.limits), rapid_path=settings.rapid_path, wording=wording(detection.dialect, dialect.profile),
+        arc_tolerance=dialect.arc_tolerance,
     )
     checker = (checker_class or Checker)(settings, rule_context, context.severity, found.suppressions)
     for note in found.notes:

@@ -239,6 +239,16 @@ class RegisterLimits:
 
 
 @dataclass(frozen=True)
+class ArcTolerance:
+    """How far an arc's end radius may differ from its start radius before the control
+    refuses the arc: refused when off by more than ``absolute_mm`` and more than ``relative``
+    times the start radius (LinuxCNC)."""
+
+    absolute_mm: float
+    relative: float = 0.0
+
+
+@dataclass(frozen=True)
 class RuleContext:
     """What the rules may assume besides the trace: the program's stock, tools and machine
     (after layering program, annotations and project file), the control's register limits,
@@ -250,6 +260,7 @@ class RuleContext:
     limits: RegisterLimits = field(default_factory=RegisterLimits)
     rapid_path: str = "straight"
     wording: Mapping[str, str] = field(default_factory=dict)
+    arc_tolerance: "ArcTolerance | None" = None  # the control's own, where the dialect states it
 
     @property
     def lathe(self) -> bool:

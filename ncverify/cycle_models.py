@@ -83,6 +83,9 @@ class CycleModel:
     starts_spindle: bool = False
     thread_mill: str | None = None
     zero_repeat_moves: bool = False
+    # LinuxCNC
+    rises_to_r: bool = False  # a tool below R rises to it before positioning
+    retract_to_higher: bool = False  # G98 returns straight out to the higher of the initial level and R
 
 
 CYCLE_KEYS = frozenset(item.name for item in fields(CycleModel))

@@ -39,6 +39,13 @@ _SIGNATURES: dict[str, list[tuple[str, float]]] = {
         (r"(?im)\bT\d+[ \t]*D\d+[ \t]*M0?6\b", 4), (r"(?im)\$(?:ENDIF|ENDWHILE|ENDFOR|ENDSWITCH|ENDDO|ELSEIF|CASE|BREAK)\b", 5),
         (r"(?im)^[ \t]*(?:N\d+[ \t]*)?#(?:HSC|MSG|ROUNDPAR|SET|SELECT|WAIT|RET|ERROR|TIME|CAX|RTCP|TLC|CS|ACS|COMMENT)\b", 12),
     ],
+    "linuxcnc": [
+        # O-word control flow, named parameters and active comments exist only in RS274NGC
+        (r"(?im)^[ \t]*(?:N\d+[ \t]*)?O[ \t]*(?:\d+|<[^>\n]+>)[ \t]*(?:SUB|ENDSUB|CALL|IF|ELSEIF|ELSE|ENDIF|WHILE|ENDWHILE|DO|REPEAT|ENDREPEAT|RETURN|BREAK|CONTINUE)\b", 12),
+        (r"(?i)#<[^>\n]+>", 8), (r"(?i)\((?:print|debug|msg|abort|log|logopen|logappend|logclose)\s*,", 8),
+        (r"(?im)^[ \t]*(?:N\d+[ \t]*)?[GMTXYZ][^;\n(]*;", 2), (r"(?i)\bG(?:64[ \t]*P|33\.1|38\.[2-5]|43\.1|92\.[123]|59\.[123]|7[ \t]|8[ \t]|41\.1|42\.1)", 4),
+        (r"(?im)\bG10[ \t]*L(?:1|10|11|20)\b", 4), (r"(?im)\bM6[2-8][ \t]*P", 4),
+    ],
     "iso": [
         (r"(?m)^\s*%\s*$", 2), (r"(?im)^\s*(?:N\d+\s*)?O\d+", 4), (r"(?im)\bG0?[0-3](?![0-9.])\s*[XYZUW]", 2),
         (r"(?im)\bM(?:30|0?2|0?6)(?![0-9])", 2), (r"(?im)\bG(?:4[0-4]|49|5[4-9]|8[0-9]|9[0-9]|7[0-6])(?![0-9])", 2),

@@ -31,6 +31,12 @@ The frontend is the object the interpreter asks about text. Its methods:
     machine state can answer (None: not a system variable, or one we cannot know).
 ``program_context(source) -> Context`` (optional)
     What the program itself declares about its context (stock, tools), found before it runs.
+``program_extent(buffer, start) -> int`` (optional)
+    Where the program starting at ``start`` ends, for a dialect whose subprograms nest inside
+    the main code (LinuxCNC ``sub``/``endsub``); without it a program runs to the next header.
+``unset_is_vacant(name) -> bool`` (optional)
+    Whether a local parameter never set reads as vacant even outside a call (LinuxCNC's named
+    parameters); without it such a parameter is free.
 
 A dialect whose operations need run-time code of their own names its run-time module
 (``DialectInfo.runtime``, in ``ncverify/interpret/``); :func:`setup_for` hands it to the
@@ -85,6 +91,7 @@ DIALECTS: dict[str, DialectInfo] = {info.id: info for info in (
                 runtime="ncverify.interpret.heidenhain.runtime"),
     DialectInfo("sinumerik", "SINUMERIK 840D", (".mpf", ".spf"), "ncverify.lower.sinumerik", ("mill", "lathe")),
     DialectInfo("fagor", "Fagor 8060/8065", (".pim", ".pit"), "ncverify.lower.fagor"),
+    DialectInfo("linuxcnc", "LinuxCNC (RS274NGC)", (".ngc",), "ncverify.lower.linuxcnc", ("mill", "lathe")),
 )}
 MACHINES = tuple(dict.fromkeys(machine for info in DIALECTS.values() for machine in info.machines))
 
@@ -103,6 +110,7 @@ class DialectSetup:
     feed_increment: float = 0.0
     limits: dict = field(default_factory=dict)  # dialect limits the rules read (register ranges)
     runtime: object = None  # the dialect's run-time hooks (DialectInfo.runtime), set by setup_for
+    arc_tolerance: object = None  # context.ArcTolerance: the control's own arc check, where stated
 
 
 def setup_for(dialect: str, settings, detection, project: Context) -> DialectSetup | None:

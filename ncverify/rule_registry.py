@@ -54,7 +54,8 @@ REPORTED_BEFORE_THE_CHECKER: frozenset[str] = frozenset({
     "fagor.turning-cycle", "heidenhain.call-pos-axes", "heidenhain.call-without-cycle",
     "heidenhain.call-without-tool", "heidenhain.cycle-with-compensation", "heidenhain.mirror-tool-axis",
     "heidenhain.pattern-surface", "heidenhain.pattern-tool-axis", "heidenhain.position-after-cycle",
-    "heidenhain.program-name-mismatch", "heidenhain.sl-prerequisites", "sinumerik.nested-mcall",
+    "heidenhain.program-name-mismatch", "heidenhain.sl-prerequisites", "linuxcnc.oword-structure",
+    "linuxcnc.unknown-code", "sinumerik.nested-mcall",
 })
 
 

@@ -383,6 +383,18 @@ def modulo(a: Value, b: Value) -> Value:
     return fresh("MOD")
 
 
+def power(a: Value, b: Value) -> Value:
+    """``a ** b`` (RS274NGC): a negative base needs a whole exponent, as in C's pow."""
+    if type(a) is float and type(b) is float:
+        if a < 0 and not b.is_integer() or a == 0 and b < 0:
+            raise DomainError(f"{a:g} ** {b:g} has no real value")
+        try:
+            return float(a**b)
+        except OverflowError as error:
+            raise DomainError(f"{a:g} ** {b:g} overflows") from error
+    return fresh("POWER")
+
+
 def distance_sq(a1, a2, b1, b2):
     """Squared distance of two points in a plane (exact for symbolic values)."""
     d1, d2 = sub(a1, b1), sub(a2, b2)

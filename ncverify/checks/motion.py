@@ -154,7 +154,13 @@ class CompensationAtEnd(Rule):
 
 @rule("core.arc-geometry")
 class ArcGeometry(Rule):
-    tolerance = 0.01
+    tolerance = 0.01  # in program units, unless the dialect states its control's own (RuleContext.arc_tolerance)
+
+    def _tolerance(self, state) -> float:
+        own = self.checker.context.arc_tolerance
+        if own is None:
+            return self.tolerance
+        return own.absolute_mm / 25.4 if state.modal.get("units") == "inch" else own.absolute_mm
 
     def motion_run(self, run, state):
         """Runs hold no arcs."""
@@ -168,7 +174,7 @@ class ArcGeometry(Rule):
         else:
             start, end = values.fresh("r").term, values.fresh("r").term  # named per check, not per process
             hazard_term = z3.And(start >= 0, end >= 0, start * start == values.term_of(arc.start_radius_sq), end * end == values.term_of(arc.end_radius_sq),
-                                 z3.Or(start - end > self.tolerance, end - start > self.tolerance))
+                                 z3.Or(start - end > self._tolerance(state), end - start > self._tolerance(state)))
             message = "the end point can lie off the arc: its distance to the centre differs from the start point's"
         self.checker.report_verdict("core.arc-geometry", segment.span, message, self.checker.judge(Condition(hazard_term), state), state)
 
@@ -188,7 +194,11 @@ class ArcGeometry(Rule):
         if arc.start_radius is None or arc.end_radius is None:
             return
         difference = values.absolute(values.sub(arc.start_radius, arc.end_radius))
-        verdict = self.checker.judge(hazard(">", difference, self.tolerance), state)
+        tolerance = self._tolerance(state)
+        own = self.checker.context.arc_tolerance
+        if own is not None and type(arc.start_radius) is float:  # LinuxCNC: refused only when off by both measures
+            tolerance = max(tolerance, own.relative * arc.start_radius)
+        verdict = self.checker.judge(hazard(">", difference, tolerance), state)
         if arc.start_radius == 0.0:
             message = "arc with no centre: I/J/K are all zero or missing and no R is given, so the centre is the start point (is G02/G03 still modal where a G01 was meant?)"
         else:

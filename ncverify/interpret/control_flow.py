@@ -212,6 +212,9 @@ class ControlFlow:
     def _program_bounds(self, source: ProgramSource, start: int) -> tuple[int, int]:
         """The program that begins at ``start`` runs to the next program header; a main
         program read from the top of the file owns the first header too."""
+        extent = getattr(self.frontend, "program_extent", None)
+        if extent is not None:  # programs that nest in the main code (LinuxCNC subroutines)
+            return start, extent(source.buffer, start)
         offsets = sorted(self._program_index(source).values())
         own_header = offsets[0] if offsets and start <= offsets[0] else start
         later = [offset for offset in offsets if offset > own_header]

@@ -225,6 +225,10 @@ class CycleRunner(Runtime):
         positioning = "rapid"
         if model.get("positions_in_motion_mode") and state.modal.get("motion") != "rapid":
             positioning = "feed"  # Fagor: the move to the hole is made in the interpolation in force (G1: at feed)
+        if model.get("rises_to_r"):  # LinuxCNC: a tool below the R point first rises to it, then positions
+            level = state.position.get(axis)
+            if type(level) is float and type(r_point) is float and (level - r_point) * cycle.up < 0:
+                self.move_to({axis: r_point}, span, block, "approach", name)
         self.move_to(targets, span, block, "between-holes", name, positioning)
         passes = _DIALECT_PASSES.get(model.get("passes"))
         if passes is not None:
@@ -240,15 +244,21 @@ class CycleRunner(Runtime):
             self.move_to({axis: entry}, span, block, "into-hole", name)
         self.move_to({axis: bottom}, span, block, "infeed", name, "feed")
         retract_kind = "feed" if model.get("retract") == "feed" else "rapid"
-        self.move_to({axis: r_point}, span, block, "out-of-hole", name, retract_kind)
+        straight_out = model.get("retract_to_higher") and reference is None and state.modal.get("cycle_return") != "r_point"
+        if not straight_out:  # LinuxCNC leaves the hole straight to the G98 level, at the cycle's retract kind
+            self.move_to({axis: r_point}, span, block, "out-of-hole", name, retract_kind)
         if reference is not None:
             self.move_to({axis: reference}, span, block, "out-of-hole", name)
-        self.retract(cycle, span, block)
+        self.retract(cycle, span, block, r_point, retract_kind if straight_out else "rapid")
 
-    def retract(self, cycle: ActiveCycle, span, block) -> None:
-        """G98: rapid back to the initial level (G99 stays at the R point)."""
+    def retract(self, cycle: ActiveCycle, span, block, r_point=None, kind: str = "rapid") -> None:
+        """G98: rapid back to the initial level (G99 stays at the R point); with
+        ``retract_to_higher`` (LinuxCNC) to the higher of the initial level and R."""
         if self.state.modal.get("cycle_return") != "r_point" and cycle.initial is not None:
-            self.move_to({self.drill_axis(cycle.model): cycle.initial}, span, block, "retract", cycle.cycle)
+            level = cycle.initial
+            if cycle.model.get("retract_to_higher") and type(level) is float and type(r_point) is float:
+                level = max(level * cycle.up, r_point * cycle.up) * cycle.up
+            self.move_to({self.drill_axis(cycle.model): level}, span, block, "retract", cycle.cycle, kind)
 
     def _levels(self, model: dict, axis: str, data: dict, initial, incremental: bool):
         """R point and bottom on the drilling axis (seed L2059 and the lathe table L2890)."""

@@ -417,6 +417,8 @@ class Interpreter(ControlFlow):
                 return values.div(left, right)
             if op == "MOD":
                 return values.modulo(left, right)
+            if op == "**":
+                return values.power(left, right)
         except DomainError as error:
             self._domain_error(str(error), span)
         raise ValueError(f"unknown operator {op}")
@@ -493,7 +495,7 @@ class Interpreter(ControlFlow):
         if self.frontend.variable_scope(name) == "local":
             if name in state.local_variables:
                 return state.local_variables[name]
-            if self._in_macro():
+            if self._in_macro() or getattr(self.frontend, "unset_is_vacant", _never)(name):
                 return VACANT
             return self._free_parameter(name)
         if name in state.global_variables:
@@ -693,6 +695,13 @@ class Interpreter(ControlFlow):
                 self._change("set_position", op.span, block, None, new)
         elif op.kind == "data":
             self._change("data_setting", op.span, block, op_values(op.values, self, op.span), op_values(op.words, self, op.span))
+        elif op.kind == "shared_offset":  # LinuxCNC G52: sets, not adds to, the offset G92 shares
+            shifted = {}
+            for axis, value in op_values(op.values, self, op.span).items():
+                current, known = self.state.position.get(axis), self.state.coordinate_shift.get(axis, 0.0)
+                shifted[axis] = None if current is None or known is None else values.sub(values.add(current, known), value)
+                self.state.coordinate_shift[axis] = value
+            self.state.move_to(shifted)
         elif op.kind == "local":
             shifted = {}
             for axis, local in op_values(op.values, self, op.span).items():
@@ -956,3 +965,8 @@ def _forward_fill(column, empty, initial: float):
 
 def _scaled(value, scale: float):
     return value if scale == 1.0 else values.mul(value, scale)
+
+
+def _never(name: str) -> bool:
+    """A dialect's parameters are free until set, unless its frontend says otherwise."""
+    return False
