@@ -4,8 +4,9 @@
 by both: rs274 gets a copy with a comment line ``(L<n>)`` before every line ``n``, which it
 echoes as ``COMMENT("L<n>")`` in execution order, so every move it reports is tied to the
 source line that made it; ncverify's trace ties its segments to lines by their spans.
-Move end points of rs274 are in the program's coordinates (offsets arrive as separate calls),
-like ncverify's segments.
+Move end points of rs274 are in the program's coordinates (offsets arrive as separate calls);
+ncverify's segments are in workpiece coordinates, where the G92/G52 shift is applied, so the
+shift rs274 announces with ``SET_G92_OFFSET`` is added back to its moves.
 """
 from __future__ import annotations
 
@@ -121,6 +122,7 @@ def run_rs274(text: str, folder: Path | None = None, name: str = "program.ngc", 
     run = Run()
     line = 0
     plane = _PLANES["CANON_PLANE_XY"]
+    shift = (0.0, 0.0, 0.0)
     for raw in calls.splitlines():
         match = _CALL.match(raw)
         if match is None:
@@ -131,16 +133,18 @@ def run_rs274(text: str, folder: Path | None = None, name: str = "program.ngc", 
             if found:
                 line = int(found.group(1))
                 run.lines_run.add(line)
+        elif call == "SET_G92_OFFSET":
+            shift = tuple(float(value) for value in arguments.split(",")[:3])
         elif call == "SELECT_PLANE":
             plane = _PLANES.get(arguments.strip(), plane)
         elif call in ("STRAIGHT_TRAVERSE", "STRAIGHT_FEED"):
             numbers = [float(value) for value in arguments.split(",")]
-            run.add(line, (*numbers[:3], "rapid" if call == "STRAIGHT_TRAVERSE" else "feed"))
+            run.add(line, (*(value + offset for value, offset in zip(numbers[:3], shift)), "rapid" if call == "STRAIGHT_TRAVERSE" else "feed"))
         elif call == "ARC_FEED":
             numbers = [float(value) for value in arguments.split(",")]
             point = [0.0, 0.0, 0.0]
             point[plane[0]], point[plane[1]], point[plane[2]] = numbers[0], numbers[1], numbers[5]
-            run.add(line, (*point, "feed"))
+            run.add(line, (*(value + offset for value, offset in zip(point, shift)), "feed"))
     if returncode != 0:
         messages = [text for text in stderr.strip().splitlines() if text.strip() and text.strip() != "executing"]
         run.error = messages[0] if messages else "error"

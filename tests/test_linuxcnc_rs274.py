@@ -38,6 +38,10 @@ EXPLAINED_MOVES = {
 # Files where rs274 stops with an error ncverify does not report at that line, and why.
 EXPLAINED_ERRORS = {
     "002_linuxcnc-bad-a-in-canned-cycle.ngc": "an A word in a canned cycle is not checked",
+    "007_linuxcnc-call-stack.ngc": "calls a subroutine file that is not beside it: on a control it may be on the subroutine path, so "
+                                   "ncverify answers unknown (not found here), where the standalone rs274 stops",
+    "045_lagun-slot-troch-stub.ngc": "calls a subroutine file that is not beside it: unknown in ncverify (it may be on the control's "
+                                     "subroutine path), where the standalone rs274 stops",
     "008_linuxcnc-bad-ccomp-gouging.ngc": "the concave-corner gouge check of cutter compensation is not modelled",
     "018_linuxcnc-fanuc-g90-g94.ngc": "the standalone rs274 has no W axis; a machine with one takes the line",
     "027_linuxcnc-bad-g64-r-on-g61.ngc": "an R word no code uses is not reported",
