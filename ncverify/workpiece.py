@@ -1,0 +1,308 @@
+"""The workpiece as cut so far: a height field (Z-map) over the stock, for a tool along +Z.
+
+Material in a column of the blank runs from the stock's bottom up to a top height; cutting
+only lowers tops. The field is a grid of square cells, and each cell keeps two bounds of the
+material top over its whole area, so that the grid never has to be exact to be sound:
+
+``upper``
+    at least the highest material anywhere in the cell. A cut lowers it only where the
+    tool covered the whole cell.
+``lower``
+    at most the lowest material anywhere in the cell. A cut lowers it wherever the tool
+    reached any part of it.
+
+A rapid is *clear* when every cell its tool can touch has ``upper`` below the tool's lower
+surface there; it *hits* when some cell centre lies under the tool with ``lower`` above that
+surface; anything in between is *unsure* (the verdict is ``unknown``, never a pass). A cut
+whose place is not known (a symbolic position, an unknown radius) may have removed material
+anywhere, so it sinks ``lower`` everywhere and leaves ``upper`` alone: what was certainly
+there may be gone, what may be there still may be.
+
+Heights are stored as float32, rounded outwards (``upper`` up, ``lower`` down), so that
+the rounding never turns an unsure answer into a sure one.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy
+import shapely
+
+from .context import Stock
+
+NO_MATERIAL = -numpy.inf
+_CHUNK_CELLS = 1 << 22  # cells looked at per vectorised step: bounds the scratch memory
+
+
+@dataclass(frozen=True)
+class Cutter:
+    """The shape of a tool's lower end, as it sweeps: ``radius``, the ``corner`` radius
+    (0: flat end mill, ``radius``: ball end mill, between: bull nose) or a drill's
+    ``point_angle`` in degrees (the tip is the tool's reference point)."""
+
+    radius: float
+    corner: float = 0.0
+    point_angle: float | None = None
+
+    def lift(self, distance):
+        """Height of the tool's lower surface above its tip at ``distance`` from its axis
+        (numpy arrays; meaningful up to ``radius``). It never falls as the distance grows,
+        which the bounds below rely on."""
+        distance = numpy.minimum(distance, self.radius)
+        if self.point_angle:
+            return distance / math.tan(math.radians(self.point_angle) / 2.0)
+        if self.corner > 0.0:
+            flat = self.radius - self.corner
+            beyond = numpy.maximum(distance - flat, 0.0)
+            return self.corner - numpy.sqrt(numpy.maximum(self.corner ** 2 - beyond ** 2, 0.0))
+        return numpy.zeros_like(distance)
+
+
+@dataclass(frozen=True)
+class RapidVerdict:
+    """``clear``, ``hits`` (with a point in the material) or ``unsure`` (within the grid's error)."""
+
+    outcome: str
+    point: tuple[float, float, float] | None = None
+
+
+class ModelTooLarge(ValueError):
+    """The stock at the requested resolution needs more memory than the cap allows."""
+
+
+class Workpiece:
+    """The height field of a box or polygon blank, milled with the tool along +Z."""
+
+    def __init__(self, stock: Stock, resolution: float, memory_cap: int = 256 << 20):
+        if stock.kind not in ("box", "polygon"):
+            raise ValueError(f"a {stock.kind} stock is not modelled as a height field")
+        (x_low, y_low, x_high, y_high) = _outline(stock).bounds
+        self.resolution = float(resolution)
+        self.x_low, self.y_low = x_low, y_low
+        self.nx = max(1, math.ceil((x_high - x_low) / self.resolution))
+        self.ny = max(1, math.ceil((y_high - y_low) / self.resolution))
+        needed = 2 * 4 * self.nx * self.ny
+        if needed > memory_cap:
+            raise ModelTooLarge(f"the stock at {self.resolution:g} mm needs {needed / 2**20:.0f} MiB of height field, "
+                                f"over the cap of {memory_cap / 2**20:.0f} MiB")
+        self.stock = stock
+        self.bottom, self.top = stock.z_range
+        self.half_diagonal = self.resolution * math.sqrt(0.5)
+        self.upper, self.lower = self._blank(stock)
+
+    def _blank(self, stock: Stock):
+        """Tops of the uncut blank: cells wholly inside carry material on every point, cells
+        the outline crosses only maybe."""
+        xs, ys = self._centres()
+        if stock.kind == "box":  # the grid starts at the box's corner: only the far cells stick out
+            maybe = numpy.ones(len(xs), bool)
+            surely = (xs + self.resolution / 2 <= stock.x_range[1]) & (ys + self.resolution / 2 <= stock.y_range[1])
+        else:
+            inside = shapely.contains_xy(stock.outline, xs, ys)
+            edge = shapely.distance(stock.outline.boundary, shapely.points(xs, ys))
+            maybe = inside | (edge < self.half_diagonal)
+            surely = inside & (edge >= self.half_diagonal)
+        upper = numpy.where(maybe, self.top, NO_MATERIAL).astype(numpy.float32)
+        lower = numpy.where(surely, self.top, NO_MATERIAL).astype(numpy.float32)
+        return upper.reshape(self.ny, self.nx), lower.reshape(self.ny, self.nx)
+
+    def _centres(self):
+        ix, iy = numpy.meshgrid(numpy.arange(self.nx), numpy.arange(self.ny))
+        return self.x_low + (ix.ravel() + 0.5) * self.resolution, self.y_low + (iy.ravel() + 0.5) * self.resolution
+
+    # Cutting ---------------------------------------------------------------------------
+
+    def cut(self, starts, ends, cutter: Cutter) -> None:
+        """Sweep ``cutter`` along straight moves (arrays of (x, y, z) tip positions, one row
+        a move) and lower the tops it passes under."""
+        starts, ends = numpy.atleast_2d(numpy.asarray(starts, float)), numpy.atleast_2d(numpy.asarray(ends, float))
+        if not len(starts):
+            return
+        pieces = _merge_runs(starts, ends, self.resolution / 4.0, self.resolution)
+        for (z_low, z_high, slack), cells, distance in self._cells_near(*self._split_steep(*pieces), cutter.radius + self.half_diagonal):
+            flat = cells[0] * self.nx + cells[1]
+            inner = distance + self.half_diagonal + slack  # farthest the cell's points can be from the true path
+            covered = inner <= cutter.radius
+            _sink(self.upper, flat[covered], z_high[covered] + cutter.lift(inner[covered]), up=True)
+            outer = numpy.maximum(distance - self.half_diagonal - slack, 0.0)  # nearest they can be
+            touched = outer <= cutter.radius
+            _sink(self.lower, flat[touched], z_low[touched] + cutter.lift(outer[touched]), up=False)
+        self._clear_below_bottom()
+
+    def cut_anywhere(self) -> None:
+        """A cut that cannot be placed: any material may be gone, none is surely gone."""
+        self.lower.fill(NO_MATERIAL)
+
+    def _clear_below_bottom(self) -> None:
+        for field in (self.upper, self.lower):
+            field[field <= self.bottom] = NO_MATERIAL
+
+    # Rapids ----------------------------------------------------------------------------
+
+    def rapid(self, start, end, cutter: Cutter) -> RapidVerdict:
+        """Does a rapid from ``start`` to ``end`` (tip positions) meet what is left?"""
+        a, b = numpy.array([start], float), numpy.array([end], float)
+        z = numpy.array([a[0, 2], b[0, 2]])
+        clear = True
+        for (z_low, z_high, _), cells, distance in self._cells_near(*self._split_steep(a, b, z[:1].clip(max=z.min()), z[1:].clip(min=z.max()), numpy.zeros(1)),
+                                                                   cutter.radius + self.half_diagonal):
+            surface_high = z_high + cutter.lift(distance)
+            hit = (distance <= cutter.radius) & (self.lower[cells] > surface_high)
+            if hit.any():
+                first = int(numpy.flatnonzero(hit)[0])
+                return RapidVerdict("hits", (float(self._x(cells[1][first])), float(self._y(cells[0][first])), float(surface_high[first])))
+            outer = numpy.maximum(distance - self.half_diagonal, 0.0)
+            reach = outer <= cutter.radius
+            clear &= not bool((self.upper[cells][reach] > (z_low + cutter.lift(outer))[reach]).any())
+        return RapidVerdict("clear" if clear else "unsure")
+
+    # Shared machinery ------------------------------------------------------------------
+
+    def _split_steep(self, a, b, z_low, z_high, slack):
+        """Pieces split so that none climbs or falls more than one cell. Only single moves
+        can be that steep (merged runs stay within one cell), so a split piece's heights
+        are its own end points'."""
+        counts = numpy.maximum(1, numpy.ceil((z_high - z_low) / self.resolution)).astype(numpy.int64)
+        if (counts == 1).all():
+            return a, b, z_low, z_high, slack
+        move = numpy.repeat(numpy.arange(len(a)), counts)
+        step = numpy.arange(counts.sum()) - numpy.repeat(numpy.cumsum(counts) - counts, counts)
+        t0, t1 = (step / counts[move])[:, None], ((step + 1) / counts[move])[:, None]
+        delta = b[move] - a[move]
+        start, end = a[move] + t0 * delta, a[move] + t1 * delta
+        split = counts[move] > 1
+        low = numpy.where(split, numpy.minimum(start[:, 2], end[:, 2]), z_low[move])
+        high = numpy.where(split, numpy.maximum(start[:, 2], end[:, 2]), z_high[move])
+        return start, end, low, high, slack[move]
+
+    def _cells_near(self, a, b, z_low, z_high, slack, reach: float):
+        """For chunks of pieces a-b: ((z_low, z_high, slack), (rows, columns), distance) of
+        every cell whose centre lies within ``reach + slack`` of a piece's XY path, one entry
+        per (piece, cell)."""
+        reach = reach + slack
+        column_low, column_high = self._index_range(numpy.minimum(a[:, 0], b[:, 0]) - reach, numpy.maximum(a[:, 0], b[:, 0]) + reach, self.x_low, self.nx)
+        row_low, row_high = self._index_range(numpy.minimum(a[:, 1], b[:, 1]) - reach, numpy.maximum(a[:, 1], b[:, 1]) + reach, self.y_low, self.ny)
+        widths = column_high - column_low
+        sizes = widths * (row_high - row_low)
+        for chunk in _chunks(sizes):
+            owner = numpy.repeat(chunk, sizes[chunk])
+            local = numpy.arange(len(owner)) - numpy.repeat(numpy.cumsum(sizes[chunk]) - sizes[chunk], sizes[chunk])
+            rows = row_low[owner] + local // widths[owner]
+            columns = column_low[owner] + local % widths[owner]
+            distance = _distance_to_segment(self._x(columns), self._y(rows), a[owner, :2], b[owner, :2])
+            near = distance <= reach[owner]
+            owner, rows, columns, distance = owner[near], rows[near], columns[near], distance[near]
+            yield (z_low[owner], z_high[owner], slack[owner]), (rows, columns), distance
+
+    def _index_range(self, low, high, origin: float, count: int):
+        first = numpy.clip(numpy.floor((low - origin) / self.resolution), 0, count).astype(numpy.int64)
+        last = numpy.clip(numpy.ceil((high - origin) / self.resolution), 0, count).astype(numpy.int64)
+        return first, last
+
+    def _x(self, column):
+        return self.x_low + (column + 0.5) * self.resolution
+
+    def _y(self, row):
+        return self.y_low + (row + 0.5) * self.resolution
+
+    # What is left ----------------------------------------------------------------------
+
+    def removed_volume(self) -> tuple[float, float]:
+        """(at least, at most) the volume cut away, in mm³, from the two bounds."""
+        blank_upper, blank_lower = self._blank(self.stock)
+        area = self.resolution ** 2
+        least = numpy.maximum(_height(blank_lower, self.bottom) - _height(self.upper, self.bottom), 0.0).sum() * area
+        most = (_height(blank_upper, self.bottom) - _height(self.lower, self.bottom)).sum() * area
+        return float(least), float(most)
+
+
+def _outline(stock: Stock):
+    if stock.kind == "box":
+        return shapely.box(stock.x_range[0], stock.y_range[0], stock.x_range[1], stock.y_range[1])
+    return stock.outline
+
+
+def _height(tops, bottom: float):
+    return numpy.where(numpy.isfinite(tops), numpy.maximum(tops.astype(numpy.float64) - bottom, 0.0), 0.0)
+
+
+def _chunks(sizes):
+    """Index arrays of consecutive pieces whose cell windows add up to about _CHUNK_CELLS."""
+    ends = numpy.searchsorted(numpy.cumsum(sizes), numpy.arange(_CHUNK_CELLS, int(sizes.sum()) + _CHUNK_CELLS, _CHUNK_CELLS), side="right")
+    start = 0
+    for end in numpy.unique(numpy.maximum(ends, 1)):
+        end = min(int(end), len(sizes))
+        if end > start:
+            yield numpy.arange(start, end)
+            start = end
+    if start < len(sizes):
+        yield numpy.arange(start, len(sizes))
+
+
+def _distance_to_segment(px, py, a, b):
+    """Distance of points (px, py) from the XY segments a-b (row-wise)."""
+    dx, dy = b[:, 0] - a[:, 0], b[:, 1] - a[:, 1]
+    length_sq = dx * dx + dy * dy
+    t = numpy.where(length_sq > 0, ((px - a[:, 0]) * dx + (py - a[:, 1]) * dy) / numpy.where(length_sq > 0, length_sq, 1.0), 0.0)
+    t = numpy.clip(t, 0.0, 1.0)
+    return numpy.hypot(px - (a[:, 0] + t * dx), py - (a[:, 1] + t * dy))
+
+
+def _sink(field, flat, heights, up: bool) -> None:
+    """Lower ``field`` (flat cell indices) to ``heights`` where they are lower, rounding the
+    stored float32 outwards: up for an upper bound, down for a lower one."""
+    if not len(flat):
+        return
+    stored = heights.astype(numpy.float32)
+    rounded_wrong = stored < heights if up else stored > heights
+    stored[rounded_wrong] = numpy.nextafter(stored[rounded_wrong], numpy.float32(numpy.inf if up else -numpy.inf))
+    numpy.minimum.at(field.reshape(-1), flat, stored)
+
+
+def _merge_runs(starts, ends, tolerance: float, rise: float):
+    """Consecutive moves of a connected path merged into chords where no vertex strays more
+    than ``tolerance`` from the chord in XY and the heights stay within ``rise``: CAM output
+    is thousands of tiny moves, and their tool discs overlap almost wholly. Each chord
+    carries its heights' range and its actual stray (``slack``), which the sweep takes off
+    the tool radius where it claims material is surely gone and adds where it may be."""
+    count = len(starts)
+    joined = numpy.ones(count, bool)
+    joined[1:] = (starts[1:] == ends[:-1]).all(axis=1)
+    first, length = numpy.arange(0, count, 64), numpy.minimum(64, count - numpy.arange(0, count, 64))
+    done = []
+    while len(first):
+        accepted = _chords_fit(starts, ends, joined, first, length, tolerance, rise)
+        done.append((first[accepted], length[accepted]))
+        first, length = first[~accepted], length[~accepted]
+        half = (length + 1) // 2
+        first, length = numpy.concatenate([first, first + half]), numpy.concatenate([half, length - half])
+        keep = length > 0
+        first, length = first[keep], length[keep]
+    first = numpy.concatenate([group[0] for group in done])
+    length = numpy.concatenate([group[1] for group in done])
+    order = numpy.argsort(first, kind="stable")
+    first, length = first[order], length[order]
+    last = first + length - 1
+    owner = numpy.repeat(numpy.arange(len(first)), length)
+    a, b = starts[first], ends[last]
+    z_values = numpy.concatenate([starts[:, 2:], ends[:, 2:]], axis=1)
+    z_low = numpy.minimum.reduceat(z_values.min(axis=1), first)
+    z_high = numpy.maximum.reduceat(z_values.max(axis=1), first)
+    stray = _distance_to_segment(ends[:, 0], ends[:, 1], a[owner, :2], b[owner, :2])
+    slack = numpy.maximum.reduceat(stray, first)
+    return a, b, z_low, z_high, slack
+
+
+def _chords_fit(starts, ends, joined, first, length, tolerance: float, rise: float):
+    """Which groups (first move, number of moves) may become one chord."""
+    owner = numpy.repeat(numpy.arange(len(first)), length)
+    index = numpy.arange(length.sum()) - numpy.repeat(numpy.cumsum(length) - length, length) + first[owner]
+    a, b = starts[first[owner]], ends[(first + length - 1)[owner]]
+    stray = _distance_to_segment(ends[index, 0], ends[index, 1], a[:, :2], b[:, :2])
+    broken = ~joined[index] & (index != first[owner])
+    z = numpy.concatenate([starts[index, 2:], ends[index, 2:]], axis=1)
+    offsets = numpy.cumsum(length) - length
+    fits = (numpy.maximum.reduceat(stray, offsets) <= tolerance) & ~numpy.logical_or.reduceat(broken, offsets)
+    fits &= numpy.maximum.reduceat(z.max(axis=1), offsets) - numpy.minimum.reduceat(z.min(axis=1), offsets) <= rise
+    return fits | (length == 1)
