@@ -113,26 +113,38 @@ class Workpiece:
 
     # Cutting ---------------------------------------------------------------------------
 
-    def cut(self, starts, ends, cutter: Cutter) -> None:
+    def cut(self, starts, ends, cutter: Cutter) -> float:
         """Sweep ``cutter`` along straight moves (arrays of (x, y, z) tip positions, one row
-        a move) and lower the tops it passes under."""
+        a move) and lower the tops it passes under. Returns the length of the moves that
+        surely cut nothing (air), judged before each chunk of moves is applied."""
         starts, ends = numpy.atleast_2d(numpy.asarray(starts, float)), numpy.atleast_2d(numpy.asarray(ends, float))
         if not len(starts):
-            return
-        pieces = _merge_runs(starts, ends, self.resolution / 4.0, self.resolution)
-        for (z_low, z_high, slack), cells, distance in self._cells_near(*self._split_steep(*pieces), cutter.radius + self.half_diagonal):
+            return 0.0
+        a, b, z_low, z_high, slack = self._split_steep(*_merge_runs(starts, ends, self.resolution / 4.0, self.resolution))
+        may_cut = numpy.zeros(len(a), bool)
+        for owner, (low, high, stray), cells, distance in self._cells_near(a, b, z_low, z_high, slack, cutter.radius + self.half_diagonal):
             flat = cells[0] * self.nx + cells[1]
-            inner = distance + self.half_diagonal + slack  # farthest the cell's points can be from the true path
-            covered = inner <= cutter.radius
-            _sink(self.upper, flat[covered], z_high[covered] + cutter.lift(inner[covered]), up=True)
-            outer = numpy.maximum(distance - self.half_diagonal - slack, 0.0)  # nearest they can be
+            outer = numpy.maximum(distance - self.half_diagonal - stray, 0.0)  # nearest the cell's points can be to the true path
             touched = outer <= cutter.radius
-            _sink(self.lower, flat[touched], z_low[touched] + cutter.lift(outer[touched]), up=False)
+            surface_low = low + cutter.lift(outer)
+            may_cut[owner[touched & (self.upper.reshape(-1)[flat] > surface_low)]] = True
+            inner = distance + self.half_diagonal + stray  # farthest they can be
+            covered = inner <= cutter.radius
+            _sink(self.upper, flat[covered], high[covered] + cutter.lift(inner[covered]), up=True)
+            _sink(self.lower, flat[touched], surface_low[touched], up=False)
         self._clear_below_bottom()
+        return float(numpy.linalg.norm(b - a, axis=1)[~may_cut].sum())
 
     def cut_anywhere(self) -> None:
         """A cut that cannot be placed: any material may be gone, none is surely gone."""
         self.lower.fill(NO_MATERIAL)
+
+    def copy(self) -> "Workpiece":
+        """An independent copy (paths that fork cut their own workpieces)."""
+        twin = object.__new__(Workpiece)
+        twin.__dict__.update(self.__dict__)
+        twin.upper, twin.lower = self.upper.copy(), self.lower.copy()
+        return twin
 
     def _clear_below_bottom(self) -> None:
         for field in (self.upper, self.lower):
@@ -145,7 +157,7 @@ class Workpiece:
         a, b = numpy.array([start], float), numpy.array([end], float)
         z = numpy.array([a[0, 2], b[0, 2]])
         clear = True
-        for (z_low, z_high, _), cells, distance in self._cells_near(*self._split_steep(a, b, z[:1].clip(max=z.min()), z[1:].clip(min=z.max()), numpy.zeros(1)),
+        for _, (z_low, z_high, _), cells, distance in self._cells_near(*self._split_steep(a, b, z[:1].clip(max=z.min()), z[1:].clip(min=z.max()), numpy.zeros(1)),
                                                                    cutter.radius + self.half_diagonal):
             surface_high = z_high + cutter.lift(distance)
             hit = (distance <= cutter.radius) & (self.lower[cells] > surface_high)
@@ -177,9 +189,9 @@ class Workpiece:
         return start, end, low, high, slack[move]
 
     def _cells_near(self, a, b, z_low, z_high, slack, reach: float):
-        """For chunks of pieces a-b: ((z_low, z_high, slack), (rows, columns), distance) of
-        every cell whose centre lies within ``reach + slack`` of a piece's XY path, one entry
-        per (piece, cell)."""
+        """For chunks of pieces a-b: (piece, (z_low, z_high, slack), (rows, columns), distance)
+        of every cell whose centre lies within ``reach + slack`` of a piece's XY path, one
+        entry per (piece, cell)."""
         reach = reach + slack
         column_low, column_high = self._index_range(numpy.minimum(a[:, 0], b[:, 0]) - reach, numpy.maximum(a[:, 0], b[:, 0]) + reach, self.x_low, self.nx)
         row_low, row_high = self._index_range(numpy.minimum(a[:, 1], b[:, 1]) - reach, numpy.maximum(a[:, 1], b[:, 1]) + reach, self.y_low, self.ny)
@@ -193,7 +205,7 @@ class Workpiece:
             distance = _distance_to_segment(self._x(columns), self._y(rows), a[owner, :2], b[owner, :2])
             near = distance <= reach[owner]
             owner, rows, columns, distance = owner[near], rows[near], columns[near], distance[near]
-            yield (z_low[owner], z_high[owner], slack[owner]), (rows, columns), distance
+            yield owner, (z_low[owner], z_high[owner], slack[owner]), (rows, columns), distance
 
     def _index_range(self, low, high, origin: float, count: int):
         first = numpy.clip(numpy.floor((low - origin) / self.resolution), 0, count).astype(numpy.int64)
@@ -215,6 +227,63 @@ class Workpiece:
         least = numpy.maximum(_height(blank_lower, self.bottom) - _height(self.upper, self.bottom), 0.0).sum() * area
         most = (_height(blank_upper, self.bottom) - _height(self.lower, self.bottom)).sum() * area
         return float(least), float(most)
+
+
+    def save_npz(self, path) -> None:
+        """Both bounds and the grid, for a user to look at what the program leaves."""
+        numpy.savez_compressed(path, upper=self.upper, lower=self.lower, x_low=self.x_low, y_low=self.y_low,
+                               resolution=self.resolution, bottom=self.bottom)
+
+    def save_stl(self, path) -> None:
+        """The part as at most this much material (the upper bound) as a binary STL: a
+        column per cell, with the faces between neighbours of different heights."""
+        heights = numpy.where(numpy.isfinite(self.upper), self.upper, self.bottom).astype(numpy.float64)
+        padded = numpy.pad(heights, 1, constant_values=self.bottom)
+        x = self.x_low + numpy.arange(self.nx + 1) * self.resolution
+        y = self.y_low + numpy.arange(self.ny + 1) * self.resolution
+        rows, columns = numpy.nonzero(heights > self.bottom)
+        faces = [_quads_up(x, y, rows, columns, heights[rows, columns]), _quads_up(x, y, rows, columns, numpy.full(len(rows), self.bottom), down=True)]
+        for axis, step in ((0, 1), (0, -1), (1, 1), (1, -1)):
+            neighbour = padded[1 + rows + (step if axis == 0 else 0), 1 + columns + (step if axis == 1 else 0)]
+            wall = heights[rows, columns] > neighbour
+            faces.append(_walls(x, y, rows[wall], columns[wall], neighbour[wall], heights[rows, columns][wall], axis, step))
+        _write_stl(path, numpy.concatenate(faces))
+
+
+def _quads_up(x, y, rows, columns, z, down: bool = False):
+    """Two triangles per cell top (or bottom, facing down)."""
+    x0, x1, y0, y1 = x[columns], x[columns + 1], y[rows], y[rows + 1]
+    corners = [numpy.column_stack([px, py, z]) for px, py in ((x0, y0), (x1, y0), (x1, y1), (x0, y1))]
+    first, second = (corners[0], corners[1], corners[2]), (corners[0], corners[2], corners[3])
+    if down:
+        first, second = first[::-1], second[::-1]
+    return numpy.concatenate([numpy.stack(first, axis=1), numpy.stack(second, axis=1)])
+
+
+def _walls(x, y, rows, columns, low, high, axis: int, step: int):
+    """The side faces of cells that stand higher than their neighbour along ``axis``."""
+    if axis == 0:  # between rows: a wall along X at y of the shared edge
+        edge = y[rows + (1 if step > 0 else 0)]
+        a = numpy.column_stack([x[columns], edge]), numpy.column_stack([x[columns + 1], edge])
+    else:
+        edge = x[columns + (1 if step > 0 else 0)]
+        a = numpy.column_stack([edge, y[rows]]), numpy.column_stack([edge, y[rows + 1]])
+    if (axis == 0) == (step > 0):  # keep every face turned outwards
+        a = a[::-1]
+    p0, p1 = (numpy.column_stack([point, height]) for point, height in ((a[0], low), (a[1], low)))
+    p2, p3 = numpy.column_stack([a[1], high]), numpy.column_stack([a[0], high])
+    return numpy.concatenate([numpy.stack([p0, p1, p2], axis=1), numpy.stack([p0, p2, p3], axis=1)])
+
+
+def _write_stl(path, triangles) -> None:
+    normals = numpy.cross(triangles[:, 1] - triangles[:, 0], triangles[:, 2] - triangles[:, 0])
+    normals /= numpy.maximum(numpy.linalg.norm(normals, axis=1, keepdims=True), 1e-12)
+    record = numpy.zeros(len(triangles), dtype=[("normal", "<f4", 3), ("corners", "<f4", (3, 3)), ("attribute", "<u2")])
+    record["normal"], record["corners"] = normals, triangles
+    with open(path, "wb") as out:
+        out.write(b"ncverify workpiece".ljust(80, b" "))
+        out.write(numpy.uint32(len(triangles)).tobytes())
+        out.write(record.tobytes())
 
 
 def _outline(stock: Stock):

@@ -140,3 +140,34 @@ def test_a_model_over_the_memory_cap_is_refused_with_its_size():
 def test_a_500mm_blank_at_a_tenth_fits_in_200_mib():
     piece = Workpiece(Stock.box((0, 500), (0, 500), (-10, 0)), 0.1)
     assert piece.upper.nbytes + piece.lower.nbytes <= 200 * 2 ** 20
+
+
+def test_moves_above_the_material_count_as_air_and_cutting_ones_do_not():
+    piece = Workpiece(BLANK, 0.5)
+    assert piece.cut([[5, 5, 2]], [[35, 5, 2]], Cutter(3.0)) == pytest.approx(30.0)
+    assert piece.cut([[5, 15, -2]], [[35, 15, -2]], Cutter(3.0)) == 0.0
+    assert piece.cut([[5, 15, -2]], [[35, 15, -2]], Cutter(2.0)) == pytest.approx(30.0)  # the same slot again, narrower
+
+
+def test_the_stl_encloses_the_volume_of_the_upper_bound(tmp_path):
+    piece = Workpiece(BLANK, 0.5)
+    piece.cut([[10, 15, 1]], [[10, 15, -6]], Cutter(3.0, point_angle=118.0))
+    piece.cut([[20, 5, -3]], [[30, 25, -3]], Cutter(4.0, corner=1.0))
+    piece.save_stl(tmp_path / "part.stl")
+    raw = (tmp_path / "part.stl").read_bytes()
+    count = int(numpy.frombuffer(raw[80:84], numpy.uint32)[0])
+    record = numpy.frombuffer(raw[84:], dtype=[("normal", "<f4", 3), ("corners", "<f4", (3, 3)), ("attribute", "<u2")], count=count)
+    a, b, c = (record["corners"][:, k].astype(float) for k in range(3))
+    enclosed = numpy.einsum("ij,ij->i", a, numpy.cross(b, c)).sum() / 6.0
+    heights = numpy.where(numpy.isfinite(piece.upper), piece.upper, piece.bottom) - piece.bottom
+    assert enclosed == pytest.approx(heights.sum() * 0.25, rel=1e-4)
+    piece.save_npz(tmp_path / "part.npz")
+    assert numpy.array_equal(numpy.load(tmp_path / "part.npz")["upper"], piece.upper)
+
+
+def test_a_copy_is_cut_on_its_own():
+    piece = Workpiece(BLANK, 0.5)
+    twin = piece.copy()
+    twin.cut([[5, 15, -2]], [[35, 15, -2]], Cutter(3.0))
+    assert piece.rapid((5, 15, -1), (35, 15, -1), Cutter(1.0)).outcome == "hits"
+    assert twin.rapid((5, 15, -1), (35, 15, -1), Cutter(1.0)).outcome == "clear"
