@@ -375,3 +375,52 @@ def _chords_fit(starts, ends, joined, first, length, tolerance: float, rise: flo
     fits = (numpy.maximum.reduceat(stray, offsets) <= tolerance) & ~numpy.logical_or.reduceat(broken, offsets)
     fits &= numpy.maximum.reduceat(z.max(axis=1), offsets) - numpy.minimum.reduceat(z.min(axis=1), offsets) <= rise
     return fits | (length == 1)
+
+
+_ROUND_SEGMENTS = 16  # quarter-circle segments of a buffered nose
+
+
+class Bar:
+    """A lathe bar's half-section in the (Z, radius) plane, turned by an insert of nose
+    radius ``nose``. As in the height field, two shapes bound the material: ``most`` has
+    only what the nose surely swept taken away, ``least`` everything it may have swept.
+
+    Positions are the tool's programmed point as (radius, z): the insert's theoretical tip.
+    Where the nose centre lies depends on the cutting-edge position; without it the nose
+    may be anywhere within (1 + sqrt 2) nose radii of the tip, and nothing is surely cut."""
+
+    def __init__(self, stock: Stock):
+        if stock.kind != "cylinder":
+            raise ValueError(f"a {stock.kind} stock is not a lathe bar")
+        low, high = stock.z_range
+        section = shapely.box(low, 0.0, high, stock.diameter / 2.0)
+        self.most, self.least = section, section
+
+    def cut(self, start, end, nose: float, centre_offset=None) -> None:
+        """Sweep the nose from ``start`` to ``end`` ((radius, z) tips). ``centre_offset``:
+        (d_radius, d_z) from the tip to the nose centre, when the edge position is known."""
+        self.least = self.least.difference(_swept(start, end, (0.0, 0.0), nose * (1 + math.sqrt(2)), outwards=True))
+        if centre_offset is not None:
+            self.most = self.most.difference(_swept(start, end, centre_offset, nose, outwards=False))
+
+    def rapid(self, start, end, nose: float, centre_offset=None) -> RapidVerdict:
+        may_occupy = _swept(start, end, (0.0, 0.0), nose * (1 + math.sqrt(2)), outwards=True)
+        if not may_occupy.intersection(self.most).area > 0.0:
+            return RapidVerdict("clear")
+        if centre_offset is not None:
+            occupied = _swept(start, end, centre_offset, nose, outwards=False)
+            overlap = occupied.intersection(self.least)
+            if overlap.area > 0.0:
+                point = overlap.representative_point()
+                return RapidVerdict("hits", (point.y, point.x))
+        return RapidVerdict("unsure")
+
+
+def _swept(start, end, offset, radius: float, outwards: bool):
+    """The nose's path (in (z, radius) coordinates) thickened by ``radius``: a polygon that
+    contains the true round sweep when ``outwards``, and lies inside it otherwise."""
+    line = shapely.LineString([(start[1] + offset[1], start[0] + offset[0]), (end[1] + offset[1], end[0] + offset[0])])
+    if line.length == 0.0:
+        line = shapely.Point(line.coords[0])
+    chord_factor = 1.0 / math.cos(math.pi / (4 * _ROUND_SEGMENTS)) if outwards else 1.0
+    return line.buffer(radius * chord_factor, quad_segs=_ROUND_SEGMENTS)

@@ -171,3 +171,29 @@ def test_a_copy_is_cut_on_its_own():
     twin.cut([[5, 15, -2]], [[35, 15, -2]], Cutter(3.0))
     assert piece.rapid((5, 15, -1), (35, 15, -1), Cutter(1.0)).outcome == "hits"
     assert twin.rapid((5, 15, -1), (35, 15, -1), Cutter(1.0)).outcome == "clear"
+
+
+BAR = Stock.cylinder(40.0, (-60.0, 0.0))  # radius 20
+
+
+def test_a_turned_diameter_is_clear_for_a_rapid_along_it_and_the_bar_beyond_is_hit():
+    from ncverify.workpiece import Bar
+
+    bar = Bar(BAR)
+    nose, centre = 0.8, (0.8, 0.8)  # edge position 3: the nose centre up and behind the tip
+    for radius in (19.0, 18.0, 17.0, 16.0):  # rough the bar down to radius 16 over 30 mm
+        bar.cut((radius, 1.0), (radius, -30.0), nose, centre)
+    assert bar.rapid((18.0, 2.0), (18.0, -20.0), nose, centre).outcome == "clear"
+    assert bar.rapid((16.5, -20.0), (16.5, -31.0), nose, centre).outcome == "unsure"  # into the shoulder's fillet left by the nose
+    assert bar.rapid((25.0, 2.0), (25.0, -50.0), nose, centre).outcome == "clear"
+    hit = bar.rapid((18.0, -40.0), (18.0, -45.0), nose, centre)
+    assert hit.outcome == "hits" and 16.0 < hit.point[0] < 20.0
+
+
+def test_without_the_edge_position_nothing_is_surely_turned_away():
+    from ncverify.workpiece import Bar
+
+    bar = Bar(BAR)
+    bar.cut((16.0, 1.0), (16.0, -30.0), 0.8)
+    assert bar.rapid((17.0, -5.0), (17.0, -25.0), 0.4, (0.4, 0.4)).outcome != "clear"
+    assert bar.rapid((18.0, -40.0), (18.0, -45.0), 0.8).outcome == "unsure"
