@@ -113,14 +113,16 @@ class Workpiece:
 
     # Cutting ---------------------------------------------------------------------------
 
-    def cut(self, starts, ends, cutter: Cutter) -> float:
+    def cut(self, starts, ends, cutter: Cutter, stray: float = 0.0) -> float:
         """Sweep ``cutter`` along straight moves (arrays of (x, y, z) tip positions, one row
-        a move) and lower the tops it passes under. Returns the length of the moves that
-        surely cut nothing (air), judged before each chunk of moves is applied."""
+        a move) and lower the tops it passes under. ``stray``: how far the true path may
+        leave these chords, in any direction (an arc's sagitta). Returns the length of the
+        moves that surely cut nothing (air), judged before each chunk is applied."""
         starts, ends = numpy.atleast_2d(numpy.asarray(starts, float)), numpy.atleast_2d(numpy.asarray(ends, float))
         if not len(starts):
             return 0.0
         a, b, z_low, z_high, slack = self._split_steep(*_merge_runs(starts, ends, self.resolution / 4.0, self.resolution))
+        z_low, z_high, slack = z_low - stray, z_high + stray, slack + stray
         may_cut = numpy.zeros(len(a), bool)
         for owner, (low, high, stray), cells, distance in self._cells_near(a, b, z_low, z_high, slack, cutter.radius + self.half_diagonal):
             flat = cells[0] * self.nx + cells[1]
@@ -424,3 +426,27 @@ def _swept(start, end, offset, radius: float, outwards: bool):
         line = shapely.Point(line.coords[0])
     chord_factor = 1.0 / math.cos(math.pi / (4 * _ROUND_SEGMENTS)) if outwards else 1.0
     return line.buffer(radius * chord_factor, quad_segs=_ROUND_SEGMENTS)
+
+
+def arc_chords(start, end, centre, clockwise: bool, plane=(0, 1, 2), tolerance: float = 0.01):
+    """Chords of a circular (or helical) move, no farther than ``tolerance`` from it:
+    (starts, ends) as arrays of (x, y, z), and the sagitta they keep to. ``plane`` gives
+    the indices of the arc's first, second and normal axis (G17: 0, 1, 2)."""
+    first, second, normal = plane
+    start, end = numpy.asarray(start, float), numpy.asarray(end, float)
+    radius = math.hypot(start[first] - centre[0], start[second] - centre[1])
+    begin = math.atan2(start[second] - centre[1], start[first] - centre[0])
+    finish = math.atan2(end[second] - centre[1], end[first] - centre[0])
+    sweep = (begin - finish) % (2 * math.pi) if clockwise else (finish - begin) % (2 * math.pi)
+    if sweep == 0.0:
+        sweep = 2 * math.pi  # a full circle
+    step = 2 * math.acos(max(-1.0, 1 - tolerance / radius)) if radius > tolerance else math.pi / 2
+    count = max(1, math.ceil(sweep / step))
+    angles = begin + (-1 if clockwise else 1) * sweep * numpy.linspace(0.0, 1.0, count + 1)
+    points = numpy.empty((count + 1, 3))
+    points[:, first] = centre[0] + radius * numpy.cos(angles)
+    points[:, second] = centre[1] + radius * numpy.sin(angles)
+    points[:, normal] = numpy.linspace(start[normal], end[normal], count + 1)
+    points[-1] = end
+    sagitta = radius * (1 - math.cos(sweep / count / 2))
+    return points[:-1], points[1:], sagitta

@@ -17,16 +17,14 @@ BLANK = Stock.box((0, 40), (0, 30), (-10, 0))
 def true_top(points, moves, cutter: Cutter, top: float, samples: int = 4001):
     """Material top at points (x, y), by sampling each move densely: the tool's lower
     surface over every point it passes within reach of (written apart from the model)."""
+    points = numpy.asarray(points, float)
     heights = numpy.full(len(points), top, float)
     t = numpy.linspace(0.0, 1.0, samples)
     for start, end in moves:
         path = numpy.asarray(start, float) + t[:, None] * (numpy.asarray(end, float) - numpy.asarray(start, float))
-        for index, (x, y) in enumerate(points):
-            distance = numpy.hypot(path[:, 0] - x, path[:, 1] - y)
-            reach = distance <= cutter.radius
-            if reach.any():
-                lift = _lift(cutter, distance[reach])
-                heights[index] = min(heights[index], float((path[reach, 2] + lift).min()))
+        distance = numpy.hypot(points[:, :1] - path[None, :, 0], points[:, 1:2] - path[None, :, 1])
+        surface = numpy.where(distance <= cutter.radius, path[None, :, 2] + _lift(cutter, distance), numpy.inf)
+        heights = numpy.minimum(heights, surface.min(axis=1))
     return heights
 
 
@@ -34,6 +32,8 @@ def _lift(cutter: Cutter, distance):
     if cutter.point_angle:
         return distance / math.tan(math.radians(cutter.point_angle) / 2)
     flat = cutter.radius - cutter.corner
+    if cutter.corner <= 0:
+        return numpy.zeros_like(distance)
     return numpy.where(distance <= flat, 0.0, cutter.corner - numpy.sqrt(numpy.clip(cutter.corner ** 2 - (distance - flat) ** 2, 0, None)))
 
 
@@ -197,3 +197,28 @@ def test_without_the_edge_position_nothing_is_surely_turned_away():
     bar.cut((16.0, 1.0), (16.0, -30.0), 0.8)
     assert bar.rapid((17.0, -5.0), (17.0, -25.0), 0.4, (0.4, 0.4)).outcome != "clear"
     assert bar.rapid((18.0, -40.0), (18.0, -45.0), 0.8).outcome == "unsure"
+
+
+@settings(max_examples=30, deadline=None)
+@given(st.floats(2, 12), st.floats(0, 6.28), st.floats(0.1, 6.28), st.booleans(), cutters)
+def test_an_arc_cut_as_chords_keeps_the_bounds_around_the_true_arc(radius, begin, sweep, clockwise, cutter):
+    from ncverify.workpiece import arc_chords
+
+    centre = (20.0, 15.0)
+    direction = -1 if clockwise else 1
+    start = (centre[0] + radius * math.cos(begin), centre[1] + radius * math.sin(begin), -2.0)
+    finish_angle = begin + direction * sweep
+    end = (centre[0] + radius * math.cos(finish_angle), centre[1] + radius * math.sin(finish_angle), -3.0)
+    starts, ends, sagitta = arc_chords(start, end, centre, clockwise, tolerance=0.05)
+    assert sagitta <= 0.05 + 1e-12
+    piece = Workpiece(BLANK, 0.5)
+    piece.cut(starts, ends, cutter, stray=sagitta)
+    angles = begin + direction * sweep * numpy.linspace(0, 1, 400)
+    dense = numpy.column_stack([centre[0] + radius * numpy.cos(angles), centre[1] + radius * numpy.sin(angles), numpy.linspace(-2, -3, 400)])
+    moves = list(zip(dense[:-1], dense[1:]))
+    rng = numpy.random.default_rng(3)
+    sample = numpy.column_stack([rng.uniform(0, 40, 200), rng.uniform(0, 30, 200)])
+    tops = true_top(sample, moves, cutter, 0.0, samples=50)
+    rows, columns = (sample[:, 1] / 0.5).astype(int), (sample[:, 0] / 0.5).astype(int)
+    assert (piece.upper[rows, columns] >= tops - 0.02).all()
+    assert (piece.lower[rows, columns] <= tops + 0.02).all()
