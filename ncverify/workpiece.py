@@ -39,17 +39,24 @@ _CHUNK_CELLS = 1 << 22  # cells looked at per vectorised step: bounds the scratc
 class Cutter:
     """The shape of a tool's lower end, as it sweeps: ``radius``, the ``corner`` radius
     (0: flat end mill, ``radius``: ball end mill, between: bull nose) or a drill's
-    ``point_angle`` in degrees (the tip is the tool's reference point)."""
+    ``point_angle`` in degrees (the tip is the tool's reference point). ``known`` False: the
+    shape is not given, only that the end is no pointier than a 90-degree cone and no
+    rounder than a ball; the sweep then takes the shape that cuts least where it claims
+    material is gone, and the flat end where it may be."""
 
     radius: float
     corner: float = 0.0
     point_angle: float | None = None
+    known: bool = True
 
     def lift(self, distance):
         """Height of the tool's lower surface above its tip at ``distance`` from its axis
         (numpy arrays; meaningful up to ``radius``). It never falls as the distance grows,
-        which the bounds below rely on."""
+        which the bounds rely on. For an unknown shape: the highest it can be."""
         distance = numpy.minimum(distance, self.radius)
+        if not self.known:
+            ball = self.radius - numpy.sqrt(numpy.maximum(self.radius ** 2 - distance ** 2, 0.0))
+            return numpy.maximum(ball, distance)
         if self.point_angle:
             return distance / math.tan(math.radians(self.point_angle) / 2.0)
         if self.corner > 0.0:
@@ -57,6 +64,10 @@ class Cutter:
             beyond = numpy.maximum(distance - flat, 0.0)
             return self.corner - numpy.sqrt(numpy.maximum(self.corner ** 2 - beyond ** 2, 0.0))
         return numpy.zeros_like(distance)
+
+    def lowest_lift(self, distance):
+        """The lowest the tool's lower surface can be: its shape, or a flat end when unknown."""
+        return self.lift(distance) if self.known else numpy.zeros_like(numpy.asarray(distance, float))
 
 
 @dataclass(frozen=True)
@@ -128,7 +139,7 @@ class Workpiece:
             flat = cells[0] * self.nx + cells[1]
             outer = numpy.maximum(distance - self.half_diagonal - stray, 0.0)  # nearest the cell's points can be to the true path
             touched = outer <= cutter.radius
-            surface_low = low + cutter.lift(outer)
+            surface_low = low + cutter.lowest_lift(outer)
             may_cut[owner[touched & (self.upper.reshape(-1)[flat] > surface_low)]] = True
             inner = distance + self.half_diagonal + stray  # farthest they can be
             covered = inner <= cutter.radius
@@ -168,7 +179,7 @@ class Workpiece:
                 return RapidVerdict("hits", (float(self._x(cells[1][first])), float(self._y(cells[0][first])), float(surface_high[first])))
             outer = numpy.maximum(distance - self.half_diagonal, 0.0)
             reach = outer <= cutter.radius
-            clear &= not bool((self.upper[cells][reach] > (z_low + cutter.lift(outer))[reach]).any())
+            clear &= not bool((self.upper[cells][reach] > (z_low + cutter.lowest_lift(outer))[reach]).any())
         return RapidVerdict("clear" if clear else "unsure")
 
     # Shared machinery ------------------------------------------------------------------

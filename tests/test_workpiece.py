@@ -29,6 +29,8 @@ def true_top(points, moves, cutter: Cutter, top: float, samples: int = 4001):
 
 
 def _lift(cutter: Cutter, distance):
+    if not cutter.known:
+        return _lift(Cutter(cutter.radius, corner=cutter.corner, point_angle=cutter.point_angle), distance)
     if cutter.point_angle:
         return distance / math.tan(math.radians(cutter.point_angle) / 2)
     flat = cutter.radius - cutter.corner
@@ -42,6 +44,9 @@ cutters = st.one_of(
     st.floats(1.0, 6.0).map(lambda r: Cutter(r, corner=r)),
     st.tuples(st.floats(2.0, 6.0), st.floats(0.2, 0.9)).map(lambda rc: Cutter(rc[0], corner=rc[0] * rc[1])),
     st.tuples(st.floats(1.0, 5.0), st.sampled_from([90.0, 118.0, 140.0])).map(lambda ra: Cutter(ra[0], point_angle=ra[1])),
+    # a tool whose shape was not given, and which really is one of the shapes it allows
+    st.tuples(st.floats(1.0, 6.0), st.sampled_from([0.0, 0.5, 1.0]), st.sampled_from([None, 90.0, 118.0]))
+    .map(lambda shape: Cutter(shape[0], corner=shape[0] * shape[1] if shape[2] is None else 0.0, point_angle=shape[2], known=False)),
 )
 points = st.tuples(st.floats(-5, 45), st.floats(-5, 35), st.floats(-8, 3))
 
