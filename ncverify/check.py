@@ -245,6 +245,7 @@ class Checker:
 
     def __init__(self, settings, context: dict, severity_overrides: dict | None = None, suppressions: dict | None = None):
         from . import checks  # noqa: F401
+        from .checks.material import Material
 
         self.settings = settings
         self.context = context  # register limits, machine type, stock, tools, travel: what rules may assume
@@ -257,6 +258,7 @@ class Checker:
         self._per_rule: dict[str, int] = {}
         self.truncated: dict[str, int] = {}
         self.path_condition: list = []
+        self.material = Material(self)
         rules = [cls(self) for cls in _RULE_CLASSES if not set(cls.ids) <= settings.disabled_rules]
         self.rules = rules
         self._segment = _handlers(rules, "segment")
@@ -289,8 +291,10 @@ class Checker:
     def segment(self, segment, state) -> None:
         for handler in self._segment:
             handler(segment, state)
+        self.material.segment(segment, state)  # after the rules: they judge a move against the material before it
 
     def motion_run(self, run, state) -> None:
+        self.material.begin_run(run)
         for handler in self._motion_run:
             handler(run, state)
         if self._segment_only:
@@ -298,6 +302,10 @@ class Checker:
                 segment = run.segment(index)
                 for handler in self._segment_only:
                     handler(segment, state)
+        self.material.motion_run(run, state)
+
+    def path_end(self, state) -> None:
+        self.material.finish(state)
 
     def hole(self, hole, state) -> None:
         for handler in self._hole:

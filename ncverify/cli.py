@@ -59,6 +59,9 @@ def build_parser() -> argparse.ArgumentParser:
     check.add_argument("--rapid-path", choices=("straight", "dogleg"), default=Settings.rapid_path,
                        help="how G00 moves: interpolated straight, or each axis on its own (default %(default)s)")
     check.add_argument("--solver-timeout", type=float, default=Settings.solver_timeout_s, metavar="S", help="seconds per solver query (default %(default)s)")
+    check.add_argument("--stock-resolution", type=_non_negative_float, metavar="MM",
+                       help="cell size of the stock as cut so far (default: from the smallest tool; 0: judge rapids against the blank)")
+    check.add_argument("--stock-out", metavar="FILE", help="write the workpiece the program leaves (.stl or .npz; {stem}: the program's name)")
 
     explain = commands.add_parser("explain", help="show a rule's page")
     explain.add_argument("rule")
@@ -74,6 +77,16 @@ def _positive_int(text: str) -> int:
         raise argparse.ArgumentTypeError(f"{text!r} is not a whole number") from None
     if value < 1:
         raise argparse.ArgumentTypeError("must be at least 1")
+    return value
+
+
+def _non_negative_float(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
+    if not 0.0 <= value < float("inf"):
+        raise argparse.ArgumentTypeError("must be 0 or more")
     return value
 
 
@@ -107,7 +120,8 @@ def _given(argv: list[str]) -> frozenset[str]:
     still wins over the project file)."""
     flags = {"--loop-bound": "loop_bound", "--max-paths": "max_paths", "--rapid-path": "rapid_path",
              "--solver-timeout": "solver_timeout_s", "--least-input-increment": "least_input_increment",
-             "--machine": "machine", "--profile": "profile", "--dialect": "dialect", "--subprogram-path": "subprogram_path"}
+             "--machine": "machine", "--profile": "profile", "--dialect": "dialect", "--subprogram-path": "subprogram_path",
+             "--stock-resolution": "stock_resolution"}
     return frozenset(setting for flag, setting in flags.items() if any(arg == flag or arg.startswith(flag + "=") for arg in argv))
 
 
@@ -120,6 +134,7 @@ def _settings(arguments) -> Settings:
         fail_on=arguments.fail_on, fail_on_unknown=arguments.fail_on_unknown, disabled_rules=frozenset(arguments.disable),
         max_file_bytes=arguments.max_file_size, config=Path(arguments.config) if arguments.config else None,
         rapid_path=arguments.rapid_path, solver_timeout_s=arguments.solver_timeout, explicit=getattr(arguments, "given", frozenset()),
+        stock_resolution=arguments.stock_resolution, stock_out=Path(arguments.stock_out) if arguments.stock_out else None,
     )
 
 

@@ -71,6 +71,10 @@ class MachineState:
         twin = MachineState(**{name: getattr(self, name) for name in self.__slots__})
         for name in ("position", "modal", "cycle_data", "lathe_cycle_data", "global_variables", "jump_counts", "last_reference_via", "rule_state", "coordinate_shift"):
             setattr(twin, name, dict(getattr(self, name)))
+        for memory in twin.rule_state.values():
+            forked = getattr(memory, "forked", None)
+            if forked is not None:
+                forked()  # rule memory that changes in place (the workpiece): both paths copy it before changing it
         twin.local_variables = dict(self.local_variables)
         twin.frames = [Frame(**{n: getattr(f, n) for n in f.__slots__}) for f in self.frames]
         twin.loops = [LoopFrame(l.loop_id, l.head, l.iterations) for l in self.loops]
@@ -155,6 +159,7 @@ class Interpreter(ControlFlow):
                 self._run_path(position)
             except PathEnd:
                 pass
+            self.observer.path_end(self.state)
         self._sweep_unvisited()
 
     def _run_path(self, position: Position) -> None:

@@ -28,6 +28,9 @@ class Settings:
     per_block_only: bool = False  # tests: run plain blocks one by one, to compare with batches
     solver_timeout_s: float = 5.0  # per Z3 query
     rapid_path: str = "straight"  # or "dogleg": each axis moves on its own at rapid
+    stock_resolution: float | None = None  # cell size of the in-process stock (mm); None: from the smallest tool; 0: off
+    stock_memory: int = 256 << 20  # bytes the in-process stock may take
+    stock_out: Path | None = None  # write the cut workpiece here (.stl or .npz; {stem}: the program's name)
     config: Path | None = None  # the project file; None: ncverify.toml found upward
     explicit: frozenset[str] = frozenset()  # settings given on the command line: the project file does not override them
 

@@ -12,8 +12,8 @@ material top over its whole area, so that the grid never has to be exact to be s
     reached any part of it.
 
 A rapid is *clear* when every cell its tool can touch has ``upper`` below the tool's lower
-surface there; it *hits* when some cell centre lies under the tool with ``lower`` above that
-surface; anything in between is *unsure* (the verdict is ``unknown``, never a pass). A cut
+surface there; it *hits* when some point of a cell lies under the tool with ``lower`` above
+that surface; anything in between is *unsure* (the verdict is ``unknown``, never a pass). A cut
 whose place is not known (a symbolic position, an unknown radius) may have removed material
 anywhere, so it sinks ``lower`` everywhere and leaves ``upper`` alone: what was certainly
 there may be gone, what may be there still may be.
@@ -88,7 +88,7 @@ class Workpiece:
     def __init__(self, stock: Stock, resolution: float, memory_cap: int = 256 << 20):
         if stock.kind not in ("box", "polygon"):
             raise ValueError(f"a {stock.kind} stock is not modelled as a height field")
-        (x_low, y_low, x_high, y_high) = _outline(stock).bounds
+        (x_low, y_low, x_high, y_high) = outline(stock).bounds
         self.resolution = float(resolution)
         self.x_low, self.y_low = x_low, y_low
         self.nx = max(1, math.ceil((x_high - x_low) / self.resolution))
@@ -98,6 +98,7 @@ class Workpiece:
             raise ModelTooLarge(f"the stock at {self.resolution:g} mm needs {needed / 2**20:.0f} MiB of height field, "
                                 f"over the cap of {memory_cap / 2**20:.0f} MiB")
         self.stock = stock
+        self.cuts = 0  # sweeps so far, placed or not
         self.bottom, self.top = stock.z_range
         self.half_diagonal = self.resolution * math.sqrt(0.5)
         self.upper, self.lower = self._blank(stock)
@@ -132,6 +133,7 @@ class Workpiece:
         starts, ends = numpy.atleast_2d(numpy.asarray(starts, float)), numpy.atleast_2d(numpy.asarray(ends, float))
         if not len(starts):
             return 0.0
+        self.cuts += 1
         a, b, z_low, z_high, slack = self._split_steep(*_merge_runs(starts, ends, self.resolution / 4.0, self.resolution))
         z_low, z_high, slack = z_low - stray, z_high + stray, slack + stray
         may_cut = numpy.zeros(len(a), bool)
@@ -150,6 +152,7 @@ class Workpiece:
 
     def cut_anywhere(self) -> None:
         """A cut that cannot be placed: any material may be gone, none is surely gone."""
+        self.cuts += 1
         self.lower.fill(NO_MATERIAL)
 
     def copy(self) -> "Workpiece":
@@ -169,14 +172,17 @@ class Workpiece:
         """Does a rapid from ``start`` to ``end`` (tip positions) meet what is left?"""
         a, b = numpy.array([start], float), numpy.array([end], float)
         z = numpy.array([a[0, 2], b[0, 2]])
+        pieces = self._split_steep(a, b, z[:1].clip(max=z.min()), z[1:].clip(min=z.max()), numpy.zeros(1))
         clear = True
-        for _, (z_low, z_high, _), cells, distance in self._cells_near(*self._split_steep(a, b, z[:1].clip(max=z.min()), z[1:].clip(min=z.max()), numpy.zeros(1)),
-                                                                   cutter.radius + self.half_diagonal):
-            surface_high = z_high + cutter.lift(distance)
-            hit = (distance <= cutter.radius) & (self.lower[cells] > surface_high)
+        for owner, (z_low, z_high, _), cells, distance in self._cells_near(*pieces, cutter.radius + self.half_diagonal):
+            nearest = self._square_distance(cells, pieces[0][owner], pieces[1][owner])  # a point of the (closed) cell this close to the piece
+            surface_high = z_high + cutter.lift(nearest)
+            hit = (nearest <= cutter.radius) & (self.lower[cells] > surface_high)
             if hit.any():
                 first = int(numpy.flatnonzero(hit)[0])
-                return RapidVerdict("hits", (float(self._x(cells[1][first])), float(self._y(cells[0][first])), float(surface_high[first])))
+                on_path = _nearest_on_segment(self._x(cells[1][first]), self._y(cells[0][first]), pieces[0][owner[first:first + 1], :2], pieces[1][owner[first:first + 1], :2])
+                level = min(float(self.lower[cells][first]), float(z_high[first]))
+                return RapidVerdict("hits", (float(on_path[0][0]), float(on_path[1][0]), level))
             outer = numpy.maximum(distance - self.half_diagonal, 0.0)
             reach = outer <= cutter.radius
             clear &= not bool((self.upper[cells][reach] > (z_low + cutter.lowest_lift(outer))[reach]).any())
@@ -215,10 +221,18 @@ class Workpiece:
             local = numpy.arange(len(owner)) - numpy.repeat(numpy.cumsum(sizes[chunk]) - sizes[chunk], sizes[chunk])
             rows = row_low[owner] + local // widths[owner]
             columns = column_low[owner] + local % widths[owner]
-            distance = _distance_to_segment(self._x(columns), self._y(rows), a[owner, :2], b[owner, :2])
+            distance = distance_to_segment(self._x(columns), self._y(rows), a[owner, :2], b[owner, :2])
             near = distance <= reach[owner]
             owner, rows, columns, distance = owner[near], rows[near], columns[near], distance[near]
             yield owner, (z_low[owner], z_high[owner], slack[owner]), (rows, columns), distance
+
+    def _square_distance(self, cells, a, b):
+        """How far the (closed) square of each cell is from the point of its piece a-b
+        (row-wise) nearest its centre: a point of the cell lies that close to the path."""
+        px, py = self._x(cells[1]), self._y(cells[0])
+        qx, qy = _nearest_on_segment(px, py, a[:, :2], b[:, :2])
+        half = self.resolution / 2.0
+        return numpy.hypot(numpy.maximum(numpy.abs(qx - px) - half, 0.0), numpy.maximum(numpy.abs(qy - py) - half, 0.0))
 
     def _index_range(self, low, high, origin: float, count: int):
         first = numpy.clip(numpy.floor((low - origin) / self.resolution), 0, count).astype(numpy.int64)
@@ -299,7 +313,7 @@ def _write_stl(path, triangles) -> None:
         out.write(record.tobytes())
 
 
-def _outline(stock: Stock):
+def outline(stock: Stock):
     if stock.kind == "box":
         return shapely.box(stock.x_range[0], stock.y_range[0], stock.x_range[1], stock.y_range[1])
     return stock.outline
@@ -322,13 +336,19 @@ def _chunks(sizes):
         yield numpy.arange(start, len(sizes))
 
 
-def _distance_to_segment(px, py, a, b):
-    """Distance of points (px, py) from the XY segments a-b (row-wise)."""
+def _nearest_on_segment(px, py, a, b):
+    """The points of the XY segments a-b (row-wise) nearest to the points (px, py)."""
     dx, dy = b[:, 0] - a[:, 0], b[:, 1] - a[:, 1]
     length_sq = dx * dx + dy * dy
     t = numpy.where(length_sq > 0, ((px - a[:, 0]) * dx + (py - a[:, 1]) * dy) / numpy.where(length_sq > 0, length_sq, 1.0), 0.0)
     t = numpy.clip(t, 0.0, 1.0)
-    return numpy.hypot(px - (a[:, 0] + t * dx), py - (a[:, 1] + t * dy))
+    return a[:, 0] + t * dx, a[:, 1] + t * dy
+
+
+def distance_to_segment(px, py, a, b):
+    """Distance of points (px, py) from the XY segments a-b (row-wise)."""
+    qx, qy = _nearest_on_segment(px, py, a, b)
+    return numpy.hypot(px - qx, py - qy)
 
 
 def _sink(field, flat, heights, up: bool) -> None:
@@ -371,7 +391,7 @@ def _merge_runs(starts, ends, tolerance: float, rise: float):
     z_values = numpy.concatenate([starts[:, 2:], ends[:, 2:]], axis=1)
     z_low = numpy.minimum.reduceat(z_values.min(axis=1), first)
     z_high = numpy.maximum.reduceat(z_values.max(axis=1), first)
-    stray = _distance_to_segment(ends[:, 0], ends[:, 1], a[owner, :2], b[owner, :2])
+    stray = distance_to_segment(ends[:, 0], ends[:, 1], a[owner, :2], b[owner, :2])
     slack = numpy.maximum.reduceat(stray, first)
     return a, b, z_low, z_high, slack
 
@@ -381,7 +401,7 @@ def _chords_fit(starts, ends, joined, first, length, tolerance: float, rise: flo
     owner = numpy.repeat(numpy.arange(len(first)), length)
     index = numpy.arange(length.sum()) - numpy.repeat(numpy.cumsum(length) - length, length) + first[owner]
     a, b = starts[first[owner]], ends[(first + length - 1)[owner]]
-    stray = _distance_to_segment(ends[index, 0], ends[index, 1], a[:, :2], b[:, :2])
+    stray = distance_to_segment(ends[index, 0], ends[index, 1], a[:, :2], b[:, :2])
     broken = ~joined[index] & (index != first[owner])
     z = numpy.concatenate([starts[index, 2:], ends[index, 2:]], axis=1)
     offsets = numpy.cumsum(length) - length

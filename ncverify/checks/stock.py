@@ -49,6 +49,14 @@ def _separated(stock, start: dict, end: dict) -> bool:
     return False
 
 
+def _retracts_along_tool(start, end, state) -> bool:
+    """A rapid straight up the tool's own axis (+Z, with the tool along +Z) from where the
+    tool stands: every point it passes is where the tool's body already is, so it meets
+    nothing the tool has not already met (the holder is judged on its own)."""
+    return (start[0] == end[0] and start[1] == end[1] and end[2] >= start[2] and state.plane_axes[2] == "Z"
+            and state.global_variables.get("$TOOLAX", 0.0) in (0.0, 3.0) and (state.frame is None or state.frame.is_identity))
+
+
 def _where(point) -> str:
     return " ".join(f"{axis}{show(value)}" for axis, value in zip("XYZ", point))
 
@@ -75,7 +83,7 @@ class _NeedsStock(Rule):
 class RapidIntoStock(_NeedsStock):
     rule_id = "core.rapid-into-stock"
 
-    def segment(self, segment, state):
+    def segment(self, segment, state, run=None, index: int | None = None):
         if segment.kind != "rapid" or segment.role == "out-of-hole":
             return  # back up the hole the tool has just made: no stock there
         stock = self.stock(segment.span)
@@ -102,8 +110,34 @@ class RapidIntoStock(_NeedsStock):
             self._symbolic(stock, start, end, segment.span, what, state)
             return
         hit = geometry.enters(stock, start, end, self.checker.context.get("rapid_path") == "dogleg")
-        if hit is None:
+        if hit is None or _retracts_along_tool(start, end, state):
             return
+        left = self.checker.material.rapid(start, end, state, run, index) if self.checker.context.get("rapid_path") != "dogleg" else None
+        if left is None:
+            self._judge_against_blank(segment, what, start, end, hit, stock)
+        elif left.outcome == "hits":
+            self.report(self.rule_id, segment.span, self._message(what, start, end, left.point, stock, cut=self.checker.material.has_cut(state)))
+        elif left.outcome == "unsure":
+            self._unsure(segment, what, start, end, stock, state)
+
+    def _unsure(self, segment, what, start, end, stock, state) -> None:
+        """The blank is hit, the cut stock may be: where earlier cuts depend on free
+        parameters, values for which they stayed above the rapid are a candidate witness
+        (the replay with those values decides); otherwise the answer is unknown."""
+        shallow = self.checker.material.stayed_above(min(start[2], end[2]), state)
+        verdict = self.checker.judge(shallow, state) if shallow is not None else None
+        if verdict is not None and verdict.status is Status.VIOLATED:
+            self.checker.report_verdict(self.rule_id, segment.span, f"{what} from {_where(start)} to {_where(end)} passes through the stock "
+                                        f"({stock.describe()}) where the earlier cuts, for these values, did not go down: the tool crashes into it at rapid",
+                                        verdict, state)
+            return
+        self.report(self.rule_id, segment.span, f"{what} from {_where(start)} to {_where(end)} passes through the blank ({stock.describe()}) where earlier cuts "
+                    f"may have removed the material, closer to it than the model of the cut stock can tell ({self.checker.material.resolution:g} mm cells, "
+                    "or a cut it could not place): not checked", Status.UNKNOWN, "within the in-process stock's error")
+
+    def _judge_against_blank(self, segment, what, start, end, hit, stock) -> None:
+        """No model of the cut stock: the blank decides, except where the cycle itself
+        goes down into material removed before it."""
         if segment.role in _INTO_CLEARED:
             self.report(self.rule_id, segment.span, f"{what} goes down {_INTO_CLEARED[segment.role]} to {_where(end)}: the stock model is the blank, "
                         "with no holes or cleared material yet, so this entry was not checked", Status.UNKNOWN, "the stock is not updated by cutting or pre-boring")
@@ -119,7 +153,7 @@ class RapidIntoStock(_NeedsStock):
             return
         if self.checker.context.get("rapid_path") == "dogleg" or stock.kind == "polygon" or len(run.axes) != 3:
             for index in rapids:
-                self.segment(run.segment(int(index)), state)
+                self.segment(run.segment(int(index)), state, run, int(index))
             return
         starts, ends = run.points[rapids].copy(), run.points[rapids + 1].copy()
         if stock.kind == "cylinder":
@@ -127,10 +161,10 @@ class RapidIntoStock(_NeedsStock):
             ends[:, 1] = numpy.nan_to_num(ends[:, 1])
         known = ~(numpy.isnan(starts).any(axis=1) | numpy.isnan(ends).any(axis=1))
         for index in rapids[~known]:
-            self.segment(run.segment(int(index)), state)
+            self.segment(run.segment(int(index)), state, run, int(index))
         hits = rapids[known][geometry.enters_many(stock, starts[known], ends[known])]
         for index in hits[: self.checker.settings.max_findings_per_rule]:
-            self.segment(run.segment(int(index)), state)
+            self.segment(run.segment(int(index)), state, run, int(index))
 
     def _from_unknown(self, stock, end, span, what, state):
         """Where the tool comes from is unknown; the end point alone can still be inside."""
@@ -155,9 +189,10 @@ class RapidIntoStock(_NeedsStock):
         self.checker.report_verdict(self.rule_id, span, f"{what} from {_where(start)} to {_where(end)} passes through the stock ({stock.describe()})", verdict, state)
 
     @staticmethod
-    def _message(what, start, end, hit, stock) -> str:
+    def _message(what, start, end, hit, stock, cut: bool = False) -> str:
+        where = "material left by the cuts so far" if cut else "the blank"
         return (f"{what} from {_where(start)} to {_where(end)} passes through the stock ({stock.describe()}) near {_where(hit)}: "
-                "the tool crashes into the blank at rapid")
+                f"the tool crashes into {where} at rapid")
 
 
 @rule("core.clearance-below-stock")
@@ -191,7 +226,7 @@ class ClearanceBelowStock(_NeedsStock):
             if level is None or key in state.rule_state:
                 continue  # each hole is judged until one shows the violation: holes differ in position
             inside = hazard("<", level, face - geometry.EPSILON) if hole.up > 0 else hazard(">", level, face + geometry.EPSILON)
-            verdict = self.checker.judge(_both(over_stock, inside), state)
+            verdict = self.checker.judge(both(over_stock, inside), state)
             if verdict is not None and verdict.status is Status.VIOLATED:
                 state.rule_state[key] = True
             self.checker.report_verdict(self.rule_id, span, f"{code}: the {name} {axis}{show(level)} is {where}: "
@@ -230,11 +265,11 @@ def _across(ranges, drill_axis: str, position: dict):
     for axis, (low, high) in zip("XYZ", ranges):
         value = position.get(axis)
         if axis != drill_axis and value is not None:
-            over = _both(_both(over, hazard(">", value, low)), hazard("<", value, high))
+            over = both(both(over, hazard(">", value, low)), hazard("<", value, high))
     return over
 
 
-def _both(first, second):
+def both(first, second):
     """Both hazard conditions (True, False or conditions)."""
     if first is True or second is False:
         return second
