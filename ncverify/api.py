@@ -6,7 +6,7 @@ file entry of the JSON contract; ``check_paths`` walks files and folders for the
 from __future__ import annotations
 
 import os
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 from . import annotations, values
@@ -14,7 +14,7 @@ from .check import Checker
 from .detect import Detection, detect
 from .diagnostics import Diagnostic, Severity, Status, Suppressed
 from .interpret import Interpreter
-from .context import Context
+from .context import Context, RegisterLimits, RuleContext, ToolTable
 from .dialect import setup_for
 from .library import SubprogramLibrary
 from .project import find_project_file, load_project
@@ -108,7 +108,7 @@ def check_source(source: ProgramSource, settings: Settings, project: Context | N
     settings = _with_project_settings(settings, project)
     project = project or Context()
     if setup_for(detection.dialect, settings, detection, project) is None:
-        checker = Checker(settings, {})
+        checker = Checker(settings, RuleContext())
         checker.report("core.dialect-unsupported", Span(1, 1, 1, 1), f"{detection.dialect} programs are recognised but not checked yet: nothing in this file was verified",
                        Status.UNKNOWN, f"no reader for the {detection.dialect} dialect yet")
         result.diagnostics = checker.diagnostics
@@ -168,22 +168,11 @@ def _run(source: ProgramSource, settings: Settings, detection: Detection, result
     context = found.context.layered_over(project)
     if hasattr(frontend, "program_context"):
         context = frontend.program_context(source).layered_over(context)
-    limits = dict(dialect.limits)
-    limits.update({
-        "machine": dialect.machine,
-        "stock": context.stock,
-        "tools": context.tools,
-        "travel": context.machine.travel,
-        "work_offsets": context.machine.work_offsets,
-        "lathe_x": context.machine.lathe_x,
-        "max_spindle": context.machine.max_spindle,
-        "max_feed": context.machine.max_feed,
-        "spindle_encoder": context.machine.spindle_encoder,
-        "rapid_path": settings.rapid_path,
-        "solver_timeout_s": settings.solver_timeout_s,
-        "wording": wording(detection.dialect, dialect.profile),
-    })
-    checker = Checker(settings, limits, context.severity, found.suppressions)
+    rule_context = RuleContext(
+        machine=replace(context.machine, kind=dialect.machine), stock=context.stock, tools=ToolTable(context.tools),
+        limits=RegisterLimits(**dialect.limits), rapid_path=settings.rapid_path, wording=wording(detection.dialect, dialect.profile),
+    )
+    checker = Checker(settings, rule_context, context.severity, found.suppressions)
     for note in found.notes:
         checker.note(note)
     folders = list(settings.subprogram_path)

@@ -2,25 +2,25 @@
 
 Rule *definitions* (id, category, default severity, page, parameter constraints) are data
 in ``rules/``; rule *logic* that needs more than a constraint is a class in
-``ncverify/checks/`` registered with :func:`rule`. The :class:`Checker` is the
+``ncverify/checks/`` registered with :func:`ncverify.rule_registry.rule`. The :class:`Checker` is the
 interpreter's observer: it hands each trace event to the rules that handle it.
 """
 from __future__ import annotations
 
 import ast
-import math
 import tomllib
 from dataclasses import dataclass, field
 from functools import cache
 from pathlib import Path
 
-import z3
 
 from . import values
+from .context import RuleContext
 from .diagnostics import CATEGORIES, Diagnostic, Severity, Status, Suppressed
 from .resources import data_dir
+from .rule_registry import rule, rule_classes  # noqa: F401  (rule classes take their decorator from here, with Rule)
 from .source import Span
-from .values import Condition, Sym
+from .verdict import Verdict, evaluate_constraint, hazard, judge, show  # noqa: F401  (hazard, show: re-exported for the rules)
 
 # --------------------------------------------------------------------------- definitions
 
@@ -103,41 +103,7 @@ def rule_definitions() -> dict[str, RuleDefinition]:
     return definitions
 
 
-# --------------------------------------------------------------------------- rule logic registry
-
-_RULE_CLASSES: list[type] = []
-
-
-def rule(*ids: str):
-    """Register a rule class reporting the given rule ids."""
-
-    def register(cls):
-        cls.ids = ids
-        _RULE_CLASSES.append(cls)
-        return cls
-
-    return register
-
-
-def implemented_rule_ids() -> set[str]:
-    from . import checks  # noqa: F401  (registers the rule classes)
-
-    ids = {rule_id for cls in _RULE_CLASSES for rule_id in cls.ids}
-    ids |= {definition.id for definition in rule_definitions().values() if definition.constraints}
-    return ids | _REPORTED_FROM_TRACE
-
-
-# Rules reported straight from reader/lowering notes and interpreter faults.
-_REPORTED_FROM_TRACE = {
-    "core.syntax", "core.unknown-code", "core.unsupported-code", "core.bare-g", "core.same-group-codes",
-    "core.too-many-m-codes", "core.duplicate-address", "core.label-not-found", "core.program-not-found",
-    "core.arithmetic-domain", "core.undefined-variable", "core.loop-bound", "core.call-depth", "core.macro-alarm",
-    "core.program-end-missing", "core.m99-in-main", "core.path-limit", "core.duplicate-label",
-    "core.repeat-count-range", "core.shape-order", "core.dialect-unsupported", "core.decimal-point", "core.bad-annotation",
-    "heidenhain.call-without-cycle", "heidenhain.cycle-with-compensation", "heidenhain.call-pos-axes", "heidenhain.sl-prerequisites",
-    "heidenhain.position-after-cycle", "heidenhain.program-name-mismatch", "heidenhain.mirror-tool-axis", "heidenhain.call-without-tool", "heidenhain.pattern-surface",
-    "heidenhain.pattern-tool-axis", "sinumerik.nested-mcall",
-}
+# --------------------------------------------------------------------------- rule logic
 
 
 class Rule:
@@ -162,7 +128,7 @@ class Rule:
     def word(self, key: str, form: str = "{}") -> str:
         """The control's own word for ``key`` (``dialects/<dialect>/wording.toml``) put into
         ``form``, or "" when this dialect has none."""
-        found = self.checker.context.get("wording", {}).get(key)
+        found = self.checker.context.wording.get(key)
         return form.format(found) if found else ""
 
     def segment(self, segment, state): ...
@@ -178,64 +144,6 @@ class Rule:
     def finish(self): ...
 
 
-# --------------------------------------------------------------------------- judging symbolic values
-
-
-@dataclass(frozen=True)
-class Verdict:
-    status: Status
-    witness: dict[str, float] = field(default_factory=dict)
-    reason: str | None = None
-
-
-def judge(hazard: "bool | Condition", path_condition: list, timeout_s: float = 5.0) -> Verdict | None:
-    """Does the hazard occur? ``None`` when it certainly does not (concrete False)."""
-    if hazard is True:
-        return Verdict(Status.VIOLATED)
-    if hazard is False:
-        return None
-    solver = z3.Solver()
-    solver.set("timeout", int(timeout_s * 1000))
-    for condition in path_condition:
-        if isinstance(condition, Condition):
-            solver.add(condition.term)
-    solver.add(hazard.term)
-    answer = solver.check()
-    if answer == z3.unsat:
-        return Verdict(Status.PROVED)
-    if answer == z3.sat:
-        model = solver.model()
-        witness = {}
-        for declaration in model.decls():
-            value = model[declaration]
-            if z3.is_rational_value(value):
-                witness[declaration.name()] = float(value.numerator_as_long()) / float(value.denominator_as_long())
-            elif z3.is_algebraic_value(value):
-                witness[declaration.name()] = float(value.approx(10).as_decimal(10).rstrip("?"))
-        return Verdict(Status.VIOLATED, {k: v for k, v in witness.items() if "~" not in k and "!" not in k})
-    return Verdict(Status.UNKNOWN, reason=f"the solver gave no answer within {timeout_s:g} s ({solver.reason_unknown()})")
-
-
-def hazard(op: str, a, b) -> "bool | Condition":
-    """``a op b`` as a hazard condition, with ISO relation names or symbols. When a value
-    is symbolic the answer stays a condition even if intervals decide it, so that the
-    verdict is ``proved`` (or ``violated`` with a witness) rather than silence."""
-    symbol = {"<": "LT", "<=": "LE", ">": "GT", ">=": "GE", "==": "EQ", "!=": "NE"}.get(op, op)
-    outcome = values.compare(symbol, a, b)
-    if type(outcome) is bool and (isinstance(a, Sym) or isinstance(b, Sym)):
-        return Condition(z3.BoolVal(outcome))
-    return outcome
-
-
-def show(value) -> str:
-    """A value as a machinist reads it: 12.5, or the expression for a symbolic one."""
-    if type(value) is float:
-        return f"{value:.4f}".rstrip("0").rstrip(".") if math.isfinite(value) else str(value)
-    if isinstance(value, Sym):
-        return values.readable(str(z3.simplify(value.term)))
-    return str(value)
-
-
 # --------------------------------------------------------------------------- the observer
 
 
@@ -243,12 +151,11 @@ class Checker:
     """Collects findings from the trace: dedups them, caps them per rule, applies the
     configured severities and disabled rules."""
 
-    def __init__(self, settings, context: dict, severity_overrides: dict | None = None, suppressions: dict | None = None):
-        from . import checks  # noqa: F401
+    def __init__(self, settings, context: RuleContext, severity_overrides: dict | None = None, suppressions: dict | None = None):
         from .checks.material import Material
 
         self.settings = settings
-        self.context = context  # register limits, machine type, stock, tools, travel: what rules may assume
+        self.context = context  # stock, tools, machine, register limits: what rules may assume
         self.suppressions = suppressions or {}  # line -> rule ids / categories from "ignore" annotations
         self.suppressed: list[Suppressed] = []
         self.definitions = rule_definitions()
@@ -259,7 +166,7 @@ class Checker:
         self.truncated: dict[str, int] = {}
         self.path_condition: list = []
         self.material = Material(self)
-        rules = [cls(self) for cls in _RULE_CLASSES if not set(cls.ids) <= settings.disabled_rules]
+        rules = [cls(self) for cls in rule_classes() if not set(cls.ids) <= settings.disabled_rules]
         self.rules = rules
         self._segment = _handlers(rules, "segment")
         self._motion_run = _handlers(rules, "motion_run")
@@ -355,9 +262,9 @@ class Checker:
             severity = Severity.INFO
         self.diagnostics.append(Diagnostic(rule_id, definition.category, severity, span, message, status, reason, witness or {}))
 
-    def judge(self, hazard, state) -> "Verdict | None":
+    def judge(self, condition, state) -> "Verdict | None":
         """:func:`judge` under the path's condition and the configured solver timeout."""
-        return judge(hazard, state.path_condition, self.settings.solver_timeout_s)
+        return judge(condition, state.path_condition, self.settings.solver_timeout_s)
 
     def report_verdict(self, rule_id: str, span: Span, message: str, verdict: Verdict | None, state) -> None:
         """Report a judged hazard: violated with its witness, unknown with the reason, or a
@@ -416,82 +323,3 @@ def _format_message(message: str, names: dict) -> str:
             return "(not given)"
 
     return message.format_map(Shown({key: show(value) for key, value in names.items() if value is not None}))
-
-
-# --------------------------------------------------------------------------- constraint expressions
-
-_RELATIONS = {ast.Lt: "LT", ast.LtE: "LE", ast.Gt: "GT", ast.GtE: "GE", ast.Eq: "EQ", ast.NotEq: "NE"}
-
-
-class _Missing(Exception):
-    pass
-
-
-def evaluate_constraint(tree: ast.Expression, names: dict) -> "bool | Condition":
-    """True (or a condition) when the parameters are wrong; a missing name makes the
-    comparison it sits in false."""
-    return _truth(_guarded(tree.body, names))
-
-
-def _truth(value):
-    return value if isinstance(value, (bool, Condition)) else values.truth(value)
-
-
-def _eval(node, names):
-    if isinstance(node, ast.BoolOp):
-        op = "AND" if isinstance(node.op, ast.And) else "OR"
-        result = _guarded(node.values[0], names)
-        for operand in node.values[1:]:
-            result = values.logical(op, _truth(result), _truth(_guarded(operand, names)))
-        return result
-    if isinstance(node, ast.UnaryOp):
-        operand = _eval(node.operand, names)
-        if isinstance(node.op, ast.Not):
-            return values.negate(_truth(operand))
-        return values.neg(operand)
-    if isinstance(node, ast.Compare):
-        left = _eval(node.left, names)
-        result = True
-        for operator, right_node in zip(node.ops, node.comparators):
-            right = _eval(right_node, names)
-            step = values.compare(_RELATIONS[type(operator)], left, right)
-            result = values.logical("AND", result, step) if result is not True else step
-            left = right
-        return result
-    if isinstance(node, ast.BinOp):
-        left, right = _eval(node.left, names), _eval(node.right, names)
-        operation = {ast.Add: values.add, ast.Sub: values.sub, ast.Mult: values.mul, ast.Div: values.div}[type(node.op)]
-        return operation(left, right)
-    if isinstance(node, ast.Call) and isinstance(node.func, ast.Name):
-        if node.func.id == "missing":
-            return names.get(node.args[0].id) is None
-        arguments = [_eval(arg, names) for arg in node.args]
-        if node.func.id == "abs":
-            return values.absolute(arguments[0])
-        if node.func.id in ("min", "max"):
-            return _min_max(node.func.id, arguments)
-        if node.func.id == "whole":
-            return values.is_whole(arguments[0])
-        if node.func.id == "digits":
-            return float(len(str(int(abs(arguments[0]))))) if type(arguments[0]) is float else values.fresh("digits")
-    if isinstance(node, ast.Name):
-        value = names.get(node.id)
-        if value is None or isinstance(value, str):  # a string where a number belongs is another rule's finding
-            raise _Missing(node.id)
-        return value
-    if isinstance(node, ast.Constant) and isinstance(node.value, (int, float)):
-        return float(node.value)
-    raise ValueError(f"not allowed in a constraint: {ast.dump(node)}")
-
-
-def _guarded(node, names):
-    try:
-        return _eval(node, names)
-    except _Missing:
-        return False
-
-
-def _min_max(name, arguments):
-    if all(type(argument) is float for argument in arguments):
-        return min(arguments) if name == "min" else max(arguments)
-    return values.fresh(name)

@@ -11,15 +11,15 @@ import os
 import sys
 from pathlib import Path
 
-from . import __version__
+from . import __version__, rule_registry
 from .api import FileResult, InputError, check_file, check_source, iter_program_files, project_for
 from .check import RuleFileError, rule_definitions
 from .project import ConfigError
 from .diagnostics import Severity, Status
+from .dialect import DIALECTS, MACHINES
 from .report import render_json, render_sarif, render_text
 from .settings import Settings
 from .source import ProgramSource
-from .tables import iso_profiles
 
 EXIT_OK, EXIT_FINDINGS, EXIT_USAGE = 0, 1, 2
 
@@ -40,9 +40,9 @@ def build_parser() -> argparse.ArgumentParser:
     check.add_argument("paths", nargs="+", metavar="PATH")
     check.add_argument("--format", choices=("text", "json", "sarif"), default="text")
     check.add_argument("--output", "-o", metavar="FILE", help="write the report to FILE instead of stdout")
-    check.add_argument("--dialect", choices=("iso", "heidenhain", "sinumerik", "fagor"), help="skip detection")
-    check.add_argument("--profile", choices=iso_profiles(), help="ISO profile (default: detected, else mitsubishi-e60)")
-    check.add_argument("--machine", choices=("mill", "lathe"), help="machine type where the program cannot tell")
+    check.add_argument("--dialect", choices=tuple(DIALECTS), help="skip detection")
+    check.add_argument("--profile", choices=DIALECTS["iso"].profiles(), help="ISO profile (default: detected, else mitsubishi-e60)")
+    check.add_argument("--machine", choices=MACHINES, help="machine type where the program cannot tell")
     check.add_argument("--fail-on", choices=("error", "warning", "info", "never"), default="error")
     check.add_argument("--fail-on-unknown", action="store_true", help="unknown verdicts fail the run too")
     check.add_argument("--loop-bound", type=_positive_int, default=Settings.loop_bound, metavar="N",
@@ -66,7 +66,8 @@ def build_parser() -> argparse.ArgumentParser:
     explain = commands.add_parser("explain", help="show a rule's page")
     explain.add_argument("rule")
 
-    commands.add_parser("rules", help="list the rules")
+    rules = commands.add_parser("rules", help="list the rules")
+    rules.add_argument("--where", action="store_true", help="add where each rule is implemented (module:Class, the page's constraints, or the modules that report it)")
     return parser
 
 
@@ -98,7 +99,7 @@ def main(argv: list[str] | None = None) -> int:
         if arguments.command == "explain":
             return _explain(arguments.rule)
         if arguments.command == "rules":
-            return _list_rules()
+            return _list_rules(arguments.where)
         return _check(arguments)
     except RuleFileError as error:
         print(f"ncverify: broken rule definition: {error}", file=sys.stderr)
@@ -240,9 +241,13 @@ def _print_markdown(text: str) -> None:
         print(text)
 
 
-def _list_rules() -> int:
+def _list_rules(where: bool = False) -> int:
+    implementations = rule_registry.implementations() if where else {}
     for definition in rule_definitions().values():
-        print(f"{definition.id:34} {definition.category:16} {definition.severity.value:8} {definition.summary}")
+        line = f"{definition.id:34} {definition.category:16} {definition.severity.value:8} {definition.summary}"
+        if where:
+            line += f"  [{implementations[definition.id].where}]"
+        print(line)
     return EXIT_OK
 
 

@@ -8,6 +8,8 @@ which context it lacks; it never assumes "safe".
 """
 from __future__ import annotations
 
+import math
+from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, field, fields, replace
 
 import shapely
@@ -99,6 +101,11 @@ class Tool:
     origin: str = "project file"
     edges: dict = field(default_factory=dict)  # SINUMERIK: the data of cutting edges D2, D3... by D number (the fields above: D1)
 
+    def edge_data(self, edge: float) -> "Tool | None":
+        """The data of cutting edge D``edge`` (this tool's own values are edge D1's), or None
+        when that edge is not described."""
+        return self if edge == 1.0 else self.edges.get(int(edge))
+
     def filled_from(self, base: "Tool") -> "Tool":
         """This tool, with ``base``'s values where this one says nothing."""
         missing = {item.name: getattr(base, item.name) for item in fields(self) if getattr(self, item.name) is None}
@@ -111,6 +118,34 @@ def tool_value_problem(key: str, value: float) -> str | None:
     if low is not None and not low <= value <= high:
         return f"{key.replace('_', '-')} must lie in {low:g}..{high:g}, got {value:g}"
     return None
+
+
+class ToolTable(Mapping[int, Tool]):
+    """The tools by number, and the one place where a computed T number becomes a tool.
+
+    Reads the machine state only through ``state.tool_in_spindle``, so that it sits below
+    the interpreter as well as the rules."""
+
+    def __init__(self, tools: Mapping[int, Tool] | None = None):
+        self._tools = dict(tools or {})
+
+    def __getitem__(self, number: int) -> Tool:
+        return self._tools[number]
+
+    def __iter__(self) -> Iterator[int]:
+        return iter(self._tools)
+
+    def __len__(self) -> int:
+        return len(self._tools)
+
+    def numbered(self, number) -> Tool | None:
+        """The tool a T (or H, D) number the program computed names: None when the number is
+        not known (absent, symbolic) or the table has no such tool."""
+        return self._tools.get(int(number)) if type(number) is float else None
+
+    def in_spindle(self, state) -> Tool | None:
+        """The tool in the spindle on this path, or None when it is not known or not in the table."""
+        return self.numbered(state.tool_in_spindle)
 
 
 @dataclass
@@ -164,3 +199,37 @@ class Context:
             {**base.settings, **self.settings}, base.disabled | self.disabled, {**base.severity, **self.severity},
             self.source or base.source,
         )
+
+
+@dataclass(frozen=True)
+class RegisterLimits:
+    """The largest tool number and offset registers the control takes (the dialect's tables)."""
+
+    tool_number_max: float = math.inf
+    h_register_max: float = math.inf
+    d_register_max: float = math.inf
+
+
+@dataclass(frozen=True)
+class RuleContext:
+    """What the rules may assume besides the trace: the program's stock, tools and machine
+    (after layering program, annotations and project file), the control's register limits,
+    how rapids move, and the control's own words for messages."""
+
+    machine: Machine = field(default_factory=Machine)  # ``kind``: the machine type this run settled on
+    stock: Stock | None = None
+    tools: ToolTable = field(default_factory=ToolTable)
+    limits: RegisterLimits = field(default_factory=RegisterLimits)
+    rapid_path: str = "straight"
+    wording: Mapping[str, str] = field(default_factory=dict)
+
+    @property
+    def lathe(self) -> bool:
+        return self.machine.kind == "lathe"
+
+    def get(self, key: str):
+        """The tool table by its old dictionary key, for the Fagor pattern runner that still
+        reaches the checker's context (it moves to the interpreter's runtime interface)."""
+        if key != "tools":
+            raise KeyError(key)
+        return self.tools

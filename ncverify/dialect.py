@@ -1,6 +1,9 @@
-"""What a dialect hands the pipeline: its frontend and the tables the interpreter runs with.
+"""The dialects ncverify knows, and what a dialect hands the pipeline: its frontend and the
+tables the interpreter runs with.
 
-Every dialect family has one lowering module, ``ncverify.lower.<dialect>``, with a function
+:data:`DIALECTS` is the one list of dialects: the command line's ``--dialect`` and
+``--machine`` choices, the project file's validation and detection's signatures all follow
+it. Every dialect family has one lowering module (``DialectInfo.lowering``) with a function
 ``setup(settings, detection, project) -> DialectSetup``. The pipeline (``api.py``) finds it
 by the detected dialect's name; a dialect without such a module is recognised but reported
 as not checked. Nothing else in the pipeline knows which dialect it runs.
@@ -36,9 +39,42 @@ The frontend is the object the interpreter asks about text. Its methods:
 from __future__ import annotations
 
 import importlib
+import tomllib
 from dataclasses import dataclass, field
 
 from .context import Context
+from .resources import data_dir
+
+
+@dataclass(frozen=True)
+class DialectInfo:
+    """One dialect family: its id (the ``--dialect`` value), the name it is shown by, the
+    file extensions its programs usually have, the module that lowers it, and the machine
+    types it runs on. Its tables are ``dialects/<id>/*.toml``."""
+
+    id: str
+    name: str
+    extensions: tuple[str, ...]
+    lowering: str
+    machines: tuple[str, ...] = ("mill",)
+    profiles_table: str | None = None  # dialects/<id>/<file> whose tables are the profiles (ISO)
+
+    def profiles(self) -> list[str]:
+        """The profiles a ``--profile`` may name, sorted; none for a dialect without them."""
+        if self.profiles_table is None:
+            return []
+        with (data_dir("dialects") / self.id / self.profiles_table).open("rb") as handle:
+            return sorted(tomllib.load(handle))
+
+
+DIALECTS: dict[str, DialectInfo] = {info.id: info for info in (
+    DialectInfo("iso", "ISO family (Mitsubishi E60/M60, Fanuc-style, Haas)", (".nc", ".ngc", ".cnc", ".tap", ".eia", ".iso"),
+                "ncverify.lower.iso", ("mill", "lathe"), "profiles.toml"),
+    DialectInfo("heidenhain", "HEIDENHAIN TNC 620 Klartext", (".h", ".i"), "ncverify.lower.heidenhain"),
+    DialectInfo("sinumerik", "SINUMERIK 840D", (".mpf", ".spf"), "ncverify.lower.sinumerik", ("mill", "lathe")),
+    DialectInfo("fagor", "Fagor 8060/8065", (".pim", ".pit"), "ncverify.lower.fagor"),
+)}
+MACHINES = tuple(dict.fromkeys(machine for info in DIALECTS.values() for machine in info.machines))
 
 
 @dataclass
@@ -58,12 +94,10 @@ class DialectSetup:
 
 def setup_for(dialect: str, settings, detection, project: Context) -> DialectSetup | None:
     """The dialect's setup, or None when no lowering module exists for it yet."""
-    try:
-        module = importlib.import_module(f"ncverify.lower.{dialect}")
-    except ModuleNotFoundError as error:
-        if error.name != f"ncverify.lower.{dialect}":
-            raise
+    info = DIALECTS.get(dialect)
+    if info is None:
         return None
+    module = importlib.import_module(info.lowering)
     return module.setup(settings, detection, project)
 
 

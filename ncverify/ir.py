@@ -59,7 +59,7 @@ Operations (all carry the ``span`` of the words they came from):
 ``Stop``            program stop, optional stop, program end
 ``Alarm``           the program raises an alarm on purpose (#3000)
 ``Deferred``        a block whose codes are computed (``G#3``): resolved at run time
-``MoveRun``         (not an op) a batch of consecutive plain blocks - feed word, motion
+``MoveBatch``       (not an op) a batch of consecutive plain blocks - feed word, motion
                     code, literal axis words - that the interpreter runs at once
 ``Unsupported``     a construct that reads fine but is not modelled; checks that depend
                     on what it does answer ``unknown``
@@ -331,7 +331,7 @@ class Unsupported(Op):
 
 
 @dataclass(slots=True)
-class MoveRun:
+class MoveBatch:
     """Consecutive plain blocks read in one go: each row is ``[SetFeed] Move(kind, targets)``
     with literal numbers. Straight-line CAM code is millions of such blocks; reading and
     running them as arrays is what makes the checker fast. ``kinds`` is -1 for "modal",

@@ -10,6 +10,7 @@ from pathlib import Path
 
 from .context import TOOL_KEYS, TOOL_RANGES, TOOL_TYPES, Assumption, Context, Machine, Stock, Tool, tool_value_problem
 from .diagnostics import CATEGORIES, Severity
+from .dialect import DIALECTS, MACHINES
 
 FILE_NAME = "ncverify.toml"
 SETTINGS = {
@@ -18,7 +19,7 @@ SETTINGS = {
     "stock_resolution": float,
 }
 _MAY_BE_ZERO = {"least_input_increment", "stock_resolution"}  # 0: whole units; 0: no in-process stock
-_CHOICES = {"machine": ("mill", "lathe"), "rapid_path": ("straight", "dogleg"), "dialect": ("iso", "heidenhain", "sinumerik", "fagor")}
+_CHOICES = {"machine": MACHINES, "rapid_path": ("straight", "dogleg"), "dialect": tuple(DIALECTS)}
 _AXES = ("x", "y", "z", "a", "b", "c", "u", "v", "w")
 
 

@@ -5,6 +5,7 @@ import tomllib
 from dataclasses import dataclass
 from functools import cache
 
+from .cycle_models import load_cycle_table
 from .resources import data_dir
 
 
@@ -59,7 +60,7 @@ def iso_table(profile: str = "mitsubishi-e60", machine: str = "mill") -> CodeTab
     _overlay(g, machine_overrides.get("g", {}), machine_overrides.get("remove_g", []))
     m.update(profile_data.get("m", {}))
     settings = {key: value for key, value in profile_data.items() if not isinstance(value, dict)}
-    cycles = _load("iso", "cycles.toml")["cycle"]
+    cycles = load_cycle_table("iso")
     return CodeTable(profile, machine, g, m, words, power_on, settings, cycles)
 
 
@@ -67,7 +68,3 @@ def _overlay(codes: dict, additions: dict, removals: list) -> None:
     for key in removals:
         codes.pop(key, None)
     codes.update(additions)
-
-
-def iso_profiles() -> list[str]:
-    return sorted(_load("iso", "profiles.toml"))

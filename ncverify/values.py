@@ -356,3 +356,19 @@ def modulo(a: Value, b: Value) -> Value:
             raise DomainError("MOD by zero")
         return math.fmod(a, b)
     return fresh("MOD")
+
+
+def distance_sq(a1, a2, b1, b2):
+    """Squared distance of two points in a plane (exact for symbolic values)."""
+    d1, d2 = sub(a1, b1), sub(a2, b2)
+    return add(mul(d1, d1), mul(d2, d2))
+
+
+def distance(a1, a2, b1, b2):
+    """Distance of two points; None when it depends on free parameters (the arc rule then
+    answers unknown rather than compare radii it cannot compute exactly)."""
+    d1, d2 = sub(a1, b1), sub(a2, b2)
+    if type(d1) is float and type(d2) is float:
+        return math.hypot(d1, d2)
+    return None
+

@@ -35,8 +35,7 @@ def junk(size: int, seed: int = 7) -> bytes:
     return bytes(data)
 
 
-def findings(result, rule: str):
-    return [d for d in result.diagnostics if d.rule == rule]
+from conftest import findings
 
 
 # --------------------------------------------------------------------------- binary junk

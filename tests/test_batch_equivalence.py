@@ -52,8 +52,8 @@ def test_a_long_plain_program_is_run_in_batches_and_finds_the_missing_feed():
 def test_every_rule_that_reads_segments_reads_runs_too():
     """A rule with a segment handler and no run handler gets every run cut back into one
     Python object per block: CAM programs would lose the batch speed."""
-    from ncverify import checks  # noqa: F401 (registers the rules)
-    from ncverify.check import _RULE_CLASSES, Rule
+    from ncverify.check import Rule
+    from ncverify.rule_registry import rule_classes
 
-    segment_only = [cls.__name__ for cls in _RULE_CLASSES if cls.segment is not Rule.segment and cls.motion_run is Rule.motion_run]
+    segment_only = [cls.__name__ for cls in rule_classes() if cls.segment is not Rule.segment and cls.motion_run is Rule.motion_run]
     assert segment_only == []

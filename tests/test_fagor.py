@@ -13,7 +13,7 @@ from hypothesis import given, settings, strategies
 from fagor_trace import trace
 from ncverify import Settings, check_text
 from ncverify.detect import detect
-from ncverify.lower.fagor_cycles import skip_range
+from ncverify.interpret.fagor_cycles import skip_range
 from ncverify.read.fagor import read_fagor_line
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -2,7 +2,6 @@
 subroutines (#MCALL) and where pockets and thread mills leave the tool."""
 from __future__ import annotations
 
-import textwrap
 from pathlib import Path
 
 import pytest
@@ -14,9 +13,11 @@ from ncverify.context import Tool
 from ncverify.project import ConfigError, load_project_text
 
 
-def check(program: str, project: str = ""):
-    context = load_project_text(project, Path("ncverify.toml")) if project else None
-    return check_text(textwrap.dedent(program).lstrip("\n"), "t.pim", Settings(dialect="fagor"), context)
+from conftest import check_program
+
+
+def check(program: str, project_text: str = ""):
+    return check_program(program, "t.pim", project_text, dialect="fagor")
 
 
 def findings(result, status: str = "violated") -> dict[str, list]:

@@ -11,10 +11,8 @@ from ncverify.diagnostics import Status
 from ncverify.dialect import setup_for
 from ncverify.interpret import Interpreter
 from ncverify.lower.heidenhain import KlartextLowering, stock_from_text
-from ncverify.project import load_project_text
 from ncverify.read.heidenhain import continues
 from ncverify.source import ProgramSource
-from pathlib import Path
 
 
 def program(body: str, name: str = "T") -> str:
@@ -32,9 +30,11 @@ def drilling(depth="-15", surface="+0", clearance="+2", second="+50", number=200
             f"    Q203={surface} ;SURFACE COORDINATE ~\n    Q204={second} ;2ND SET-UP CLEARANCE ~\n    Q211=+0 ;DWELL TIME AT DEPTH\n")
 
 
-def check(text: str, project: str = ""):
-    context = load_project_text(project, Path("ncverify.toml")) if project else None
-    return check_text(text, "t.h", Settings(), context)
+from conftest import project
+
+
+def check(text: str, project_text: str = ""):
+    return check_text(text, "t.h", Settings(), project(project_text))
 
 
 def rules(result, status=None) -> set[str]:

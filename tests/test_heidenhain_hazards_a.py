@@ -14,8 +14,7 @@ from ncverify import Settings, check_file, check_text
 from ncverify.check import rule_definitions
 from ncverify.diagnostics import Status
 from ncverify.lower.heidenhain import KlartextLowering
-from ncverify.lower.heidenhain_special import engraved_characters
-from ncverify.project import load_project_text
+from ncverify.interpret.heidenhain.special import engraved_characters
 
 # Reference A §9, hazard by hazard: the rules that check it, or why none does. A rule that
 # covers only part of a hazard says which part in the comment.
@@ -99,9 +98,11 @@ def program(body: str, tool: str = "TOOL CALL 1 Z S2000", start: str = "L  Z+100
     return "\n".join(lines) + "\n"
 
 
-def check(text: str, project: str = ""):
-    context = load_project_text(project, Path("ncverify.toml")) if project else None
-    return check_text(text, "t.h", Settings(), context)
+from conftest import project
+
+
+def check(text: str, project_text: str = ""):
+    return check_text(text, "t.h", Settings(), project(project_text))
 
 
 def lines(result, rule: str, status=Status.VIOLATED) -> list[int]:

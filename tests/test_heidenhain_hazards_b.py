@@ -6,7 +6,6 @@ it is not checked; the tests below run each rule on a small program both ways.
 from __future__ import annotations
 
 import textwrap
-from pathlib import Path
 
 import pytest
 from hypothesis import given, settings as hypothesis_settings, strategies as st
@@ -14,7 +13,6 @@ from hypothesis import given, settings as hypothesis_settings, strategies as st
 from ncverify import Settings, check_text
 from ncverify.check import rule_definitions
 from ncverify.diagnostics import Status
-from ncverify.project import load_project_text
 
 # Reference B §9, item -> rule ids (a comment says where the coverage is partial) or the
 # reason the item is not decided from the program text.
@@ -91,9 +89,11 @@ def program(body: str, blank: str = "BLK FORM 0.1 Z X+0 Y+0 Z-20\n2  BLK FORM 0.
     return "\n".join(lines + ["99 END PGM T MM"]) + "\n"
 
 
+from conftest import project
+
+
 def check(text: str, tools: str = ""):
-    context = load_project_text(tools, Path("ncverify.toml")) if tools else None
-    return check_text(text, "t.h", Settings(dialect="heidenhain"), context)
+    return check_text(text, "t.h", Settings(dialect="heidenhain"), project(tools))
 
 
 def findings(result, rule: str, status=Status.VIOLATED) -> list:
@@ -493,7 +493,7 @@ def test_cycle_14_takes_at_most_twelve_labels():
 
 @pytest.mark.parametrize("text, size", [("10+0.01-0.015", 9.9975), ("10m", 10.0), ("60", None), ("10H", None), ("10h7", "fit"), ("10js6", "fit"), ("10Hh7", None)])
 def test_toleranced_sizes_read_as_the_middle_of_their_band(text, size):
-    from ncverify.lower.heidenhain_tolerance import toleranced
+    from ncverify.interpret.heidenhain.tolerance import toleranced
 
     found = toleranced(text)
     if size == "fit":
@@ -525,7 +525,7 @@ def test_overlapping_pockets_are_combined_by_their_start_points():
     intersection (seed L9254-9320); CONTOUR DEF pockets are always joined."""
     from shapely.geometry import Polygon
 
-    from ncverify.lower.heidenhain_contour import Contour, region
+    from ncverify.interpret.heidenhain.contour import Contour, region
 
     first, second = Polygon([(0, 0), (20, 0), (20, 10), (0, 10)]), Polygon([(10, 0), (30, 0), (30, 10), (10, 10)])
     outside, inside = Contour(1, first, True, (0.0, 0.0)), Contour(1, first, True, (15.0, 5.0))

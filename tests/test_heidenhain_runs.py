@@ -96,7 +96,7 @@ def test_a_line_the_reader_takes_means_what_the_general_lowering_reads(number, a
         return
     feeds = [op.value for op in general.ops if isinstance(op, ir.SetFeed)]
     assert [run.values[0, column] for column in range(3) if not numpy.isnan(run.values[0, column])] == list(moves[0].targets.values()), raw
-    assert ir.MoveRun.KINDS[run.kinds[0]] == moves[0].kind and feeds == ([] if numpy.isnan(run.feeds[0]) else [run.feeds[0]]), raw
+    assert ir.MoveBatch.KINDS[run.kinds[0]] == moves[0].kind and feeds == ([] if numpy.isnan(run.feeds[0]) else [run.feeds[0]]), raw
 
 
 # ---------------------------------------------------------------------- the interpreter

@@ -13,20 +13,15 @@ import time
 
 import pytest
 
-from ncverify import Settings, check_file, check_text
+from ncverify import Settings, check_file
 from ncverify.diagnostics import Status
 
 
-def check(program: str, **settings):
-    return check_text(textwrap.dedent(program).lstrip("\n"), "t.nc", Settings(**settings))
+from conftest import check_program as check, findings
 
 
 def rules(result) -> list[str]:
     return [d.rule for d in result.diagnostics]
-
-
-def findings(result, rule: str):
-    return [d for d in result.diagnostics if d.rule == rule]
 
 
 def alarm_values(result) -> list[float]:

@@ -7,12 +7,10 @@ import textwrap
 
 import pytest
 
-from ncverify import Settings, check_text
 from ncverify.diagnostics import Status
 
 
-def check(program: str, **settings):
-    return check_text(textwrap.dedent(program).lstrip("\n"), "t.nc", Settings(**settings))
+from conftest import check_program as check
 
 
 def found(result, rule: str) -> list[tuple[int, str]]:

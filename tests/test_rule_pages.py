@@ -8,7 +8,8 @@ from pathlib import Path
 from ncverify import Settings, check_text
 from ncverify.project import load_project_text
 from ncverify.diagnostics import Status
-from ncverify.check import implemented_rule_ids, rule_definitions
+from ncverify.check import rule_definitions
+from ncverify.rule_registry import implementations
 
 DEFINITIONS = sorted(rule_definitions().values(), key=lambda definition: definition.id)
 
@@ -44,4 +45,4 @@ def test_page_has_every_section(definition):
 
 
 def test_every_page_has_an_implementation_and_every_implementation_a_page():
-    assert implemented_rule_ids() == set(rule_definitions())
+    assert set(implementations()) == set(rule_definitions())

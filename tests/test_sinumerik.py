@@ -18,7 +18,7 @@ from ncverify.check import Checker
 from ncverify.detect import detect
 from ncverify.diagnostics import Status
 from ncverify.lower.sinumerik import SinumerikFrontend, SinumerikLowering, program_context
-from ncverify.lower.sinumerik_cycles import levels, pattern_positions
+from ncverify.interpret.sinumerik_cycles import levels, pattern_positions
 from ncverify.read.sinumerik import read_line
 
 
@@ -26,8 +26,7 @@ def check(program: str, **settings):
     return check_text(textwrap.dedent(program).lstrip("\n"), "t.mpf", Settings(dialect="sinumerik", **settings))
 
 
-def findings(result, rule: str, status: Status | None = None):
-    return [d for d in result.diagnostics if d.rule == rule and (status is None or d.status is status)]
+from conftest import findings
 
 
 def probes(result) -> list[float]:

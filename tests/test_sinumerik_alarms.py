@@ -23,8 +23,7 @@ def check(program: str, project: str | None = None, machine: str = "lathe"):
     return check_text(textwrap.dedent(program).lstrip("\n"), "t.mpf", Settings(dialect="sinumerik", machine=machine), context)
 
 
-def findings(result, rule: str, status: Status | None = None):
-    return [d for d in result.diagnostics if d.rule == rule and (status is None or d.status is status)]
+from conftest import findings
 
 
 # --------------------------------------------------------------------------- the tool model

@@ -3,7 +3,7 @@ compensation and modal traps, boring shifts, repeats, table values, lathe format
 from __future__ import annotations
 
 from .. import ir, values
-from ..lower import modal_call
+from ..interpret import modal_call
 from ..check import Rule, hazard, rule, show
 
 _COMP_CODE = {"left": "G41", "right": "G42", "auto": "G46"}
@@ -212,7 +212,7 @@ class LatheArcOver180(Rule):
 
     def segment(self, segment, state):
         arc = segment.arc
-        if arc is None or arc.radius_word is None or self.checker.context.get("machine") != "lathe":
+        if arc is None or arc.radius_word is None or not self.checker.context.lathe:
             return
         radius = arc.radius_word
         verdict = self.checker.judge(hazard("<", radius, 0.0), state)
@@ -309,7 +309,7 @@ class ThreadStartAngle(Rule):
         if change.what != "thread" or not change.new or "Q" not in change.new:
             return
         angle = change.new["Q"]
-        low = 0.001 if self.checker.context.get("machine") == "lathe" else 0.0
+        low = 0.001 if self.checker.context.lathe else 0.0
         verdict = self.checker.judge(_any((hazard("<", angle, low), hazard(">", angle, 360.0))), state)
         counted = any(isinstance(op, ir.Move) and isinstance(op.words.get("Q"), ir.IncrementCount) for op in change.block.ops) if change.block else False
         hint = " (Q without a decimal point counts in 0.001 degree steps)" if counted else ""

@@ -9,7 +9,7 @@ from __future__ import annotations
 from .. import pocket, values
 from ..check import Rule, hazard, rule, show
 from ..diagnostics import Status
-from .machine import _ReportsMissingContext
+from .common import ReportsMissingContext
 
 
 def _code(cycle: str) -> str:
@@ -18,13 +18,6 @@ def _code(cycle: str) -> str:
 
 def _is_fagor(cycle: str) -> bool:
     return cycle.startswith("fagor.")
-
-
-@rule("fagor.pattern-without-cycle", "fagor.pattern-parameters", "fagor.pattern-skip-list", "fagor.cycle-data-without-cycle",
-      "fagor.repeat-without-motion", "fagor.turning-cycle")
-class ReportedByTheRunner(Rule):
-    """These findings come from the lowering (``ncverify/lower/fagor.py``) and the pattern
-    runner (``ncverify/lower/fagor_cycles.py``) as notes and faults."""
 
 
 @rule("fagor.cycle-starts-spindle")
@@ -118,7 +111,7 @@ class CycleSetLeftOn(Rule):
 
 
 @rule("fagor.pocket-tool-fit")
-class PocketToolFit(_ReportsMissingContext):
+class PocketToolFit(ReportsMissingContext):
     """G87/G88/G210/G211: the tool against the pocket, bore or thread (seed L1386-1390,
     L1499-1503, L1599-1613; H13, H14, H20, H22). Sizes come from the cycle and the tool
     radius from the tool table; the largest tool that fits is reported."""
@@ -129,7 +122,7 @@ class PocketToolFit(_ReportsMissingContext):
             return
         if not self.first_time(state, ("fagor.pocket-tool-fit", hole.definition, id(hole.params.get("J")), hole.params.get("J"), state.tool_in_spindle)):
             return
-        radius = self._radius(hole, state)
+        radius = self.spindle_tool_radius(state, hole.span, "fagor.pocket-tool-fit")
         if radius is None:
             return
         params = hole.params
@@ -142,16 +135,6 @@ class PocketToolFit(_ReportsMissingContext):
             fits = f"; the largest tool that fits has a radius of {largest:g}" if largest is not None else ""
             self.report("fagor.pocket-tool-fit", hole.param_spans.get(letter, hole.span),
                         f"{_code(hole.cycle)} with tool T{show(state.tool_in_spindle)} (radius {radius:g}): {reason}{fits}")
-
-    def _radius(self, hole, state):
-        tools = self.checker.context.get("tools") or {}
-        number = state.tool_in_spindle
-        tool = tools.get(int(number)) if type(number) is float else None
-        if tool is None or tool.radius is None:
-            what = "no tool table" if not tools else f"the radius of tool T{show(number)} is not in the tool table"
-            self.missing("fagor.pocket-tool-fit", hole.span, what)
-            return None
-        return tool.radius
 
     @staticmethod
     def _stepover(params, radius) -> list:
@@ -251,7 +234,7 @@ class HoleAtUnknownPosition(Rule):
 
 
 @rule("fagor.rigid-tapping-encoder")
-class RigidTappingEncoder(_ReportsMissingContext):
+class RigidTappingEncoder(ReportsMissingContext):
     """G84 R1 is rigid tapping, which needs a motor-driven spindle with an encoder (seed
     L1090, L1132-1135; H19); ``[machine] spindle_encoder`` says whether the machine has one."""
 
@@ -260,7 +243,7 @@ class RigidTappingEncoder(_ReportsMissingContext):
         if not _is_fagor(hole.cycle) or not hole.model.get("tapping") or not (rigid == 1.0 if type(rigid) is float else isinstance(rigid, values.Sym)):
             return  # a computed R may be R1
         span = hole.param_spans.get("R", hole.span)
-        encoder = self.checker.context.get("spindle_encoder")
+        encoder = self.checker.context.machine.spindle_encoder
         if encoder is None:
             self.missing("fagor.rigid-tapping-encoder", span, "whether the spindle has an encoder is not known ([machine] spindle_encoder in ncverify.toml)")
         elif not encoder and self.first_time(state, ("fagor.rigid-tapping-encoder", hole.definition)):
@@ -269,7 +252,7 @@ class RigidTappingEncoder(_ReportsMissingContext):
                                         "or breaks; tap with R0 in a floating holder", self.checker.judge(hazard("==", rigid, 1.0), state), state)
 
 
-class _PastTheStock(_ReportsMissingContext):
+class _PastTheStock(ReportsMissingContext):
     """Rules that judge how far a hole reaches along its tool axis against the stock's far
     face: its bottom for a tool coming down Z, and for a box stock its face on any axis,
     either way (``hole.up``). Without the stock, or its extent along that axis, the rule
@@ -279,7 +262,7 @@ class _PastTheStock(_ReportsMissingContext):
 
     def far_face(self, hole):
         """``(coordinate of the far face, "<" or ">" for "beyond it", the axis)``, or None."""
-        stock = self.checker.context.get("stock")
+        stock = self.checker.context.stock
         if stock is None:
             self.missing(self.rule_id, hole.span, "no stock defined (annotation 'ncverify: stock ...' or [stock] in ncverify.toml)")
             return None

@@ -2,7 +2,7 @@
 
 The cycle runner hands each contour cycle's run over with the contour it machines
 (``@contour``: cycle 14 or CONTOUR DEF and what each subprogram holds, see
-:mod:`ncverify.lower.heidenhain_contour`) and the machine state the rules need (``@position``
+:mod:`ncverify.interpret.heidenhain.contour`) and the machine state the rules need (``@position``
 at the call, ``@spindle``, the OCM ``@boundary``, ``@rougher_forgotten``). Parameter-only
 hazards of these cycles are constraints in ``rules/heidenhain/*.md``.
 """
@@ -12,9 +12,9 @@ import math
 
 from shapely.geometry import Point
 
-from .. import pocket, values
+from .. import values
 from ..check import hazard, rule, show
-from .heidenhain import _CycleRule, _tool
+from .heidenhain import NO_TOOL_ENTRY, CycleRule, CycleRuleOfParts, spindle_tool
 
 _SL = {21, 22, 23, 24}
 _TRAINS = {25, 275, 276}
@@ -32,7 +32,7 @@ def _label(subprogram) -> str:
 
 
 @rule("heidenhain.contour-subprogram")
-class ContourSubprogram(_CycleRule):
+class ContourSubprogram(CycleRule):
     """A3, A5, A6: what a contour subprogram may hold, how many a contour train takes, and
     how a trochoidal slot starts."""
 
@@ -95,7 +95,7 @@ def _turn_degrees(before, at, after) -> float:
 
 
 @rule("heidenhain.contour-feed")
-class ContourFeed(_CycleRule):
+class ContourFeed(CycleRule):
     """A3 (part): feed rates and M functions in a contour subprogram, which describes only
     the geometry (seed L9071)."""
 
@@ -111,7 +111,7 @@ class ContourFeed(_CycleRule):
 
 
 @rule("heidenhain.contour-compensation")
-class ContourCompensation(_CycleRule):
+class ContourCompensation(CycleRule):
     """A1, A4: cycle-14 subcontours of SL cycles need RL or RR (pocket or island comes from
     it); with cycle 270 or CONTOUR DEF the subprograms must have none."""
 
@@ -134,7 +134,7 @@ class ContourCompensation(_CycleRule):
 
 
 @rule("heidenhain.contour-overlap-start")
-class ContourOverlapStart(_CycleRule):
+class ContourOverlapStart(CycleRule):
     """A2: where superimposed subcontours start decides union, difference or intersection
     (seed L9254-9320): the first pocket must start outside the pockets and islands it
     overlaps (else only the common area is machined), an island inside a pocket."""
@@ -172,7 +172,7 @@ def _overlap_faults(found, names):
 
 
 @rule("heidenhain.contour-def")
-class ContourDefinition(_CycleRule):
+class ContourDefinition(CycleRule):
     """A7-A9: CONTOUR DEF limits, subcontour depths against the cycle depth, and the kinds
     Q569 of cycle 271 demands; a shape island with no boundary."""
 
@@ -234,7 +234,7 @@ class ContourDefinition(_CycleRule):
 
 
 @rule("heidenhain.below-clearance-height")
-class BelowClearanceHeight(_CycleRule):
+class BelowClearanceHeight(CycleRule):
     """H16: cycle 276 stops with an error when the tool is below the clearance height Q7 at
     the call (seed L10444-10446)."""
 
@@ -253,14 +253,14 @@ class BelowClearanceHeight(_CycleRule):
 
 
 @rule("heidenhain.cylinder-clearance")
-class CylinderClearance(_CycleRule):
+class CylinderClearance(CycleRule):
     """H19: the set-up clearance Q6 of a cylinder-surface cycle must exceed the tool radius."""
 
     def judge_cycle(self, number, params, spans, span, state):
         clearance = params.get("Q6")
         if number not in _CYLINDER or clearance is None or not self.first_time(state, ("cylinder-clearance", span)):
             return
-        tool = _tool(self, state, span, "heidenhain.cylinder-clearance", "radius")
+        tool = spindle_tool(self, state, span, "heidenhain.cylinder-clearance", "radius")
         if tool is None:
             return
         verdict = self.checker.judge(hazard("<=", clearance, tool.radius), state)
@@ -269,12 +269,12 @@ class CylinderClearance(_CycleRule):
 
 
 @rule("heidenhain.cylinder-radius")
-class CylinderRadius(_CycleRule):
+class CylinderRadius(CycleRule):
     """H19: Q16 should be the radius of the BLK FORM CYLINDER the depth is measured from."""
 
     def judge_cycle(self, number, params, spans, span, state):
         radius = params.get("Q16")
-        stock = self.checker.context.get("stock")
+        stock = self.checker.context.stock
         if number not in _CYLINDER or radius is None or not self.first_time(state, ("cylinder-radius", span)):
             return
         if stock is None or stock.kind != "cylinder" or stock.diameter is None:
@@ -288,7 +288,7 @@ class CylinderRadius(_CycleRule):
 
 
 @rule("heidenhain.cylinder-spindle")
-class CylinderSpindle(_CycleRule):
+class CylinderSpindle(CycleRule):
     """H30: 28, 29 and 39 must be called with the spindle running (seed L13641-13642)."""
 
     def judge_cycle(self, number, params, spans, span, state):
@@ -298,7 +298,7 @@ class CylinderSpindle(_CycleRule):
 
 
 @rule("heidenhain.slot-width")
-class SlotWidth(_CycleRule):
+class SlotWidth(CycleRule):
     """C27, C28: the trochoidal slot 275 needs a width between the tool diameter and twice
     it; the cylinder slot 28 a width of at least the tool diameter plus both allowances."""
 
@@ -309,7 +309,7 @@ class SlotWidth(_CycleRule):
         width = params.get(name)
         if width is None:
             return
-        tool = _tool(self, state, span, "heidenhain.slot-width", "radius")
+        tool = spindle_tool(self, state, span, "heidenhain.slot-width", "radius")
         if tool is None:
             return
         diameter, where = 2.0 * tool.radius, spans.get(name, span)
@@ -326,23 +326,22 @@ class SlotWidth(_CycleRule):
 
 
 @rule("heidenhain.ocm-tool-corner")
-class OcmToolCorner(_CycleRule):
+class OcmToolCorner(CycleRule):
     """C26: 272 and 273 compute their paths without the tool's corner radius R2."""
 
     def judge_cycle(self, number, params, spans, span, state):
         if number not in (272, 273) or not self.first_time(state, ("ocm-tool-corner", span)):
             return
-        tools = self.checker.context.get("tools") or {}
-        tool = tools.get(int(state.tool_in_spindle)) if type(state.tool_in_spindle) is float else None
+        tool = self.checker.context.tools.in_spindle(state)
         if tool is None:
-            self.missing("heidenhain.ocm-tool-corner", span, "no tool table entry for the tool in the spindle (TOOL.T beside the program, or [tools.N])")
+            self.missing("heidenhain.ocm-tool-corner", span, NO_TOOL_ENTRY)
         elif tool.corner:
             self.report("heidenhain.ocm-tool-corner", span, f"cycle {number} with tool T{show(state.tool_in_spindle)} whose corner radius R2={tool.corner:g}: "
                         "OCM ignores R2, so material is left on the floor along the walls and the next tool meets it (seed L11266-11273, L11761-11767)")
 
 
 @rule("heidenhain.rougher-forgotten")
-class RougherForgotten(_CycleRule):
+class RougherForgotten(CycleRule):
     """H37: CONTOUR DEF makes the control forget the last roughing tool; Q438 = -1 then
     means 'no roughing before' (seed L11284-11286)."""
 
@@ -354,7 +353,7 @@ class RougherForgotten(_CycleRule):
 
 
 @rule("heidenhain.sl-q-parameters")
-class SlQParameters(_CycleRule):
+class SlQParameters(CycleRule):
     """H36: the SL and cylinder cycles keep their parameters in Q1-Q20 (seed L9360-9361)."""
 
     def judge_cycle(self, number, params, spans, span, state):
@@ -366,26 +365,7 @@ class SlQParameters(_CycleRule):
                         "cycle's data; use Q parameters above 20 (or QL) for the program's own values")
 
 
-@rule("heidenhain.plunge-angle")
-class ContourPlungeAngle(_CycleRule):
-    """C21, C27: 22 ROUGH-OUT with a reciprocating feed Q19 and 275 with a reciprocating
-    plunge Q366 = 2 need the tool's plunge ANGLE (seed L9582-9593, L10305-10311); the
-    pocket cycles are judged in :mod:`.heidenhain`."""
-
-    def judge_cycle(self, number, params, spans, span, state):
-        name = {22: "Q19", 275: "Q366"}.get(number)
-        value = params.get(name) if name else None
-        if type(value) is not float or value == 0.0 or (number == 275 and value != 2.0) or not self.first_time(state, ("contour-plunge-angle", span)):
-            return
-        tool = _tool(self, state, span, "heidenhain.plunge-angle", "angle")
-        if tool is not None and tool.angle == 0.0:
-            what = "a reciprocating plunge feed Q19" if number == 22 else "the reciprocating plunge Q366=2"
-            self.report("heidenhain.plunge-angle", spans.get(name, span), f"cycle {number} with {what} needs the tool's plunge angle, but ANGLE of "
-                        f"T{show(state.tool_in_spindle)} is 0: the control stops with an error")
-
-
-@rule("heidenhain.sl-allowance")
-class SideFinishingRadius(_CycleRule):
+class _SideFinishingRadius(CycleRule):
     """C20: for 24 the finishing allowance plus the finishing tool's radius must stay below
     the roughing allowance Q3 plus the rougher's radius (seed L9833-9834); Q438 names the
     rougher (-1: the tool of the last 22, 0: none)."""
@@ -394,7 +374,7 @@ class SideFinishingRadius(_CycleRule):
         side, finish_allowance = params.get("Q3"), params.get("Q14")
         if number != 24 or side is None or finish_allowance is None or not self.first_time(state, ("side-finishing-radius", span)):
             return
-        finisher = _tool(self, state, span, "heidenhain.sl-allowance", "radius")
+        finisher = spindle_tool(self, state, span, "heidenhain.sl-allowance", "radius")
         rougher = self._rougher_radius(params, span)
         if finisher is None or rougher is None:
             return
@@ -409,16 +389,14 @@ class SideFinishingRadius(_CycleRule):
         number = params.get("@last_rougher") if reference == -1.0 else reference
         if reference == 0.0:
             return 0.0
-        tools = self.checker.context.get("tools") or {}
-        tool = tools.get(int(number)) if type(number) is float else None
+        tool = self.checker.context.tools.numbered(number)
         if tool is None or tool.radius is None:
             self.missing("heidenhain.sl-allowance", span, "the radius of the roughing tool cycle 24 refers to (Q438, or the tool of the last cycle 22) is not known")
             return None
         return tool.radius
 
 
-@rule("heidenhain.sl-allowance")
-class ContourMillingAllowance(_CycleRule):
+class _ContourMillingAllowance(CycleRule):
     """C20, C24: side finishing of a contour that is a single island mills along it; the
     roughing allowance (Q3 of 20, Q368 of 271) must then exceed Q14 plus the tool radius
     (seed L9836-9840, L11863-11868)."""
@@ -430,13 +408,21 @@ class ContourMillingAllowance(_CycleRule):
             return
         if not self.first_time(state, ("contour-milling", span)):
             return
-        tool = _tool(self, state, span, "heidenhain.sl-allowance", "radius")
+        tool = spindle_tool(self, state, span, "heidenhain.sl-allowance", "radius")
         if tool is None:
             return
         needed = values.add(finish_allowance, tool.radius)
         verdict = self.checker.judge(hazard("<=", side, needed), state)
         self.checker.report_verdict("heidenhain.sl-allowance", spans.get(name, span), f"cycle {number} mills along a single island: its side allowance {name}={show(side)} "
                                     f"must exceed Q14={show(finish_allowance)} plus the tool radius {tool.radius:g} = {show(needed)} (seed L9836-9840, L11863-11868)", verdict, state)
+
+
+@rule("heidenhain.sl-allowance")
+class SlAllowance(CycleRuleOfParts):
+    """The allowances of side finishing 24 and 274 against the tools' radii (the page adds
+    the parameter-only constraints)."""
+
+    parts = (_SideFinishingRadius, _ContourMillingAllowance)
 
 
 def _single_island(use) -> bool:
@@ -449,7 +435,7 @@ def _single_island(use) -> bool:
 
 
 @rule("heidenhain.pilot-drill")
-class PilotDrill(_CycleRule):
+class PilotDrill(CycleRule):
     """C31: cycle 21 places its plunge holes for the rougher Q13; a drill wider than that
     rougher may not fit where the rougher does (seed L9483-9490)."""
 
@@ -457,9 +443,8 @@ class PilotDrill(_CycleRule):
         rougher = params.get("Q13")
         if number != 21 or type(rougher) is not float or rougher == 0.0 or not self.first_time(state, ("pilot-drill", span)):
             return
-        drill = _tool(self, state, span, "heidenhain.pilot-drill", "radius")
-        tools = self.checker.context.get("tools") or {}
-        roughing = tools.get(int(rougher))
+        drill = spindle_tool(self, state, span, "heidenhain.pilot-drill", "radius")
+        roughing = self.checker.context.tools.numbered(rougher)
         if drill is None:
             return
         if roughing is None or roughing.radius is None:
@@ -472,7 +457,7 @@ class PilotDrill(_CycleRule):
 
 
 @rule("heidenhain.tolerance")
-class ToleranceText(_CycleRule):
+class ToleranceText(CycleRule):
     """A10: a toleranced dimension of an OCM shape that is none of the forms the control reads."""
 
     def judge_cycle(self, number, params, spans, span, state):
@@ -481,28 +466,3 @@ class ToleranceText(_CycleRule):
             if self.first_time(state, ("tolerance", where)):
                 self.report("heidenhain.tolerance", where, f"cycle {number}: {name}=\"{text}\" is not a tolerance the control reads (10+0.01-0.015, an ISO 286 fit "
                             "such as 10H7, or an ISO 2768 class such as 10m; H is a hole, h a shaft): machining stops with an error (seed L12155-12190)")
-
-
-@rule("heidenhain.tool-too-large")
-class PolygonPocketFit(_CycleRule):
-    """C23: a 1278 polygon pocket must hold the tool: its inscribed circle (Q571 itself, or
-    Q571 cos(180/n) when Q571 is the circumscribed circle) against R (1 + Q578) + Q368, as
-    for the circle 1272 (seed L12600-12744, L10990-10997)."""
-
-    def judge_cycle(self, number, params, spans, span, state):
-        if number != 272 or params.get("@shape") != 1278.0 or params.get("Q650", 0.0) != 0.0 or not self.first_time(state, ("polygon-fit", span)):
-            return
-        diameter, corners, circumscribed = params.get("Q571"), params.get("Q572"), params.get("Q573", 0.0)
-        factor, allowance = params.get("Q578", 0.0), params.get("Q368", 0.0)
-        if any(type(value) is not float for value in (diameter, corners, circumscribed, factor, allowance)) or corners < 3:
-            self.missing("heidenhain.tool-too-large", span, "a polygon size that depends on a free parameter")
-            return
-        tool = _tool(self, state, span, "heidenhain.tool-too-large", "radius")
-        if tool is None:
-            return
-        inscribed = diameter * math.cos(math.pi / corners) if circumscribed == 1.0 else diameter
-        fit = pocket.circle_fit(inscribed, tool.radius * (1.0 + factor) + allowance)
-        if not fit.fits:
-            self.report("heidenhain.tool-too-large", spans.get("Q571", span), f"cycle 272 in the {corners:g}-cornered polygon of inscribed diameter {inscribed:g}: "
-                        f"{fit.reason} (tool T{show(state.tool_in_spindle)}, R={tool.radius:g}, with the inside corner factor Q578={factor:g} "
-                        f"and the allowance Q368={allowance:g}); the largest tool radius that fits is {max((fit.largest_radius - allowance) / (1.0 + factor), 0.0):.3g}")

@@ -10,8 +10,7 @@ from shapely.geometry import Point, box
 
 from .. import ir, values
 from ..check import Rule, hazard, rule, show
-from ..lower.heidenhain_run import DEF_ACTIVE
-from .heidenhain import _CycleRule, _number, _tool
+from .heidenhain import NO_TOOL_ENTRY, CycleRule, cycle_number, spindle_tool
 
 _STUD_ROOM = 2.0  # mm beside the stud blank the approach keeps (seed L6429-6456, L6691-6715)
 # Q437 approach position of 256: the corner as signs along the reference and minor axis.
@@ -47,12 +46,12 @@ def _untransformed(state) -> bool:
     return frame is None or frame.is_identity
 
 
-class _BlankRule(_CycleRule):
+class _BlankRule(CycleRule):
     """A cycle judged against the blank in the working plane: needs a box or polygon blank
     and no coordinate transformation."""
 
     def blank_outline(self, rule_id: str, span, state):
-        stock = self.checker.context.get("stock")
+        stock = self.checker.context.stock
         if stock is None:
             self.missing(rule_id, span, "no blank (BLK FORM, an annotation or [stock])")
             return None, None
@@ -85,7 +84,7 @@ class StudApproachRoom(_BlankRule):
         outline, stock = self.blank_outline("heidenhain.stud-approach-room", span, state)
         if outline is None:
             return
-        tool = _tool(self, state, span, "heidenhain.stud-approach-room", "radius")
+        tool = spindle_tool(self, state, span, "heidenhain.stud-approach-room", "radius")
         if tool is None:
             return
         found = self._approach(number, params, here, tool.radius)
@@ -147,7 +146,7 @@ def _point_angle_use(number, params) -> str | None:
 
 
 @rule("heidenhain.point-angle")
-class PointAngle(_CycleRule):
+class PointAngle(CycleRule):
     """H29: a cycle that computes a depth from the tool's point angle needs T-ANGLE."""
 
     def judge_cycle(self, number, params, spans, span, state):
@@ -155,9 +154,9 @@ class PointAngle(_CycleRule):
         if use is None or not self.first_time(state, ("point-angle", span)):
             return
         tool_number = state.tool_in_spindle
-        tool = (self.checker.context.get("tools") or {}).get(int(tool_number)) if type(tool_number) is float else None
+        tool = self.checker.context.tools.in_spindle(state)
         if tool is None:
-            self.missing("heidenhain.point-angle", span, "no tool table entry for the tool in the spindle (TOOL.T beside the program, or [tools.N])")
+            self.missing("heidenhain.point-angle", span, NO_TOOL_ENTRY)
         elif tool.point_angle is None and tool.origin != "TOOL.T":
             self.missing("heidenhain.point-angle", span, f"tool T{show(tool_number)} has no point angle (point_angle in [tools.{show(tool_number)}], "
                          "point-angle in an ncverify: tool annotation; 0 = not entered)")
@@ -168,7 +167,7 @@ class PointAngle(_CycleRule):
 
 
 @rule("heidenhain.cutting-length")
-class CuttingLength(_CycleRule):
+class CuttingLength(CycleRule):
     """H44, part B C22: a plunging depth Q202 longer than the tool's cutting length LCUTS:
     the control reduces the infeed by itself, so the cycle takes more passes than programmed."""
 
@@ -176,7 +175,7 @@ class CuttingLength(_CycleRule):
         infeed = params.get("Q202")
         if number not in _INFEED_LIMITED or infeed is None or not self.first_time(state, ("cutting-length", span)):
             return
-        tool = _tool(self, state, span, "heidenhain.cutting-length", "cutting_length")
+        tool = spindle_tool(self, state, span, "heidenhain.cutting-length", "cutting_length")
         if tool is None:
             return
         verdict = self.checker.judge(hazard(">", infeed, tool.cutting_length), state)
@@ -191,10 +190,10 @@ class PatternCompatibility(Rule):
     points, but 224 runs only some cycles, and 254 runs with 221 only with Q367 != 0."""
 
     def cycle_run(self, run, state):
-        number = _number(run.cycle)
+        number = cycle_number(run.cycle)
         if number not in (221, 224):
             return
-        definition = state.rule_state.get(("heidenhain", "cycle"))
+        definition = state.klartext.cycle
         if definition is None:
             return  # heidenhain.call-without-cycle
         if number == 224 and definition.number not in run.model.get("compatible", ()):
@@ -223,7 +222,7 @@ class WorkingPlane(Rule):
                             "nominal positions of the rotary axes can part after further calls; position them with Q120-Q122 instead (seed L8095-8096)")
             return
         if run.cycle != "heidenhain.19":
-            if _number(run.cycle) not in DEF_ACTIVE and not run.cycle.startswith("heidenhain.@"):
+            if run.model.get("activity") != "def" and not run.cycle.startswith("heidenhain.@"):
                 self._machining(run.span, state)  # a definition (a datum shift, contour data ...) machines nothing
             return
         given = [axis for axis in "ABC" if axis in run.params]
@@ -293,7 +292,7 @@ class FaceMillingBlank(_BlankRule):
 
 
 @rule("heidenhain.thread-cutting-position")
-class ThreadCuttingPosition(_CycleRule):
+class ThreadCuttingPosition(CycleRule):
     """Reference B H41: cycle 18 cuts from where the tool is, DEPTH along the tool axis, with
     no approach of its own: a thread that ends above the blank cuts nothing."""
 
@@ -302,7 +301,7 @@ class ThreadCuttingPosition(_CycleRule):
             return
         axis = state.plane_axes[2]
         here, depth = state.position.get(axis), params.get("DEPTH")
-        stock = self.checker.context.get("stock")
+        stock = self.checker.context.stock
         if here is None or depth is None:
             self.missing("heidenhain.thread-cutting-position", span, "the tool-axis position at cycle 18 or its depth is not known")
             return
@@ -325,7 +324,7 @@ class MachineMovingCycle(Rule):
     along paths the machine builder defined, outside the program's control."""
 
     def cycle_run(self, run, state):
-        number = _number(run.cycle)
+        number = cycle_number(run.cycle)
         mode = run.params.get("Q570")
         if number == 238 or (number == 239 and mode != 0.0):
             what = "measures the machine status" if number == 238 else "weighs the load (Q570=1)"
@@ -339,10 +338,10 @@ class OrientationAfterCycle(Rule):
     orients the spindle to their angle, not to the last cycle 13 of the program."""
 
     def hole(self, hole, state):
-        self._machined(_number(hole.cycle), state)
+        self._machined(cycle_number(hole.cycle), state)
 
     def cycle_run(self, run, state):
-        number = _number(run.cycle)
+        number = cycle_number(run.cycle)
         if number == 13:
             state.rule_state[("orientation-changed-by",)] = None
         else:
@@ -361,7 +360,7 @@ class OrientationAfterCycle(Rule):
 
 
 @rule("heidenhain.servo-spindle")
-class ServoSpindle(_CycleRule):
+class ServoSpindle(CycleRule):
     """H45: 202, 204, 207, 209 and 18 orient, reverse or synchronise the spindle and need a
     servo-controlled one (seed L1838, L2261, L3883, L4037); ``[machine] spindle_encoder`` says
     whether the machine has it."""
@@ -376,11 +375,11 @@ class ServoSpindle(_CycleRule):
     def judge_model(self, cycle, model, span, state):
         if "servo-spindle" not in model.get("requires", ()):
             return
-        encoder = self.checker.context.get("spindle_encoder")
+        encoder = self.checker.context.machine.spindle_encoder
         if encoder is None:
             self.missing("heidenhain.servo-spindle", span, "whether the spindle is servo-controlled is not known ([machine] spindle_encoder in ncverify.toml)")
         elif not encoder and self.first_time(state, ("servo-spindle", span)):
-            self.report("heidenhain.servo-spindle", span, f"cycle {_number(cycle)} {model.get('name', '')} needs a servo-controlled spindle, and this machine has none "
+            self.report("heidenhain.servo-spindle", span, f"cycle {cycle_number(cycle)} {model.get('name', '')} needs a servo-controlled spindle, and this machine has none "
                         "([machine] spindle_encoder = false): the control refuses the cycle; bore or tap with a cycle the spindle can run (206 in a floating holder)")
 
 
@@ -390,7 +389,7 @@ class BoringFeedPerRevolution(Rule):
     of the bore and does not retract the tool (seed L1890-1897)."""
 
     def hole(self, hole, state):
-        if _number(hole.cycle) == 202 and state.rule_state.get(("heidenhain", "feed_per_revolution")) and self.first_time(state, ("boring-m136", hole.span)):
+        if cycle_number(hole.cycle) == 202 and state.klartext.feed_per_revolution and self.first_time(state, ("boring-m136", hole.span)):
             self.report("heidenhain.boring-feed-per-revolution", hole.span, "cycle 202 is called while M136 (feed per revolution) is active: the spindle stops at "
                         "the bottom of the bore and the tool is not retracted, so the next move drags it out or crashes; cancel M136 with M137 before the call (seed L1890-1897)")
 
@@ -408,12 +407,12 @@ class ThreadDeeperThanHole(Rule):
     with no earlier hole there nothing is said."""
 
     def hole(self, hole, state):
-        number = _number(hole.cycle)
+        number = cycle_number(hole.cycle)
         if number not in _THREAD_OVERRUN or type(hole.bottom) is not float or not _untransformed(state):
             return
         first, second, axis = state.plane_axes
         point = (hole.position.get(first), hole.position.get(second))
-        earlier = [bottom for x, y, bottom in state.rule_state.get(("heidenhain", "drilled"), ()) if (x, y) == point and type(bottom) is float]
+        earlier = [bottom for x, y, bottom in state.klartext.drilled if (x, y) == point and type(bottom) is float]
         pitch = hole.params.get("Q239", 0.0)
         if not earlier or type(pitch) is not float or hole.params.get("Q201", -1.0) > 0:
             return

@@ -1,10 +1,10 @@
 """Klartext hazards of the coordinate transformations (reference A §9, H19, H36, H38). The
-active transformations are the path's ``("heidenhain", "transforms")`` dialect state
-(:mod:`ncverify.lower.heidenhain_frames`)."""
+active transformations are the path's ``state.klartext.transforms``
+(:mod:`ncverify.interpret.heidenhain.transforms`)."""
 from __future__ import annotations
 
 from ..check import Rule, rule
-from .machine import _ReportsMissingContext
+from .common import ReportsMissingContext
 
 # Q214 of 202/204: 1 minus reference axis, 2 minus minor axis, 3 plus reference axis, 4 plus minor axis.
 _DISENGAGE = {1.0: (0, "-"), 2.0: (1, "-"), 3.0: (0, "+"), 4.0: (1, "+")}
@@ -12,7 +12,7 @@ _DISENGAGING_CYCLES = ("heidenhain.202", "heidenhain.204")
 
 
 def _active(state) -> dict:
-    return dict(state.rule_state.get(("heidenhain", "transforms"), ()) or ())
+    return dict(state.klartext.transforms)
 
 
 @rule("heidenhain.scaling-factor")
@@ -38,7 +38,7 @@ class ArcUnderAxisScaling(Rule):
 
 
 @rule("heidenhain.disengage-mirror")
-class DisengageUnderMirror(_ReportsMissingContext):
+class DisengageUnderMirror(ReportsMissingContext):
     """H19: 202 and 204 move the tool off in the direction Q214 names, and that direction
     ignores a mirror image (seed L1880-1881, L2296-2297)."""
 

@@ -84,7 +84,7 @@ class SurfaceSpeedWithoutClamp(Rule):
 
     def _applies(self, state) -> bool:
         return (state.modal.get("spindle_mode") == "surface_speed" and state.spindle_clamp is None
-                and self.checker.context["machine"] == "lathe" and not state.rule_state.get("css-clamp"))
+                and self.checker.context.lathe and not state.rule_state.get("css-clamp"))
 
     def _report(self, span, state):
         state.rule_state["css-clamp"] = True

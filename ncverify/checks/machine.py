@@ -9,26 +9,15 @@ import numpy
 import z3
 
 from .. import values
-from ..check import Rule, hazard, rule, show
-from ..diagnostics import Status
+from ..check import hazard, rule, show
 from ..values import Condition, Sym
+from .common import ReportsMissingContext
 
 _AXIS_INDEX = {"X": 0, "Y": 1, "Z": 2, "A": 3, "B": 4, "C": 5}
 
 
-class _ReportsMissingContext(Rule):
-    """Says once per file, where it first needed it, which context was missing."""
-
-    def missing(self, rule_id: str, span, what: str) -> None:
-        said = self.__dict__.setdefault("_said", set())  # rules live as long as one file's check
-        if (rule_id, what) in said:
-            return
-        said.add((rule_id, what))
-        self.report(rule_id, span, f"not checked: {what}", Status.UNKNOWN, what)
-
-
 @rule("core.travel-limit")
-class TravelLimit(_ReportsMissingContext):
+class TravelLimit(ReportsMissingContext):
     """Machine position = program position + work offset + G92/G52 shift (+ tool length on
     Z while length compensation is on); every segment end and every arc's extent must stay
     inside the travel. On a lathe the program's X is a diameter: ``[machine] lathe_x`` says
@@ -44,7 +33,7 @@ class TravelLimit(_ReportsMissingContext):
             for point in points:
                 self._check_axis(axis, point.get(axis), limits, segment.span, state)
         if segment.arc is not None and segment.arc.centre is not None:
-            if self.checker.context.get("machine") == "lathe":
+            if self.checker.context.lathe:
                 self.missing("core.travel-limit", segment.span, "on a lathe, arcs are checked at their end points only, not at their extent")
             else:
                 self._check_arc(segment, frame, state)
@@ -65,13 +54,13 @@ class TravelLimit(_ReportsMissingContext):
         """axis -> (offset from program to machine coordinates, low, high); None when the
         check cannot run (and says why once)."""
         context = self.checker.context
-        travel = context.get("travel") or {}
+        travel = context.machine.travel
         if not travel:
             self.missing("core.travel-limit", span, "no machine travel limits ([machine] travel in ncverify.toml)")
             return None
         lathe_x_scale = self._lathe_x_scale(span)
         name = state.modal.get("work_offset", "G54")
-        offsets = (context.get("work_offsets") or {}).get(name.split()[0] if name.startswith("G54.1") else name)
+        offsets = context.machine.work_offsets.get(name.split()[0] if name.startswith("G54.1") else name)
         if offsets is None:
             self.missing("core.travel-limit", span, f"no values for work offset {name} ([machine] work_offsets in ncverify.toml)")
             return None
@@ -91,9 +80,9 @@ class TravelLimit(_ReportsMissingContext):
         """How program X becomes machine X: 1 on a mill; on a lathe 1 or 0.5 per
         ``[machine] lathe_x``, None (X not checked, said once) when it is not given."""
         context = self.checker.context
-        if context.get("machine") != "lathe":
+        if not context.lathe:
             return 1.0
-        lathe_x = context.get("lathe_x")
+        lathe_x = context.machine.lathe_x
         if lathe_x is None:
             self.missing("core.travel-limit", span, "X of a lathe: say whether travel and work offsets are diameters or radii ([machine] lathe_x)")
             return None
@@ -103,7 +92,7 @@ class TravelLimit(_ReportsMissingContext):
         register = state.length_register
         if state.length_mode == "with_tool":  # Fagor: the offset comes with the tool, not from an H register
             register = state.tool_in_spindle
-        tool = (self.checker.context.get("tools") or {}).get(int(register)) if type(register) is float else None
+        tool = self.checker.context.tools.numbered(register)
         if tool is None or tool.length is None:
             self.missing("core.travel-limit", span, f"the length of the tool on H{show(register)} is not known (length in [tools.N]), so Z was not checked")
             return None
@@ -160,10 +149,10 @@ def _arc_extremes(direction, centre, radius, start, end, axes):
 
 
 @rule("core.tool-not-in-table", "core.spindle-over-limit", "core.feed-over-limit")
-class MachineLimits(_ReportsMissingContext):
+class MachineLimits(ReportsMissingContext):
     def change(self, change, state):
         if change.what == "tool_change" and type(change.new) is float:
-            tools = self.checker.context.get("tools") or {}
+            tools = self.checker.context.tools
             if not tools:
                 self.missing("core.tool-not-in-table", change.span, "no tool table ([tools.N] in ncverify.toml or 'ncverify: tool' annotations)")
             elif int(change.new) not in tools:
@@ -186,10 +175,10 @@ class MachineLimits(_ReportsMissingContext):
         context = self.checker.context
         speed = state.spindle_speed
         if speed is not None and state.spindle in ("cw", "ccw") and state.modal.get("spindle_mode") != "surface_speed":
-            self._over("core.spindle-over-limit", speed, context.get("max_spindle"), span, state,
+            self._over("core.spindle-over-limit", speed, context.machine.max_spindle, span, state,
                        "spindle speed S{value} is above the machine's maximum {limit:g} rpm", "no maximum spindle speed ([machine] max_spindle)")
         if feed is not None and state.modal.get("feed_mode", "per_minute") == "per_minute":
-            self._over("core.feed-over-limit", feed, context.get("max_feed"), span, state,
+            self._over("core.feed-over-limit", feed, context.machine.max_feed, span, state,
                        "feed F{value} is above the machine's maximum {limit:g} per minute", "no maximum feed ([machine] max_feed)")
 
     def _over(self, rule_id, value, limit, span, state, message, missing):

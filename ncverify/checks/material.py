@@ -61,9 +61,9 @@ class Material:
     def __init__(self, checker):
         self.checker = checker
         context, settings = checker.context, checker.settings
-        self.stock = context.get("stock")
-        self.tools = context.get("tools") or {}
-        self.resolution, self.why_not = _resolution(self.stock, self.tools, context.get("machine"), settings)
+        self.stock = context.stock
+        self.tools = context.tools
+        self.resolution, self.why_not = _resolution(self.stock, self.tools, context.machine.kind, settings)
         self.air: dict[str, list[float]] = {}  # tool -> [feed length, air length]
         self.final: Workpiece | None = None
         self._run, self._run_done = None, 0
@@ -227,7 +227,7 @@ class Material:
     def _cutter(self, state):
         """The swept shape of the tool in the spindle: a Cutter, None for a tool that does
         not cut (a probe), False when it is not known."""
-        tool = _tool(self.tools, state)
+        tool = self.tools.in_spindle(state)
         if tool is None or tool.radius is None or tool.radius <= 0.0:
             return False
         if tool.type in _NOT_CUTTING:
@@ -275,11 +275,6 @@ def _resolution(stock, tools, machine, settings):
     chosen = min(max(min(radii) / 4.0 if radii else 0.5, AUTO_RESOLUTION[0]), AUTO_RESOLUTION[1])
     fitting = math.sqrt(area * 8 / cap) * 1.01
     return max(chosen, fitting), None
-
-
-def _tool(tools, state):
-    number = state.tool_in_spindle
-    return tools.get(int(number)) if type(number) is float else None
 
 
 def _tool_name(state) -> str:

@@ -40,7 +40,7 @@ def _repeating(state) -> str | None:
     """Why a block may run more than once: it is inside a loop, a subprogram or a macro."""
     if state.loops:
         return "inside a WHILE loop"
-    for frame in reversed(state.frames):
+    for frame in reversed(state.call_stack):
         if frame.kind == "macro":
             return f"inside macro {frame.program}"
         if frame.kind in ("subprogram", "called"):
@@ -104,7 +104,7 @@ class TappingModeLeftOn(Rule):
             self._report(run.span(int(cutting[across[0]])), state)
 
     def _tool_axis(self, state) -> str:
-        return "Z" if self.checker.context["machine"] == "lathe" else state.plane_axes[2]
+        return "Z" if self.checker.context.lathe else state.plane_axes[2]
 
     def _report(self, span, state):
         state.rule_state["tapping-mode-reported"] = True
@@ -136,7 +136,7 @@ class LengthOffsetMotion(Rule):
     G43/G44 H (or G49) positions it with the old tool's length."""
 
     def change(self, change, state):
-        if self.checker.context["machine"] == "lathe":
+        if self.checker.context.lathe:
             return
         if change.what == "tool_change":
             if state.length_mode in _LENGTH_CODE:
@@ -340,7 +340,7 @@ class FeedPlausibility(Rule):
         mode = state.modal.get("feed_mode", "per_minute")
         if mode not in ("per_minute", "per_revolution"):
             return None
-        if self.checker.context["machine"] == "lathe" and not state.rule_state.get("feed-mode-stated"):
+        if self.checker.context.lathe and not state.rule_state.get("feed-mode-stated"):
             return None  # a lathe's power-on feed mode is a parameter (G95 on most): the program has not said
         inch = state.modal.get("units") == "inch"
         if mode == "per_revolution":
@@ -408,7 +408,7 @@ class SurfaceSpeedAtCentre(Rule):
             self._report(run.span(int(cutting[reaching[0]])), state, self.checker.judge(True, state))
 
     def _applies(self, state) -> bool:
-        return (self.checker.context["machine"] == "lathe" and state.modal.get("spindle_mode") == "surface_speed"
+        return (self.checker.context.lathe and state.modal.get("spindle_mode") == "surface_speed"
                 and not state.rule_state.get("css-centre-reported"))
 
     def _report(self, span, state, verdict):

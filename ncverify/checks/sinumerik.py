@@ -16,14 +16,14 @@ import math
 
 from .. import values
 from ..check import Rule, hazard, rule, show
-from ..lower.sinumerik_cycles import COARSE_PITCH, levels
+from ..interpret.sinumerik_cycles import COARSE_PITCH, levels
 
 
-def _cycle_name(run) -> str:
+def cycle_name(run) -> str:
     return run.cycle.rsplit(".", 1)[-1]
 
 
-def _is_sinumerik(run) -> bool:
+def is_sinumerik(run) -> bool:
     return run.cycle.startswith("sinumerik.")
 
 
@@ -39,14 +39,14 @@ class CycleArguments(Rule):
     other way round (alarm 12330), seed A L518-703."""
 
     def cycle_run(self, run, state):
-        if not _is_sinumerik(run):
+        if not is_sinumerik(run):
             return
-        name, declared = _cycle_name(run), _arguments(run)
+        name, declared = cycle_name(run), _arguments(run)
         count = run.params.get("ARG_COUNT", 0.0)
         if type(count) is float and count > len(declared):
             extra = [f"{run.params.get(f'#{index}')!s}" for index in range(len(declared) + 1, int(count) + 1)]
             self.report("sinumerik.cycle-arguments", run.param_spans.get(f"#{len(declared) + 1}", run.span),
-                        f"{name} takes {len(declared)} arguments but {int(count)} are given (extra: {', '.join(_shown(value) for value in extra)}): "
+                        f"{name} takes {len(declared)} arguments but {int(count)} are given (extra: {', '.join(quoted(value) for value in extra)}): "
                         "would raise alarm 12340 \"too many parameters\"; the cycle is not executed")
         for parameter, kind in declared:
             value = run.params.get(parameter)
@@ -55,10 +55,10 @@ class CycleArguments(Rule):
             wrong = isinstance(value, str) if kind in ("REAL", "INT") else (kind in ("STRING", "CHAR") and not isinstance(value, str) and value != 0.0)
             if wrong:
                 self.report("sinumerik.cycle-arguments", run.param_spans.get(parameter, run.span),
-                            f"{name}: {parameter} is {kind} but gets {_shown(value)}: would raise alarm 12330 \"parameter type wrong\"; the cycle is not executed")
+                            f"{name}: {parameter} is {kind} but gets {quoted(value)}: would raise alarm 12330 \"parameter type wrong\"; the cycle is not executed")
 
 
-def _shown(value) -> str:
+def quoted(value) -> str:
     return f'"{value}"' if isinstance(value, str) else show(value)
 
 
@@ -89,17 +89,17 @@ class MachiningType(Rule):
     """Alarm 61002 "machining type defined incorrectly": a digit of VARI outside its set."""
 
     def cycle_run(self, run, state):
-        entry = _DIGITS.get(_cycle_name(run)) if _is_sinumerik(run) else None
+        entry = _DIGITS.get(cycle_name(run)) if is_sinumerik(run) else None
         if entry is None:
             return
         parameter, allowed, seed = entry
         value = run.params.get(parameter)
         if type(value) is not float:
             return
-        problem = vari_problem(_cycle_name(run), value)
+        problem = vari_problem(cycle_name(run), value)
         if problem:
             self.report("sinumerik.machining-type", run.param_spans.get(parameter, run.span),
-                        f"{_cycle_name(run)}: {parameter}={show(value)}: {problem}: would raise alarm 61002 \"machining type defined incorrectly\" (seed {seed})")
+                        f"{cycle_name(run)}: {parameter}={show(value)}: {problem}: would raise alarm 61002 \"machining type defined incorrectly\" (seed {seed})")
 
 
 def vari_problem(cycle: str, value: float) -> str:
@@ -108,10 +108,10 @@ def vari_problem(cycle: str, value: float) -> str:
     if allowed is None:  # CYCLE95: 1-12, hundreds digit 0 or 2
         valid = value == int(value) and 1 <= value % 100 <= 12 and value // 100 in (0, 2)
         return "" if valid else "must be 1-12 (or 201-212)"
-    return _digit_problem(value, allowed)
+    return digit_problem(value, allowed)
 
 
-def _digit_problem(value: float, allowed: dict) -> str:
+def digit_problem(value: float, allowed: dict) -> str:
     """What is wrong with a number whose decimal digits each select something, or ''."""
     if value != int(value) or value < 0:
         return "not a whole non-negative number"
@@ -127,7 +127,7 @@ def _digit_problem(value: float, allowed: dict) -> str:
 
 # --------------------------------------------------------------------------- planes and depth
 
-_PLANE_CYCLES = {"CYCLE81", "CYCLE82", "CYCLE83", "CYCLE84", "CYCLE840", "CYCLE85", "CYCLE86", "CYCLE87", "CYCLE88",
+PLANE_CYCLES = {"CYCLE81", "CYCLE82", "CYCLE83", "CYCLE84", "CYCLE840", "CYCLE85", "CYCLE86", "CYCLE87", "CYCLE88",
                  "CYCLE89", "CYCLE90", "CYCLE71", "CYCLE72", "SLOT1", "SLOT2", "POCKET1", "POCKET2", "POCKET3",
                  "POCKET4", "LONGHOLE", "CYCLE76", "CYCLE77"}
 
@@ -139,12 +139,12 @@ class ReferencePlane(Rule):
     according to value for relative depth" when DP and DPR disagree (L2127-2134)."""
 
     def cycle_run(self, run, state):
-        name = _cycle_name(run)
-        if not _is_sinumerik(run) or name not in _PLANE_CYCLES:
+        name = cycle_name(run)
+        if not is_sinumerik(run) or name not in PLANE_CYCLES:
             return
         params = run.params
-        rtp, rfp = _number(params, "RTP"), _number(params, "RFP")
-        dpr = _number(params, "DPR")
+        rtp, rfp = numeric_parameter(params, "RTP"), numeric_parameter(params, "RFP")
+        dpr = numeric_parameter(params, "DPR")
         span = run.param_spans.get("RTP", run.param_spans.get("_RTP", run.span))
         report, judge = self.checker.report_verdict, self.checker.judge
         if type(dpr) is not float or dpr != 0.0:
@@ -154,7 +154,7 @@ class ReferencePlane(Rule):
                    judge(values.logical("AND", hazard("==", rtp, rfp), hazard("!=", dpr, 0.0)), state), state)
         absolute_only = name in ("POCKET3", "POCKET4", "CYCLE71", "CYCLE72")
         if absolute_only or (type(dpr) is float and dpr == 0.0):
-            depth = _number(params, "DP")  # an absolute depth needs no direction: symbolic planes are judged too
+            depth = numeric_parameter(params, "DP")  # an absolute depth needs no direction: symbolic planes are judged too
         else:
             _side, _start, depth = levels(params)
         if depth is None:
@@ -166,14 +166,14 @@ class ReferencePlane(Rule):
                f"{name}: the retract plane RTP={show(rtp)} lies between the reference plane RFP={show(rfp)} and the depth {show(depth)}: "
                "would raise alarm 61101 \"reference plane defined incorrectly\"; the cycle is not executed",
                judge(behind, state), state)
-        dp = _number(params, "DP")
+        dp = numeric_parameter(params, "DP")
         if type(dpr) is float and dpr != 0.0 and type(dp) is float and dp != 0.0 and type(depth) is float and abs(dp - depth) > 1e-9:
             self.report("sinumerik.depth-conflict", run.param_spans.get("DP", run.span),
                         f"{name}: DP={show(dp)} and DPR={show(dpr)} give different depths ({show(dp)} and {show(depth)}): the cycle drills to {show(depth)} "
                         "from the relative depth and shows \"Depth: according to value for relative depth\"")
 
 
-def _number(params: dict, name: str):
+def numeric_parameter(params: dict, name: str):
     for key in (name, f"_{name}"):
         value = params.get(key)
         if value is not None and not isinstance(value, str):
@@ -234,8 +234,8 @@ class ShiftedArguments(Rule):
     place from some position makes every discrete parameter valid, say so."""
 
     def cycle_run(self, run, state):
-        cycle = _cycle_name(run)
-        if not _is_sinumerik(run) or cycle not in _DISCRETE:
+        cycle = cycle_name(run)
+        if not is_sinumerik(run) or cycle not in _DISCRETE:
             return
         names = [name for name, _kind in _arguments(run)]
         count = int(run.params.get("ARG_COUNT", 0.0)) if type(run.params.get("ARG_COUNT")) is float else 0
@@ -303,17 +303,17 @@ class CycleBlock(Rule):
     item 6): every rapid between holes then runs closer to the surface than SDIS."""
 
     def cycle_run(self, run, state):
-        if not _is_sinumerik(run):
+        if not is_sinumerik(run):
             return
-        name = _cycle_name(run)
+        name = cycle_name(run)
         others = run.params.get("OTHER_WORDS", 0.0)
         if type(others) is float and others > 0 and self.first_time(state, ("cycle-not-alone", run.span)):
             self.report("sinumerik.cycle-not-alone", run.span,
                         f"{name} shares its block with {others:g} other word{'s' if others != 1 else ''}: a cycle call must stand in a block of its own")
-        if name not in _PLANE_CYCLES:
+        if name not in PLANE_CYCLES:
             return
         side, start, _depth = levels(run.params)
-        rtp = _number(run.params, "RTP")
+        rtp = numeric_parameter(run.params, "RTP")
         if side is None or start is None or (type(start) is float and type(rtp) is float and rtp == start):
             return
         verdict = self.checker.judge(hazard("<", values.mul(side, values.sub(rtp, start)), 0.0), state)
@@ -330,15 +330,15 @@ class StartBelowSurface(Rule):
     plane RFP when the cycle is called got there by a positioning move under the surface."""
 
     def cycle_run(self, run, state):
-        if not _is_sinumerik(run) or run.model.get("shape") not in ("sinumerik_drill", "sinumerik_mill"):
+        if not is_sinumerik(run) or run.model.get("shape") not in ("sinumerik_drill", "sinumerik_mill"):
             return
         side, _start, _depth = levels(run.params)
         axis = state.plane_axes[2]
-        here, rfp, rtp = state.position.get(axis), _number(run.params, "RFP"), _number(run.params, "RTP")
+        here, rfp, rtp = state.position.get(axis), numeric_parameter(run.params, "RFP"), numeric_parameter(run.params, "RTP")
         if side is None or any(type(value) is not float for value in (here, rfp, rtp)) or side * (here - rfp) >= 0:
             return
         self.report("sinumerik.start-below-surface", run.span,
-                    f"{_cycle_name(run)} starts with the tool at {axis}{here:g}, beyond the reference plane RFP={rfp:g} (retract plane RTP={rtp:g}): "
+                    f"{cycle_name(run)} starts with the tool at {axis}{here:g}, beyond the reference plane RFP={rfp:g} (retract plane RTP={rtp:g}): "
                     "the move that brought it over this position ran under the surface; position at RTP first")
 
 
@@ -350,9 +350,9 @@ class PatternWithoutModalCall(Rule):
     are approached without drilling (seed A L4491-4503)."""
 
     def cycle_run(self, run, state):
-        if _is_sinumerik(run) and run.model.get("shape") == "sinumerik_pattern" and state.cycle is None:
+        if is_sinumerik(run) and run.model.get("shape") == "sinumerik_pattern" and state.cycle is None:
             self.report("sinumerik.pattern-without-mcall", run.span,
-                        f"{_cycle_name(run)} with no MCALL drilling cycle active: would raise alarm 62100 \"no drilling cycle active\"; "
+                        f"{cycle_name(run)} with no MCALL drilling cycle active: would raise alarm 62100 \"no drilling cycle active\"; "
                         "the positions are approached with G0 and nothing is drilled")
 
 
@@ -369,7 +369,7 @@ class FirstDrillingDepth(Rule):
         fdep, fdpr = run.params.get("FDEP"), run.params.get("FDPR")
         if side is None or depth is None or fdep is None or fdpr is None or isinstance(fdep, str) or isinstance(fdpr, str) or (fdep == 0.0 and fdpr == 0.0):
             return  # a string here is the 12330 of sinumerik.cycle-arguments
-        first = fdep if type(fdpr) is float and fdpr == 0.0 else values.sub(_number(run.params, "RFP"), values.mul(side, values.absolute(fdpr)))
+        first = fdep if type(fdpr) is float and fdpr == 0.0 else values.sub(numeric_parameter(run.params, "RFP"), values.mul(side, values.absolute(fdpr)))
         outside = values.logical("OR", hazard(">=", values.mul(side, values.sub(first, start)), 0.0),
                                  hazard("<=", values.mul(side, values.sub(first, depth)), 0.0))
         self.checker.report_verdict("sinumerik.first-depth", run.param_spans.get("FDEP" if fdpr == 0.0 else "FDPR", run.span),
@@ -384,8 +384,8 @@ class ThreadPitch(Rule):
     seed B L17056-17062)."""
 
     def cycle_run(self, run, state):
-        name = _cycle_name(run)
-        if not _is_sinumerik(run) or name not in ("CYCLE84", "CYCLE840", "CYCLE97"):
+        name = cycle_name(run)
+        if not is_sinumerik(run) or name not in ("CYCLE84", "CYCLE840", "CYCLE97"):
             return
         size, pitch = run.params.get("MPIT"), run.params.get("PIT")
         if type(size) is not float or type(pitch) is not float or size == 0.0 or pitch == 0.0:
@@ -412,12 +412,12 @@ class TechnologyDigits(Rule):
     """CYCLE84/840 _TECHNO: a digit outside its set raises alarm 61125."""
 
     def cycle_run(self, run, state):
-        allowed = _TECHNOLOGY_DIGITS.get(_cycle_name(run)) if _is_sinumerik(run) else None
+        allowed = _TECHNOLOGY_DIGITS.get(cycle_name(run)) if is_sinumerik(run) else None
         value = run.params.get("_TECHNO") if allowed else None
-        problem = _digit_problem(value, allowed) if type(value) is float else ""
+        problem = digit_problem(value, allowed) if type(value) is float else ""
         if problem:
             self.report("sinumerik.technology-digits", run.param_spans.get("_TECHNO", run.span),
-                        f"{_cycle_name(run)}: _TECHNO={show(value)}: {problem}: would raise alarm 61125 \"technology selection in _TECHNO wrong\"")
+                        f"{cycle_name(run)}: _TECHNO={show(value)}: {problem}: would raise alarm 61125 \"technology selection in _TECHNO wrong\"")
 
 
 @rule("sinumerik.thread-mill-bore")
@@ -458,9 +458,9 @@ class NoToolOffset(Rule):
     LONGHOLE, CYCLE90 and the turning cycles), 61009 with no tool (CYCLE71/72/76/77)."""
 
     def cycle_run(self, run, state):
-        if not _is_sinumerik(run):
+        if not is_sinumerik(run):
             return
-        name = _cycle_name(run)
+        name = cycle_name(run)
         if run.model.get("needs_tool") and type(state.tool_in_spindle) is float and state.tool_in_spindle == 0.0:
             self.report("sinumerik.no-tool-offset", run.span, f"{name} with tool T0 in the spindle: would raise alarm 61009 \"active tool number = 0\"")
         elif (run.model.get("needs_offset") or run.model.get("needs_tool")) and state.length_mode == "off" and state.rule_state.get("sinumerik-d0"):
@@ -485,7 +485,7 @@ class SpindleAtCycle(Rule):
     spindle stopped."""
 
     def cycle_run(self, run, state):
-        name = _cycle_name(run) if _is_sinumerik(run) else ""
+        name = cycle_name(run) if is_sinumerik(run) else ""
         if name not in _SPINDLE_SETS_DIRECTION or state.spindle != "off":
             return
         parameter = _SPINDLE_SETS_DIRECTION[name]
@@ -502,7 +502,7 @@ class SpindleAtCycle(Rule):
 
 def _contours(run) -> list:
     """The contours a cycle run read (``contours`` in cycles.toml)."""
-    return [run.params[key] for key in run.model.get("contours", {}) if run.params.get(key) is not None] if _is_sinumerik(run) else []
+    return [run.params[key] for key in run.model.get("contours", {}) if run.params.get(key) is not None] if is_sinumerik(run) else []
 
 
 @rule("sinumerik.contour-section-runs")
@@ -515,8 +515,8 @@ class ContourSectionRuns(Rule):
         for facts in _contours(run):
             if facts.section_lines is not None:
                 sections = state.rule_state.setdefault("sinumerik-contour-sections", [])
-                if (*facts.section_lines, _cycle_name(run)) not in sections:
-                    sections.append((*facts.section_lines, _cycle_name(run)))
+                if (*facts.section_lines, cycle_name(run)) not in sections:
+                    sections.append((*facts.section_lines, cycle_name(run)))
 
     def segment(self, segment, state):
         if segment.role == "programmed" and segment.span.path is None:
@@ -540,16 +540,16 @@ class ContourSectionRuns(Rule):
                             "moves at the current height, without compensation; jump over it with GOTOF or put it after M30")
 
 
-def _contour_not_found(facts, cycle: str, kind: str = "") -> str:
+def contour_not_found(facts, cycle: str, kind: str = "") -> str:
     """The message for a contour ``cycle`` names that no file holds (``kind``: edge, island, finished, blank)."""
     return f"the {kind + ' ' if kind else ''}contour \"{facts.name}\" of {cycle} is not in this file or on the subprogram path"
 
 
-def _contour_points_unknown(facts, cycle: str, what: str) -> str:
+def contour_points_unknown(facts, cycle: str, what: str) -> str:
     """The message for a contour found whose points are not all numbers; ``what``: what is not judged."""
     return f"the points of the contour \"{facts.name}\" of {cycle} are not all known numbers: {what} is not judged"
 
 
-def _point(point, state) -> str:
+def plane_point(point, state) -> str:
     first, second, _normal = state.plane_axes
     return f"{first}{point[0]:g} {second}{point[1]:g}"

@@ -10,25 +10,25 @@ import math
 from .. import values
 from ..check import Rule, hazard, rule, show
 from ..frames import AXES
-from ..lower.sinumerik_cycles import levels
+from ..interpret.sinumerik_cycles import levels
 from ..pocket import circle_fit, rectangle_fit, slot_fit
-from .machine import _ReportsMissingContext
-from .sinumerik import _PLANE_CYCLES, _contour_not_found, _contour_points_unknown, _cycle_name, _digit_problem, _is_sinumerik, _number, _point
-from .sinumerik_tools import _active_edge
+from .common import ReportsMissingContext
+from .sinumerik import PLANE_CYCLES, contour_not_found, contour_points_unknown, cycle_name, digit_problem, is_sinumerik, numeric_parameter, plane_point
+from .sinumerik_tools import active_edge
 
 
 # --------------------------------------------------------------------------- tool against the feature
 
 @rule("sinumerik.cutter-radius")
-class CutterRadius(_ReportsMissingContext):
+class CutterRadius(ReportsMissingContext):
     """Alarm 61105 "cutter radius too large" (POCKET1-4, SLOT1/2, LONGHOLE), 61111 "infeed
     width > tool diameter" (POCKET3/4, CYCLE71), 61117/61112 for a radius the cycle cannot use,
     and a slot tool below half the slot width, from the tool radius in the tool data ($TC_DP6
     in the program or the project's tool table)."""
 
     def cycle_run(self, run, state):
-        cycle = _cycle_name(run)
-        if not _is_sinumerik(run) or (cycle not in _FEATURES and cycle not in _RADIUS_SIGN):
+        cycle = cycle_name(run)
+        if not is_sinumerik(run) or (cycle not in _FEATURES and cycle not in _RADIUS_SIGN):
             return
         radius = self._radius(run, state)
         if radius is None:
@@ -91,12 +91,10 @@ class CutterRadius(_ReportsMissingContext):
 def _spindle_tool_radius(checker, state):
     """The radius of the active edge of the tool in the spindle from the tool data, or None.
     The tool's own values are edge D1's; another D number takes its ``$TC_DP6[t,d]``."""
-    tools = checker.context.get("tools") or {}
-    number = state.tool_in_spindle
-    tool = tools.get(int(number)) if type(number) is float else None
-    edge = _active_edge(state)
-    if tool is not None and edge is not None and edge != 1.0:
-        tool = tool.edges.get(int(edge))
+    tool = checker.context.tools.in_spindle(state)
+    edge = active_edge(state)
+    if tool is not None and edge is not None:
+        tool = tool.edge_data(edge)
     return None if tool is None else tool.radius
 
 
@@ -129,7 +127,7 @@ _FEATURES = {
 # --------------------------------------------------------------------------- pocket and path-milling contours (CYCLE72-75)
 
 @rule("sinumerik.pocket-contour")
-class PocketContour(_ReportsMissingContext):
+class PocketContour(ReportsMissingContext):
     """CYCLE74/75 contours and the CYCLE73 call (reference A section 6.24, seed L9311-9360,
     L9905-9914, L10703-10775): a contour named (61900), closed contours (61901), G0 to the first
     point, no RND/CHF at the last element, a roughing tool _TN (61984), the stepover at most 80 %
@@ -137,7 +135,7 @@ class PocketContour(_ReportsMissingContext):
     CYCLE74 ran before CYCLE73 is not judged: REPEAT of a program section is not modelled.)"""
 
     def cycle_run(self, run, state):
-        name = _cycle_name(run) if _is_sinumerik(run) else ""
+        name = cycle_name(run) if is_sinumerik(run) else ""
         if name in ("CYCLE74", "CYCLE75"):
             self._contour(run, name, state)
         elif name == "CYCLE73":
@@ -153,14 +151,14 @@ class PocketContour(_ReportsMissingContext):
         contours = state.rule_state.get("sinumerik-pocket-contours", []) if name == "CYCLE75" else []
         state.rule_state["sinumerik-pocket-contours"] = [*contours, facts]
         if not facts.found:
-            self.missing("sinumerik.pocket-contour", span, _contour_not_found(facts, name, what))
+            self.missing("sinumerik.pocket-contour", span, contour_not_found(facts, name, what))
             return
         if facts.closed() is None:
-            self.missing("sinumerik.pocket-contour", span, _contour_points_unknown(facts, name, "whether it is closed (61901)"))
+            self.missing("sinumerik.pocket-contour", span, contour_points_unknown(facts, name, "whether it is closed (61901)"))
         elif facts.closed() is False:
             (start, _), (end, end_span) = facts.points[0], facts.points[-1]
             self.report("sinumerik.pocket-contour", end_span,
-                        f"{name}: the {what} contour \"{facts.name}\" ends at {_point(end, state)}, not at its start {_point(start, state)}: would raise alarm 61901 \"contour not closed\"")
+                        f"{name}: the {what} contour \"{facts.name}\" ends at {plane_point(end, state)}, not at its start {plane_point(start, state)}: would raise alarm 61901 \"contour not closed\"")
         if facts.first_motion not in (None, "rapid"):
             self.report("sinumerik.pocket-contour", facts.points[0][1] if facts.points else span,
                         f"{name}: the {what} contour \"{facts.name}\" reaches its first point with {'G1' if facts.first_motion == 'linear' else 'G2/G3'}: "
@@ -180,7 +178,7 @@ class PocketContour(_ReportsMissingContext):
         for facts in contours or ():
             if facts.points and all(type(value) is float for value in here) and math.dist(here, facts.points[0][0]) < 1e-6:
                 self.report("sinumerik.pocket-contour", run.span,
-                            f"CYCLE73 called with the tool on the start point {_point(facts.points[0][0], state)} of the contour \"{facts.name}\": not allowed (seed A L9311-9360)")
+                            f"CYCLE73 called with the tool on the start point {plane_point(facts.points[0][0], state)} of the contour \"{facts.name}\": not allowed (seed A L9311-9360)")
         stepover, radius = run.params.get("_MIDA"), _spindle_tool_radius(self.checker, state)
         if type(stepover) is float and stepover > 0 and radius is None:
             self.missing("sinumerik.pocket-contour", run.param_spans.get("_MIDA", run.span),
@@ -192,7 +190,7 @@ class PocketContour(_ReportsMissingContext):
 
 
 @rule("sinumerik.path-milling-contour")
-class PathMillingContour(_ReportsMissingContext):
+class PathMillingContour(ReportsMissingContext):
     """CYCLE72's contour (reference A section 6.21, seed L8306-8320): at least two blocks in
     the plane, no G40/G41/G42 inside (the cycle selects the compensation itself), no frame."""
 
@@ -202,7 +200,7 @@ class PathMillingContour(_ReportsMissingContext):
             return
         span = run.param_spans.get("_KNAME", run.span)
         if not facts.found:
-            self.missing("sinumerik.path-milling-contour", span, _contour_not_found(facts, "CYCLE72"))
+            self.missing("sinumerik.path-milling-contour", span, contour_not_found(facts, "CYCLE72"))
             return
         if facts.plane_blocks < 2:
             self.report("sinumerik.path-milling-contour", span,
@@ -226,16 +224,16 @@ class MillingDepthSign(Rule):
     also lies between them (61101). Holes are judged by the core hole rules."""
 
     def cycle_run(self, run, state):
-        name = _cycle_name(run) if _is_sinumerik(run) else ""
-        if run.model.get("shape") != "sinumerik_mill" or name == "CYCLE90" or name not in _PLANE_CYCLES | {"CYCLE60", "CYCLE73"}:
+        name = cycle_name(run) if is_sinumerik(run) else ""
+        if run.model.get("shape") != "sinumerik_mill" or name == "CYCLE90" or name not in PLANE_CYCLES | {"CYCLE60", "CYCLE73"}:
             return
         side, _start, depth = levels(run.params)
-        rfp = _number(run.params, "RFP")
+        rfp = numeric_parameter(run.params, "RFP")
         if side is None or depth is None:
             return
         verdict = self.checker.judge(hazard("<=", values.mul(side, values.sub(rfp, depth)), 0.0), state)
         self.checker.report_verdict("sinumerik.milling-depth-sign", run.param_spans.get("DP", run.param_spans.get("_DP", run.span)),
-                                    f"{name}: the depth {show(depth)} is not below the reference plane RFP={show(rfp)} (seen from the retract plane RTP={show(_number(run.params, 'RTP'))}): "
+                                    f"{name}: the depth {show(depth)} is not below the reference plane RFP={show(rfp)} (seen from the retract plane RTP={show(numeric_parameter(run.params, 'RTP'))}): "
                                     "the cycle cuts nothing, or feeds toward the retract plane; was the depth written as a distance instead of a level?",
                                     verdict, state)
 
@@ -245,19 +243,19 @@ _SCALE_ALARMS = {"CYCLE71": ("61011", "scaling not permitted"), "CYCLE72": ("610
 
 
 @rule("sinumerik.scaled-cycle")
-class ScaledCycle(_ReportsMissingContext):
+class ScaledCycle(ReportsMissingContext):
     """CYCLE71/72 with a scale factor active (61011) and CYCLE76/77 with different factors
     on the two plane axes (61012) [appendix L19650-19660], from the programmable frame;
     unknown when an entry of the frame is not a number."""
 
     def cycle_run(self, run, state):
-        alarm = _SCALE_ALARMS.get(_cycle_name(run)) if _is_sinumerik(run) else None
+        alarm = _SCALE_ALARMS.get(cycle_name(run)) if is_sinumerik(run) else None
         if alarm is None:
             return
         factors = _scale_factors(state.frame)
         if factors is None:
             self.missing("sinumerik.scaled-cycle", run.span,
-                         f"the active programmable frame is not known (a solid-angle or symbolic frame): whether {_cycle_name(run)} runs scaled "
+                         f"the active programmable frame is not known (a solid-angle or symbolic frame): whether {cycle_name(run)} runs scaled "
                          f"(alarm {alarm[0]} \"{alarm[1]}\") is not judged")
             return
         first, second, _normal = state.plane_axes
@@ -268,7 +266,7 @@ class ScaledCycle(_ReportsMissingContext):
         if wrong:
             scales = ", ".join(f"{axis} {factor:g}" for axis, factor in wrong.items())
             self.report("sinumerik.scaled-cycle", run.span,
-                        f"{_cycle_name(run)} under a scaling frame ({scales}): would raise alarm {alarm[0]} \"{alarm[1]}\"; cancel SCALE before the call")
+                        f"{cycle_name(run)} under a scaling frame ({scales}): would raise alarm {alarm[0]} \"{alarm[1]}\"; cancel SCALE before the call")
 
 
 def _scale_factors(frame) -> dict | None:
@@ -361,7 +359,7 @@ class HighSpeedSettings(Rule):
         if type(mode) is float and mode % 10 != 0:
             state.rule_state["sinumerik-high-speed"] = run.span
         if type(mode) is float:
-            problem = _digit_problem(mode, _TOLM_DIGITS)
+            problem = digit_problem(mode, _TOLM_DIGITS)
             if problem:
                 self.report("sinumerik.high-speed-settings", run.param_spans.get("_TOLM", run.span), f"CYCLE832: _TOLM={show(mode)}: {problem}")
                 return

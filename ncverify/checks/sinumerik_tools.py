@@ -15,10 +15,10 @@ from typing import NamedTuple
 from ..check import rule, show
 from ..frames import Frame
 from ..lower.sinumerik import ACTIVE_EDGE
-from .machine import _ReportsMissingContext
+from .common import ReportsMissingContext
 
 
-def _active_edge(state):
+def active_edge(state):
     """The active D number, or None when the program has not set it on this path."""
     edge = state.global_variables.get(ACTIVE_EDGE.name)
     return edge if type(edge) is float else None
@@ -34,24 +34,25 @@ def _active_tool_number(state, lathe: bool):
     return selected if mounted is None and type(selected) is float else None
 
 
-class _EdgeRule(_ReportsMissingContext):
+class _EdgeRule(ReportsMissingContext):
     """A rule that needs the data of the active cutting edge."""
 
     def edge_tool(self, state):
         """``(data of the active edge, None)`` when they are known, else ``(None, why not)``.
         Annotations and the project file describe edge D1; ``$TC_DP..[t,d]`` any edge."""
-        number = _active_tool_number(state, self.checker.context.get("machine") == "lathe")
+        number = _active_tool_number(state, self.checker.context.lathe)
         if number is None:
             return None, "which tool is active is not known"
-        edge = _active_edge(state)
+        edge = active_edge(state)
         if edge is None:
             return None, "no D number is programmed on this path"
-        tool = (self.checker.context.get("tools") or {}).get(int(number))
+        tool = self.checker.context.tools.numbered(number)
         if tool is None:
             return None, f"tool T{show(number)} is not defined ($TC_DP.. in the program, an ncverify: tool annotation or [tools.{show(number)}])"
-        if edge != 1.0 and int(edge) not in tool.edges:
+        data = tool.edge_data(edge)
+        if data is None:
             return None, f"the data of edge D{show(edge)} of T{show(number)} are not in the program ($TC_DP..[{show(number)},{show(edge)}])"
-        return (tool if edge == 1.0 else tool.edges[int(edge)]), None
+        return data, None
 
     def edge_data(self, rule_id: str, span, state, what: str):
         """The active edge's data, or None after saying once (``what`` names the datum the
@@ -80,11 +81,11 @@ _EDGE_FIELDS = {"clearance_angle": ("clearance angle", 24), "edge_position": ("c
 
 
 def _edge_name(tool, state) -> str:
-    return f"T{tool.number} D{show(_active_edge(state))}"
+    return f"T{tool.number} D{show(active_edge(state))}"
 
 
 def _edge_index(tool, state) -> str:
-    return f"[{tool.number},{show(_active_edge(state))}]"
+    return f"[{tool.number},{show(active_edge(state))}]"
 
 
 # --------------------------------------------------------------------------- CYCLE95: the clearance angle (61604)
@@ -242,7 +243,7 @@ class EdgePosition(_EdgeRule):
 # --------------------------------------------------------------------------- CYCLE73: edge D1 (61989)
 
 @rule("sinumerik.pocket-edge")
-class PocketEdge(_ReportsMissingContext):
+class PocketEdge(ReportsMissingContext):
     """CYCLE73 computes its paths with the offsets of edge D1 and allows no other edge (no
     spare-tool strategy): another D raises alarm 61989 (reference A sections 6.24 and 9 item
     39, seed L9530-9620, L10703-10775)."""
@@ -250,7 +251,7 @@ class PocketEdge(_ReportsMissingContext):
     def cycle_run(self, run, state):
         if run.cycle != "sinumerik.CYCLE73":
             return
-        edge = _active_edge(state)
+        edge = active_edge(state)
         if edge is None:
             self.missing("sinumerik.pocket-edge", run.span, "the active cutting edge (D number) at CYCLE73 is not known on this path")
         elif edge != 1.0:

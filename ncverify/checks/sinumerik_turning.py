@@ -9,14 +9,14 @@ import math
 from shapely.geometry import LineString, Point, Polygon
 
 from ..check import Rule, hazard, rule, show
-from .machine import _ReportsMissingContext
-from .sinumerik import _contour_not_found, _contour_points_unknown, _cycle_name, _is_sinumerik, _point, _shown
+from .common import ReportsMissingContext
+from .sinumerik import contour_not_found, contour_points_unknown, cycle_name, is_sinumerik, plane_point, quoted
 
 
 # --------------------------------------------------------------------------- stock removal contours (CYCLE95, CYCLE950)
 
 @rule("sinumerik.stock-removal-contour")
-class StockRemovalContour(_ReportsMissingContext):
+class StockRemovalContour(ReportsMissingContext):
     """CYCLE95's contour rules on the contour's own geometry (reference B section 6.3, C2-C13):
     enough plane blocks, only lines and arcs up to 180 degrees, no plane, frame or G41/G42
     inside, G0-G3 in the first block, no G41/G42 at the call, and the start position
@@ -27,7 +27,7 @@ class StockRemovalContour(_ReportsMissingContext):
         if facts is None:
             return
         if not facts.found:
-            self.missing("sinumerik.stock-removal-contour", run.param_spans.get("NPP", run.span), _contour_not_found(facts, "CYCLE95"))
+            self.missing("sinumerik.stock-removal-contour", run.param_spans.get("NPP", run.span), contour_not_found(facts, "CYCLE95"))
             return
         for alarm, text, span in facts.problems:
             self.report("sinumerik.stock-removal-contour", span or run.param_spans.get("NPP", run.span),
@@ -47,7 +47,7 @@ class StockRemovalContour(_ReportsMissingContext):
 
 
 @rule("sinumerik.contour-direction")
-class ContourDirection(_ReportsMissingContext):
+class ContourDirection(ReportsMissingContext):
     """CYCLE95 takes its machining direction from the contour's first and last points and
     machines undercuts, but an element that turns back against that direction (an overhang)
     is neither machined nor reported (reference B section 9 items 22 and 24, seed
@@ -64,7 +64,7 @@ class ContourDirection(_ReportsMissingContext):
         kind = run.params.get("VARI")
         if facts is not None and facts.found and not facts.points:
             self.missing("sinumerik.contour-direction", run.param_spans.get("NPP", run.span),
-                         _contour_points_unknown(facts, "CYCLE95", "whether it turns back against the machining direction"))
+                         contour_points_unknown(facts, "CYCLE95", "whether it turns back against the machining direction"))
         if facts is None or not facts.points or len(facts.points) < 2 or type(kind) is not float or not 1 <= kind % 100 <= 12:
             return
         longitudinal = int(kind) % 100 % 2 == 1
@@ -82,7 +82,7 @@ class ContourDirection(_ReportsMissingContext):
 
 
 @rule("sinumerik.extended-stock-removal")
-class ExtendedStockRemoval(_ReportsMissingContext):
+class ExtendedStockRemoval(ReportsMissingContext):
     """CYCLE950 (reference B sections 6.8 and 11.3, seed L18265-18273, L18755-18765,
     L19404-19510): a finished contour must be named (61701), a blank contour must be closed
     (61740) and hold the finished contour (61735) with material between them (61724); neither
@@ -99,20 +99,20 @@ class ExtendedStockRemoval(_ReportsMissingContext):
             return
         for facts, what in ((finished, "finished"), (blank, "blank")):
             if facts is not None and not facts.found:
-                self.missing("sinumerik.extended-stock-removal", run.span, _contour_not_found(facts, "CYCLE950", what))
+                self.missing("sinumerik.extended-stock-removal", run.span, contour_not_found(facts, "CYCLE950", what))
             elif facts is not None and facts.rounded_end is not None:
                 self.report("sinumerik.extended-stock-removal", facts.rounded_end,
                             f"CYCLE950: the last element of the {what} contour \"{facts.name}\" carries RND/CHF: not allowed (seed B L18265-18273)")
         for facts, what in ((finished, "finished"), (blank, "blank")):
             if facts is not None and facts.found and not facts.points:
                 self.missing("sinumerik.extended-stock-removal", run.span,
-                             _contour_points_unknown(facts, "CYCLE950", f"the {what} contour's closure and the finished part against the blank"))
+                             contour_points_unknown(facts, "CYCLE950", f"the {what} contour's closure and the finished part against the blank"))
         if blank is None or not blank.found or not blank.points:
             return
         if not blank.closed():
             (start, _), (end, end_span) = blank.points[0], blank.points[-1]
             self.report("sinumerik.extended-stock-removal", end_span,
-                        f"CYCLE950: the blank contour \"{blank.name}\" ends at {_point(end, state)}, not at its start {_point(start, state)}: would raise alarm 61740 \"blank must be a closed contour\"")
+                        f"CYCLE950: the blank contour \"{blank.name}\" ends at {plane_point(end, state)}, not at its start {plane_point(start, state)}: would raise alarm 61740 \"blank must be a closed contour\"")
         elif finished.found and finished.points and len(blank.points) >= 4:
             self._finished_against_blank(finished, blank, state)
 
@@ -122,7 +122,7 @@ class ExtendedStockRemoval(_ReportsMissingContext):
         outside = next(((point, span) for point, span in finished.points if not inside.covers(Point(point))), None)
         if outside is not None:
             self.report("sinumerik.extended-stock-removal", outside[1],
-                        f"CYCLE950: the finished contour \"{finished.name}\" reaches {_point(outside[0], state)}, outside the blank contour \"{blank.name}\": "
+                        f"CYCLE950: the finished contour \"{finished.name}\" reaches {plane_point(outside[0], state)}, outside the blank contour \"{blank.name}\": "
                         "would raise alarm 61735 \"finished part lies outside the blank contour\"")
             return
         edge = outline.exterior.buffer(1e-6)
@@ -134,8 +134,8 @@ class ExtendedStockRemoval(_ReportsMissingContext):
         shared = next(((start, end, span) for (start, _), (end, span) in inner if math.dist(start, end) > 1e-6 and edge.covers(LineString([start, end]))), None)
         if shared is not None:
             self.report("sinumerik.extended-stock-removal", shared[2],
-                        f"CYCLE950: the finished contour \"{finished.name}\" runs along the blank contour \"{blank.name}\" from {_point(shared[0], state)} "
-                        f"to {_point(shared[1], state)}: the material to remove is split in two; the contours must not coincide piecewise (seed B L18755-18765)")
+                        f"CYCLE950: the finished contour \"{finished.name}\" runs along the blank contour \"{blank.name}\" from {plane_point(shared[0], state)} "
+                        f"to {plane_point(shared[1], state)}: the material to remove is split in two; the contours must not coincide piecewise (seed B L18755-18765)")
 
     def _no_material(self, finished, blank):
         """The finished contour runs along the blank's outline all the way: alarm 61724 "no
@@ -158,14 +158,14 @@ class UndercutForm(Rule):
     """CYCLE94 FORM "E"/"F", CYCLE96 FORM "A"-"D": alarm 61609 (seed B L15612-15618, L16790-16796)."""
 
     def cycle_run(self, run, state):
-        name = _cycle_name(run)
-        allowed = {"CYCLE94": ("E", "F"), "CYCLE96": ("A", "B", "C", "D")}.get(name) if _is_sinumerik(run) else None
+        name = cycle_name(run)
+        allowed = {"CYCLE94": ("E", "F"), "CYCLE96": ("A", "B", "C", "D")}.get(name) if is_sinumerik(run) else None
         if allowed is None:
             return
         form = run.params.get("FORM")
         if not (isinstance(form, str) and form.upper() in allowed):
             self.report("sinumerik.undercut-form", run.param_spans.get("FORM", run.span),
-                        f"{name}: FORM {_shown(form)} is not {' or '.join(chr(34) + letter + chr(34) for letter in allowed)}: "
+                        f"{name}: FORM {quoted(form)} is not {' or '.join(chr(34) + letter + chr(34) for letter in allowed)}: "
                         "would raise alarm 61609 \"form defined incorrectly\"")
 
 
@@ -180,15 +180,15 @@ class UndercutFeed(Rule):
         feed = state.feed
         if feed is None and not state.feed_inherited:
             self.report("sinumerik.undercut-feed", run.span,
-                        f"{_cycle_name(run)} with no feed programmed: the cycle cuts the undercut at the F active before the call; program F (G95 mm/rev) before it")
+                        f"{cycle_name(run)} with no feed programmed: the cycle cuts the undercut at the F active before the call; program F (G95 mm/rev) before it")
         elif feed is not None:
             self.checker.report_verdict("sinumerik.undercut-feed", run.span,
-                                        f"{_cycle_name(run)} at feed F{show(feed)}: the cycle cuts the undercut at this F, which does not move the axes",
+                                        f"{cycle_name(run)} at feed F{show(feed)}: the cycle cuts the undercut at this F, which does not move the axes",
                                         self.checker.judge(hazard("<=", feed, 0.0), state), state)
 
 
 @rule("sinumerik.groove-dwell")
-class GrooveDwell(_ReportsMissingContext):
+class GrooveDwell(ReportsMissingContext):
     """CYCLE93's dwell DTB at the groove base should last at least one spindle revolution
     (reference B section 9 item 29, seed L15201-15205): judged under G97, where the speed S
     is the revolutions per minute; unknown otherwise."""

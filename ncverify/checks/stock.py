@@ -68,7 +68,7 @@ class _NeedsStock(Rule):
     looked_at = None
 
     def stock(self, span):
-        stock = self.checker.context.get("stock")
+        stock = self.checker.context.stock
         if stock is None and self.looked_at is None:
             self.looked_at = span
         return stock
@@ -109,10 +109,10 @@ class RapidIntoStock(_NeedsStock):
         if any(isinstance(value, Sym) for value in (*start, *end)):
             self._symbolic(stock, start, end, segment.span, what, state)
             return
-        hit = geometry.enters(stock, start, end, self.checker.context.get("rapid_path") == "dogleg")
+        hit = geometry.enters(stock, start, end, self.checker.context.rapid_path == "dogleg")
         if hit is None or _retracts_along_tool(start, end, state):
             return
-        left = self.checker.material.rapid(start, end, state, run, index) if self.checker.context.get("rapid_path") != "dogleg" else None
+        left = self.checker.material.rapid(start, end, state, run, index) if self.checker.context.rapid_path != "dogleg" else None
         if left is None:
             self._judge_against_blank(segment, what, start, end, hit, stock)
         elif left.outcome == "hits":
@@ -151,7 +151,7 @@ class RapidIntoStock(_NeedsStock):
         stock = self.stock(run.span(int(rapids[0])))
         if stock is None:
             return
-        if self.checker.context.get("rapid_path") == "dogleg" or stock.kind == "polygon" or len(run.axes) != 3:
+        if self.checker.context.rapid_path == "dogleg" or stock.kind == "polygon" or len(run.axes) != 3:
             for index in rapids:
                 self.segment(run.segment(int(index)), state, run, int(index))
             return
@@ -184,7 +184,7 @@ class RapidIntoStock(_NeedsStock):
             self.report(self.rule_id, span, message, Status.UNKNOWN, "position unknown")
 
     def _symbolic(self, stock, start, end, span, what, state):
-        condition = geometry.may_enter_symbolic(stock, start, end, self.checker.context.get("rapid_path") == "dogleg")
+        condition = geometry.may_enter_symbolic(stock, start, end, self.checker.context.rapid_path == "dogleg")
         verdict = self.checker.judge(Condition(condition), state)
         self.checker.report_verdict(self.rule_id, span, f"{what} from {_where(start)} to {_where(end)} passes through the stock ({stock.describe()})", verdict, state)
 

@@ -6,31 +6,20 @@ from __future__ import annotations
 
 from .. import frames, values
 from ..check import hazard, rule, show
-from .machine import _ReportsMissingContext
+from .common import ReportsMissingContext
 
 # Which arc direction puts the tool inside the arc, per compensation side.
 _CONCAVE = {("left", "ccw"), ("right", "cw")}
 
 
-def _tool_radius(rule_instance, state, span, rule_id):
-    tools = rule_instance.checker.context.get("tools") or {}
-    number = state.tool_in_spindle
-    tool = tools.get(int(number)) if type(number) is float else None
-    if tool is None or tool.radius is None:
-        what = "no tool table" if not tools else f"the radius of tool T{show(number)} is not in the tool table"
-        rule_instance.missing(rule_id, span, what)
-        return None
-    return tool.radius
-
-
 @rule("core.tool-too-large")
-class CircleSmallerThanTool(_ReportsMissingContext):
+class CircleSmallerThanTool(ReportsMissingContext):
     """G12/G13: the tool centre runs on a circle of radius |I| minus the tool radius."""
 
     def cycle_run(self, run, state):
         if run.model.get("shape") != "circle" or run.params.get("I") is None:
             return
-        radius = _tool_radius(self, state, run.span, "core.tool-too-large")
+        radius = self.spindle_tool_radius(state, run.span, "core.tool-too-large")
         if radius is None:
             return
         circle = values.absolute(run.params["I"])
@@ -41,7 +30,7 @@ class CircleSmallerThanTool(_ReportsMissingContext):
 
 
 @rule("core.comp-gouge")
-class ConcaveArcTighterThanTool(_ReportsMissingContext):
+class ConcaveArcTighterThanTool(ReportsMissingContext):
     """With G41/G42 on, an arc whose centre lies on the tool's side must have a radius of
     at least the tool radius, or the offset path cannot follow it."""
 
@@ -52,7 +41,7 @@ class ConcaveArcTighterThanTool(_ReportsMissingContext):
         arc_radius = arc.start_radius if arc.start_radius is not None else (values.absolute(arc.radius_word) if arc.radius_word is not None else None)
         if arc_radius is None:
             return
-        radius = _tool_radius(self, state, segment.span, "core.comp-gouge")
+        radius = self.spindle_tool_radius(state, segment.span, "core.comp-gouge")
         if radius is None:
             return
         verdict = self.checker.judge(hazard("<", arc_radius, radius), state)
@@ -65,7 +54,7 @@ class ConcaveArcTighterThanTool(_ReportsMissingContext):
 
 
 @rule("core.tap-feed-pitch")
-class TapFeedMatchesPitch(_ReportsMissingContext):
+class TapFeedMatchesPitch(ReportsMissingContext):
     """A tapping cycle feeds one pitch per revolution: F = pitch x S in G94, F = pitch in G95."""
 
     tolerance = 0.01  # relative
@@ -73,9 +62,7 @@ class TapFeedMatchesPitch(_ReportsMissingContext):
     def hole(self, hole, state):
         if not hole.model.get("tapping") or not self.first_time(state, ("tap-feed", hole.definition)):
             return
-        tools = self.checker.context.get("tools") or {}
-        number = state.tool_in_spindle
-        tool = tools.get(int(number)) if type(number) is float else None
+        tool = self.checker.context.tools.in_spindle(state)
         if tool is None or tool.pitch is None:
             self.missing("core.tap-feed-pitch", hole.definition or hole.span, "the tap's pitch is not in the tool table (pitch in [tools.N])")
             return

@@ -4,19 +4,19 @@ from __future__ import annotations
 import numpy
 
 from ..check import Rule, rule, show
-from ..lower import modal_call
+from ..interpret import modal_call
 
 
 @rule("core.d-register-range", "core.h-register-range", "core.tool-number-range")
 class RegisterRanges(Rule):
     def change(self, change, state):
-        limits = self.checker.context
+        limits = self.checker.context.limits
         if change.what == "cutter_comp" and change.register is not None and state.comp_side in ("left", "right", "auto"):
-            self._check_range("core.d-register-range", "D", change, 1.0, limits["d_register_max"])
+            self._check_range("core.d-register-range", "D", change, 1.0, limits.d_register_max)
         elif change.what == "length_offset" and change.register is not None:
-            self._check_range("core.h-register-range", "H", change, 0.0, limits["h_register_max"])
-        elif change.what == "tool_select" and type(change.new) is float and not 0 <= change.new <= limits["tool_number_max"]:
-            self.report("core.tool-number-range", change.span, f"tool number T{show(change.new)} is outside 0-{limits['tool_number_max']:g} on this control")
+            self._check_range("core.h-register-range", "H", change, 0.0, limits.h_register_max)
+        elif change.what == "tool_select" and type(change.new) is float and not 0 <= change.new <= limits.tool_number_max:
+            self.report("core.tool-number-range", change.span, f"tool number T{show(change.new)} is outside 0-{limits.tool_number_max:g} on this control")
 
     def _check_range(self, rule_id, letter, change, low, high):
         value = change.register
@@ -32,14 +32,14 @@ class CircleCuttingRegister(Rule):
         register = run.params.get("D")
         if register is None:
             self.report("core.g12-missing-d", run.span, f"{run.cycle.rsplit('.', 1)[-1]} circle cutting has no D offset register: the control alarms")
-        elif type(register) is float and not 1 <= register <= self.checker.context["d_register_max"]:
-            self.report("core.d-register-range", run.param_spans.get("D", run.span), f"offset register D{show(register)} is outside 1-{self.checker.context['d_register_max']:g} on this control: alarm")
+        elif type(register) is float and not 1 <= register <= self.checker.context.limits.d_register_max:
+            self.report("core.d-register-range", run.param_spans.get("D", run.span), f"offset register D{show(register)} is outside 1-{self.checker.context.limits.d_register_max:g} on this control: alarm")
 
 
 @rule("core.length-offset-mismatch")
 class LengthOffsetMismatch(Rule):
     def change(self, change, state):
-        if change.what != "length_offset" or self.checker.context["machine"] == "lathe":
+        if change.what != "length_offset" or self.checker.context.lathe:
             return
         register, tool = change.register, state.tool_in_spindle
         if type(register) is not float or type(tool) is not float or register == 0 or register == tool:
@@ -63,7 +63,7 @@ class NoLengthOffset(Rule):
             self._report(run.span(int(cutting[0])), state)
 
     def _applies(self, state) -> bool:
-        return (state.tool_changed and state.length_mode == "off" and self.checker.context["machine"] != "lathe"
+        return (state.tool_changed and state.length_mode == "off" and not self.checker.context.lathe
                 and not state.rule_state.get("no-length-offset"))
 
     def _report(self, span, state):

@@ -30,13 +30,15 @@ import dataclasses
 import re
 
 from .. import ir
+from ..cycle_models import load_cycle_table
 from ..dialect import DialectSetup
 from ..read.fagor import FagorLine, Statement, read_fagor_line
 from ..read.iso import ReadBlock
 from ..source import Span, decode_line
 from ..tables import CodeTable, _load, code_key
 from ..values import VACANT
-from . import fagor_cycles, modal_call
+from ..interpret import modal_call as running_modal_call
+from . import modal_call
 from .iso import _PLAIN_MOTION, IsoFrontend, IsoLowering
 
 _PLANE_NORMAL = {"xy": "Z", "zx": "Y", "yz": "X"}
@@ -62,7 +64,7 @@ _MODAL_CALL_ARGUMENTS = re.compile(rb'(?im)#MCALL[ \t]+(?:"[^"\n]*"|[^\s;]+)([^\
 
 def fagor_table(machine: str = "mill") -> CodeTable:
     data = _load("fagor", "mill.toml")
-    cycles = _load("fagor", "cycles.toml")["cycle"]
+    cycles = load_cycle_table("fagor")
     settings = dict(data.get("settings", {}))
     settings.update(data.get("conventions", {}))
     return CodeTable("fagor-8065", machine, dict(data["g"]), dict(data["m"]), dict(data["words"]), dict(data["power_on"]), settings, cycles)
@@ -655,11 +657,11 @@ class FagorFrontend:
     def system_variable(self, name: str, state):
         if name.startswith("$@"):
             key = name[2:]
-            targets = self._structure(state.frames[-1].source.buffer)
+            targets = self._structure(state.call_stack[-1].source.buffer)
             return targets.get(key, f"@?{key}")
         if name == RPT_END:
             return -1.0
-        modal = modal_call.system_value(name, state)
+        modal = running_modal_call.system_value(name, state)
         if modal is not None:
             return modal
         if name == _IN_CYCLE_ZONE.name:
@@ -682,5 +684,4 @@ def setup(settings, detection, project) -> DialectSetup:
     lowering = FagorLowering(table)
     limits = {name: float(table.settings.get(name, default))
               for name, default in (("d_register_max", 999), ("h_register_max", 999), ("tool_number_max", 99999999))}
-    fagor_cycles.register()
     return DialectSetup(FagorFrontend(lowering), table.power_on, table.cycles, "fagor-8065", machine, {}, 0.0, 0.0, limits)

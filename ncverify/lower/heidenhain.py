@@ -7,7 +7,7 @@ Klartext constructs whose effect depends on state the lowering cannot see (the c
 centre ``CC``, polar coordinates, the cycle that ``CYCL CALL`` runs, a label call that is
 a section repeat or a subprogram call, the end of a called program) are lowered to
 ``ir.CycleCall`` operations of pseudo cycles ``heidenhain.@...`` whose motion is run by
-:mod:`ncverify.lower.heidenhain_run` through ``cycles.register_shape``. Everything else is
+:mod:`ncverify.interpret.heidenhain.runtime`. Everything else is
 plain IR: ``L`` is a ``Move``, ``R0/RL/RR`` a ``CutterComp``, ``TOOL CALL`` a tool change
 with the length compensation Klartext applies by itself, ``FN 9``-``FN 12`` conditional
 jumps, Q/QL/QR parameters ``Assign``.
@@ -15,16 +15,15 @@ jumps, Q/QL/QR parameters ``Assign``.
 from __future__ import annotations
 
 import re
-import tomllib
 
 from .. import ir
 from ..context import Context, Stock, Tool
+from ..cycle_models import load_cycle_table
 from ..dialect import DialectSetup
 from ..read.heidenhain import Cursor, ReadError, continues as _continues, split
 from ..read.heidenhain_runs import is_plain_line, read_plain_run
-from ..resources import data_dir
 from ..source import Span
-from . import heidenhain_run
+from ..interpret.heidenhain import runtime as heidenhain_runtime
 
 _AXES = ("X", "Y", "Z", "A", "B", "C", "U", "V", "W")
 _TOOL_AXIS_PLANE = {"Z": "xy", "X": "yz", "Y": "zx"}
@@ -825,18 +824,18 @@ class KlartextFrontend:
         return _continues(raw)
 
     def is_plain(self, raw: bytes) -> bool:
-        """Could this line be part of a :class:`ir.MoveRun` (``n L X.. Y.. Z.. [R0] [F..|FMAX]``,
+        """Could this line be part of a :class:`ir.MoveBatch` (``n L X.. Y.. Z.. [R0] [F..|FMAX]``,
         see :mod:`ncverify.read.heidenhain_runs`)?"""
         return is_plain_line(raw)
 
-    def plain_run(self, buffer, offset: int, line: int, limit: int = 1 << 20) -> ir.MoveRun | None:
+    def plain_run(self, buffer, offset: int, line: int, limit: int = 1 << 20) -> ir.MoveBatch | None:
         return read_plain_run(buffer, offset, line, limit)
 
     @staticmethod
     def batch_allowed(state) -> bool:
         """A run skips what each line's R0 and positioning step would do: nothing while the
-        compensation is off and no cycle waits on positions (see heidenhain_run)."""
-        return state.comp_side == "off" and heidenhain_run.positioning_is_inert(state)
+        compensation is off and no cycle waits on positions (see :mod:`ncverify.interpret.heidenhain.runtime`)."""
+        return state.comp_side == "off" and heidenhain_runtime.positioning_is_inert(state)
 
     def programs(self, buffer) -> list[tuple[str, int]]:
         return [(_called_name(match.group(1).decode("utf-8", "replace")), match.start()) for match in _PROGRAM_START.finditer(buffer)]
@@ -868,7 +867,7 @@ class KlartextFrontend:
         return "local" if name.startswith("QL") else "global"
 
     def system_variable(self, name: str, state):
-        return heidenhain_run.system_variable(name, state)
+        return heidenhain_runtime.system_variable(name, state)
 
     def program_context(self, source) -> Context:
         """The BLK FORM of the program as its stock, TOOL.T beside it as its tools."""
@@ -969,9 +968,8 @@ def read_tool_table(path) -> tuple[dict[int, Tool], dict[str, float]]:
 
 
 def _cycle_models() -> dict:
-    with (data_dir("dialects") / "heidenhain" / "cycles.toml").open("rb") as handle:
-        models = tomllib.load(handle)["cycle"]
-    models.update(heidenhain_run.pseudo_models())
+    models = load_cycle_table("heidenhain")
+    models.update(heidenhain_runtime.pseudo_models())
     return models
 
 

@@ -512,11 +512,11 @@ class IsoFrontend:
         return block
 
     def is_plain(self, raw: bytes) -> bool:
-        """Could this line be part of a :class:`ir.MoveRun`?"""
+        """Could this line be part of a :class:`ir.MoveBatch`?"""
         return _PLAIN_MOTION.fullmatch(raw) is not None
 
-    def plain_run(self, buffer, offset: int, line: int, limit: int = 1 << 20) -> ir.MoveRun | None:
-        """The plain blocks from ``offset`` on as one :class:`ir.MoveRun` (see
+    def plain_run(self, buffer, offset: int, line: int, limit: int = 1 << 20) -> ir.MoveBatch | None:
+        """The plain blocks from ``offset`` on as one :class:`ir.MoveBatch` (see
         :mod:`ncverify.read.iso_runs`); None when the streak is short."""
         if self.lowering.twins or "X" not in self.lowering.axis_letters:
             return None
@@ -530,7 +530,7 @@ class IsoFrontend:
         table, pointless = run.table, run.pointless
         motion = table[:, 1]
         kinds = numpy.where(numpy.isnan(motion), -1, motion).astype(numpy.int8)
-        return ir.MoveRun(offset, offset + run.length, line, run.line_starts + offset, kinds, ("X", "Y", "Z"), table[:, 2:5],
+        return ir.MoveBatch(offset, offset + run.length, line, run.line_starts + offset, kinds, ("X", "Y", "Z"), table[:, 2:5],
                           pointless[:, 2:5] & bool(self.lowering.increment), table[:, 5],
                           pointless[:, 5] & bool(self.lowering.feed_increment), run.blocks)
 

@@ -4,22 +4,20 @@
 The call is state in global variables: ``$MCALL`` (on/off), ``$MCALLNAME`` (the program) and
 one ``$MCALLARG:<key>`` per argument, evaluated when the call is switched on. A block that
 moves carries :func:`call_after_move`, a conditional call that does not run while the
-modally called program itself runs (``$INMCALL``, :func:`system_value`). A lowering that
+modally called program itself runs (``$INMCALL``, :func:`ncverify.interpret.modal_call.system_value`). A lowering that
 uses it must not batch plain motion blocks, whose ops would lack the call.
 """
 from __future__ import annotations
 
 from .. import ir
 from ..source import Span
-from ..values import VACANT
+from ..interpret.modal_call import ARGUMENT_PREFIX, INSIDE, NAME, SWITCH
 
-_SWITCH, _NAME = ir.Var("$MCALL"), ir.Var("$MCALLNAME")
-_INSIDE = ir.Var("$INMCALL")
-_ARGUMENT_PREFIX = "$MCALLARG:"
+_SWITCH, _NAME, _INSIDE = ir.Var(SWITCH), ir.Var(NAME), ir.Var(INSIDE)
 
 
 def _argument(key: str) -> ir.Var:
-    return ir.Var(f"{_ARGUMENT_PREFIX}{key}")
+    return ir.Var(f"{ARGUMENT_PREFIX}{key}")
 
 
 def switch_on(span: Span, program: ir.Expr, arguments: dict, keys, missing: ir.Expr) -> list[ir.Op]:
@@ -51,29 +49,3 @@ def inside_check(span: Span, resolve) -> ir.Deferred:
     """An op that calls ``resolve((1.0,))`` while the modally called program runs and
     ``resolve((0.0,))`` otherwise, for the ops and notes it returns."""
     return ir.Deferred(span, (_INSIDE,), resolve)
-
-
-def active_program(state) -> str | None:
-    """The program called after every move while a modal call is on, else None."""
-    if state.global_variables.get(_SWITCH.name) in (None, 0.0, VACANT):
-        return None
-    name = state.global_variables.get(_NAME.name)
-    return name if isinstance(name, str) else "the modal subprogram"
-
-
-def running_program(state) -> str | None:
-    """The name of the modally called program if it is running now."""
-    name = state.global_variables.get(_NAME.name)
-    return name if any(frame.program == name for frame in state.frames) else None
-
-
-def system_value(name: str, state):
-    """``$INMCALL``, ``$MCALL`` before any modal call, and an argument no call stored
-    (vacant); None for any other name."""
-    if name == _INSIDE.name:
-        return 0.0 if running_program(state) is None else 1.0
-    if name == _SWITCH.name:
-        return 0.0
-    if name.startswith(_ARGUMENT_PREFIX):
-        return VACANT
-    return None

@@ -31,12 +31,14 @@ import numpy
 
 from .. import ir
 from ..context import Context, Stock, Tool, tool_value_problem
+from ..cycle_models import load_cycle_table
 from ..dialect import DialectSetup
 from ..read.iso_runs import read_plain_run
 from ..read.sinumerik import Item, ReadBlock, read_line
 from ..resources import data_dir
 from ..source import Span, decode_line
-from . import modal_call, sinumerik_cycles  # noqa: F401  (sinumerik_cycles registers the cycle shapes)
+from . import modal_call
+from ..interpret import modal_call as running_modal_call
 
 WHILE_LOOP, FOR_LOOP, ENDLESS_LOOP, REPEAT_LOOP = 1, 2, 3, 4
 UNTIL_FLAG = "_REPEAT_UNTIL_"
@@ -89,9 +91,7 @@ def tables() -> dict:
     folder = data_dir("dialects") / "sinumerik"
     with (folder / "codes.toml").open("rb") as handle:
         codes = tomllib.load(handle)
-    with (folder / "cycles.toml").open("rb") as handle:
-        cycles = tomllib.load(handle)["cycle"]
-    return {"codes": codes, "cycles": cycles}
+    return {"codes": codes, "cycles": load_cycle_table("sinumerik")}
 
 
 def _code_key(value: float) -> str:
@@ -437,7 +437,7 @@ class SinumerikFrontend:
         return self.lowering.lower(read_line(decode_line(raw), line), path)
 
     def is_plain(self, raw: bytes) -> bool:
-        """Could this line be part of a :class:`ir.MoveRun`? (``N.. G0/G1 X Y Z F`` with
+        """Could this line be part of a :class:`ir.MoveBatch`? (``N.. G0/G1 X Y Z F`` with
         literal numbers, as in ISO: CAM output is the same in both languages. Not while a
         subprogram may be called modally: its moves carry the call.)"""
         return not self.lowering.uses_modal_call and _PLAIN_MOTION.fullmatch(raw) is not None
@@ -458,7 +458,7 @@ class SinumerikFrontend:
         motion = table[:, 1]
         kinds = numpy.where(numpy.isnan(motion), -1, motion).astype(numpy.int8)
         unscaled = numpy.zeros((len(kinds), 3), dtype=bool)
-        return ir.MoveRun(offset, offset + run.length, line, run.line_starts + offset, kinds, ("X", "Y", "Z"), table[:, 2:5],
+        return ir.MoveBatch(offset, offset + run.length, line, run.line_starts + offset, kinds, ("X", "Y", "Z"), table[:, 2:5],
                           unscaled, table[:, 5], numpy.zeros(len(kinds), dtype=bool), run.blocks)
 
     def programs(self, buffer) -> list[tuple[str, int]]:
@@ -516,7 +516,7 @@ class SinumerikFrontend:
         return "global" if name[:1] in ("R", "$") and (name[:1] == "$" or name[1:].split("[")[0].isdigit()) else "local"
 
     def system_variable(self, name: str, state):
-        return modal_call.system_value(name, state)
+        return running_modal_call.system_value(name, state)
 
     def label_offsets(self, buffer, label):
         if isinstance(label, str) and "#" in label:

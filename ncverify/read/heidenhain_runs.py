@@ -35,7 +35,7 @@ _NUMBER_START = numpy.zeros(256, dtype=bool)
 _NUMBER_START[list(b"0123456789+-.")] = True
 _SEPARATOR = numpy.zeros(256, dtype=bool)
 _SEPARATOR[list(b" \t\r\n")] = True
-_RAPID, _FEED = ir.MoveRun.KINDS.index("rapid"), ir.MoveRun.KINDS.index("linear")
+_RAPID, _FEED = ir.MoveBatch.KINDS.index("rapid"), ir.MoveBatch.KINDS.index("linear")
 
 
 def is_plain_line(raw: bytes) -> bool:
@@ -43,9 +43,9 @@ def is_plain_line(raw: bytes) -> bool:
     return _PLAIN_LINE.fullmatch(raw) is not None
 
 
-def read_plain_run(buffer, offset: int, line: int, limit: int = 1 << 20, minimum_lines: int = 16) -> ir.MoveRun | None:
+def read_plain_run(buffer, offset: int, line: int, limit: int = 1 << 20, minimum_lines: int = 16) -> ir.MoveBatch | None:
     """The plain lines from ``offset`` on (at most ``limit`` bytes) as one
-    :class:`ir.MoveRun`, its last line left out; None when fewer than ``minimum_lines``."""
+    :class:`ir.MoveBatch`, its last line left out; None when fewer than ``minimum_lines``."""
     chunk = bytes(buffer[offset : min(len(buffer), offset + limit)])
     codes = numpy.frombuffer(chunk, dtype=numpy.uint8, count=_STREAK.match(chunk).end())
     newlines = numpy.flatnonzero(codes == ord("\n"))
@@ -62,7 +62,7 @@ def read_plain_run(buffer, offset: int, line: int, limit: int = 1 << 20, minimum
     line_starts = numpy.concatenate(([0], newlines[: rows - 1] + 1))
     length = int(newlines[rows - 1]) + 1
     unscaled = numpy.zeros((rows, 3), dtype=bool)
-    return ir.MoveRun(offset, offset + length, line, line_starts + offset, kinds[:rows], ("X", "Y", "Z"), table[:rows, :3], unscaled,
+    return ir.MoveBatch(offset, offset + length, line, line_starts + offset, kinds[:rows], ("X", "Y", "Z"), table[:rows, :3], unscaled,
                       table[:rows, 3], numpy.zeros(rows, dtype=bool), rows)
 
 

@@ -14,11 +14,44 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from . import ir, values
-from .trace import CycleRun, Hole
-from .values import VACANT
+from .. import ir, values
+from .runtime import Runtime
+from ..trace import CycleRun, Hole
+from ..values import VACANT
 
 _SHAPE_BLOCK_LIMIT = 10_000
+
+
+@dataclass(frozen=True)
+class DialectCycles:
+    """What one dialect's run-time module adds to the shared cycle runner, by the names its
+    cycle models give (every dialect module declares one ``CYCLES`` and
+    :mod:`ncverify.interpret` installs them all).
+
+    ``shapes``: one-shot cycles whose model says ``shape = "<name>"``;
+    ``run(runner, op, block, model, params)`` gets this :class:`CycleRunner`, the
+    :class:`ir.CycleCall`, its block, the cycle's model and its evaluated parameters, and
+    returns what an op handler returns (None, or a Position when control transfers). It
+    reports the cycle and its motion through the runner's public interface
+    (:class:`~ncverify.interpret.runtime.Runtime`) so that every motion rule sees it.
+
+    ``levels``: hole cycles whose model says ``levels = "<name>"`` (Fagor: the tool-axis word
+    is the reference plane, I the depth); ``resolve(runner, cycle, data)`` returns
+    ``(r_point, bottom)`` for the :class:`ActiveCycle` with its data so far (None where
+    unknown), or ``(r_point, bottom, reference, entry)``: ``reference`` (or None) for a cycle
+    that approaches below its reference plane (Fagor pockets rapid to 1 mm above the
+    surface) and leaves the hole back up to it; ``entry`` (or None) where it rapids on from
+    the R point down a hole made before it (Fagor thread milling from the bottom up).
+
+    ``passes``: what a hole cycle whose model says ``passes = "<name>"`` does after the rapid
+    to the hole position (Fagor G212 runs around a stud, not down its centre):
+    ``run(runner, cycle, span, block, levels)`` with the :class:`ActiveCycle` and
+    ``levels = (r_point, bottom, reference, entry)`` (bottom known). It emits the segments
+    up to the retract (:meth:`CycleRunner.retract` ends at the G98/G99 level)."""
+
+    shapes: dict = field(default_factory=dict)
+    levels: dict = field(default_factory=dict)
+    passes: dict = field(default_factory=dict)
 
 
 _DIALECT_SHAPES: dict = {}
@@ -26,36 +59,12 @@ _DIALECT_LEVELS: dict = {}
 _DIALECT_PASSES: dict = {}
 
 
-def register_shape(shape: str, run) -> None:
-    """Let a dialect run the one-shot cycles whose model says ``shape = "<shape>"``:
-    ``run(runner, op, block, model, params)`` is called with this :class:`CycleRunner`,
-    the :class:`ir.CycleCall`, its block, the cycle's model and its evaluated parameters,
-    and returns what an op handler returns (None, or a Position when control transfers).
-    It reports the cycle with ``runner.interp.observer.cycle_run`` and its motion with
-    ``runner.interp._emit`` / ``runner._rapid_to`` so that every motion rule sees it."""
-    _DIALECT_SHAPES[shape] = run
-
-
-def register_levels(name: str, resolve) -> None:
-    """Let a dialect place the R point and the bottom of the hole cycles whose model says
-    ``levels = "<name>"`` (Fagor: the tool-axis word is the reference plane, I the depth):
-    ``resolve(runner, cycle, data)`` returns ``(r_point, bottom)`` for the
-    :class:`ActiveCycle` with its data so far (None where unknown), or ``(r_point, bottom,
-    reference, entry)``: ``reference`` (or None) for a cycle that approaches below its
-    reference plane (Fagor pockets rapid to 1 mm above the surface) and leaves the hole back
-    up to it; ``entry`` (or None) where it rapids on from the R point down a hole made before
-    it (Fagor thread milling from the bottom up)."""
-    _DIALECT_LEVELS[name] = resolve
-
-
-def register_passes(name: str, run) -> None:
-    """Let a dialect draw what a hole cycle whose model says ``passes = "<name>"`` does
-    after the rapid to the hole position (Fagor G212 runs around a stud, not down its
-    centre): ``run(runner, cycle, span, block, levels)`` with the :class:`ActiveCycle` and
-    ``levels = (r_point, bottom, reference, entry)`` from the levels resolver (bottom known).
-    It emits the segments up to the retract (:meth:`CycleRunner._retract` ends at the
-    G98/G99 level)."""
-    _DIALECT_PASSES[name] = run
+def install(*dialects: DialectCycles) -> None:
+    """Make the dialects' cycle runners known to every :class:`CycleRunner`."""
+    for dialect in dialects:
+        _DIALECT_SHAPES.update(dialect.shapes)
+        _DIALECT_LEVELS.update(dialect.levels)
+        _DIALECT_PASSES.update(dialect.passes)
 
 
 @dataclass(slots=True)
@@ -73,37 +82,25 @@ class ActiveCycle:
     up: float = 1.0  # the side the tool comes from along the drilling axis (see ir.CycleDefine.up)
 
 
-class CycleRunner:
-    def __init__(self, interpreter):
-        self.interp = interpreter
+class CycleRunner(Runtime):
+    """Expands canned cycles into motion for the interpreter: the modal hole cycles on the
+    shared hole model, lathe compound cycles, and the one-shot cycles the dialects declare.
+    Dialect runners get this object and use its public :class:`Runtime` interface and the
+    shared hole model (:meth:`drill_axis`, :meth:`make_hole`, :meth:`retract`)."""
 
     # ------------------------------------------------------------------ helpers
-
-    @property
-    def state(self):
-        return self.interp.state
-
-    def _model(self, cycle: str) -> dict:
-        return self.interp.cycle_models.get(cycle, {})
 
     def _evaluate_all(self, exprs: dict, span) -> dict:
         evaluated = {}
         for letter, expr in exprs.items():
-            value = self.interp.value(expr, span)
+            value = self._interp.value(expr, span)
             if value is not VACANT:
                 evaluated[letter] = value
         return evaluated
 
-    def _drill_axis(self, model: dict) -> str:
+    def drill_axis(self, model: dict) -> str:
+        """The axis a hole cycle drills along: its model's, else the working plane's normal."""
         return model.get("drill_axis") or self.state.plane_axes[2]
-
-    def _rapid_to(self, targets: dict, span, block, role: str, cycle: str, kind: str = "rapid") -> None:
-        state = self.state
-        start = state.position
-        changes = {axis: value for axis, value in targets.items() if value is not None and start.get(axis) is not value}
-        if changes:
-            state.move_to(changes)
-            self.interp._emit(kind, start, span, block, role, cycle)
 
     # ------------------------------------------------------------------ modal hole cycles
 
@@ -116,8 +113,8 @@ class CycleRunner:
         state = self.state
         if not op.cycle:
             return self._change_data(op)
-        model = self._model(op.cycle)
-        axis = self._drill_axis(model)
+        model = self.cycle_model(op.cycle)
+        axis = self.drill_axis(model)
         fresh = bool(model.get("fresh_data"))
         if state.cycle is None or fresh:
             initial = state.position.get(axis)
@@ -139,7 +136,7 @@ class CycleRunner:
         state = self.state
         if state.cycle is None:
             letters = ", ".join(letter for letter in op.params if not letter.startswith("$"))
-            self.interp._fault(op.params.get("$rule", "core.cycle-missing-parameter"), op.span, f"cycle parameter {letters} is changed while no canned cycle is active: the control alarms")
+            self._interp._fault(op.params.get("$rule", "core.cycle-missing-parameter"), op.span, f"cycle parameter {letters} is changed while no canned cycle is active: the control alarms")
             return None
         params = self._evaluate_all({letter: expr for letter, expr in op.params.items() if not letter.startswith("$")}, op.span)
         state.cycle_data.update(params)
@@ -154,14 +151,14 @@ class CycleRunner:
         model = cycle.model
         if model.get("shape") == "box":
             return self._box(op, block)
-        axis = self._drill_axis(model)
+        axis = self.drill_axis(model)
         data = self._evaluate_all(_counts_unscaled(op.words, model), op.span)
         positioning = dict(op.targets)
         if axis in positioning and not model.get("axis_word_moves"):  # Fagor: the tool-axis word moves, then the cycle runs
             bottom_expr = positioning.pop(axis)
-            bottom = self.interp.value(bottom_expr, op.span)
+            bottom = self._interp.value(bottom_expr, op.span)
             if bottom is not VACANT:
-                data[_bottom_letter(axis, op, self.interp.twins)] = bottom
+                data[_bottom_letter(axis, op, self._interp.twins)] = bottom
         cycle.param_spans.update(op.word_spans())
         state.cycle_data.update(data)
         if not positioning and not data:
@@ -187,25 +184,25 @@ class CycleRunner:
         if repeat is None:
             repeat = 1.0
         if type(repeat) is not float:
-            self.interp._unsupported_here(span, "a hole repeat count that depends on a free parameter")
+            self._interp._unsupported_here(span, "a hole repeat count that depends on a free parameter")
             return None
         if not 0 <= repeat <= 9999:
-            self.interp._fault("core.repeat-count-range", span, f"repeat count {repeat:g} is outside 0-9999")
+            self._interp._fault("core.repeat-count-range", span, f"repeat count {repeat:g} is outside 0-9999")
             return None
         if repeat == 0 and cycle.model.get("zero_repeat_moves"):  # Fagor NR0: the move without machining
             kind = "rapid" if state.modal.get("motion") == "rapid" else "feed"
-            self._rapid_to(self.interp._targets(positioning, incremental, span), span, block, "programmed", None, kind)
+            self.move_to(self._interp._targets(positioning, incremental, span), span, block, "programmed", None, kind)
             return None
         for _ in range(int(repeat)):
-            targets = self.interp._targets(positioning, incremental, span)
-            self._make_hole(cycle, span, block, targets, repeat)
+            targets = self._interp._targets(positioning, incremental, span)
+            self.make_hole(cycle, span, block, targets, repeat)
         return None
 
-    def _make_hole(self, cycle, span, block, targets: dict, repeat: float = 1.0) -> None:
-        interp = self.interp
+    def make_hole(self, cycle, span, block, targets: dict, repeat: float = 1.0) -> None:
+        interp = self._interp
         state = self.state
         model = cycle.model
-        axis = self._drill_axis(model)
+        axis = self.drill_axis(model)
         data = state.cycle_data
         incremental = state.modal.get("distance") == "incremental"
         initial = cycle.initial
@@ -228,30 +225,30 @@ class CycleRunner:
         positioning = "rapid"
         if model.get("positions_in_motion_mode") and state.modal.get("motion") != "rapid":
             positioning = "feed"  # Fagor: the move to the hole is made in the interpolation in force (G1: at feed)
-        self._rapid_to(targets, span, block, "between-holes", name, positioning)
+        self.move_to(targets, span, block, "between-holes", name, positioning)
         passes = _DIALECT_PASSES.get(model.get("passes"))
         if passes is not None:
             passes(self, cycle, span, block, (r_point, bottom, reference, entry))
             return
         if model.get("infeed") == "back_bore":
-            self._rapid_to({axis: r_point}, span, block, "through-bore", name)
-            self._rapid_to({axis: bottom}, span, block, "infeed", name, "feed")
-            self._rapid_to({axis: initial}, span, block, "retract", name)
+            self.move_to({axis: r_point}, span, block, "through-bore", name)
+            self.move_to({axis: bottom}, span, block, "infeed", name, "feed")
+            self.move_to({axis: initial}, span, block, "retract", name)
             return
-        self._rapid_to({axis: r_point}, span, block, "approach", name)
+        self.move_to({axis: r_point}, span, block, "approach", name)
         if entry is not None:
-            self._rapid_to({axis: entry}, span, block, "into-hole", name)
-        self._rapid_to({axis: bottom}, span, block, "infeed", name, "feed")
+            self.move_to({axis: entry}, span, block, "into-hole", name)
+        self.move_to({axis: bottom}, span, block, "infeed", name, "feed")
         retract_kind = "feed" if model.get("retract") == "feed" else "rapid"
-        self._rapid_to({axis: r_point}, span, block, "out-of-hole", name, retract_kind)
+        self.move_to({axis: r_point}, span, block, "out-of-hole", name, retract_kind)
         if reference is not None:
-            self._rapid_to({axis: reference}, span, block, "out-of-hole", name)
-        self._retract(cycle, span, block)
+            self.move_to({axis: reference}, span, block, "out-of-hole", name)
+        self.retract(cycle, span, block)
 
-    def _retract(self, cycle: ActiveCycle, span, block) -> None:
+    def retract(self, cycle: ActiveCycle, span, block) -> None:
         """G98: rapid back to the initial level (G99 stays at the R point)."""
         if self.state.modal.get("cycle_return") != "r_point" and cycle.initial is not None:
-            self._rapid_to({self._drill_axis(cycle.model): cycle.initial}, span, block, "retract", cycle.cycle)
+            self.move_to({self.drill_axis(cycle.model): cycle.initial}, span, block, "retract", cycle.cycle)
 
     def _levels(self, model: dict, axis: str, data: dict, initial, incremental: bool):
         """R point and bottom on the drilling axis (seed L2059 and the lathe table L2890)."""
@@ -259,7 +256,7 @@ class CycleRunner:
         if resolve is not None:
             return resolve(self, self.state.cycle, data)
         bottom_letter = axis
-        twin = next((t for t, a in self.interp.twins.items() if a == axis), None)
+        twin = next((t for t, a in self._interp.twins.items() if a == axis), None)
         r_word = data.get("R")
         if model.get("r_incremental"):
             return self._lathe_levels(axis, data, initial, twin)
@@ -300,7 +297,7 @@ class CycleRunner:
         cycle = state.cycle
         data = self._evaluate_all(op.words, op.span)
         state.cycle_data.update(data)
-        targets = self.interp._targets(op.targets, op.incremental, op.span)
+        targets = self._interp._targets(op.targets, op.incremental, op.span)
         if not targets:
             return None
         start = state.position
@@ -308,21 +305,21 @@ class CycleRunner:
         face = cycle.cycle.endswith("G79")
         name = cycle.cycle
         cut = "thread" if cycle.model.get("thread") else "feed"
-        interp = self.interp
+        interp = self._interp
         interp.observer.cycle_run(CycleRun(name, cycle.model, op.span, block, dict(state.cycle_data), op.word_spans()), state)
         first, second = ({"Z": z_end}, {"X": x_end}) if face else ({"X": x_end}, {"Z": z_end})
-        self._rapid_to(first, op.span, block, "approach", name)
-        self._rapid_to(second, op.span, block, "infeed", name, cut)
+        self.move_to(first, op.span, block, "approach", name)
+        self.move_to(second, op.span, block, "infeed", name, cut)
         back_first = {"Z": start.get("Z")} if face else {"X": start.get("X")}
-        self._rapid_to(back_first, op.span, block, "retract", name, "feed")
-        self._rapid_to({"X": start.get("X"), "Z": start.get("Z")}, op.span, block, "retract", name)
+        self.move_to(back_first, op.span, block, "retract", name, "feed")
+        self.move_to({"X": start.get("X"), "Z": start.get("Z")}, op.span, block, "retract", name)
         return None
 
     # ------------------------------------------------------------------ one-shot cycles
 
     def call(self, op: ir.CycleCall, block):
         state = self.state
-        model = self._model(op.cycle)
+        model = self.cycle_model(op.cycle)
         params = self._evaluate_all(op.params, op.span)
         shape = model.get("shape")
         if shape in _DIALECT_SHAPES:
@@ -334,9 +331,9 @@ class CycleRunner:
         if first_block:
             stored.clear()
             stored.update({f"first_{letter}": value for letter, value in params.items()})
-            self.interp.observer.cycle_run(CycleRun(op.cycle, model, op.span, block, dict(stored), dict(op.param_spans), True), state)
+            self._interp.observer.cycle_run(CycleRun(op.cycle, model, op.span, block, dict(stored), dict(op.param_spans), True), state)
             return None
-        self.interp.observer.cycle_run(CycleRun(op.cycle, model, op.span, block, params, dict(op.param_spans)), state)
+        self._interp.observer.cycle_run(CycleRun(op.cycle, model, op.span, block, params, dict(op.param_spans)), state)
         start = state.position
         if shape == "contour":
             self._contour(op, block, params)
@@ -359,11 +356,11 @@ class CycleRunner:
             elif twin in params and self.state.position.get(axis) is not None:
                 targets[axis] = values.add(self.state.position[axis], params[twin])
         if targets:
-            self._rapid_to(targets, op.span, block, "infeed", op.cycle, cut)
+            self.move_to(targets, op.span, block, "infeed", op.cycle, cut)
 
     def _contour(self, op: ir.CycleCall, block, params: dict) -> None:
         """Report the finishing shape between sequence numbers P and Q as contour moves."""
-        interp = self.interp
+        interp = self._interp
         first, last = params.get("P"), params.get("Q")
         if type(first) is not float or type(last) is not float:
             return
@@ -375,7 +372,7 @@ class CycleRunner:
         self._walk_shape(op, block, start, end)
 
     def _walk_shape(self, op, block, start, end) -> None:
-        interp = self.interp
+        interp = self._interp
         state = self.state
         source = start.source
         path = None if source is interp.source else source.name
@@ -396,22 +393,22 @@ class CycleRunner:
                         state.modal[shape_op.group] = shape_op.value
                     if isinstance(shape_op, ir.Move) and shape_op.targets:
                         targets = interp._targets(shape_op.targets, shape_op.incremental, shape_op.span)
-                        self._rapid_to(targets, shape_op.span, shape_block, "contour", op.cycle, "feed")
+                        self.move_to(targets, shape_op.span, shape_block, "contour", op.cycle, "feed")
                 if offset == end.offset and index >= end.block_index:
                     return
 
     def _circle(self, op: ir.CycleCall, block, model: dict, params: dict):
         """G12/G13: out from the centre, a full circle, back to the centre."""
         state = self.state
-        self.interp.observer.cycle_run(CycleRun(op.cycle, model, op.span, block, params, dict(op.param_spans)), state)
+        self._interp.observer.cycle_run(CycleRun(op.cycle, model, op.span, block, params, dict(op.param_spans)), state)
         radius = params.get("I")
         first, _second, _normal = state.plane_axes
         centre = state.position.get(first)
         if radius is None or centre is None:
             return None
         out = values.add(centre, values.absolute(radius))
-        self._rapid_to({first: out}, op.span, block, "infeed", op.cycle, "feed")
-        self._rapid_to({first: centre}, op.span, block, "retract", op.cycle, "feed")
+        self.move_to({first: out}, op.span, block, "infeed", op.cycle, "feed")
+        self.move_to({first: centre}, op.span, block, "retract", op.cycle, "feed")
         return None
 
 

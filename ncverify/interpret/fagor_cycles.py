@@ -1,7 +1,7 @@
 """How Fagor 8060/8065 cycles move: the planes of the hole cycles and the points of the
 multiple-machining patterns G160-G165 (seed 000_a3a484fdafe81829.txt, "seed Lnnnn").
 
-Both plug into the shared cycle runner (:mod:`ncverify.cycles`): the hole cycles keep the
+Both plug into the shared cycle runner (:mod:`ncverify.interpret.cycles`): the hole cycles keep the
 shared motion model (rapid to the R point, feed to the bottom, retract per G98/G99) with
 Fagor's planes; a pattern runs the active cycle's hole at each of its points, so every hole
 rule (rapid into the stock, depth, retract) sees the pattern's holes.
@@ -11,26 +11,18 @@ from __future__ import annotations
 import math
 
 from .. import values
-from ..cycles import register_levels, register_passes, register_shape
+from .cycles import DialectCycles
 from ..trace import CycleRun
 
 _SKIP_LETTERS = "PQRSTUV"
 
 
-def register() -> None:
-    register_levels("fagor", hole_levels)
-    register_shape("fagor_pattern", run_pattern)
-    register_shape("fagor_turning", run_turning_cycle)
-    register_passes("fagor_stud", around_the_stud)
-
-
 def run_turning_cycle(runner, op, block, model, params):
     """A G81-G88 that is a turning cycle here (lathe software, or ``#LATHECY ON``; seed
     L513-550): it replaces any milling cycle, and where it leaves the tool is not known."""
-    interp = runner.interp
     code = f"G{params.get('G', 0.0):g}"
-    interp._cancel_cycle()
-    interp._fault("fagor.turning-cycle", op.span, f"{code} is a turning cycle here (lathe software, or #LATHECY ON on a mill): the milling-cycles "
+    runner.cancel_cycle()
+    runner.fault("fagor.turning-cycle", op.span, f"{code} is a turning cycle here (lathe software, or #LATHECY ON on a mill): the milling-cycles "
                   "manual does not define the turning cycles, so this block and the moves that depend on it are not verified",
                   "unknown", "turning cycles are not in the Fagor milling-cycles manual")
     runner.state.move_to(dict.fromkeys(runner.state.position))
@@ -94,23 +86,23 @@ def around_the_stud(runner, cycle, span, block, levels) -> None:
     rapids: one is drawn. Without the tool radius the passes are not placed and not judged."""
     surface, bottom, reference, upward_entry = levels
     state = runner.state
-    axis = runner._drill_axis(cycle.model)
+    axis = runner.drill_axis(cycle.model)
     first, second, _normal = state.plane_axes
     centre = {first: state.position.get(first), second: state.position.get(second)}
-    runner._rapid_to({axis: reference}, span, block, "approach", cycle.cycle)
+    runner.move_to({axis: reference}, span, block, "approach", cycle.cycle)
     point = _entry_point(runner, cycle, centre)
     if point is not None:
         start, end = (surface, bottom) if upward_entry is None else (upward_entry, surface)
         if "E" in cycle.params:
-            runner._rapid_to(point, span, block, "to-thread", cycle.cycle)
-            runner._rapid_to({axis: start}, span, block, "to-thread" if upward_entry is None else "beside-stud", cycle.cycle)
+            runner.move_to(point, span, block, "to-thread", cycle.cycle)
+            runner.move_to({axis: start}, span, block, "to-thread" if upward_entry is None else "beside-stud", cycle.cycle)
         else:
-            runner._rapid_to({axis: start}, span, block, "over-stud", cycle.cycle)
-            runner._rapid_to(point, span, block, "to-thread", cycle.cycle)
-        runner._rapid_to({axis: end}, span, block, "infeed", cycle.cycle, "feed")
-        runner._rapid_to({axis: reference}, span, block, "out-of-hole", cycle.cycle)
-    runner._retract(cycle, span, block)
-    runner._rapid_to(centre, span, block, "retract", cycle.cycle)
+            runner.move_to({axis: start}, span, block, "over-stud", cycle.cycle)
+            runner.move_to(point, span, block, "to-thread", cycle.cycle)
+        runner.move_to({axis: end}, span, block, "infeed", cycle.cycle, "feed")
+        runner.move_to({axis: reference}, span, block, "out-of-hole", cycle.cycle)
+    runner.retract(cycle, span, block)
+    runner.move_to(centre, span, block, "retract", cycle.cycle)
 
 
 def _entry_point(runner, cycle, centre: dict) -> dict | None:
@@ -124,7 +116,7 @@ def _entry_point(runner, cycle, centre: dict) -> dict | None:
     code = cycle.cycle.rsplit(".", 1)[-1]
     if radius is None or type(angle) is not float:
         missing = "the start angle Q is computed" if radius is not None else "the tool radius is not in the tool table"
-        runner.interp._fault("core.rapid-into-stock", cycle.param_spans.get("J", cycle.definition), f"{code} runs around the stud at |J|/2 + tool radius + E "
+        runner.fault("core.rapid-into-stock", cycle.param_spans.get("J", cycle.definition), f"{code} runs around the stud at |J|/2 + tool radius + E "
                              f"from its centre, but {missing}: the rapids to the thread and back were not checked", "unknown", missing)
         return None
     distance = values.add(values.mul(values.absolute(data["J"]), 0.5), values.add(radius, data.get("E", 0.0)))
@@ -134,11 +126,8 @@ def _entry_point(runner, cycle, centre: dict) -> dict | None:
 
 
 def _tool_radius(runner) -> float | None:
-    """The radius of the tool in the spindle from the tool table. The table is part of the
-    check's context, which the interpreter's observer (the checker) holds."""
-    tools = (getattr(runner.interp.observer, "context", None) or {}).get("tools") or {}
-    number = runner.state.tool_in_spindle
-    tool = tools.get(int(number)) if type(number) is float else None
+    """The radius of the tool in the spindle from the tool table."""
+    tool = runner.tool_in_spindle()
     return None if tool is None else tool.radius
 
 
@@ -159,13 +148,12 @@ class PatternError(Exception):
 
 
 def run_pattern(runner, op, block, model, params):
-    interp = runner.interp
     state = runner.state
     code = op.cycle.rsplit(".", 1)[-1]
-    interp.observer.cycle_run(CycleRun(op.cycle, model, op.span, block, dict(params), dict(op.param_spans)), state)
+    runner.report_cycle(CycleRun(op.cycle, model, op.span, block, dict(params), dict(op.param_spans)))
     cycle = state.cycle
     if cycle is None:
-        interp._fault("fagor.pattern-without-cycle", op.span, f"{code} repeats the active canned cycle, but no cycle is active here "
+        runner.fault("fagor.pattern-without-cycle", op.span, f"{code} repeats the active canned cycle, but no cycle is active here "
                       "(G80, a new plane, #TOOL AX, G74 or M30 cancelled it, or none was defined): the control alarms")
         return None
     first, second, _normal = state.plane_axes
@@ -174,11 +162,11 @@ def run_pattern(runner, op, block, model, params):
     try:
         count, points = pattern_points(model["pattern"], params, start if concrete else (0.0, 0.0))
     except PatternError as error:
-        interp._fault("fagor.pattern-parameters", op.span, f"{code}: {error}: the control alarms")
+        runner.fault("fagor.pattern-parameters", op.span, f"{code}: {error}: the control alarms")
         return None
-    skipped = _skip_list(code, params, count, op, interp)
+    skipped = _skip_list(code, params, count, op, runner)
     if not concrete:
-        interp._fault("core.unsupported-code", op.span, f"{code} with computed values: its points are not placed; the holes after it are not checked",
+        runner.fault("core.unsupported-code", op.span, f"{code} with computed values: its points are not placed; the holes after it are not checked",
                       "unknown", "pattern with symbolic values")
         state.move_to({first: None, second: None})
         return None
@@ -186,7 +174,7 @@ def run_pattern(runner, op, block, model, params):
     state.modal["motion"] = "rapid" if params.get("C", 0.0) == 0.0 else "linear"  # G160-G162: always G00 (seed L2007)
     for number, (abscissa, ordinate) in enumerate(points, start=2):
         if number not in skipped:
-            runner._make_hole(cycle, op.span, block, {first: abscissa, second: ordinate})
+            runner.make_hole(cycle, op.span, block, {first: abscissa, second: ordinate})
     state.modal["motion"] = motion
     return None
 
@@ -315,7 +303,7 @@ def skip_range(value: float) -> tuple[int, int]:
     return first, last if last else first
 
 
-def _skip_list(code, params, count, op, interp) -> set[int]:
+def _skip_list(code, params, count, op, runner) -> set[int]:
     skipped: set[int] = set()
     previous_last, previous_letter = 0, None
     for letter in _SKIP_LETTERS:
@@ -324,19 +312,23 @@ def _skip_list(code, params, count, op, interp) -> set[int]:
             continue
         span = op.param_spans.get(letter, op.span)
         if type(value) is not float or value < 1:
-            interp._fault("fagor.pattern-skip-list", span, f"{code} {letter}: points to skip must be given as point numbers n or n.mmm")
+            runner.fault("fagor.pattern-skip-list", span, f"{code} {letter}: points to skip must be given as point numbers n or n.mmm")
             continue
         first, last = skip_range(value)
         shown = f"{letter}{value:g}"
         if last < first:
-            interp._fault("fagor.pattern-skip-list", span, f"{code} {shown} skips points {first} to {last}: the range runs backwards "
+            runner.fault("fagor.pattern-skip-list", span, f"{code} {shown} skips points {first} to {last}: the range runs backwards "
                           "(the end always has three digits: Q10.13 means 10 to 130, write Q10.013 for 10 to 13)")
         elif first <= previous_last:
-            interp._fault("fagor.pattern-skip-list", span, f"{code} {shown} starts at point {first}, not after the points of {previous_letter} (up to {previous_last}): "
+            runner.fault("fagor.pattern-skip-list", span, f"{code} {shown} starts at point {first}, not after the points of {previous_letter} (up to {previous_last}): "
                           "P, Q, R, S, T, U, V must name increasing points; the control alarms")
         elif last > count:
-            interp._fault("fagor.pattern-skip-list", span, f"{code} {shown} skips points {first} to {last}, but the pattern has only {count} points"
+            runner.fault("fagor.pattern-skip-list", span, f"{code} {shown} skips points {first} to {last}, but the pattern has only {count} points"
                           + (" (the end always has three digits: this reads as 10 to 130, not 10 to 13)" if last >= 100 and last % 10 == 0 else ""))
         skipped.update(range(first, last + 1))
         previous_last, previous_letter = max(previous_last, last), letter
     return skipped
+
+
+CYCLES = DialectCycles(shapes={"fagor_pattern": run_pattern, "fagor_turning": run_turning_cycle},
+                       levels={"fagor": hole_levels}, passes={"fagor_stud": around_the_stud})

@@ -1,4 +1,4 @@
-"""The motion of the SINUMERIK standard cycles, run through ``ncverify.cycles.register_shape``.
+"""The motion of the SINUMERIK standard cycles, run as shapes of the shared cycle runner (:mod:`ncverify.interpret.cycles`).
 
 Drilling cycles CYCLE81-89/840 make one hole at the current position on the shared hole
 model (seed A L1934-2146): rapid to ``SP = RFP + s*SDIS``, infeed to the depth, retract, rapid
@@ -17,7 +17,7 @@ import math
 from typing import NamedTuple
 
 from .. import values
-from ..cycles import register_shape
+from .cycles import DialectCycles
 from ..trace import CycleRun, Hole
 from ..values import VACANT
 
@@ -63,8 +63,7 @@ def _get(params: dict, name: str):
 
 
 def _report_run(runner, op, block, model, params):
-    interp = runner.interp
-    interp.observer.cycle_run(CycleRun(op.cycle, model, op.span, block, params, dict(op.param_spans)), runner.state)
+    runner.report_cycle(CycleRun(op.cycle, model, op.span, block, params, dict(op.param_spans)))
 
 
 def drill(runner, op, block, model, params):
@@ -76,7 +75,7 @@ def drill(runner, op, block, model, params):
     rtp = _get(params, "RTP")
     name = op.cycle
     if side is None or depth is None:
-        runner.interp._fault("core.unsupported-code", op.span, f"{name.split('.')[-1]}: the drilling direction cannot be told from RTP and RFP here; the hole is not analysed",
+        runner.fault("core.unsupported-code", op.span, f"{name.split('.')[-1]}: the drilling direction cannot be told from RTP and RFP here; the hole is not analysed",
                              "unknown", "RTP and RFP depend on free parameters")
         state.move_to({axis: None})
         return None
@@ -85,7 +84,7 @@ def drill(runner, op, block, model, params):
         definition = state.cycle.definition if state.cycle is not None else op.span
         spans = {"Z": op.param_spans.get("DP", op.span), "R": op.param_spans.get("RFP", op.span)}
         spans.update(op.param_spans)
-        runner.interp.observer.hole(Hole(name, model, op.span, block, axis, position, rtp, start, depth, dict(params), spans, (), definition), state)
+        runner.report_hole(Hole(name, model, op.span, block, axis, position, rtp, start, depth, dict(params), spans, (), definition))
     tapping = model.get("tapping_cycle") and params.get("ENC") != 1.0  # G331/G33: the feed follows the pitch
     cut = "thread" if tapping else "feed"
     programmed_feed, inherited = state.feed, state.feed_inherited
@@ -96,15 +95,15 @@ def drill(runner, op, block, model, params):
         state.feed = tapping_feed(params, state)
         state.feed_inherited = state.feed is None or inherited
     _set_spindle(runner, op, block, _spindle_code(params, model.get("spindle_during")))
-    runner._rapid_to({axis: start}, op.span, block, "approach", name)
-    runner._rapid_to({axis: depth}, op.span, block, "infeed", name, cut)
+    runner.move_to({axis: start}, op.span, block, "approach", name)
+    runner.move_to({axis: depth}, op.span, block, "infeed", name, cut)
     if model.get("retract") == "feed":
         if type(feed_out) is float and feed_out > 0:
             state.feed = feed_out
-        runner._rapid_to({axis: start}, op.span, block, "out-of-hole", name, cut)
-        runner._rapid_to({axis: rtp}, op.span, block, "retract", name)
+        runner.move_to({axis: start}, op.span, block, "out-of-hole", name, cut)
+        runner.move_to({axis: rtp}, op.span, block, "retract", name)
     else:
-        runner._rapid_to({axis: rtp}, op.span, block, "out-of-hole", name)
+        runner.move_to({axis: rtp}, op.span, block, "out-of-hole", name)
     state.feed, state.feed_inherited = programmed_feed, inherited
     after = model.get("spindle_after")
     if after == "off" or (after and params.get("SDR", 3.0) != 0.0):
@@ -125,7 +124,7 @@ def _set_spindle(runner, op, block, new: str | None) -> None:
     state = runner.state
     if new is not None and state.spindle != new:
         old, state.spindle = state.spindle, new
-        runner.interp._change("spindle", op.span, block, old, new)
+        runner.change("spindle", op.span, block, old, new)
 
 
 # ISO metric coarse pitches by thread size, for MPIT (reference A section 6.4, marked as background).
@@ -151,10 +150,10 @@ def tapping_feed(params: dict, state):
 def pattern(runner, op, block, model, params):
     """HOLES1 / HOLES2 / CYCLE801: G0 from position to position, the modal cycle at each."""
     _report_run(runner, op, block, model, params)
-    interp, state = runner.interp, runner.state
+    state = runner.state
     positions = pattern_positions(op.cycle.split(".")[-1], params)
     if positions is None:
-        interp._fault("core.unsupported-code", op.span, f"{op.cycle.split('.')[-1]}: the positions depend on free parameters; the pattern is not analysed",
+        runner.fault("core.unsupported-code", op.span, f"{op.cycle.split('.')[-1]}: the positions depend on free parameters; the pattern is not analysed",
                       "unknown", "pattern parameters depend on free parameters")
         first, second, _ = state.plane_axes
         state.move_to({first: None, second: None})
@@ -162,7 +161,7 @@ def pattern(runner, op, block, model, params):
     modal = state.cycle
     first, second, _ = state.plane_axes
     for abscissa, ordinate in positions:
-        runner._rapid_to({first: abscissa, second: ordinate}, op.span, block, "between-holes", op.cycle)
+        runner.move_to({first: abscissa, second: ordinate}, op.span, block, "between-holes", op.cycle)
         if modal is not None:
             run = modal_shape(modal.model)
             if run is not None:
@@ -274,20 +273,20 @@ def _feature_motion(runner, op, block, params, features: Features) -> bool:
     plunge_feed = _get(params, "FFD")
     for point in features.points:
         if point is None:
-            runner._rapid_to({axis: rtp}, op.span, block, "approach", name)
+            runner.move_to({axis: rtp}, op.span, block, "approach", name)
             state.move_to({first: None, second: None})
         else:
-            runner._rapid_to({first: point[0], second: point[1], axis: rtp}, op.span, block, "approach", name)
-        runner._rapid_to({axis: start}, op.span, block, "into-hole" if features.in_bore else "approach", name)
+            runner.move_to({first: point[0], second: point[1], axis: rtp}, op.span, block, "approach", name)
+        runner.move_to({axis: start}, op.span, block, "into-hole" if features.in_bore else "approach", name)
         if type(plunge_feed) is float and plunge_feed > 0:
             state.feed = plunge_feed  # the depth feed is a parameter of the cycle
-        runner._rapid_to({axis: depth}, op.span, block, "infeed", name, "rapid" if features.g0_insertion else "feed")
+        runner.move_to({axis: depth}, op.span, block, "infeed", name, "rapid" if features.g0_insertion else "feed")
         state.feed = programmed_feed
-        runner._rapid_to({axis: rtp}, op.span, block, "out-of-hole", name)
+        runner.move_to({axis: rtp}, op.span, block, "out-of-hole", name)
     if features.end is None:
         state.move_to({first: None, second: None})
     else:
-        runner._rapid_to({first: features.end[0], second: features.end[1]}, op.span, block, "retract", name)
+        runner.move_to({first: features.end[0], second: features.end[1]}, op.span, block, "retract", name)
     return True
 
 
@@ -368,8 +367,7 @@ def modal_shape(model: dict):
 
 _SHAPES = {"sinumerik_drill": drill, "sinumerik_pattern": pattern, "sinumerik_mill": one_shot,
            "sinumerik_turn": one_shot, "sinumerik_other": one_shot}
-for _shape, _run in _SHAPES.items():
-    register_shape(_shape, _run)
+CYCLES = DialectCycles(shapes=_SHAPES)
 
 
 # --------------------------------------------------------------------------- CYCLE95 contour
@@ -447,34 +445,33 @@ def read_contour_section(runner, op, program: str | None, start_label: str | Non
     """Read the contour in ``program`` (None: the calling program) from ``start_label`` to
     ``end_label`` (None: the whole program). Not found, or labels that are not there exactly
     once in that order, leave ``found`` False."""
-    interp = runner.interp
     facts = ContourFacts(shown)
     if program:
-        found = interp._find_program(program.upper(), op.span) if not program.startswith("/") else None
+        found = runner.find_program(program.upper(), op.span) if not program.startswith("/") else None
         if found is None:
             return facts
         source, start = found
     elif start_label and end_label:
-        source, start = interp._line_source, 0
+        source, start = runner.current_source, 0
     else:
         return facts
     if start_label and end_label:
-        starts = list(interp.frontend.label_offsets(source.buffer, start_label.upper()))
-        ends = list(interp.frontend.label_offsets(source.buffer, end_label.upper()))
+        starts = list(runner.frontend.label_offsets(source.buffer, start_label.upper()))
+        ends = list(runner.frontend.label_offsets(source.buffer, end_label.upper()))
         if len(starts) != 1 or len(ends) != 1 or ends[0] < starts[0]:
             return facts
         lines = ((number, raw) for number, offset, _next, raw in source.lines_from(starts[0]) if offset <= ends[0])
-        if source is interp.source:
+        if source is runner.main_source:
             facts.section_lines = (source.line_number_at(starts[0]), source.line_number_at(ends[0]))
     else:
         lines = ((number, raw) for number, _offset, _next, raw in source.lines_from(start))
     facts.found = True
-    path = None if source is interp.source else source.name
-    _walk_contour(interp, facts, lines, path, runner.state.plane_axes)
+    path = None if source is runner.main_source else source.name
+    _walk_contour(runner, facts, lines, path, runner.state.plane_axes)
     return facts
 
 
-def _walk_contour(interp, facts: ContourFacts, lines, path, plane) -> None:
+def _walk_contour(runner, facts: ContourFacts, lines, path, plane) -> None:
     first, second, _normal = plane
     position: dict = {}
     incremental = False
@@ -484,7 +481,7 @@ def _walk_contour(interp, facts: ContourFacts, lines, path, plane) -> None:
     for count, (number, raw) in enumerate(lines):
         if count > _CONTOUR_BLOCK_LIMIT:
             break
-        for block in interp.frontend.blocks(raw, number, path):
+        for block in runner.frontend.blocks(raw, number, path):
             if count and block.program_start:
                 return _close(facts, points, exact)
             for op in block.ops:

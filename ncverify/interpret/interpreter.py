@@ -8,7 +8,7 @@ This module runs blocks and carries out the operations that change the machine: 
 codes, offsets and frames, feed, spindle, tools, moves, cycles and variables. Straight-line
 code streams, and a long streak of plain blocks runs as one batch. Where execution goes
 next (branches, jumps, loops, labels, calls and returns, program ends) is in
-:mod:`ncverify.control_flow`, a mixin of :class:`Interpreter`.
+:mod:`ncverify.interpret.control_flow`, a mixin of :class:`Interpreter`.
 """
 from __future__ import annotations
 
@@ -17,14 +17,17 @@ from dataclasses import dataclass, field, replace
 
 import numpy
 
-from . import frames, ir, values
-from .control_flow import ControlFlow, Frame, LoopFrame, PathEnd, Position
+from .. import frames, ir, values
+from .control_flow import ControlFlow, CallFrame, LoopFrame, PathEnd, Position
 from .cycles import ActiveCycle, CycleRunner
-from .settings import Settings
-from .source import ProgramSource, Span
-from .trace import Arc, Change, Fault, MotionRun, Segment
-from .dialect import logical_lines
-from .values import VACANT, Condition, DomainError, Sym
+from .heidenhain.state import KlartextState
+from ..settings import Settings
+from ..source import ProgramSource, Span
+from ..trace import Arc, Change, Fault, MotionRun, Segment
+from ..dialect import logical_lines
+from ..values import VACANT, Condition, DomainError, Sym
+from ..verdict import evaluate_constraint, hazard, judge, show
+from ..project import assumption_bounds, assumption_names, parameter_name
 
 _ARC_KINDS = {"arc_cw": "cw", "arc_ccw": "ccw"}
 _SEGMENT_KIND = {"rapid": "rapid", "linear": "feed", "arc_cw": "arc", "arc_ccw": "arc", "thread": "thread"}
@@ -32,6 +35,17 @@ _PLANES = {"xy": ("X", "Y", "Z"), "zx": ("Z", "X", "Y"), "yz": ("Y", "Z", "X")}
 
 
 # ------------------------------------------------------------------------- machine state
+
+
+@dataclass(frozen=True)
+class FrameStatements:
+    """The programmable frame statements in force (:func:`frames.after_statement`), and
+    whether a tilted plane (CYCLE800) is on, which is kept apart from them. Replaced, never
+    changed in place, so that it forks with the path."""
+
+    programmable: frames.Frame = frames.IDENTITY
+    layers: dict = field(default_factory=dict)
+    swivel: bool = False
 
 
 @dataclass(slots=True)
@@ -57,15 +71,17 @@ class MachineState:
     motion_seen: bool = False
     global_variables: dict = field(default_factory=dict)
     local_variables: dict = field(default_factory=dict)
-    frames: list = field(default_factory=list)
+    call_stack: list = field(default_factory=list)  # CallFrame per running program, the main program first
     loops: list = field(default_factory=list)
     jump_counts: dict = field(default_factory=dict)
     path_condition: list = field(default_factory=list)
     last_reference_via: dict = field(default_factory=dict)
-    rule_state: dict = field(default_factory=dict)  # per-path memory of the rules
+    rule_state: dict = field(default_factory=dict)  # per-path memory of the rules (and of nothing else)
+    klartext: KlartextState = field(default_factory=KlartextState)  # HEIDENHAIN dialect state (replaced, never changed in place)
     feed_inherited: bool = False  # a called program checked alone: its caller set the feed
     coordinate_shift: dict = field(default_factory=dict)  # G92/G52: machine = program + work offset + shift (None: unknown)
     frame: frames.Frame | None = None  # program -> workpiece coordinates (None: the identity)
+    frame_statements: FrameStatements = field(default_factory=FrameStatements)
 
     def fork(self) -> "MachineState":
         twin = MachineState(**{name: getattr(self, name) for name in self.__slots__})
@@ -76,7 +92,7 @@ class MachineState:
             if forked is not None:
                 forked()  # rule memory that changes in place (the workpiece): both paths copy it before changing it
         twin.local_variables = dict(self.local_variables)
-        twin.frames = [Frame(**{n: getattr(f, n) for n in f.__slots__}) for f in self.frames]
+        twin.call_stack = [CallFrame(**{n: getattr(f, n) for n in f.__slots__}) for f in self.call_stack]
         twin.loops = [LoopFrame(l.loop_id, l.head, l.iterations) for l in self.loops]
         twin.path_condition = list(self.path_condition)
         return twin
@@ -146,7 +162,7 @@ class Interpreter(ControlFlow):
         main_name, main_start, called = self._main_program()
         state = self.state
         state.modal = dict(self.power_on)
-        state.frames = [Frame("called" if called else "main", main_name, self.source, main_start, None)]
+        state.call_stack = [CallFrame("called" if called else "main", main_name, self.source, main_start, None)]
         if called:
             state.spindle = "inherited"
             state.feed_inherited = True
@@ -185,7 +201,7 @@ class Interpreter(ControlFlow):
                     plain_streak = 0
                     run = self.frontend.plain_run(source.buffer, offset, line_number)
                     if run is not None:
-                        self._execute_run(run, source, path)
+                        self._execute_batch(run, source, path)
                         streak_end = run.end_offset
                         return Position(source, run.end_offset) if run.end_offset < len(source) else self._end_of_text(source)
                 blocks = self._blocks(source, offset, line_number, raw, path, cache, frontend_blocks)
@@ -209,7 +225,7 @@ class Interpreter(ControlFlow):
         state = self.state
         return (not self.settings.per_block_only and state.cycle is None and not state.loops
                 and (state.frame is None or state.frame.is_numeric)
-                and state.modal.get("motion") in ir.MoveRun.KINDS and not isinstance(state.feed, Sym)
+                and state.modal.get("motion") in ir.MoveBatch.KINDS and not isinstance(state.feed, Sym)
                 and not any(isinstance(value, Sym) for value in state.position.values())
                 and self._dialect_allows_batch(state))
 
@@ -218,12 +234,12 @@ class Interpreter(ControlFlow):
         allows = getattr(self.frontend, "batch_allowed", None)
         return allows is None or allows(state)
 
-    def _execute_run(self, run: ir.MoveRun, source: ProgramSource, path) -> None:
+    def _execute_batch(self, run: ir.MoveBatch, source: ProgramSource, path) -> None:
         """Run a batch of plain blocks with arrays (the per-block path's twin)."""
         state = self.state
         axes = run.axes
         start_point = numpy.array([_as_float(state.position.get(axis)) for axis in axes])
-        kinds = _forward_fill(run.kinds.astype(numpy.float64), -1, float(ir.MoveRun.KINDS.index(state.modal["motion"])))
+        kinds = _forward_fill(run.kinds.astype(numpy.float64), -1, float(ir.MoveBatch.KINDS.index(state.modal["motion"])))
         scale = self.increment / 10.0 if state.modal.get("units") == "inch" else self.increment
         written = ~numpy.isnan(run.values)
         values = numpy.where(run.scaled, run.values * scale, run.values)
@@ -240,7 +256,7 @@ class Interpreter(ControlFlow):
         segment_points = numpy.vstack([start_point, points[moving]])
         segment_kinds = kinds[moving].astype(numpy.int8)
         others = {axis: value for axis, value in state.position.items() if axis not in axes}
-        block_of = self._run_block_reader(run, moving, source, path)
+        block_of = self._batch_block_reader(run, moving, source, path)
 
         def span(index: int) -> Span:
             block = block_of(index)
@@ -257,12 +273,12 @@ class Interpreter(ControlFlow):
             self.observer.motion_run(MotionRun(axes, segment_points, segment_kinds, feeds[moving], written[moving], span, segment), state)
         final = points[-1]
         state.position = dict(state.position, **{axis: _as_value(value) for axis, value in zip(axes, final)})
-        state.modal["motion"] = ir.MoveRun.KINDS[int(kinds[-1])]
+        state.modal["motion"] = ir.MoveBatch.KINDS[int(kinds[-1])]
         if not numpy.isnan(feeds[-1]):
             state.feed = float(feeds[-1])
         state.motion_seen = state.motion_seen or bool(len(moving))
 
-    def _run_block_reader(self, run: ir.MoveRun, moving_rows, source: ProgramSource, path):
+    def _batch_block_reader(self, run: ir.MoveBatch, moving_rows, source: ProgramSource, path):
         """Re-reads the block of the run's ``index``-th move (its row in ``moving_rows``), for
         a report's span (rare, so not kept)."""
 
@@ -276,7 +292,7 @@ class Interpreter(ControlFlow):
         return block_of
 
     def _should_cache(self) -> bool:
-        return bool(self.state.loops) or len(self.state.frames) > 1
+        return bool(self.state.loops) or len(self.state.call_stack) > 1
 
     def _blocks(self, source, offset, line_number, raw, path, cache, frontend_blocks):
         if cache or self.state.loops:
@@ -294,7 +310,7 @@ class Interpreter(ControlFlow):
         """Run one block's operations; returns a Position when control transfers."""
         state = self.state
         if block.program_start and first_op == 0:
-            frame = state.frames[-1]
+            frame = state.call_stack[-1]
             if frame.start != self._line_offset and not (frame.start == 0 and self._is_first_program(self._line_source, self._line_offset)):
                 self._program_ran_into_next(block, frame)
         if block.notes:
@@ -422,12 +438,10 @@ class Interpreter(ControlFlow):
     def _symbolic_divisor(self, divisor: Sym, written: ir.Expr, span) -> None:
         """A divisor that depends on free parameters: can it be zero on this path? The
         message names the parameter the program divides by, if it divides by one."""
-        from .check import hazard, judge
-
         verdict = judge(hazard("==", divisor, 0.0), self.state.path_condition, self.settings.solver_timeout_s)
         if verdict is None:
             return
-        value = values_text(divisor)
+        value = show(divisor)
         named = written.name if isinstance(written, ir.Var) and isinstance(written.name, str) else None
         what = f"{named} = {value}" if named is not None and named != value else value
         self.observer.report_verdict("core.arithmetic-domain", span or self._block.span,
@@ -465,9 +479,6 @@ class Interpreter(ControlFlow):
     def _assume(self, assumptions) -> list:
         """Free parameters named in assumptions get their bounds; the assumptions start
         every path's condition."""
-        from .check import evaluate_constraint
-        from .project import assumption_bounds, assumption_names, parameter_name
-
         conditions = []
         for assumption in assumptions:
             unbounded = {node: values.parameter(parameter_name(node)) for node in assumption_names(assumption.tree)}
@@ -481,7 +492,7 @@ class Interpreter(ControlFlow):
         return conditions
 
     def _in_macro(self) -> bool:
-        return any(frame.kind == "macro" for frame in self.state.frames)
+        return any(frame.kind == "macro" for frame in self.state.call_stack)
 
     def _free_parameter(self, name: str) -> Sym:
         if name in self.pins:
@@ -679,21 +690,19 @@ class Interpreter(ControlFlow):
         """A programmable frame statement (:func:`frames.after_statement`), or a tilted
         plane (CYCLE800), which is kept apart and leaves positions unknown until reset."""
         state = self.state
-        memory = state.rule_state
-        swivel = memory.get(("frame", "swivel"), False)
+        statements = state.frame_statements
+        swivel = statements.swivel
         if op.component in ("swivel", "swivel_off"):  # a tilted plane (CYCLE800): a frame of its own, kept apart from the programmable one
             swivel = op.component == "swivel"
-            frame, layers = memory.get(("frame", "programmable"), frames.IDENTITY), memory.get(("frame", "layers"), {})
+            frame, layers = statements.programmable, statements.layers
         else:
-            frame, layers = frames.after_statement(op, op_values(op.values, self, op.span), memory.get(("frame", "programmable"), frames.IDENTITY),
-                                                   memory.get(("frame", "layers"), {}), state.plane_axes)
+            frame, layers = frames.after_statement(op, op_values(op.values, self, op.span), statements.programmable,
+                                                   statements.layers, state.plane_axes)
         if frame is None or swivel:
             why = frames.UNMODELLED.get(op.component, "")
             self._fault("core.unsupported-code", op.span, f"{op.what or 'this coordinate transformation'} is not modelled{why}: positions after it are unknown "
                         "until it is reset", "unknown", op.what or "a coordinate transformation")
-        memory[("frame", "programmable")] = frame or frames.UNKNOWN
-        memory[("frame", "layers")] = layers
-        memory[("frame", "swivel")] = swivel
+        state.frame_statements = FrameStatements(frame or frames.UNKNOWN, layers, swivel)
         self.set_frame(frames.UNKNOWN if swivel or frame is None else frame)
         return None
 
@@ -786,8 +795,8 @@ class Interpreter(ControlFlow):
             radius = self.value(radius_expr, op.span)
             if radius is VACANT:
                 return Arc(direction, (first, second, normal), None, None, None)
-            return Arc(direction, (first, second, normal), None, None, None, radius, _distance(s1, s2, e1, e2),
-                       chord_sq=_distance_sq(s1, s2, e1, e2))
+            return Arc(direction, (first, second, normal), None, None, None, radius, values.distance(s1, s2, e1, e2),
+                       chord_sq=values.distance_sq(s1, s2, e1, e2))
         centre_letters = {"X": "I", "Y": "J", "Z": "K"}
         offset1 = self.value(arc_words.get(centre_letters[first], 0.0), op.span)
         offset2 = self.value(arc_words.get(centre_letters[second], 0.0), op.span)
@@ -797,10 +806,10 @@ class Interpreter(ControlFlow):
             c1, c2 = offset1, offset2
         else:
             c1, c2 = values.add(s1, offset1), values.add(s2, offset2)
-        start_radius = _distance(s1, s2, c1, c2)
-        end_radius = _distance(e1, e2, c1, c2)
+        start_radius = values.distance(s1, s2, c1, c2)
+        end_radius = values.distance(e1, e2, c1, c2)
         return Arc(direction, (first, second, normal), (c1, c2), start_radius, end_radius,
-                   start_radius_sq=_distance_sq(s1, s2, c1, c2), end_radius_sq=_distance_sq(e1, e2, c1, c2))
+                   start_radius_sq=values.distance_sq(s1, s2, c1, c2), end_radius_sq=values.distance_sq(e1, e2, c1, c2))
 
     # ------------------------------------------------------------------ cycles
 
@@ -885,26 +894,5 @@ def _forward_fill(column, empty, initial: float):
     return padded[index]
 
 
-def values_text(value) -> str:
-    from .check import show
-
-    return show(value)
-
-
 def _scaled(value, scale: float):
     return value if scale == 1.0 else values.mul(value, scale)
-
-
-def _distance_sq(a1, a2, b1, b2):
-    d1, d2 = values.sub(a1, b1), values.sub(a2, b2)
-    return values.add(values.mul(d1, d1), values.mul(d2, d2))
-
-
-def _distance(a1, a2, b1, b2):
-    """Distance of two points; None when it depends on free parameters (the arc rule then
-    answers unknown rather than compare radii it cannot compute exactly)."""
-    d1, d2 = values.sub(a1, b1), values.sub(a2, b2)
-    if type(d1) is float and type(d2) is float:
-        return math.hypot(d1, d2)
-    return None
-

@@ -22,10 +22,10 @@ from dataclasses import dataclass
 import shapely
 from shapely.geometry import Point, Polygon
 
-from .. import ir
+from ... import ir
 from ..control_flow import PathEnd
-from ..dialect import logical_lines
-from ..values import VACANT
+from ...dialect import logical_lines
+from ...values import VACANT
 
 _ELEMENT_LIMIT = 16384  # contour elements per SL cycle (seed L9050-9051)
 _ARC_STEP = math.radians(5.0)
@@ -79,13 +79,13 @@ def contours(found: list[Subprogram], labels) -> list[Contour] | None:
     return None if len(outlines) != len(labels) or any(contour is None for contour in outlines) else outlines
 
 
-def subprograms(interp, labels, span) -> list[Subprogram]:
+def subprograms(runner, labels, span) -> list[Subprogram]:
     """Every subprogram of ``labels`` that exists, in order (a missing label is reported by
     the interpreter's label search)."""
     found = []
     for label in labels:
         try:
-            found.append(_walk(interp, label, span))
+            found.append(_walk(runner, label, span))
         except (_Unresolved, PathEnd):
             continue
     return found
@@ -113,14 +113,14 @@ def region(found: list[Contour], by_start_points: bool = False):
     return area
 
 
-def _walk(interp, label, span) -> Subprogram:
-    position = interp.find_label(label, span)
-    walker = _Walker(interp)
+def _walk(runner, label, span) -> Subprogram:
+    position = runner.find_label(label, span)
+    walker = _Walker(runner)
     content = _Content()
     source = position.source
-    path = None if source is interp.source else source.name
-    for line_number, offset, _next, raw in logical_lines(source, position.offset, interp.frontend):
-        for index, block in enumerate(interp.frontend.blocks(raw, line_number, path)):
+    path = None if source is runner.main_source else source.name
+    for line_number, offset, _next, raw in logical_lines(source, position.offset, runner.frontend):
+        for index, block in enumerate(runner.frontend.blocks(raw, line_number, path)):
             if offset == position.offset and index < position.block_index:
                 continue
             for op in block.ops:
@@ -195,8 +195,8 @@ class _Content:
 
 
 class _Walker:
-    def __init__(self, interp):
-        self.interp = interp
+    def __init__(self, runner):
+        self.runner = runner
         self.points: list[tuple[float, float]] = []
         self.pole = None
         self.side = None
@@ -216,7 +216,7 @@ class _Walker:
         return len(self.points) >= 3 and math.dist(self.points[0], self.points[-1]) <= 1e-3
 
     def number(self, expr):
-        value = self.interp.value(expr)
+        value = self.runner.value(expr)
         if type(value) is not float or value is VACANT:
             raise _Unresolved
         return value

@@ -2,9 +2,9 @@
 
 The lowering (:mod:`ncverify.lower.heidenhain`) turns constructs that need machine state
 into ``ir.CycleCall`` operations of pseudo cycles ``heidenhain.@<what>``; each is run here
-through :func:`ncverify.cycles.register_shape`. Dialect state lives in
-``state.rule_state`` under ``("heidenhain", key)`` and is never changed in place (paths
-fork by copying that dict shallowly).
+as shapes of the shared cycle runner (:class:`ncverify.interpret.cycles.DialectCycles`). Dialect state lives in the
+path's :class:`~ncverify.interpret.heidenhain.state.KlartextState` (``state.klartext``),
+replaced, never changed in place, so that forked paths keep their own.
 
 Cycle motion (reference A §6.0, "generic hole-cycle kinematics"):
 
@@ -18,13 +18,14 @@ from __future__ import annotations
 
 import math
 import re
-from dataclasses import dataclass, replace
+from dataclasses import replace
 
-from .. import cycles, ir, values
-from . import heidenhain_frames, heidenhain_special
+from ... import ir, values
+from .. import cycles
+from . import special, transforms
+from .state import Definition
 from ..control_flow import PathEnd
-from ..interpret import _distance, _distance_sq
-from ..trace import Arc, CycleRun, Hole
+from ...trace import Arc, CycleRun, Hole
 
 _PLANES = {"xy": ("X", "Y", "Z"), "yz": ("Y", "Z", "X"), "zx": ("Z", "X", "Y")}
 # DEF-active cycles (seed L666-688): they act when defined and are never called. 12 and 238
@@ -35,23 +36,9 @@ _TRANSFORMS = frozenset({7, 8, 10, 11, 19, 26})
 _HOLE_FAMILIES = frozenset({"drill", "tap", "thread"})
 
 
-@dataclass(frozen=True)
-class Definition:
-    """A CALL-active cycle as its CYCL DEF left it."""
-
-    number: int
-    params: dict
-    spans: dict
-    span: object
-    model: dict
-
-
-def _get(state, key, default=None):
-    return state.rule_state.get(("heidenhain", key), default)
-
-
-def _put(state, key, value) -> None:
-    state.rule_state[("heidenhain", key)] = value
+def _put(state, **changes) -> None:
+    """Change the path's Klartext state (a new value: a forked path keeps its own)."""
+    state.klartext = replace(state.klartext, **changes)
 
 
 def system_variable(name: str, state):
@@ -61,7 +48,7 @@ def system_variable(name: str, state):
     if not name.startswith("@"):
         return None
     if name == "@TOOLF":
-        feed = _get(state, "tool_feed")
+        feed = state.klartext.tool_feed
         return feed if feed is not None else values.fresh("FAUTO", 0.0)
     return values.fresh(name[1:])
 
@@ -80,7 +67,7 @@ def _plane(state):
 def _pole_run(runner, op, block, model, params):
     state = runner.state
     first, second, normal = _plane(state)
-    pole = dict(_get(state, "pole", {}))
+    pole = dict(state.klartext.pole)
     given = []
     for word, value in params.items():
         axis = word[-1]
@@ -93,15 +80,15 @@ def _pole_run(runner, op, block, model, params):
     if not given:
         pole[first], pole[second] = state.position.get(first), state.position.get(second)
         given = [first, second]
-    _put(state, "pole", pole)
-    _put(state, "pole_axes", tuple(axis for axis in "XYZ" if axis in given) if len(given) == 2 else (first, second))
+    _put(state, pole=pole)
+    _put(state, pole_axes=tuple(axis for axis in "XYZ" if axis in given) if len(given) == 2 else (first, second))
     return None
 
 
 def _pole_plane(state):
     """The plane of the arcs about CC: the two axes CC was given in (CAM output writes
     ``CC Y.. Z..`` for arcs in YZ), else the working plane."""
-    axes = _get(state, "pole_axes")
+    axes = state.klartext.pole_axes
     working = _plane(state)
     if not axes or set(axes) == set(working[:2]):
         return working
@@ -130,7 +117,7 @@ def _targets(runner, params: dict, span) -> dict:
 def _arc_run(runner, op, block, model, params):
     state = runner.state
     first, second, normal = _pole_plane(state)
-    pole = _get(state, "pole", {})
+    pole = state.klartext.pole
     targets = _targets(runner, params, op.span)
     direction = "ccw" if params.get("DR", 1.0) > 0 else "cw"
     _emit_arc(runner, op, block, targets, (pole.get(first), pole.get(second)), (first, second, normal), direction)
@@ -138,7 +125,6 @@ def _arc_run(runner, op, block, model, params):
 
 
 def _emit_arc(runner, op, block, targets, centre, plane, direction) -> None:
-    interp = runner.interp
     state = runner.state
     start = state.position
     state.move_to(targets)
@@ -149,10 +135,10 @@ def _emit_arc(runner, op, block, targets, centre, plane, direction) -> None:
     if None in (s1, s2, e1, e2, c1, c2):
         arc = Arc(direction, plane, None, None, None)
     else:
-        arc = Arc(direction, plane, (c1, c2), _distance(s1, s2, c1, c2), _distance(e1, e2, c1, c2),
-                  start_radius_sq=_distance_sq(s1, s2, c1, c2), end_radius_sq=_distance_sq(e1, e2, c1, c2))
-    interp._emit("arc", start, op.span, block, "programmed", None, arc)
-    _put(state, "fed_at", _plane_point(state))
+        arc = Arc(direction, plane, (c1, c2), values.distance(s1, s2, c1, c2), values.distance(e1, e2, c1, c2),
+                  start_radius_sq=values.distance_sq(s1, s2, c1, c2), end_radius_sq=values.distance_sq(e1, e2, c1, c2))
+    runner.emit("arc", start, op.span, block, "programmed", None, arc)
+    _put(state, fed_at=_plane_point(state))
 
 
 def _plane_point(state):
@@ -164,18 +150,18 @@ def _lift_run(runner, op, block, model, params):
     """``L Z.. FMAX`` alone. Straight up from where the tool got to at feed, its own body
     already fills the column above the tip: reported as a move out of the cut (the stock
     model is not updated by cutting, so the rapid would read as a crash)."""
-    state = runner.interp.state
+    state = runner.state
     targets = _targets(runner, params, op.span)
     current, target = state.position.get("Z"), targets.get("Z")
     rising = type(current) is float and type(target) is float and target > current
     in_place = all(targets[axis] == state.position.get(axis) for axis in ("X", "Y") if axis in targets)
-    fed_here = _get(state, "fed_at") == _plane_point(state) and None not in _plane_point(state)
+    fed_here = state.klartext.fed_at == _plane_point(state) and None not in _plane_point(state)
     state.modal["motion"] = "rapid"
     state.motion_seen = True
     role = "out-of-hole" if rising and fed_here and in_place else "programmed"
     start = state.position
     state.move_to(targets)
-    runner.interp._emit("rapid", start, op.span, block, role)
+    runner.emit("rapid", start, op.span, block, role)
     return None
 
 
@@ -186,7 +172,7 @@ def _tangent_run(runner, op, block, model, params):
     start = state.position
     state.move_to(_targets(runner, params, op.span))
     state.motion_seen = True
-    runner.interp._emit("feed", start, op.span, block)
+    runner.emit("feed", start, op.span, block)
     return None
 
 
@@ -194,7 +180,7 @@ def _polar_run(runner, op, block, model, params):
     """LP / CP: a point given by radius PR and angle PA about the pole CC."""
     state = runner.state
     first, second, normal = _pole_plane(state)
-    pole = _get(state, "pole", {})
+    pole = state.klartext.pole
     c1, c2 = pole.get(first), pole.get(second)
     s1, s2 = state.position.get(first), state.position.get(second)
     end = _polar_end(params, c1, c2, s1, s2)
@@ -212,7 +198,7 @@ def _polar_run(runner, op, block, model, params):
     start = state.position
     state.move_to(targets)
     state.motion_seen = True
-    runner.interp._emit("rapid" if kind == "rapid" else "feed", start, op.span, block)
+    runner.emit("rapid" if kind == "rapid" else "feed", start, op.span, block)
     return None
 
 
@@ -246,7 +232,7 @@ def _retract_run(runner, op, block, model, params):
         state.move_to({axis: None})  # up to the software limit: where that is in workpiece coordinates is unknown
         return None
     current = state.position.get(axis)
-    runner._rapid_to({axis: None if current is None else values.add(current, amount)}, op.span, block, "retract", None)
+    runner.move_to({axis: None if current is None else values.add(current, amount)}, op.span, block, "retract", None)
     return None
 
 
@@ -263,7 +249,7 @@ def _spindle_run(runner, op, block, model, params):
     spindle code beside a cut is never ambiguous: the change is reported without the block's
     moves."""
     alone = ir.Block(block.line, block.start_column, block.end_column, [])
-    runner.interp._spindle(ir.Spindle(op.span, params["state"]), alone)
+    runner.execute(ir.Spindle(op.span, params["state"]), alone)
     return None
 
 
@@ -271,7 +257,7 @@ def _comp_run(runner, op, block, model, params):
     """R0 / RL / RR are modal: writing the side already in force changes nothing."""
     side = params.get("side")
     if side != runner.state.comp_side:
-        runner.interp._cutter_comp(ir.CutterComp(op.span, side), block)
+        runner.execute(ir.CutterComp(op.span, side), block)
     return None
 
 
@@ -282,7 +268,7 @@ def _approach_run(runner, op, block, model, params):
 
 def _tool_feed_run(runner, op, block, model, params):
     if "F" in params:
-        _put(runner.state, "tool_feed", params["F"])
+        _put(runner.state, tool_feed=params["F"])
     return None
 
 
@@ -293,72 +279,69 @@ def _label_call_run(runner, op, block, model, params):
     """CALL LBL n [REP r]: a label before the call with no LBL 0 between them repeats the
     program section r more times (seed L8265-8273); otherwise the subprogram runs (r + 1
     times) and returns at its LBL 0."""
-    interp = runner.interp
     state = runner.state
     label = params.get("label")
     repeat = params.get("REP", 0.0)
     if type(label) not in (float, str):
-        interp._unsupported_here(op.span, "a label call whose label depends on a free parameter")
+        runner.unsupported(op.span, "a label call whose label depends on a free parameter")
         raise PathEnd
     if type(repeat) is not float:
-        interp._unsupported_here(op.span, "a REP count that depends on a free parameter")
+        runner.unsupported(op.span, "a REP count that depends on a free parameter")
         raise PathEnd
-    target = interp.find_label(label, op.span)
-    here = interp._line_offset
-    if target.source is interp._line_source and target.offset < here and not _returns_between(interp, target, here):
-        key = ("rep", here)
-        done = _get(state, key, 0)
+    target = runner.find_label(label, op.span)
+    here = runner.current_offset
+    if target.source is runner.current_source and target.offset < here and not _returns_between(runner, target, here):
+        repeats = state.klartext.label_repeats
+        done = repeats.get(here, 0)
         if done < repeat:
-            _put(state, key, done + 1)
-            interp._count_jump(target, op.span, f"the repeat of {interp.frontend.describe_label(label)}")
+            _put(state, label_repeats={**repeats, here: done + 1})
+            runner.count_jump(target, op.span, f"the repeat of {runner.frontend.describe_label(label)}")
             return target
-        _put(state, key, 0)
+        _put(state, label_repeats={**repeats, here: 0})
         return None
     call = ir.Call(op.span, "local", label, repeat + 1.0)
-    return interp._call(call, block)
+    return runner.call_subprogram(call, block)
 
 
-def _returns_between(interp, target, end: int) -> bool:
+def _returns_between(runner, target, end: int) -> bool:
     """Is there an LBL 0 between a label and the call (the label starts a subprogram)?"""
-    text = bytes(interp._line_source.buffer[target.offset:end]).upper()
+    text = bytes(runner.current_source.buffer[target.offset:end]).upper()
     return _SUBPROGRAM_END.search(text) is not None
 
 
 def _end_pgm_run(runner, op, block, model, params):
     """END PGM ends the main program like M30 and returns from a called one."""
-    interp = runner.interp
-    frames = interp.state.frames
-    while frames[-1].kind == "local" and len(frames) > 1:
-        frames.pop()  # a subprogram without LBL 0 that runs into END PGM ends its program
-    if frames[-1].kind in ("main", "called"):
-        interp._program_end(op.span, block, "end")
-    return interp._return(ir.Return(op.span), block)
+    call_stack = runner.state.call_stack
+    while call_stack[-1].kind == "local" and len(call_stack) > 1:
+        call_stack.pop()  # a subprogram without LBL 0 that runs into END PGM ends its program
+    if call_stack[-1].kind in ("main", "called"):
+        runner.end_program(op.span, block, "end")
+    return runner.return_from(ir.Return(op.span), block)
 
 
 # --------------------------------------------------------------------------- cycles
 
 
 def _define_run(runner, op, block, model, params):
-    interp = runner.interp
     state = runner.state
     number = int(params.pop("@number", -1))
-    cycle_model = interp.cycle_models.get(f"heidenhain.{number}", {})
-    defaults = _get(state, "global", {})
+    cycle_model = runner.cycle_model(f"heidenhain.{number}")
+    defaults = state.klartext.global_defaults
     for name, value in list(params.items()):
         if value == "PREDEF":
             if name in defaults:
                 params[name] = defaults[name]  # the GLOBAL DEF value (seed L854-881)
             else:
-                interp._fault("core.unsupported-code", op.param_spans.get(name, op.span), f"{name} is PREDEF but no GLOBAL DEF before it gives the value: "
+                runner.fault("core.unsupported-code", op.param_spans.get(name, op.span), f"{name} is PREDEF but no GLOBAL DEF before it gives the value: "
                               "the control's stored default is not known here", "unknown", "PREDEF without GLOBAL DEF")
     _read_tolerances(params, cycle_model)
     if number in DEF_ACTIVE:
         return _def_active(runner, op, block, number, params, cycle_model)
     definition = Definition(number, params, dict(op.param_spans), op.span, cycle_model)
-    _put(state, "cycle", definition)
-    _put(state, "m89", False)
+    _put(state, cycle=definition)
+    _put(state, m89=False)
     if not cycle_model:
-        interp._fault("core.unsupported-code", op.span, f"cycle {number} is read but not modelled; checks that depend on its motion answer unknown",
+        runner.fault("core.unsupported-code", op.span, f"cycle {number} is read but not modelled; checks that depend on its motion answer unknown",
                       "unknown", f"cycle {number}")
     return None
 
@@ -366,7 +349,7 @@ def _define_run(runner, op, block, model, params):
 def _read_tolerances(params: dict, cycle_model: dict) -> None:
     """A toleranced dimension written as text (``Q218="10H7"``) becomes the size the control
     machines; texts it cannot read go to the rules as ``@bad_tolerances``."""
-    from .heidenhain_tolerance import toleranced
+    from .tolerance import toleranced
 
     unreadable = []
     for name, spec in cycle_model.get("params", {}).items():
@@ -383,45 +366,44 @@ def _read_tolerances(params: dict, cycle_model: dict) -> None:
 
 
 def _def_active(runner, op, block, number, params, cycle_model):
-    interp = runner.interp
     state = runner.state
-    interp.observer.cycle_run(CycleRun(f"heidenhain.{number}", cycle_model, op.span, block, _numbers(params), dict(op.param_spans)), state)
+    runner.report_cycle(CycleRun(f"heidenhain.{number}", cycle_model, op.span, block, _numbers(params), dict(op.param_spans)))
     if number in (220, 221):
         points = _pattern_points(number, params)
         if points is None:
-            interp._fault("core.unsupported-code", op.span, f"cycle {number}'s points depend on free parameters; the holes are not placed", "unknown", f"cycle {number}")
+            runner.fault("core.unsupported-code", op.span, f"cycle {number}'s points depend on free parameters; the holes are not placed", "unknown", f"cycle {number}")
             state.move_to(dict.fromkeys(_plane(state)[:2]))
             return None
         return _run_at_points(runner, op, block, points, pattern=params)
     if number == 247:
-        heidenhain_frames.reset(interp, heidenhain_frames.RESET_BY_DATUM_SETTING)  # seed L8221-8223
+        transforms.reset(runner, transforms.RESET_BY_DATUM_SETTING)  # seed L8221-8223
         return None
     if number == 20:
-        _put(state, "sl_data", (_numbers(params), dict(op.param_spans), op.span))
+        _put(state, sl_data=(_numbers(params), dict(op.param_spans), op.span))
         return None
     if number == 14:
-        _put(state, "sl_labels", tuple(value for key, value in sorted(params.items()) if key.startswith("L")))
-        _put(state, "contour_source", ("cycle 14", op.span, None, None))
+        _put(state, sl_labels=tuple(value for key, value in sorted(params.items()) if key.startswith("L")))
+        _put(state, contour_source=("cycle 14", op.span, None, None))
         return None
     if number == 270:  # the contour train data of 25 and 276 (seed L9908-9974)
-        _put(state, "train_data", (_numbers(params), dict(op.param_spans)))
+        _put(state, train_data=(_numbers(params), dict(op.param_spans)))
         return None
     if number in (9, 32, 13, 239):
         return None
     if number == 224:
-        return heidenhain_special.datamatrix(runner, op, block)
+        return special.datamatrix(runner, op, block)
     if number in (271, 1271, 1272, 1273, 1278):  # OCM data, with a standard shape (reference B 6.21)
-        _put(state, "ocm", (number, _numbers(params), dict(op.param_spans)))
-        _put(state, "ocm_boundary", None)  # a shape cancels the boundary before it (seed L12143-12145)
+        _put(state, ocm=(number, _numbers(params), dict(op.param_spans)))
+        _put(state, ocm_boundary=None)  # a shape cancels the boundary before it (seed L12143-12145)
         return None
     if number in (1281, 1282):
-        _put(state, "ocm_boundary", number)
+        _put(state, ocm_boundary=number)
         return None
     if number in _TRANSFORMS:
         if params:  # without words it is the header of the old-style sub-blocks (CYCL DEF 7.0 DATUM SHIFT)
             _transform(runner, op, number, params)
         return None
-    interp._fault("core.unsupported-code", op.span, f"cycle {number} is read but not modelled; checks that depend on it answer unknown", "unknown", f"cycle {number}")
+    runner.fault("core.unsupported-code", op.span, f"cycle {number} is read but not modelled; checks that depend on it answer unknown", "unknown", f"cycle {number}")
     return None
 
 
@@ -430,27 +412,26 @@ def _old_cycle_run(runner, op, block, model, params):
     and 18 (their data arrive in sub-blocks and join the definition); the data blocks of a
     DEF-active one (9.1 DWELL, 32.1 T) go to the rules as they come."""
     state = runner.state
-    interp = runner.interp
     number = int(params.pop("@number"))
     sub = int(params.pop("@sub"))
-    cycle_model = interp.cycle_models.get(f"heidenhain.{number}", {})
+    cycle_model = runner.cycle_model(f"heidenhain.{number}")
     if sub == 0:
-        _put(state, "old_cycle", (number, {}))
+        _put(state, old_cycle=(number, {}))
         if number not in DEF_ACTIVE:
-            _put(state, "cycle", Definition(number, {}, {}, op.span, cycle_model))
-            _put(state, "m89", False)
+            _put(state, cycle=Definition(number, {}, {}, op.span, cycle_model))
+            _put(state, m89=False)
         return None
     if number not in DEF_ACTIVE:
-        definition = _get(state, "cycle")
+        definition = state.klartext.cycle
         if definition is not None and definition.number == number:
-            _put(state, "cycle", replace(definition, params={**definition.params, **params}, spans={**definition.spans, **op.param_spans}))
+            _put(state, cycle=replace(definition, params={**definition.params, **params}, spans={**definition.spans, **op.param_spans}))
         return None
-    interp.observer.cycle_run(CycleRun(f"heidenhain.{number}", cycle_model, op.span, block, _numbers(params), dict(op.param_spans)), state)
+    runner.report_cycle(CycleRun(f"heidenhain.{number}", cycle_model, op.span, block, _numbers(params), dict(op.param_spans)))
     if number == 14:
         labels = tuple(params[key] for key in sorted((key for key in params if key.startswith("L")), key=lambda key: int(key[1:])))
-        _put(state, "sl_labels", labels)
-        _put(state, "sl_kinds", None)
-        _put(state, "contour_source", ("cycle 14", op.span, None, None))
+        _put(state, sl_labels=labels)
+        _put(state, sl_kinds=None)
+        _put(state, contour_source=("cycle 14", op.span, None, None))
     elif number in _TRANSFORMS:
         _transform(runner, op, number, params)
     return None
@@ -458,22 +439,21 @@ def _old_cycle_run(runner, op, block, model, params):
 
 def _transform(runner, op, number, params) -> None:
     """Datum shift, mirror, rotation, scaling, working plane: the frame from program to
-    BLK FORM coordinates (:mod:`ncverify.lower.heidenhain_frames`)."""
+    BLK FORM coordinates (:mod:`ncverify.interpret.heidenhain.transforms`)."""
     state = runner.state
-    interp = runner.interp
-    heidenhain_frames.transform(runner, op, number, params)
+    transforms.transform(runner, op, number, params)
     if number == 10:
         state.comp_side = "off"  # cycle 10 cancels radius compensation (seed L7904)
     tool_axis = _plane(state)[2]
     if number == 8 and (tool_axis in params or "I" + tool_axis in params):
-        interp._fault("heidenhain.mirror-tool-axis", op.span, f"cycle 8 mirrors the tool axis {tool_axis}: the spindle axis may not be mirrored (seed L7869-7870)")
+        runner.fault("heidenhain.mirror-tool-axis", op.span, f"cycle 8 mirrors the tool axis {tool_axis}: the spindle axis may not be mirrored (seed L7869-7870)")
 
 
 def _global_def_run(runner, op, block, model, params):
     state = runner.state
-    merged = dict(_get(state, "global", {}))
+    merged = dict(state.klartext.global_defaults)
     merged.update(params)
-    _put(state, "global", merged)
+    _put(state, global_defaults=merged)
     return None
 
 
@@ -483,11 +463,11 @@ def _contour_def_run(runner, op, block, model, params):
     radius of the last roughing tool (seed L11284-11286)."""
     order = sorted((key for key in params if key[0] in "PIV"), key=lambda key: int(key[1:]))
     state = runner.state
-    _put(state, "sl_labels", tuple(params[key] for key in order))
-    _put(state, "sl_kinds", tuple(key[0] == "P" for key in order))
+    _put(state, sl_labels=tuple(params[key] for key in order))
+    _put(state, sl_kinds=tuple(key[0] == "P" for key in order))
     depths = tuple(params.get(f"D{key[1:]}") for key in order)
-    _put(state, "contour_source", ("CONTOUR DEF", op.span, tuple(key[0] for key in order), depths))
-    _put(state, "roughed_since_contour_def", False)
+    _put(state, contour_source=("CONTOUR DEF", op.span, tuple(key[0] for key in order), depths))
+    _put(state, roughed_since_contour_def=False)
     return None
 
 
@@ -495,10 +475,10 @@ def _select_contour_run(runner, op, block, model, params):
     """SEL CONTOUR: a contour the SL and OCM cycles may use, from a program not read here;
     like CONTOUR DEF it makes the control forget the last roughing tool (seed L11284-11286)."""
     state = runner.state
-    _put(state, "sl_labels", ())
-    _put(state, "sl_kinds", None)
-    _put(state, "contour_source", ("SEL CONTOUR", op.span, None, None))
-    _put(state, "roughed_since_contour_def", False)
+    _put(state, sl_labels=())
+    _put(state, sl_kinds=None)
+    _put(state, contour_source=("SEL CONTOUR", op.span, None, None))
+    _put(state, roughed_since_contour_def=False)
     return None
 
 
@@ -507,8 +487,8 @@ def _declare_contour_run(runner, op, block, model, params):
     declaration so far had a DEPTH (all or none must, seed L14464-14465) and the Q1-Q20 the
     program has set, which the SL cycles also use (seed L9360-9361)."""
     state = runner.state
-    declared = _get(state, "declared_depths", ()) + ("DEPTH" in params,)
-    _put(state, "declared_depths", declared)
+    declared = state.klartext.declared_depths + ("DEPTH" in params,)
+    _put(state, declared_depths=declared)
     _observe(runner, CycleRun("heidenhain.declare-contour", {}, op.span, block, {}), {"@declared_depths": declared, "@own_q": _own_reserved(state)})
     return None
 
@@ -517,7 +497,7 @@ def _trans_run(runner, op, block, model, params):
     what = params.pop("what", "DATUM")
     number = {"DATUM": 7, "MIRROR": 8, "ROTATION": 10, "SCALE": 11, "PLANE": 19}.get(what, 7)
     if params.pop("reset", None) is not None or what == "RESET":
-        heidenhain_frames.reset(runner.interp, {number}, op.span)
+        transforms.reset(runner, {number}, op.span)
         return None
     _transform(runner, op, number, params)
     return None
@@ -526,7 +506,7 @@ def _trans_run(runner, op, block, model, params):
 def _pattern_run(runner, op, block, model, params):
     tool_axis = _plane(runner.state)[2]
     if tool_axis != "Z":
-        runner.interp._fault("heidenhain.pattern-tool-axis", op.span, f"PATTERN DEF with the tool axis {tool_axis}: the pattern computes X and Y only, "
+        runner.fault("heidenhain.pattern-tool-axis", op.span, f"PATTERN DEF with the tool axis {tool_axis}: the pattern computes X and Y only, "
                              "so its points are not where they are meant to be in this working plane (seed L1079-1085)")
     forms = {}
     for key, value in params.items():
@@ -539,7 +519,7 @@ def _pattern_run(runner, op, block, model, params):
             points = None
             break
         points.extend(found)
-    _put(runner.state, "pattern", None if points is None else tuple(points))
+    _put(runner.state, pattern=None if points is None else tuple(points))
     return None
 
 
@@ -607,23 +587,22 @@ def _pattern_points(number: int, params: dict):
 
 def _call_run(runner, op, block, model, params):
     """CYCL CALL / CYCL CALL PAT / CYCL CALL POS / M99 / M89 (seed L692-791)."""
-    interp = runner.interp
     state = runner.state
     how = params.get("how", "CALL")
-    definition = _get(state, "cycle")
+    definition = state.klartext.cycle
     if how in ("M89", "M99"):
-        _put(state, "m89", how == "M89")
+        _put(state, m89=how == "M89")
     if definition is None:
-        interp._fault("heidenhain.call-without-cycle", op.span, f"{_call_words(how)} with no machining cycle defined before it: the control stops with an error "
+        runner.fault("heidenhain.call-without-cycle", op.span, f"{_call_words(how)} with no machining cycle defined before it: the control stops with an error "
                       "(define the cycle with CYCL DEF first)")
         return None
-    if state.tool_in_spindle is None and state.frames[0].kind == "main":
-        interp._fault("heidenhain.call-without-tool", op.span, f"{_call_words(how)} runs cycle {definition.number} before any TOOL CALL: the control needs a "
+    if state.tool_in_spindle is None and state.call_stack[0].kind == "main":
+        runner.fault("heidenhain.call-without-tool", op.span, f"{_call_words(how)} runs cycle {definition.number} before any TOOL CALL: the control needs a "
                       "called tool to run a cycle (seed L655-664)")
     if how == "PAT":
-        points = _get(state, "pattern")
+        points = state.klartext.pattern
         if points is None:
-            interp._fault("core.unsupported-code", op.span, "CYCL CALL PAT without a PATTERN DEF whose points are known (a point table?) is not modelled",
+            runner.fault("core.unsupported-code", op.span, "CYCL CALL PAT without a PATTERN DEF whose points are known (a point table?) is not modelled",
                           "unknown", "CYCL CALL PAT")
             state.move_to(dict.fromkeys(state.position))
             return None
@@ -631,10 +610,10 @@ def _call_run(runner, op, block, model, params):
     if how == "POS":
         missing = [axis for axis in "XYZ" if axis not in params and "I" + axis not in params]
         if missing:
-            interp._fault("heidenhain.call-pos-axes", op.span, f"CYCL CALL POS without {', '.join(missing)}: all three coordinates must be programmed (seed L710-737)")
+            runner.fault("heidenhain.call-pos-axes", op.span, f"CYCL CALL POS without {', '.join(missing)}: all three coordinates must be programmed (seed L710-737)")
         targets = _targets(runner, params, op.span)
         axis = _plane(state)[2]
-        runner._rapid_to({a: v for a, v in targets.items() if a != axis}, op.span, block, "between-holes", f"heidenhain.{definition.number}")
+        runner.move_to({a: v for a, v in targets.items() if a != axis}, op.span, block, "between-holes", f"heidenhain.{definition.number}")
         return run_cycle(runner, op, block, definition, shift=targets.get(axis))
     return run_cycle(runner, op, block, definition)
 
@@ -643,16 +622,16 @@ def _positioned_run(runner, op, block, model, params):
     """After M89 every positioning block runs the cycle, until M99 or a new CYCL DEF
     (seed L742-752)."""
     state = runner.state
-    _put(state, "fed_at", _plane_point(state) if params.get("fed") else None)
-    ended = _get(state, "ended_elsewhere")
+    _put(state, fed_at=_plane_point(state) if params.get("fed") else None)
+    ended = state.klartext.ended_elsewhere
     if ended is not None and params.get("plane"):
-        _put(state, "ended_elsewhere", None)
+        _put(state, ended_elsewhere=None)
         if params.get("relative") or params.get("plane") < 2:
-            runner.interp._fault("heidenhain.position-after-cycle", op.span, f"cycle {ended} leaves the tool at the clearance height but not over its start point: "
+            runner.fault("heidenhain.position-after-cycle", op.span, f"cycle {ended} leaves the tool at the clearance height but not over its start point: "
                                  "the first positioning after it must give both plane axes absolute; an incremental or single-axis move goes somewhere else (seed L5930-5940)")
-    if not _get(state, "m89"):
+    if not state.klartext.m89:
         return None
-    definition = _get(state, "cycle")
+    definition = state.klartext.cycle
     if definition is None:
         return None
     return run_cycle(runner, op, block, definition)
@@ -662,7 +641,7 @@ def positioning_is_inert(state) -> bool:
     """Does a positioning line do nothing beyond moving and noting the point it reached at
     feed (no M89 cycle to run at each position, no cycle end to check)? Then plain lines
     may run as a batch (lower/heidenhain.py ``batch_allowed``)."""
-    return not _get(state, "m89") and _get(state, "ended_elsewhere") is None
+    return not state.klartext.m89 and state.klartext.ended_elsewhere is None
 
 
 def _call_words(how: str) -> str:
@@ -676,30 +655,30 @@ def _run_at_points(runner, op, block, points, feed=None, pattern: dict | None = 
     replace the machining cycle's for this and every later call, and with Q301 = 0 the
     tool moves between points at the set-up clearance only (reference B H34, H17)."""
     state = runner.state
-    definition = _get(state, "cycle")
+    definition = state.klartext.cycle
     if definition is None:
-        runner.interp._fault("heidenhain.call-without-cycle", op.span, "a pattern runs with no machining cycle defined before it: the control stops with an error")
+        runner.fault("heidenhain.call-without-cycle", op.span, "a pattern runs with no machining cycle defined before it: the control stops with an error")
         return None
     if pattern is not None:
         overrides = {name: pattern[name] for name in ("Q200", "Q203", "Q204") if name in pattern}
         definition = replace(definition, params={**definition.params, **overrides})
-        _put(state, "cycle", definition)
+        _put(state, cycle=definition)
     low = pattern is not None and pattern.get("Q301") == 0.0 and "Q200" in definition.params
     first, second_axis, axis = _plane(state)
     name = f"heidenhain.{definition.number}"
     for index, (x, y, z) in enumerate(points):
         level = state.position.get(axis)
-        runner._rapid_to({first: x, second_axis: y}, op.span, block, "between-holes", name, "rapid" if feed in (None, "FMAX") else "feed")
+        runner.move_to({first: x, second_axis: y}, op.span, block, "between-holes", name, "rapid" if feed in (None, "FMAX") else "feed")
         here = definition
         if low and index < len(points) - 1:
             here = replace(definition, params={**definition.params, "Q204": definition.params["Q200"]})
         surface = here.params.get("Q203")
         if z and type(surface) is float and surface != 0.0 and pattern is None:
-            runner.interp._fault("heidenhain.pattern-surface", op.span, f"pattern point X{x:g} Y{y:g} gives the surface Z{z:g} and cycle {definition.number} has "
+            runner.fault("heidenhain.pattern-surface", op.span, f"pattern point X{x:g} Y{y:g} gives the surface Z{z:g} and cycle {definition.number} has "
                                  f"Q203={surface:g}: the two add up, the surface is offset twice (seed L1168-1169)")
         run_cycle(runner, op, block, here, surface_offset=z if z else None)
         if pattern is None and level is not None and state.position.get(axis) is not None and _higher(level, state.position[axis]):
-            runner._rapid_to({axis: level}, op.span, block, "retract", name)
+            runner.move_to({axis: level}, op.span, block, "retract", name)
     return None
 
 
@@ -710,10 +689,9 @@ def _higher(a, b) -> bool:
 def run_cycle(runner, op, block, definition: Definition, shift=None, surface_offset=None):
     model = definition.model
     family = model.get("family")
-    interp = runner.interp
     state = runner.state
     if state.comp_side in ("left", "right"):
-        interp._fault("heidenhain.cycle-with-compensation", op.span, f"cycle {definition.number} is called while radius compensation "
+        runner.fault("heidenhain.cycle-with-compensation", op.span, f"cycle {definition.number} is called while radius compensation "
                       f"{'RL' if state.comp_side == 'left' else 'RR'} is on: position to the cycle's start point with R0 (seed L1629)")
     if family in _HOLE_FAMILIES:
         return _hole(runner, op, block, definition, shift, surface_offset)
@@ -733,10 +711,10 @@ def run_cycle(runner, op, block, definition: Definition, shift=None, surface_off
     if special is not None:
         return special(runner, op, block, definition, shift, surface_offset)
     if family == "old":  # the old fixed cycles start and end at the position of the call
-        interp.observer.cycle_run(CycleRun(f"heidenhain.{definition.number}", model, op.span, block, _numbers(definition.params), dict(definition.spans)), state)
+        runner.report_cycle(CycleRun(f"heidenhain.{definition.number}", model, op.span, block, _numbers(definition.params), dict(definition.spans)))
         return None
-    interp.observer.cycle_run(CycleRun(f"heidenhain.{definition.number}", model, op.span, block, _numbers(definition.params), dict(definition.spans)), state)
-    interp._fault("core.unsupported-code", op.span, f"the motion of cycle {definition.number} is not modelled; checks that depend on it answer unknown",
+    runner.report_cycle(CycleRun(f"heidenhain.{definition.number}", model, op.span, block, _numbers(definition.params), dict(definition.spans)))
+    runner.fault("core.unsupported-code", op.span, f"the motion of cycle {definition.number} is not modelled; checks that depend on it answer unknown",
                   "unknown", f"cycle {definition.number}")
     state.move_to(dict.fromkeys(state.position))
     return None
@@ -772,7 +750,6 @@ def _depth_name(definition: Definition) -> str:
 
 
 def _hole(runner, op, block, definition, shift, surface_offset):
-    interp = runner.interp
     state = runner.state
     axis = _plane(state)[2]
     params = dict(definition.params)
@@ -786,7 +763,7 @@ def _hole(runner, op, block, definition, shift, surface_offset):
     predrilled = _predrilled(state, set_up)
     hole = Hole(name, model, op.span, block, axis, dict(state.position), retract, None if predrilled else set_up, bottom, _numbers(params),
                 dict(definition.spans), missing, definition.span)
-    interp.observer.hole(hole, state)
+    runner.report_hole(hole)
     depth = params.get(_depth_name(definition))
     if missing or depth == 0.0:
         return None  # the control alarms, or skips a cycle of depth 0 (seed L1630-1631)
@@ -796,18 +773,18 @@ def _hole(runner, op, block, definition, shift, surface_offset):
     deepened = _deepened_start(params, set_up, found[3])
     deepened_predrilled = deepened is not None and _predrilled(state, deepened)
     _remember_hole(state, bottom)
-    runner._rapid_to({axis: set_up}, op.span, block, "into-hole" if predrilled else "approach", name)
+    runner.move_to({axis: set_up}, op.span, block, "into-hole" if predrilled else "approach", name)
     if deepened is not None:
         _to_deepened_start(runner, op, block, deepened, params.get("Q253"), deepened_predrilled, name)
     spindle = state.spindle
     if model.get("spindle_by_cycle") and spindle == "off":
         state.spindle = "cw"  # rigid tapping runs the spindle itself; it stays stopped after (seed L3915-3917)
     with _cycle_feed(state, params):
-        runner._rapid_to({axis: bottom}, op.span, block, "infeed", name, "feed")
+        runner.move_to({axis: bottom}, op.span, block, "infeed", name, "feed")
         out_kind = "feed" if model.get("retract") == "feed" else "rapid"
-        runner._rapid_to({axis: set_up}, op.span, block, "out-of-hole", name, out_kind)
+        runner.move_to({axis: set_up}, op.span, block, "out-of-hole", name, out_kind)
     state.spindle = spindle
-    runner._rapid_to({axis: retract}, op.span, block, "out-of-hole", name)  # on up the same axis
+    runner.move_to({axis: retract}, op.span, block, "out-of-hole", name)  # on up the same axis
     return None
 
 
@@ -825,22 +802,21 @@ def _to_deepened_start(runner, op, block, level, feed, predrilled: bool, name) -
     a hole is already there (reference A H30, seed L2438-2441, L2651-2656)."""
     axis = _plane(runner.state)[2]
     if feed == "FMAX":
-        runner._rapid_to({axis: level}, op.span, block, "into-hole" if predrilled else "approach", name)
+        runner.move_to({axis: level}, op.span, block, "into-hole" if predrilled else "approach", name)
         return
     with _cycle_feed(runner.state, {"Q206": feed}):
-        runner._rapid_to({axis: level}, op.span, block, "infeed", name, "feed")
+        runner.move_to({axis: level}, op.span, block, "infeed", name, "feed")
 
 
 def _back_bore(runner, op, block, definition, shift, surface_offset):
     """Cycle 204 (seed L2267-2291): FMAX to Q203 + Q200, down the pre-bored hole at Q253
     until the cutting edge is Q200 below the underside (the bar's tip Q252 lower still),
     counterbore up to the underside + Q249 at Q254, back out and up to the clearance."""
-    interp = runner.interp
     state = runner.state
     params = dict(definition.params)
     _offset_surface(params, shift, surface_offset)
     name = f"heidenhain.{definition.number}"
-    interp.observer.cycle_run(CycleRun(name, definition.model, op.span, block, _numbers(params), dict(definition.spans)), state)
+    runner.report_cycle(CycleRun(name, definition.model, op.span, block, _numbers(params), dict(definition.spans)))
     axis = _plane(state)[2]
     found = [params.get(q) for q in ("Q203", "Q200", "Q250", "Q252", "Q249")]
     if any(type(value) is not float for value in found):
@@ -849,12 +825,12 @@ def _back_bore(runner, op, block, definition, shift, surface_offset):
     surface, clearance, thickness, edge, counterbore = found
     second = params.get("Q204", 0.0)
     underside = surface - thickness
-    runner._rapid_to({axis: surface + clearance}, op.span, block, "approach", name)
-    runner._rapid_to({axis: underside - clearance - edge}, op.span, block, "through-bore", name)
+    runner.move_to({axis: surface + clearance}, op.span, block, "approach", name)
+    runner.move_to({axis: underside - clearance - edge}, op.span, block, "through-bore", name)
     with _cycle_feed(state, {"Q206": params.get("Q254")}):
-        runner._rapid_to({axis: underside + counterbore - edge}, op.span, block, "infeed", name, "feed")
-    runner._rapid_to({axis: underside - clearance - edge}, op.span, block, "out-of-hole", name)
-    runner._rapid_to({axis: surface + max(clearance, second if type(second) is float else 0.0)}, op.span, block, "out-of-hole", name)
+        runner.move_to({axis: underside + counterbore - edge}, op.span, block, "infeed", name, "feed")
+    runner.move_to({axis: underside - clearance - edge}, op.span, block, "out-of-hole", name)
+    runner.move_to({axis: surface + max(clearance, second if type(second) is float else 0.0)}, op.span, block, "out-of-hole", name)
     return None
 
 
@@ -863,17 +839,15 @@ def _sl_cycle(runner, op, block, definition):
     cycle moves to set-up clearance Q5 + Q6, machines to Q5 + Q1 and leaves the tool at the
     clearance height Q7 with its plane position unknown (posAfterContPocket, reference B
     §4.5); the contour's region goes to the rules as ``@region``."""
-    from .heidenhain_contour import contours, region
-
-    interp = runner.interp
+    from .contour import contours, region
     state = runner.state
     name = f"heidenhain.{definition.number}"
-    labels = _get(state, "sl_labels")
-    data = _get(state, "sl_data")
-    contour = labels or _get(state, "contour_source", ("",))[0] == "SEL CONTOUR"
+    labels = state.klartext.sl_labels
+    data = state.klartext.sl_data
+    contour = labels or (state.klartext.contour_source or ("",))[0] == "SEL CONTOUR"
     if not contour or data is None:
         missing = " and ".join(what for what, have in (("a contour (cycle 14 or CONTOUR DEF)", contour), ("contour data (cycle 20)", data)) if not have)
-        interp._fault("heidenhain.sl-prerequisites", op.span, f"cycle {definition.number} is called without {missing} defined before it: the control stops with an error (seed L9532-9535)")
+        runner.fault("heidenhain.sl-prerequisites", op.span, f"cycle {definition.number} is called without {missing} defined before it: the control stops with an error (seed L9532-9535)")
         state.move_to(dict.fromkeys(state.position))
         return None
     params = dict(data[0])
@@ -882,14 +856,14 @@ def _sl_cycle(runner, op, block, definition):
     spans.update(definition.spans)
     use = _contour_use(runner, op)
     found = contours(use.subprograms, labels)
-    kinds = _get(state, "sl_kinds")
+    kinds = state.klartext.sl_kinds
     if found is not None and kinds is not None:
         found = [replace(contour, pocket=pocket) for contour, pocket in zip(found, kinds)]
     area = region(found, by_start_points=use.how == "cycle 14") if found else None
-    facts = {"@region": area, "@contour": use, "@own_q": _own_reserved(state), "@last_rougher": _get(state, "sl_rougher")}
+    facts = {"@region": area, "@contour": use, "@own_q": _own_reserved(state), "@last_rougher": state.klartext.sl_rougher}
     _observe(runner, CycleRun(name, definition.model, op.span, block, params, spans), facts)
     if definition.number == 22:
-        _put(state, "sl_rougher", state.tool_in_spindle)  # what Q438 = -1 of cycle 24 refers to (seed L9818-9840)
+        _put(state, sl_rougher=state.tool_in_spindle)  # what Q438 = -1 of cycle 24 refers to (seed L9818-9840)
     first, second, axis = _plane(state)
     surface, clearance, depth, height = (params.get(q) for q in ("Q5", "Q6", "Q1", "Q7"))
     if any(type(value) is not float for value in (surface, clearance, depth, height)):
@@ -897,11 +871,11 @@ def _sl_cycle(runner, op, block, definition):
         return None
     direction = 1.0 if depth > 0 else -1.0
     state.move_to({first: None, second: None})  # the plunge point is where the control computes it
-    runner._rapid_to({axis: surface - direction * clearance}, op.span, block, "approach", name)
+    runner.move_to({axis: surface - direction * clearance}, op.span, block, "approach", name)
     with _cycle_feed(state, {"Q206": params.get("Q11", params.get("Q12"))}):
-        runner._rapid_to({axis: surface + depth}, op.span, block, "infeed", name, "feed")
-    runner._rapid_to({axis: height}, op.span, block, "out-of-hole", name)
-    _put(state, "ended_elsewhere", definition.number)  # posAfterContPocket may leave the tool anywhere (reference B §4.5)
+        runner.move_to({axis: surface + depth}, op.span, block, "infeed", name, "feed")
+    runner.move_to({axis: height}, op.span, block, "out-of-hole", name)
+    _put(state, ended_elsewhere=definition.number)  # posAfterContPocket may leave the tool anywhere (reference B §4.5)
     return None
 
 
@@ -909,12 +883,11 @@ def _ocm_cycle(runner, op, block, definition):
     """OCM 272-274: the data of 271 or of a standard shape 1271-1278; set-up clearance
     Q203 + Q200, floor Q203 + Q201, clearance height Q260 (absolute) at the end, the plane
     position then unknown. The shape's number goes to the rules as ``@shape``."""
-    interp = runner.interp
     state = runner.state
     name = f"heidenhain.{definition.number}"
-    data = _get(state, "ocm")
+    data = state.klartext.ocm
     if data is None:
-        interp._fault("heidenhain.sl-prerequisites", op.span, f"cycle {definition.number} is called without OCM data (cycle 271 or a shape 1271-1278) defined before it: "
+        runner.fault("heidenhain.sl-prerequisites", op.span, f"cycle {definition.number} is called without OCM data (cycle 271 or a shape 1271-1278) defined before it: "
                       "the control stops with an error (seed L11211-11215)")
         state.move_to(dict.fromkeys(state.position))
         return None
@@ -924,36 +897,36 @@ def _ocm_cycle(runner, op, block, definition):
     params["@shape"] = float(shape)
     spans = dict(spans_)
     spans.update(definition.spans)
-    facts = {"@contour": _contour_use(runner, op) if shape == 271 else None, "@boundary": _get(state, "ocm_boundary"),
-             "@rougher_forgotten": _get(state, "roughed_since_contour_def") is False}
+    facts = {"@contour": _contour_use(runner, op) if shape == 271 else None, "@boundary": state.klartext.ocm_boundary,
+             "@rougher_forgotten": state.klartext.roughed_since_contour_def is False}
     _observe(runner, CycleRun(name, definition.model, op.span, block, params, spans), facts)
     if definition.number == 272:
-        _put(state, "roughed_since_contour_def", True)
+        _put(state, roughed_since_contour_def=True)
     first, second, axis = _plane(state)
     surface, clearance, depth, height = (params.get(q) for q in ("Q203", "Q200", _depth_name(definition), "Q260"))
     state.move_to({first: None, second: None})
     if any(type(value) is not float for value in (surface, clearance, depth, height)):
         state.move_to({axis: None})
         return None
-    runner._rapid_to({axis: surface + clearance}, op.span, block, "approach", name)
+    runner.move_to({axis: surface + clearance}, op.span, block, "approach", name)
     with _cycle_feed(state, {"Q207": params.get("Q207", params.get("Q385"))}):  # 273/274 finish at Q385
-        runner._rapid_to({axis: surface + depth}, op.span, block, "infeed", name, "feed")
-    runner._rapid_to({axis: height}, op.span, block, "out-of-hole", name)
-    _put(state, "ended_elsewhere", definition.number)
+        runner.move_to({axis: surface + depth}, op.span, block, "infeed", name, "feed")
+    runner.move_to({axis: height}, op.span, block, "out-of-hole", name)
+    _put(state, ended_elsewhere=definition.number)
     return None
 
 
 def _contour_use(runner, op):
     """The contour a cycle machines, as cycle 14 or CONTOUR DEF left it, with what its
     subprograms hold; None when neither was defined."""
-    from .heidenhain_contour import ContourUse, subprograms
+    from .contour import ContourUse, subprograms
 
     state = runner.state
-    labels = _get(state, "sl_labels") or ()
-    how, span, kinds, depths = _get(state, "contour_source", ("cycle 14", op.span, None, None))
+    labels = state.klartext.sl_labels or ()
+    how, span, kinds, depths = state.klartext.contour_source or ("cycle 14", op.span, None, None)
     if not labels and how != "SEL CONTOUR":
         return None
-    return ContourUse(how, span, tuple(labels), kinds, depths, tuple(subprograms(runner.interp, labels, op.span)))
+    return ContourUse(how, span, tuple(labels), kinds, depths, tuple(subprograms(runner, labels, op.span)))
 
 
 def _own_reserved(state) -> tuple:
@@ -966,16 +939,16 @@ def _observe(runner, run: CycleRun, facts: dict) -> None:
     """Hand a cycle run to the rules with facts that are not parameters (the contour, its
     region), taken away again after: later rules and constraints see only numbers."""
     run.params.update(facts)
-    runner.interp.observer.cycle_run(run, runner.state)
+    runner.report_cycle(run)
     for name in facts:
         run.params.pop(name, None)
 
 
 def _missing_contour(runner, op, definition, seed: str) -> bool:
     """Report a contour cycle called with no cycle 14 before it (reference B H33)."""
-    if _get(runner.state, "sl_labels"):
+    if runner.state.klartext.sl_labels:
         return False
-    runner.interp._fault("heidenhain.sl-prerequisites", op.span, f"cycle {definition.number} is called without a contour (cycle 14) defined before it: "
+    runner.fault("heidenhain.sl-prerequisites", op.span, f"cycle {definition.number} is called without a contour (cycle 14) defined before it: "
                          f"the control stops with an error ({seed})")
     runner.state.move_to(dict.fromkeys(runner.state.position))
     return True
@@ -992,7 +965,7 @@ def _contour_train(runner, op, block, definition):
     number = definition.number
     if _missing_contour(runner, op, definition, "seed L10019, L10217-10218, L10453-10455"):
         return None
-    data, data_spans = _get(state, "train_data", ({}, {})) if number in (25, 276) else ({}, {})  # cycle 270 (275 takes none)
+    data, data_spans = state.klartext.train_data if number in (25, 276) else ({}, {})  # cycle 270 (275 takes none)
     params = {**data, **_numbers(definition.params)}
     spans = {**data_spans, **definition.spans}
     name = f"heidenhain.{number}"
@@ -1009,22 +982,22 @@ def _contour_train(runner, op, block, definition):
             state.move_to({axis: None})
             return None
         set_up, bottom, retract, _direction = found
-        runner._rapid_to({axis: set_up}, op.span, block, "approach", name)
+        runner.move_to({axis: set_up}, op.span, block, "approach", name)
         with _cycle_feed(state, params):
-            runner._rapid_to({axis: bottom}, op.span, block, "infeed", name, "feed")
-        runner._rapid_to({axis: retract}, op.span, block, "out-of-hole", name)
+            runner.move_to({axis: bottom}, op.span, block, "infeed", name, "feed")
+        runner.move_to({axis: retract}, op.span, block, "out-of-hole", name)
     else:
         surface, height = params.get("Q5"), params.get("Q7")
         if number == 25 and type(surface) is float and type(depth) is float:
             with _cycle_feed(state, {"Q206": params.get("Q11")}):
-                runner._rapid_to({axis: surface + depth}, op.span, block, "infeed", name, "feed")
+                runner.move_to({axis: surface + depth}, op.span, block, "infeed", name, "feed")
         else:
             state.move_to({axis: None})
         if type(height) is not float:
             state.move_to({axis: None})
             return None
-        runner._rapid_to({axis: height}, op.span, block, "out-of-hole", name)
-    _put(state, "ended_elsewhere", number)
+        runner.move_to({axis: height}, op.span, block, "out-of-hole", name)
+    _put(state, ended_elsewhere=number)
     return None
 
 
@@ -1032,7 +1005,6 @@ def _cylinder_cycle(runner, op, block, definition):
     """27/28/29/39 machine the contour of cycle 14 on the unrolled surface of a rotary axis
     (reference B 6.27). Their parameters and the machine state at the call are checked; the
     path on the cylinder is not modelled, so where they leave the tool is unknown."""
-    interp = runner.interp
     state = runner.state
     number = definition.number
     if _missing_contour(runner, op, definition, "seed L13576-13600"):
@@ -1042,12 +1014,12 @@ def _cylinder_cycle(runner, op, block, definition):
              {"@contour": _contour_use(runner, op), "@spindle": state.spindle, "@own_q": _own_reserved(state)})
     if params.get("Q1") == 0.0:
         return None  # depth 0: the control skips the cycle (seed L13649-13650)
-    interp._fault("core.unsupported-code", op.span, f"cycle {number} machines on the unrolled surface of the rotary axis, which is not modelled: "
+    runner.fault("core.unsupported-code", op.span, f"cycle {number} machines on the unrolled surface of the rotary axis, which is not modelled: "
                   "where it leaves the tool is unknown, so the moves after it are not checked until the program positions every axis again",
                   "unknown", f"cycle {number} (cylinder surface)")
     state.move_to(dict.fromkeys(state.position))
     if number == 28:
-        _put(state, "ended_elsewhere", number)  # the slot ends at the opposite wall (seed L13776-13785)
+        _put(state, ended_elsewhere=number)  # the slot ends at the opposite wall (seed L13776-13785)
     return None
 
 
@@ -1057,14 +1029,14 @@ def _predrilled(state, level) -> bool:
     point = _plane_point(state)
     if type(level) is not float or None in point:
         return False
-    return any(x == point[0] and y == point[1] and type(bottom) is float and bottom <= level for x, y, bottom in _get(state, "drilled", ()))
+    return any(x == point[0] and y == point[1] and type(bottom) is float and bottom <= level for x, y, bottom in state.klartext.drilled)
 
 
 def _remember_hole(state, bottom) -> None:
-    drilled = _get(state, "drilled", ())
+    drilled = state.klartext.drilled
     point = _plane_point(state)
     if None not in point and len(drilled) < 10_000:
-        _put(state, "drilled", drilled + ((point[0], point[1], bottom),))
+        _put(state, drilled=drilled + ((point[0], point[1], bottom),))
 
 
 def _pitch_feed(state, pitch):
@@ -1082,7 +1054,7 @@ class _cycle_feed:
         feed = params.get("Q206", params.get("Q207"))
         if feed is None and "Q239" in params and not isinstance(params["Q239"], str):
             feed = _pitch_feed(state, params["Q239"])  # rigid tapping: S x pitch (seed L3887-3898)
-        self.feed = feed if feed is not None and not isinstance(feed, str) else (_get(state, "tool_feed") if feed == "AUTO" else None)
+        self.feed = feed if feed is not None and not isinstance(feed, str) else (state.klartext.tool_feed if feed == "AUTO" else None)
 
     def __enter__(self):
         self.saved = self.state.feed
@@ -1105,13 +1077,12 @@ def _pocket(runner, op, block, definition, shift, surface_offset):
     """Pockets, studs, slots and face milling: the levels are those of a hole (the cutting
     paths in the plane are not traced); the cycle ends at the 2nd set-up clearance, over
     the centre for pockets and elsewhere for studs and for slots that start at an end."""
-    interp = runner.interp
     state = runner.state
     params = dict(definition.params)
     _offset_surface(params, shift, surface_offset)
     model = definition.model
     name = f"heidenhain.{definition.number}"
-    interp.observer.cycle_run(CycleRun(name, model, op.span, block, _numbers(params), dict(definition.spans)), state)
+    runner.report_cycle(CycleRun(name, model, op.span, block, _numbers(params), dict(definition.spans)))
     axis = _plane(state)[2]
     if definition.number == 233 and type(params.get("Q227")) is float and type(params.get("Q386")) is float:
         params.update(Q203=params["Q227"], **{"@233": params["Q386"] - params["Q227"]})  # start and end in the tool axis (seed L7112-7528)
@@ -1126,14 +1097,14 @@ def _pocket(runner, op, block, definition, shift, surface_offset):
     first, second, _normal = _plane(state)
     if model.get("family") == "stud":
         state.move_to({first: None, second: None})  # studs start beside the stud, where Q437 / Q224 put the tool
-    runner._rapid_to({axis: set_up}, op.span, block, "approach", name)
+    runner.move_to({axis: set_up}, op.span, block, "approach", name)
     with _cycle_feed(state, params):
-        runner._rapid_to({axis: bottom}, op.span, block, "infeed", name, "feed")
-        runner._rapid_to({axis: set_up}, op.span, block, "out-of-hole", name, "feed")
-    runner._rapid_to({axis: retract}, op.span, block, "retract", name)
+        runner.move_to({axis: bottom}, op.span, block, "infeed", name, "feed")
+        runner.move_to({axis: set_up}, op.span, block, "out-of-hole", name, "feed")
+    runner.move_to({axis: retract}, op.span, block, "retract", name)
     if model.get("ends_elsewhere") or (model.get("family") == "slot" and params.get("Q367", 0.0) != 0.0):
         state.move_to({first: None, second: None})
-        _put(state, "ended_elsewhere", definition.number)
+        _put(state, ended_elsewhere=definition.number)
     return None
 
 
@@ -1141,14 +1112,13 @@ _RUNNERS = {
     "pole": _pole_run, "arc": _arc_run, "tangent": _tangent_run, "polar": _polar_run, "retract": _retract_run,
     "tool_feed": _tool_feed_run, "label_call": _label_call_run, "end_pgm": _end_pgm_run, "define": _define_run,
     "old_cycle": _old_cycle_run, "trans": _trans_run, "pattern": _pattern_run, "call": _call_run,
-    "select_pattern": heidenhain_special.select_pattern_run, "m_function": heidenhain_special.m_function_run,
+    "select_pattern": special.select_pattern_run, "m_function": special.m_function_run,
     "positioned": _positioned_run, "tool_length": _tool_length_run, "lift": _lift_run, "comp": _comp_run, "spindle": _spindle_run, "contour_def": _contour_def_run, "global_def": _global_def_run,
     "approach": _approach_run, "select_contour": _select_contour_run, "declare_contour": _declare_contour_run,
 }
-_SPECIAL_FAMILIES = {"engrave": heidenhain_special.engrave, "face232": heidenhain_special.face_milling,
-                     "thread_cut": heidenhain_special.thread_cutting, "machine_moving": heidenhain_special.machine_moving,
-                     "pgm_call": heidenhain_special.program_call}
+_SPECIAL_FAMILIES = {"engrave": special.engrave, "face232": special.face_milling,
+                     "thread_cut": special.thread_cutting, "machine_moving": special.machine_moving,
+                     "pgm_call": special.program_call}
 
-for _what, _run in _RUNNERS.items():
-    cycles.register_shape(f"heidenhain.{_what}", _run)
+CYCLES = cycles.DialectCycles(shapes={f"heidenhain.{what}": run for what, run in _RUNNERS.items()})
 

@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import re
 
-from .. import values
+from ... import values
 
 _NUMBER = r"\d+(?:\.\d*)?|\.\d+"
 _DEVIATIONS = re.compile(rf"({_NUMBER})([+-](?:{_NUMBER}))([+-](?:{_NUMBER}))")

@@ -2,7 +2,7 @@
 and ``TRANS``, as one :class:`ncverify.frames.Frame`.
 
 The active transformations are kept per cycle number in the path's dialect state
-``("heidenhain", "transforms")`` (a sorted tuple of ``(number, data)``, empty when none is
+``state.klartext.transforms`` (a sorted tuple of ``(number, data)``, empty when none is
 active); every change rebuilds the frame and hands it to the interpreter. How they combine
 (my reading, tested in tests/test_frames.py):
 
@@ -29,7 +29,9 @@ active); every change rebuilds the frame and hands it to the interpreter. How th
 """
 from __future__ import annotations
 
-from .. import frames, values
+from dataclasses import replace
+
+from ... import frames, values
 
 _NEUTRAL_FACTOR = 1.0
 RESET_BY_DATUM_SETTING = frozenset({7, 8, 10, 11, 26})  # cycle 247: all but the tilted plane
@@ -39,38 +41,36 @@ _XYZ = frozenset(frames.AXES)
 def transform(runner, op, number: int, params: dict) -> None:
     """One transformation cycle (or a sub-block of one, or TRANS) runs."""
     state = runner.state
-    interp = runner.interp
-    active = dict(state.rule_state.get(("heidenhain", "transforms"), ()) or ())
-    data = _component(interp, op, number, params, active.get(number), state.plane_axes)
+    active = dict(state.klartext.transforms)
+    data = _component(runner, op, number, params, active.get(number), state.plane_axes)
     if data is None:
         active.pop(number, None)
     else:
         active[number] = data
     if number == 19 and data is not None:
-        interp._fault("core.unsupported-code", op.span, "tilting the working plane (cycle 19, PLANE) is not modelled: positions after it are unknown "
+        runner.fault("core.unsupported-code", op.span, "tilting the working plane (cycle 19, PLANE) is not modelled: positions after it are unknown "
                       "until it is reset (cycle 19 with all angles 0, PLANE RESET)", "unknown", "tilted working plane")
-    set_transforms(interp, active, op.span)
+    set_transforms(runner, active, op.span)
 
 
-def reset(interp, numbers, span=None) -> None:
+def reset(runner, numbers, span=None) -> None:
     """The transformations of cycles ``numbers`` end (TRANS ... RESET at ``span``; cycle 247,
     which sets a new datum, with no span: it is no reset in an order)."""
-    active = dict(interp.state.rule_state.get(("heidenhain", "transforms"), ()) or ())
-    set_transforms(interp, {number: data for number, data in active.items() if number not in numbers}, span)
+    active = dict(runner.state.klartext.transforms)
+    set_transforms(runner, {number: data for number, data in active.items() if number not in numbers}, span)
 
 
-def set_transforms(interp, active: dict, span=None) -> None:
+def set_transforms(runner, active: dict, span=None) -> None:
     """Make ``active`` the transformations in force. The order they were activated in is
     kept beside them; a change of it at ``span`` goes to the rules as a ``transforms``
     change (old and new order), which is how the reset order (seed L8166-8178) is judged."""
-    state = interp.state
-    before = state.rule_state.get(("heidenhain", "transform-order"), ())
+    state = runner.state
+    before = state.klartext.transform_order
     order = tuple(number for number in before if number in active) + tuple(sorted(number for number in active if number not in before))
-    state.rule_state[("heidenhain", "transforms")] = tuple(sorted(active.items()))
-    state.rule_state[("heidenhain", "transform-order")] = order
-    interp.set_frame(frame_of(active))
+    state.klartext = replace(state.klartext, transforms=tuple(sorted(active.items())), transform_order=order)
+    runner.set_frame(frame_of(active))
     if span is not None and order != before:
-        interp._change("transforms", span, None, before, order)
+        runner.change("transforms", span, None, before, order)
 
 
 def frame_of(active: dict) -> frames.Frame:
@@ -91,10 +91,10 @@ def frame_of(active: dict) -> frames.Frame:
     return frame
 
 
-def _component(interp, op, number: int, params: dict, old, plane):
+def _component(runner, op, number: int, params: dict, old, plane):
     """What cycle ``number`` holds after this definition (None: neutral, reset)."""
     if number == 7:
-        return _shift(interp, op, params, dict(old or ()))
+        return _shift(runner, op, params, dict(old or ()))
     if number == 8:
         return tuple(sorted(axis for axis in params if axis in _XYZ)) or None
     if number == 10:
@@ -109,11 +109,11 @@ def _component(interp, op, number: int, params: dict, old, plane):
     return None
 
 
-def _shift(interp, op, params: dict, shift: dict):
+def _shift(runner, op, params: dict, shift: dict):
     if "#" in params:
         row = params["#"]
         shown = f"{row:g}" if type(row) is float else "(a Q parameter)"
-        interp._fault("core.unsupported-code", op.span, f"datum shift from row {shown} of a datum table: the table is not known here "
+        runner.fault("core.unsupported-code", op.span, f"datum shift from row {shown} of a datum table: the table is not known here "
                       "(SEL TABLE names it on the control), so positions after it are unknown", "unknown", "datum table not known")
         return tuple((axis, None) for axis in frames.AXES)
     for word, value in params.items():

@@ -15,11 +15,11 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from . import ir, values
-from .dialect import logical_lines
-from .source import ProgramSource, Span
-from .trace import Fault
-from .values import VACANT, Condition
+from .. import ir, values
+from ..dialect import logical_lines
+from ..source import ProgramSource, Span
+from ..trace import Fault
+from ..values import VACANT, Condition
 
 # Fanuc argument specification I: G65 letters to local variables.
 _ARGUMENT_VARIABLES = {
@@ -43,7 +43,7 @@ class Position:
 
 
 @dataclass(slots=True)
-class Frame:
+class CallFrame:
     """A subprogram or macro call on the stack."""
 
     kind: str  # main, subprogram, macro, local
@@ -230,12 +230,12 @@ class ControlFlow:
                 return source, offset
         return None
 
-    def find_label(self, label: float, span, source: ProgramSource | None = None, frame: Frame | None = None,
+    def find_label(self, label: float, span, source: ProgramSource | None = None, frame: CallFrame | None = None,
                    direction: str | None = None) -> Position:
         """The block carrying ``label``. ``direction`` ``forward`` / ``backward`` searches
         only that way from the current block and takes the nearest (SINUMERIK GOTOF/GOTOB,
         where a label may repeat); ``nearest`` tries forward, then backward (GOTO)."""
-        frame = frame or self.state.frames[-1]
+        frame = frame or self.state.call_stack[-1]
         source = source or frame.source
         key = (id(source), frame.program, label)
         found = self.label_cache.get(key)
@@ -258,7 +258,7 @@ class ControlFlow:
             self.observer.fault(Fault("core.duplicate-label", span, f"{self.frontend.describe_label(label)} appears {len(found)} times in {frame.program}; the jump goes to the first one after the current block"))
         return (after or found)[0]
 
-    def _scan_label(self, source: ProgramSource, frame: Frame, label: float) -> list[Position]:
+    def _scan_label(self, source: ProgramSource, frame: CallFrame, label: float) -> list[Position]:
         start, end = self._program_bounds(source, frame.start)
         path = self._path_name(source)
         found = []
@@ -304,7 +304,7 @@ class ControlFlow:
             self._fault("core.program-not-found", op.span, f"program {self.frontend.program_name(program)} called here is not in this file{where}: the control alarms")
             return None
         source, start = found
-        if len(state.frames) > self.settings.call_depth:
+        if len(state.call_stack) > self.settings.call_depth:
             self._fault("core.call-depth", op.span, f"calls nest deeper than {self.settings.call_depth} levels (recursion through {self.frontend.program_name(program)}?): the control alarms")
             raise PathEnd
         local_variables = None
@@ -312,11 +312,11 @@ class ControlFlow:
             local_variables = self._macro_arguments(op)
         elif op.kind == "proc":
             local_variables = self._proc_arguments(op, source, start)
-        frame = Frame(op.kind, self.frontend.program_name(program), source, start, self._next_position(), int(repeat) - 1)
+        frame = CallFrame(op.kind, self.frontend.program_name(program), source, start, self._next_position(), int(repeat) - 1)
         if local_variables is not None:
             frame.local_variables = state.local_variables
             state.local_variables = local_variables
-        state.frames.append(frame)
+        state.call_stack.append(frame)
         self._change("call", op.span, block, None, frame.program)
         entry = Position(source, start)
         if op.start_label is not None:
@@ -352,17 +352,17 @@ class ControlFlow:
         if type(label) not in (float, str):
             self._fault("core.label-not-found", op.span, "the call names no label (M97 without P?)")
             return None
-        current = self.state.frames[-1]
+        current = self.state.call_stack[-1]
         target = self.find_label(label, op.span)
-        frame = Frame("local", current.program, current.source, current.start, self._next_position(), repeat - 1)
+        frame = CallFrame("local", current.program, current.source, current.start, self._next_position(), repeat - 1)
         frame.local_variables = None
-        self.state.frames.append(frame)
+        self.state.call_stack.append(frame)
         frame.start = target.offset
         return target
 
     def _return(self, op: ir.Return, block):
         state = self.state
-        frame = state.frames[-1]
+        frame = state.call_stack[-1]
         if op.local_only and frame.kind != "local":
             return None
         if frame.kind == "called":
@@ -374,7 +374,7 @@ class ControlFlow:
             frame.repeats_left -= 1
             self._count_jump(Position(frame.source, frame.start), op.span, f"the repeat of {frame.program}")
             return Position(frame.source, frame.start)
-        state.frames.pop()
+        state.call_stack.pop()
         if frame.local_variables is not None:
             state.local_variables = frame.local_variables
         self._change("return", op.span, block, frame.program, None)
@@ -401,14 +401,14 @@ class ControlFlow:
         raise PathEnd
 
     def _ran_off_the_end(self, source: ProgramSource) -> None:
-        frame = self.state.frames[-1]
+        frame = self.state.call_stack[-1]
         last_line = max(source.line_number_at(len(source)) - (1 if source.buffer[-1:] == b"\n" else 0), 1) if len(source) else 1
         span = Span(last_line, 1, last_line, 1, self._path_name(source))
         program, end_code = _unended(frame)
         self._fault("core.program-end-missing", span, f"{program} ends without {end_code}: the control stops at the end of the text with the spindle and coolant as they are")
         self._change("end", span, None, None, "eof")
 
-    def _program_ran_into_next(self, block: ir.Block, frame: Frame) -> None:
+    def _program_ran_into_next(self, block: ir.Block, frame: CallFrame) -> None:
         program, end_code = _unended(frame)
         self._fault("core.program-end-missing", block.span, f"{program} runs into program {block.program_start} without {end_code}")
         self._change("end", block.span, block, None, "eof")
@@ -450,7 +450,7 @@ class ControlFlow:
                             self.observer.note(note)
 
 
-def _unended(frame: Frame) -> tuple[str, str]:
+def _unended(frame: CallFrame) -> tuple[str, str]:
     """How a message names the program of ``frame``, and the code that should end it."""
     program = frame.program if frame.program != "main" else "the program"
     return program, "M02/M30" if frame.kind == "main" else "M99"

@@ -12,9 +12,9 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
-from .. import ir
-from . import heidenhain_run as run
-from ..trace import CycleRun
+from ... import ir
+from . import runtime as run
+from ...trace import CycleRun
 
 # One printed character of an engraving text: an escape (%% %ae %time08 %count9 \\ \t) or a
 # plain character (reference B 6.34).
@@ -29,18 +29,17 @@ def engraved_characters(text: str) -> int:
 def _observe(runner, op, block, definition, params, extra: dict | None = None) -> None:
     numbers = run._numbers(params)
     numbers.update(extra or {})
-    runner.interp.observer.cycle_run(CycleRun(f"heidenhain.{definition.number}", definition.model, op.span, block, numbers, dict(definition.spans)), runner.state)
+    runner.report_cycle(CycleRun(f"heidenhain.{definition.number}", definition.model, op.span, block, numbers, dict(definition.spans)))
 
 
 def datamatrix(runner, op, block) -> None:
     """Cycle 224 runs the last machining cycle at every dark cell of the code of QS501. Which
     cells are dark is not computed, so the holes are not placed and the tool ends somewhere
     on the code at the 2nd set-up clearance (seed L8675-8702)."""
-    interp = runner.interp
     state = runner.state
-    if run._get(state, "cycle") is None:
-        interp._fault("heidenhain.call-without-cycle", op.span, "cycle 224 runs the last machining cycle at the cells of its code, but no machining cycle is defined before it")
-    interp._fault("core.unsupported-code", op.span, "cycle 224's cells come from the DataMatrix code of its text, which is not computed: the holes it machines "
+    if state.klartext.cycle is None:
+        runner.fault("heidenhain.call-without-cycle", op.span, "cycle 224 runs the last machining cycle at the cells of its code, but no machining cycle is defined before it")
+    runner.fault("core.unsupported-code", op.span, "cycle 224's cells come from the DataMatrix code of its text, which is not computed: the holes it machines "
                   "are not placed and the position after it is unknown", "unknown", "cycle 224")
     state.move_to(dict.fromkeys(state.position))
 
@@ -66,13 +65,13 @@ def engrave(runner, op, block, definition, shift, surface_offset) -> None:
     name = f"heidenhain.{definition.number}"
     here = state.position.get(axis)
     if here is None or (type(here) is float and type(retract) is float and here < retract):
-        runner._rapid_to({axis: retract}, op.span, block, "retract", name)
+        runner.move_to({axis: retract}, op.span, block, "retract", name)
     state.move_to({first: None, second: None})
-    runner._rapid_to({axis: set_up}, op.span, block, "approach", name)
+    runner.move_to({axis: set_up}, op.span, block, "approach", name)
     with run._cycle_feed(state, params):
-        runner._rapid_to({axis: bottom}, op.span, block, "infeed", name, "feed")
-    runner._rapid_to({axis: set_up}, op.span, block, "out-of-hole", name)
-    runner._rapid_to({axis: retract}, op.span, block, "retract", name)
+        runner.move_to({axis: bottom}, op.span, block, "infeed", name, "feed")
+    runner.move_to({axis: set_up}, op.span, block, "out-of-hole", name)
+    runner.move_to({axis: retract}, op.span, block, "retract", name)
     return None
 
 
@@ -96,13 +95,13 @@ def face_milling(runner, op, block, definition, shift, surface_offset) -> None:
     safe = start + max(clearance, second_clearance)
     here = state.position.get(axis)
     if here is None or (type(here) is float and here < safe):
-        runner._rapid_to({axis: safe}, op.span, block, "retract", name)
+        runner.move_to({axis: safe}, op.span, block, "retract", name)
     state.move_to({first: None, second: None})
-    runner._rapid_to({axis: safe}, op.span, block, "approach", name)
+    runner.move_to({axis: safe}, op.span, block, "approach", name)
     feed = params.get("Q253")
     with run._cycle_feed(state, {"Q206": feed if type(feed) is float else params.get("Q207")}):
-        runner._rapid_to({axis: end}, op.span, block, "infeed", name, "rapid" if feed == "FMAX" else "feed")
-    runner._rapid_to({axis: safe}, op.span, block, "out-of-hole", name)
+        runner.move_to({axis: end}, op.span, block, "infeed", name, "rapid" if feed == "FMAX" else "feed")
+    runner.move_to({axis: safe}, op.span, block, "out-of-hole", name)
     return None
 
 
@@ -126,7 +125,7 @@ def thread_cutting(runner, op, block, definition, shift, surface_offset) -> None
     state.spindle = "cw"  # the cycle runs the spindle itself
     if pitch is not None and not isinstance(pitch, str):
         state.feed = run._pitch_feed(state, pitch)
-    runner._rapid_to({axis: here + depth}, op.span, block, "infeed", name, "feed")
+    runner.move_to({axis: here + depth}, op.span, block, "infeed", name, "feed")
     state.spindle, state.feed = spindle, saved
     return None
 
@@ -134,15 +133,14 @@ def thread_cutting(runner, op, block, definition, shift, surface_offset) -> None
 def program_call(runner, op, block, definition, shift, surface_offset):
     """Cycle 12 runs the program of 12.1 at each call, like CALL PGM: its Q parameters are
     the caller's (seed L14990-14991). At the points of a pattern the call is not followed."""
-    interp = runner.interp
     program = definition.params.get("@program")
     single = op.cycle == "heidenhain.@positioned" or (op.cycle == "heidenhain.@call" and op.params.get("how") != "PAT")
     if not isinstance(program, str) or not single:
-        interp._fault("core.unsupported-code", op.span, "cycle 12 at the points of a pattern, or without a program name, is not followed: "
+        runner.fault("core.unsupported-code", op.span, "cycle 12 at the points of a pattern, or without a program name, is not followed: "
                       "what the called program does is not analysed", "unknown", "cycle 12")
         runner.state.move_to(dict.fromkeys(runner.state.position))
         return None
-    return interp._call(ir.Call(op.span, "subprogram", program), block)
+    return runner.call_subprogram(ir.Call(op.span, "subprogram", program), block)
 
 
 def machine_moving(runner, op, block, definition, shift, surface_offset) -> None:
@@ -158,7 +156,7 @@ def point_table(runner, op, name: str):
     """The points of a point table (``SEL PATTERN "HOLES.PNT"``) from the file beside the
     program: the columns named in its ``NR X Y Z ...`` header, faded points (FADE Y) left
     out; None when the file is not there (reference A 4.5)."""
-    here = op.span.path or runner.interp.source.path
+    here = op.span.path or runner.main_source.path
     candidate = (Path(here).parent if here else Path(".")) / re.split(r"[\\/:]", name)[-1]
     if not candidate.is_file():
         return None
@@ -186,9 +184,9 @@ def select_pattern_run(runner, op, block, model, params):
     name = params.get("table")
     points = point_table(runner, op, name) if isinstance(name, str) else None
     if points is None:
-        runner.interp._fault("core.unsupported-code", op.span, f"point table {name} is not beside the program: the points CYCL CALL PAT machines are unknown",
+        runner.fault("core.unsupported-code", op.span, f"point table {name} is not beside the program: the points CYCL CALL PAT machines are unknown",
                              "unknown", "point table")
-    run._put(runner.state, "pattern", None if points is None else tuple(points))
+    run._put(runner.state, pattern=None if points is None else tuple(points))
     return None
 
 
@@ -197,6 +195,6 @@ def m_function_run(runner, op, block, model, params):
     cycle); M94 and the others reach the rules as a run of ``heidenhain.@M<n>``."""
     number = params["M"]
     if number in (136.0, 137.0):
-        run._put(runner.state, "feed_per_revolution", number == 136.0)
-    runner.interp.observer.cycle_run(CycleRun(f"heidenhain.@M{number:g}", {}, op.span, block, {}, {}), runner.state)
+        run._put(runner.state, feed_per_revolution=number == 136.0)
+    runner.report_cycle(CycleRun(f"heidenhain.@M{number:g}", {}, op.span, block, {}, {}))
     return None

@@ -1,0 +1,118 @@
+"""The schema of the cycle tables, ``dialects/<dialect>/cycles.toml``.
+
+Every key a cycle model or one of its parameters may have is a field below, with what it
+means; :func:`load_cycle_table` reads a table and refuses a key that is not one of them,
+naming the file, the cycle and the keys it accepts, so that a misspelt key is an error
+when the table is loaded instead of a fact silently not applied.
+"""
+from __future__ import annotations
+
+import tomllib
+from dataclasses import dataclass, fields
+
+from .resources import data_dir
+
+
+@dataclass(frozen=True)
+class ParameterSpec:
+    """One parameter of a cycle (``params`` of the ISO, Klartext and Fagor tables)."""
+
+    meaning: str
+    kind: str  # length (scaled like an axis word) | time | count | feed | angle | code
+    required: bool = False
+    modal: bool = False  # ISO: kept for the later holes of a modal cycle
+    allowed: list | None = None  # the only values the control takes
+    default: float | None = None  # Fagor: the value of an omitted parameter
+    unit: str | None = None  # Klartext: as the manual gives them
+    reference: str | None = None  # Klartext: absolute | incremental
+    range: list | None = None  # Klartext: the input range the manual prints
+    tolerance: bool = False  # Klartext OCM: the value may be a toleranced text
+
+
+@dataclass(frozen=True)
+class CycleModel:
+    """One cycle of a dialect's table; see ``dialects/README.md`` for the motion keys."""
+
+    name: str
+    seed: str | None = None  # the manual lines the model comes from
+    machine: str | None = None  # mill | lathe: the machine type the cycle belongs to
+    params: dict | None = None  # parameter name -> ParameterSpec fields
+    arguments: list | None = None  # SINUMERIK: [name, type] by position
+    # hole motion (ISO, Fagor)
+    infeed: str | None = None
+    bottom: list | None = None
+    retract: str | None = None
+    shape: str | None = None
+    two_blocks: bool = False
+    first_block: list | None = None
+    drill_axis: str | None = None
+    r_incremental: bool = False
+    tapping: bool = False
+    thread: bool = False
+    spindle_before: str | None = None
+    depth: str | None = None
+    # Klartext
+    family: str | None = None
+    activity: str | None = None  # def | call
+    ends_elsewhere: bool = False
+    requires: list | None = None
+    compatible: list | None = None
+    spindle_by_cycle: bool = False
+    # SINUMERIK
+    affects: list | None = None
+    contours: dict | None = None
+    needs_offset: bool = False
+    needs_tool: bool = False
+    spindle_after: str | None = None
+    spindle_during: str | None = None
+    tapping_cycle: bool = False
+    text_length: int | None = None
+    text_specials: str | None = None
+    # Fagor
+    approach: str | None = None
+    axis_word_moves: bool = False
+    fresh_data: bool = False
+    levels: str | None = None
+    motion_codes_keep_cycle: bool = False
+    passes: str | None = None
+    pattern: str | None = None
+    pocket: str | None = None
+    positions_in_motion_mode: bool = False
+    repeat_letter: str | None = None
+    runs_at_definition: bool = False
+    starts_spindle: bool = False
+    thread_mill: str | None = None
+    zero_repeat_moves: bool = False
+
+
+CYCLE_KEYS = frozenset(item.name for item in fields(CycleModel))
+PARAMETER_KEYS = frozenset(item.name for item in fields(ParameterSpec))
+
+
+class CycleTableError(ValueError):
+    pass
+
+
+def load_cycle_table(dialect: str) -> dict[str, dict]:
+    """The cycle models of ``dialects/<dialect>/cycles.toml`` by cycle id, each checked
+    against :class:`CycleModel` and its parameters against :class:`ParameterSpec`."""
+    path = data_dir("dialects") / dialect / "cycles.toml"
+    with path.open("rb") as handle:
+        models = tomllib.load(handle)["cycle"]
+    for cycle, model in models.items():
+        check_cycle_model(f"dialects/{dialect}/cycles.toml", cycle, model)
+    return models
+
+
+def check_cycle_model(where: str, cycle: str, model: dict) -> None:
+    """Raise :class:`CycleTableError` for a key the schema does not know."""
+    unknown = sorted(set(model) - CYCLE_KEYS)
+    if unknown:
+        raise CycleTableError(f"{where}: cycle {cycle}: unknown key {', '.join(unknown)}; accepted keys: {', '.join(sorted(CYCLE_KEYS))}")
+    if "name" not in model:
+        raise CycleTableError(f"{where}: cycle {cycle}: no name")
+    for parameter, spec in (model.get("params") or {}).items():
+        unknown = sorted(set(spec) - PARAMETER_KEYS)
+        if unknown:
+            raise CycleTableError(f"{where}: cycle {cycle}: parameter {parameter}: unknown key {', '.join(unknown)}; "
+                                  f"accepted keys: {', '.join(sorted(PARAMETER_KEYS))}")

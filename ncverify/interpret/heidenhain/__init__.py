@@ -1,0 +1,1 @@
+"""What HEIDENHAIN Klartext operations and cycles do when the interpreter reaches them."""

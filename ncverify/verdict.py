@@ -1,0 +1,155 @@
+"""Verdicts on symbolic values, below the interpreter and the checker.
+
+A hazard is a concrete truth value or a :class:`~ncverify.values.Condition` over the free
+parameters; :func:`judge` turns it into a :class:`Verdict` (violated with a witness, proved,
+or unknown with the solver's reason). :func:`evaluate_constraint` computes the hazard of a
+data-only rule constraint from ``rules/``. The interpreter (which replays witnesses and
+checks project assumptions) and the checker both use this module, so it imports neither.
+"""
+from __future__ import annotations
+
+import ast
+import math
+from dataclasses import dataclass, field
+
+import z3
+
+from . import values
+from .diagnostics import Status
+from .values import Condition, Sym
+
+# --------------------------------------------------------------------------- judging symbolic values
+
+
+@dataclass(frozen=True)
+class Verdict:
+    status: Status
+    witness: dict[str, float] = field(default_factory=dict)
+    reason: str | None = None
+
+
+def judge(hazard: "bool | Condition", path_condition: list, timeout_s: float = 5.0) -> Verdict | None:
+    """Does the hazard occur? ``None`` when it certainly does not (concrete False)."""
+    if hazard is True:
+        return Verdict(Status.VIOLATED)
+    if hazard is False:
+        return None
+    solver = z3.Solver()
+    solver.set("timeout", int(timeout_s * 1000))
+    for condition in path_condition:
+        if isinstance(condition, Condition):
+            solver.add(condition.term)
+    solver.add(hazard.term)
+    answer = solver.check()
+    if answer == z3.unsat:
+        return Verdict(Status.PROVED)
+    if answer == z3.sat:
+        model = solver.model()
+        witness = {}
+        for declaration in model.decls():
+            value = model[declaration]
+            if z3.is_rational_value(value):
+                witness[declaration.name()] = float(value.numerator_as_long()) / float(value.denominator_as_long())
+            elif z3.is_algebraic_value(value):
+                witness[declaration.name()] = float(value.approx(10).as_decimal(10).rstrip("?"))
+        return Verdict(Status.VIOLATED, {k: v for k, v in witness.items() if "~" not in k and "!" not in k})
+    return Verdict(Status.UNKNOWN, reason=f"the solver gave no answer within {timeout_s:g} s ({solver.reason_unknown()})")
+
+
+def hazard(op: str, a, b) -> "bool | Condition":
+    """``a op b`` as a hazard condition, with ISO relation names or symbols. When a value
+    is symbolic the answer stays a condition even if intervals decide it, so that the
+    verdict is ``proved`` (or ``violated`` with a witness) rather than silence."""
+    symbol = {"<": "LT", "<=": "LE", ">": "GT", ">=": "GE", "==": "EQ", "!=": "NE"}.get(op, op)
+    outcome = values.compare(symbol, a, b)
+    if type(outcome) is bool and (isinstance(a, Sym) or isinstance(b, Sym)):
+        return Condition(z3.BoolVal(outcome))
+    return outcome
+
+
+def show(value) -> str:
+    """A value as a machinist reads it: 12.5, or the expression for a symbolic one."""
+    if type(value) is float:
+        return f"{value:.4f}".rstrip("0").rstrip(".") if math.isfinite(value) else str(value)
+    if isinstance(value, Sym):
+        return values.readable(str(z3.simplify(value.term)))
+    return str(value)
+
+
+# --------------------------------------------------------------------------- constraint expressions
+
+_RELATIONS = {ast.Lt: "LT", ast.LtE: "LE", ast.Gt: "GT", ast.GtE: "GE", ast.Eq: "EQ", ast.NotEq: "NE"}
+
+
+class _Missing(Exception):
+    pass
+
+
+def evaluate_constraint(tree: ast.Expression, names: dict) -> "bool | Condition":
+    """True (or a condition) when the parameters are wrong; a missing name makes the
+    comparison it sits in false."""
+    return _truth(_guarded(tree.body, names))
+
+
+def _truth(value):
+    return value if isinstance(value, (bool, Condition)) else values.truth(value)
+
+
+def _eval(node, names):
+    if isinstance(node, ast.BoolOp):
+        op = "AND" if isinstance(node.op, ast.And) else "OR"
+        result = _guarded(node.values[0], names)
+        for operand in node.values[1:]:
+            result = values.logical(op, _truth(result), _truth(_guarded(operand, names)))
+        return result
+    if isinstance(node, ast.UnaryOp):
+        operand = _eval(node.operand, names)
+        if isinstance(node.op, ast.Not):
+            return values.negate(_truth(operand))
+        return values.neg(operand)
+    if isinstance(node, ast.Compare):
+        left = _eval(node.left, names)
+        result = True
+        for operator, right_node in zip(node.ops, node.comparators):
+            right = _eval(right_node, names)
+            step = values.compare(_RELATIONS[type(operator)], left, right)
+            result = values.logical("AND", result, step) if result is not True else step
+            left = right
+        return result
+    if isinstance(node, ast.BinOp):
+        left, right = _eval(node.left, names), _eval(node.right, names)
+        operation = {ast.Add: values.add, ast.Sub: values.sub, ast.Mult: values.mul, ast.Div: values.div}[type(node.op)]
+        return operation(left, right)
+    if isinstance(node, ast.Call) and isinstance(node.func, ast.Name):
+        if node.func.id == "missing":
+            return names.get(node.args[0].id) is None
+        arguments = [_eval(arg, names) for arg in node.args]
+        if node.func.id == "abs":
+            return values.absolute(arguments[0])
+        if node.func.id in ("min", "max"):
+            return _min_max(node.func.id, arguments)
+        if node.func.id == "whole":
+            return values.is_whole(arguments[0])
+        if node.func.id == "digits":
+            return float(len(str(int(abs(arguments[0]))))) if type(arguments[0]) is float else values.fresh("digits")
+    if isinstance(node, ast.Name):
+        value = names.get(node.id)
+        if value is None or isinstance(value, str):  # a string where a number belongs is another rule's finding
+            raise _Missing(node.id)
+        return value
+    if isinstance(node, ast.Constant) and isinstance(node.value, (int, float)):
+        return float(node.value)
+    raise ValueError(f"not allowed in a constraint: {ast.dump(node)}")
+
+
+def _guarded(node, names):
+    try:
+        return _eval(node, names)
+    except _Missing:
+        return False
+
+
+def _min_max(name, arguments):
+    if all(type(argument) is float for argument in arguments):
+        return min(arguments) if name == "min" else max(arguments)
+    return values.fresh(name)

@@ -1,0 +1,33 @@
+"""The cycle tables follow their schema: a key the schema does not know is refused when the
+table is loaded, with the file, the cycle and the keys it accepts."""
+from __future__ import annotations
+
+import pytest
+
+from ncverify.cycle_models import CYCLE_KEYS, CycleTableError, check_cycle_model, load_cycle_table
+from ncverify.dialect import DIALECTS
+
+
+@pytest.mark.parametrize("dialect", sorted(DIALECTS))
+def test_every_cycle_table_follows_the_schema(dialect):
+    models = load_cycle_table(dialect)
+    assert models and all(model["name"] for model in models.values())
+
+
+def test_a_misspelt_key_names_the_file_the_cycle_and_the_accepted_keys():
+    with pytest.raises(CycleTableError) as error:
+        check_cycle_model("dialects/iso/cycles.toml", "iso.G81", {"name": "drilling", "retrackt": "rapid"})
+    message = str(error.value)
+    assert message.startswith("dialects/iso/cycles.toml: cycle iso.G81: unknown key retrackt; accepted keys: ")
+    assert "retract" in message.split("accepted keys: ")[1].split(", ")
+
+
+def test_a_misspelt_parameter_key_is_refused():
+    model = {"name": "drilling", "params": {"Z": {"meaning": "bottom", "kind": "length", "requird": True}}}
+    with pytest.raises(CycleTableError, match="parameter Z: unknown key requird"):
+        check_cycle_model("dialects/iso/cycles.toml", "iso.G81", model)
+
+
+def test_every_schema_key_is_used_by_some_table():
+    used = {key for dialect in DIALECTS for model in load_cycle_table(dialect).values() for key in model}
+    assert used == CYCLE_KEYS
