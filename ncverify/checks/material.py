@@ -15,15 +15,15 @@ from collections import deque
 
 import numpy
 
-from .. import frames, workpiece
-from ..check import hazard
-from .stock import both
-from ..workpiece import Cutter, ModelTooLarge, RapidVerdict, Workpiece
+from .. import frames, geometry, workpiece
+from ..verdict import both, hazard
+from ..workpiece import Cutter, RapidVerdict, Workpiece
 
 _KEY = "workpiece"
 _FEED = 1  # MotionRun kind code
 _FLUSH_AT = 4096  # buffered moves per batch
 _RECENT = 64  # straight cuts kept exactly, for rapids back into what they cut
+_TOUCH = 1e-6  # mm: a rapid this close to the deepest cut is not below it
 _POINTED = {"drill", "spot", "chamfer"}
 _FLAT = {"endmill", "facemill", "slot", "reamer", "boring", "threadmill", "tap"}
 _NOT_CUTTING = {"probe"}
@@ -35,15 +35,21 @@ class _PathPiece:
     """One path's workpiece and its buffered cuts. Paths that fork share it until one of
     them cuts (the interpreter calls ``forked`` on rule memory when a path forks)."""
 
-    __slots__ = ("piece", "lines", "chords", "shared", "symbolic", "recent")
+    __slots__ = ("piece", "lines", "chords", "shared", "symbolic", "recent", "deepest")
 
     def __init__(self, piece: Workpiece):
         self.piece, self.lines, self.chords, self.shared = piece, [], [], False
         self.symbolic: list[tuple[dict, dict]] = []  # cuts whose place depends on free parameters
         self.recent: deque = deque(maxlen=_RECENT)  # the last straight cuts, exactly: (start, end, cutter)
+        self.deepest = math.inf  # the lowest any tool tip has cut: below it, the blank is whole
 
     def forked(self) -> None:
         self.shared = True
+
+    def unplaced(self) -> None:
+        """A cut that cannot be placed: material may be gone anywhere, at any depth."""
+        self.piece.cut_anywhere()
+        self.deepest = -math.inf
 
     def own(self, state) -> "_PathPiece":
         if not self.shared:
@@ -51,6 +57,7 @@ class _PathPiece:
         mine = _PathPiece(self.piece.copy())
         mine.lines, mine.chords, mine.symbolic = list(self.lines), list(self.chords), list(self.symbolic)
         mine.recent = deque(self.recent, maxlen=_RECENT)
+        mine.deepest = self.deepest
         state.rule_state[_KEY] = mine
         return mine
 
@@ -76,26 +83,31 @@ class Material:
     def segment(self, segment, state) -> None:
         if not self.modelled or segment.kind == "rapid":
             return
-        holder = self._holder(state)
         cutter = self._cutter(state)
-        placed = self._placeable(segment.start, segment.end, state) and cutter is not False
-        if not placed:
-            mine = holder.own(state)
-            mine.piece.cut_anywhere()
-            if cutter is not False and self._frame_modelled(state):
-                mine.symbolic.append((segment.start, segment.end))
-            return
         if cutter is None:
             return  # a probe: it touches, it does not cut
-        mine = holder.own(state)
+        mine = self._holder(state).own(state)
+        if not self._placeable(segment.start, segment.end, state):
+            mine.unplaced()
+            if tool_upright(state):
+                mine.symbolic.append((segment.start, segment.end))
+            return
         start, end = _point(segment.start), _point(segment.end)
-        if segment.arc is not None and segment.arc.centre is not None:
+        if segment.arc is not None:
             chords = self._chords(segment, start, end)
             if chords is None:
+                mine.unplaced()
+                return
+            mine.deepest = min(mine.deepest, float(chords[0][:, 2].min()) - chords[2], end[2] - chords[2])
+            if cutter is False:
                 mine.piece.cut_anywhere()
                 return
             mine.chords.append((chords, cutter, _tool_name(state)))
         else:
+            mine.deepest = min(mine.deepest, start[2], end[2])
+            if cutter is False:
+                mine.piece.cut_anywhere()
+                return
             mine.lines.append((start, end, cutter, _tool_name(state)))
             mine.recent.append((start, end, cutter))
         if len(mine.lines) + len(mine.chords) >= _FLUSH_AT:
@@ -117,30 +129,38 @@ class Material:
         self._run_done = stop
         if not len(feeds):
             return
-        mine = self._holder(state).own(state)
         cutter = self._cutter(state)
-        if any(axis not in run.axes for axis in "XYZ") or not self._frame_modelled(state) or cutter is False:
-            mine.piece.cut_anywhere()
-            return
         if cutter is None:
+            return
+        mine = self._holder(state).own(state)
+        if any(axis not in run.axes for axis in "XYZ") or not tool_upright(state):
+            mine.unplaced()
             return
         columns = [run.axes.index(axis) for axis in "XYZ"]
         starts, ends = run.points[feeds][:, columns], run.points[feeds + 1][:, columns]
         known = ~(numpy.isnan(starts).any(axis=1) | numpy.isnan(ends).any(axis=1))
         if not known.all():
+            mine.unplaced()
+        if known.any():
+            mine.deepest = min(mine.deepest, float(numpy.minimum(starts[known, 2], ends[known, 2]).min()))
+        if cutter is False:
             mine.piece.cut_anywhere()
+            return
         self._flush(mine)
         self._sweep(mine.piece, starts[known], ends[known], cutter, 0.0, _tool_name(state))
 
     # -- questions from the rules
     def rapid(self, start, end, state, run=None, index: int | None = None) -> RapidVerdict | None:
         """Does a rapid between two known points meet what is left (None: no model)?"""
-        if not self.modelled or not self._frame_modelled(state):
+        if not self.modelled or not tool_upright(state):
             return None
         if run is not None:
             self.motion_run(run, state, upto=index)
         mine = self._holder(state).own(state)
         self._flush(mine)
+        lowest = start if start[2] <= end[2] else end
+        if lowest[2] < mine.deepest - _TOUCH and geometry.enters(self.stock, lowest, lowest) is not None:
+            return RapidVerdict("hits", tuple(lowest))  # deeper than any cut has gone, inside the blank: whatever the tools' sizes
         cutter = self._rapid_cutter(state)
         verdict = mine.piece.rapid(start, end, cutter)
         if verdict.outcome == "unsure" and any(_inside_cut(start, end, cutter, cut) for cut in mine.recent):
@@ -208,21 +228,12 @@ class Material:
     def _chords(self, segment, start, end):
         arc = segment.arc
         plane = tuple("XYZ".index(axis) for axis in arc.plane)
-        if any(type(value) is not float for value in arc.centre):
+        if arc.centre is None or any(type(value) is not float for value in arc.centre):
             return None
         return workpiece.arc_chords(start, end, arc.centre, arc.direction == "cw", plane, tolerance=self.resolution / 8.0)
 
     def _placeable(self, start: dict, end: dict, state) -> bool:
-        return self._frame_modelled(state) and all(type(point.get(axis)) is float for point in (start, end) for axis in "XYZ")
-
-    def _frame_modelled(self, state) -> bool:
-        """The tool along +Z of the blank: plane normal Z, and a frame that keeps Z upright."""
-        if state.plane_axes[2] != "Z" or state.global_variables.get("$TOOLAX", 0.0) not in (0.0, 3.0):
-            return False
-        frame = state.frame
-        if frame is None or frame.is_identity:
-            return True
-        return frame is not frames.UNKNOWN and frame.keeps_axis("Z") and type(frame.linear[2][2]) is float and frame.linear[2][2] > 0.0
+        return tool_upright(state) and all(type(point.get(axis)) is float for point in (start, end) for axis in "XYZ")
 
     def _cutter(self, state):
         """The swept shape of the tool in the spindle: a Cutter, None for a tool that does
@@ -238,6 +249,16 @@ class Material:
         """For a rapid, a tool of unknown size is at least its axis: a thin flat rod."""
         cutter = self._cutter(state)
         return cutter if isinstance(cutter, Cutter) else Cutter(0.0)
+
+
+def tool_upright(state) -> bool:
+    """The tool along +Z of the blank: plane normal Z, and a frame that keeps Z upright."""
+    if state.plane_axes[2] != "Z" or state.global_variables.get("$TOOLAX", 0.0) not in (0.0, 3.0):
+        return False
+    frame = state.frame
+    if frame is None or frame.is_identity:
+        return True
+    return frame is not frames.UNKNOWN and frame.keeps_axis("Z") and type(frame.linear[2][2]) is float and frame.linear[2][2] > 0.0
 
 
 def cutter_of(tool) -> Cutter:

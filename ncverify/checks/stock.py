@@ -11,8 +11,10 @@ import numpy
 
 from .. import frames, geometry
 from ..check import Rule, hazard, rule, show
+from ..verdict import both
 from ..diagnostics import Status
 from ..values import Condition, Sym
+from .material import tool_upright
 
 _RAPID = 0  # MotionRun kind code
 _ROLE_WORDS = {
@@ -49,12 +51,14 @@ def _separated(stock, start: dict, end: dict) -> bool:
     return False
 
 
-def _retracts_along_tool(start, end, state) -> bool:
-    """A rapid straight up the tool's own axis (+Z, with the tool along +Z) from where the
-    tool stands: every point it passes is where the tool's body already is, so it meets
-    nothing the tool has not already met (the holder is judged on its own)."""
-    return (start[0] == end[0] and start[1] == end[1] and end[2] >= start[2] and state.plane_axes[2] == "Z"
-            and state.global_variables.get("$TOOLAX", 0.0) in (0.0, 3.0) and (state.frame is None or state.frame.is_identity))
+def _along_tool_axis(start, end, state) -> bool:
+    """The rapid keeps X and Y (the same values, or the same expressions) with the tool
+    along +Z of the blank: it moves along the tool's own axis."""
+    return tool_upright(state) and _same(start[0], end[0]) and _same(start[1], end[1])
+
+
+def _same(a, b) -> bool:
+    return a is b or (type(a) is float and type(b) is float and a == b)
 
 
 def _where(point) -> str:
@@ -106,11 +110,13 @@ class RapidIntoStock(_NeedsStock):
         if start is None:
             self._from_unknown(stock, end, segment.span, what, state)
             return
+        if self._retracts(start, end, state):
+            return
         if any(isinstance(value, Sym) for value in (*start, *end)):
             self._symbolic(stock, start, end, segment.span, what, state)
             return
         hit = geometry.enters(stock, start, end, self.checker.context.rapid_path == "dogleg")
-        if hit is None or _retracts_along_tool(start, end, state):
+        if hit is None:
             return
         left = self.checker.material.rapid(start, end, state, run, index) if self.checker.context.rapid_path != "dogleg" else None
         if left is None:
@@ -119,6 +125,18 @@ class RapidIntoStock(_NeedsStock):
             self.report(self.rule_id, segment.span, self._message(what, start, end, left.point, stock, cut=self.checker.material.has_cut(state)))
         elif left.outcome == "unsure":
             self._unsure(segment, what, start, end, stock, state)
+
+    def _retracts(self, start, end, state) -> bool:
+        """A rapid straight up the tool's own axis from where the tool stands, for every
+        allowed value: every point it passes is where the tool's body already is, so it
+        meets nothing the tool has not met already (the holder is judged on its own)."""
+        if not _along_tool_axis(start, end, state):
+            return False
+        falls = hazard("<", end[2], start[2])
+        if isinstance(falls, bool):
+            return not falls
+        verdict = self.checker.judge(falls, state)
+        return verdict is not None and verdict.status is Status.PROVED
 
     def _unsure(self, segment, what, start, end, stock, state) -> None:
         """The blank is hit, the cut stock may be: where earlier cuts depend on free
@@ -267,14 +285,3 @@ def _across(ranges, drill_axis: str, position: dict):
         if axis != drill_axis and value is not None:
             over = both(both(over, hazard(">", value, low)), hazard("<", value, high))
     return over
-
-
-def both(first, second):
-    """Both hazard conditions (True, False or conditions)."""
-    if first is True or second is False:
-        return second
-    if second is True or first is False:
-        return first
-    import z3
-
-    return Condition(z3.And(first.term, second.term))
