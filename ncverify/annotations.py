@@ -19,7 +19,7 @@ import re
 from dataclasses import dataclass, field
 
 from . import ir
-from .context import TOOL_KEYS, TOOL_TYPES, Assumption, Context, Stock, Tool, tool_value_problem
+from .context import TOOL_KEYS, Assumption, canonical_tool_type, Context, Stock, Tool, tool_value_problem
 from .project import parse_assumption
 from .source import ProgramSource, Span, find_all
 
@@ -132,15 +132,13 @@ def _tool(text: str, span: Span) -> Tool:
     for key, value in zip(words[::2], words[1::2]):
         key = key.lower().replace("-", "_")
         if key == "type":
-            if value.lower() not in TOOL_TYPES:
-                raise ValueError(f"unknown tool type {value!r}")
-            tool.type = value.lower()
+            tool.type = canonical_tool_type(value)
         elif key in TOOL_KEYS:
             if problem := tool_value_problem(key, float(value)):
                 raise ValueError(problem)
             setattr(tool, key, float(value))
         else:
-            raise ValueError(f"unknown tool key {key!r} (known: type, {', '.join(TOOL_KEYS)})")
+            raise ValueError(f"unknown tool key {key!r} (accepted: type, {', '.join(k.replace('_', '-') for k in TOOL_KEYS)})")
     if tool.radius <= 0:
         raise ValueError("the tool radius must be positive")
     return tool

@@ -11,7 +11,7 @@ from pathlib import Path
 
 from . import annotations, values
 from .check import Checker
-from .detect import Detection, detect
+from .detect import Detection, detect, profile_evidence
 from .diagnostics import Diagnostic, Severity, Status, Suppressed
 from .interpret import Interpreter
 from .context import Context, RegisterLimits, RuleContext, ToolTable
@@ -43,6 +43,7 @@ class FileResult:
     free_parameters: list[str] = field(default_factory=list)
     least_input_increment: float | None = None
     air_cutting: dict[str, tuple[float, float]] = field(default_factory=dict)  # tool -> (feed length, length that cut nothing), mm
+    detection_evidence: str = ""  # why this dialect, profile and machine type (--verbose)
 
     def to_json(self) -> dict:
         entry = {"path": self.path, "dialect": self.dialect, "dialect_confidence": self.dialect_confidence}
@@ -101,7 +102,8 @@ def project_for(program: Path | None, settings: Settings) -> Context | None:
 
 def check_source(source: ProgramSource, settings: Settings, project: Context | None = None) -> FileResult:
     detection = _detection(source, settings)
-    result = FileResult(source.name, detection.dialect, detection.confidence, profile=detection.profile, machine=detection.machine)
+    result = FileResult(source.name, detection.dialect, detection.confidence, profile=detection.profile, machine=detection.machine,
+                        detection_evidence=detection.evidence)
     if detection.dialect is None:
         result.skipped = detection.reason
         return result
@@ -109,14 +111,53 @@ def check_source(source: ProgramSource, settings: Settings, project: Context | N
     project = project or Context()
     if setup_for(detection.dialect, settings, detection, project) is None:
         checker = Checker(settings, RuleContext())
-        checker.report("core.dialect-unsupported", Span(1, 1, 1, 1), f"{detection.dialect} programs are recognised but not checked yet: nothing in this file was verified",
-                       Status.UNKNOWN, f"no reader for the {detection.dialect} dialect yet")
+        what = detection.reason or f"{detection.dialect} programs are recognised but not checked yet"
+        checker.report("core.dialect-unsupported", Span(1, 1, 1, 1), f"{what}: nothing in this file was verified",
+                       Status.UNKNOWN, f"no reader for this language yet ({what})")
         result.diagnostics = checker.diagnostics
         return result
     with values.fresh_numbering():
         _run(source, settings, detection, result, project)
         _confirm_witnesses(source, settings, detection, result, project)
+        _inputs_are_not_mistakes(result, _assumed_names(source, settings, detection, project))
+    if detection.dialect == "iso" and settings.profile is None and not profile_evidence(source.head(), detection.machine):
+        _codes_of_an_assumed_profile(result)
     return result
+
+
+def _codes_of_an_assumed_profile(result: FileResult) -> None:
+    """Nothing in the text named the control, so the E60 profile is an assumption: a code it
+    lacks (G91.1, G15 on a Fanuc) says more about the assumption than about the program."""
+    for diagnostic in result.diagnostics:
+        if diagnostic.rule == "core.unknown-code" and diagnostic.status is Status.VIOLATED:
+            diagnostic.status = Status.UNKNOWN
+            diagnostic.reason = f"the {result.profile} profile was assumed, nothing in the program names its control; give --profile"
+
+
+def _assumed_names(source: ProgramSource, settings: Settings, detection: Detection, project: Context) -> set[str]:
+    """The parameters an ``assume`` (annotation or project file) gives a range."""
+    from .project import assumption_names, parameter_name
+
+    frontend = setup_for(detection.dialect, settings, detection, project).frontend
+    assumptions = annotations.collect(source, frontend).context.layered_over(project).assumptions
+    return {parameter_name(node) for assumption in assumptions for node in assumption_names(assumption.tree)}
+
+
+def _inputs_are_not_mistakes(result: FileResult, assumed: set[str]) -> None:
+    """A hazard whose witness needs a value the program receives from outside (a parameter
+    it never sets, an argument, a system variable) that no ``assume`` bounds is not evidence
+    of a fault: it becomes ``unknown`` with the input and its example value, which stay in
+    the JSON witness. With every such input in an ``assume`` range it stays ``violated``.
+    The program's own guards (``IF R5<=0 GOTOF ERR``) are already in the path condition the
+    witness satisfies, so they narrow the inputs but do not bound them for this purpose."""
+    for diagnostic in result.diagnostics:
+        if diagnostic.status is not Status.VIOLATED or not diagnostic.witness:
+            continue
+        inputs = {name: value for name, value in diagnostic.witness.items() if name not in assumed}
+        if inputs:
+            shown = ", ".join(f"{name} = {value:g}" for name, value in sorted(inputs.items()))
+            diagnostic.status = Status.UNKNOWN
+            diagnostic.reason = f"depends on the input {shown}; give it a range with `assume` to have it judged"
 
 
 def _with_project_settings(settings: Settings, project: Context | None) -> Settings:
@@ -132,7 +173,7 @@ def _with_project_settings(settings: Settings, project: Context | None) -> Setti
 
 def _detection(source: ProgramSource, settings: Settings) -> Detection:
     head_bytes = bytes(source.buffer[:65536])
-    found = detect(source.head(), head_bytes)
+    found = detect(source.head(), head_bytes, Path(source.name).suffix)
     if settings.dialect is None:
         return found
     if found.dialect is None and "binary" in found.reason:
@@ -178,7 +219,7 @@ def _run(source: ProgramSource, settings: Settings, detection: Detection, result
     folders = list(settings.subprogram_path)
     if source.path is not None:
         folders.append(source.path.parent)
-    library = SubprogramLibrary(folders, settings.extensions)
+    library = SubprogramLibrary(folders, settings.extensions, explicit=len(settings.subprogram_path))
     interpreter = Interpreter(
         source, frontend, checker, settings, power_on=dialect.power_on, cycle_models=dialect.cycle_models,
         twins=dialect.twins, machine=dialect.machine, increment=dialect.increment or 0.0,

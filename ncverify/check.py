@@ -166,6 +166,7 @@ class Checker:
         self.truncated: dict[str, int] = {}
         self.path_condition: list = []
         self.material = Material(self)
+        self.call_site = lambda: None  # the interpreter's: where the checked file called into another
         rules = [cls(self) for cls in rule_classes() if not set(cls.ids) <= settings.disabled_rules]
         self.rules = rules
         self._segment = _handlers(rules, "segment")
@@ -230,11 +231,12 @@ class Checker:
         self.report(note.rule, note.span, note.message)
 
     def fault(self, fault) -> None:
-        self.report(fault.rule, fault.span, fault.message, Status(fault.status), fault.reason)
+        self.report(fault.rule, fault.span, fault.message, Status(fault.status), fault.reason,
+                    severity=Severity(fault.severity) if fault.severity else None)
 
     # -- reporting
     def report(self, rule_id: str, span: Span, message: str, status: Status = Status.VIOLATED,
-               reason: str | None = None, witness: dict | None = None) -> None:
+               reason: str | None = None, witness: dict | None = None, severity: Severity | None = None) -> None:
         if rule_id in self.settings.disabled_rules:
             return
         definition = self.definitions.get(rule_id)
@@ -257,10 +259,11 @@ class Checker:
         if count > self.settings.max_findings_per_rule:
             self.truncated[rule_id] = self.truncated.get(rule_id, 0) + 1
             return
-        severity = self._severity(definition)
+        severity = self._severity(definition, severity)
         if status is Status.PROVED:
             severity = Severity.INFO
-        self.diagnostics.append(Diagnostic(rule_id, definition.category, severity, span, message, status, reason, witness or {}))
+        related = self.call_site() if span.path is not None else None
+        self.diagnostics.append(Diagnostic(rule_id, definition.category, severity, span, message, status, reason, witness or {}, related))
 
     def judge(self, condition, state) -> "Verdict | None":
         """:func:`judge` under the path's condition and the configured solver timeout."""
@@ -275,9 +278,11 @@ class Checker:
             message = f"proved impossible for every value of the free parameters: {message}"
         self.report(rule_id, span, message, verdict.status, verdict.reason, verdict.witness)
 
-    def _severity(self, definition: RuleDefinition) -> Severity:
+    def _severity(self, definition: RuleDefinition, suggested: Severity | None = None) -> Severity:
+        """The project file's severity for the rule or its category, else the one the rule
+        suggests for this finding (a guard exit is info), else the rule's default."""
         override = self.severity_overrides.get(definition.id) or self.severity_overrides.get(definition.category)
-        return Severity(override) if override else definition.severity
+        return Severity(override) if override else suggested or definition.severity
 
     # -- constraints from rules/
     def _constraints_on_hole(self, hole, state) -> None:

@@ -45,6 +45,8 @@ def build_parser() -> argparse.ArgumentParser:
     check.add_argument("--machine", choices=MACHINES, help="machine type where the program cannot tell")
     check.add_argument("--fail-on", choices=("error", "warning", "info", "never"), default="error")
     check.add_argument("--fail-on-unknown", action="store_true", help="unknown verdicts fail the run too")
+    check.add_argument("--show-proved", action="store_true", help="list proved verdicts in the text report (they are always in JSON)")
+    check.add_argument("--verbose", "-v", action="store_true", help="say on stderr why each file was read as its dialect, profile and machine type")
     check.add_argument("--loop-bound", type=_positive_int, default=Settings.loop_bound, metavar="N",
                        help="iterations of one loop or repeats of one jump before the analysis gives up (default %(default)s)")
     check.add_argument("--max-paths", type=_positive_int, default=Settings.max_paths, metavar="N")
@@ -164,6 +166,9 @@ def _check(arguments) -> int:
         except InputError as error:
             errors.append(str(error))
             continue
+        if arguments.verbose:
+            print(f"{result.path}: read as {result.dialect} ({result.dialect_confidence:g}): {result.detection_evidence or result.skipped or 'given'}",
+                  file=sys.stderr)
         if explicit and result.skipped:
             errors.append(f"{result.path}: not checked: {result.skipped}")
         results.append(result)
@@ -195,7 +200,7 @@ def _write(arguments, results, errors, texts) -> None:
     elif arguments.format == "sarif":
         rendered = render_sarif(results, errors)
     else:
-        rendered = render_text(results, errors, texts)
+        rendered = render_text(results, errors, texts, show_proved=arguments.show_proved)
     if arguments.output:
         Path(arguments.output).write_text(rendered + "\n", encoding="utf-8")
     else:

@@ -20,7 +20,29 @@ from .source import Span
 TOOL_TYPES = ("drill", "endmill", "ball", "bullnose", "chamfer", "spot", "tap", "threadmill", "boring", "reamer",
               "facemill", "slot", "turning", "grooving", "parting", "threading", "probe")
 TOOL_KEYS = ("radius", "corner", "length", "cutting_length", "usable_length", "angle", "pitch", "nose_radius", "edge",
-             "clearance_angle", "edge_position", "point_angle")
+             "clearance_angle", "edge_position", "point_angle", "width")
+# Common spellings of the tool types (hyphens, underscores and blanks are dropped first).
+_TOOL_TYPE_SPELLINGS = {
+    "facemill": ("face", "shellmill", "facingmill"), "endmill": ("flat", "flatendmill", "squareendmill", "mill", "cutter"),
+    "ball": ("ballmill", "ballnose", "ballendmill", "ballnoseendmill"), "bullnose": ("torus", "radiusmill", "bullnoseendmill", "toroidal"),
+    "spot": ("spotdrill", "centre", "center", "centredrill", "centerdrill", "ncspotdrill"), "chamfer": ("chamfermill", "countersink", "chamfertool"),
+    "threadmill": ("threadmilling", "threadmiller"), "threading": ("thread", "threadturning", "threadingtool", "threadtool"),
+    "grooving": ("groove", "groover", "groovingtool", "grooveturning"), "parting": ("part", "partingoff", "cutoff", "partoff"),
+    "turning": ("turn", "turningtool", "lathe"), "boring": ("bore", "boringbar", "boringhead"), "reamer": ("ream", "reaming"),
+    "slot": ("slotmill", "slotting", "keyseat", "slittingsaw", "saw"), "tap": ("tapping", "rigidtap"), "drill": ("twistdrill", "drilling"),
+    "probe": ("touchprobe", "touchtrigger"),
+}
+_TOOL_TYPE_LOOKUP = {alias: canonical for canonical, aliases in _TOOL_TYPE_SPELLINGS.items() for alias in (canonical, *aliases)}
+
+
+def canonical_tool_type(written: str) -> str:
+    """The tool type a common spelling means (``face-mill`` -> facemill, ``groove`` ->
+    grooving); ValueError listing the accepted ones for anything else."""
+    key = "".join(character for character in written.lower() if character not in "-_ ")
+    if key in _TOOL_TYPE_LOOKUP:
+        return _TOOL_TYPE_LOOKUP[key]
+    raise ValueError(f"unknown tool type {written!r} (accepted: {', '.join(TOOL_TYPES)}, and spellings such as face-mill, "
+                     "end-mill, ball-nose, spot-drill, groove, thread, cut-off)")
 # Keys whose value must lie in a range, not merely be positive: a turning tool's clearance
 # angle ($TC_DP24, 0..90 degrees, 0 = the cycles do not monitor it; SINUMERIK reference B
 # section 3, seed L14840-14850), its cutting-edge position ($TC_DP2, SL 1..9, L15650-15662), and
@@ -98,6 +120,7 @@ class Tool:
     clearance_angle: float | None = None  # degrees, the turning tool's clearance angle (TOOL_RANGES)
     edge_position: float | None = None  # the turning tool's cutting-edge position SL (TOOL_RANGES)
     point_angle: float | None = None  # degrees, a drill's point angle (TOOL.T T-ANGLE); 0: not entered
+    width: float | None = None  # a grooving or parting tool's cutting width
     origin: str = "project file"
     edges: dict = field(default_factory=dict)  # SINUMERIK: the data of cutting edges D2, D3... by D number (the fields above: D1)
 

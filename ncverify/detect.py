@@ -53,17 +53,55 @@ _NOT_A_PROGRAM = [
     (r"(?s)^\s*<\?xml|^\s*<html", "XML or HTML"),
 ]
 
-_HAAS = re.compile(r"(?im)\b(?:G187|G103|G47|M97|G154|HAAS)\b")
-_FANUC_LATHE = re.compile(r"(?im)\bG50\s*S\d|\bG9[024]\s*[XUZW]")
-_MITSUBISHI = re.compile(r"(?im)(?:,[IJR]\s*-?\d|\bG1[23]\s*I[-.\d]+\s*D\d|\bG7[789]\b)")
+# Languages of the ISO family's look that no reader here claims: (name, signals); a file
+# showing two or more distinct signals of one of them is reported as that language, once,
+# instead of being read as ISO and failing on every statement the ISO reader refuses.
+_LOOKALIKES: list[tuple[str, list[tuple[str, str]]]] = [
+    ("Fadal format", [
+        (r"(?im)^\s*(?:N\d+\s*)?L\d{3,4}\s*$", "an L subroutine label line (L100)"),
+        (r"(?im)^\s*(?:N\d+\s*)?L\d{2,3}0[1-9]\s*$", "an L subroutine call with a repeat suffix (L101)"),
+        (r"(?im)\bG0?0\b[^\n(;]*\bE\d{1,2}\b", "an E fixture-offset word on a rapid (E1)"),
+        (r"(?im)^\s*(?:N\d+\s*)?H\d+\s+Z", "a length offset H without G43 (H6 Z10.)"),
+        (r"(?im)^\s*(?:N\d+\s*)?G8\s*$", "a G8 block"),
+    ]),
+    ("MillMaster Pro", [
+        (r"(?m)^\s*//", "'//' comment lines"),
+        (r"(?im)^\s*G70\s*$", "G70 alone on a line (inch on MillMaster, a finishing cycle in ISO)"),
+        (r"(?im)\bMillmaster\b", "the name MillMaster in a comment"),
+    ]),
+    ("Okuma OSP", [
+        (r"(?im)\bV[CS]\d+\s*=", "common variables VC1="),
+        (r"(?im)\bCALL\s+O\w+", "CALL O.. subprogram calls"),
+        (r"(?im)^\s*(?:N\d+\s*)?IF\s*\[[^\]]*\]\s*N\w+", "IF [..] N.. jumps"),
+        (r"(?im)\bRTS\b", "RTS subprogram ends"),
+    ]),
+]
+
+
+def lookalike(head: str) -> tuple[str, list[str]] | None:
+    """The unclaimed language the text looks like, with the signals seen, or None."""
+    for name, signals in _LOOKALIKES:
+        seen = [what for pattern, what in signals if re.search(pattern, head)]
+        if len(seen) >= 2:
+            return name, seen
+    return None
+
+
+# Code words are found whether or not blocks put spaces between words (N10G50S2000): a word
+# starts after anything but a letter and its number ends before anything but a digit.
+_W = r"(?<![A-Z])"
+_END = r"(?![0-9])"
+_HAAS = re.compile(rf"(?im){_W}(?:G187|G103|G47|M97|G154){_END}|\bHAAS\b")
+_FANUC_LATHE = re.compile(rf"(?im){_W}G50\s*S\d|{_W}G9[024]\s*[XUZW]")
+_MITSUBISHI = re.compile(rf"(?im)(?:,[IJR]\s*-?\d|{_W}G1[23]\s*I[-.\d]+\s*D\d|{_W}G7[789]{_END})")
 _LATHE = [
-    (re.compile(r"(?im)\bT\d{4}\b"), 3), (re.compile(r"(?im)\bG7[0-6]\s*P\d+\s*Q\d+"), 4), (re.compile(r"(?im)\bG96\b"), 2),
-    (re.compile(r"(?im)\bG50\s*S"), 2), (re.compile(r"(?im)\bG76\s*P\d{6}"), 3), (re.compile(r"(?im)\b[UW]-?\d*\.\d*"), 1),
-    (re.compile(r"(?im)\bG9[89]\b.*\bX"), 1), (re.compile(r"(?im)\bG18\b"), 1), (re.compile(r"(?im)\bG7[0-3]\s*U"), 3),
+    (re.compile(rf"(?im){_W}T\d{{4}}{_END}"), 3), (re.compile(rf"(?im){_W}G7[0-6]\s*P\d+\s*Q\d+"), 4), (re.compile(rf"(?im){_W}G96{_END}"), 2),
+    (re.compile(rf"(?im){_W}G50\s*S"), 2), (re.compile(rf"(?im){_W}G76\s*P\d{{6}}"), 3), (re.compile(rf"(?im){_W}[UW]-?\d*\.\d*"), 1),
+    (re.compile(rf"(?im){_W}G9[89]{_END}.*{_W}X"), 1), (re.compile(rf"(?im){_W}G18{_END}"), 1), (re.compile(rf"(?im){_W}G7[0-3]\s*U"), 3),
 ]
 _MILL = [
-    (re.compile(r"(?im)\bY-?\d*\.?\d"), 2), (re.compile(r"(?im)\bG4[34]\s*[HZ]"), 3), (re.compile(r"(?im)\bG8[1-9]\b"), 1),
-    (re.compile(r"(?im)\bG17\b"), 1), (re.compile(r"(?im)\bG5[4-9]\b"), 1), (re.compile(r"(?im)\bM0?6\b"), 2),
+    (re.compile(rf"(?im){_W}Y-?\d*\.?\d"), 2), (re.compile(rf"(?im){_W}G4[34]\s*[HZ]"), 3), (re.compile(rf"(?im){_W}G8[1-9]{_END}"), 1),
+    (re.compile(rf"(?im){_W}G17{_END}"), 1), (re.compile(rf"(?im){_W}G5[4-9]{_END}"), 1), (re.compile(rf"(?im){_W}M0?6{_END}"), 2),
 ]
 
 
@@ -75,9 +113,17 @@ class Detection:
     profile: str | None = None
     machine: str | None = None
     whole_units: bool = False  # integer coordinates are meant as whole mm/inch
+    evidence: str = ""  # why: the scores, the extension, the profile's and machine type's signals (--verbose)
 
 
-def detect(head: str, raw_head: bytes = b"") -> Detection:
+# The file extension is one signal among the content's: it tips a close call (a Fagor program
+# without '#'/'$' statements in a .pim file) but never outweighs clear statements.
+# A control's own extension weighs more than the generic ones many posts write.
+_EXTENSIONS = {".h": ("heidenhain", 15), ".mpf": ("sinumerik", 15), ".spf": ("sinumerik", 15), ".pim": ("fagor", 15),
+               ".pit": ("fagor", 15), ".nc": ("iso", 6), ".cnc": ("iso", 6), ".tap": ("iso", 6), ".min": ("iso", 6)}
+
+
+def detect(head: str, raw_head: bytes = b"", suffix: str = "") -> Detection:
     if _looks_binary(raw_head or head.encode("utf-8", "replace")):
         return Detection(None, 1.0, "binary data, not a CNC program")
     for pattern, what in _NOT_A_PROGRAM:
@@ -85,16 +131,35 @@ def detect(head: str, raw_head: bytes = b"") -> Detection:
             return Detection(None, 0.9, f"looks like {what}, not a CNC program")
     scores = {dialect: sum(weight * min(len(re.findall(pattern, head)), 3) for pattern, weight in signatures)
               for dialect, signatures in _SIGNATURES.items()}
+    if max(scores.values()) == 0:
+        return Detection(None, 0.5, "no G-code, Klartext or SINUMERIK/Fagor statements found")
+    by_extension, extension_weight = _EXTENSIONS.get(suffix.lower(), (None, 0))
+    if by_extension is not None:
+        scores[by_extension] += extension_weight
     best = max(scores, key=scores.get)
     total = sum(scores.values())
-    if scores[best] == 0:
-        return Detection(None, 0.5, "no G-code, Klartext or SINUMERIK/Fagor statements found")
     confidence = scores[best] / total * min(1.0, scores[best] / 10.0)
+    evidence = "signature scores " + ", ".join(f"{name} {score:g}" for name, score in sorted(scores.items(), key=lambda item: -item[1]) if score)
+    if by_extension is not None:
+        evidence += f" (the extension {suffix} counted {extension_weight} for {by_extension})"
     if best != "iso":
-        return Detection(best, round(confidence, 2))
+        return Detection(best, round(confidence, 2), evidence=evidence)
+    other = lookalike(head)
+    if other is not None:
+        name, seen = other
+        return Detection("unclaimed", round(confidence, 2), f"looks like {name} ({', '.join(seen)}), not a language ncverify reads",
+                         evidence=evidence)
     machine = detect_machine(head)
-    return Detection("iso", round(confidence, 2), profile=detect_iso_profile(head, machine), machine=machine,
-                     whole_units=integers_look_whole(head))
+    profile = detect_iso_profile(head, machine)
+    evidence += f"; machine {machine or 'not told'} (lathe score {_score(_LATHE, head)}, mill score {_score(_MILL, head)})"
+    evidence += f"; profile {profile}" + ("" if profile_evidence(head, machine) else " (assumed: no Haas, E60 or Fanuc-lathe codes seen)")
+    return Detection("iso", round(confidence, 2), profile=profile, machine=machine,
+                     whole_units=integers_look_whole(head), evidence=evidence)
+
+
+def profile_evidence(head: str, machine: str | None = None) -> bool:
+    """Does the text show which ISO control it is for, or is the E60 profile only assumed?"""
+    return bool(_HAAS.search(head) or _MITSUBISHI.search(head) or (machine == "lathe" and _FANUC_LATHE.search(head)))
 
 
 def detect_iso_profile(head: str, machine: str | None = None) -> str:
@@ -128,9 +193,12 @@ def integers_look_whole(head: str) -> bool:
     return mostly_small and (points == 0 or len(integers) >= 0.25 * (len(integers) + points))
 
 
+def _score(patterns, head: str) -> int:
+    return sum(weight * min(len(pattern.findall(head)), 3) for pattern, weight in patterns)
+
+
 def detect_machine(head: str) -> str | None:
-    lathe = sum(weight * min(len(pattern.findall(head)), 3) for pattern, weight in _LATHE)
-    mill = sum(weight * min(len(pattern.findall(head)), 3) for pattern, weight in _MILL)
+    lathe, mill = _score(_LATHE, head), _score(_MILL, head)
     if lathe >= 4 and lathe > mill:
         return "lathe"
     if mill > 0:

@@ -58,6 +58,7 @@ class Diagnostic:
     status: Status = Status.VIOLATED
     reason: str | None = None
     witness: dict[str, float] = field(default_factory=dict)
+    related: Span | None = None  # the call in the checked file that led to a finding in another file
 
     def sort_key(self):
         return (self.span.path or "", self.span.line, self.span.column, self.rule)
@@ -78,6 +79,10 @@ class Diagnostic:
             entry["reason"] = self.reason
         if self.witness:
             entry["witness"] = dict(self.witness)
+        if self.related is not None:
+            entry["related"] = [{"path": self.related.path, "line": self.related.line, "column": self.related.column,
+                                 "message": "called from here"} if self.related.path else
+                                {"line": self.related.line, "column": self.related.column, "message": "called from here"}]
         return entry
 
 

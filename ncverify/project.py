@@ -8,7 +8,7 @@ import re
 import tomllib
 from pathlib import Path
 
-from .context import TOOL_KEYS, TOOL_RANGES, TOOL_TYPES, Assumption, Context, Machine, Stock, Tool, tool_value_problem
+from .context import TOOL_KEYS, TOOL_RANGES, Assumption, canonical_tool_type, Context, Machine, Stock, Tool, tool_value_problem
 from .diagnostics import CATEGORIES, Severity
 from .dialect import DIALECTS, MACHINES
 
@@ -140,9 +140,10 @@ class _Reader:
             tool = Tool(int(key))
             for name, value in spec.items():
                 if name == "type":
-                    if value not in TOOL_TYPES:
-                        self.fail(f"{where} type", f"unknown tool type {value!r} (known: {', '.join(TOOL_TYPES)})")
-                    tool.type = value
+                    try:
+                        tool.type = canonical_tool_type(str(value))
+                    except ValueError as error:
+                        self.fail(f"{where} type", str(error))
                 elif name == "name":
                     tool.name = str(value)
                 else:

@@ -113,6 +113,7 @@ class Fault:
     message: str
     status: str = "violated"
     reason: str | None = None
+    severity: str | None = None  # instead of the rule's own (a guard exit is info)
 
 
 @dataclass(slots=True)

@@ -25,9 +25,9 @@ G0 Z50.
 M30
 """
 # One error: feed-missing on line 2, columns 1-12 ("G01 X10. Y5."), plus a spindle warning.
-WITH_ERROR = "G21 G90\nG01 X10. Y5.\nM30\n"
+WITH_ERROR = "G21 G90\nG01 X10. Y5.\nS1000 M03\nM30\n"
 # Only a warning: the spindle is off while cutting.
-WITH_WARNING = "G21 G90\nG0 X0.\nG1 X10. F100.\nM30\n"
+WITH_WARNING = "G21 G90\nG0 X0.\nG1 X10. F100.\nS1000 M03\nM30\n"
 # Only an unknown verdict: the loop never ends.
 WITH_UNKNOWN = "WHILE [1 EQ 1] DO1\nEND1\nM30\n"
 C_HEADER = "#include <stdio.h>\n#define LIMIT 10\nint limit(void);\n"

@@ -131,6 +131,7 @@ def test_q_as_the_shift_is_its_own_message():
 
 def test_shift_from_a_free_parameter_gets_a_witness():
     result = check("""
+        (ncverify: assume -5 <= #1 <= 5)
         G76 X20. Y20. Z-10. R2. I#1 F60.
         G80
         M30
@@ -138,6 +139,17 @@ def test_shift_from_a_free_parameter_gets_a_witness():
     [finding] = findings(result, "core.cycle-shift-missing", None)
     assert finding.status is Status.VIOLATED
     assert finding.witness == {"#1": 0.0}
+
+
+def test_shift_from_an_unbounded_input_is_unknown_with_its_example_value():
+    result = check("""
+        G76 X20. Y20. Z-10. R2. I#1 F60.
+        G80
+        M30
+    """)
+    [finding] = findings(result, "core.cycle-shift-missing", None)
+    assert finding.status is Status.UNKNOWN and finding.witness == {"#1": 0.0}
+    assert "depends on the input #1 = 0" in finding.reason and "assume" in finding.reason
 
 
 # --------------------------------------------------------------------------- core.single-peck
@@ -241,6 +253,7 @@ def test_lathe_tapping_mode_is_checked_from_the_table_too():
 
 def test_tapping_mode_from_a_free_parameter():
     result = check("""
+        (ncverify: assume 0 <= #1 <= 5)
         G84 X20. Y20. Z-10. R5. F625. ,R#1
         G80
         M30

@@ -325,7 +325,8 @@ def test_iso_programs_still_detect_as_iso():
 def test_real_world_fanuc_programs_still_detect_as_iso():
     for path in sorted(p for p in (REALWORLD / "fanuc").rglob("*") if p.is_file()):
         raw = path.read_bytes()[:65536]
-        assert detect(raw.decode("latin-1"), raw).dialect == "iso", path.name
+        unclaimed = "fadal" in path.name or "millmaster" in path.name  # ISO lookalikes ncverify does not read
+        assert detect(raw.decode("latin-1"), raw).dialect == ("unclaimed" if unclaimed else "iso"), path.name
 
 
 # --------------------------------------------------------------------------- the manual's examples

@@ -489,6 +489,7 @@ def test_more_alarms_are_predicted(call, rule, text):
 
 def test_planes_from_free_parameters_are_judged_for_every_value():
     result = check("""
+        ; ncverify: assume -50 <= R1 <= 50
         G17 G90 T1 D1 M6
         S1000 M3 F100
         G0 X50 Y50 Z20

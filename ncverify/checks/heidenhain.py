@@ -9,6 +9,8 @@ import math
 
 from .. import frames, pocket, values
 from ..check import Rule, hazard, rule, show
+from ..diagnostics import Status
+from ..verdict import Verdict
 from .common import ReportsMissingContext
 
 _DEPTH_CHECKED = {200, 201, 202, 203, 205, 208, 241, 206, 207, 209, 251, 252, 253, 254, 256, 257, 258, 272, 273, 274}
@@ -387,6 +389,10 @@ class DepthThroughBlank(ReportsMissingContext):
             return
         low = stock.z_range[0]
         verdict = self.checker.judge(hazard("<", hole.bottom, low), state)
+        if verdict is not None and verdict.status is Status.VIOLATED:
+            # a hole that goes through the blank is a through hole, which must pass the underside:
+            # whether parallels or a spacer lie under the part is the set-up's, not the program's
+            verdict = Verdict(Status.UNKNOWN, verdict.witness, "a through hole: whether the part lies on parallels or a spacer is not in the program")
         self.checker.report_verdict("heidenhain.depth-through-blank", hole.param_spans.get("Q201", hole.definition or hole.span),
                                     f"cycle {cycle_number(hole.cycle)}: the hole bottom Z{show(hole.bottom)} (Q203 + Q201) is below the underside of the blank Z{low:g}: "
-                                    "the tool cuts into what the part lies on (seed L3527-3539)", verdict, state)
+                                    "the tool cuts into what the part lies on unless it stands on parallels or a spacer (seed L3527-3539)", verdict, state)

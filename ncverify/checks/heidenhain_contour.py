@@ -13,6 +13,7 @@ import math
 from shapely.geometry import Point
 
 from .. import values
+from ..diagnostics import Severity
 from ..check import hazard, rule, show
 from .heidenhain import NO_TOOL_ENTRY, CycleRule, CycleRuleOfParts, spindle_tool
 
@@ -106,8 +107,11 @@ class ContourFeed(CycleRule):
         for subprogram in use.subprograms:
             if subprogram.technology and self.first_time(state, ("contour-feed", subprogram.end)):
                 what, where = subprogram.technology[0]
+                # a feed rate there is ignored (no effect on the part: info); an M function that seems to switch something is a warning
+                ignored = all(item.startswith("a feed rate") for item, _ in subprogram.technology)
                 self.report("heidenhain.contour-feed", where, f"{what} in the contour subprogram {_label(subprogram)} of cycle {number}: the subprogram describes "
-                            "only the contour, the cycle cuts at its own feeds and switches nothing there, so this does not do what it seems to (seed L9071)")
+                            "only the contour, the cycle cuts at its own feeds and switches nothing there, so this does not do what it seems to (seed L9071)",
+                            severity=Severity.INFO if ignored else None)
 
 
 @rule("heidenhain.contour-compensation")

@@ -133,11 +133,18 @@ class LengthOffsetMotion(Rule):
     """What G43/G44/G49 and H do to Z on the E60 (seed L1787-1832): switching the offset on or
     off, or changing it while it is on, moves Z by the change, in the block that does it. A
     tool change leaves the offset in force: the first Z move before the new tool's own
-    G43/G44 H (or G49) positions it with the old tool's length."""
+    G43/G44 H (or G49) positions it with the old tool's length.
+
+    That immediate Z move is only a hazard where the tool is near the work: with Z parked
+    (at the start, after a tool change, which takes Z to the change position, after a
+    reference return or a machine-coordinate move) it moves from the top of the travel, and
+    the usual ``M06`` / ``G43 H01`` / ``G00 Z1.`` sequence is not reported."""
 
     def change(self, change, state):
         if self.checker.context.lathe:
             return
+        if change.what in ("tool_change", "reference_return"):
+            state.rule_state.pop("z-at-work", None)
         if change.what == "tool_change":
             if state.length_mode in _LENGTH_CODE:
                 state.rule_state["length-stale"] = (change.span, state.length_mode, state.length_register, change.new)
@@ -148,17 +155,21 @@ class LengthOffsetMotion(Rule):
             self._length_offset(change, state)
 
     def segment(self, segment, state):
-        if "length-stale" in state.rule_state and _moved(segment.start.get("Z"), segment.end.get("Z")):
-            self._stale(segment.span, state)
+        if _moved(segment.start.get("Z"), segment.end.get("Z")) and segment.end.get("Z") is not None:
+            state.rule_state["z-at-work"] = True
+            if "length-stale" in state.rule_state:
+                self._stale(segment.span, state)
 
     def motion_run(self, run, state):
-        if "length-stale" not in state.rule_state or "Z" not in run.axes:
+        if "Z" not in run.axes:
             return
         column = run.axes.index("Z")
         start, end = run.points[:-1, column], run.points[1:, column]
         moved = numpy.flatnonzero(((end - start) != 0) & ~(numpy.isnan(start) & numpy.isnan(end)))
         if len(moved):
-            self._stale(run.span(int(moved[0])), state)
+            state.rule_state["z-at-work"] = True
+            if "length-stale" in state.rule_state:
+                self._stale(run.span(int(moved[0])), state)
 
     def _stale(self, span, state):
         at, mode, register, tool = state.rule_state.pop("length-stale")
@@ -181,7 +192,7 @@ class LengthOffsetMotion(Rule):
             self.report("core.length-offset-minus", change.span,
                         f"G44{shown} subtracts the length offset instead of adding it: with offsets measured the usual way (a longer tool has the larger H), "
                         "the tool goes twice the offset lower than with G43, toward the part; use G43 unless the offsets were measured for G44")
-        if _block_moves_z(change.block):
+        if _block_moves_z(change.block) or not memory.get("z-at-work") or state.position.get("Z") is None:
             return
         was_on, is_on = old_mode in _LENGTH_CODE, new_mode in _LENGTH_CODE
         if not was_on and is_on and new_register is not None:

@@ -8,6 +8,7 @@ import z3
 
 from .. import values
 from ..values import Condition
+from ..diagnostics import Status
 from ..check import Rule, hazard, rule, show
 
 _CUTTING = frozenset({"feed", "arc", "thread"})
@@ -64,6 +65,22 @@ class FeedMissing(Rule):
 
 @rule("core.spindle-off-cutting")
 class SpindleOffCutting(Rule):
+    """Feed moves with the spindle stopped. A program that never starts the spindle and
+    runs no machining cycle on any path is not a cutting program (a measuring macro, a
+    probing routine, a pen plotter, a subprogram whose caller starts the spindle): its
+    findings are held back and the file gets one ``unknown`` instead."""
+
+    def __init__(self, checker):
+        super().__init__(checker)
+        self.machining = False  # the spindle was started, or a cycle drilled or cut, somewhere
+        self.held: list = []
+
+    def hole(self, hole, state):
+        self.machining = True
+
+    def cycle_run(self, run, state):
+        self.machining = True
+
     def segment(self, segment, state):
         if segment.kind not in _CUTTING or state.spindle != "off" or segment.role == "contour":
             return
@@ -80,11 +97,21 @@ class SpindleOffCutting(Rule):
         if state.rule_state.get("spindle-off-reported"):
             return
         state.rule_state["spindle-off-reported"] = True
-        self.report("core.spindle-off-cutting", span, "cutting move while the spindle is stopped (no M03/M04 since the start or since the last M05): the tool rubs or breaks")
+        self.held.append(span)
 
     def change(self, change, state):
         if change.what == "spindle":
             state.rule_state.pop("spindle-off-reported", None)
+            self.machining |= change.new in ("cw", "ccw")
+
+    def finish(self):
+        if self.held and not self.machining:
+            self.report("core.spindle-off-cutting", self.held[0], "feed moves with the spindle stopped in a program that never starts it: "
+                        "taken as measuring or positioning moves", Status.UNKNOWN,
+                        "the program never starts the spindle (a measuring or probing routine, or its caller starts it)")
+            return
+        for span in self.held:
+            self.report("core.spindle-off-cutting", span, "cutting move while the spindle is stopped (no M03/M04 since the start or since the last M05): the tool rubs or breaks")
 
 
 @rule("core.comp-on-arc")

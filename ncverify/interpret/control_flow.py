@@ -53,6 +53,7 @@ class CallFrame:
     return_to: Position | None
     repeats_left: int = 0
     local_variables: dict | None = None  # a macro's own #1-#33; None shares the caller's
+    called_at: Span | None = None  # the calling block, for findings in another file
 
 
 @dataclass(slots=True)
@@ -294,14 +295,7 @@ class ControlFlow:
             return None
         found = self._find_program(program, op.span)
         if found is None:
-            where = " or on the subprogram path" if self.settings.subprogram_path else " (give its folder with --subprogram-path)"
-            if op.kind == "proc":  # called by name: the control looks in its program directories too
-                self._fault("core.program-not-found", op.span, f"subprogram {self.frontend.program_name(program)} called here is not in this file{where}: what it does is not analysed",
-                            "unknown", "a subprogram called by name may be stored on the control")
-                state.move_to(dict.fromkeys(state.position))
-                state.feed_inherited, state.spindle = True, "inherited"  # it may set feed and spindle
-                return None
-            self._fault("core.program-not-found", op.span, f"program {self.frontend.program_name(program)} called here is not in this file{where}: the control alarms")
+            self._program_not_here(program, op.span)
             return None
         source, start = found
         if len(state.call_stack) > self.settings.call_depth:
@@ -312,7 +306,8 @@ class ControlFlow:
             local_variables = self._macro_arguments(op)
         elif op.kind == "proc":
             local_variables = self._proc_arguments(op, source, start)
-        frame = CallFrame(op.kind, self.frontend.program_name(program), source, start, self._next_position(), int(repeat) - 1)
+        frame = CallFrame(op.kind, self.frontend.program_name(program), source, start, self._next_position(), int(repeat) - 1,
+                          called_at=op.span)
         if local_variables is not None:
             frame.local_variables = state.local_variables
             state.local_variables = local_variables
@@ -324,6 +319,32 @@ class ControlFlow:
             if type(label) is float:
                 return self.find_label(label, op.span, source, frame)
         return entry
+
+    def call_site(self) -> Span | None:
+        """Where the main file called into another file, on the current path (the outermost
+        such call): a finding in the called file is reported with it."""
+        for frame in self.state.call_stack:
+            if frame.source is not self.source and frame.called_at is not None:
+                return frame.called_at
+        return None
+
+    def _program_not_here(self, program, span) -> None:
+        """A called program this run cannot read: it may be stored on the control (a CALL
+        PGM TNC:\\..., a G65 P9xxx macro library, an OEM cycle), so what it does is
+        ``unknown``, never an alarm; where the search path holds several files with that
+        program they are named. Afterwards position, feed and spindle are what it left."""
+        name = self.frontend.program_name(program)
+        candidates = self.library.candidates(name) if self.library is not None else []
+        if len(candidates) > 1:
+            files = ", ".join(path.name for path in candidates)
+            self._fault("core.program-not-found", span, f"program {name} called here is in several files of the search path ({files}): which one the control holds is not known, so it is not analysed",
+                        "unknown", f"{len(candidates)} candidates for {name}; name the folder that holds this program's subprograms with --subprogram-path or [settings] subprogram_path")
+        else:
+            self._fault("core.program-not-found", span, f"program {name} called here is not available here: what it does is not analysed",
+                        "unknown", "it may be stored on the control; give its folder with --subprogram-path")
+        state = self.state
+        state.move_to(dict.fromkeys(state.position))
+        state.feed_inherited, state.spindle = True, "inherited"  # it may set feed and spindle
 
     def _macro_arguments(self, op: ir.Call) -> dict:
         arguments = {}

@@ -141,6 +141,9 @@ class Interpreter(ControlFlow):
         self.pins = pins or {}  # free parameters fixed to a witness's values, for its replay
         self.state = MachineState()
         self.state.path_condition = self._assume(assumptions)
+        self.assumed_conditions = len(self.state.path_condition)  # what a path knows before any branch
+        if hasattr(observer, "call_site"):
+            observer.call_site = self.call_site
         self._handlers = {
             ir.SetModal: self._set_modal, ir.Move: self._move, ir.Dwell: self._nothing,
             ir.CutterComp: self._cutter_comp, ir.LengthOffset: self._length_offset,
@@ -335,8 +338,9 @@ class Interpreter(ControlFlow):
 
     # ------------------------------------------------------------------ reporting helpers
 
-    def _fault(self, rule: str, span: Span, message: str, status: str = "violated", reason: str | None = None) -> None:
-        self.observer.fault(Fault(rule, span, message, status, reason))
+    def _fault(self, rule: str, span: Span, message: str, status: str = "violated", reason: str | None = None,
+               severity: str | None = None) -> None:
+        self.observer.fault(Fault(rule, span, message, status, reason, severity))
 
     def _change(self, what: str, span: Span, block, old=None, new=None, register=None, words=None) -> None:
         self.observer.change(Change(what, span, block, old, new, register, words), self.state)
@@ -838,7 +842,13 @@ class Interpreter(ControlFlow):
         number = self.evaluate(op.number, op.span)
         shown = f"{number:g}" if type(number) is float else "?"
         text = f" ({op.message})" if op.message else ""
-        self._fault("core.macro-alarm", op.span, f"the program raises {op.statement.format(number=shown)}{text}: the control stops here")
+        raised = f"the program raises {op.statement.format(number=shown)}{text}"
+        if len(self.state.path_condition) > self.assumed_conditions:
+            # reached only for some values of the inputs: the program checking its arguments
+            self._fault("core.macro-alarm", op.span, f"{raised} when its inputs fail the check before it (a guard exit, not a fault)",
+                        severity="info")
+        else:
+            self._fault("core.macro-alarm", op.span, f"{raised}: the control stops here")
         raise PathEnd
 
     # ------------------------------------------------------------------ computed codes

@@ -323,6 +323,12 @@ class FagorLowering(IsoLowering):
         written = dict(arguments)
         block.ops.extend(modal_call.switch_on(span, name, written, self.modal_call_letters, _VACANT))
 
+    def _error(self, block, statement, span) -> None:
+        """``#ERROR ["text"]``: the program stops with its own error message (a guard exit
+        when it is reached only for some inputs)."""
+        message = statement.text.strip().strip("[]").strip().strip('"')
+        block.ops.append(ir.Alarm(span, 0.0, message, "an error with #ERROR"))
+
     def _modal_call_off(self, block, statement, span) -> None:
         block.ops.append(modal_call.switch_off(span))
 
@@ -457,7 +463,7 @@ _FLOW = {
 }
 _INSTRUCTIONS = {
     "CALL": FagorLowering._call, "PCALL": FagorLowering._call, "MCALL": FagorLowering._modal_call,
-    "MDOFF": FagorLowering._modal_call_off, "TOOL": FagorLowering._tool_axis,
+    "MDOFF": FagorLowering._modal_call_off, "TOOL": FagorLowering._tool_axis, "ERROR": FagorLowering._error,
     "LATHECY": FagorLowering._cycle_set, "MILLCY": FagorLowering._cycle_set, "RET": FagorLowering._return,
 }
 

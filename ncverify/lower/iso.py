@@ -196,10 +196,12 @@ class IsoLowering:
             if entry is None:
                 continue  # machine-specific M codes (clamps, doors, chip conveyor): no modelled effect
             effect = entry["effect"]
+            # switching on acts before the block's motion, switching off after it (G1 X10 M5 cuts with the spindle on)
+            stage = _STOP if entry.get("state") in ("off", "orient") else _SPINDLE
             if effect == "spindle":
-                stages[_SPINDLE].append(ir.Spindle(span, entry["state"]))
+                stages[stage].append(ir.Spindle(span, entry["state"]))
             elif effect == "coolant":
-                stages[_SPINDLE].append(ir.Coolant(span, entry["state"]))
+                stages[stage].append(ir.Coolant(span, entry["state"]))
             elif effect == "tool_change":
                 stages[_TOOL].append(ir.ToolChange(span))
             elif effect == "stop":

@@ -23,6 +23,7 @@ later block that moves (:mod:`.modal_call`, see :meth:`SinumerikLowering._mcall`
 """
 from __future__ import annotations
 
+import math
 import re
 import tomllib
 from functools import cache
@@ -516,7 +517,10 @@ class SinumerikFrontend:
         return "global" if name[:1] in ("R", "$") and (name[:1] == "$" or name[1:].split("[")[0].isdigit()) else "local"
 
     def system_variable(self, name: str, state):
-        return running_modal_call.system_value(name, state)
+        """System constants are values (``$PI``); machine data and the rest are the
+        machine's, read as inputs (unknown without an ``assume``), never set to 0 freely."""
+        constant = _SYSTEM_CONSTANTS.get(name.upper())
+        return constant if constant is not None else running_modal_call.system_value(name, state)
 
     def label_offsets(self, buffer, label):
         if isinstance(label, str) and "#" in label:
@@ -603,6 +607,7 @@ _TOOL_DATA_BLOCK = re.compile(rf"^\s*(?:N\d+\s*)?(?:{_TOOL_ASSIGNMENT})+(?:[;\uf
 _TOOL_DATA = re.compile(_TOOL_ASSIGNMENT, re.IGNORECASE)
 # Tool type codes (seed B L81, A section 3.1): 1xx mills, 2xx drills, 5xx turning tools.
 _TOOL_TYPES = {1: "endmill", 2: "drill", 5: "turning"}
+_SYSTEM_CONSTANTS = {"$PI": math.pi}
 
 
 def program_context(buffer: bytes) -> Context:
