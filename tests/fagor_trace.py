@@ -43,9 +43,6 @@ class Trace:
     def fault(self, fault):
         self.faults.append(fault)
 
-    def path_end(self, state):
-        """The trace keeps the states at program ends (``change``), not at every path's end."""
-
     def note(self, note):
         self.notes.append(note)
 

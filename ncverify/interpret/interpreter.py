@@ -178,7 +178,9 @@ class Interpreter(ControlFlow):
                 self._run_path(position)
             except PathEnd:
                 pass
-            self.observer.path_end(self.state)
+            path_end = getattr(self.observer, "path_end", None)  # observers that keep per-path models (the cut stock) close them here
+            if path_end is not None:
+                path_end(self.state)
         self._sweep_unvisited()
 
     def _run_path(self, position: Position) -> None:
