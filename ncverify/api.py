@@ -12,6 +12,7 @@ from pathlib import Path
 from . import annotations, values
 from .check import Checker
 from .detect import Detection, detect, profile_evidence
+from .verdict import show
 from .diagnostics import Diagnostic, Severity, Status, Suppressed
 from .interpret import Interpreter
 from .context import Context, RegisterLimits, RuleContext, ToolTable
@@ -44,6 +45,7 @@ class FileResult:
     least_input_increment: float | None = None
     air_cutting: dict[str, tuple[float, float]] = field(default_factory=dict)  # tool -> (feed length, length that cut nothing), mm
     detection_evidence: str = ""  # why this dialect, profile and machine type (--verbose)
+    values: dict[int, list[tuple[str, str]]] = field(default_factory=dict)  # with Settings.record_values: line -> (variable, value shown)
 
     def to_json(self) -> dict:
         entry = {"path": self.path, "dialect": self.dialect, "dialect_confidence": self.dialect_confidence}
@@ -100,8 +102,11 @@ def project_for(program: Path | None, settings: Settings) -> Context | None:
     return load_project(path) if path is not None else None
 
 
-def check_source(source: ProgramSource, settings: Settings, project: Context | None = None) -> FileResult:
-    detection = _detection(source, settings)
+def check_source(source: ProgramSource, settings: Settings, project: Context | None = None,
+                 detection: Detection | None = None) -> FileResult:
+    """``detection``: the dialect settled earlier for this program (an editor re-checking a
+    buffer after each edit); by default it is detected from the text."""
+    detection = detection or detect_dialect(source, settings)
     result = FileResult(source.name, detection.dialect, detection.confidence, profile=detection.profile, machine=detection.machine,
                         detection_evidence=detection.evidence)
     if detection.dialect is None:
@@ -171,7 +176,8 @@ def _with_project_settings(settings: Settings, project: Context | None) -> Setti
     return settings.with_(**changes)
 
 
-def _detection(source: ProgramSource, settings: Settings) -> Detection:
+def detect_dialect(source: ProgramSource, settings: Settings) -> Detection:
+    """The program's dialect, ISO profile and machine type: ``settings`` over detection."""
     head_bytes = bytes(source.buffer[:65536])
     found = detect(source.head(), head_bytes, Path(source.name).suffix)
     if settings.dialect is None:
@@ -235,6 +241,7 @@ def _run(source: ProgramSource, settings: Settings, detection: Detection, result
     result.blocks = interpreter.blocks_run
     result.paths = interpreter.paths_started
     result.free_parameters = sorted(interpreter.free_parameters)
+    result.values = {line: [(name, _shown(value)) for name, value in assigned] for line, assigned in interpreter.assigned.items()}
     if pins is None:
         result.air_cutting = {tool: (feed, air) for tool, (feed, air) in checker.material.air.items()}
         _write_stock(checker.material.final, settings, source)
@@ -251,6 +258,15 @@ def _write_stock(piece, settings: Settings, source: ProgramSource) -> None:
         piece.save_npz(target)
     else:
         piece.save_stl(target)
+
+
+def _shown(value) -> str:
+    """A value for an editor: the number, or the expression and its interval when symbolic."""
+    low, high = values.interval(value) if isinstance(value, (float, values.Sym)) else (None, None)
+    text = show(value)
+    if isinstance(value, values.Sym) and low is not None and (low > -values.INF or high < values.INF):
+        text += f" in [{show(float(low))}, {show(float(high))}]"
+    return text
 
 
 def iter_program_files(paths: list[str], settings: Settings):

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import ast
 import tomllib
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from functools import cache
 from pathlib import Path
 
@@ -167,6 +167,7 @@ class Checker:
         self.path_condition: list = []
         self.material = Material(self)
         self.call_site = lambda: None  # the interpreter's: where the checked file called into another
+        self.unexplored: str | None = None  # why some path was not followed to its end (no proof covers it)
         rules = [cls(self) for cls in rule_classes() if not set(cls.ids) <= settings.disabled_rules]
         self.rules = rules
         self._segment = _handlers(rules, "segment")
@@ -188,6 +189,8 @@ class Checker:
         one verdict per place: violated on any path wins over unknown, unknown over proved."""
         for handler in self._finish:
             handler()
+        if self.unexplored is not None:
+            self.diagnostics = [_unproved(d, self.unexplored, self._severity(self.definitions[d.rule])) if d.status is Status.PROVED else d for d in self.diagnostics]
         worst: dict[tuple, int] = {}
         rank = {Status.VIOLATED: 2, Status.UNKNOWN: 1, Status.PROVED: 0}
         for diagnostic in self.diagnostics:
@@ -228,9 +231,11 @@ class Checker:
             handler(change, state)
 
     def note(self, note) -> None:
-        self.report(note.rule, note.span, note.message)
+        self.report(note.rule, note.span, note.message, Status(note.status), note.reason)
 
     def fault(self, fault) -> None:
+        if fault.rule in _PATH_ENDS and fault.status == "unknown":
+            self.unexplored = fault.reason or fault.rule
         self.report(fault.rule, fault.span, fault.message, Status(fault.status), fault.reason,
                     severity=Severity(fault.severity) if fault.severity else None)
 
@@ -275,7 +280,7 @@ class Checker:
         if verdict is None:
             return
         if verdict.status is Status.PROVED:
-            message = f"proved impossible for every value of the free parameters: {message}"
+            message = f"{_PROVED_PREFIX}{message}"
         self.report(rule_id, span, message, verdict.status, verdict.reason, verdict.witness)
 
     def _severity(self, definition: RuleDefinition, suggested: Severity | None = None) -> Severity:
@@ -305,6 +310,20 @@ class Checker:
                 continue
             where = _first_span(constraint.tree, spans) or span
             self.report_verdict(definition.id, where, _format_message(constraint.message, names), verdict, state)
+
+
+# Faults after which the rest of a path is not analysed: a proof covers only the paths
+# explored, so none stands (whether or not the rule reporting the fault is enabled).
+_PATH_ENDS = ("core.path-limit", "core.loop-bound")
+_PROVED_PREFIX = "proved impossible for every value of the free parameters: "
+
+
+def _unproved(diagnostic: Diagnostic, why: str, severity: Severity) -> Diagnostic:
+    """A ``proved`` entry turned ``unknown``: some path the proof would need was left unexplored."""
+    claim = diagnostic.message.removeprefix(_PROVED_PREFIX)
+    return replace(diagnostic, status=Status.UNKNOWN, severity=severity,
+                   message=f"not proved: paths were left unexplored ({why}), and the hazard could happen on one of them: {claim}",
+                   reason=f"paths left unexplored: {why}")
 
 
 def _overrides(instance: Rule, name: str) -> bool:

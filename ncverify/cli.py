@@ -1,4 +1,4 @@
-"""Command line: ``ncverify check``, ``ncverify explain``, ``ncverify rules``.
+"""Command line: ``ncverify check``, ``ncverify explain``, ``ncverify rules``, ``ncverify lsp``.
 
 Exit codes: 0 nothing at or above ``--fail-on``; 1 findings at or above it (or unknown
 verdicts with ``--fail-on-unknown``); 2 usage or input errors (a file that cannot be read,
@@ -70,6 +70,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     rules = commands.add_parser("rules", help="list the rules")
     rules.add_argument("--where", action="store_true", help="add where each rule is implemented (module:Class, the page's constraints, or the modules that report it)")
+    commands.add_parser("lsp", help="run the language server on stdin/stdout (needs the lsp extra)")
     return parser
 
 
@@ -102,6 +103,8 @@ def main(argv: list[str] | None = None) -> int:
             return _explain(arguments.rule)
         if arguments.command == "rules":
             return _list_rules(arguments.where)
+        if arguments.command == "lsp":
+            return _serve_lsp()
         return _check(arguments)
     except RuleFileError as error:
         print(f"ncverify: broken rule definition: {error}", file=sys.stderr)
@@ -224,15 +227,23 @@ def _exit_code(results: list[FileResult], errors: list[str], settings: Settings)
     return EXIT_OK
 
 
-def _explain(rule_id: str) -> int:
+def explain_text(rule_id: str) -> str | None:
+    """The page ``ncverify explain`` prints (Markdown), or ``None`` for an unknown rule."""
     definition = rule_definitions().get(rule_id)
     if definition is None:
+        return None
+    header = f"{definition.id}  [{definition.category}, {definition.severity.value}]\n{definition.summary}\n"
+    return header + "\n" + definition.page
+
+
+def _explain(rule_id: str) -> int:
+    page = explain_text(rule_id)
+    if page is None:
         close = [known for known in rule_definitions() if rule_id.split(".")[-1] in known]
         hint = f" (did you mean {', '.join(close)}?)" if close else " (see `ncverify rules`)"
         print(f"ncverify: error: no rule {rule_id!r}{hint}", file=sys.stderr)
         return EXIT_USAGE
-    header = f"{definition.id}  [{definition.category}, {definition.severity.value}]\n{definition.summary}\n"
-    _print_markdown(header + "\n" + definition.page)
+    _print_markdown(page)
     return EXIT_OK
 
 
@@ -244,6 +255,16 @@ def _print_markdown(text: str) -> None:
         Console().print(Markdown(text))
     else:
         print(text)
+
+
+def _serve_lsp() -> int:
+    try:
+        from .lsp import serve
+    except ImportError as error:
+        print(f"ncverify: error: the language server needs the lsp extra (pip install \"ncverify[lsp]\"): {error}", file=sys.stderr)
+        return EXIT_USAGE
+    serve()
+    return EXIT_OK
 
 
 def _list_rules(where: bool = False) -> int:

@@ -256,3 +256,19 @@ class RuleContext:
         if key != "tools":
             raise KeyError(key)
         return self.tools
+
+
+def radius_delta(state):
+    """The radius delta the active tool call adds to the tool table's radius (Klartext
+    ``TOOL CALL .. DR``): 0.0 where none is programmed; a symbolic value when it depends
+    on a free parameter (rules then answer unknown)."""
+    return state.global_variables.get("@TOOLDR", 0.0)
+
+
+ACTIVE_EDGE_VARIABLE = "$P_TOOL"  # SINUMERIK: the active cutting edge D, set by D words and read as $P_TOOL
+
+
+def active_edge(state):
+    """The active SINUMERIK cutting edge (1.0 where no D word set one; a symbolic value
+    when it depends on a free parameter)."""
+    return state.global_variables.get(ACTIVE_EDGE_VARIABLE, 1.0)

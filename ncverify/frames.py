@@ -125,10 +125,24 @@ class Frame:
         return out_axes, result
 
 
+def program_to_workpiece(state) -> "Frame | None":
+    """The one map from program to workpiece coordinates that every geometric rule sees:
+    the dialect's frame chain (datum shifts, rotations, mirror images, scaling), then the
+    ISO-style coordinate shift (G92/G52 and their equivalents) outermost. None is the
+    identity. The travel check adds only the work offset and the tool length to this, so
+    the stock check and the travel check always see the same point."""
+    frame = state.frame
+    shift = {axis: value for axis, value in state.coordinate_shift.items()
+             if axis in _INDEX and not (type(value) is float and value == 0.0)}
+    if not shift or frame is UNKNOWN:
+        return frame
+    return compose(translation(shift), frame or IDENTITY)
+
+
 def workpiece_level(state, axis: str, value):
     """A level along ``axis`` that a cycle parameter gives in program coordinates (a
     clearance height), on the workpiece; None when the active frame leaves it unknown."""
-    frame = state.frame
+    frame = program_to_workpiece(state)
     return value if frame is None else frame.level(axis, value, state.position)
 
 
@@ -221,9 +235,10 @@ def _map_arc(frame: Frame, arc: Arc, start: dict) -> tuple[Arc, str | None]:
 
 
 class WorkpieceObserver:
-    """Stands between the interpreter and the checker once a program sets a frame: while
-    ``interp.state.frame`` is not the identity, the geometry it reports is mapped to
-    workpiece coordinates; every other event passes through unchanged."""
+    """Stands between the interpreter and the checker once a program sets a frame or a
+    coordinate shift: while :func:`program_to_workpiece` is not the identity, the geometry
+    it reports is mapped to workpiece coordinates; every other event passes through
+    unchanged."""
 
     def __init__(self, observer, interp):
         self.inner = observer
@@ -233,7 +248,7 @@ class WorkpieceObserver:
         return getattr(self.inner, name)
 
     def segment(self, segment, state):
-        frame = state.frame
+        frame = program_to_workpiece(state)
         if frame is not None:
             segment, problem = map_segment(frame, segment)
             if problem is not None:
@@ -241,7 +256,7 @@ class WorkpieceObserver:
         self.inner.segment(segment, state)
 
     def hole(self, hole, state):
-        frame = state.frame
+        frame = program_to_workpiece(state)
         if frame is not None:
             at = hole.position
             hole = replace(hole, position=frame.to_workpiece(at), initial=frame.level(hole.drill_axis, hole.initial, at),
@@ -249,7 +264,7 @@ class WorkpieceObserver:
         self.inner.hole(hole, state)
 
     def motion_run(self, run, state):
-        frame = state.frame
+        frame = program_to_workpiece(state)
         if frame is not None:
             others = {axis: value for axis, value in state.position.items() if axis not in run.axes}
             axes, points = frame.map_points(run.axes, run.points, others)

@@ -13,6 +13,7 @@ import math
 
 import numpy
 import shapely
+import shapely.ops
 import z3
 from shapely.geometry import LineString
 
@@ -188,3 +189,97 @@ def _inside_triangle(x, y, edges) -> z3.BoolRef:
         length = math.hypot(x2 - x1, y2 - y1)
         conditions.append(left > EPSILON * length if on_outline else left >= 0)
     return z3.And(*conditions)
+
+# --------------------------------------------------------------------------- the tool as a cylinder
+
+def _outline(stock: Stock):
+    """The stock's footprint in XY (box or polygon prism)."""
+    if stock.kind == "box":
+        return shapely.box(stock.x_range[0], stock.y_range[0], stock.x_range[1], stock.y_range[1])
+    return stock.outline
+
+
+def tool_enters(stock: Stock, start, end, radius: float, length: float | None, dogleg: bool = False) -> tuple[float, float, float] | None:
+    """A point of the tool's path where the tool touches the inside of a box or polygon
+    stock, or None. The tool is a cylinder of ``radius`` around its axis, from the tip (the
+    programmed point) up ``length`` (None: up without end); it touches the stock where the
+    tip is below the top, the body reaches above the bottom, and the axis comes nearer to
+    the footprint than ``radius``. A dog-leg may pass anywhere in the box its ends span."""
+    outline = _outline(stock)
+    low, high = stock.z_range
+    if dogleg:
+        z_low, z_high = min(start[2], end[2]), max(start[2], end[2])
+        if z_low >= high - EPSILON or (length is not None and z_high + length <= low + EPSILON):
+            return None
+        span = _spanned_rectangle([min(a, b) for a, b in zip(start, end)], [max(a, b) for a, b in zip(start, end)])
+        if not _touches(outline, span, radius):
+            return None
+        point = shapely.ops.nearest_points(span, outline)[0]
+        return point.x, point.y, z_low
+    entry, leave = _tip_levels(start[2], end[2], low, high, length)
+    if entry is None:
+        return None
+    first = [a + (b - a) * entry for a, b in zip(start, end)]
+    last = [a + (b - a) * leave for a, b in zip(start, end)]
+    path = shapely.Point(first[0], first[1]) if first[:2] == last[:2] else LineString([first[:2], last[:2]])
+    if not _touches(outline, path, radius):
+        return None
+    near = shapely.ops.nearest_points(path, outline)[0]
+    share = 0.0 if path.geom_type == "Point" or path.length == 0 else path.project(near) / path.length
+    return near.x, near.y, first[2] + (last[2] - first[2]) * share
+
+
+def _touches(outline, path, radius: float) -> bool:
+    if radius > EPSILON:
+        return outline.distance(path) < radius - EPSILON
+    return outline.buffer(-EPSILON).intersects(path)
+
+
+def _tip_levels(z0: float, z1: float, low: float, high: float, length: float | None):
+    """The share (entry, leave) of a straight move along which the tool's tip is below the
+    stock's top and its body above the bottom; (None, None) when there is none."""
+    limits = [(high - EPSILON, -1.0)]  # tip below the top
+    if length is not None:
+        limits.append((low + EPSILON - length, 1.0))  # tip above bottom - length
+    entry, leave = 0.0, 1.0
+    for level, sign in limits:
+        if z0 == z1:
+            if (z0 - level) * sign <= 0:
+                return None, None
+            continue
+        t = (level - z0) / (z1 - z0)
+        if (z1 - z0) * sign > 0:
+            entry = max(entry, t)
+        else:
+            leave = min(leave, t)
+    return (entry, leave) if entry <= leave else (None, None)
+
+
+def tool_may_enter_symbolic(stock: Stock, start, end, radius: float, length: float | None, dogleg: bool = False) -> z3.BoolRef:
+    """:func:`tool_enters` as a Z3 condition. A polygon is widened by the radius with
+    mitred corners, a little more than the tool reaches: a proof stays sound, and a
+    violation the widening alone makes does not survive the witness's concrete run."""
+    shared = z3.FreshReal("t")
+    ts = [z3.FreshReal("t") for _ in range(3)] if dogleg else [shared] * 3
+    constraints = [z3.And(t >= 0, t <= 1) for t in set(ts)]
+    point = []
+    for a, b, t in zip(start, end, ts):
+        a_term, b_term = values.term_of(a), values.term_of(b)
+        point.append(a_term + (b_term - a_term) * t)
+    x, y, z = point
+    low, high = stock.z_range
+    constraints.append(z < high - EPSILON)
+    if length is not None:
+        constraints.append(z + length > low + EPSILON)
+    if stock.kind == "box":
+        (x_low, x_high), (y_low, y_high) = stock.x_range, stock.y_range
+        if radius > EPSILON:
+            dx = z3.If(x < x_low, x_low - x, z3.If(x > x_high, x - x_high, z3.RealVal(0)))
+            dy = z3.If(y < y_low, y_low - y, z3.If(y > y_high, y - y_high, z3.RealVal(0)))
+            constraints.append(dx * dx + dy * dy < (radius - EPSILON) ** 2)
+        else:
+            constraints += [x > x_low + EPSILON, x < x_high - EPSILON, y > y_low + EPSILON, y < y_high - EPSILON]
+        return z3.And(*constraints)
+    widened = stock.outline.buffer(radius, join_style="mitre", mitre_limit=1000.0) if radius > EPSILON else stock.outline
+    constraints.append(z3.Or(*(_inside_triangle(x, y, triangle) for triangle in _triangles(widened.wkb))))
+    return z3.And(*constraints)

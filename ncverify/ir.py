@@ -368,6 +368,8 @@ class Note:
     rule: str
     message: str
     span: Span
+    status: str = "violated"  # or "unknown": what the block asks of a rule was not checked
+    reason: str | None = None
 
 
 @dataclass(slots=True)

@@ -32,6 +32,7 @@ class Settings:
     stock_memory: int = 256 << 20  # bytes the in-process stock may take
     stock_out: Path | None = None  # write the cut workpiece here (.stl or .npz; {stem}: the program's name)
     config: Path | None = None  # the project file; None: ncverify.toml found upward
+    record_values: bool = False  # editors: keep what each assignment computes, by line (FileResult.values)
     explicit: frozenset[str] = frozenset()  # settings given on the command line: the project file does not override them
 
     def with_(self, **changes) -> "Settings":

@@ -23,6 +23,7 @@ from ncverify.project import load_project_text
 from witness_text import assumed_ranges, literal, parameters_only, substitute, violated, with_status
 
 STOCK = "(ncverify: stock box X0:100 Y0:80 Z-20:0)"
+TOOL = "(ncverify: tool 1 radius 2 length 50)"  # a proof against the stock needs the tool's size
 LEVEL_RULES = ("core.cycle-depth-sign", "core.cycle-zero-depth", "core.clearance-below-stock",
                "core.rapid-into-stock", "core.cycle-r-above-initial")
 NOT_REPRODUCED = "did not reproduce"
@@ -69,12 +70,12 @@ def assert_reproduces(text: str, result, project: str | None = None, **options) 
 
 
 DRILL_PROVED = program(f"""
-    {STOCK}
+    {STOCK} {TOOL}
     (ncverify: assume -15 <= #1 <= -2)
     (ncverify: assume 1 <= #2 <= 5)
-    G21 G17 G40 G49 G80 G90
+    G21 G17 G40 G49 G80 G90 T1 M06
     G00 G54 X10. Y10.
-    G00 Z50. S2000 M03
+    G43 H01 G00 Z50. S2000 M03
     G99 G81 X10. Y10. Z#1 R#2 F100.
     X30.
     G80
@@ -185,10 +186,10 @@ def test_an_r_point_range_reaching_into_the_stock_is_violated_with_a_witness_tha
 
 def test_a_symbolic_rapid_that_can_enter_the_stock_is_violated_and_one_that_cannot_is_proved():
     text = program(f"""
-        {STOCK}
+        {STOCK} {TOOL}
         (ncverify: assume -3 <= #5 <= 10)
         (ncverify: assume 2 <= #6 <= 10)
-        G21 G90 G54
+        G21 G90 G54 T1 M06
         G00 X10. Y10. Z50.
         G00 Z#6
         G00 Z#5
@@ -321,9 +322,9 @@ def test_a_symbolic_rapid_into_a_polygon_stock_is_violated_with_a_witness_inside
 
 def test_a_symbolic_rapid_down_into_the_notch_of_a_polygon_stock_is_proved():
     result = check(program(f"""
-        {_L_STOCK}
+        {_L_STOCK} {TOOL}
         (ncverify: assume 5 <= #1 <= 55)
-        G21 G90 G54
+        G21 G90 G54 T1 M06
         G00 X#1 Y30. Z50.
         G00 Z-5.
         M30
@@ -334,9 +335,9 @@ def test_a_symbolic_rapid_down_into_the_notch_of_a_polygon_stock_is_proved():
 
 def test_a_symbolic_dogleg_rapid_is_judged_on_the_box_its_ends_span():
     text = program(f"""
-        {_L_STOCK}
+        {_L_STOCK} {TOOL}
         (ncverify: assume 70 <= #1 <= 90)
-        G21 G90 G54
+        G21 G90 G54 T1 M06
         G00 X30. Y30. Z-5.
         G00 X#1 Z10.
         M30

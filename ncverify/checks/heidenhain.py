@@ -6,11 +6,13 @@ runner raises (a call with no cycle, RL/RR at a call) are reported from the trac
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
-from .. import frames, pocket, values
+from .. import frames, geometry, pocket, values
 from ..check import Rule, hazard, rule, show
 from ..diagnostics import Status
 from ..verdict import Verdict
+from ..context import radius_delta
 from .common import ReportsMissingContext
 
 _DEPTH_CHECKED = {200, 201, 202, 203, 205, 208, 241, 206, 207, 209, 251, 252, 253, 254, 256, 257, 258, 272, 273, 274}
@@ -39,7 +41,11 @@ def spindle_tool(rule_instance, state, span, rule_id, what: str):
     if getattr(tool, what) is None:
         rule_instance.missing(rule_id, span, f"tool T{show(number)} has no {what.replace('_', ' ')} in the tool table")
         return None
-    return tool
+    delta = radius_delta(state)
+    if type(delta) is not float:
+        rule_instance.missing(rule_id, span, "the radius delta DR of the TOOL CALL depends on a free parameter")
+        return None
+    return tool if delta == 0.0 or tool.radius is None else replace(tool, radius=tool.radius + delta)
 
 
 # Where the depth the usable length must reach is not Q201 (reference A H4): back boring
@@ -197,6 +203,8 @@ class _PocketFit(CycleRule):
                 self.missing("heidenhain.tool-too-large", span, "an inside corner factor or allowance that depends on a free parameter")
                 return
             radius = tool.radius * (1.0 + factor) + allowance
+        if self._judge_symbolic_size(number, params, spans, span, tool, state):
+            return
         fit, where = self._fit(number, params, spans, radius, span)
         if fit is None:
             self.missing("heidenhain.tool-too-large", span, "a pocket size that depends on a free parameter")
@@ -204,6 +212,26 @@ class _PocketFit(CycleRule):
         if not fit.fits:
             self.report("heidenhain.tool-too-large", where, f"cycle {number}: {fit.reason} (tool T{show(state.tool_in_spindle)}, R={tool.radius:g}); "
                         f"the largest tool radius that fits is {fit.largest_radius:g}")
+
+    # cycle -> (the size parameter, what it is, whether the tool must be strictly smaller):
+    # sizes the solver can judge when they depend on free parameters
+    _SYMBOLIC_SIZES = {252: ("Q223", "circular pocket of diameter", True), 208: ("Q335", "bore of diameter", False),
+                       253: ("Q219", "slot of width", False), 254: ("Q219", "circular slot of width", False)}
+
+    def _judge_symbolic_size(self, number, params, spans, span, tool, state) -> bool:
+        """A circle or slot whose size depends on free parameters goes to the solver (the
+        conditions of :func:`pocket.circle_fit` and :func:`pocket.slot_fit`): ``proved``, or
+        ``violated`` with a witness. True when it was judged here."""
+        name, what, strict = self._SYMBOLIC_SIZES.get(number, (None, None, None))
+        size = params.get(name)
+        if not isinstance(size, values.Sym):
+            return False
+        half = values.mul(size, 0.5)
+        too_large = hazard(">=", tool.radius, values.sub(half, geometry.EPSILON)) if strict else hazard(">", tool.radius, values.add(half, geometry.EPSILON))
+        self.checker.report_verdict("heidenhain.tool-too-large", spans.get(name, span),
+                                    f"cycle {number}: the tool (diameter {2 * tool.radius:g}, T{show(state.tool_in_spindle)}) does not fit the {what} {show(size)}",
+                                    self.checker.judge(too_large, state), state)
+        return True
 
     def _contour_pocket(self, params, span, tool, state):
         """Cycle 22 roughs with the side allowance Q3 left on the walls: the tool centre

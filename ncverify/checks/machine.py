@@ -10,6 +10,7 @@ import z3
 
 from .. import values
 from ..check import hazard, rule, show
+from ..diagnostics import Status
 from ..values import Condition, Sym
 from .common import ReportsMissingContext
 
@@ -18,7 +19,8 @@ _AXIS_INDEX = {"X": 0, "Y": 1, "Z": 2, "A": 3, "B": 4, "C": 5}
 
 @rule("core.travel-limit")
 class TravelLimit(ReportsMissingContext):
-    """Machine position = program position + work offset + G92/G52 shift (+ tool length on
+    """Machine position = workpiece position (the program position through
+    :func:`frames.program_to_workpiece`, G92/G52 shifts included) + work offset (+ tool length on
     Z while length compensation is on); every segment end and every arc's extent must stay
     inside the travel. On a lathe the program's X is a diameter: ``[machine] lathe_x`` says
     whether travel and offsets are diameters too or radii (then X is halved first), and arcs
@@ -32,7 +34,7 @@ class TravelLimit(ReportsMissingContext):
         for axis, limits in frame.items():
             for point in points:
                 self._check_axis(axis, point.get(axis), limits, segment.span, state)
-        if segment.arc is not None and segment.arc.centre is not None:
+        if segment.arc is not None:
             if self.checker.context.lathe:
                 self.missing("core.travel-limit", segment.span, "on a lathe, arcs are checked at their end points only, not at their extent")
             else:
@@ -69,8 +71,7 @@ class TravelLimit(ReportsMissingContext):
             index = _AXIS_INDEX.get(axis)
             if index is None or index >= len(offsets) or (axis == "X" and lathe_x_scale is None):
                 continue
-            shift = state.coordinate_shift.get(axis, 0.0)
-            offset = None if shift is None else values.add(offsets[index], shift)
+            offset = offsets[index]
             if axis == "Z" and offset is not None and state.length_mode in ("plus", "minus", "with_tool"):
                 offset = self._with_tool_length(offset, state, span)
             frame[axis] = (offset, low, high, lathe_x_scale if axis == "X" else 1.0)
@@ -113,18 +114,46 @@ class TravelLimit(ReportsMissingContext):
         self.checker.report_verdict("core.travel-limit", span, f"{axis} reaches machine position {show(machine)}, outside the travel {low:g}..{high:g}", verdict, state)
 
     def _check_arc(self, segment, frame, state):
+        """The quadrant points the arc sweeps are part of the obligation: exactly when the
+        arc is concrete, else through the whole circle (which holds them) when the solver
+        shows it inside the travel; anything less is ``unknown``, never the end points alone."""
         arc = segment.arc
         first, second, _normal = arc.plane
-        (c1, c2), radius = arc.centre, arc.start_radius
-        if not all(type(v) is float for v in (c1, c2, radius)):
+        axes = [axis for axis in (first, second) if axis in frame]
+        if not axes:
             return
+        centre = arc.centre
         start = (segment.start.get(first), segment.start.get(second))
         end = (segment.end.get(first), segment.end.get(second))
-        if None in start or None in end or not all(type(v) is float for v in (*start, *end)):
+        known = (*(centre or (None, None)), arc.start_radius, *start, *end)
+        if all(type(v) is float for v in known):
+            for axis, value in _arc_extremes(arc.direction, centre, arc.start_radius, start, end, (first, second)):
+                if axis in frame:
+                    self._check_axis(axis, value, frame[axis], segment.span, state)
             return
-        for axis, value in _arc_extremes(arc.direction, (c1, c2), radius, start, end, (first, second)):
-            if axis in frame:
-                self._check_axis(axis, value, frame[axis], segment.span, state)
+        if centre is None or arc.start_radius_sq is None or None in centre:
+            self.report("core.travel-limit", segment.span, "the arc's centre or radius is not known, so the extremes it sweeps were not checked against the travel",
+                        Status.UNKNOWN, "arc extremes not known")
+            return
+        for axis in axes:
+            self._check_circle(axis, centre[(first, second).index(axis)], arc.start_radius_sq, frame[axis], segment.span, state)
+
+    def _check_circle(self, axis, centre, radius_sq, limits, span, state):
+        """A symbolic arc: its whole circle inside the travel proves its swept extremes are;
+        a circle that may leave it is ``unknown`` (the arc may not sweep that side)."""
+        offset, low, high, _scale = limits
+        if offset is None:
+            return
+        machine = values.term_of(values.add(centre, offset))
+        radius_sq = values.term_of(radius_sq)
+        beyond = z3.Or(machine + 0 > high, radius_sq > (high - machine) * (high - machine))
+        below = z3.Or(machine + 0 < low, radius_sq > (machine - low) * (machine - low))
+        verdict = self.checker.judge(Condition(z3.Or(beyond, below)), state)
+        if verdict is None:
+            return
+        if verdict.status is not Status.PROVED:
+            verdict = type(verdict)(Status.UNKNOWN, reason=verdict.reason or "the arc's circle may leave the travel; whether the arc sweeps that side depends on free parameters")
+        self.checker.report_verdict("core.travel-limit", span, f"the arc about {axis}{show(centre)} sweeps past the travel {low:g}..{high:g} on {axis}", verdict, state)
 
     def _report(self, axis, machine, low, high, span, verdict):
         side = "below" if machine < low else "beyond"

@@ -23,6 +23,7 @@ _KEY = "workpiece"
 _FEED = 1  # MotionRun kind code
 _FLUSH_AT = 4096  # buffered moves per batch
 _RECENT = 64  # straight cuts kept exactly, for rapids back into what they cut
+_FAGOR_TOOL_AXIS = "$TOOLAX"  # Fagor's #TOOL AX, as the lowering keeps it
 _TOUCH = 1e-6  # mm: a rapid this close to the deepest cut is not below it
 _POINTED = {"drill", "spot", "chamfer"}
 _FLAT = {"endmill", "facemill", "slot", "reamer", "boring", "threadmill", "tap"}
@@ -89,7 +90,7 @@ class Material:
         mine = self._holder(state).own(state)
         if not self._placeable(segment.start, segment.end, state):
             mine.unplaced()
-            if tool_upright(state):
+            if tool_axis_problem(state) is None:
                 mine.symbolic.append((segment.start, segment.end))
             return
         start, end = _point(segment.start), _point(segment.end)
@@ -133,7 +134,7 @@ class Material:
         if cutter is None:
             return
         mine = self._holder(state).own(state)
-        if any(axis not in run.axes for axis in "XYZ") or not tool_upright(state):
+        if any(axis not in run.axes for axis in "XYZ") or not tool_axis_problem(state) is None:
             mine.unplaced()
             return
         columns = [run.axes.index(axis) for axis in "XYZ"]
@@ -152,7 +153,7 @@ class Material:
     # -- questions from the rules
     def rapid(self, start, end, state, run=None, index: int | None = None) -> RapidVerdict | None:
         """Does a rapid between two known points meet what is left (None: no model)?"""
-        if not self.modelled or not tool_upright(state):
+        if not self.modelled or not tool_axis_problem(state) is None:
             return None
         if run is not None:
             self.motion_run(run, state, upto=index)
@@ -233,7 +234,7 @@ class Material:
         return workpiece.arc_chords(start, end, arc.centre, arc.direction == "cw", plane, tolerance=self.resolution / 8.0)
 
     def _placeable(self, start: dict, end: dict, state) -> bool:
-        return tool_upright(state) and all(type(point.get(axis)) is float for point in (start, end) for axis in "XYZ")
+        return tool_axis_problem(state) is None and all(type(point.get(axis)) is float for point in (start, end) for axis in "XYZ")
 
     def _cutter(self, state):
         """The swept shape of the tool in the spindle: a Cutter, None for a tool that does
@@ -251,14 +252,17 @@ class Material:
         return cutter if isinstance(cutter, Cutter) else Cutter(0.0)
 
 
-def tool_upright(state) -> bool:
-    """The tool along +Z of the blank: plane normal Z, and a frame that keeps Z upright."""
-    if state.plane_axes[2] != "Z" or state.global_variables.get("$TOOLAX", 0.0) not in (0.0, 3.0):
-        return False
-    frame = state.frame
-    if frame is None or frame.is_identity:
-        return True
-    return frame is not frames.UNKNOWN and frame.keeps_axis("Z") and type(frame.linear[2][2]) is float and frame.linear[2][2] > 0.0
+def tool_axis_problem(state) -> str | None:
+    """Why the tool is not known to stand along +Z of the workpiece, or None."""
+    if state.plane_axes[2] != "Z":
+        return f"the tool axis is {state.plane_axes[2]} (working plane)"
+    axis = state.global_variables.get(_FAGOR_TOOL_AXIS)
+    if axis is not None and axis != 3.0:
+        return "#TOOL AX sets a tool axis other than Z+"
+    frame = frames.program_to_workpiece(state)
+    if frame is not None and not (frame.keeps_axis("Z") and type(frame.linear[2][2]) is float and frame.linear[2][2] > 0):
+        return "the active frame turns or mirrors the tool axis"
+    return None
 
 
 def cutter_of(tool) -> Cutter:

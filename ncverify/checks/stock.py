@@ -7,14 +7,17 @@ through a pocket machined earlier is still reported (future work, see the rule p
 from __future__ import annotations
 
 
+import math
+
 import numpy
 
 from .. import frames, geometry
-from ..check import Rule, hazard, rule, show
-from ..verdict import both
+from ..check import Rule, Verdict, hazard, rule, show
+from ..context import Stock, active_edge, radius_delta
 from ..diagnostics import Status
+from ..verdict import both
 from ..values import Condition, Sym
-from .material import tool_upright
+from .material import tool_axis_problem
 
 _RAPID = 0  # MotionRun kind code
 _ROLE_WORDS = {
@@ -38,26 +41,68 @@ def _point(position: dict, stock) -> tuple | None:
     return x, y, z
 
 
-def _separated(stock, start: dict, end: dict) -> bool:
-    """Both ends on the outer side of one face of the stock (known concrete values only):
-    a straight move, or a dog-leg within their box, cannot enter it."""
+def _separated(stock, start: dict, end: dict, tool=None) -> bool:
+    """Both ends on the outer side of one face of the stock (known concrete values only),
+    with room for the tool (its radius beside the sides, its length below the bottom): a
+    straight move, or a dog-leg within their box, cannot enter it."""
     box = geometry.stock_box(stock) or (None, None, stock.z_range)
-    for axis, limits in zip("XYZ", box):
+    radius, length = tool or (0.0, 0.0)
+    margins = ((radius, radius), (radius, radius), (math.inf if length is None else length, 0.0))
+    for axis, limits, (below, above) in zip("XYZ", box, margins):
         if limits is None:
             continue
         a, b = start.get(axis), end.get(axis)
-        if type(a) is float and type(b) is float and (min(a, b) >= limits[1] or max(a, b) <= limits[0]):
+        if type(a) is float and type(b) is float and (min(a, b) >= limits[1] + above or max(a, b) <= limits[0] - below):
             return True
     return False
 
 
-def _along_tool_axis(start, end, state) -> bool:
-    """The rapid keeps X and Y (the same values, or the same expressions) with the tool
-    along +Z of the blank: it moves along the tool's own axis."""
-    return tool_upright(state) and _same(start[0], end[0]) and _same(start[1], end[1])
+# What the cylinder model of the tool reads: the stock's kind, the tool in the spindle and
+# its radius and length from the tool table, and the tool axis (the working plane's normal,
+# Fagor's #TOOL AX, the frame's Z: material.tool_axis_problem). Under any other state it is
+# not used (see _judge).
+
+
+def _cylinder_tool(rule_instance, stock, state):
+    """(radius, length or None) of the tool in the spindle when the stock is a box or a
+    polygon, the tool table gives the radius and the tool stands along +Z of the
+    workpiece; None otherwise (the tool is then only its axis, and no proof is given from
+    that)."""
+    if stock.kind == "cylinder" or tool_axis_problem(state) is not None:
+        return None
+    tool = rule_instance.checker.context.tools.in_spindle(state)
+    delta = radius_delta(state)
+    edge = active_edge(state)
+    if tool is not None and edge != 1.0:
+        tool = tool.edges.get(int(edge)) if type(edge) is float else None
+    if tool is None or tool.radius is None or type(delta) is not float:
+        return None
+    return tool.radius + delta, tool.length
+
+
+def _no_tool_reason(stock, state) -> str:
+    problem = tool_axis_problem(state)
+    if problem is not None:
+        return f"{problem}: the tool's side is not modelled there, only its axis was shown clear of the stock"
+    return "tool radius not known: only the tool's axis was shown clear of the stock"
+
+
+def _enters(stock, start, end, tool, dogleg: bool = False):
+    """Where the tool touches the stock on a concrete move: as a cylinder when its size is
+    known, else along its axis."""
+    if tool is None:
+        return geometry.enters(stock, start, end, dogleg)
+    return geometry.tool_enters(stock, start, end, *tool, dogleg)
+
+
+def _may_enter(stock, start, end, tool, dogleg: bool = False):
+    if tool is None:
+        return geometry.may_enter_symbolic(stock, start, end, dogleg)
+    return geometry.tool_may_enter_symbolic(stock, start, end, *tool, dogleg)
 
 
 def _same(a, b) -> bool:
+    """The same coordinate: equal numbers, or the very same expression."""
     return a is b or (type(a) is float and type(b) is float and a == b)
 
 
@@ -97,7 +142,8 @@ class RapidIntoStock(_NeedsStock):
         what = _ROLE_WORDS.get(segment.role, "rapid move")
         if segment.cycle:
             what = f"{segment.cycle.rsplit('.', 1)[-1]} {what}"
-        if _separated(stock, segment.start, segment.end):
+        tool = _cylinder_tool(self, stock, state)
+        if _separated(stock, segment.start, segment.end, tool):
             return
         if end is None:
             unplaced = "/".join(axis for axis in "XYZ" if segment.end.get(axis) is None)
@@ -108,14 +154,14 @@ class RapidIntoStock(_NeedsStock):
             self._unknown_position(segment.span, f"{what} ends where ncverify does not know the tool is ({unplaced} not known yet: no move has set it since the program start or a reference return): its path was not checked", state)
             return
         if start is None:
-            self._from_unknown(stock, end, segment.span, what, state)
+            self._from_unknown(stock, end, segment.span, what, state, tool)
             return
         if self._retracts(start, end, state):
             return
         if any(isinstance(value, Sym) for value in (*start, *end)):
-            self._symbolic(stock, start, end, segment.span, what, state)
+            self._symbolic(stock, start, end, segment.span, what, state, tool)
             return
-        hit = geometry.enters(stock, start, end, self.checker.context.rapid_path == "dogleg")
+        hit = _enters(stock, start, end, tool, self.checker.context.rapid_path == "dogleg")
         if hit is None:
             return
         left = self.checker.material.rapid(start, end, state, run, index) if self.checker.context.rapid_path != "dogleg" else None
@@ -130,7 +176,7 @@ class RapidIntoStock(_NeedsStock):
         """A rapid straight up the tool's own axis from where the tool stands, for every
         allowed value: every point it passes is where the tool's body already is, so it
         meets nothing the tool has not met already (the holder is judged on its own)."""
-        if not _along_tool_axis(start, end, state):
+        if tool_axis_problem(state) is not None or not (_same(start[0], end[0]) and _same(start[1], end[1])):
             return False
         falls = hazard("<", end[2], start[2])
         if isinstance(falls, bool):
@@ -173,6 +219,11 @@ class RapidIntoStock(_NeedsStock):
             for index in rapids:
                 self.segment(run.segment(int(index)), state, run, int(index))
             return
+        tool = _cylinder_tool(self, stock, state)
+        if tool is not None:  # candidates within the tool's reach of the box; each is then judged exactly
+            radius, length = tool
+            stock = Stock.box((stock.x_range[0] - radius, stock.x_range[1] + radius), (stock.y_range[0] - radius, stock.y_range[1] + radius),
+                              (stock.z_range[0] - (1e12 if length is None else length), stock.z_range[1]))
         starts, ends = run.points[rapids].copy(), run.points[rapids + 1].copy()
         if stock.kind == "cylinder":
             starts[:, 1] = numpy.nan_to_num(starts[:, 1])
@@ -184,14 +235,12 @@ class RapidIntoStock(_NeedsStock):
         for index in hits[: self.checker.settings.max_findings_per_rule]:
             self.segment(run.segment(int(index)), state, run, int(index))
 
-    def _from_unknown(self, stock, end, span, what, state):
+    def _from_unknown(self, stock, end, span, what, state, tool):
         """Where the tool comes from is unknown; the end point alone can still be inside."""
         if any(isinstance(value, Sym) for value in end):
-            inside = geometry.may_enter_symbolic(stock, end, end)
-            self.checker.report_verdict(self.rule_id, span, f"{what} ends at {_where(end)}, which can lie inside the stock ({stock.describe()})",
-                                        self.checker.judge(Condition(inside), state), state)
+            self._judge(_may_enter(stock, end, end, tool), f"{what} ends at {_where(end)}, which can lie inside the stock ({stock.describe()})", span, state, tool)
             return
-        if geometry.enters(stock, end, end) is not None:
+        if _enters(stock, end, end, tool) is not None:
             self.report(self.rule_id, span, f"{what} ends at {_where(end)}, inside the stock ({stock.describe()}): the tool crashes into the blank at rapid")
         else:
             self._unknown_position(span, f"{what} to {_where(end)} starts where ncverify does not know the tool is (before the first move, or after a reference return): its path was not checked", state)
@@ -201,10 +250,17 @@ class RapidIntoStock(_NeedsStock):
         if self.first_time(state, why):
             self.report(self.rule_id, span, message, Status.UNKNOWN, "position unknown")
 
-    def _symbolic(self, stock, start, end, span, what, state):
-        condition = geometry.may_enter_symbolic(stock, start, end, self.checker.context.rapid_path == "dogleg")
+    def _symbolic(self, stock, start, end, span, what, state, tool):
+        condition = _may_enter(stock, start, end, tool, self.checker.context.rapid_path == "dogleg")
+        self._judge(condition, f"{what} from {_where(start)} to {_where(end)} passes through the stock ({stock.describe()})", span, state, tool)
+
+    def _judge(self, condition, message, span, state, tool):
+        """A symbolic verdict; with no tool radius known only the tool's axis was judged,
+        which proves nothing about its side: ``proved`` becomes ``unknown``."""
         verdict = self.checker.judge(Condition(condition), state)
-        self.checker.report_verdict(self.rule_id, span, f"{what} from {_where(start)} to {_where(end)} passes through the stock ({stock.describe()})", verdict, state)
+        if verdict is not None and verdict.status is Status.PROVED and tool is None and self.checker.context.stock.kind != "cylinder":
+            verdict = Verdict(Status.UNKNOWN, reason=_no_tool_reason(self.checker.context.stock, state))
+        self.checker.report_verdict(self.rule_id, span, message, verdict, state)
 
     @staticmethod
     def _message(what, start, end, hit, stock, cut: bool = False) -> str:

@@ -120,6 +120,7 @@ class Interpreter(ControlFlow):
                  feed_increment: float = 0.0, library=None, assumptions=(), pins: dict | None = None):
         self.cycle_models = cycle_models
         self.twins = twins
+        self.assigned: dict[int, list[tuple[str, object]]] = {}  # line -> (variable, value) of assignment statements, with settings.record_values
         self.source = source
         self.frontend = frontend
         self.observer = observer
@@ -229,7 +230,7 @@ class Interpreter(ControlFlow):
     def _batch_allowed(self) -> bool:
         state = self.state
         return (not self.settings.per_block_only and state.cycle is None and not state.loops
-                and (state.frame is None or state.frame.is_numeric)
+                and (frames.program_to_workpiece(state) is None or frames.program_to_workpiece(state).is_numeric)
                 and state.modal.get("motion") in ir.MoveBatch.KINDS and not isinstance(state.feed, Sym)
                 and not any(isinstance(value, Sym) for value in state.position.values())
                 and self._dialect_allows_batch(state))
@@ -509,10 +510,12 @@ class Interpreter(ControlFlow):
             self.free_parameters[name] = parameter
         return parameter
 
-    def write_variable(self, var: ir.Var, value, span=None) -> None:
+    def write_variable(self, var: ir.Var, value, span=None, assignment: bool = False) -> None:
         name = self.variable_name(var, span)
         if isinstance(value, (bool, Condition)):
             value = 1.0 if value is True else 0.0 if value is False else values.fresh("condition", 0.0, 1.0)
+        if assignment and self.settings.record_values and span is not None and span.path is None:
+            self.assigned.setdefault(span.line, []).append((name, value))
         if self.frontend.variable_scope(name) == "local":
             self.state.local_variables[name] = value
         else:
@@ -667,13 +670,30 @@ class Interpreter(ControlFlow):
             self._change("data_setting", op.span, block, op_values(op.values, self, op.span), op_values(op.words, self, op.span))
         elif op.kind == "local":
             shifted = {}
-            for axis, shift in op_values(op.values, self, op.span).items():
+            for axis, local in op_values(op.values, self, op.span).items():
+                before = self._set_local_origin(axis, local)  # G52 replaces the local origin; it does not add to it
+                change = None if local is None or before is None else values.sub(local, before)
                 current = self.state.position.get(axis)
-                shifted[axis] = None if current is None else values.sub(current, shift)
-                known = self.state.coordinate_shift.get(axis, 0.0)
-                self.state.coordinate_shift[axis] = None if known is None else values.add(known, shift)
+                shifted[axis] = None if current is None or change is None else values.sub(current, change)
             self.state.move_to(shifted)
+        self._watch_workpiece()
         return None
+
+    def _set_local_origin(self, axis: str, local):
+        """Make ``local`` the G52 local origin of ``axis`` (part of the coordinate shift,
+        beside G92's part); returns the local origin it replaces."""
+        memory, shift = self.state.rule_state, self.state.coordinate_shift
+        before = memory.get(("local-origin", axis), 0.0)
+        memory[("local-origin", axis)] = local
+        known = shift.get(axis, 0.0)
+        shift[axis] = None if known is None or local is None else values.add(values.sub(known, before), local)
+        return before
+
+    def _watch_workpiece(self) -> None:
+        """From the first frame or coordinate shift on, the observer gets the trace in
+        workpiece coordinates (:func:`frames.program_to_workpiece`)."""
+        if not isinstance(self.observer, frames.WorkpieceObserver):
+            self.observer = frames.WorkpieceObserver(self.observer, self)
 
     def set_frame(self, frame: frames.Frame) -> None:
         """Make ``frame`` the map from program to workpiece coordinates. The tool does not
@@ -689,8 +709,8 @@ class Interpreter(ControlFlow):
         else:
             state.position = back.to_workpiece(workpiece)
         state.frame = new
-        if new is not None and not isinstance(self.observer, frames.WorkpieceObserver):
-            self.observer = frames.WorkpieceObserver(self.observer, self)
+        if new is not None:
+            self._watch_workpiece()
 
     def _set_frame(self, op: ir.SetFrame, block):
         """A programmable frame statement (:func:`frames.after_statement`), or a tilted
@@ -733,6 +753,9 @@ class Interpreter(ControlFlow):
         self._change("reference_return", op.span, block, op_values(written_absolute, self, op.span), op.which, None,
                      op_values({"P": op.words["P"]}, self, op.span) if "P" in op.words else {})
         state.move_to(dict.fromkeys(targets))  # at the machine reference point: unknown in work coordinates
+        for axis in targets:  # a reference return cancels the axis's G52 local origin
+            if ("local-origin", axis) in state.rule_state:
+                self._set_local_origin(axis, 0.0)
         return None
 
     def _machine_move(self, op: ir.MachineMove, block):
@@ -837,7 +860,7 @@ class Interpreter(ControlFlow):
 
     def _assign(self, op: ir.Assign, block):
         value = self.evaluate(op.value, op.span)
-        self.write_variable(op.target, value, op.span)
+        self.write_variable(op.target, value, op.span, assignment=True)
         return None
 
     def _alarm(self, op: ir.Alarm, block):

@@ -238,6 +238,7 @@ class KlartextLowering:
             block.ops.append(_pseudo(span, "tool_length", {"on": 0.0}))
             block.ops.append(ir.ToolChange(span))
             block.ops.append(_pseudo(span, "tool_length", {"on": 1.0, "T": number}))
+            block.ops.append(ir.Assign(span, ir.Var(TOOL_CALL_DR), words.get("DR", 0.0)))  # the call's radius delta, on top of the table's R + DR
         if axis is not None:
             block.ops.append(ir.SetModal(axis.span, "plane", _TOOL_AXIS_PLANE[axis.text]))
         if "F" in words:
@@ -413,6 +414,8 @@ class KlartextLowering:
         words = self._motion_words(cursor, block, extra)
         span = cursor.rest_span(start.span)
         direction = words["extra"].get("DR")
+        if words["rapid"]:
+            _rapid_arc(block, span)
         if start.text == "CR":
             if "R" not in words["extra"] or direction is None:
                 raise ReadError("CR needs a radius R and a direction DR+ or DR-", span)
@@ -438,6 +441,8 @@ class KlartextLowering:
             params[("I" if axis in words["incremental"] else "") + axis] = value
         params["kind"] = "arc" if start.text == "CP" else ("rapid" if words["rapid"] else "linear")
         span = cursor.rest_span(start.span)
+        if words["rapid"] and start.text == "CP":
+            _rapid_arc(block, span)
         self._emit_motion(block, words, start.span, cursor, None, _pseudo(span, "polar", params))
 
     def _corner(self, cursor, block, path):
@@ -989,3 +994,13 @@ def setup(settings, detection, project) -> DialectSetup:
                 "arc_distance": "incremental", "path_mode": "exact", "cycle_return": "initial", "spindle_mode": "rpm"}
     limits = {"tool_number_max": 32767.0, "h_register_max": 32767.0, "d_register_max": 32767.0}
     return DialectSetup(KlartextFrontend(lowering, tools), power_on, _cycle_models(), None, "mill", {}, None, 0.0, limits)
+
+
+TOOL_CALL_DR = "@TOOLDR"
+
+
+def _rapid_arc(block, span) -> None:
+    """FMAX on a circle block: the arc runs at rapid traverse, which the arc's checks (made
+    for a feed) do not cover: whether it passes through the blank is not known."""
+    block.notes.append(ir.Note("core.rapid-into-stock", "FMAX on a circle block: the arc runs at rapid traverse, and a rapid arc's path is not checked "
+                               "against the blank", span, "unknown", "rapid arc (FMAX on a circle block) not modelled"))

@@ -31,7 +31,7 @@ from functools import cache
 import numpy
 
 from .. import ir
-from ..context import Context, Stock, Tool, tool_value_problem
+from ..context import ACTIVE_EDGE_VARIABLE, Context, Stock, Tool, tool_value_problem
 from ..cycle_models import load_cycle_table
 from ..dialect import DialectSetup
 from ..read.iso_runs import read_plain_run
@@ -61,7 +61,7 @@ _AXIS_DATA_CODES = frozenset({"74", "75", "110", "111", "112", "58", "59", "25",
 _STAGE_ORDER = ("feed", "tool", "speed", "spindle", "dwell", "modal", "offset", "motion", "call", "stop")
 # The system variable holding the active cutting edge, the D number (840D programming
 # knowledge, not in the references): D and M6 write it, rules read it from the state.
-ACTIVE_EDGE = ir.Var("$P_TOOL")
+ACTIVE_EDGE = ir.Var(ACTIVE_EDGE_VARIABLE)
 # Whether X is a diameter: the modal group "diameter" (840D programming knowledge; the
 # references only use DIAMON in their turning examples). Rules that need it read it from
 # the state; nothing moves differently.
