@@ -1,5 +1,5 @@
 """Time ``ncverify check`` on a long surfacing program with a stock, with and without the
-model of the stock as cut so far (``--stock-resolution 0`` turns it off).
+model of the stock as cut so far (``--stock-resolution auto`` turns it on).
 
     python benchmarks/stock.py [BLOCKS] [RESOLUTION]
 
@@ -48,8 +48,8 @@ def main() -> None:
     program = HERE / "out" / f"stock-surfacing-{blocks}.nc"
     if not program.exists():
         write_program(blocks, program)
-    blank, blank_memory = run(program, "--stock-resolution", "0")
-    cut, cut_memory = run(program, *(("--stock-resolution", resolution) if resolution else ()))
+    blank, blank_memory = run(program)
+    cut, cut_memory = run(program, "--stock-resolution", resolution or "auto")
     print(f"{blocks:,} blocks against the blank:       {blank:6.2f} s, peak {blank_memory:5.0f} MiB")
     print(f"{blocks:,} blocks against the cut stock:   {cut:6.2f} s, peak {cut_memory:5.0f} MiB ({cut / blank:.2f} x)")
 

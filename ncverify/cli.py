@@ -61,8 +61,9 @@ def build_parser() -> argparse.ArgumentParser:
     check.add_argument("--rapid-path", choices=("straight", "dogleg"), default=Settings.rapid_path,
                        help="how G00 moves: interpolated straight, or each axis on its own (default %(default)s)")
     check.add_argument("--solver-timeout", type=float, default=Settings.solver_timeout_s, metavar="S", help="seconds per solver query (default %(default)s)")
-    check.add_argument("--stock-resolution", type=_non_negative_float, metavar="MM",
-                       help="cell size of the stock as cut so far (default: from the smallest tool; 0: judge rapids against the blank)")
+    check.add_argument("--stock-resolution", type=_stock_resolution, default=Settings.stock_resolution, metavar="MM|auto",
+                       help="judge rapids against the stock as cut so far, with cells of MM (auto: from the smallest tool); "
+                            "default 0: against the blank")
     check.add_argument("--stock-out", metavar="FILE", help="write the workpiece the program leaves (.stl or .npz; {stem}: the program's name)")
 
     explain = commands.add_parser("explain", help="show a rule's page")
@@ -84,13 +85,15 @@ def _positive_int(text: str) -> int:
     return value
 
 
-def _non_negative_float(text: str) -> float:
+def _stock_resolution(text: str) -> float | None:
+    if text.strip().lower() == "auto":
+        return None
     try:
         value = float(text)
     except ValueError:
-        raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
+        raise argparse.ArgumentTypeError(f"{text!r} is neither a number nor 'auto'") from None
     if not 0.0 <= value < float("inf"):
-        raise argparse.ArgumentTypeError("must be 0 or more")
+        raise argparse.ArgumentTypeError("must be 0 (off), a cell size in mm, or 'auto'")
     return value
 
 

@@ -28,7 +28,7 @@ class Settings:
     per_block_only: bool = False  # tests: run plain blocks one by one, to compare with batches
     solver_timeout_s: float = 5.0  # per Z3 query
     rapid_path: str = "straight"  # or "dogleg": each axis moves on its own at rapid
-    stock_resolution: float | None = None  # cell size of the in-process stock (mm); None: from the smallest tool; 0: off
+    stock_resolution: float | None = 0.0  # the stock as cut so far: 0 off (the blank), None on with cells from the smallest tool, > 0 on with these cells (mm)
     stock_memory: int = 256 << 20  # bytes the in-process stock may take
     stock_out: Path | None = None  # write the cut workpiece here (.stl or .npz; {stem}: the program's name)
     config: Path | None = None  # the project file; None: ncverify.toml found upward

@@ -512,8 +512,7 @@ def test_semicolon_comments_carry_annotations_too():
         G99 G81 Z#1 R2. F100.
         G80
         G00 Z-5.
-        G00 X20. ; ncverify: ignore rapid-into-stock
-        G00 Z50.
+        G00 Z50. ; ncverify: ignore rapid-into-stock
         M30
     """)
     assert not at(result, "core.bad-annotation")
@@ -610,14 +609,13 @@ IGNORES = f"""
     G00 X10. Y10. Z50.
     (ncverify: ignore core.rapid-into-stock)
     G00 Z-5.
-    G00 X30. (ncverify: ignore rapid-into-stock)
-    G00 X40.
+    G00 Z50. (ncverify: ignore rapid-into-stock)
+    G00 Z-5.
     (ncverify: ignore feed, core.spindle-off-cutting, rapid-into-stock)
 
     (a plain comment between)
     G01 X20. Y20. Z-2.
     G00 Z-8.
-    G00 X40.
     G00 Z50.
     M30
 """
@@ -649,7 +647,6 @@ def test_an_ignore_does_not_reach_past_its_block():
         G21 G90 G54
         G00 X10. Y10. Z50.
         G00 Z-5. (ncverify: ignore rapid-into-stock)
-        G00 X20.
         G00 Z50.
         M30
     """)

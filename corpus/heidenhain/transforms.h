@@ -2,7 +2,7 @@
 1  ; two bosses milled by one label at two datum shifts, then holes on a turned row; planted: a rapid down into the blank after the shift
 2  BLK FORM 0.1 Z X+0 Y+0 Z-20
 3  BLK FORM 0.2  X+200  Y+100  Z+0
-4  TOOL CALL 5 Z S4000 F300 ; ncverify: tool 5 radius 5
+4  TOOL CALL 5 Z S4000 F300
 5  L  Z+50 R0 FMAX M3 M8
 6  CYCL DEF 7.0 DATUM SHIFT
 7  CYCL DEF 7.1 X+50

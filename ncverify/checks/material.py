@@ -24,28 +24,38 @@ _FEED = 1  # MotionRun kind code
 _FLUSH_AT = 4096  # buffered moves per batch
 _RECENT = 64  # straight cuts kept exactly, for rapids back into what they cut
 _FAGOR_TOOL_AXIS = "$TOOLAX"  # Fagor's #TOOL AX, as the lowering keeps it
+_AXIS_ONLY = Cutter(0.0)  # the sweep of a tool whose radius is not known
 _TOUCH = 1e-6  # mm: a rapid this close to the deepest cut is not below it
 _POINTED = {"drill", "spot", "chamfer"}
 _FLAT = {"endmill", "facemill", "slot", "reamer", "boring", "threadmill", "tap"}
 _NOT_CUTTING = {"probe"}
 AUTO_RESOLUTION = (0.05, 1.0)  # bounds of the resolution chosen from the smallest tool
-DEFAULT_MEMORY_CAP = 256 << 20
 
 
 class _PathPiece:
     """One path's workpiece and its buffered cuts. Paths that fork share it until one of
     them cuts (the interpreter calls ``forked`` on rule memory when a path forks)."""
 
-    __slots__ = ("piece", "lines", "chords", "shared", "symbolic", "recent", "deepest")
+    __slots__ = ("piece", "lines", "chords", "shared", "symbolic", "recent", "deepest", "sizeless")
 
     def __init__(self, piece: Workpiece):
         self.piece, self.lines, self.chords, self.shared = piece, [], [], False
         self.symbolic: list[tuple[dict, dict]] = []  # cuts whose place depends on free parameters
         self.recent: deque = deque(maxlen=_RECENT)  # the last straight cuts, exactly: (start, end, cutter)
         self.deepest = math.inf  # the lowest any tool tip has cut: below it, the blank is whole
+        self.sizeless = False  # a tool of unknown size has cut (swept as its axis only)
 
     def forked(self) -> None:
         self.shared = True
+
+    def sized(self, cutter):
+        """The cutter to sweep: a tool whose size the table does not give (``False``) is
+        swept as its axis alone, so what it removed is counted along that line only and
+        the rapids after it are judged nearly as against the blank (and say so)."""
+        if cutter is False:
+            self.sizeless = True
+            return _AXIS_ONLY
+        return cutter
 
     def unplaced(self) -> None:
         """A cut that cannot be placed: material may be gone anywhere, at any depth."""
@@ -58,7 +68,7 @@ class _PathPiece:
         mine = _PathPiece(self.piece.copy())
         mine.lines, mine.chords, mine.symbolic = list(self.lines), list(self.chords), list(self.symbolic)
         mine.recent = deque(self.recent, maxlen=_RECENT)
-        mine.deepest = self.deepest
+        mine.deepest, mine.sizeless = self.deepest, self.sizeless
         state.rule_state[_KEY] = mine
         return mine
 
@@ -100,15 +110,10 @@ class Material:
                 mine.unplaced()
                 return
             mine.deepest = min(mine.deepest, float(chords[0][:, 2].min()) - chords[2], end[2] - chords[2])
-            if cutter is False:
-                mine.piece.cut_anywhere()
-                return
-            mine.chords.append((chords, cutter, _tool_name(state)))
+            mine.chords.append((chords, mine.sized(cutter), _tool_name(state)))
         else:
             mine.deepest = min(mine.deepest, start[2], end[2])
-            if cutter is False:
-                mine.piece.cut_anywhere()
-                return
+            cutter = mine.sized(cutter)
             mine.lines.append((start, end, cutter, _tool_name(state)))
             mine.recent.append((start, end, cutter))
         if len(mine.lines) + len(mine.chords) >= _FLUSH_AT:
@@ -144,11 +149,8 @@ class Material:
             mine.unplaced()
         if known.any():
             mine.deepest = min(mine.deepest, float(numpy.minimum(starts[known, 2], ends[known, 2]).min()))
-        if cutter is False:
-            mine.piece.cut_anywhere()
-            return
         self._flush(mine)
-        self._sweep(mine.piece, starts[known], ends[known], cutter, 0.0, _tool_name(state))
+        self._sweep(mine.piece, starts[known], ends[known], mine.sized(cutter), 0.0, _tool_name(state))
 
     # -- questions from the rules
     def rapid(self, start, end, state, run=None, index: int | None = None) -> RapidVerdict | None:
@@ -171,6 +173,11 @@ class Material:
     def has_cut(self, state) -> bool:
         holder = state.rule_state.get(_KEY)
         return holder is not None and holder.piece.cuts > 0
+
+    def sizeless_cuts(self, state) -> bool:
+        """Some cut on this path was made by a tool whose size the table does not give."""
+        holder = state.rule_state.get(_KEY)
+        return holder is not None and holder.sizeless
 
     def stayed_above(self, level: float, state):
         """A hazard condition: every cut placed by free parameters stayed above ``level``
@@ -208,7 +215,7 @@ class Material:
 
     @property
     def _memory_cap(self) -> int:
-        return getattr(self.checker.settings, "stock_memory", DEFAULT_MEMORY_CAP)
+        return self.checker.settings.stock_memory
 
     def _flush(self, mine: _PathPiece) -> None:
         for tool, group in _by_tool(mine.lines):
@@ -281,16 +288,15 @@ def cutter_of(tool) -> Cutter:
 
 def _resolution(stock, tools, machine, settings):
     """(cell size, None) when the model is kept, else (None, why not)."""
+    wanted, cap = settings.stock_resolution, settings.stock_memory
+    if wanted == 0:
+        return None, "the stock as cut so far is off (--stock-resolution 0)"
     if stock is None:
         return None, "no stock"
     if machine == "lathe" or stock.kind not in ("box", "polygon"):
         return None, f"a {stock.kind} stock on a {machine or 'mill'} is checked as the blank"
-    wanted = getattr(settings, "stock_resolution", None)
-    cap = getattr(settings, "stock_memory", DEFAULT_MEMORY_CAP)
     x_low, y_low, x_high, y_high = workpiece.outline(stock).bounds
     area = (x_high - x_low) * (y_high - y_low)
-    if wanted == 0:
-        return None, "the removal model is turned off (stock resolution 0)"
     if wanted is not None:
         if area / wanted ** 2 * 8 > cap:
             return None, (f"the stock at the resolution {wanted:g} mm needs more than the memory cap of {cap >> 20} MiB; "

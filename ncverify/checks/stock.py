@@ -168,15 +168,19 @@ class RapidIntoStock(_NeedsStock):
         if left is None:
             self._judge_against_blank(segment, what, start, end, hit, stock)
         elif left.outcome == "hits":
-            self.report(self.rule_id, segment.span, self._message(what, start, end, left.point, stock, cut=self.checker.material.has_cut(state)))
+            message = self._message(what, start, end, left.point, stock, cut=self.checker.material.has_cut(state))
+            if self.checker.material.sizeless_cuts(state):
+                message += " (a tool whose radius is not in the tool table cut before it: what that tool removed is counted along its axis only)"
+            self.report(self.rule_id, segment.span, message)
         elif left.outcome == "unsure":
             self._unsure(segment, what, start, end, stock, state)
 
     def _retracts(self, start, end, state) -> bool:
-        """A rapid straight up the tool's own axis from where the tool stands, for every
-        allowed value: every point it passes is where the tool's body already is, so it
-        meets nothing the tool has not met already (the holder is judged on its own)."""
-        if tool_axis_problem(state) is not None or not (_same(start[0], end[0]) and _same(start[1], end[1])):
+        """With the stock as cut so far: a rapid straight up the tool's own axis from where
+        the tool stands, for every allowed value. Every point it passes is where the tool's
+        body already is, so it meets nothing the tool has not met already (the holder is
+        judged on its own)."""
+        if not self.checker.material.modelled or tool_axis_problem(state) is not None or not (_same(start[0], end[0]) and _same(start[1], end[1])):
             return False
         falls = hazard("<", end[2], start[2])
         if isinstance(falls, bool):
