@@ -44,6 +44,7 @@ class FileResult:
     truncated: dict[str, int] = field(default_factory=dict)
     free_parameters: list[str] = field(default_factory=list)
     least_input_increment: float | None = None
+    air_cutting: dict[str, tuple[float, float]] = field(default_factory=dict)  # tool -> (feed length, length that cut nothing), mm
     detection_evidence: str = ""  # why this dialect, profile and machine type (--verbose)
     values: dict[int, list[tuple[str, str]]] = field(default_factory=dict)  # with Settings.record_values: line -> (variable, value shown)
     failed: bool = False  # the analysis itself failed (ncverify.watchdog): not checked, exit code 2
@@ -64,6 +65,8 @@ class FileResult:
             entry["truncated"] = dict(self.truncated)
         if self.free_parameters:
             entry["free_parameters"] = list(self.free_parameters)
+        if self.air_cutting:
+            entry["air_cutting"] = {tool: {"feed_mm": round(feed, 3), "air_mm": round(air, 3)} for tool, (feed, air) in sorted(self.air_cutting.items())}
         return entry
 
     def count(self, severity: Severity) -> int:
@@ -249,6 +252,22 @@ def _run(source: ProgramSource, settings: Settings, detection: Detection, result
     result.paths = interpreter.paths_started
     result.free_parameters = sorted(interpreter.free_parameters)
     result.values = {line: [(name, _shown(value)) for name, value in assigned] for line, assigned in interpreter.assigned.items()}
+    if pins is None:
+        result.air_cutting = {tool: (feed, air) for tool, (feed, air) in checker.material.air.items()}
+        _write_stock(checker.material.final, settings, source)
+
+
+def _write_stock(piece, settings: Settings, source: ProgramSource) -> None:
+    """``--stock-out``: the workpiece the first path leaves, as STL or NPZ by the extension;
+    ``{stem}`` in the name is the program's file name without its extension."""
+    if settings.stock_out is None or piece is None:
+        return
+    stem = source.path.stem if source.path is not None else "program"
+    target = Path(str(settings.stock_out).replace("{stem}", stem))
+    if target.suffix.lower() == ".npz":
+        piece.save_npz(target)
+    else:
+        piece.save_stl(target)
 
 
 def _shown(value) -> str:

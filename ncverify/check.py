@@ -67,6 +67,8 @@ class Checker:
     configured severities and disabled rules."""
 
     def __init__(self, settings, context: RuleContext, severity_overrides: dict | None = None, suppressions: dict | None = None):
+        from .checks.material import Material
+
         self.settings = settings
         self.context = context  # stock, tools, machine, register limits: what rules may assume
         self.suppressions = suppressions or {}  # line -> rule ids / categories from "ignore" annotations
@@ -78,6 +80,7 @@ class Checker:
         self._per_rule: dict[str, int] = {}
         self.truncated: dict[str, int] = {}
         self.path_condition: list = []
+        self.material = Material(self)
         self.call_site = lambda: None  # the interpreter's: where the checked file called into another
         self.unexplored: str | None = None  # why some path was not followed to its end (no proof covers it)
         rules = [cls(self) for cls in rule_classes() if not set(cls.ids) <= settings.disabled_rules]
@@ -114,8 +117,10 @@ class Checker:
     def segment(self, segment, state) -> None:
         for handler in self._segment:
             handler(segment, state)
+        self.material.segment(segment, state)  # after the rules: they judge a move against the material before it
 
     def motion_run(self, run, state) -> None:
+        self.material.begin_run(run)
         for handler in self._motion_run:
             handler(run, state)
         if self._segment_only:
@@ -123,6 +128,10 @@ class Checker:
                 segment = run.segment(index)
                 for handler in self._segment_only:
                     handler(segment, state)
+        self.material.motion_run(run, state)
+
+    def path_end(self, state) -> None:
+        self.material.finish(state)
 
     def hole(self, hole, state) -> None:
         for handler in self._hole:

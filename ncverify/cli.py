@@ -81,6 +81,10 @@ def build_parser() -> argparse.ArgumentParser:
     check.add_argument("--sarif-proved", action="store_true", help="SARIF: list proved verdicts as results too (code scanning shows every result as an alert)")
     check.add_argument("--sarif-category", default="ncverify", metavar="NAME", help="SARIF: the run's automationDetails category (one per analysed library)")
     check.add_argument("--plot", metavar="DIR", help="draw the toolpath of every failing file into DIR (needs ncverify[plot])")
+    check.add_argument("--stock-resolution", type=_stock_resolution, default=Settings.stock_resolution, metavar="MM|auto",
+                       help="judge rapids against the stock as cut so far, with cells of MM (auto: from the smallest tool); "
+                            "default 0: against the blank")
+    check.add_argument("--stock-out", metavar="FILE", help="write the workpiece the program leaves (.stl or .npz; {stem}: the program's name)")
 
     plot = commands.add_parser("plot", help="draw a program's toolpath with its findings")
     plot.add_argument("program", metavar="PROGRAM")
@@ -137,6 +141,18 @@ def _finite(minimum: float | None = None, above: float | None = None):
     return parse
 
 
+def _stock_resolution(text: str) -> float | None:
+    if text.strip().lower() == "auto":
+        return None
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is neither a number nor 'auto'") from None
+    if not 0.0 <= value < float("inf"):
+        raise argparse.ArgumentTypeError("must be 0 (off), a cell size in mm, or 'auto'")
+    return value
+
+
 def main(argv: list[str] | None = None) -> int:
     argv = sys.argv[1:] if argv is None else argv
     arguments = build_parser().parse_args(argv)
@@ -171,7 +187,8 @@ def _given(argv: list[str]) -> frozenset[str]:
     still wins over the project file)."""
     flags = {"--loop-bound": "loop_bound", "--max-paths": "max_paths", "--rapid-path": "rapid_path",
              "--solver-timeout": "solver_timeout_s", "--least-input-increment": "least_input_increment",
-             "--machine": "machine", "--profile": "profile", "--dialect": "dialect", "--subprogram-path": "subprogram_path"}
+             "--machine": "machine", "--profile": "profile", "--dialect": "dialect", "--subprogram-path": "subprogram_path",
+             "--stock-resolution": "stock_resolution"}
     return frozenset(setting for flag, setting in flags.items() if any(arg == flag or arg.startswith(flag + "=") for arg in argv))
 
 
@@ -186,6 +203,7 @@ def _settings(arguments) -> Settings:
         rapid_path=arguments.rapid_path, solver_timeout_s=arguments.solver_timeout,
         file_timeout_s=arguments.file_timeout, file_memory_bytes=arguments.file_memory << 20, explicit=getattr(arguments, "given", frozenset()),
         cache_dir=Path(arguments.cache_dir) if arguments.cache_dir else None,
+        stock_resolution=arguments.stock_resolution, stock_out=Path(arguments.stock_out) if arguments.stock_out else None,
     )
 
 

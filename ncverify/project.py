@@ -18,7 +18,9 @@ SETTINGS = {
     "loop_bound": int, "call_depth": int, "max_paths": int, "solver_timeout_s": float, "machine": str,
     "profile": str, "dialect": str, "subprogram_path": list, "rapid_path": str, "least_input_increment": float,
     "cache_dir": str,
+    "stock_resolution": float,
 }
+_MAY_BE_ZERO = {"least_input_increment", "stock_resolution"}  # 0: whole units; 0: no in-process stock
 _CHOICES = {"machine": MACHINES, "rapid_path": ("straight", "dogleg"), "dialect": tuple(DIALECTS)}
 _LARGEST = {"loop_bound": 100_000_000, "call_depth": 1000, "max_paths": 100_000}  # beyond these a bound no longer bounds the run
 _AXES = ("x", "y", "z", "a", "b", "c", "u", "v", "w")
@@ -97,7 +99,7 @@ class _Reader:
                 self.fail(f"[settings] {key}", f"expected a {kind.__name__}, got {value!r}")
             if key in _CHOICES and value not in _CHOICES[key]:
                 self.fail(f"[settings] {key}", f"expected one of {', '.join(_CHOICES[key])}, got {value!r}")
-            if kind in (int, float) and value <= 0 and key != "least_input_increment" or key == "least_input_increment" and value < 0:
+            if kind in (int, float) and (value < 0 if key in _MAY_BE_ZERO else value <= 0):
                 self.fail(f"[settings] {key}", f"must be positive, got {value!r}")
             if kind is float and not math.isfinite(value):
                 self.fail(f"[settings] {key}", f"expected a finite number, got {value!r}")

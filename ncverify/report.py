@@ -79,6 +79,9 @@ def render_text(results: list[FileResult], errors: list[str], texts: dict[str, s
             out += _finding_lines(result, d, quoter, texts)
         for rule_id, count in sorted(result.truncated.items()):
             out.append(f"{result.path}: note: {count} more {rule_id} findings not shown")
+        if result.air_cutting:
+            shares = ", ".join(f"{tool} {air / feed:.0%} of {feed:.0f} mm" for tool, (feed, air) in sorted(result.air_cutting.items()) if feed > 0)
+            out.append(f"{result.path}: note: feed moves that cut only air, per tool: {shares}")
     out += _context_gap_lines(gaps_by_file, len([r for r in results if not r.skipped]))
     for error in errors:
         out.append(f"error: {error}")

@@ -30,6 +30,9 @@ class Settings:
     file_timeout_s: float = 600.0  # wall clock for one file's analysis (ncverify.watchdog)
     file_memory_bytes: int = 8 << 30  # memory for one file's analysis
     rapid_path: str = "straight"  # or "dogleg": each axis moves on its own at rapid
+    stock_resolution: float | None = 0.0  # the stock as cut so far: 0 off (the blank), None on with cells from the smallest tool, > 0 on with these cells (mm)
+    stock_memory: int = 256 << 20  # bytes the in-process stock may take
+    stock_out: Path | None = None  # write the cut workpiece here (.stl or .npz; {stem}: the program's name)
     config: Path | None = None  # the project file; None: ncverify.toml found upward
     record_values: bool = False  # editors: keep what each assignment computes, by line (FileResult.values)
     cache_dir: Path | None = None  # None: [settings] cache_dir of the project file, else the user cache folder

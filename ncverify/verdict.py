@@ -159,3 +159,12 @@ def _min_max(name, arguments):
     if all(type(argument) is float for argument in arguments):
         return min(arguments) if name == "min" else max(arguments)
     return values.fresh(name)
+
+
+def both(first, second):
+    """Both hazard conditions (True, False or conditions)."""
+    if first is True or second is False:
+        return second
+    if second is True or first is False:
+        return first
+    return Condition(z3.And(first.term, second.term))

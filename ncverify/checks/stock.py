@@ -16,7 +16,9 @@ from .. import frames, geometry
 from ..check import Rule, Verdict, hazard, rule, show
 from ..context import Stock, active_edge, radius_delta
 from ..diagnostics import Status
+from ..verdict import both
 from ..values import Condition, Sym
+from .material import tool_axis_problem
 
 _RAPID = 0  # MotionRun kind code
 _ROLE_WORDS = {
@@ -58,8 +60,8 @@ def _separated(stock, start: dict, end: dict, tool=None) -> bool:
 
 # What the cylinder model of the tool reads: the stock's kind, the tool in the spindle and
 # its radius and length from the tool table, and the tool axis (the working plane's normal,
-# Fagor's #TOOL AX, the frame's Z). Under any other state it is not used (see _judge).
-_FAGOR_TOOL_AXIS = "$TOOLAX"
+# Fagor's #TOOL AX, the frame's Z: material.tool_axis_problem). Under any other state it is
+# not used (see _judge).
 
 
 def _cylinder_tool(rule_instance, stock, state):
@@ -67,7 +69,7 @@ def _cylinder_tool(rule_instance, stock, state):
     polygon, the tool table gives the radius and the tool stands along +Z of the
     workpiece; None otherwise (the tool is then only its axis, and no proof is given from
     that)."""
-    if stock.kind == "cylinder" or _tool_axis_problem(state) is not None:
+    if stock.kind == "cylinder" or tool_axis_problem(state) is not None:
         return None
     tool = rule_instance.checker.context.tools.in_spindle(state)
     delta = radius_delta(state)
@@ -79,21 +81,8 @@ def _cylinder_tool(rule_instance, stock, state):
     return tool.radius + delta, tool.length
 
 
-def _tool_axis_problem(state) -> str | None:
-    """Why the tool is not known to stand along +Z of the workpiece, or None."""
-    if state.plane_axes[2] != "Z":
-        return f"the tool axis is {state.plane_axes[2]} (working plane)"
-    axis = state.global_variables.get(_FAGOR_TOOL_AXIS)
-    if axis is not None and axis != 3.0:
-        return "#TOOL AX sets a tool axis other than Z+"
-    frame = frames.program_to_workpiece(state)
-    if frame is not None and not (frame.keeps_axis("Z") and type(frame.linear[2][2]) is float and frame.linear[2][2] > 0):
-        return "the active frame turns or mirrors the tool axis"
-    return None
-
-
 def _no_tool_reason(stock, state) -> str:
-    problem = _tool_axis_problem(state)
+    problem = tool_axis_problem(state)
     if problem is not None:
         return f"{problem}: the tool's side is not modelled there, only its axis was shown clear of the stock"
     return "tool radius not known: only the tool's axis was shown clear of the stock"
@@ -111,6 +100,11 @@ def _may_enter(stock, start, end, tool, dogleg: bool = False):
     if tool is None:
         return geometry.may_enter_symbolic(stock, start, end, dogleg)
     return geometry.tool_may_enter_symbolic(stock, start, end, *tool, dogleg)
+
+
+def _same(a, b) -> bool:
+    """The same coordinate: equal numbers, or the very same expression."""
+    return a is b or (type(a) is float and type(b) is float and a == b)
 
 
 def _where(point) -> str:
@@ -139,7 +133,7 @@ class _NeedsStock(Rule):
 class RapidIntoStock(_NeedsStock):
     rule_id = "core.rapid-into-stock"
 
-    def segment(self, segment, state):
+    def segment(self, segment, state, run=None, index: int | None = None):
         if segment.kind != "rapid" or segment.role == "out-of-hole":
             return  # back up the hole the tool has just made: no stock there
         stock = self.stock(segment.span)
@@ -163,12 +157,56 @@ class RapidIntoStock(_NeedsStock):
         if start is None:
             self._from_unknown(stock, end, segment.span, what, state, tool)
             return
+        if self._retracts(start, end, state):
+            return
         if any(isinstance(value, Sym) for value in (*start, *end)):
             self._symbolic(stock, start, end, segment.span, what, state, tool)
             return
         hit = _enters(stock, start, end, tool, self.checker.context.rapid_path == "dogleg")
         if hit is None:
             return
+        left = self.checker.material.rapid(start, end, state, run, index) if self.checker.context.rapid_path != "dogleg" else None
+        if left is None:
+            self._judge_against_blank(segment, what, start, end, hit, stock)
+        elif left.outcome == "hits":
+            message = self._message(what, start, end, left.point, stock, cut=self.checker.material.has_cut(state))
+            if self.checker.material.sizeless_cuts(state):
+                message += " (a tool whose radius is not in the tool table cut before it: what that tool removed is counted along its axis only)"
+            self.report(self.rule_id, segment.span, message)
+        elif left.outcome == "unsure":
+            self._unsure(segment, what, start, end, stock, state)
+
+    def _retracts(self, start, end, state) -> bool:
+        """With the stock as cut so far: a rapid straight up the tool's own axis from where
+        the tool stands, for every allowed value. Every point it passes is where the tool's
+        body already is, so it meets nothing the tool has not met already (the holder is
+        judged on its own)."""
+        if not self.checker.material.modelled or tool_axis_problem(state) is not None or not (_same(start[0], end[0]) and _same(start[1], end[1])):
+            return False
+        falls = hazard("<", end[2], start[2])
+        if isinstance(falls, bool):
+            return not falls
+        verdict = self.checker.judge(falls, state)
+        return verdict is not None and verdict.status is Status.PROVED
+
+    def _unsure(self, segment, what, start, end, stock, state) -> None:
+        """The blank is hit, the cut stock may be: where earlier cuts depend on free
+        parameters, values for which they stayed above the rapid are a candidate witness
+        (the replay with those values decides); otherwise the answer is unknown."""
+        shallow = self.checker.material.stayed_above(min(start[2], end[2]), state)
+        verdict = self.checker.judge(shallow, state) if shallow is not None else None
+        if verdict is not None and verdict.status is Status.VIOLATED:
+            self.checker.report_verdict(self.rule_id, segment.span, f"{what} from {_where(start)} to {_where(end)} passes through the stock "
+                                        f"({stock.describe()}) where the earlier cuts, for these values, did not go down: the tool crashes into it at rapid",
+                                        verdict, state)
+            return
+        self.report(self.rule_id, segment.span, f"{what} from {_where(start)} to {_where(end)} passes through the blank ({stock.describe()}) where earlier cuts "
+                    f"may have removed the material, closer to it than the model of the cut stock can tell ({self.checker.material.resolution:g} mm cells, "
+                    "or a cut it could not place): not checked", Status.UNKNOWN, "within the in-process stock's error")
+
+    def _judge_against_blank(self, segment, what, start, end, hit, stock) -> None:
+        """No model of the cut stock: the blank decides, except where the cycle itself
+        goes down into material removed before it."""
         if segment.role in _INTO_CLEARED:
             self.report(self.rule_id, segment.span, f"{what} goes down {_INTO_CLEARED[segment.role]} to {_where(end)}: the stock model is the blank, "
                         "with no holes or cleared material yet, so this entry was not checked", Status.UNKNOWN, "the stock is not updated by cutting or pre-boring")
@@ -184,7 +222,7 @@ class RapidIntoStock(_NeedsStock):
             return
         if self.checker.context.rapid_path == "dogleg" or stock.kind == "polygon" or len(run.axes) != 3:
             for index in rapids:
-                self.segment(run.segment(int(index)), state)
+                self.segment(run.segment(int(index)), state, run, int(index))
             return
         tool = _cylinder_tool(self, stock, state)
         if tool is not None:  # candidates within the tool's reach of the box; each is then judged exactly
@@ -197,10 +235,10 @@ class RapidIntoStock(_NeedsStock):
             ends[:, 1] = numpy.nan_to_num(ends[:, 1])
         known = ~(numpy.isnan(starts).any(axis=1) | numpy.isnan(ends).any(axis=1))
         for index in rapids[~known]:
-            self.segment(run.segment(int(index)), state)
+            self.segment(run.segment(int(index)), state, run, int(index))
         hits = rapids[known][geometry.enters_many(stock, starts[known], ends[known])]
         for index in hits[: self.checker.settings.max_findings_per_rule]:
-            self.segment(run.segment(int(index)), state)
+            self.segment(run.segment(int(index)), state, run, int(index))
 
     def _from_unknown(self, stock, end, span, what, state, tool):
         """Where the tool comes from is unknown; the end point alone can still be inside."""
@@ -230,9 +268,10 @@ class RapidIntoStock(_NeedsStock):
         self.checker.report_verdict(self.rule_id, span, message, verdict, state)
 
     @staticmethod
-    def _message(what, start, end, hit, stock) -> str:
+    def _message(what, start, end, hit, stock, cut: bool = False) -> str:
+        where = "material left by the cuts so far" if cut else "the blank"
         return (f"{what} from {_where(start)} to {_where(end)} passes through the stock ({stock.describe()}) near {_where(hit)}: "
-                "the tool crashes into the blank at rapid")
+                f"the tool crashes into {where} at rapid")
 
 
 @rule("core.clearance-below-stock")
@@ -266,7 +305,7 @@ class ClearanceBelowStock(_NeedsStock):
             if level is None or key in state.rule_state:
                 continue  # each hole is judged until one shows the violation: holes differ in position
             inside = hazard("<", level, face - geometry.EPSILON) if hole.up > 0 else hazard(">", level, face + geometry.EPSILON)
-            verdict = self.checker.judge(_both(over_stock, inside), state)
+            verdict = self.checker.judge(both(over_stock, inside), state)
             if verdict is not None and verdict.status is Status.VIOLATED:
                 state.rule_state[key] = True
             self.checker.report_verdict(self.rule_id, span, f"{code}: the {name} {axis}{show(level)} is {where}: "
@@ -305,16 +344,5 @@ def _across(ranges, drill_axis: str, position: dict):
     for axis, (low, high) in zip("XYZ", ranges):
         value = position.get(axis)
         if axis != drill_axis and value is not None:
-            over = _both(_both(over, hazard(">", value, low)), hazard("<", value, high))
+            over = both(both(over, hazard(">", value, low)), hazard("<", value, high))
     return over
-
-
-def _both(first, second):
-    """Both hazard conditions (True, False or conditions)."""
-    if first is True or second is False:
-        return second
-    if second is True or first is False:
-        return first
-    import z3
-
-    return Condition(z3.And(first.term, second.term))

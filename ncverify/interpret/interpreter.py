@@ -89,6 +89,10 @@ class MachineState:
         twin = MachineState(**{name: getattr(self, name) for name in self.__slots__})
         for name in ("position", "modal", "cycle_data", "lathe_cycle_data", "global_variables", "jump_counts", "last_reference_via", "rule_state", "coordinate_shift"):
             setattr(twin, name, dict(getattr(self, name)))
+        for memory in twin.rule_state.values():
+            forked = getattr(memory, "forked", None)
+            if forked is not None:
+                forked()  # rule memory that changes in place (the workpiece): both paths copy it before changing it
         twin.local_variables = dict(self.local_variables)
         twin.call_stack = [CallFrame(**{n: getattr(f, n) for n in f.__slots__}) for f in self.call_stack]
         twin.loops = [LoopFrame(l.loop_id, l.head, l.iterations) for l in self.loops]
@@ -185,6 +189,9 @@ class Interpreter(ControlFlow):
                 self._run_path(position)
             except PathEnd:
                 pass
+            path_end = getattr(self.observer, "path_end", None)  # observers that keep per-path models (the cut stock) close them here
+            if path_end is not None:
+                path_end(self.state)
         self._sweep_unvisited()
 
     def _run_path(self, position: Position) -> None:

@@ -1,0 +1,483 @@
+"""The workpiece as cut so far: a height field (Z-map) over the stock, for a tool along +Z.
+
+Material in a column of the blank runs from the stock's bottom up to a top height; cutting
+only lowers tops. The field is a grid of square cells, and each cell keeps two bounds of the
+material top over its whole area, so that the grid never has to be exact to be sound:
+
+``upper``
+    at least the highest material anywhere in the cell. A cut lowers it only where the
+    tool covered the whole cell.
+``lower``
+    at most the lowest material anywhere in the cell. A cut lowers it wherever the tool
+    reached any part of it.
+
+A rapid is *clear* when every cell its tool can touch has ``upper`` below the tool's lower
+surface there; it *hits* when some point of a cell lies under the tool with ``lower`` above
+that surface; anything in between is *unsure* (the verdict is ``unknown``, never a pass). A cut
+whose place is not known (a symbolic position, an unknown radius) may have removed material
+anywhere, so it sinks ``lower`` everywhere and leaves ``upper`` alone: what was certainly
+there may be gone, what may be there still may be.
+
+Heights are stored as float32, rounded outwards (``upper`` up, ``lower`` down), so that
+the rounding never turns an unsure answer into a sure one.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy
+import shapely
+
+from .context import Stock
+
+NO_MATERIAL = -numpy.inf
+_CHUNK_CELLS = 1 << 22  # cells looked at per vectorised step: bounds the scratch memory
+
+
+@dataclass(frozen=True)
+class Cutter:
+    """The shape of a tool's lower end, as it sweeps: ``radius``, the ``corner`` radius
+    (0: flat end mill, ``radius``: ball end mill, between: bull nose) or a drill's
+    ``point_angle`` in degrees (the tip is the tool's reference point). ``known`` False: the
+    shape is not given, only that the end is no pointier than a 90-degree cone and no
+    rounder than a ball; the sweep then takes the shape that cuts least where it claims
+    material is gone, and the flat end where it may be."""
+
+    radius: float
+    corner: float = 0.0
+    point_angle: float | None = None
+    known: bool = True
+
+    def lift(self, distance):
+        """Height of the tool's lower surface above its tip at ``distance`` from its axis
+        (numpy arrays; meaningful up to ``radius``). It never falls as the distance grows,
+        which the bounds rely on. For an unknown shape: the highest it can be."""
+        distance = numpy.minimum(distance, self.radius)
+        if not self.known:
+            ball = self.radius - numpy.sqrt(numpy.maximum(self.radius ** 2 - distance ** 2, 0.0))
+            return numpy.maximum(ball, distance)
+        if self.point_angle:
+            return distance / math.tan(math.radians(self.point_angle) / 2.0)
+        if self.corner > 0.0:
+            flat = self.radius - self.corner
+            beyond = numpy.maximum(distance - flat, 0.0)
+            return self.corner - numpy.sqrt(numpy.maximum(self.corner ** 2 - beyond ** 2, 0.0))
+        return numpy.zeros_like(distance)
+
+    def lowest_lift(self, distance):
+        """The lowest the tool's lower surface can be: its shape, or a flat end when unknown."""
+        return self.lift(distance) if self.known else numpy.zeros_like(numpy.asarray(distance, float))
+
+
+@dataclass(frozen=True)
+class RapidVerdict:
+    """``clear``, ``hits`` (with a point in the material) or ``unsure`` (within the grid's error)."""
+
+    outcome: str
+    point: tuple[float, float, float] | None = None
+
+
+class ModelTooLarge(ValueError):
+    """The stock at the requested resolution needs more memory than the cap allows."""
+
+
+class Workpiece:
+    """The height field of a box or polygon blank, milled with the tool along +Z."""
+
+    def __init__(self, stock: Stock, resolution: float, memory_cap: int = 256 << 20):
+        if stock.kind not in ("box", "polygon"):
+            raise ValueError(f"a {stock.kind} stock is not modelled as a height field")
+        (x_low, y_low, x_high, y_high) = outline(stock).bounds
+        self.resolution = float(resolution)
+        self.x_low, self.y_low = x_low, y_low
+        self.nx = max(1, math.ceil((x_high - x_low) / self.resolution))
+        self.ny = max(1, math.ceil((y_high - y_low) / self.resolution))
+        needed = 2 * 4 * self.nx * self.ny
+        if needed > memory_cap:
+            raise ModelTooLarge(f"the stock at {self.resolution:g} mm needs {needed / 2**20:.0f} MiB of height field, "
+                                f"over the cap of {memory_cap / 2**20:.0f} MiB")
+        self.stock = stock
+        self.cuts = 0  # sweeps so far, placed or not
+        self.bottom, self.top = stock.z_range
+        self.half_diagonal = self.resolution * math.sqrt(0.5)
+        self.upper, self.lower = self._blank(stock)
+
+    def _blank(self, stock: Stock):
+        """Tops of the uncut blank: cells wholly inside carry material on every point, cells
+        the outline crosses only maybe."""
+        xs, ys = self._centres()
+        if stock.kind == "box":  # the grid starts at the box's corner: only the far cells stick out
+            maybe = numpy.ones(len(xs), bool)
+            surely = (xs + self.resolution / 2 <= stock.x_range[1]) & (ys + self.resolution / 2 <= stock.y_range[1])
+        else:
+            inside = shapely.contains_xy(stock.outline, xs, ys)
+            edge = shapely.distance(stock.outline.boundary, shapely.points(xs, ys))
+            maybe = inside | (edge < self.half_diagonal)
+            surely = inside & (edge >= self.half_diagonal)
+        upper = numpy.where(maybe, self.top, NO_MATERIAL).astype(numpy.float32)
+        lower = numpy.where(surely, self.top, NO_MATERIAL).astype(numpy.float32)
+        return upper.reshape(self.ny, self.nx), lower.reshape(self.ny, self.nx)
+
+    def _centres(self):
+        ix, iy = numpy.meshgrid(numpy.arange(self.nx), numpy.arange(self.ny))
+        return self.x_low + (ix.ravel() + 0.5) * self.resolution, self.y_low + (iy.ravel() + 0.5) * self.resolution
+
+    # Cutting ---------------------------------------------------------------------------
+
+    def cut(self, starts, ends, cutter: Cutter, stray: float = 0.0) -> float:
+        """Sweep ``cutter`` along straight moves (arrays of (x, y, z) tip positions, one row
+        a move) and lower the tops it passes under. ``stray``: how far the true path may
+        leave these chords, in any direction (an arc's sagitta). Returns the length of the
+        moves that surely cut nothing (air), judged before each chunk is applied."""
+        starts, ends = numpy.atleast_2d(numpy.asarray(starts, float)), numpy.atleast_2d(numpy.asarray(ends, float))
+        if not len(starts):
+            return 0.0
+        self.cuts += 1
+        a, b, z_low, z_high, slack = self._split_steep(*_merge_runs(starts, ends, self.resolution / 4.0, self.resolution))
+        z_low, z_high, slack = z_low - stray, z_high + stray, slack + stray
+        may_cut = numpy.zeros(len(a), bool)
+        for owner, (low, high, stray), cells, distance in self._cells_near(a, b, z_low, z_high, slack, cutter.radius + self.half_diagonal):
+            flat = cells[0] * self.nx + cells[1]
+            outer = numpy.maximum(distance - self.half_diagonal - stray, 0.0)  # nearest the cell's points can be to the true path
+            touched = outer <= cutter.radius
+            surface_low = low + cutter.lowest_lift(outer)
+            may_cut[owner[touched & (self.upper.reshape(-1)[flat] > surface_low)]] = True
+            inner = distance + self.half_diagonal + stray  # farthest they can be
+            covered = inner <= cutter.radius
+            _sink(self.upper, flat[covered], high[covered] + cutter.lift(inner[covered]), up=True)
+            _sink(self.lower, flat[touched], surface_low[touched], up=False)
+        self._clear_below_bottom()
+        return float(numpy.linalg.norm(b - a, axis=1)[~may_cut].sum())
+
+    def cut_anywhere(self) -> None:
+        """A cut that cannot be placed: any material may be gone, none is surely gone."""
+        self.cuts += 1
+        self.lower.fill(NO_MATERIAL)
+
+    def copy(self) -> "Workpiece":
+        """An independent copy (paths that fork cut their own workpieces)."""
+        twin = object.__new__(Workpiece)
+        twin.__dict__.update(self.__dict__)
+        twin.upper, twin.lower = self.upper.copy(), self.lower.copy()
+        return twin
+
+    def _clear_below_bottom(self) -> None:
+        for field in (self.upper, self.lower):
+            field[field <= self.bottom] = NO_MATERIAL
+
+    # Rapids ----------------------------------------------------------------------------
+
+    def rapid(self, start, end, cutter: Cutter) -> RapidVerdict:
+        """Does a rapid from ``start`` to ``end`` (tip positions) meet what is left?"""
+        a, b = numpy.array([start], float), numpy.array([end], float)
+        z = numpy.array([a[0, 2], b[0, 2]])
+        pieces = self._split_steep(a, b, z[:1].clip(max=z.min()), z[1:].clip(min=z.max()), numpy.zeros(1))
+        clear = True
+        for owner, (z_low, z_high, _), cells, distance in self._cells_near(*pieces, cutter.radius + self.half_diagonal):
+            nearest = self._square_distance(cells, pieces[0][owner], pieces[1][owner])  # a point of the (closed) cell this close to the piece
+            surface_high = z_high + cutter.lift(nearest)
+            hit = (nearest <= cutter.radius) & (self.lower[cells] > surface_high)
+            if hit.any():
+                first = int(numpy.flatnonzero(hit)[0])
+                on_path = _nearest_on_segment(self._x(cells[1][first]), self._y(cells[0][first]), pieces[0][owner[first:first + 1], :2], pieces[1][owner[first:first + 1], :2])
+                level = min(float(self.lower[cells][first]), float(z_high[first]))
+                return RapidVerdict("hits", (float(on_path[0][0]), float(on_path[1][0]), level))
+            outer = numpy.maximum(distance - self.half_diagonal, 0.0)
+            reach = outer <= cutter.radius
+            clear &= not bool((self.upper[cells][reach] > (z_low + cutter.lowest_lift(outer))[reach]).any())
+        return RapidVerdict("clear" if clear else "unsure")
+
+    # Shared machinery ------------------------------------------------------------------
+
+    def _split_steep(self, a, b, z_low, z_high, slack):
+        """Pieces split so that none climbs or falls more than one cell. Only single moves
+        can be that steep (merged runs stay within one cell), so a split piece's heights
+        are its own end points'."""
+        counts = numpy.maximum(1, numpy.ceil((z_high - z_low) / self.resolution)).astype(numpy.int64)
+        if (counts == 1).all():
+            return a, b, z_low, z_high, slack
+        move = numpy.repeat(numpy.arange(len(a)), counts)
+        step = numpy.arange(counts.sum()) - numpy.repeat(numpy.cumsum(counts) - counts, counts)
+        t0, t1 = (step / counts[move])[:, None], ((step + 1) / counts[move])[:, None]
+        delta = b[move] - a[move]
+        start, end = a[move] + t0 * delta, a[move] + t1 * delta
+        split = counts[move] > 1
+        low = numpy.where(split, numpy.minimum(start[:, 2], end[:, 2]), z_low[move])
+        high = numpy.where(split, numpy.maximum(start[:, 2], end[:, 2]), z_high[move])
+        return start, end, low, high, slack[move]
+
+    def _cells_near(self, a, b, z_low, z_high, slack, reach: float):
+        """For chunks of pieces a-b: (piece, (z_low, z_high, slack), (rows, columns), distance)
+        of every cell whose centre lies within ``reach + slack`` of a piece's XY path, one
+        entry per (piece, cell)."""
+        reach = reach + slack
+        column_low, column_high = self._index_range(numpy.minimum(a[:, 0], b[:, 0]) - reach, numpy.maximum(a[:, 0], b[:, 0]) + reach, self.x_low, self.nx)
+        row_low, row_high = self._index_range(numpy.minimum(a[:, 1], b[:, 1]) - reach, numpy.maximum(a[:, 1], b[:, 1]) + reach, self.y_low, self.ny)
+        widths = column_high - column_low
+        sizes = widths * (row_high - row_low)
+        for chunk in _chunks(sizes):
+            owner = numpy.repeat(chunk, sizes[chunk])
+            local = numpy.arange(len(owner)) - numpy.repeat(numpy.cumsum(sizes[chunk]) - sizes[chunk], sizes[chunk])
+            rows = row_low[owner] + local // widths[owner]
+            columns = column_low[owner] + local % widths[owner]
+            distance = distance_to_segment(self._x(columns), self._y(rows), a[owner, :2], b[owner, :2])
+            near = distance <= reach[owner]
+            owner, rows, columns, distance = owner[near], rows[near], columns[near], distance[near]
+            yield owner, (z_low[owner], z_high[owner], slack[owner]), (rows, columns), distance
+
+    def _square_distance(self, cells, a, b):
+        """How far the (closed) square of each cell is from the point of its piece a-b
+        (row-wise) nearest its centre: a point of the cell lies that close to the path."""
+        px, py = self._x(cells[1]), self._y(cells[0])
+        qx, qy = _nearest_on_segment(px, py, a[:, :2], b[:, :2])
+        half = self.resolution / 2.0
+        return numpy.hypot(numpy.maximum(numpy.abs(qx - px) - half, 0.0), numpy.maximum(numpy.abs(qy - py) - half, 0.0))
+
+    def _index_range(self, low, high, origin: float, count: int):
+        first = numpy.clip(numpy.floor((low - origin) / self.resolution), 0, count).astype(numpy.int64)
+        last = numpy.clip(numpy.ceil((high - origin) / self.resolution), 0, count).astype(numpy.int64)
+        return first, last
+
+    def _x(self, column):
+        return self.x_low + (column + 0.5) * self.resolution
+
+    def _y(self, row):
+        return self.y_low + (row + 0.5) * self.resolution
+
+    # What is left ----------------------------------------------------------------------
+
+    def removed_volume(self) -> tuple[float, float]:
+        """(at least, at most) the volume cut away, in mm³, from the two bounds."""
+        blank_upper, blank_lower = self._blank(self.stock)
+        area = self.resolution ** 2
+        least = numpy.maximum(_height(blank_lower, self.bottom) - _height(self.upper, self.bottom), 0.0).sum() * area
+        most = (_height(blank_upper, self.bottom) - _height(self.lower, self.bottom)).sum() * area
+        return float(least), float(most)
+
+
+    def save_npz(self, path) -> None:
+        """Both bounds and the grid, for a user to look at what the program leaves."""
+        numpy.savez_compressed(path, upper=self.upper, lower=self.lower, x_low=self.x_low, y_low=self.y_low,
+                               resolution=self.resolution, bottom=self.bottom)
+
+    def save_stl(self, path) -> None:
+        """The part as at most this much material (the upper bound) as a binary STL: a
+        column per cell, with the faces between neighbours of different heights."""
+        heights = numpy.where(numpy.isfinite(self.upper), self.upper, self.bottom).astype(numpy.float64)
+        padded = numpy.pad(heights, 1, constant_values=self.bottom)
+        x = self.x_low + numpy.arange(self.nx + 1) * self.resolution
+        y = self.y_low + numpy.arange(self.ny + 1) * self.resolution
+        rows, columns = numpy.nonzero(heights > self.bottom)
+        faces = [_quads_up(x, y, rows, columns, heights[rows, columns]), _quads_up(x, y, rows, columns, numpy.full(len(rows), self.bottom), down=True)]
+        for axis, step in ((0, 1), (0, -1), (1, 1), (1, -1)):
+            neighbour = padded[1 + rows + (step if axis == 0 else 0), 1 + columns + (step if axis == 1 else 0)]
+            wall = heights[rows, columns] > neighbour
+            faces.append(_walls(x, y, rows[wall], columns[wall], neighbour[wall], heights[rows, columns][wall], axis, step))
+        _write_stl(path, numpy.concatenate(faces))
+
+
+def _quads_up(x, y, rows, columns, z, down: bool = False):
+    """Two triangles per cell top (or bottom, facing down)."""
+    x0, x1, y0, y1 = x[columns], x[columns + 1], y[rows], y[rows + 1]
+    corners = [numpy.column_stack([px, py, z]) for px, py in ((x0, y0), (x1, y0), (x1, y1), (x0, y1))]
+    first, second = (corners[0], corners[1], corners[2]), (corners[0], corners[2], corners[3])
+    if down:
+        first, second = first[::-1], second[::-1]
+    return numpy.concatenate([numpy.stack(first, axis=1), numpy.stack(second, axis=1)])
+
+
+def _walls(x, y, rows, columns, low, high, axis: int, step: int):
+    """The side faces of cells that stand higher than their neighbour along ``axis``."""
+    if axis == 0:  # between rows: a wall along X at y of the shared edge
+        edge = y[rows + (1 if step > 0 else 0)]
+        a = numpy.column_stack([x[columns], edge]), numpy.column_stack([x[columns + 1], edge])
+    else:
+        edge = x[columns + (1 if step > 0 else 0)]
+        a = numpy.column_stack([edge, y[rows]]), numpy.column_stack([edge, y[rows + 1]])
+    if (axis == 0) == (step > 0):  # keep every face turned outwards
+        a = a[::-1]
+    p0, p1 = (numpy.column_stack([point, height]) for point, height in ((a[0], low), (a[1], low)))
+    p2, p3 = numpy.column_stack([a[1], high]), numpy.column_stack([a[0], high])
+    return numpy.concatenate([numpy.stack([p0, p1, p2], axis=1), numpy.stack([p0, p2, p3], axis=1)])
+
+
+def _write_stl(path, triangles) -> None:
+    normals = numpy.cross(triangles[:, 1] - triangles[:, 0], triangles[:, 2] - triangles[:, 0])
+    normals /= numpy.maximum(numpy.linalg.norm(normals, axis=1, keepdims=True), 1e-12)
+    record = numpy.zeros(len(triangles), dtype=[("normal", "<f4", 3), ("corners", "<f4", (3, 3)), ("attribute", "<u2")])
+    record["normal"], record["corners"] = normals, triangles
+    with open(path, "wb") as out:
+        out.write(b"ncverify workpiece".ljust(80, b" "))
+        out.write(numpy.uint32(len(triangles)).tobytes())
+        out.write(record.tobytes())
+
+
+def outline(stock: Stock):
+    if stock.kind == "box":
+        return shapely.box(stock.x_range[0], stock.y_range[0], stock.x_range[1], stock.y_range[1])
+    return stock.outline
+
+
+def _height(tops, bottom: float):
+    return numpy.where(numpy.isfinite(tops), numpy.maximum(tops.astype(numpy.float64) - bottom, 0.0), 0.0)
+
+
+def _chunks(sizes):
+    """Index arrays of consecutive pieces whose cell windows add up to about _CHUNK_CELLS."""
+    ends = numpy.searchsorted(numpy.cumsum(sizes), numpy.arange(_CHUNK_CELLS, int(sizes.sum()) + _CHUNK_CELLS, _CHUNK_CELLS), side="right")
+    start = 0
+    for end in numpy.unique(numpy.maximum(ends, 1)):
+        end = min(int(end), len(sizes))
+        if end > start:
+            yield numpy.arange(start, end)
+            start = end
+    if start < len(sizes):
+        yield numpy.arange(start, len(sizes))
+
+
+def _nearest_on_segment(px, py, a, b):
+    """The points of the XY segments a-b (row-wise) nearest to the points (px, py)."""
+    dx, dy = b[:, 0] - a[:, 0], b[:, 1] - a[:, 1]
+    length_sq = dx * dx + dy * dy
+    t = numpy.where(length_sq > 0, ((px - a[:, 0]) * dx + (py - a[:, 1]) * dy) / numpy.where(length_sq > 0, length_sq, 1.0), 0.0)
+    t = numpy.clip(t, 0.0, 1.0)
+    return a[:, 0] + t * dx, a[:, 1] + t * dy
+
+
+def distance_to_segment(px, py, a, b):
+    """Distance of points (px, py) from the XY segments a-b (row-wise)."""
+    qx, qy = _nearest_on_segment(px, py, a, b)
+    return numpy.hypot(px - qx, py - qy)
+
+
+def _sink(field, flat, heights, up: bool) -> None:
+    """Lower ``field`` (flat cell indices) to ``heights`` where they are lower, rounding the
+    stored float32 outwards: up for an upper bound, down for a lower one."""
+    if not len(flat):
+        return
+    stored = heights.astype(numpy.float32)
+    rounded_wrong = stored < heights if up else stored > heights
+    stored[rounded_wrong] = numpy.nextafter(stored[rounded_wrong], numpy.float32(numpy.inf if up else -numpy.inf))
+    numpy.minimum.at(field.reshape(-1), flat, stored)
+
+
+def _merge_runs(starts, ends, tolerance: float, rise: float):
+    """Consecutive moves of a connected path merged into chords where no vertex strays more
+    than ``tolerance`` from the chord in XY and the heights stay within ``rise``: CAM output
+    is thousands of tiny moves, and their tool discs overlap almost wholly. Each chord
+    carries its heights' range and its actual stray (``slack``), which the sweep takes off
+    the tool radius where it claims material is surely gone and adds where it may be."""
+    count = len(starts)
+    joined = numpy.ones(count, bool)
+    joined[1:] = (starts[1:] == ends[:-1]).all(axis=1)
+    first, length = numpy.arange(0, count, 64), numpy.minimum(64, count - numpy.arange(0, count, 64))
+    done = []
+    while len(first):
+        accepted = _chords_fit(starts, ends, joined, first, length, tolerance, rise)
+        done.append((first[accepted], length[accepted]))
+        first, length = first[~accepted], length[~accepted]
+        half = (length + 1) // 2
+        first, length = numpy.concatenate([first, first + half]), numpy.concatenate([half, length - half])
+        keep = length > 0
+        first, length = first[keep], length[keep]
+    first = numpy.concatenate([group[0] for group in done])
+    length = numpy.concatenate([group[1] for group in done])
+    order = numpy.argsort(first, kind="stable")
+    first, length = first[order], length[order]
+    last = first + length - 1
+    owner = numpy.repeat(numpy.arange(len(first)), length)
+    a, b = starts[first], ends[last]
+    z_values = numpy.concatenate([starts[:, 2:], ends[:, 2:]], axis=1)
+    z_low = numpy.minimum.reduceat(z_values.min(axis=1), first)
+    z_high = numpy.maximum.reduceat(z_values.max(axis=1), first)
+    stray = distance_to_segment(ends[:, 0], ends[:, 1], a[owner, :2], b[owner, :2])
+    slack = numpy.maximum.reduceat(stray, first)
+    return a, b, z_low, z_high, slack
+
+
+def _chords_fit(starts, ends, joined, first, length, tolerance: float, rise: float):
+    """Which groups (first move, number of moves) may become one chord."""
+    owner = numpy.repeat(numpy.arange(len(first)), length)
+    index = numpy.arange(length.sum()) - numpy.repeat(numpy.cumsum(length) - length, length) + first[owner]
+    a, b = starts[first[owner]], ends[(first + length - 1)[owner]]
+    stray = distance_to_segment(ends[index, 0], ends[index, 1], a[:, :2], b[:, :2])
+    broken = ~joined[index] & (index != first[owner])
+    z = numpy.concatenate([starts[index, 2:], ends[index, 2:]], axis=1)
+    offsets = numpy.cumsum(length) - length
+    fits = (numpy.maximum.reduceat(stray, offsets) <= tolerance) & ~numpy.logical_or.reduceat(broken, offsets)
+    fits &= numpy.maximum.reduceat(z.max(axis=1), offsets) - numpy.minimum.reduceat(z.min(axis=1), offsets) <= rise
+    return fits | (length == 1)
+
+
+_ROUND_SEGMENTS = 16  # quarter-circle segments of a buffered nose
+
+
+class Bar:
+    """A lathe bar's half-section in the (Z, radius) plane, turned by an insert of nose
+    radius ``nose``. As in the height field, two shapes bound the material: ``most`` has
+    only what the nose surely swept taken away, ``least`` everything it may have swept.
+
+    Positions are the tool's programmed point as (radius, z): the insert's theoretical tip.
+    Where the nose centre lies depends on the cutting-edge position; without it the nose
+    may be anywhere within (1 + sqrt 2) nose radii of the tip, and nothing is surely cut."""
+
+    def __init__(self, stock: Stock):
+        if stock.kind != "cylinder":
+            raise ValueError(f"a {stock.kind} stock is not a lathe bar")
+        low, high = stock.z_range
+        section = shapely.box(low, 0.0, high, stock.diameter / 2.0)
+        self.most, self.least = section, section
+
+    def cut(self, start, end, nose: float, centre_offset=None) -> None:
+        """Sweep the nose from ``start`` to ``end`` ((radius, z) tips). ``centre_offset``:
+        (d_radius, d_z) from the tip to the nose centre, when the edge position is known."""
+        self.least = self.least.difference(_swept(start, end, (0.0, 0.0), nose * (1 + math.sqrt(2)), outwards=True))
+        if centre_offset is not None:
+            self.most = self.most.difference(_swept(start, end, centre_offset, nose, outwards=False))
+
+    def rapid(self, start, end, nose: float, centre_offset=None) -> RapidVerdict:
+        may_occupy = _swept(start, end, (0.0, 0.0), nose * (1 + math.sqrt(2)), outwards=True)
+        if not may_occupy.intersection(self.most).area > 0.0:
+            return RapidVerdict("clear")
+        if centre_offset is not None:
+            occupied = _swept(start, end, centre_offset, nose, outwards=False)
+            overlap = occupied.intersection(self.least)
+            if overlap.area > 0.0:
+                point = overlap.representative_point()
+                return RapidVerdict("hits", (point.y, point.x))
+        return RapidVerdict("unsure")
+
+
+def _swept(start, end, offset, radius: float, outwards: bool):
+    """The nose's path (in (z, radius) coordinates) thickened by ``radius``: a polygon that
+    contains the true round sweep when ``outwards``, and lies inside it otherwise."""
+    line = shapely.LineString([(start[1] + offset[1], start[0] + offset[0]), (end[1] + offset[1], end[0] + offset[0])])
+    if line.length == 0.0:
+        line = shapely.Point(line.coords[0])
+    chord_factor = 1.0 / math.cos(math.pi / (4 * _ROUND_SEGMENTS)) if outwards else 1.0
+    return line.buffer(radius * chord_factor, quad_segs=_ROUND_SEGMENTS)
+
+
+def arc_chords(start, end, centre, clockwise: bool, plane=(0, 1, 2), tolerance: float = 0.01):
+    """Chords of a circular (or helical) move, no farther than ``tolerance`` from it:
+    (starts, ends) as arrays of (x, y, z), and the sagitta they keep to. ``plane`` gives
+    the indices of the arc's first, second and normal axis (G17: 0, 1, 2)."""
+    first, second, normal = plane
+    start, end = numpy.asarray(start, float), numpy.asarray(end, float)
+    radius = math.hypot(start[first] - centre[0], start[second] - centre[1])
+    begin = math.atan2(start[second] - centre[1], start[first] - centre[0])
+    finish = math.atan2(end[second] - centre[1], end[first] - centre[0])
+    sweep = (begin - finish) % (2 * math.pi) if clockwise else (finish - begin) % (2 * math.pi)
+    if sweep == 0.0:
+        sweep = 2 * math.pi  # a full circle
+    step = 2 * math.acos(max(-1.0, 1 - tolerance / radius)) if radius > tolerance else math.pi / 2
+    count = max(1, math.ceil(sweep / step))
+    angles = begin + (-1 if clockwise else 1) * sweep * numpy.linspace(0.0, 1.0, count + 1)
+    points = numpy.empty((count + 1, 3))
+    points[:, first] = centre[0] + radius * numpy.cos(angles)
+    points[:, second] = centre[1] + radius * numpy.sin(angles)
+    points[:, normal] = numpy.linspace(start[normal], end[normal], count + 1)
+    points[-1] = end
+    sagitta = radius * (1 - math.cos(sweep / count / 2))
+    return points[:-1], points[1:], sagitta

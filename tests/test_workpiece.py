@@ -1,0 +1,229 @@
+"""The in-process workpiece: its two bounds hold the true material between them, checked
+against an independent brute-force sweep and exact volumes; rapids are judged from them."""
+from __future__ import annotations
+
+import math
+
+import numpy
+import pytest
+from hypothesis import given, settings, strategies as st
+
+from ncverify.context import Stock
+from ncverify.workpiece import Cutter, ModelTooLarge, Workpiece
+
+BLANK = Stock.box((0, 40), (0, 30), (-10, 0))
+
+
+def true_top(points, moves, cutter: Cutter, top: float, samples: int = 4001):
+    """Material top at points (x, y), by sampling each move densely: the tool's lower
+    surface over every point it passes within reach of (written apart from the model)."""
+    points = numpy.asarray(points, float)
+    heights = numpy.full(len(points), top, float)
+    t = numpy.linspace(0.0, 1.0, samples)
+    for start, end in moves:
+        path = numpy.asarray(start, float) + t[:, None] * (numpy.asarray(end, float) - numpy.asarray(start, float))
+        distance = numpy.hypot(points[:, :1] - path[None, :, 0], points[:, 1:2] - path[None, :, 1])
+        surface = numpy.where(distance <= cutter.radius, path[None, :, 2] + _lift(cutter, distance), numpy.inf)
+        heights = numpy.minimum(heights, surface.min(axis=1))
+    return heights
+
+
+def _lift(cutter: Cutter, distance):
+    if not cutter.known:
+        return _lift(Cutter(cutter.radius, corner=cutter.corner, point_angle=cutter.point_angle), distance)
+    if cutter.point_angle:
+        return distance / math.tan(math.radians(cutter.point_angle) / 2)
+    flat = cutter.radius - cutter.corner
+    if cutter.corner <= 0:
+        return numpy.zeros_like(distance)
+    return numpy.where(distance <= flat, 0.0, cutter.corner - numpy.sqrt(numpy.clip(cutter.corner ** 2 - (distance - flat) ** 2, 0, None)))
+
+
+cutters = st.one_of(
+    st.builds(Cutter, st.floats(1.0, 6.0)),
+    st.floats(1.0, 6.0).map(lambda r: Cutter(r, corner=r)),
+    st.tuples(st.floats(2.0, 6.0), st.floats(0.2, 0.9)).map(lambda rc: Cutter(rc[0], corner=rc[0] * rc[1])),
+    st.tuples(st.floats(1.0, 5.0), st.sampled_from([90.0, 118.0, 140.0])).map(lambda ra: Cutter(ra[0], point_angle=ra[1])),
+    # a tool whose shape was not given, and which really is one of the shapes it allows
+    st.tuples(st.floats(1.0, 6.0), st.sampled_from([0.0, 0.5, 1.0]), st.sampled_from([None, 90.0, 118.0]))
+    .map(lambda shape: Cutter(shape[0], corner=shape[0] * shape[1] if shape[2] is None else 0.0, point_angle=shape[2], known=False)),
+)
+points = st.tuples(st.floats(-5, 45), st.floats(-5, 35), st.floats(-8, 3))
+
+
+@settings(max_examples=40, deadline=None)
+@given(cutters, st.lists(st.tuples(points, points), min_size=1, max_size=4), st.sampled_from([0.5, 1.0]))
+def test_the_bounds_hold_the_material_sampled_by_brute_force(cutter, moves, resolution):
+    piece = Workpiece(BLANK, resolution)
+    for start, end in moves:
+        piece.cut([start], [end], cutter)
+    rng = numpy.random.default_rng(7)
+    sample = numpy.column_stack([rng.uniform(0, 40, 300), rng.uniform(0, 30, 300)])
+    tops = true_top(sample, moves, cutter, 0.0)
+    rows = numpy.minimum((sample[:, 1] / resolution).astype(int), piece.ny - 1)
+    columns = numpy.minimum((sample[:, 0] / resolution).astype(int), piece.nx - 1)
+    present = tops > -10.0
+    tolerance = 0.02  # the sampled sweep misses the true minimum by up to a sample step's rise
+    assert (piece.upper[rows, columns][present] >= tops[present] - tolerance).all()
+    assert (piece.lower[rows, columns][present] <= tops[present] + tolerance).all()
+
+
+@settings(max_examples=25, deadline=None)
+@given(cutters, st.lists(st.tuples(points, points), min_size=2, max_size=5), st.randoms(use_true_random=False))
+def test_the_order_of_the_cuts_does_not_change_the_result(cutter, moves, random):
+    forward, shuffled = Workpiece(BLANK, 0.5), Workpiece(BLANK, 0.5)
+    for start, end in moves:
+        forward.cut([start], [end], cutter)
+    moves = list(moves)
+    random.shuffle(moves)
+    for start, end in moves:
+        shuffled.cut([start], [end], cutter)
+    assert numpy.array_equal(forward.upper, shuffled.upper) and numpy.array_equal(forward.lower, shuffled.lower)
+
+
+@pytest.mark.parametrize("resolution", [0.5, 0.25, 0.1])
+def test_a_slot_removes_its_exact_volume_within_the_resolution(resolution):
+    piece = Workpiece(BLANK, resolution)
+    piece.cut([[10, 15, -4]], [[30, 15, -4]], Cutter(3.0))
+    least, most = piece.removed_volume()
+    exact = (2 * 3.0 * 20 + math.pi * 9) * 4
+    assert least <= exact <= most
+    assert most - least <= (2 * 20 + 2 * math.pi * 3) * 4 * 4 * resolution  # a band of a few cells along the outline
+
+
+def test_a_drilled_hole_removes_a_cylinder_and_its_cone():
+    piece = Workpiece(BLANK, 0.1)
+    drill = Cutter(4.0, point_angle=118.0)
+    piece.cut([[20, 15, 2]], [[20, 15, -6]], drill)
+    cone = 4.0 / math.tan(math.radians(59))
+    exact = math.pi * 16 * (6 - cone) + math.pi * 16 * cone / 3
+    least, most = piece.removed_volume()
+    assert least <= exact <= most and most - least < 0.3 * exact  # the rim band and the cone's slope across a cell
+
+
+def test_many_tiny_moves_remove_what_one_long_move_removes():
+    """CAM output's tiny collinear moves are merged into chords: same material either way."""
+    one, many = Workpiece(BLANK, 0.5), Workpiece(BLANK, 0.5)
+    one.cut([[5, 15, -3]], [[35, 15, -3]], Cutter(4.0))
+    x = numpy.linspace(5, 35, 601)
+    path = numpy.column_stack([x, numpy.full_like(x, 15), numpy.full_like(x, -3)])
+    many.cut(path[:-1], path[1:], Cutter(4.0))
+    assert numpy.array_equal(one.upper, many.upper) and numpy.array_equal(one.lower, many.lower)
+
+
+def test_rapids_in_the_cut_slot_are_clear_and_into_uncut_material_hit():
+    piece = Workpiece(BLANK, 0.25)
+    piece.cut([[10, 15, -4]], [[30, 15, -4]], Cutter(5.0))
+    small = Cutter(2.0)
+    assert piece.rapid((12, 15, -3), (28, 15, -3), small).outcome == "clear"
+    hit = piece.rapid((20, 15, -3), (20, 28, -3), small)
+    assert hit.outcome == "hits" and hit.point[1] > 20 - 0.25
+    assert piece.rapid((20, 15, 1), (20, 28, 1), small).outcome == "clear"  # above the top
+    # the cutter itself retracing the slot at its walls: within the grid's error, never a pass
+    assert piece.rapid((12, 15, -3), (28, 15, -3), Cutter(5.0)).outcome == "unsure"
+
+
+def test_a_cut_that_cannot_be_placed_makes_hits_unsure_but_keeps_clear_answers():
+    piece = Workpiece(BLANK, 0.5)
+    piece.cut_anywhere()
+    assert piece.rapid((20, 15, -3), (20, 28, -3), Cutter(2.0)).outcome == "unsure"
+    assert piece.rapid((20, 15, 1), (20, 28, 1), Cutter(2.0)).outcome == "clear"
+
+
+def test_a_polygon_blank_keeps_material_only_inside_its_outline():
+    triangle = Stock.polygon([(0, 0), (40, 0), (0, 30)], (-10, 0))
+    piece = Workpiece(triangle, 0.5)
+    assert piece.rapid((35, 25, -2), (39, 29, -2), Cutter(1.0)).outcome == "clear"
+    assert piece.rapid((5, 5, -2), (10, 5, -2), Cutter(1.0)).outcome == "hits"
+
+
+def test_a_model_over_the_memory_cap_is_refused_with_its_size():
+    with pytest.raises(ModelTooLarge, match="MiB"):
+        Workpiece(Stock.box((0, 500), (0, 500), (-10, 0)), 0.01, memory_cap=64 << 20)
+
+
+def test_a_500mm_blank_at_a_tenth_fits_in_200_mib():
+    piece = Workpiece(Stock.box((0, 500), (0, 500), (-10, 0)), 0.1)
+    assert piece.upper.nbytes + piece.lower.nbytes <= 200 * 2 ** 20
+
+
+def test_moves_above_the_material_count_as_air_and_cutting_ones_do_not():
+    piece = Workpiece(BLANK, 0.5)
+    assert piece.cut([[5, 5, 2]], [[35, 5, 2]], Cutter(3.0)) == pytest.approx(30.0)
+    assert piece.cut([[5, 15, -2]], [[35, 15, -2]], Cutter(3.0)) == 0.0
+    assert piece.cut([[5, 15, -2]], [[35, 15, -2]], Cutter(2.0)) == pytest.approx(30.0)  # the same slot again, narrower
+
+
+def test_the_stl_encloses_the_volume_of_the_upper_bound(tmp_path):
+    piece = Workpiece(BLANK, 0.5)
+    piece.cut([[10, 15, 1]], [[10, 15, -6]], Cutter(3.0, point_angle=118.0))
+    piece.cut([[20, 5, -3]], [[30, 25, -3]], Cutter(4.0, corner=1.0))
+    piece.save_stl(tmp_path / "part.stl")
+    raw = (tmp_path / "part.stl").read_bytes()
+    count = int(numpy.frombuffer(raw[80:84], numpy.uint32)[0])
+    record = numpy.frombuffer(raw[84:], dtype=[("normal", "<f4", 3), ("corners", "<f4", (3, 3)), ("attribute", "<u2")], count=count)
+    a, b, c = (record["corners"][:, k].astype(float) for k in range(3))
+    enclosed = numpy.einsum("ij,ij->i", a, numpy.cross(b, c)).sum() / 6.0
+    heights = numpy.where(numpy.isfinite(piece.upper), piece.upper, piece.bottom) - piece.bottom
+    assert enclosed == pytest.approx(heights.sum() * 0.25, rel=1e-4)
+    piece.save_npz(tmp_path / "part.npz")
+    assert numpy.array_equal(numpy.load(tmp_path / "part.npz")["upper"], piece.upper)
+
+
+def test_a_copy_is_cut_on_its_own():
+    piece = Workpiece(BLANK, 0.5)
+    twin = piece.copy()
+    twin.cut([[5, 15, -2]], [[35, 15, -2]], Cutter(3.0))
+    assert piece.rapid((5, 15, -1), (35, 15, -1), Cutter(1.0)).outcome == "hits"
+    assert twin.rapid((5, 15, -1), (35, 15, -1), Cutter(1.0)).outcome == "clear"
+
+
+BAR = Stock.cylinder(40.0, (-60.0, 0.0))  # radius 20
+
+
+def test_a_turned_diameter_is_clear_for_a_rapid_along_it_and_the_bar_beyond_is_hit():
+    from ncverify.workpiece import Bar
+
+    bar = Bar(BAR)
+    nose, centre = 0.8, (0.8, 0.8)  # edge position 3: the nose centre up and behind the tip
+    for radius in (19.0, 18.0, 17.0, 16.0):  # rough the bar down to radius 16 over 30 mm
+        bar.cut((radius, 1.0), (radius, -30.0), nose, centre)
+    assert bar.rapid((18.0, 2.0), (18.0, -20.0), nose, centre).outcome == "clear"
+    assert bar.rapid((16.5, -20.0), (16.5, -31.0), nose, centre).outcome == "unsure"  # into the shoulder's fillet left by the nose
+    assert bar.rapid((25.0, 2.0), (25.0, -50.0), nose, centre).outcome == "clear"
+    hit = bar.rapid((18.0, -40.0), (18.0, -45.0), nose, centre)
+    assert hit.outcome == "hits" and 16.0 < hit.point[0] < 20.0
+
+
+def test_without_the_edge_position_nothing_is_surely_turned_away():
+    from ncverify.workpiece import Bar
+
+    bar = Bar(BAR)
+    bar.cut((16.0, 1.0), (16.0, -30.0), 0.8)
+    assert bar.rapid((17.0, -5.0), (17.0, -25.0), 0.4, (0.4, 0.4)).outcome != "clear"
+    assert bar.rapid((18.0, -40.0), (18.0, -45.0), 0.8).outcome == "unsure"
+
+
+@settings(max_examples=30, deadline=None)
+@given(st.floats(2, 12), st.floats(0, 6.28), st.floats(0.1, 6.28), st.booleans(), cutters)
+def test_an_arc_cut_as_chords_keeps_the_bounds_around_the_true_arc(radius, begin, sweep, clockwise, cutter):
+    from ncverify.workpiece import arc_chords
+
+    centre = (20.0, 15.0)
+    direction = -1 if clockwise else 1
+    start = (centre[0] + radius * math.cos(begin), centre[1] + radius * math.sin(begin), -2.0)
+    finish_angle = begin + direction * sweep
+    end = (centre[0] + radius * math.cos(finish_angle), centre[1] + radius * math.sin(finish_angle), -3.0)
+    starts, ends, sagitta = arc_chords(start, end, centre, clockwise, tolerance=0.05)
+    assert sagitta <= 0.05 + 1e-12
+    piece = Workpiece(BLANK, 0.5)
+    piece.cut(starts, ends, cutter, stray=sagitta)
+    angles = begin + direction * sweep * numpy.linspace(0, 1, 400)
+    dense = numpy.column_stack([centre[0] + radius * numpy.cos(angles), centre[1] + radius * numpy.sin(angles), numpy.linspace(-2, -3, 400)])
+    moves = list(zip(dense[:-1], dense[1:]))
+    rng = numpy.random.default_rng(3)
+    sample = numpy.column_stack([rng.uniform(0, 40, 200), rng.uniform(0, 30, 200)])
+    tops = true_top(sample, moves, cutter, 0.0, samples=50)
+    rows, columns = (sample[:, 1] / 0.5).astype(int), (sample[:, 0] / 0.5).astype(int)
+    assert (piece.upper[rows, columns] >= tops - 0.02).all()
+    assert (piece.lower[rows, columns] <= tops + 0.02).all()
