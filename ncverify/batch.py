@@ -104,6 +104,8 @@ def run_batch(inputs: Iterable[tuple[Path, bool]], settings: Settings, dispatch:
 
 
 def _lookup(path: Path, settings: Settings) -> tuple[ResultCache, str, FileResult | None] | None:
+    if not path.is_file():
+        return None  # a FIFO or other special file: reading it to hash it could block forever (the check skips it)
     try:
         cache = ResultCache(folder_for(path, settings))
     except ConfigError:  # the check reports it

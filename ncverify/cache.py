@@ -86,7 +86,7 @@ class ResultCache:
             target.parent.mkdir(parents=True, exist_ok=True)
             handle, temporary = tempfile.mkstemp(dir=target.parent, prefix=".tmp-", suffix=".json")
             with os.fdopen(handle, "w", encoding="utf-8") as stream:
-                json.dump(entry, stream, ensure_ascii=False)
+                json.dump(entry, stream)  # ASCII escapes: a file name that is not UTF-8 (surrogates) stays storable
             os.replace(temporary, target)
         except OSError:
             pass  # a cache that cannot be written only costs time

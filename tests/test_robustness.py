@@ -98,7 +98,7 @@ def test_an_internal_error_exits_2_names_the_file_and_the_others_are_still_check
         return original(source, *rest, **keywords)
 
     monkeypatch.setattr(api, "check_source", sometimes)
-    code, out, err = cli(capsys, tmp_path, "--format", report_format)
+    code, out, err = cli(capsys, tmp_path, "--format", report_format, "--jobs", "1", "--no-cache")  # the planted failure lives in this process
     assert code == 2  # never 1: the crash must not read as findings
     assert "b-broken.nc: not checked: internal error: TypeError: planted failure" in out + err
     if report_format == "json":
@@ -220,7 +220,10 @@ def test_a_file_name_that_is_not_utf8_keeps_the_report_valid_utf8(tmp_path, caps
     code, _, _ = cli(capsys, tmp_path, "--format", report_format, "--output", report)
     assert code == 1
     text = report.read_bytes().decode("utf-8")  # strict: raises on anything that is not UTF-8
-    assert "caf\\xe9.nc" in (json.dumps(json.loads(text)) if report_format != "text" else text).replace("\\\\", "\\")
+    if report_format == "sarif":
+        assert "caf%E9.nc" in text  # a URI: the byte percent-encoded
+    else:
+        assert "caf\\xe9.nc" in (json.dumps(json.loads(text)) if report_format != "text" else text).replace("\\\\", "\\")
 
 
 # --------------------------------------------------------------------------- 5. encodings and line ends
