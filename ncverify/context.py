@@ -241,10 +241,12 @@ class RegisterLimits:
 @dataclass(frozen=True)
 class ArcTolerance:
     """How far an arc's end radius may differ from its start radius before the control
-    refuses the arc: refused when off by more than ``absolute_mm`` and more than ``relative``
-    times the start radius (LinuxCNC)."""
+    refuses the arc: refused when off by more than the absolute tolerance of the program's
+    units (``metric`` in mm, ``inch`` in inches: the control keeps one per unit, not one
+    converted) and more than ``relative`` times the start radius (LinuxCNC)."""
 
-    absolute_mm: float
+    metric: float
+    inch: float
     relative: float = 0.0
 
 

@@ -260,9 +260,10 @@ def tool_may_enter_symbolic(stock: Stock, start, end, radius: float, length: flo
     """:func:`tool_enters` as a Z3 condition. A polygon is widened by the radius with
     mitred corners, a little more than the tool reaches: a proof stays sound, and a
     violation the widening alone makes does not survive the witness's concrete run."""
-    shared = z3.FreshReal("t")
-    ts = [z3.FreshReal("t") for _ in range(3)] if dogleg else [shared] * 3
-    constraints = [z3.And(t >= 0, t <= 1) for t in set(ts)]
+    # named per check, like may_enter_symbolic's (the names steer the solver's model)
+    distinct = [values.fresh("t").term for _ in range(3 if dogleg else 1)]
+    ts = distinct if dogleg else distinct * 3
+    constraints = [z3.And(t >= 0, t <= 1) for t in distinct]
     point = []
     for a, b, t in zip(start, end, ts):
         a_term, b_term = values.term_of(a), values.term_of(b)

@@ -160,7 +160,7 @@ class ArcGeometry(Rule):
         own = self.checker.context.arc_tolerance
         if own is None:
             return self.tolerance
-        return own.absolute_mm / 25.4 if state.modal.get("units") == "inch" else own.absolute_mm
+        return own.inch if state.modal.get("units") == "inch" else own.metric
 
     def motion_run(self, run, state):
         """Runs hold no arcs."""

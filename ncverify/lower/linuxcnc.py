@@ -42,6 +42,11 @@ _VALUE = ir.Var("#<_value>")
 _M_CODE_WORDS = {19.0: "RQP", 61.0: "Q", 62.0: "P", 63.0: "P", 64.0: "P", 65.0: "P", 66.0: "PELQ", 67.0: "EQ", 68.0: "EQ"}
 _VACANT = ir.Var("#0")
 
+# The radius difference rs274 accepts in an arc given by its centre, measured against it
+# (the differential tests): 0.02 * sqrt(2) mm in G21 and 0.002 * sqrt(2) inch in G20 (one
+# tolerance per unit, not one converted), and only when also more than 0.1 % of the radius.
+_ARC_TOLERANCE = ArcTolerance(metric=0.0283, inch=0.00283, relative=0.001)
+
 
 @cache
 def linuxcnc_table(machine: str = "mill") -> CodeTable:
@@ -487,4 +492,4 @@ def setup(settings, detection, project) -> DialectSetup:
     # LinuxCNC refuses an arc whose end radius differs from its start radius by more than 0.001 in
     # (0.0254 mm) and by more than 0.1 % of the start radius (found by running rs274)
     return DialectSetup(LinuxcncFrontend(lowering), table.power_on, table.cycles, None, machine,
-                        dict(table.words.get("incremental_twins", {})), 0.0, 0.0, limits, arc_tolerance=ArcTolerance(0.0254, 0.001))
+                        dict(table.words.get("incremental_twins", {})), 0.0, 0.0, limits, arc_tolerance=_ARC_TOLERANCE)
