@@ -458,7 +458,10 @@ class IsoFrontend:
             block = self._plain_motion(raw, line, path)
             if block is not None:
                 return [block]
-        text = decode_line(raw)
+        return self._lower_text(decode_line(raw), line, path)
+
+    def _lower_text(self, text: str, line: int, path: str | None) -> list[ir.Block]:
+        """The general path: the line read into blocks, each lowered."""
         return [self.lowering.lower(read, path) for read in read_line(text, line)]
 
     def _plain_motion(self, raw: bytes, line: int, path: str | None) -> ir.Block | None:

@@ -34,7 +34,7 @@ from ..resources import data_dir
 from ..source import Span, decode_line, line_start
 from ..tables import CodeTable
 from ..values import VACANT
-from .iso import IsoFrontend, IsoLowering, _PLAIN_MOTION
+from .iso import IsoFrontend, IsoLowering
 
 LAST_PARAMETER = 5602.0  # the highest numbered parameter
 ARGUMENTS = 30  # #1-#30 are a subroutine's arguments
@@ -265,12 +265,7 @@ class LinuxcncFrontend(IsoFrontend):
         super().__init__(lowering)
         self.structure_notes: dict[int, list[ir.Note]] = {}  # line -> O-word structure findings of the main file
 
-    def blocks(self, raw: bytes, line: int, path: str | None) -> list[ir.Block]:
-        if _PLAIN_MOTION.fullmatch(raw):
-            block = self._plain_motion(raw, line, path)
-            if block is not None:
-                return [block]
-        text = decode_line(raw)
+    def _lower_text(self, text: str, line: int, path: str | None) -> list[ir.Block]:
         blocks = []
         for read in read_line(text, line):
             blocks.extend(self.lowering.lower_line(read, path))
