@@ -2,12 +2,21 @@
 findings a test asserts on."""
 from __future__ import annotations
 
+import os
 import textwrap
 from pathlib import Path
+
+from hypothesis import settings as hypothesis_settings
 
 from ncverify import Settings, check_text
 from ncverify.diagnostics import Status
 from ncverify.project import load_project_text
+
+# CI runs the same examples every time (a fixed seed per test): a red build is then the
+# change's doing, never the draw's; a developer's run keeps drawing new ones.
+hypothesis_settings.register_profile("ci", derandomize=True, print_blob=True)
+if os.environ.get("CI"):
+    hypothesis_settings.load_profile("ci")
 
 
 def project(text: str):
