@@ -227,3 +227,17 @@ def test_an_arc_cut_as_chords_keeps_the_bounds_around_the_true_arc(radius, begin
     rows, columns = (sample[:, 1] / 0.5).astype(int), (sample[:, 0] / 0.5).astype(int)
     assert (piece.upper[rows, columns] >= tops - 0.02).all()
     assert (piece.lower[rows, columns] <= tops + 0.02).all()
+
+
+def test_a_rapid_of_a_tool_of_unknown_size_is_never_shown_clear_beside_its_axis():
+    """Without a radius the tool is only its axis: that can show a crash, but not that the
+    tool's side misses the material, even along the line the same axis just cut."""
+    from ncverify import Settings, check_text
+    from ncverify.diagnostics import Status
+
+    program = ("(ncverify: stock box X0:100 Y0:60 Z-20:0)\nG21 G90 G17 G54\nT1 M06\nG43 H01 Z50.\nS6000 M03\nG00 X10. Y30.\n"
+               "Z2.\nG01 Z-2. F200.\nX90. F400.\nG00 Z-1.\nX10.\nG00 Z50.\nM30\n")
+    result = check_text(program, "t.nc", Settings(stock_resolution=None))
+    along = [d for d in result.diagnostics if d.rule == "core.rapid-into-stock" and d.span.line == 11]
+    assert [d.status for d in along] == [Status.UNKNOWN]
+    assert not [d for d in result.diagnostics if d.rule == "core.rapid-into-stock" and d.span.line == 10]  # straight up its own axis

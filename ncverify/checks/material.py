@@ -81,7 +81,7 @@ class Material:
         context, settings = checker.context, checker.settings
         self.stock = context.stock
         self.tools = context.tools
-        self.resolution, self.why_not = _resolution(self.stock, self.tools, context.machine.kind, settings)
+        self.resolution = _resolution(self.stock, self.tools, context.machine.kind, settings)
         self.air: dict[str, list[float]] = {}  # tool -> [feed length, air length]
         self.final: Workpiece | None = None
         self._run, self._run_done = None, 0
@@ -166,6 +166,8 @@ class Material:
             return RapidVerdict("hits", tuple(lowest))  # deeper than any cut has gone, inside the blank: whatever the tools' sizes
         cutter = self._rapid_cutter(state)
         verdict = mine.piece.rapid(start, end, cutter)
+        if cutter.radius <= 0.0:  # the tool's size is not known: its axis can show a hit, never that its side is clear
+            return verdict if verdict.outcome == "hits" else RapidVerdict("unsure")
         if verdict.outcome == "unsure" and any(_inside_cut(start, end, cutter, cut) for cut in mine.recent):
             return RapidVerdict("clear")
         return verdict
@@ -286,26 +288,20 @@ def cutter_of(tool) -> Cutter:
     return Cutter(tool.radius, known=False)
 
 
-def _resolution(stock, tools, machine, settings):
-    """(cell size, None) when the model is kept, else (None, why not)."""
+def _resolution(stock, tools, machine, settings) -> float | None:
+    """The cell size when the model is kept; None when rapids are judged against the blank:
+    turned off, no stock, a lathe bar, or a requested resolution over the memory cap."""
     wanted, cap = settings.stock_resolution, settings.stock_memory
-    if wanted == 0:
-        return None, "the stock as cut so far is off (--stock-resolution 0)"
-    if stock is None:
-        return None, "no stock"
-    if machine == "lathe" or stock.kind not in ("box", "polygon"):
-        return None, f"a {stock.kind} stock on a {machine or 'mill'} is checked as the blank"
+    if wanted == 0 or stock is None or machine == "lathe" or stock.kind not in ("box", "polygon"):
+        return None
     x_low, y_low, x_high, y_high = workpiece.outline(stock).bounds
     area = (x_high - x_low) * (y_high - y_low)
     if wanted is not None:
-        if area / wanted ** 2 * 8 > cap:
-            return None, (f"the stock at the resolution {wanted:g} mm needs more than the memory cap of {cap >> 20} MiB; "
-                          "rapids are checked against the blank")
-        return wanted, None
+        return wanted if area / wanted ** 2 * 8 <= cap else None
     radii = [tool.radius for tool in tools.values() if tool.radius]
     chosen = min(max(min(radii) / 4.0 if radii else 0.5, AUTO_RESOLUTION[0]), AUTO_RESOLUTION[1])
     fitting = math.sqrt(area * 8 / cap) * 1.01
-    return max(chosen, fitting), None
+    return max(chosen, fitting)
 
 
 def _tool_name(state) -> str:
