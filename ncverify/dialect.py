@@ -49,8 +49,10 @@ interpreter as ``DialectSetup.runtime``. The lowering never imports it. Its opti
 ``system_variable(name, state)``
     Values of hidden variables the lowering writes into expressions (asked before the
     frontend's ``system_variable``).
-``pseudo_models() -> dict``
-    Models of cycles the run-time module adds to the dialect's cycle table.
+``OPERATIONS: dict``
+    The handlers of IR operations the dialect lowers to and the shared interpreter leaves to
+    it, by operation type: ``run(runtime, op, block)`` with the
+    :class:`~ncverify.interpret.runtime.Runtime` of the path.
 """
 from __future__ import annotations
 

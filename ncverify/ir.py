@@ -58,6 +58,28 @@ Operations (all carry the ``span`` of the words they came from):
 ``Return``          end of a subprogram, optionally to a sequence number
 ``Stop``            program stop, optional stop, program end
 ``Alarm``           the program raises an alarm on purpose (#3000)
+``ProgramEnd``      the end of a program file (Klartext END PGM): ends the main program,
+                    returns from a called one
+``LabelCall``       a call of a label that repeats a program section when the label lies
+                    before it, else runs the label as a subprogram (Klartext CALL LBL REP)
+``ToolLength``      the control applies the tool's length by itself at a tool change
+                    (Klartext TOOL CALL): no register written, no G43 to forget
+``ToolFeed``        the feed a tool call gives (Klartext TOOL CALL F: FAUTO reads it)
+``Approach``        a contour approach or departure (APPR / DEP); its move follows as its own op
+``Pole``            the pole of polar coordinates and arcs about it (Klartext CC, G111);
+                    ``words`` the axis words as written, ``I``-prefixed when incremental
+``PoleArc``         an arc about the pole to an end point (Klartext C); ``DR`` the direction
+``TangentArc``      an arc tangent to the previous element (Klartext CT)
+``PolarMove``       a move to a point given by radius and angle about the pole (LP, CP);
+                    ``kind`` rapid / linear / arc
+``Lift``            a rapid along the tool axis alone (Klartext ``L Z.. FMAX``): straight up
+                    from where the tool was fed it leaves the cut
+``Retract``         retract along the tool axis by an amount, or to the travel limit (M140 MB)
+``MFunction``       an M function with no effect on the modelled machine that rules watch
+                    (M94) or that changes the feed mode (M136 / M137)
+``DialectStatement`` a statement of one dialect with no counterpart in the others (Klartext
+                    CYCL DEF, TRANS, PATTERN DEF, ...), run by the dialect's run-time module;
+                    ``params`` as written, ``param_spans`` where each is written
 ``Deferred``        a block whose codes are computed (``G#3``): resolved at run time
 ``MoveBatch``       (not an op) a batch of consecutive plain blocks - feed word, motion
                     code, literal axis words - that the interpreter runs at once
@@ -329,6 +351,76 @@ class Alarm(Op):
     number: Expr
     message: str
     statement: str = "macro alarm #3000={number}"  # how the program raised it, for messages
+
+
+@dataclass(slots=True)
+class ProgramEnd(Op):
+    pass
+
+
+@dataclass(slots=True)
+class LabelCall(Op):
+    label: Expr
+    repeat: Expr = 0.0  # the section runs this many more times
+
+
+@dataclass(slots=True)
+class ToolLength(Op):
+    on: bool
+    tool: Expr | None = None
+
+
+@dataclass(slots=True)
+class ToolFeed(Op):
+    feed: Expr
+
+
+@dataclass(slots=True)
+class Approach(Op):
+    pass
+
+
+@dataclass(slots=True)
+class Pole(Op):
+    words: dict[str, Expr]  # "X" / "IX": absolute / incremental; none: the pole is where the tool is
+
+
+@dataclass(slots=True)
+class PoleArc(Op):
+    words: dict[str, Expr]  # end point words, and DR: +1 counterclockwise, -1 clockwise, 0 not written
+
+
+@dataclass(slots=True)
+class TangentArc(Op):
+    words: dict[str, Expr]
+
+
+@dataclass(slots=True)
+class PolarMove(Op):
+    kind: str  # rapid, linear, arc
+    words: dict[str, Expr]  # PR / IPR radius, PA / IPA angle, DR, tool-axis words
+
+
+@dataclass(slots=True)
+class Lift(Op):
+    words: dict[str, Expr]
+
+
+@dataclass(slots=True)
+class Retract(Op):
+    amount: Expr  # a length, or "MAX" / "FMAX": to the travel limit
+
+
+@dataclass(slots=True)
+class MFunction(Op):
+    number: float
+
+
+@dataclass(slots=True)
+class DialectStatement(Op):
+    what: str  # the statement, as the dialect's run-time module names it
+    params: dict[str, Expr] = field(default_factory=dict)
+    param_spans: dict[str, Span] = field(default_factory=dict)
 
 
 @dataclass(slots=True)

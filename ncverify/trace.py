@@ -125,7 +125,7 @@ class Change:
     ``new`` values), ``set_position`` (G92/G50 with axis words, evaluated, in ``new``),
     ``data_setting`` (G10: axis words in ``old``, the other words in ``new``), ``transforms``
     (Klartext: the coordinate transformations active, in the order they were defined, before
-    and after)...
+    and after), ``m_function`` (an M function rules watch, its number in ``new``)...
     ``words`` holds other words of the block a rule needs, evaluated (G30 ``P``)."""
 
     what: str

@@ -32,11 +32,11 @@ def _rotated(dx: float, dy: float, degrees: float) -> tuple[float, float]:
 
 def _written_axes(op) -> tuple[str, ...]:
     """The axes a block's move writes: a straight or circular move, or a tool-axis-only
-    move at FMAX (lowered as ``@lift``)."""
+    move at FMAX (``ir.Lift``, its words as written)."""
     if isinstance(op, ir.Move):
         return tuple(op.targets)
-    if isinstance(op, ir.CycleCall) and op.cycle == "heidenhain.@lift":
-        return tuple(op.params)
+    if isinstance(op, ir.Lift):
+        return tuple(op.words)
     return ()
 
 
@@ -215,14 +215,14 @@ class WorkingPlane(Rule):
     _UNMOVED = ("working-plane-unmoved",)
     _TILTED = ("working-plane-tilted",)
 
+    def change(self, change, state):
+        if change.what == "m_function" and change.new == 94.0 and state.rule_state.get(self._TILTED):
+            self.report("heidenhain.working-plane", change.span, "M94 (modal rotary axis display) while cycle 19 tilts the working plane: the actual and "
+                        "nominal positions of the rotary axes can part after further calls; position them with Q120-Q122 instead (seed L8095-8096)")
+
     def cycle_run(self, run, state):
-        if run.cycle == "heidenhain.@M94":
-            if state.rule_state.get(self._TILTED):
-                self.report("heidenhain.working-plane", run.span, "M94 (modal rotary axis display) while cycle 19 tilts the working plane: the actual and "
-                            "nominal positions of the rotary axes can part after further calls; position them with Q120-Q122 instead (seed L8095-8096)")
-            return
         if run.cycle != "heidenhain.19":
-            if run.model.get("activity") != "def" and not run.cycle.startswith("heidenhain.@"):
+            if run.model.get("activity") != "def":
                 self._machining(run.span, state)  # a definition (a datum shift, contour data ...) machines nothing
             return
         given = [axis for axis in "ABC" if axis in run.params]

@@ -3,9 +3,8 @@
 and the dialects' run-time code (:mod:`.heidenhain`, :mod:`.sinumerik_cycles`,
 :mod:`.fagor_cycles`, :mod:`.modal_call`)."""
 from . import cycles, fagor_cycles, sinumerik_cycles
-from .heidenhain import runtime as heidenhain_runtime
 from .interpreter import Interpreter, MachineState
 
-cycles.install(heidenhain_runtime.CYCLES, sinumerik_cycles.CYCLES, fagor_cycles.CYCLES)
+cycles.install(sinumerik_cycles.CYCLES, fagor_cycles.CYCLES)
 
 __all__ = ["Interpreter", "MachineState"]

@@ -420,6 +420,16 @@ class ControlFlow:
             self._program_end(op.span, block, "end")
         return None
 
+    def _program_file_end(self, op: ir.ProgramEnd, block):
+        """The end of a program file (Klartext END PGM) ends the main program like M30 and
+        returns from a called one."""
+        call_stack = self.state.call_stack
+        while call_stack[-1].kind == "local" and len(call_stack) > 1:
+            call_stack.pop()  # a subprogram without a return that runs into the end of its file ends with it
+        if call_stack[-1].kind in ("main", "called"):
+            self._program_end(op.span, block, "end")
+        return self._return(ir.Return(op.span), block)
+
     def _program_end(self, span, block, how: str):
         self._change("end", span, block, None, how)
         raise PathEnd

@@ -90,14 +90,6 @@ class CycleRunner(Runtime):
 
     # ------------------------------------------------------------------ helpers
 
-    def _evaluate_all(self, exprs: dict, span) -> dict:
-        evaluated = {}
-        for letter, expr in exprs.items():
-            value = self._interp.value(expr, span)
-            if value is not VACANT:
-                evaluated[letter] = value
-        return evaluated
-
     def drill_axis(self, model: dict) -> str:
         """The axis a hole cycle drills along: its model's, else the working plane's normal."""
         return model.get("drill_axis") or self.state.plane_axes[2]
@@ -122,7 +114,7 @@ class CycleRunner(Runtime):
             initial = state.cycle.initial
         if fresh:
             state.cycle_data = {}
-        params = self._evaluate_all(op.params, op.span)
+        params = self.words(op.params, op.span)
         state.cycle_data.update(params)
         spans = dict(state.cycle.param_spans) if state.cycle and not fresh else {}
         spans.update(op.param_spans)
@@ -138,7 +130,7 @@ class CycleRunner(Runtime):
             letters = ", ".join(letter for letter in op.params if not letter.startswith("$"))
             self._interp._fault(op.params.get("$rule", "core.cycle-missing-parameter"), op.span, f"cycle parameter {letters} is changed while no canned cycle is active: the control alarms")
             return None
-        params = self._evaluate_all({letter: expr for letter, expr in op.params.items() if not letter.startswith("$")}, op.span)
+        params = self.words({letter: expr for letter, expr in op.params.items() if not letter.startswith("$")}, op.span)
         state.cycle_data.update(params)
         state.cycle.absolute.update(params)
         state.cycle.param_spans.update(op.param_spans)
@@ -152,7 +144,7 @@ class CycleRunner(Runtime):
         if model.get("shape") == "box":
             return self._box(op, block)
         axis = self.drill_axis(model)
-        data = self._evaluate_all(_counts_unscaled(op.words, model), op.span)
+        data = self.words(_counts_unscaled(op.words, model), op.span)
         positioning = dict(op.targets)
         if axis in positioning and not model.get("axis_word_moves"):  # Fagor: the tool-axis word moves, then the cycle runs
             bottom_expr = positioning.pop(axis)
@@ -305,7 +297,7 @@ class CycleRunner(Runtime):
         """G77/G78/G79 (Fanuc list-A G90/G92/G94): rapid in, cut, feed out, rapid back."""
         state = self.state
         cycle = state.cycle
-        data = self._evaluate_all(op.words, op.span)
+        data = self.words(op.words, op.span)
         state.cycle_data.update(data)
         targets = self._interp._targets(op.targets, op.incremental, op.span)
         if not targets:
@@ -330,7 +322,7 @@ class CycleRunner(Runtime):
     def call(self, op: ir.CycleCall, block):
         state = self.state
         model = self.cycle_model(op.cycle)
-        params = self._evaluate_all(op.params, op.span)
+        params = self.words(op.params, op.span)
         shape = model.get("shape")
         if shape in _DIALECT_SHAPES:
             return _DIALECT_SHAPES[shape](self, op, block, model, params)

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field, replace
+from functools import partial
 
 import numpy
 
@@ -123,8 +124,7 @@ class Interpreter(ControlFlow):
                  cycle_models: dict, twins: dict, machine: str = "mill", increment: float = 0.0,
                  feed_increment: float = 0.0, library=None, assumptions=(), pins: dict | None = None, runtime=None,
                  tools: ToolTable | None = None):
-        extra_models = getattr(runtime, "pseudo_models", None)
-        self.cycle_models = cycle_models if extra_models is None else {**cycle_models, **extra_models()}
+        self.cycle_models = cycle_models
         self._dialect_batch_allowed = getattr(runtime, "batch_allowed", None)
         self._system_variables = tuple(hook for hook in (modal_call_value, getattr(runtime, "system_variable", None),
                                                          getattr(frontend, "system_variable", None)) if hook is not None)
@@ -167,8 +167,11 @@ class Interpreter(ControlFlow):
             ir.Jump: self._jump, ir.LoopStart: self._loop_start, ir.LoopEnd: self._loop_end,
             ir.Conditional: self._conditional, ir.Call: self._call, ir.Return: self._return,
             ir.Stop: self._stop, ir.Alarm: self._alarm, ir.Deferred: self._deferred,
-            ir.Unsupported: self._unsupported,
+            ir.Unsupported: self._unsupported, ir.ProgramEnd: self._program_file_end,
+            ir.ToolLength: self._tool_length, ir.Approach: self._nothing,
         }
+        for kind, run in getattr(runtime, "OPERATIONS", {}).items():
+            self._handlers[kind] = partial(run, self.cycles)
 
     # ------------------------------------------------------------------ running
 
@@ -560,6 +563,14 @@ class Interpreter(ControlFlow):
     # ------------------------------------------------------------------ op handlers: state
 
     def _nothing(self, op, block):
+        return None
+
+    def _tool_length(self, op: ir.ToolLength, block):
+        """The control applies the tool's length by itself: no register, no change to report."""
+        state = self.state
+        tool = self.cycles.words({"T": op.tool} if op.tool is not None else {}, op.span)
+        state.length_mode = "plus" if op.on else "off"
+        state.length_register = tool.get("T")
         return None
 
     def _set_modal(self, op: ir.SetModal, block):

@@ -5,13 +5,15 @@ interpreter reaches it, through a few small public methods of a :class:`Runtime`
 of LinuxCNC's rs274ngc canned cycles, which move only through ``cycle_feed`` and
 ``cycle_traverse``): move the tool, report what the rules should see, transfer control,
 read and write variables. The runners a dialect declares in its
-:class:`~ncverify.interpret.cycles.DialectCycles` receive the
+:class:`~ncverify.interpret.cycles.DialectCycles`, and the handlers of the IR operations its
+run-time module lists in ``OPERATIONS``, receive the
 :class:`~ncverify.interpret.cycles.CycleRunner`, which is a :class:`Runtime`; they never
 reach into the interpreter's private methods.
 """
 from __future__ import annotations
 
 from .. import ir
+from ..values import VACANT
 
 
 class Runtime:
@@ -148,6 +150,15 @@ class Runtime:
         """An expression's value (a vacant variable reads as 0, with a finding where the
         control would compute with it)."""
         return self._interp.value(expr, span)
+
+    def words(self, exprs: dict, span=None) -> dict:
+        """The values of written words by name (:meth:`value` of each), vacant ones left out."""
+        evaluated = {}
+        for name, expr in exprs.items():
+            value = self._interp.value(expr, span)
+            if value is not VACANT:
+                evaluated[name] = value
+        return evaluated
 
     def evaluate(self, expr, span=None):
         """An expression's value, vacant kept as :data:`ncverify.values.VACANT`."""

@@ -3,10 +3,12 @@
 Facts come from ``shared/reference/heidenhain-tnc620-a.md`` / ``-b.md`` (seed line
 numbers in the comments and in ``dialects/heidenhain/cycles.toml``).
 
-Klartext constructs whose effect depends on state the lowering cannot see (the circle
-centre ``CC``, polar coordinates, the cycle that ``CYCL CALL`` runs, a label call that is
-a section repeat or a subprogram call, the end of a called program) are lowered to
-``ir.CycleCall`` operations of pseudo cycles ``heidenhain.@...`` whose motion is run by
+Klartext constructs whose effect depends on state the lowering cannot see are IR
+operations the interpreter runs with that state: the pole ``CC`` and the moves about it
+(``ir.Pole``, ``ir.PoleArc``, ``ir.TangentArc``, ``ir.PolarMove``), a label call that is a
+section repeat or a subprogram call (``ir.LabelCall``), the end of a program file
+(``ir.ProgramEnd``); statements no other dialect has (``CYCL DEF``, ``CYCL CALL``,
+``TRANS``, ``PATTERN DEF``, ...) are ``ir.DialectStatement`` operations run by
 :mod:`ncverify.interpret.heidenhain.runtime`. Everything else is
 plain IR: ``L`` is a ``Move``, ``R0/RL/RR`` a ``CutterComp``, ``M3/M4/M5`` a ``Spindle``, ``TOOL CALL`` a tool change
 with the length compensation Klartext applies by itself, ``FN 9``-``FN 12`` conditional
@@ -100,7 +102,7 @@ class KlartextLowering:
             block.ops.append(ir.SetFeed(span, feed))
         block.ops.append(ir.Move(span, "linear", targets, None, {}, frozenset(incremental), columns))
         plane = [axis for axis in ("X", "Y") if axis in targets]
-        block.ops.append(_pseudo(span, "positioned", {"fed": 1.0, "plane": float(len(plane)), "relative": float(any(axis in incremental for axis in plane))}))
+        block.ops.append(ir.DialectStatement(span, "positioned", {"fed": 1.0, "plane": float(len(plane)), "relative": float(any(axis in incremental for axis in plane))}))
         return block
 
     def _general(self, raw: bytes, line: int, path: str | None) -> ir.Block:
@@ -169,7 +171,7 @@ class KlartextLowering:
             start = cursor.next().span
             reset = cursor.take_name("RESET") is not None
             cursor.index = len(cursor.tokens)
-            block.ops.append(_pseudo(cursor.rest_span(start), "trans", {"what": "PLANE"} if reset else {"what": "PLANE", "tilt": 1.0}))
+            block.ops.append(ir.DialectStatement(cursor.rest_span(start), "trans", {"what": "PLANE"} if reset else {"what": "PLANE", "tilt": 1.0}))
             return
         if word in _UNMODELLED:
             affects_position, what = _UNMODELLED[word]
@@ -200,7 +202,7 @@ class KlartextLowering:
         begun = self._begun.get(path)
         if begun is not None and name != begun:
             block.notes.append(ir.Note("heidenhain.program-name-mismatch", f"END PGM {name} closes program {begun}: BEGIN PGM and END PGM must name the same program", span))
-        block.ops.append(_pseudo(span, "end_pgm", {}))
+        block.ops.append(ir.ProgramEnd(span))
 
     @staticmethod
     def _program_name(cursor: Cursor, up_to_unit: bool = True) -> str:
@@ -235,14 +237,14 @@ class KlartextLowering:
             block.ops.append(ir.SetSpindleSpeed(span, words["S"]))
         if number is not None:
             block.ops.append(ir.ToolSelect(span, number))
-            block.ops.append(_pseudo(span, "tool_length", {"on": 0.0}))
+            block.ops.append(ir.ToolLength(span, False))
             block.ops.append(ir.ToolChange(span))
-            block.ops.append(_pseudo(span, "tool_length", {"on": 1.0, "T": number}))
+            block.ops.append(ir.ToolLength(span, True, number))
             block.ops.append(ir.Assign(span, ir.Var(TOOL_CALL_DR), words.get("DR", 0.0)))  # the call's radius delta, on top of the table's R + DR
         if axis is not None:
             block.ops.append(ir.SetModal(axis.span, "plane", _TOOL_AXIS_PLANE[axis.text]))
         if "F" in words:
-            block.ops.append(_pseudo(span, "tool_feed", {"F": words["F"]}))
+            block.ops.append(ir.ToolFeed(span, words["F"]))
 
     def _tool_number(self, cursor: Cursor):
         token = cursor.peek()
@@ -345,7 +347,7 @@ class KlartextLowering:
         words = self._motion_words(cursor, block)
         self._emit_motion(block, words, start.span, cursor, "rapid" if words["rapid"] else "linear")
 
-    def _emit_motion(self, block, words, start_span, cursor, kind, arc_pseudo=None):
+    def _emit_motion(self, block, words, start_span, cursor, kind, arc_op=None):
         span = cursor.rest_span(start_span)
         machine = any(number in (91.0, 92.0) for number, _ in words["m"])
         if words["feed"] is not None:
@@ -353,22 +355,22 @@ class KlartextLowering:
         self._m_before(block, words["m"])
         if words["comp"] is not None:
             block.ops.append(ir.CutterComp(words["comp"][1], words["comp"][0], only_if_changed=True))
-        if arc_pseudo is not None:
-            block.ops.append(arc_pseudo)
+        if arc_op is not None:
+            block.ops.append(arc_op)
         elif words["targets"]:
             if machine:
                 block.ops.append(ir.MachineMove(span, dict(words["targets"])))
             elif kind == "rapid" and "Z" in words["targets"] and set(words["targets"]) <= {"X", "Y", "Z"}:
-                block.ops.append(_pseudo(span, "lift", {("I" if axis in words["incremental"] else "") + axis: value for axis, value in words["targets"].items()}))
+                block.ops.append(ir.Lift(span, _written(words)))
             else:
                 block.ops.append(ir.Move(span, kind, dict(words["targets"]), None, {}, frozenset(words["incremental"]), words["columns"]))
         if "MB" in words["extra"]:
-            block.ops.append(_pseudo(span, "retract", {"MB": words["extra"]["MB"]}))
+            block.ops.append(ir.Retract(span, words["extra"]["MB"]))
         calls = any(number in (89.0, 99.0) for number, _ in words["m"])
         if words["targets"] and not calls and not machine:
             plane = [axis for axis in ("X", "Y") if axis in words["targets"]]
             relative = any(axis in words["incremental"] for axis in plane)
-            block.ops.append(_pseudo(span, "positioned", {"fed": 0.0 if kind == "rapid" else 1.0, "plane": float(len(plane)), "relative": float(relative)}))
+            block.ops.append(ir.DialectStatement(span, "positioned", {"fed": 0.0 if kind == "rapid" else 1.0, "plane": float(len(plane)), "relative": float(relative)}))
         self._m_after(block, words["m"], span)
 
     @staticmethod
@@ -391,12 +393,12 @@ class KlartextLowering:
                 block.ops.append(ir.Coolant(m_span, "off"))
         for number, m_span in m_words:
             if number in _M_WATCHED:
-                block.ops.append(_pseudo(m_span, "m_function", {"M": number}))
+                block.ops.append(ir.MFunction(m_span, number))
         for number, m_span in m_words:
             if number == 99.0:
-                block.ops.append(_pseudo(m_span, "call", {"how": "M99"}))
+                block.ops.append(ir.DialectStatement(m_span, "call", {"how": "M99"}))
             elif number == 89.0:
-                block.ops.append(_pseudo(m_span, "call", {"how": "M89"}))
+                block.ops.append(ir.DialectStatement(m_span, "call", {"how": "M89"}))
         for number, m_span in m_words:
             if number in _M_STOP:
                 block.ops.append(ir.Stop(m_span, _M_STOP[number]))
@@ -404,8 +406,7 @@ class KlartextLowering:
     def _pole(self, cursor, block, path):
         start = cursor.expect_name("CC")
         words = self._motion_words(cursor, block)
-        params = {("I" if axis in words["incremental"] else "") + axis: value for axis, value in words["targets"].items()}
-        block.ops.append(_pseudo(cursor.rest_span(start.span), "pole", params))
+        block.ops.append(ir.Pole(cursor.rest_span(start.span), _written(words)))
 
     def _circle(self, cursor, block, path):
         """``C`` arc about CC, ``CR`` arc by radius, ``CT`` tangential arc."""
@@ -423,12 +424,12 @@ class KlartextLowering:
             arc = ir.Move(span, kind, dict(words["targets"]), {"R": words["extra"]["R"]}, {}, frozenset(words["incremental"]), words["columns"])
             self._emit_motion(block, words, start.span, cursor, kind, arc)
             return
-        params = {("I" if axis in words["incremental"] else "") + axis: value for axis, value in words["targets"].items()}
+        params = _written(words)
         if start.text == "C":
             params["DR"] = 1.0 if direction == "+" else -1.0 if direction == "-" else 0.0
-            self._emit_motion(block, words, start.span, cursor, None, _pseudo(span, "arc", params))
+            self._emit_motion(block, words, start.span, cursor, None, ir.PoleArc(span, params))
         else:
-            self._emit_motion(block, words, start.span, cursor, None, _pseudo(span, "tangent", params))
+            self._emit_motion(block, words, start.span, cursor, None, ir.TangentArc(span, params))
 
     def _polar(self, cursor, block, path):
         start = cursor.next()
@@ -437,13 +438,12 @@ class KlartextLowering:
         params = dict(words["extra"])
         if "DR" in params:
             params["DR"] = 1.0 if params["DR"] == "+" else -1.0
-        for axis, value in words["targets"].items():
-            params[("I" if axis in words["incremental"] else "") + axis] = value
-        params["kind"] = "arc" if start.text == "CP" else ("rapid" if words["rapid"] else "linear")
+        params.update(_written(words))
+        kind = "arc" if start.text == "CP" else ("rapid" if words["rapid"] else "linear")
         span = cursor.rest_span(start.span)
         if words["rapid"] and start.text == "CP":
             _rapid_arc(block, span)
-        self._emit_motion(block, words, start.span, cursor, None, _pseudo(span, "polar", params))
+        self._emit_motion(block, words, start.span, cursor, None, ir.PolarMove(span, kind, params))
 
     def _corner(self, cursor, block, path):
         """RND / CHF between two contour elements: the corner is cut off, the end point stays."""
@@ -463,7 +463,7 @@ class KlartextLowering:
         words = self._motion_words(cursor, block, ("LEN", "CCA", "R", "PR", "PA", "DR"))
         span = cursor.rest_span(start.span)
         plane = {"X", "Y"}
-        block.ops.append(_pseudo(span, "approach", {}))
+        block.ops.append(ir.Approach(span))
         if start.text == "DEP":
             words["comp"] = ("off", start.span)  # DEP ends the radius compensation
         if start.text == "DEP" and not plane <= words["targets"].keys():
@@ -512,7 +512,7 @@ class KlartextLowering:
             repeat = 0.0
             if cursor.take_name("REP") and not cursor.at_end():
                 repeat = cursor.value()
-            block.ops.append(_pseudo(cursor.rest_span(start), "label_call", {"label": label, "REP": repeat}))
+            block.ops.append(ir.LabelCall(cursor.rest_span(start), label, repeat))
             return
         if what.text == "CYCLE":
             cursor.index = len(cursor.tokens)
@@ -605,7 +605,7 @@ class KlartextLowering:
             cursor.next()  # the cycle's name, in the language the control was set to
         params, spans = self._cycle_parameters(cursor)
         params["@number"] = float(whole)
-        block.ops.append(ir.CycleCall(cursor.rest_span(start), "heidenhain.@define", params, spans))
+        block.ops.append(ir.DialectStatement(cursor.rest_span(start), "define", params, spans))
 
     def _cycle_parameters(self, cursor) -> tuple[dict, dict]:
         """``Q200=+2 ;comment ~`` lines: values, keywords (AUTO, MAX, PREDEF), strings
@@ -665,7 +665,7 @@ class KlartextLowering:
                         spans[name] = cursor.rest_span(token.span)
                     except ReadError:
                         pass
-        block.ops.append(ir.CycleCall(cursor.rest_span(start), "heidenhain.@old_cycle", words, spans))
+        block.ops.append(ir.DialectStatement(cursor.rest_span(start), "old_cycle", words, spans))
 
     def _cycle_call(self, cursor, block, start):
         how = cursor.take_name("PAT", "POS")
@@ -680,7 +680,7 @@ class KlartextLowering:
             params["F"] = "FMAX"
         span = cursor.rest_span(start)
         self._m_before(block, words["m"])
-        block.ops.append(_pseudo(span, "call", params))
+        block.ops.append(ir.DialectStatement(span, "call", params))
         for number, m_span in words["m"]:
             if number in _M_STOP:
                 block.ops.append(ir.Stop(m_span, _M_STOP[number]))
@@ -700,7 +700,7 @@ class KlartextLowering:
                 word = cursor.expect_name()
                 params[f"{index}:{word.text}"] = cursor.value()
             index += 1
-        block.ops.append(_pseudo(cursor.rest_span(start), "pattern", params))
+        block.ops.append(ir.DialectStatement(cursor.rest_span(start), "pattern", params))
 
     def _global_def(self, cursor, block):
         """``GLOBAL DEF 100 GENERAL ~ Q200=+2 ~ ...``: values that cycle parameters written
@@ -711,7 +711,7 @@ class KlartextLowering:
         while not cursor.at_end() and not (cursor.is_name("Q") and cursor.peek(1) is not None and cursor.peek(1).kind == "number"):
             cursor.next()
         params = self._cycle_parameters(cursor)[0]
-        block.ops.append(_pseudo(cursor.rest_span(start), "global_def", params))
+        block.ops.append(ir.DialectStatement(cursor.rest_span(start), "global_def", params))
 
     def _select_pattern(self, cursor, block):
         """``SEL PATTERN "HOLES.PNT"``: the point table CYCL CALL PAT runs on (reference A §4.5)."""
@@ -719,14 +719,14 @@ class KlartextLowering:
         cursor.expect_name("PATTERN")
         name = " ".join(token.text.strip('"') for token in cursor.tokens[cursor.index:] if token.kind != "end")
         cursor.index = len(cursor.tokens)
-        block.ops.append(_pseudo(cursor.rest_span(start), "select_pattern", {"table": name}))
+        block.ops.append(ir.DialectStatement(cursor.rest_span(start), "select_pattern", {"table": name}))
 
     def _select_contour(self, cursor, block):
         """``SEL CONTOUR "MODEL"``: the contour of the SL / OCM cycles is described in another
         program (reference B 6.28), which is not run here: the contour is unknown."""
         start = cursor.expect_name("SEL").span
         cursor.index = len(cursor.tokens)
-        block.ops.append(_pseudo(cursor.rest_span(start), "select_contour", {}))
+        block.ops.append(ir.DialectStatement(cursor.rest_span(start), "select_contour", {}))
 
     def _declare_contour(self, cursor, block):
         """``DECLARE CONTOUR QC2 = "121" DEPTH15``: a contour of a contour-definition program
@@ -738,7 +738,7 @@ class KlartextLowering:
                 params["DEPTH"] = cursor.value()
             else:
                 cursor.next()
-        block.ops.append(_pseudo(cursor.rest_span(start), "declare_contour", params))
+        block.ops.append(ir.DialectStatement(cursor.rest_span(start), "declare_contour", params))
 
     def _contour_def(self, cursor, block, path):
         """``CONTOUR DEF P1 = LBL 1 I2 = LBL 2 V3 = LBL 3``: pockets, islands, voids (reference B §6.29)."""
@@ -757,7 +757,7 @@ class KlartextLowering:
             params[f"{kind.text}{int(number)}"] = label
             if cursor.take_name("DEPTH"):
                 params[f"D{int(number)}"] = cursor.value()
-        block.ops.append(_pseudo(cursor.rest_span(start), "contour_def", params))
+        block.ops.append(ir.DialectStatement(cursor.rest_span(start), "contour_def", params))
 
     def _trans(self, cursor, block, path):
         start = cursor.expect_name("TRANS").span
@@ -773,7 +773,7 @@ class KlartextLowering:
                     params[word.text] = cursor.value()
                 elif what.text == "MIRROR" and word.text in _AXES:
                     params[word.text] = 1.0  # TRANS MIRROR AXIS X: the axes mirrored
-        block.ops.append(_pseudo(cursor.rest_span(start), "trans", params))
+        block.ops.append(ir.DialectStatement(cursor.rest_span(start), "trans", params))
 
 
 def _bare(cursor: Cursor, keywords=()) -> bool:
@@ -791,8 +791,9 @@ def _called_name(name: str) -> str:
     return f"O{int(base)}" if base.isdigit() else base
 
 
-def _pseudo(span: Span, what: str, params: dict) -> ir.CycleCall:
-    return ir.CycleCall(span, f"heidenhain.@{what}", params)
+def _written(words: dict) -> dict:
+    """The axis words of a block as written: ``IX`` for an incremental X."""
+    return {("I" if axis in words["incremental"] else "") + axis: value for axis, value in words["targets"].items()}
 
 
 _STATEMENTS = {

@@ -133,8 +133,7 @@ def _walk(runner, label, span) -> Subprogram:
     raise _Unresolved
 
 
-_MOTION_PSEUDO = {"arc", "tangent", "polar", "lift"}
-_M_PSEUDO = {"call"}
+_MOTION_OPS = (ir.PoleArc, ir.TangentArc, ir.PolarMove, ir.Lift)
 _TRANSFORMS = {7.0, 8.0, 10.0, 11.0, 19.0, 26.0, 247.0}  # allowed in a subcontour, and they stay active after it (seed L9061-9062)
 
 
@@ -160,23 +159,22 @@ class _Content:
             self.motion(op, set(op.targets), op.arc is None)
         elif isinstance(op, ir.CutterComp):
             self.sides.append((op.side, op.span))
-        elif isinstance(op, ir.CycleCall) and op.cycle.startswith("heidenhain.@"):
-            self.pseudo(op, op.cycle[len("heidenhain.@"):])
-
-    def pseudo(self, op, what: str) -> None:
-        params = op.params
-        if what == "approach":
+        elif isinstance(op, ir.Approach):
             self.forbidden.append(("an APPR/DEP block", op.span))
             self.approach_pending = self.first_axes is None
-        elif what in _M_PSEUDO:
-            self.technology.append(("an M function", op.span))
-        elif what in ("define", "old_cycle") and params.get("@number") not in _TRANSFORMS:
-            self.forbidden.append(("a cycle definition", op.span))
-        elif what in _MOTION_PSEUDO:
-            axes = {word[-1] for word in params if word[-1] in "XYZ" and word[:-1] in ("", "I")}
-            if what == "polar":
+        elif isinstance(op, ir.DialectStatement):
+            self.statement(op)
+        elif isinstance(op, _MOTION_OPS):
+            axes = {word[-1] for word in op.words if word[-1] in "XYZ" and word[:-1] in ("", "I")}
+            if isinstance(op, ir.PolarMove):
                 axes |= {"X", "Y"}  # PR / PA give a point of the plane
-            self.motion(op, axes, what == "lift")
+            self.motion(op, axes, isinstance(op, ir.Lift))
+
+    def statement(self, op: ir.DialectStatement) -> None:
+        if op.what == "call":
+            self.technology.append(("an M function", op.span))
+        elif op.what in ("define", "old_cycle") and op.params.get("@number") not in _TRANSFORMS:
+            self.forbidden.append(("a cycle definition", op.span))
 
     def motion(self, op, axes: set, straight: bool) -> None:
         if "Z" in axes:
@@ -255,20 +253,17 @@ class _Walker:
         if isinstance(op, ir.CutterComp):
             self.side = op.side
             return
-        if not isinstance(op, ir.CycleCall) or not op.cycle.startswith("heidenhain.@"):
-            return
-        what, params = op.cycle[len("heidenhain.@"):], op.params
-        if what == "pole":
-            self.pole = self.point(params) if params else self.here
-        elif what in ("arc", "tangent"):
-            end = self.point(params)
-            if what == "tangent":
+        if isinstance(op, ir.Pole):
+            self.pole = self.point(op.words) if op.words else self.here
+        elif isinstance(op, (ir.PoleArc, ir.TangentArc)):
+            end = self.point(op.words)
+            if isinstance(op, ir.TangentArc):
                 raise _Unresolved
-            self.arc_about_pole(end, params.get("DR", 1.0) > 0)
-        elif what == "polar":
-            self.polar(params)
-        elif what == "lift":
-            self.points.append(self.point(params))
+            self.arc_about_pole(end, op.words.get("DR", 1.0) > 0)
+        elif isinstance(op, ir.PolarMove):
+            self.polar(op.words, op.kind)
+        elif isinstance(op, ir.Lift):
+            self.points.append(self.point(op.words))
 
     def arc_about_pole(self, end, ccw: bool, turn=None) -> None:
         if self.pole is None:
@@ -301,7 +296,7 @@ class _Walker:
         self.pole = (middle[0] + sign * height * left[0], middle[1] + sign * height * left[1])
         self.arc_about_pole(end, ccw)
 
-    def polar(self, params) -> None:
+    def polar(self, params, kind: str) -> None:
         if self.pole is None:
             raise _Unresolved
         cx, cy = self.pole
@@ -318,7 +313,7 @@ class _Walker:
         else:
             end_angle = angle + self.number(params.get("IPA", 0.0))
         end = (cx + radius * math.cos(math.radians(end_angle)), cy + radius * math.sin(math.radians(end_angle)))
-        if params.get("kind") == "arc":
+        if kind == "arc":
             self.arc_about_pole(end, params.get("DR", 1.0) > 0, math.radians(end_angle - angle) if "IPA" in params else None)
         else:
             self.points.append(end)

@@ -1,8 +1,10 @@
-"""What the Klartext pseudo operations do when the interpreter reaches them.
+"""What the Klartext operations that need the machine state do when the interpreter reaches them.
 
 The lowering (:mod:`ncverify.lower.heidenhain`) turns constructs that need machine state
-into ``ir.CycleCall`` operations of pseudo cycles ``heidenhain.@<what>``; each is run here
-as shapes of the shared cycle runner (:class:`ncverify.interpret.cycles.DialectCycles`). Dialect state lives in the
+into IR operations (``ir.Pole``, ``ir.PoleArc``, ``ir.LabelCall``, ...) and the
+statements no other dialect has into ``ir.DialectStatement`` operations; :data:`OPERATIONS`
+gives the interpreter the handler of each, which drives it through the public
+:class:`~ncverify.interpret.runtime.Runtime`. Dialect state lives in the
 path's :class:`~ncverify.interpret.heidenhain.state.KlartextState` (``state.klartext``),
 replaced, never changed in place, so that forked paths keep their own.
 
@@ -21,7 +23,6 @@ import re
 from dataclasses import replace
 
 from ... import ir, values
-from .. import cycles
 from . import special, transforms
 from .common import (cycle_feed as _cycle_feed, levels, numbers as _numbers, offset_surface as _offset_surface,
                      plane as _plane, put as _put)
@@ -50,11 +51,6 @@ def system_variable(name: str, state):
     return values.fresh(name[1:])
 
 
-def pseudo_models() -> dict:
-    """The models of the pseudo cycles, beside the dialect's cycle table."""
-    return {f"heidenhain.@{what}": {"shape": f"heidenhain.{what}", "pseudo": True} for what in _RUNNERS}
-
-
 def batch_allowed(state) -> bool:
     """A batch of plain lines skips what each line's R0 and positioning step would do:
     nothing while the compensation is off and no cycle waits on positions."""
@@ -64,7 +60,8 @@ def batch_allowed(state) -> bool:
 # --------------------------------------------------------------------------- contour geometry
 
 
-def _pole_run(runner, op, block, model, params):
+def _pole_run(runner, op, block):
+    params = runner.words(op.words, op.span)
     state = runner.state
     first, second, normal = _plane(state)
     pole = dict(state.klartext.pole)
@@ -114,7 +111,8 @@ def _targets(runner, params: dict, span) -> dict:
     return targets
 
 
-def _arc_run(runner, op, block, model, params):
+def _arc_run(runner, op, block):
+    params = runner.words(op.words, op.span)
     state = runner.state
     first, second, normal = _pole_plane(state)
     pole = state.klartext.pole
@@ -146,10 +144,11 @@ def _plane_point(state):
     return state.position.get(first), state.position.get(second)
 
 
-def _lift_run(runner, op, block, model, params):
+def _lift_run(runner, op, block):
     """``L Z.. FMAX`` alone. Straight up from where the tool got to at feed, its own body
     already fills the column above the tip: reported as a move out of the cut (the stock
     model is not updated by cutting, so the rapid would read as a crash)."""
+    params = runner.words(op.words, op.span)
     state = runner.state
     targets = _targets(runner, params, op.span)
     current, target = state.position.get("Z"), targets.get("Z")
@@ -165,9 +164,10 @@ def _lift_run(runner, op, block, model, params):
     return None
 
 
-def _tangent_run(runner, op, block, model, params):
+def _tangent_run(runner, op, block):
     """CT: a tangential arc whose centre follows from the previous element; its chord is
     reported as a feed move (the arc bulges at most to the side of it)."""
+    params = runner.words(op.words, op.span)
     state = runner.state
     start = state.position
     state.move_to(_targets(runner, params, op.span))
@@ -176,8 +176,9 @@ def _tangent_run(runner, op, block, model, params):
     return None
 
 
-def _polar_run(runner, op, block, model, params):
+def _polar_run(runner, op, block):
     """LP / CP: a point given by radius PR and angle PA about the pole CC."""
+    params = runner.words(op.words, op.span)
     state = runner.state
     first, second, normal = _pole_plane(state)
     pole = state.klartext.pole
@@ -188,7 +189,7 @@ def _polar_run(runner, op, block, model, params):
     for word in (normal, "I" + normal):
         if word in params:
             targets.update(_targets(runner, {word: params[word]}, op.span))
-    kind = params.get("kind")
+    kind = op.kind
     if kind == "arc":
         turn = params.get("DR")
         if turn is None:
@@ -223,11 +224,11 @@ def _polar_end(params, c1, c2, s1, s2):
     return c1 + radius * math.cos(math.radians(angle)), c2 + radius * math.sin(math.radians(angle))
 
 
-def _retract_run(runner, op, block, model, params):
+def _retract_run(runner, op, block):
     """M140 MB: retract along the tool axis, by MB or to the travel limit (MB MAX)."""
+    amount = runner.words({"MB": op.amount}, op.span).get("MB")
     state = runner.state
     axis = _plane(state)[2]
-    amount = params.get("MB")
     if amount == "FMAX" or amount == "MAX" or type(amount) is str or amount is None:
         state.move_to({axis: None})  # up to the software limit: where that is in workpiece coordinates is unknown
         return None
@@ -236,32 +237,21 @@ def _retract_run(runner, op, block, model, params):
     return None
 
 
-def _tool_length_run(runner, op, block, model, params):
-    """TOOL CALL applies the tool's length by itself: no G43 to forget."""
-    state = runner.state
-    state.length_mode = "plus" if params.get("on") else "off"
-    state.length_register = params.get("T")
-    return None
-
-
-def _approach_run(runner, op, block, model, params):
-    """APPR / DEP: a marker for the contour checks; the move itself follows as an ``L``."""
-    return None
-
-
-def _tool_feed_run(runner, op, block, model, params):
-    if "F" in params:
-        _put(runner.state, tool_feed=params["F"])
+def _tool_feed_run(runner, op, block):
+    feed = runner.words({"F": op.feed}, op.span)
+    if "F" in feed:
+        _put(runner.state, tool_feed=feed["F"])
     return None
 
 
 # --------------------------------------------------------------------------- program flow
 
 
-def _label_call_run(runner, op, block, model, params):
+def _label_call_run(runner, op, block):
     """CALL LBL n [REP r]: a label before the call with no LBL 0 between them repeats the
     program section r more times (seed L8265-8273); otherwise the subprogram runs (r + 1
     times) and returns at its LBL 0."""
+    params = runner.words({"label": op.label, "REP": op.repeat}, op.span)
     state = runner.state
     label = params.get("label")
     repeat = params.get("REP", 0.0)
@@ -299,20 +289,10 @@ def _returns_between(runner, target, end: int) -> bool:
     return _SUBPROGRAM_END.search(text) is not None
 
 
-def _end_pgm_run(runner, op, block, model, params):
-    """END PGM ends the main program like M30 and returns from a called one."""
-    call_stack = runner.state.call_stack
-    while call_stack[-1].kind == "local" and len(call_stack) > 1:
-        call_stack.pop()  # a subprogram without LBL 0 that runs into END PGM ends its program
-    if call_stack[-1].kind in ("main", "called"):
-        runner.end_program(op.span, block, "end")
-    return runner.return_from(ir.Return(op.span), block)
-
-
 # --------------------------------------------------------------------------- cycles
 
 
-def _define_run(runner, op, block, model, params):
+def _define_run(runner, op, block, params):
     state = runner.state
     number = int(params.pop("@number", -1))
     cycle_model = runner.cycle_model(f"heidenhain.{number}")
@@ -397,7 +377,7 @@ def _def_active(runner, op, block, number, params, cycle_model):
     return None
 
 
-def _old_cycle_run(runner, op, block, model, params):
+def _old_cycle_run(runner, op, block, params):
     """Old-style two-part cycles ``CYCL DEF 7.0`` / ``7.1 X+60``, the old fixed cycles 1-5
     and 18 (their data arrive in sub-blocks and join the definition); the data blocks of a
     DEF-active one (9.1 DWELL, 32.1 T) go to the rules as they come."""
@@ -439,7 +419,7 @@ def _transform(runner, op, number, params) -> None:
         runner.fault("heidenhain.mirror-tool-axis", op.span, f"cycle 8 mirrors the tool axis {tool_axis}: the spindle axis may not be mirrored (seed L7869-7870)")
 
 
-def _global_def_run(runner, op, block, model, params):
+def _global_def_run(runner, op, block, params):
     state = runner.state
     merged = dict(state.klartext.global_defaults)
     merged.update(params)
@@ -447,7 +427,7 @@ def _global_def_run(runner, op, block, model, params):
     return None
 
 
-def _contour_def_run(runner, op, block, model, params):
+def _contour_def_run(runner, op, block, params):
     """CONTOUR DEF names each subcontour's kind: P pocket, I island, V void (machined as an
     island), each with an optional DEPTH (``D<n>``). It also makes the control forget the
     radius of the last roughing tool (seed L11284-11286)."""
@@ -461,7 +441,7 @@ def _contour_def_run(runner, op, block, model, params):
     return None
 
 
-def _select_contour_run(runner, op, block, model, params):
+def _select_contour_run(runner, op, block, params):
     """SEL CONTOUR: a contour the SL and OCM cycles may use, from a program not read here;
     like CONTOUR DEF it makes the control forget the last roughing tool (seed L11284-11286)."""
     state = runner.state
@@ -472,7 +452,7 @@ def _select_contour_run(runner, op, block, model, params):
     return None
 
 
-def _declare_contour_run(runner, op, block, model, params):
+def _declare_contour_run(runner, op, block, params):
     """DECLARE CONTOUR of a contour-definition program goes to the rules with whether each
     declaration so far had a DEPTH (all or none must, seed L14464-14465) and the Q1-Q20 the
     program has set, which the SL cycles also use (seed L9360-9361)."""
@@ -483,7 +463,7 @@ def _declare_contour_run(runner, op, block, model, params):
     return None
 
 
-def _trans_run(runner, op, block, model, params):
+def _trans_run(runner, op, block, params):
     what = params.pop("what", "DATUM")
     number = {"DATUM": 7, "MIRROR": 8, "ROTATION": 10, "SCALE": 11, "PLANE": 19}.get(what, 7)
     if params.pop("reset", None) is not None or what == "RESET":
@@ -493,7 +473,7 @@ def _trans_run(runner, op, block, model, params):
     return None
 
 
-def _pattern_run(runner, op, block, model, params):
+def _pattern_run(runner, op, block, params):
     tool_axis = _plane(runner.state)[2]
     if tool_axis != "Z":
         runner.fault("heidenhain.pattern-tool-axis", op.span, f"PATTERN DEF with the tool axis {tool_axis}: the pattern computes X and Y only, "
@@ -581,7 +561,7 @@ def _pattern_points(number: int, params: dict):
     return [_rotated(x0, y0, column * dx, row * dy, rotation, 0.0) for row in range(int(rows)) for column in range(int(columns))]
 
 
-def _call_run(runner, op, block, model, params):
+def _call_run(runner, op, block, params):
     """CYCL CALL / CYCL CALL PAT / CYCL CALL POS / M99 / M89 (seed L692-791)."""
     state = runner.state
     how = params.get("how", "CALL")
@@ -614,7 +594,7 @@ def _call_run(runner, op, block, model, params):
     return run_cycle(runner, op, block, definition)
 
 
-def _positioned_run(runner, op, block, model, params):
+def _positioned_run(runner, op, block, params):
     """After M89 every positioning block runs the cycle, until M99 or a new CYCL DEF
     (seed L742-752)."""
     state = runner.state
@@ -1045,17 +1025,25 @@ def _pocket(runner, op, block, definition, shift, surface_offset):
     return None
 
 
-_RUNNERS = {
-    "pole": _pole_run, "arc": _arc_run, "tangent": _tangent_run, "polar": _polar_run, "retract": _retract_run,
-    "tool_feed": _tool_feed_run, "label_call": _label_call_run, "end_pgm": _end_pgm_run, "define": _define_run,
-    "old_cycle": _old_cycle_run, "trans": _trans_run, "pattern": _pattern_run, "call": _call_run,
-    "select_pattern": special.select_pattern_run, "m_function": special.m_function_run,
-    "positioned": _positioned_run, "tool_length": _tool_length_run, "lift": _lift_run, "contour_def": _contour_def_run, "global_def": _global_def_run,
-    "approach": _approach_run, "select_contour": _select_contour_run, "declare_contour": _declare_contour_run,
+def _statement_run(runner, op: ir.DialectStatement, block):
+    """A Klartext statement no other dialect has, with its words' values."""
+    return _STATEMENTS[op.what](runner, op, block, runner.words(op.params, op.span))
+
+
+_STATEMENTS = {
+    "define": _define_run, "old_cycle": _old_cycle_run, "trans": _trans_run, "pattern": _pattern_run, "call": _call_run,
+    "select_pattern": special.select_pattern_run, "positioned": _positioned_run, "contour_def": _contour_def_run,
+    "global_def": _global_def_run, "select_contour": _select_contour_run, "declare_contour": _declare_contour_run,
+}
+# The handlers of the operations this dialect lowers to and the shared interpreter leaves
+# to it: ``run(runner, op, block)`` with the path's :class:`~ncverify.interpret.runtime.Runtime`.
+OPERATIONS = {
+    ir.Pole: _pole_run, ir.PoleArc: _arc_run, ir.TangentArc: _tangent_run, ir.PolarMove: _polar_run,
+    ir.Lift: _lift_run, ir.Retract: _retract_run, ir.ToolFeed: _tool_feed_run, ir.LabelCall: _label_call_run,
+    ir.MFunction: special.m_function_run, ir.DialectStatement: _statement_run,
 }
 _SPECIAL_FAMILIES = {"engrave": special.engrave, "face232": special.face_milling,
                      "thread_cut": special.thread_cutting, "machine_moving": special.machine_moving,
                      "pgm_call": special.program_call}
 
-CYCLES = cycles.DialectCycles(shapes={f"heidenhain.{what}": run for what, run in _RUNNERS.items()})
 

@@ -135,7 +135,7 @@ def program_call(runner, op, block, definition, shift, surface_offset):
     """Cycle 12 runs the program of 12.1 at each call, like CALL PGM: its Q parameters are
     the caller's (seed L14990-14991). At the points of a pattern the call is not followed."""
     program = definition.params.get("@program")
-    single = op.cycle == "heidenhain.@positioned" or (op.cycle == "heidenhain.@call" and op.params.get("how") != "PAT")
+    single = isinstance(op, ir.DialectStatement) and (op.what == "positioned" or (op.what == "call" and op.params.get("how") != "PAT"))
     if not isinstance(program, str) or not single:
         runner.fault("core.unsupported-code", op.span, "cycle 12 at the points of a pattern, or without a program name, is not followed: "
                       "what the called program does is not analysed", "unknown", "cycle 12")
@@ -180,7 +180,7 @@ def point_table(runner, op, name: str):
     return points
 
 
-def select_pattern_run(runner, op, block, model, params):
+def select_pattern_run(runner, op, block, params):
     """``SEL PATTERN``: the points of the table become the pattern of CYCL CALL PAT; a table
     that is not beside the program leaves them unknown, and says so."""
     name = params.get("table")
@@ -192,11 +192,11 @@ def select_pattern_run(runner, op, block, model, params):
     return None
 
 
-def m_function_run(runner, op, block, model, params):
+def m_function_run(runner, op, block):
     """M136 / M137 switch the feed per spindle revolution on and off (kept for the boring
-    cycle); M94 and the others reach the rules as a run of ``heidenhain.@M<n>``."""
-    number = params["M"]
+    cycle); every watched M function reaches the rules as an ``m_function`` change."""
+    number = op.number
     if number in (136.0, 137.0):
         common.put(runner.state, feed_per_revolution=number == 136.0)
-    runner.report_cycle(CycleRun(f"heidenhain.@M{number:g}", {}, op.span, block, {}, {}))
+    runner.change("m_function", op.span, block, None, number)
     return None
