@@ -7,8 +7,9 @@ Klartext constructs whose effect depends on state the lowering cannot see are IR
 operations the interpreter runs with that state: the pole ``CC`` and the moves about it
 (``ir.Pole``, ``ir.PoleArc``, ``ir.TangentArc``, ``ir.PolarMove``), a label call that is a
 section repeat or a subprogram call (``ir.LabelCall``), the end of a program file
-(``ir.ProgramEnd``); statements no other dialect has (``CYCL DEF``, ``CYCL CALL``,
-``TRANS``, ``PATTERN DEF``, ...) are ``ir.DialectStatement`` operations run by
+(``ir.ProgramEnd``); ``CYCL DEF`` is an ``ir.CycleDefine`` the dialect's run-time module
+runs (DEF-active cycles act at once, the others wait for their call); statements no other
+dialect has (``CYCL CALL``, ``TRANS``, ``PATTERN DEF``, ...) are ``ir.DialectStatement`` operations run by
 :mod:`ncverify.interpret.heidenhain.runtime`. Everything else is
 plain IR: ``L`` is a ``Move``, ``R0/RL/RR`` a ``CutterComp``, ``M3/M4/M5`` a ``Spindle``, ``TOOL CALL`` a tool change
 with the length compensation Klartext applies by itself, ``FN 9``-``FN 12`` conditional
@@ -604,8 +605,7 @@ class KlartextLowering:
         while not cursor.at_end() and not (cursor.is_name("Q", "QS") and cursor.peek(1) is not None and cursor.peek(1).kind == "number"):
             cursor.next()  # the cycle's name, in the language the control was set to
         params, spans = self._cycle_parameters(cursor)
-        params["@number"] = float(whole)
-        block.ops.append(ir.DialectStatement(cursor.rest_span(start), "define", params, spans))
+        block.ops.append(ir.CycleDefine(cursor.rest_span(start), f"heidenhain.{whole}", params, spans))
 
     def _cycle_parameters(self, cursor) -> tuple[dict, dict]:
         """``Q200=+2 ;comment ~`` lines: values, keywords (AUTO, MAX, PREDEF), strings

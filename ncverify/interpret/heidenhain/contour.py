@@ -162,6 +162,9 @@ class _Content:
         elif isinstance(op, ir.Approach):
             self.forbidden.append(("an APPR/DEP block", op.span))
             self.approach_pending = self.first_axes is None
+        elif isinstance(op, ir.CycleDefine):
+            if float(ir.cycle_code(op.cycle)) not in _TRANSFORMS:
+                self.forbidden.append(("a cycle definition", op.span))
         elif isinstance(op, ir.DialectStatement):
             self.statement(op)
         elif isinstance(op, _MOTION_OPS):
@@ -173,7 +176,7 @@ class _Content:
     def statement(self, op: ir.DialectStatement) -> None:
         if op.what == "call":
             self.technology.append(("an M function", op.span))
-        elif op.what in ("define", "old_cycle") and op.params.get("@number") not in _TRANSFORMS:
+        elif op.what == "old_cycle" and op.params.get("@number") not in _TRANSFORMS:
             self.forbidden.append(("a cycle definition", op.span))
 
     def motion(self, op, axes: set, straight: bool) -> None:

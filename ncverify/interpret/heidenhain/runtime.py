@@ -292,10 +292,12 @@ def _returns_between(runner, target, end: int) -> bool:
 # --------------------------------------------------------------------------- cycles
 
 
-def _define_run(runner, op, block, params):
+def _define_run(runner, op: ir.CycleDefine, block):
+    """CYCL DEF: a DEF-active cycle acts now, the others become the cycle the next call runs."""
+    params = runner.words(op.params, op.span)
     state = runner.state
-    number = int(params.pop("@number", -1))
-    cycle_model = runner.cycle_model(f"heidenhain.{number}")
+    number = int(ir.cycle_code(op.cycle))
+    cycle_model = runner.cycle_model(op.cycle)
     defaults = state.klartext.global_defaults
     for name, value in list(params.items()):
         if value == "PREDEF":
@@ -1031,7 +1033,7 @@ def _statement_run(runner, op: ir.DialectStatement, block):
 
 
 _STATEMENTS = {
-    "define": _define_run, "old_cycle": _old_cycle_run, "trans": _trans_run, "pattern": _pattern_run, "call": _call_run,
+    "old_cycle": _old_cycle_run, "trans": _trans_run, "pattern": _pattern_run, "call": _call_run,
     "select_pattern": special.select_pattern_run, "positioned": _positioned_run, "contour_def": _contour_def_run,
     "global_def": _global_def_run, "select_contour": _select_contour_run, "declare_contour": _declare_contour_run,
 }
@@ -1040,7 +1042,7 @@ _STATEMENTS = {
 OPERATIONS = {
     ir.Pole: _pole_run, ir.PoleArc: _arc_run, ir.TangentArc: _tangent_run, ir.PolarMove: _polar_run,
     ir.Lift: _lift_run, ir.Retract: _retract_run, ir.ToolFeed: _tool_feed_run, ir.LabelCall: _label_call_run,
-    ir.MFunction: special.m_function_run, ir.DialectStatement: _statement_run,
+    ir.MFunction: special.m_function_run, ir.CycleDefine: _define_run, ir.DialectStatement: _statement_run,
 }
 _SPECIAL_FAMILIES = {"engrave": special.engrave, "face232": special.face_milling,
                      "thread_cut": special.thread_cutting, "machine_moving": special.machine_moving,
