@@ -1,14 +1,16 @@
 """The schema of the cycle tables, ``dialects/<dialect>/cycles.toml``.
 
 Every key a cycle model or one of its parameters may have is a field below, with what it
-means; :func:`load_cycle_table` reads a table and refuses a key that is not one of them,
-naming the file, the cycle and the keys it accepts, so that a misspelt key is an error
-when the table is loaded instead of a fact silently not applied.
+means; :func:`load_cycle_table` reads a table into :class:`CycleModel` objects and refuses
+a key that is not one of them, naming the file, the cycle and the keys it accepts, so that
+a misspelt key is an error when the table is loaded instead of a fact silently not applied.
+Code reads a model's facts as attributes; a cycle the tables do not have is
+:data:`UNKNOWN_CYCLE`, every fact at its default.
 """
 from __future__ import annotations
 
 import tomllib
-from dataclasses import dataclass, fields
+from dataclasses import dataclass, field, fields
 
 from .resources import data_dir
 
@@ -36,15 +38,15 @@ class CycleModel:
     name: str
     seed: str | None = None  # the manual lines the model comes from
     machine: str | None = None  # mill | lathe: the machine type the cycle belongs to
-    params: dict | None = None  # parameter name -> ParameterSpec fields
-    arguments: list | None = None  # SINUMERIK: [name, type] by position
+    params: dict[str, ParameterSpec] = field(default_factory=dict)
+    arguments: list | tuple = ()  # SINUMERIK: [name, type] by position
     # hole motion (ISO, Fagor)
     infeed: str | None = None
-    bottom: list | None = None
+    bottom: list | tuple = ()
     retract: str | None = None
     shape: str | None = None
     two_blocks: bool = False
-    first_block: list | None = None
+    first_block: list | tuple = ()
     drill_axis: str | None = None
     r_incremental: bool = False
     tapping: bool = False
@@ -55,12 +57,12 @@ class CycleModel:
     family: str | None = None
     activity: str | None = None  # def | call
     ends_elsewhere: bool = False
-    requires: list | None = None
-    compatible: list | None = None
+    requires: list | tuple = ()
+    compatible: list | tuple = ()
     spindle_by_cycle: bool = False
     # SINUMERIK
-    affects: list | None = None
-    contours: dict | None = None
+    affects: list | tuple = ()
+    contours: dict = field(default_factory=dict)
     needs_offset: bool = False
     needs_tool: bool = False
     spindle_after: str | None = None
@@ -68,6 +70,7 @@ class CycleModel:
     tapping_cycle: bool = False
     text_length: int | None = None
     text_specials: str | None = None
+    called_after_motion: bool = False  # set by the lowering, not in the table: MCALL calls the cycle after each move
     # Fagor
     approach: str | None = None
     axis_word_moves: bool = False
@@ -88,7 +91,8 @@ class CycleModel:
     retract_to_higher: bool = False  # G98 returns straight out to the higher of the initial level and R
 
 
-CYCLE_KEYS = frozenset(item.name for item in fields(CycleModel))
+UNKNOWN_CYCLE = CycleModel(name="")  # the model of a cycle the tables do not have
+CYCLE_KEYS = frozenset(item.name for item in fields(CycleModel)) - {"called_after_motion"}
 PARAMETER_KEYS = frozenset(item.name for item in fields(ParameterSpec))
 
 
@@ -96,15 +100,27 @@ class CycleTableError(ValueError):
     pass
 
 
-def load_cycle_table(dialect: str) -> dict[str, dict]:
-    """The cycle models of ``dialects/<dialect>/cycles.toml`` by cycle id, each checked
-    against :class:`CycleModel` and its parameters against :class:`ParameterSpec`."""
+def load_cycle_table(dialect: str) -> dict[str, CycleModel]:
+    """The cycle models of ``dialects/<dialect>/cycles.toml`` by cycle id."""
+    return typed_cycle_table(read_cycle_table(dialect))
+
+
+def read_cycle_table(dialect: str) -> dict[str, dict]:
+    """The tables of ``dialects/<dialect>/cycles.toml`` as written, by cycle id, each checked
+    against :class:`CycleModel` and its parameters against :class:`ParameterSpec` (for a
+    dialect that overlays one table on another before typing them)."""
     path = data_dir("dialects") / dialect / "cycles.toml"
     with path.open("rb") as handle:
         models = tomllib.load(handle)["cycle"]
     for cycle, model in models.items():
         check_cycle_model(f"dialects/{dialect}/cycles.toml", cycle, model)
     return models
+
+
+def typed_cycle_table(models: dict[str, dict]) -> dict[str, CycleModel]:
+    """Checked tables (:func:`read_cycle_table`) as :class:`CycleModel` objects."""
+    return {cycle: CycleModel(**{**model, "params": {name: ParameterSpec(**spec) for name, spec in model.get("params", {}).items()}})
+            for cycle, model in models.items()}
 
 
 def check_cycle_model(where: str, cycle: str, model: dict) -> None:

@@ -10,6 +10,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from . import ir
+from .cycle_models import CycleModel
 from .source import Span
 from .values import Value
 
@@ -75,7 +76,7 @@ class Hole:
     """A hole a canned cycle makes, with its levels resolved along the drilling axis."""
 
     cycle: str
-    model: dict
+    model: CycleModel
     span: Span
     block: ir.Block
     drill_axis: str
@@ -96,7 +97,7 @@ class CycleRun:
     """A one-shot cycle (lathe G70-G76, G12/G13) with its resolved parameters."""
 
     cycle: str
-    model: dict
+    model: CycleModel
     span: Span
     block: ir.Block
     params: dict[str, Value]

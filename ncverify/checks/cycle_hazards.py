@@ -3,6 +3,7 @@ compensation and modal traps, boring shifts, repeats, table values, lathe format
 from __future__ import annotations
 
 from .. import ir, values
+from ..cycle_models import CycleModel
 from ..interpret import modal_call
 from ..check import Rule, hazard, rule, show
 
@@ -87,7 +88,7 @@ class CycleShift(Rule):
     G17, K/I in G18, J/K in G19 (the address table also names Q)."""
 
     def hole(self, hole, state):
-        if "shift" not in hole.model.get("bottom", ()):
+        if "shift" not in hole.model.bottom:
             return
         plane = state.modal.get("plane", "xy")
         letters = _SHIFT_LETTERS.get(plane, ("I", "J"))
@@ -134,7 +135,7 @@ class RepeatSameHole(Rule):
         memory["repeat-same-hole"] = (hole.span, position)
         if previous is None or previous[0] != hole.span or not _same_position(previous[1], position, absolute):
             return
-        candidates = (hole.model["repeat_letter"],) if "repeat_letter" in hole.model else ("L", "K")  # Fagor: NR
+        candidates = (hole.model.repeat_letter,) if hole.model.repeat_letter else ("L", "K")  # Fagor: NR
         letter = candidates[0]
         for candidate in candidates:
             where = hole.param_spans.get(candidate)
@@ -178,10 +179,10 @@ class CycleParameterValue(Rule):
     def cycle_run(self, run, state):
         self._check(run.cycle, run.model, run.params, run.param_spans, run.span, state)
 
-    def _allowed(self, model: dict) -> tuple:
+    def _allowed(self, model: CycleModel) -> tuple:
         specs = self._specs.get(id(model))
         if specs is None:
-            specs = tuple((letter, spec) for letter, spec in model.get("params", {}).items() if "allowed" in spec)
+            specs = tuple((letter, spec) for letter, spec in model.params.items() if spec.allowed is not None)
             self._specs[id(model)] = specs
         return specs
 
@@ -190,10 +191,10 @@ class CycleParameterValue(Rule):
             value = params.get(letter)
             if value is None or not self.first_time(state, ("core.cycle-parameter-value", cycle, letter, value if type(value) is float else id(value), spans.get(letter))):
                 continue  # hole data stay modal: judged once per value and place, not per hole
-            allowed = [float(choice) for choice in spec["allowed"]]
+            allowed = [float(choice) for choice in spec.allowed]
             verdict = self.checker.judge(_all(hazard("!=", value, choice) for choice in allowed), state)
             choices = " or ".join(f"{letter}{choice:g}" for choice in allowed)
-            meaning = f": {spec['meaning']}" if spec.get("meaning") else ""
+            meaning = f": {spec.meaning}" if spec.meaning else ""
             self.checker.report_verdict("core.cycle-parameter-value", spans.get(letter, default_span),
                                         f"{ir.cycle_code(cycle)} {letter}{show(value)} is not a value this cycle takes ({choices}{meaning}): "
                                         "the control stops with a program error or runs the cycle in a mode you did not choose", verdict, state)
@@ -223,7 +224,7 @@ class FinishShapeMismatch(Rule):
     """G70 must finish a shape that a G71/G72/G73 on this path roughed (same A/P/Q)."""
 
     def cycle_run(self, run, state):
-        if run.model.get("shape") != "contour" or run.first_block:
+        if run.model.shape != "contour" or run.first_block:
             return
         code = ir.cycle_code(run.cycle)
         params = run.params
@@ -258,17 +259,17 @@ class TwoBlockMixture(Rule):
 
     def cycle_run(self, run, state):
         model = run.model
-        if run.first_block or not model.get("two_blocks") or model.get("shape") != "contour":
+        if run.first_block or not model.two_blocks or model.shape != "contour":
             return
         params = run.params
         if "R" not in params or not ("P" in params or "Q" in params):
             return
         code = ir.cycle_code(run.cycle)
-        first = " ".join(f"{letter}_" for letter in model.get("first_block", ()))
+        first = " ".join(f"{letter}_" for letter in model.first_block)
         written = " ".join(f"{letter}{show(value)}" for letter, value in params.items())
-        meanings = model.get("params", {})
-        ambiguous = "".join(f"; {letter}{show(params[letter])} is ambiguous, {meanings.get(letter, {}).get('meaning', 'first or second block')}"
-                            for letter in model.get("first_block", ()) if letter != "R" and letter in params)
+        meanings = model.params
+        ambiguous = "".join(f"; {letter}{show(params[letter])} is ambiguous, {meanings[letter].meaning if letter in meanings else 'first or second block'}"
+                            for letter in model.first_block if letter != "R" and letter in params)
         self.report("core.two-block-mixture", run.span,
                     f"{code} {written} mixes the first block ({code} {first}) and the second block ({code} P_ Q_ U_ W_ F_) in one: "
                     f"the Mitsubishi format needs the two blocks{ambiguous}")
@@ -280,7 +281,7 @@ class ThreadParameters(Rule):
     plain conditions on P and Q are constraints on the rule's page."""
 
     def cycle_run(self, run, state):
-        if run.first_block or run.model.get("shape") != "thread" or not run.model.get("two_blocks"):
+        if run.first_block or run.model.shape != "thread" or not run.model.two_blocks:
             return
         code = ir.cycle_code(run.cycle)
         height = run.params.get("P")

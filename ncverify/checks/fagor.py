@@ -30,7 +30,7 @@ class CycleStartsSpindle(Rule):
         if speed is None or speed == 0.0:
             self.report("fagor.cycle-starts-spindle", hole.span, f"{code} starts the stopped spindle clockwise (M03), but no spindle speed S is programmed: "
                         "the tool feeds into the part without turning")
-        elif hole.model.get("tapping"):
+        elif hole.model.tapping:
             self.report("fagor.cycle-starts-spindle", hole.span, f"{code} tapping starts the stopped spindle clockwise (M03) at S{show(speed)}: "
                         "a left-hand tap (M04) breaks; start the spindle in the tap's direction before the cycle")
 
@@ -54,7 +54,7 @@ class PocketIncrementalDepth(Rule):
 
     def hole(self, hole, state):
         cycle = state.cycle
-        if hole.model.get("pocket") not in ("rectangle", "circle") or cycle is None or not cycle.incremental or "I" in cycle.absolute:
+        if hole.model.pocket not in ("rectangle", "circle") or cycle is None or not cycle.incremental or "I" in cycle.absolute:
             return
         depth, initial = hole.params.get("I"), cycle.initial
         if depth is None or initial is None or not self.first_time(state, ("fagor.pocket-incremental-depth", hole.definition)):
@@ -115,7 +115,7 @@ class PocketToolFit(ReportsMissingContext):
     radius from the tool table; the largest tool that fits is reported."""
 
     def hole(self, hole, state):
-        kind = hole.model.get("pocket") or hole.model.get("thread_mill")
+        kind = hole.model.pocket or hole.model.thread_mill
         if kind not in ("rectangle", "circle", "bore", "internal") or not _is_fagor(hole.cycle):
             return
         if not self.first_time(state, ("fagor.pocket-tool-fit", hole.definition, id(hole.params.get("J")), hole.params.get("J"), state.tool_in_spindle)):
@@ -238,7 +238,7 @@ class RigidTappingEncoder(ReportsMissingContext):
 
     def hole(self, hole, state):
         rigid = hole.params.get("R")
-        if not _is_fagor(hole.cycle) or not hole.model.get("tapping") or not (rigid == 1.0 if type(rigid) is float else isinstance(rigid, values.Sym)):
+        if not _is_fagor(hole.cycle) or not hole.model.tapping or not (rigid == 1.0 if type(rigid) is float else isinstance(rigid, values.Sym)):
             return  # a computed R may be R1
         span = hole.param_spans.get("R", hole.span)
         encoder = self.checker.context.machine.spindle_encoder
@@ -282,7 +282,7 @@ class ThreadMillOvershoot(_PastTheStock):
 
     def hole(self, hole, state):
         pitch = hole.params.get("B")
-        if not hole.model.get("thread_mill") or hole.bottom is None or pitch is None or not self.first_time(state, (self.rule_id, hole.definition)):
+        if not hole.model.thread_mill or hole.bottom is None or pitch is None or not self.first_time(state, (self.rule_id, hole.definition)):
             return
         face = self.far_face(hole)
         if face is None:
@@ -304,7 +304,7 @@ class DeepDrillingDepth(_PastTheStock):
     rule_id = "fagor.g83-depth"
 
     def hole(self, hole, state):
-        if hole.model.get("depth") != "pecks" or hole.bottom is None:
+        if hole.model.depth != "pecks" or hole.bottom is None:
             return
         peck, count = hole.params.get("I"), hole.params.get("J")
         if peck is None or count is None or not self.first_time(state, (self.rule_id, hole.definition)):
@@ -328,7 +328,7 @@ class BoreMillingNoFloor(_PastTheStock):
 
     def hole(self, hole, state):
         pitch = hole.params.get("B")
-        if hole.model.get("pocket") != "bore" or not isinstance(pitch, (float, values.Sym)) or (type(pitch) is float and pitch >= 0) or hole.bottom is None:
+        if hole.model.pocket != "bore" or not isinstance(pitch, (float, values.Sym)) or (type(pitch) is float and pitch >= 0) or hole.bottom is None:
             return  # a computed B is judged: it may be negative
         if not self.first_time(state, (self.rule_id, hole.definition)):
             return

@@ -196,8 +196,8 @@ class PatternCompatibility(Rule):
         definition = state.klartext.cycle
         if definition is None:
             return  # heidenhain.call-without-cycle
-        if number == 224 and definition.number not in run.model.get("compatible", ()):
-            allowed = ", ".join(str(cycle) for cycle in run.model["compatible"])
+        if number == 224 and definition.number not in run.model.compatible:
+            allowed = ", ".join(str(cycle) for cycle in run.model.compatible)
             self.report("heidenhain.pattern-compatibility", run.span, f"cycle 224 runs the last machining cycle {definition.number} at the cells of its code, "
                         f"but only {allowed} may run with it (seed L8340-8380)")
         if number == 221 and definition.number == 254 and definition.params.get("Q367") == 0.0:
@@ -222,7 +222,7 @@ class WorkingPlane(Rule):
 
     def cycle_run(self, run, state):
         if run.cycle != "heidenhain.19":
-            if run.model.get("activity") != "def":
+            if run.model.activity != "def":
                 self._machining(run.span, state)  # a definition (a datum shift, contour data ...) machines nothing
             return
         given = [axis for axis in "ABC" if axis in run.params]
@@ -373,13 +373,13 @@ class ServoSpindle(CycleRule):
             self.judge_model(run.cycle, run.model, run.span, state)
 
     def judge_model(self, cycle, model, span, state):
-        if "servo-spindle" not in model.get("requires", ()):
+        if "servo-spindle" not in model.requires:
             return
         encoder = self.checker.context.machine.spindle_encoder
         if encoder is None:
             self.missing("heidenhain.servo-spindle", span, "whether the spindle is servo-controlled is not known ([machine] spindle_encoder in ncverify.toml)")
         elif not encoder and self.first_time(state, ("servo-spindle", span)):
-            self.report("heidenhain.servo-spindle", span, f"cycle {cycle_number(cycle)} {model.get('name', '')} needs a servo-controlled spindle, and this machine has none "
+            self.report("heidenhain.servo-spindle", span, f"cycle {cycle_number(cycle)} {model.name} needs a servo-controlled spindle, and this machine has none "
                         "([machine] spindle_encoder = false): the control refuses the cycle; bore or tap with a cycle the spindle can run (206 in a floating holder)")
 
 

@@ -10,7 +10,7 @@ from ..check import Rule, hazard, rule, show
 class MissingParameter(Rule):
     def hole(self, hole, state):
         if hole.missing and self.first_time(state, ("core.cycle-missing-parameter", hole.definition)):
-            meanings = ", ".join(f"{letter} ({hole.model['params'][letter]['meaning']})" for letter in hole.missing)
+            meanings = ", ".join(f"{letter} ({hole.model.params[letter].meaning})" for letter in hole.missing)
             self.report("core.cycle-missing-parameter", hole.definition or hole.span, f"{cycle_code(hole.cycle)} makes holes without {meanings}: the control alarms at the first hole")
 
 
@@ -18,12 +18,12 @@ class MissingParameter(Rule):
 class HoleLevels(Rule):
     def hole(self, hole, state):
         bottom, r_point, initial = hole.bottom, hole.r_point, hole.initial
-        if bottom is None or r_point is None or hole.model.get("r_incremental"):
+        if bottom is None or r_point is None or hole.model.r_incremental:
             return
         code, axis = cycle_code(hole.cycle), hole.drill_axis
         span = hole.param_spans.get(axis, hole.span)
         report = self.checker.report_verdict
-        if hole.model.get("infeed") == "back_bore":
+        if hole.model.infeed == "back_bore":
             report("core.cycle-depth-sign", span, f"{code} back boring: the top of the bore {axis}{show(bottom)} is not above the start level R{show(r_point)}; "
                    "R must lie below the part and Z above it", self.checker.judge(hazard("<=", bottom, r_point), state), state)
             return
@@ -42,7 +42,7 @@ class HoleLevels(Rule):
 @rule("core.peck-depth")
 class PeckDepth(Rule):
     def hole(self, hole, state):
-        if hole.model.get("infeed", "").startswith("peck") and not hole.model.get("r_incremental"):
+        if (hole.model.infeed or "").startswith("peck") and not hole.model.r_incremental:
             depth = hole.params.get("Q")
             if depth is not None:
                 self.checker.report_verdict("core.peck-depth", hole.param_spans.get("Q", hole.span), f"{cycle_code(hole.cycle)}: peck depth Q{show(depth)} is not positive: the control alarms",
@@ -60,7 +60,7 @@ class DwellFraction(Rule):
 @rule("core.tapping-spindle-direction")
 class TappingSpindle(Rule):
     def hole(self, hole, state):
-        expected = hole.model.get("spindle_before")
+        expected = hole.model.spindle_before
         if expected is None or state.spindle == expected or hole.params.get(",R") == 1.0 and state.spindle != "off":
             return
         if not self.first_time(state, ("core.tapping-spindle-direction", hole.definition)):

@@ -80,7 +80,7 @@ class TappingModeLeftOn(Rule):
     def segment(self, segment, state):
         if segment.kind not in _CUTTING or state.modal.get("path_mode") != "tapping" or state.rule_state.get("tapping-mode-reported"):
             return
-        if segment.cycle is not None and state.cycle is not None and state.cycle.model.get("tapping"):
+        if segment.cycle is not None and state.cycle is not None and state.cycle.model.tapping:
             return
         axis = self._tool_axis(state)
         if not any(_moved(segment.start.get(other), segment.end.get(other)) for other in set(segment.start) | set(segment.end) if other != axis):
@@ -318,7 +318,7 @@ class FeedPlausibility(Rule):
     def segment(self, segment, state):
         if segment.kind not in ("feed", "arc"):
             return
-        if segment.cycle is not None and state.cycle is not None and state.cycle.model.get("tapping"):
+        if segment.cycle is not None and state.cycle is not None and state.cycle.model.tapping:
             return  # a tap's feed is its pitch (G95) or speed x pitch (G94)
         limits = self._limits(state)
         if limits is not None:

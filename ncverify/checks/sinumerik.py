@@ -29,7 +29,7 @@ def is_sinumerik(run) -> bool:
 
 
 def _arguments(run) -> list[tuple[str, str]]:
-    return [tuple(argument) for argument in run.model.get("arguments", ())]
+    return [tuple(argument) for argument in run.model.arguments]
 
 
 # --------------------------------------------------------------------------- argument list
@@ -331,7 +331,7 @@ class StartBelowSurface(Rule):
     plane RFP when the cycle is called got there by a positioning move under the surface."""
 
     def cycle_run(self, run, state):
-        if not is_sinumerik(run) or run.model.get("shape") not in ("sinumerik_drill", "sinumerik_mill"):
+        if not is_sinumerik(run) or run.model.shape not in ("sinumerik_drill", "sinumerik_mill"):
             return
         side, _start, _depth = levels(run.params)
         axis = state.plane_axes[2]
@@ -351,7 +351,7 @@ class PatternWithoutModalCall(Rule):
     are approached without drilling (seed A L4491-4503)."""
 
     def cycle_run(self, run, state):
-        if is_sinumerik(run) and run.model.get("shape") == "sinumerik_pattern" and state.cycle is None:
+        if is_sinumerik(run) and run.model.shape == "sinumerik_pattern" and state.cycle is None:
             self.report("sinumerik.pattern-without-mcall", run.span,
                         f"{cycle_name(run)} with no MCALL drilling cycle active: would raise alarm 62100 \"no drilling cycle active\"; "
                         "the positions are approached with G0 and nothing is drilled")
@@ -462,9 +462,9 @@ class NoToolOffset(Rule):
         if not is_sinumerik(run):
             return
         name = cycle_name(run)
-        if run.model.get("needs_tool") and type(state.tool_in_spindle) is float and state.tool_in_spindle == 0.0:
+        if run.model.needs_tool and type(state.tool_in_spindle) is float and state.tool_in_spindle == 0.0:
             self.report("sinumerik.no-tool-offset", run.span, f"{name} with tool T0 in the spindle: would raise alarm 61009 \"active tool number = 0\"")
-        elif (run.model.get("needs_offset") or run.model.get("needs_tool")) and state.length_mode == "off" and state.rule_state.get("sinumerik-d0"):
+        elif (run.model.needs_offset or run.model.needs_tool) and state.length_mode == "off" and state.rule_state.get("sinumerik-d0"):
             self.report("sinumerik.no-tool-offset", run.span, f"{name} with no tool offset active (D0): would raise alarm 61000 \"no tool compensation active\"")
 
     def change(self, change, state):
@@ -503,7 +503,7 @@ class SpindleAtCycle(Rule):
 
 def _contours(run) -> list:
     """The contours a cycle run read (``contours`` in cycles.toml)."""
-    return [run.params[key] for key in run.model.get("contours", {}) if run.params.get(key) is not None] if is_sinumerik(run) else []
+    return [run.params[key] for key in run.model.contours if run.params.get(key) is not None] if is_sinumerik(run) else []
 
 
 @rule("sinumerik.contour-section-runs")

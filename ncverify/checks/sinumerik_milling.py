@@ -225,7 +225,7 @@ class MillingDepthSign(Rule):
 
     def cycle_run(self, run, state):
         name = cycle_name(run) if is_sinumerik(run) else ""
-        if run.model.get("shape") != "sinumerik_mill" or name == "CYCLE90" or name not in PLANE_CYCLES | {"CYCLE60", "CYCLE73"}:
+        if run.model.shape != "sinumerik_mill" or name == "CYCLE90" or name not in PLANE_CYCLES | {"CYCLE60", "CYCLE73"}:
             return
         side, _start, depth = levels(run.params)
         rfp = numeric_parameter(run.params, "RFP")
@@ -386,7 +386,7 @@ class EngravingText(Rule):
         if not isinstance(text, str):
             return
         span = run.param_spans.get("_TEXT", run.span)
-        limit, specials = int(run.model["text_length"]), run.model["text_specials"]
+        limit, specials = int(run.model.text_length), run.model.text_specials
         wrong = sorted({character for character in text if not (character.isascii() and character.isalnum()) and character not in specials})
         if len(text) > limit:
             self.report("sinumerik.engraving-text", span,

@@ -284,7 +284,7 @@ class ClearanceBelowStock(_NeedsStock):
 
     def hole(self, hole, state):
         axis = hole.drill_axis
-        if hole.model.get("r_incremental") or hole.model.get("infeed") == "back_bore":
+        if hole.model.r_incremental or hole.model.infeed == "back_bore":
             return
         stock = self.stock(hole.definition or hole.span)
         if stock is None:

@@ -18,7 +18,7 @@ class CircleSmallerThanTool(ReportsMissingContext):
     """G12/G13: the tool centre runs on a circle of radius |I| minus the tool radius."""
 
     def cycle_run(self, run, state):
-        if run.model.get("shape") != "circle" or run.params.get("I") is None:
+        if run.model.shape != "circle" or run.params.get("I") is None:
             return
         radius = self.spindle_tool_radius(state, run.span, "core.tool-too-large")
         if radius is None:
@@ -61,7 +61,7 @@ class TapFeedMatchesPitch(ReportsMissingContext):
     tolerance = 0.01  # relative
 
     def hole(self, hole, state):
-        if not hole.model.get("tapping") or not self.first_time(state, ("tap-feed", hole.definition)):
+        if not hole.model.tapping or not self.first_time(state, ("tap-feed", hole.definition)):
             return
         tool = self.checker.context.tools.in_spindle(state)
         if tool is None or tool.pitch is None:

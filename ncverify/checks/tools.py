@@ -28,7 +28,7 @@ class RegisterRanges(Rule):
 @rule("core.g12-missing-d")
 class CircleCuttingRegister(Rule):
     def cycle_run(self, run, state):
-        if run.model.get("shape") != "circle":
+        if run.model.shape != "circle":
             return
         register = run.params.get("D")
         if register is None:

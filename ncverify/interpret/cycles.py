@@ -16,6 +16,7 @@ from dataclasses import dataclass, field
 
 from .. import ir, values
 from .runtime import Runtime
+from ..cycle_models import CycleModel
 from ..trace import CycleRun, Hole
 from ..values import VACANT
 
@@ -72,7 +73,7 @@ class ActiveCycle:
     """The modal canned cycle: its model, its data so far and the initial level."""
 
     cycle: str
-    model: dict
+    model: CycleModel
     params: dict
     param_spans: dict
     initial: object  # the drilling-axis level when the cycle mode began
@@ -90,9 +91,9 @@ class CycleRunner(Runtime):
 
     # ------------------------------------------------------------------ helpers
 
-    def drill_axis(self, model: dict) -> str:
+    def drill_axis(self, model: CycleModel) -> str:
         """The axis a hole cycle drills along: its model's, else the working plane's normal."""
-        return model.get("drill_axis") or self.state.plane_axes[2]
+        return model.drill_axis or self.state.plane_axes[2]
 
     # ------------------------------------------------------------------ modal hole cycles
 
@@ -107,7 +108,7 @@ class CycleRunner(Runtime):
             return self._change_data(op)
         model = self.cycle_model(op.cycle)
         axis = self.drill_axis(model)
-        fresh = bool(model.get("fresh_data"))
+        fresh = bool(model.fresh_data)
         if state.cycle is None or fresh:
             initial = state.position.get(axis)
         else:
@@ -120,7 +121,7 @@ class CycleRunner(Runtime):
         spans.update(op.param_spans)
         state.cycle = ActiveCycle(op.cycle, model, state.cycle_data, spans, initial, op.span, state.modal.get("distance") == "incremental", up=op.up)
         has_move = any(isinstance(later, ir.Move) for later in block.ops[block.ops.index(op) + 1 :])
-        if not has_move and (params.keys() & {axis, "R"} or model.get("runs_at_definition")):
+        if not has_move and (params.keys() & {axis, "R"} or model.runs_at_definition):
             return self._holes(op.span, block, {}, frozenset(), None)
         return None
 
@@ -141,12 +142,12 @@ class CycleRunner(Runtime):
         state = self.state
         cycle = state.cycle
         model = cycle.model
-        if model.get("shape") == "box":
+        if model.shape == "box":
             return self._box(op, block)
         axis = self.drill_axis(model)
         data = self.words(_counts_unscaled(op.words, model), op.span)
         positioning = dict(op.targets)
-        if axis in positioning and not model.get("axis_word_moves"):  # Fagor: the tool-axis word moves, then the cycle runs
+        if axis in positioning and not model.axis_word_moves:  # Fagor: the tool-axis word moves, then the cycle runs
             bottom_expr = positioning.pop(axis)
             bottom = self._interp.value(bottom_expr, op.span)
             if bottom is not VACANT:
@@ -161,7 +162,7 @@ class CycleRunner(Runtime):
         """A modal cycle called after a positioning move (SINUMERIK ``MCALL``): its
         dialect shape runs with the arguments evaluated when the call was made modal."""
         cycle = self.state.cycle
-        run = _DIALECT_SHAPES.get(cycle.model.get("shape"))
+        run = _DIALECT_SHAPES.get(cycle.model.shape)
         if run is None:
             return None
         call = ir.CycleCall(op.span, cycle.cycle, {}, dict(cycle.param_spans))
@@ -170,8 +171,8 @@ class CycleRunner(Runtime):
     def _holes(self, span, block, positioning: dict, incremental, op):
         state = self.state
         cycle = state.cycle
-        repeat = state.cycle_data.pop(cycle.model.get("repeat_letter", "L"), None)  # Fagor: NR (L is a parameter there)
-        if repeat is None and cycle.model.get("params", {}).get("K", {}).get("kind", "count") == "count":
+        repeat = state.cycle_data.pop(cycle.model.repeat_letter or "L", None)  # Fagor: NR (L is a parameter there)
+        if repeat is None and ("K" not in cycle.model.params or cycle.model.params["K"].kind == "count"):
             repeat = state.cycle_data.pop("K", None)  # not the shift K of mill G76/G87
         if repeat is None:
             repeat = 1.0
@@ -181,7 +182,7 @@ class CycleRunner(Runtime):
         if not 0 <= repeat <= 9999:
             self._interp._fault("core.repeat-count-range", span, f"repeat count {repeat:g} is outside 0-9999")
             return None
-        if repeat == 0 and cycle.model.get("zero_repeat_moves"):  # Fagor NR0: the move without machining
+        if repeat == 0 and cycle.model.zero_repeat_moves:  # Fagor NR0: the move without machining
             kind = "rapid" if state.modal.get("motion") == "rapid" else "feed"
             self.move_to(self._interp._targets(positioning, incremental, span), span, block, "programmed", None, kind)
             return None
@@ -200,33 +201,33 @@ class CycleRunner(Runtime):
         initial = cycle.initial
         r_point, bottom, *beyond = self._levels(model, axis, data, initial, incremental)
         reference, entry = (*beyond, None, None)[:2]
-        required = [letter for letter, spec in model.get("params", {}).items() if spec.get("required")]
+        required = [letter for letter, spec in model.params.items() if spec.required]
         missing = tuple(letter for letter in required if letter not in data and not _has_twin(letter, data, interp.twins))
-        if model.get("r_incremental"):
+        if model.r_incremental:
             missing = tuple(letter for letter in missing if letter != "R")
         hole_position = dict(state.position)
         hole_position.update(targets)
         hole = Hole(cycle.cycle, model, span, block, axis, hole_position, initial, r_point, bottom, dict(data), dict(cycle.param_spans), missing, cycle.definition, repeat, cycle.up)
         interp.observer.hole(hole, state)
-        if model.get("starts_spindle") and state.spindle == "off":
+        if model.starts_spindle and state.spindle == "off":
             state.spindle = "cw"  # Fagor: a cycle starts a stopped spindle clockwise (rules saw it stopped)
         if missing or bottom is None:
             state.move_to(targets)
             return
         name = cycle.cycle
         positioning = "rapid"
-        if model.get("positions_in_motion_mode") and state.modal.get("motion") != "rapid":
+        if model.positions_in_motion_mode and state.modal.get("motion") != "rapid":
             positioning = "feed"  # Fagor: the move to the hole is made in the interpolation in force (G1: at feed)
-        if model.get("rises_to_r"):  # LinuxCNC: a tool below the R point first rises to it, then positions
+        if model.rises_to_r:  # LinuxCNC: a tool below the R point first rises to it, then positions
             level = state.position.get(axis)
             if type(level) is float and type(r_point) is float and (level - r_point) * cycle.up < 0:
                 self.move_to({axis: r_point}, span, block, "approach", name)
         self.move_to(targets, span, block, "between-holes", name, positioning)
-        passes = _DIALECT_PASSES.get(model.get("passes"))
+        passes = _DIALECT_PASSES.get(model.passes)
         if passes is not None:
             passes(self, cycle, span, block, (r_point, bottom, reference, entry))
             return
-        if model.get("infeed") == "back_bore":
+        if model.infeed == "back_bore":
             self.move_to({axis: r_point}, span, block, "through-bore", name)
             self.move_to({axis: bottom}, span, block, "infeed", name, "feed")
             self.move_to({axis: initial}, span, block, "retract", name)
@@ -235,8 +236,8 @@ class CycleRunner(Runtime):
         if entry is not None:
             self.move_to({axis: entry}, span, block, "into-hole", name)
         self.move_to({axis: bottom}, span, block, "infeed", name, "feed")
-        retract_kind = "feed" if model.get("retract") == "feed" else "rapid"
-        straight_out = model.get("retract_to_higher") and reference is None and state.modal.get("cycle_return") != "r_point"
+        retract_kind = "feed" if model.retract == "feed" else "rapid"
+        straight_out = model.retract_to_higher and reference is None and state.modal.get("cycle_return") != "r_point"
         if not straight_out:  # LinuxCNC leaves the hole straight to the G98 level, at the cycle's retract kind
             self.move_to({axis: r_point}, span, block, "out-of-hole", name, retract_kind)
         if reference is not None:
@@ -248,19 +249,19 @@ class CycleRunner(Runtime):
         ``retract_to_higher`` (LinuxCNC) to the higher of the initial level and R."""
         if self.state.modal.get("cycle_return") != "r_point" and cycle.initial is not None:
             level = cycle.initial
-            if cycle.model.get("retract_to_higher") and type(level) is float and type(r_point) is float:
+            if cycle.model.retract_to_higher and type(level) is float and type(r_point) is float:
                 level = max(level * cycle.up, r_point * cycle.up) * cycle.up
             self.move_to({self.drill_axis(cycle.model): level}, span, block, "retract", cycle.cycle, kind)
 
-    def _levels(self, model: dict, axis: str, data: dict, initial, incremental: bool):
+    def _levels(self, model: CycleModel, axis: str, data: dict, initial, incremental: bool):
         """R point and bottom on the drilling axis (seed L2059 and the lathe table L2890)."""
-        resolve = _DIALECT_LEVELS.get(model.get("levels"))
+        resolve = _DIALECT_LEVELS.get(model.levels)
         if resolve is not None:
             return resolve(self, self.state.cycle, data)
         bottom_letter = axis
         twin = next((t for t, a in self._interp.twins.items() if a == axis), None)
         r_word = data.get("R")
-        if model.get("r_incremental"):
+        if model.r_incremental:
             return self._lathe_levels(axis, data, initial, twin)
         if r_word is None:
             r_point = None
@@ -306,7 +307,7 @@ class CycleRunner(Runtime):
         x_end, z_end = targets.get("X", start.get("X")), targets.get("Z", start.get("Z"))
         face = cycle.cycle.endswith("G79")
         name = cycle.cycle
-        cut = "thread" if cycle.model.get("thread") else "feed"
+        cut = "thread" if cycle.model.thread else "feed"
         interp = self._interp
         interp.observer.cycle_run(CycleRun(name, cycle.model, op.span, block, dict(state.cycle_data), op.word_spans()), state)
         first, second = ({"Z": z_end}, {"X": x_end}) if face else ({"X": x_end}, {"Z": z_end})
@@ -323,12 +324,12 @@ class CycleRunner(Runtime):
         state = self.state
         model = self.cycle_model(op.cycle)
         params = self.words(op.params, op.span)
-        shape = model.get("shape")
+        shape = model.shape
         if shape in _DIALECT_SHAPES:
             return _DIALECT_SHAPES[shape](self, op, block, model, params)
         if shape == "circle":
             return self._circle(op, block, model, params)
-        first_block = bool(model.get("two_blocks")) and self._is_first_block(model, params)
+        first_block = bool(model.two_blocks) and self._is_first_block(model, params)
         stored = state.lathe_cycle_data.setdefault(op.cycle, {})
         if first_block:
             stored.clear()
@@ -345,10 +346,10 @@ class CycleRunner(Runtime):
         return None
 
     @staticmethod
-    def _is_first_block(model: dict, params: dict) -> bool:
+    def _is_first_block(model: CycleModel, params: dict) -> bool:
         """The first block of a two-block cycle carries only the first-block letters
         (G71 U R, G76 P R): the second one has P/Q or an end point."""
-        return bool(params) and set(params) <= set(model.get("first_block", ())) and not (params.keys() & {"X", "Z"})
+        return bool(params) and set(params) <= set(model.first_block) and not (params.keys() & {"X", "Z"})
 
     def _straight_cycle(self, op, block, params, cut: str) -> None:
         targets = {}
@@ -399,7 +400,7 @@ class CycleRunner(Runtime):
                 if offset == end.offset and index >= end.block_index:
                     return
 
-    def _circle(self, op: ir.CycleCall, block, model: dict, params: dict):
+    def _circle(self, op: ir.CycleCall, block, model: CycleModel, params: dict):
         """G12/G13: out from the centre, a full circle, back to the centre."""
         state = self.state
         self._interp.observer.cycle_run(CycleRun(op.cycle, model, op.span, block, params, dict(op.param_spans)), state)
@@ -414,14 +415,14 @@ class CycleRunner(Runtime):
         return None
 
 
-def _counts_unscaled(words: dict, model: dict) -> dict:
+def _counts_unscaled(words: dict, model: CycleModel) -> dict:
     """Code and count words of a hole block (``,R1``, lathe ``K3``) as written: the Move's
     lowering cannot know the cycle and scales them like lengths (``_cycle_params`` does
     not)."""
-    declared = model.get("params", {})
+    declared = model.params
 
     def is_count(letter: str, expr) -> bool:
-        kind = declared.get(letter, {}).get("kind") or ("count" if letter in ("L", "K") else None)
+        kind = (declared[letter].kind if letter in declared else None) or ("count" if letter in ("L", "K") else None)
         return type(expr) is ir.IncrementCount and kind in ("code", "count")
 
     if not any(is_count(letter, expr) for letter, expr in words.items()):

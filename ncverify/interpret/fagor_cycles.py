@@ -37,7 +37,7 @@ def parameter(cycle, data: dict, letter: str):
     """A parameter's value, or its default from the cycle table."""
     value = data.get(letter)
     if value is None:
-        value = cycle.model.get("params", {}).get(letter, {}).get("default")
+        value = cycle.model.params[letter].default if letter in cycle.model.params else None
     return value
 
 
@@ -57,7 +57,7 @@ def hole_levels(runner, cycle, data: dict):
     if reference is None:
         return None, None
     depth = data.get("I")
-    if cycle.model.get("depth") == "pecks":
+    if cycle.model.depth == "pecks":
         count = data.get("J")
         bottom = None if depth is None or count is None else values.add(reference, values.mul(count, depth))
     elif depth is None:
@@ -66,12 +66,12 @@ def hole_levels(runner, cycle, data: dict):
         bottom = values.add(reference, depth)
     else:
         bottom = depth
-    approach = cycle.model.get("approach")
+    approach = cycle.model.approach
     if approach is None:
         return reference, bottom
     surface = values.sub(reference, values.mul(cycle.up, parameter(cycle, data, "D") or 0.0))
     pitch = data.get("B")
-    upward = cycle.model.get("thread_mill") and not (type(pitch) is float and pitch >= 0)
+    upward = cycle.model.thread_mill and not (type(pitch) is float and pitch >= 0)
     return (values.add(surface, cycle.up) if approach == "surface_plus_1" else surface), bottom, reference, bottom if upward else None
 
 
@@ -161,7 +161,7 @@ def run_pattern(runner, op, block, model, params):
     start = (state.position.get(first), state.position.get(second))
     concrete = all(type(value) is float for value in (*start, *params.values()))
     try:
-        count, points = pattern_points(model["pattern"], params, start if concrete else (0.0, 0.0))
+        count, points = pattern_points(model.pattern, params, start if concrete else (0.0, 0.0))
     except PatternError as error:
         runner.fault("fagor.pattern-parameters", op.span, f"{code}: {error}: the control alarms")
         return None

@@ -819,9 +819,9 @@ class Interpreter(ControlFlow):
     def _move(self, op: ir.Move, block):
         state = self.state
         kind = op.kind
-        modal_call = state.cycle is not None and state.cycle.model.get("called_after_motion")  # SINUMERIK MCALL
+        modal_call = state.cycle is not None and state.cycle.model.called_after_motion  # SINUMERIK MCALL
         if kind is not None:
-            if state.cycle is not None and state.cycle.model.get("motion_codes_keep_cycle"):
+            if state.cycle is not None and state.cycle.model.motion_codes_keep_cycle:
                 state.modal["motion"] = kind  # Fagor: G0/G1 position in the cycle's zone
                 return self.cycles.modal_hole(op, block)
             if state.cycle is not None and kind != "thread" and not modal_call:

@@ -13,6 +13,7 @@ reach into the interpreter's private methods.
 from __future__ import annotations
 
 from .. import ir
+from ..cycle_models import UNKNOWN_CYCLE, CycleModel
 from ..values import VACANT
 
 
@@ -29,9 +30,9 @@ class Runtime:
         """The path's :class:`~ncverify.interpret.interpreter.MachineState` (forks with the path)."""
         return self._interp.state
 
-    def cycle_model(self, cycle: str) -> dict:
-        """The model of a cycle id from the dialect's tables (empty when there is none)."""
-        return self._interp.cycle_models.get(cycle, {})
+    def cycle_model(self, cycle: str) -> CycleModel:
+        """The model of a cycle id from the dialect's tables (:data:`UNKNOWN_CYCLE` when there is none)."""
+        return self._interp.cycle_models.get(cycle, UNKNOWN_CYCLE)
 
     def tool_in_spindle(self):
         """The tool-table entry of the tool in the spindle, or None when the tool or its

@@ -18,6 +18,7 @@ from typing import NamedTuple
 
 from .. import values
 from .cycles import DialectCycles
+from ..cycle_models import CycleModel
 from ..trace import CycleRun, Hole
 from ..values import VACANT
 
@@ -85,7 +86,7 @@ def drill(runner, op, block, model, params):
         spans = {"Z": op.param_spans.get("DP", op.span), "R": op.param_spans.get("RFP", op.span)}
         spans.update(op.param_spans)
         runner.report_hole(Hole(name, model, op.span, block, axis, position, rtp, start, depth, dict(params), spans, (), definition))
-    tapping = model.get("tapping_cycle") and params.get("ENC") != 1.0  # G331/G33: the feed follows the pitch
+    tapping = model.tapping_cycle and params.get("ENC") != 1.0  # G331/G33: the feed follows the pitch
     cut = "thread" if tapping else "feed"
     programmed_feed, inherited = state.feed, state.feed_inherited
     feed_in, feed_out = params.get("FFR"), params.get("RFF")
@@ -94,10 +95,10 @@ def drill(runner, op, block, model, params):
     elif tapping:
         state.feed = tapping_feed(params, state)
         state.feed_inherited = state.feed is None or inherited
-    _set_spindle(runner, op, block, _spindle_code(params, model.get("spindle_during")))
+    _set_spindle(runner, op, block, _spindle_code(params, model.spindle_during))
     runner.move_to({axis: start}, op.span, block, "approach", name)
     runner.move_to({axis: depth}, op.span, block, "infeed", name, cut)
-    if model.get("retract") == "feed":
+    if model.retract == "feed":
         if type(feed_out) is float and feed_out > 0:
             state.feed = feed_out
         runner.move_to({axis: start}, op.span, block, "out-of-hole", name, cut)
@@ -105,7 +106,7 @@ def drill(runner, op, block, model, params):
     else:
         runner.move_to({axis: rtp}, op.span, block, "out-of-hole", name)
     state.feed, state.feed_inherited = programmed_feed, inherited
-    after = model.get("spindle_after")
+    after = model.spindle_after
     if after == "off" or (after and params.get("SDR", 3.0) != 0.0):
         _set_spindle(runner, op, block, "off" if after == "off" else _spindle_code(params, after))
     return None
@@ -206,7 +207,7 @@ def one_shot(runner, op, block, model, params):
     with a modelled approach run it (``_FEATURES``); the others leave the tool at their
     retract level on the infeed axis, unknown in the plane; turning and swivel cycles leave
     the position unknown."""
-    for key, where in model.get("contours", {}).items():
+    for key, where in model.contours.items():
         facts = _named_contour(runner, op, params, where)
         if facts is not None:
             params = {**params, key: facts}
@@ -216,10 +217,10 @@ def one_shot(runner, op, block, model, params):
     features = _FEATURES.get(op.cycle.split(".")[-1])
     if features is not None and _feature_motion(runner, op, block, params, features(params, state)):
         return None
-    if model.get("shape") == "sinumerik_mill":
+    if model.shape == "sinumerik_mill":
         level = _end_level(op.cycle, params)
         state.move_to({first: None, second: None, axis: level if type(level) is float else None})
-    elif model.get("shape") == "sinumerik_turn" or "position" in model.get("affects", ()):
+    elif model.shape == "sinumerik_turn" or "position" in model.affects:
         state.move_to(dict.fromkeys(state.position))
     return None
 
@@ -361,8 +362,8 @@ _FEATURES = {"POCKET1": _centre("CPA", "CPO"), "POCKET2": _centre("CPA", "CPO"),
              "CYCLE60": _computed_start(False)}
 
 
-def modal_shape(model: dict):
-    return _SHAPES.get(model.get("shape"))
+def modal_shape(model: CycleModel):
+    return _SHAPES.get(model.shape)
 
 
 _SHAPES = {"sinumerik_drill": drill, "sinumerik_pattern": pattern, "sinumerik_mill": one_shot,

@@ -175,8 +175,8 @@ class FagorLowering(IsoLowering):
             words[:] = [word for word in words if word.letter in "NFSTM"]
             return ir.CycleCall(span, "fagor.turning", {"G": float(code)})
         model = self.table.cycles[entry["cycle"]]
-        declared = model.get("params", {})
-        pattern = "pattern" in model
+        declared = model.params
+        pattern = model.pattern is not None
         normal = _PLANE_NORMAL[plane]
         axis, sign = tool_axis or (normal, "+")
         if not pattern and axis != normal:
@@ -194,7 +194,7 @@ class FagorLowering(IsoLowering):
                 continue
             if name in params:
                 notes.append(ir.Note("core.duplicate-address", f"G{code}: {letter} appears twice in the cycle block; it is the cycle's "
-                                                                     f"{declared[name]['meaning']}, not a {letter} function (the control alarms or uses one of them)",
+                                                                     f"{declared[name].meaning}, not a {letter} function (the control alarms or uses one of them)",
                                            self._span(line, word.start, word.end, path)))
                 words.remove(word)
                 continue

@@ -12,6 +12,7 @@ import re
 import numpy
 
 from .. import ir, values
+from ..cycle_models import UNKNOWN_CYCLE
 from ..dialect import DialectSetup
 from ..read.iso import ReadBlock, Statement, Word, read_line
 from ..read.iso_runs import read_plain_run
@@ -342,16 +343,16 @@ class IsoLowering:
     def _cycle_params(self, rest, read, path, cycle_id) -> tuple[dict, dict]:
         """The words a cycle takes. For a modal hole cycle the hole position (the plane
         axes) stays behind for the Move; a one-shot cycle takes every word."""
-        model = self.table.cycles.get(cycle_id, {})
-        declared = model.get("params", {})
-        one_shot = "infeed" not in model and "shape" in model
+        model = self.table.cycles.get(cycle_id, UNKNOWN_CYCLE)
+        declared = model.params
+        one_shot = model.infeed is None and model.shape is not None
         params, spans = {}, {}
         for letter in list(rest):
             if one_shot or letter in declared or letter in _CYCLE_WORDS and letter not in self.axis_letters:
                 if not one_shot and letter in self.axis_letters and letter not in ("Z", "X", "W", "U") and letter not in declared:
                     continue
                 word = rest.pop(letter)
-                kind = declared.get(letter, {}).get("kind") or ("count" if letter in ("L", "K") else None)
+                kind = (declared[letter].kind if letter in declared else None) or ("count" if letter in ("L", "K") else None)
                 params[letter] = word.value if kind in ("code", "count") else self._value(word)
                 spans[letter] = self._span(read, word.start, word.end, path)
         return params, spans

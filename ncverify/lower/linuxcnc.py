@@ -26,7 +26,7 @@ from functools import cache
 
 from .. import ir
 from ..context import ArcTolerance, Context, Tool
-from ..cycle_models import load_cycle_table
+from ..cycle_models import read_cycle_table, typed_cycle_table
 from ..dialect import DialectSetup
 from ..read.iso import ReadBlock, Statement, Word
 from ..read.linuxcnc import POLAR, OWord, read_line
@@ -61,8 +61,8 @@ def linuxcnc_table(machine: str = "mill") -> CodeTable:
         g.update(lathe.get("g", {}))
         words.update(lathe.get("words", {}))
         power_on.update(lathe.get("power_on", {}))
-    levels = load_cycle_table("linuxcnc")  # what RS274NGC does differently at the levels of the ISO hole cycles
-    cycles = {name: {**model, **levels.get(name, {})} for name, model in load_cycle_table("iso").items()}
+    levels = read_cycle_table("linuxcnc")  # what RS274NGC does differently at the levels of the ISO hole cycles
+    cycles = typed_cycle_table({name: {**model, **levels.get(name, {})} for name, model in read_cycle_table("iso").items()})
     return CodeTable("linuxcnc", machine, g, m, words, power_on, dict(mill["settings"]), cycles)
 
 

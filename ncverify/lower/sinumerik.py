@@ -26,13 +26,14 @@ from __future__ import annotations
 import math
 import re
 import tomllib
+from dataclasses import replace
 from functools import cache
 
 import numpy
 
 from .. import ir
 from ..context import Context, Stock, Tool, tool_value_problem
-from ..cycle_models import load_cycle_table
+from ..cycle_models import CycleModel, load_cycle_table
 from ..dialect import DialectSetup
 from ..read.iso_runs import read_plain_run
 from ..read.sinumerik import Item, ReadBlock, read_line
@@ -234,11 +235,11 @@ class SinumerikLowering:
         return ops + [ir.CycleDefine(span, f"sinumerik.{item.name}", params, spans)]
 
     @staticmethod
-    def _cycle_arguments(item: Item, model: dict, read: ReadBlock, path) -> tuple[dict, dict]:
+    def _cycle_arguments(item: Item, model: CycleModel, read: ReadBlock, path) -> tuple[dict, dict]:
         """Arguments named by position; omitted ones are 0 (seed L668-687). Extra
         arguments are kept as ``#13`` etc. for the rules (alarm 12340), and ``ARG_COUNT`` /
         ``ARG_OMITTED`` say how the list was written."""
-        names = [argument[0] for argument in model["arguments"]]
+        names = [argument[0] for argument in model.arguments]
         params: dict = {}
         spans: dict = {}
         omitted = []
@@ -690,6 +691,6 @@ def setup(settings, detection, project) -> DialectSetup:
     power_on = dict(loaded["codes"]["power_on"])
     if machine == "lathe":
         power_on.update(loaded["codes"]["power_on_lathe"])
-    models = {f"sinumerik.{name}": {**model, "called_after_motion": True} for name, model in loaded["cycles"].items()}
+    models = {f"sinumerik.{name}": replace(model, called_after_motion=True) for name, model in loaded["cycles"].items()}
     limits = {"d_register_max": 32000.0, "h_register_max": 32000.0, "tool_number_max": 32000.0}
     return DialectSetup(SinumerikFrontend(SinumerikLowering()), power_on, models, None, machine, {}, None, 0.0, limits)

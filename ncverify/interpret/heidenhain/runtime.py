@@ -23,6 +23,7 @@ import re
 from dataclasses import replace
 
 from ... import ir, values
+from ...cycle_models import UNKNOWN_CYCLE, CycleModel
 from . import special, transforms
 from .common import (cycle_feed as _cycle_feed, levels, numbers as _numbers, offset_surface as _offset_surface,
                      plane as _plane, put as _put)
@@ -312,21 +313,21 @@ def _define_run(runner, op: ir.CycleDefine, block):
     definition = Definition(number, params, dict(op.param_spans), op.span, cycle_model)
     _put(state, cycle=definition)
     _put(state, m89=False)
-    if not cycle_model:
+    if cycle_model is UNKNOWN_CYCLE:
         runner.fault("core.unsupported-code", op.span, f"cycle {number} is read but not modelled; checks that depend on its motion answer unknown",
                       "unknown", f"cycle {number}")
     return None
 
 
-def _read_tolerances(params: dict, cycle_model: dict) -> None:
+def _read_tolerances(params: dict, cycle_model: CycleModel) -> None:
     """A toleranced dimension written as text (``Q218="10H7"``) becomes the size the control
     machines; texts it cannot read go to the rules as ``@bad_tolerances``."""
     from .tolerance import toleranced
 
     unreadable = []
-    for name, spec in cycle_model.get("params", {}).items():
+    for name, spec in cycle_model.params.items():
         text = params.get(name)
-        if spec.get("tolerance") and isinstance(text, str) and text not in ("PREDEF", "AUTO", "FMAX"):
+        if spec.tolerance and isinstance(text, str) and text not in ("PREDEF", "AUTO", "FMAX"):
             size = toleranced(text)
             if size is None:
                 unreadable.append((name, text))
@@ -461,7 +462,7 @@ def _declare_contour_run(runner, op, block, params):
     state = runner.state
     declared = state.klartext.declared_depths + ("DEPTH" in params,)
     _put(state, declared_depths=declared)
-    _observe(runner, CycleRun("heidenhain.declare-contour", {}, op.span, block, {}), {"@declared_depths": declared, "@own_q": _own_reserved(state)})
+    _observe(runner, CycleRun("heidenhain.declare-contour", UNKNOWN_CYCLE, op.span, block, {}), {"@declared_depths": declared, "@own_q": _own_reserved(state)})
     return None
 
 
@@ -666,7 +667,7 @@ def _higher(a, b) -> bool:
 
 def run_cycle(runner, op, block, definition: Definition, shift=None, surface_offset=None):
     model = definition.model
-    family = model.get("family")
+    family = model.family
     state = runner.state
     if state.comp_side in ("left", "right"):
         runner.fault("heidenhain.cycle-with-compensation", op.span, f"cycle {definition.number} is called while radius compensation "
@@ -699,7 +700,7 @@ def run_cycle(runner, op, block, definition: Definition, shift=None, surface_off
 
 
 def _depth_name(definition: Definition) -> str:
-    return definition.model.get("depth", "Q201")
+    return definition.model.depth or "Q201"
 
 
 def _hole(runner, op, block, definition, shift, surface_offset):
@@ -709,7 +710,7 @@ def _hole(runner, op, block, definition, shift, surface_offset):
     _offset_surface(params, shift, surface_offset)
     name = f"heidenhain.{definition.number}"
     model = definition.model
-    required = [q for q, spec in model.get("params", {}).items() if spec.get("required")]
+    required = [q for q, spec in model.params.items() if spec.required]
     missing = tuple(q for q in required if q not in params)
     found = levels(params, _depth_name(definition))
     set_up, bottom, retract = (found[:3] if found else (None, None, None))
@@ -730,11 +731,11 @@ def _hole(runner, op, block, definition, shift, surface_offset):
     if deepened is not None:
         _to_deepened_start(runner, op, block, deepened, params.get("Q253"), deepened_predrilled, name)
     spindle = state.spindle
-    if model.get("spindle_by_cycle") and spindle == "off":
+    if model.spindle_by_cycle and spindle == "off":
         state.spindle = "cw"  # rigid tapping runs the spindle itself; it stays stopped after (seed L3915-3917)
     with _cycle_feed(state, params):
         runner.move_to({axis: bottom}, op.span, block, "infeed", name, "feed")
-        out_kind = "feed" if model.get("retract") == "feed" else "rapid"
+        out_kind = "feed" if model.retract == "feed" else "rapid"
         runner.move_to({axis: set_up}, op.span, block, "out-of-hole", name, out_kind)
     state.spindle = spindle
     runner.move_to({axis: retract}, op.span, block, "out-of-hole", name)  # on up the same axis
@@ -1014,14 +1015,14 @@ def _pocket(runner, op, block, definition, shift, surface_offset):
         return None
     set_up, bottom, retract, _direction = found
     first, second, _normal = _plane(state)
-    if model.get("family") == "stud":
+    if model.family == "stud":
         state.move_to({first: None, second: None})  # studs start beside the stud, where Q437 / Q224 put the tool
     runner.move_to({axis: set_up}, op.span, block, "approach", name)
     with _cycle_feed(state, params):
         runner.move_to({axis: bottom}, op.span, block, "infeed", name, "feed")
         runner.move_to({axis: set_up}, op.span, block, "out-of-hole", name, "feed")
     runner.move_to({axis: retract}, op.span, block, "retract", name)
-    if model.get("ends_elsewhere") or (model.get("family") == "slot" and params.get("Q367", 0.0) != 0.0):
+    if model.ends_elsewhere or (model.family == "slot" and params.get("Q367", 0.0) != 0.0):
         state.move_to({first: None, second: None})
         _put(state, ended_elsewhere=definition.number)
     return None

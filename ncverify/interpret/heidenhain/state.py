@@ -10,6 +10,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+from ...cycle_models import CycleModel
+
 
 @dataclass(frozen=True)
 class Definition:
@@ -19,7 +21,7 @@ class Definition:
     params: dict
     spans: dict
     span: object
-    model: dict
+    model: CycleModel
 
 
 @dataclass(frozen=True)
