@@ -273,7 +273,7 @@ def radius_delta(state):
     """The radius delta the active tool call adds to the tool table's radius (Klartext
     ``TOOL CALL .. DR``): 0.0 where none is programmed; a symbolic value when it depends
     on a free parameter (rules then answer unknown)."""
-    return state.global_variables.get("@TOOLDR", 0.0)
+    return state.klartext.radius_delta
 
 
 def active_edge(state):

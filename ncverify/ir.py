@@ -65,6 +65,7 @@ Operations (all carry the ``span`` of the words they came from):
 ``ToolLength``      the control applies the tool's length by itself at a tool change
                     (Klartext TOOL CALL): no register written, no G43 to forget
 ``ToolFeed``        the feed a tool call gives (Klartext TOOL CALL F: FAUTO reads it)
+``ToolDelta``       the oversize a tool call adds to the table's radius (Klartext TOOL CALL DR)
 ``Approach``        a contour approach or departure (APPR / DEP); its move follows as its own op
 ``Pole``            the pole of polar coordinates and arcs about it (Klartext CC, G111);
                     ``words`` the axis words as written, ``I``-prefixed when incremental
@@ -373,6 +374,11 @@ class ToolLength(Op):
 @dataclass(slots=True)
 class ToolFeed(Op):
     feed: Expr
+
+
+@dataclass(slots=True)
+class ToolDelta(Op):
+    radius: Expr
 
 
 @dataclass(slots=True)

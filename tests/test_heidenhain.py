@@ -353,3 +353,18 @@ def test_face_milling_233_runs_from_q227_down_to_q386_and_leaves_the_plane_posit
     recorded = trace(program(face + "7  L  X+0  Y+0 R0 FMAX M99\n8  L  IX+10 R0 FMAX"))
     assert [segment.end["Z"] for segment in recorded.segments if segment.cycle] == [4.0, 0.0, 4.0, 52.0]
     assert [fault for fault in recorded.faults if fault.rule == "heidenhain.position-after-cycle"]
+
+
+def test_the_tool_calls_radius_delta_adds_to_the_table_radius_on_the_path_it_is_called_on():
+    circle = ("CYCL DEF 1272 OCM CIRCLE ~\n    Q650=+0 ;FIGURE TYPE ~\n    Q223=+20 ;CIRCLE DIAMETER ~\n    Q367=+0 ;POCKET POSITION ~\n"
+              "    Q203=+0 ;SURFACE COORDINATE ~\n    Q201=-10 ;DEPTH ~\n    Q368=+0.5 ;ALLOWANCE FOR SIDE ~\n    Q369=+0.2 ;ALLOWANCE FOR FLOOR ~\n"
+              "    Q260=+50 ;CLEARANCE HEIGHT ~\n    Q578=+0.2 ;INSIDE CORNER FACTOR\n")
+    rough = ("CYCL DEF 272 OCM ROUGHING ~\n    Q215=+0 ;MACHINING OPERATION ~\n    Q202=+5 ;PLUNGING DEPTH ~\n    Q370=+0.4 ;TOOL PATH OVERLAP ~\n"
+             "    Q207=+500 ;FEED RATE MILLING ~\n    Q568=+0.6 ;PLUNGING FACTOR ~\n    Q253=+750 ;F PRE-POSITIONING ~\n    Q200=+2 ;SET-UP CLEARANCE\n")
+    text = program(circle + rough + "7  L  X+50  Y+50 R0 FMAX M99")
+    assert at(check(text.replace("TOOL CALL 1 Z S2000", "TOOL CALL 1 Z S2000 DR+2"), "[tools.1]\nradius = 6"), "heidenhain.tool-too-large")
+    branch = "5  FN 9: IF +Q1 EQU +0 GOTO LBL 1\n6  TOOL CALL 1 Z S2000 DR+2\n7  LBL 1\n"
+    forked = check(program(branch + circle + rough + "8  L  X+50  Y+50 R0 FMAX M99"), "[tools.1]\nradius = 6")
+    assert at(forked, "heidenhain.tool-too-large")  # the path through the second TOOL CALL
+    free = check(text.replace("TOOL CALL 1 Z S2000", "TOOL CALL 1 Z S2000 DR+Q1"), "[tools.1]\nradius = 6")
+    assert not at(free, "heidenhain.tool-too-large") and at(free, "heidenhain.tool-too-large", Status.UNKNOWN)

@@ -27,12 +27,12 @@ def lowered(text: str, path: Path | None = None) -> list[ir.Op]:
 
 def test_state_dependent_constructs_are_typed_operations():
     text = "\n".join([
-        "0 BEGIN PGM T MM", "1 TOOL CALL 1 Z S2000 F300", "2 CC X+50 Y+50", "3 L X+60 Y+50 R0 FMAX",
+        "0 BEGIN PGM T MM", "1 TOOL CALL 1 Z S2000 F300 DR+0.1", "2 CC X+50 Y+50", "3 L X+60 Y+50 R0 FMAX",
         "4 C X+40 Y+50 DR+", "5 LP PR+10 PA+90", "6 CT X+70 Y+60", "7 L Z+100 FMAX", "8 CALL LBL 1 REP 2",
         "9 APPR LT X+0 Y+0 LEN5 RL", "10 L Z+50 M140 MB MAX", "11 L X+0 M94", "12 CYCL DEF 200 DRILLING ~",
         "  Q200=+2 ;SET-UP CLEARANCE", "13 END PGM T MM", ""])
     kinds = {type(op) for op in lowered(text)}
-    assert {ir.ToolLength, ir.ToolFeed, ir.Pole, ir.PoleArc, ir.PolarMove, ir.TangentArc, ir.Lift, ir.LabelCall,
+    assert {ir.ToolLength, ir.ToolFeed, ir.ToolDelta, ir.Pole, ir.PoleArc, ir.PolarMove, ir.TangentArc, ir.Lift, ir.LabelCall,
             ir.Approach, ir.Retract, ir.MFunction, ir.CycleDefine, ir.ProgramEnd} <= kinds
     assert ir.CycleCall not in kinds
 

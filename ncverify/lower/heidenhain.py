@@ -241,7 +241,7 @@ class KlartextLowering:
             block.ops.append(ir.ToolLength(span, False))
             block.ops.append(ir.ToolChange(span))
             block.ops.append(ir.ToolLength(span, True, number))
-            block.ops.append(ir.Assign(span, ir.Var(TOOL_CALL_DR), words.get("DR", 0.0)))  # the call's radius delta, on top of the table's R + DR
+            block.ops.append(ir.ToolDelta(span, words.get("DR", 0.0)))  # the call's radius delta, on top of the table's R + DR
         if axis is not None:
             block.ops.append(ir.SetModal(axis.span, "plane", _TOOL_AXIS_PLANE[axis.text]))
         if "F" in words:
@@ -983,9 +983,6 @@ def setup(settings, detection, project) -> DialectSetup:
                 "arc_distance": "incremental", "path_mode": "exact", "cycle_return": "initial", "spindle_mode": "rpm"}
     limits = {"tool_number_max": 32767.0, "h_register_max": 32767.0, "d_register_max": 32767.0}
     return DialectSetup(KlartextFrontend(lowering, tools), power_on, load_cycle_table("heidenhain"), None, "mill", {}, None, 0.0, limits)
-
-
-TOOL_CALL_DR = "@TOOLDR"
 
 
 def _rapid_arc(block, span) -> None:

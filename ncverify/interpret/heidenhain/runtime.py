@@ -238,6 +238,11 @@ def _retract_run(runner, op, block):
     return None
 
 
+def _tool_delta_run(runner, op, block):
+    _put(runner.state, radius_delta=runner.evaluate(op.radius, op.span))
+    return None
+
+
 def _tool_feed_run(runner, op, block):
     feed = runner.words({"F": op.feed}, op.span)
     if "F" in feed:
@@ -1042,7 +1047,7 @@ _STATEMENTS = {
 # to it: ``run(runner, op, block)`` with the path's :class:`~ncverify.interpret.runtime.Runtime`.
 OPERATIONS = {
     ir.Pole: _pole_run, ir.PoleArc: _arc_run, ir.TangentArc: _tangent_run, ir.PolarMove: _polar_run,
-    ir.Lift: _lift_run, ir.Retract: _retract_run, ir.ToolFeed: _tool_feed_run, ir.LabelCall: _label_call_run,
+    ir.Lift: _lift_run, ir.Retract: _retract_run, ir.ToolFeed: _tool_feed_run, ir.ToolDelta: _tool_delta_run, ir.LabelCall: _label_call_run,
     ir.MFunction: special.m_function_run, ir.CycleDefine: _define_run, ir.DialectStatement: _statement_run,
 }
 _SPECIAL_FAMILIES = {"engrave": special.engrave, "face232": special.face_milling,
