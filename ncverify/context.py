@@ -148,6 +148,9 @@ def tool_value_problem(key: str, value: float) -> str | None:
     return None
 
 
+NO_TOOL_TABLE = "no tool table ([tools.N] in ncverify.toml, 'ncverify: tool' annotations, or TOOL.T beside a Klartext program)"
+
+
 class ToolTable(Mapping[int, Tool]):
     """The tools by number, and the one place where a computed T number becomes a tool.
 
@@ -174,6 +177,18 @@ class ToolTable(Mapping[int, Tool]):
     def in_spindle(self, state) -> Tool | None:
         """The tool in the spindle on this path, or None when it is not known or not in the table."""
         return self.numbered(state.tool_in_spindle)
+
+    def missing(self, state, what: str | None = None) -> str:
+        """What keeps a rule from reading the tool in the spindle (or its ``what``, a
+        :class:`Tool` field) from the table: the one wording every rule gives."""
+        number = state.tool_in_spindle
+        if not self._tools:
+            return NO_TOOL_TABLE
+        if type(number) is not float:
+            return "the tool in the spindle is not known"
+        if self.numbered(number) is None:
+            return f"tool T{number:g} is not in the tool table"
+        return f"tool T{number:g} has no {(what or 'entry').replace('_', ' ')} in the tool table"
 
 
 @dataclass

@@ -5,7 +5,7 @@ from types import SimpleNamespace
 
 from ncverify import values
 from ncverify.check import Checker
-from ncverify.context import Machine, RegisterLimits, RuleContext, Tool, ToolTable
+from ncverify.context import NO_TOOL_TABLE, Machine, RegisterLimits, RuleContext, Tool, ToolTable
 from ncverify.settings import Settings
 
 from conftest import check_program, findings
@@ -62,9 +62,11 @@ def test_the_tool_radius_lookup_says_once_what_is_missing():
         M30
         """
     unknown = findings(check_program(program), "core.tool-too-large")
-    assert [d.reason for d in unknown] == ["no tool table"]
+    assert [d.reason for d in unknown] == [NO_TOOL_TABLE]
     without_radius = findings(check_program("(ncverify: tool 1 radius 3)\n" + program.replace("T1 M06", "T2 M06")), "core.tool-too-large")
-    assert [d.reason for d in without_radius] == ["the radius of tool T2 is not in the tool table"]
+    assert [d.reason for d in without_radius] == ["tool T2 is not in the tool table"]
+    no_radius = findings(check_program(program, project_text="[tools.1]\nlength = 50"), "core.tool-too-large")
+    assert [d.reason for d in no_radius] == ["tool T1 has no radius in the tool table"]
 
 
 def test_the_register_limits_of_the_control_reach_the_rules():

@@ -6,7 +6,7 @@ rules are public in that dialect's first module (``checks.heidenhain``: ``CycleR
 imports another's private names."""
 from __future__ import annotations
 
-from ..check import Rule, show
+from ..check import Rule
 from ..diagnostics import Status
 
 
@@ -26,7 +26,6 @@ class ReportsMissingContext(Rule):
         tools = self.checker.context.tools
         tool = tools.in_spindle(state)
         if tool is None or tool.radius is None:
-            what = "no tool table" if not tools else f"the radius of tool T{show(state.tool_in_spindle)} is not in the tool table"
-            self.missing(rule_id, span, what)
+            self.missing(rule_id, span, tools.missing(state, "radius"))
             return None
         return tool.radius

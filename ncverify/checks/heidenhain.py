@@ -28,19 +28,12 @@ def cycle_number(cycle: str) -> int | None:
     return int(tail) if tail.isdigit() else None
 
 
-# What a Klartext rule says when the tool in the spindle has no tool table entry.
-NO_TOOL_ENTRY = "no tool table entry for the tool in the spindle (TOOL.T beside the program, or [tools.N])"
-
-
 def spindle_tool(rule_instance, state, span, rule_id, what: str):
     """The tool in the spindle from TOOL.T / the project file, or None (said once)."""
-    number = state.tool_in_spindle
-    tool = rule_instance.checker.context.tools.in_spindle(state)
-    if tool is None:
-        rule_instance.missing(rule_id, span, NO_TOOL_ENTRY)
-        return None
-    if getattr(tool, what) is None:
-        rule_instance.missing(rule_id, span, f"tool T{show(number)} has no {what.replace('_', ' ')} in the tool table")
+    tools = rule_instance.checker.context.tools
+    tool = tools.in_spindle(state)
+    if tool is None or getattr(tool, what) is None:
+        rule_instance.missing(rule_id, span, tools.missing(state, what))
         return None
     delta = radius_delta(state)
     if type(delta) is not float:

@@ -15,7 +15,7 @@ from shapely.geometry import Point
 from .. import values
 from ..diagnostics import Severity
 from ..check import hazard, rule, show
-from .heidenhain import NO_TOOL_ENTRY, CycleRule, CycleRuleOfParts, spindle_tool
+from .heidenhain import CycleRule, CycleRuleOfParts, spindle_tool
 
 _SL = {21, 22, 23, 24}
 _TRAINS = {25, 275, 276}
@@ -338,7 +338,7 @@ class OcmToolCorner(CycleRule):
             return
         tool = self.checker.context.tools.in_spindle(state)
         if tool is None:
-            self.missing("heidenhain.ocm-tool-corner", span, NO_TOOL_ENTRY)
+            self.missing("heidenhain.ocm-tool-corner", span, self.checker.context.tools.missing(state))
         elif tool.corner:
             self.report("heidenhain.ocm-tool-corner", span, f"cycle {number} with tool T{show(state.tool_in_spindle)} whose corner radius R2={tool.corner:g}: "
                         "OCM ignores R2, so material is left on the floor along the walls and the next tool meets it (seed L11266-11273, L11761-11767)")

@@ -10,7 +10,7 @@ from shapely.geometry import Point, box
 
 from .. import ir, values
 from ..check import Rule, hazard, rule, show
-from .heidenhain import NO_TOOL_ENTRY, CycleRule, cycle_number, spindle_tool
+from .heidenhain import CycleRule, cycle_number, spindle_tool
 
 _STUD_ROOM = 2.0  # mm beside the stud blank the approach keeps (seed L6429-6456, L6691-6715)
 # Q437 approach position of 256: the corner as signs along the reference and minor axis.
@@ -156,7 +156,7 @@ class PointAngle(CycleRule):
         tool_number = state.tool_in_spindle
         tool = self.checker.context.tools.in_spindle(state)
         if tool is None:
-            self.missing("heidenhain.point-angle", span, NO_TOOL_ENTRY)
+            self.missing("heidenhain.point-angle", span, self.checker.context.tools.missing(state))
         elif tool.point_angle is None and tool.origin != "TOOL.T":
             self.missing("heidenhain.point-angle", span, f"tool T{show(tool_number)} has no point angle (point_angle in [tools.{show(tool_number)}], "
                          "point-angle in an ncverify: tool annotation; 0 = not entered)")

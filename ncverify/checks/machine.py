@@ -10,6 +10,7 @@ import z3
 
 from .. import values
 from ..check import hazard, rule, show
+from ..context import NO_TOOL_TABLE
 from ..diagnostics import Status
 from ..values import Condition, Sym
 from .common import ReportsMissingContext
@@ -183,7 +184,7 @@ class MachineLimits(ReportsMissingContext):
         if change.what == "tool_change" and type(change.new) is float:
             tools = self.checker.context.tools
             if not tools:
-                self.missing("core.tool-not-in-table", change.span, "no tool table ([tools.N] in ncverify.toml or 'ncverify: tool' annotations)")
+                self.missing("core.tool-not-in-table", change.span, NO_TOOL_TABLE)
             elif int(change.new) not in tools:
                 self.report("core.tool-not-in-table", change.span, f"tool T{int(change.new)} is not in the tool table ({', '.join(f'T{n}' if isinstance(n, int) else repr(n) for n in sorted(tools, key=str))}): its size and length are unknown, and the magazine may not hold it")
 
