@@ -10,7 +10,7 @@ from ..ir import cycle_code
 from .. import pocket, values
 from ..check import Rule, hazard, rule, show
 from ..diagnostics import Status
-from .common import ReportsMissingContext
+from .common import ReportsMissingContext, scaled_note
 
 
 
@@ -123,16 +123,30 @@ class PocketToolFit(ReportsMissingContext):
         radius = self.spindle_tool_radius(state, hole.span, "fagor.pocket-tool-fit")
         if radius is None:
             return
-        params = hole.params
-        if not all(type(params.get(letter, 0.0)) is float for letter in "JKCLQ"):
-            self.report("fagor.pocket-tool-fit", hole.span, f"{cycle_code(hole.cycle)}: the sizes are computed values; the tool fit was not checked",
-                        Status.UNKNOWN, "symbolic pocket size")
+        params = self.workpiece_sizes(hole.params, "JKCLQ", state, hole.span, "fagor.pocket-tool-fit")
+        if params is None:
+            return
+        if not all(type(params.get(letter, 0.0)) is float for letter in "JKCLQM"):
+            self._symbolic(hole, kind, params, radius, state)
             return
         problems = getattr(self, f"_{kind}")(params, radius)
         for letter, reason, largest in problems:
             fits = f"; the largest tool that fits has a radius of {largest:g}" if largest is not None else ""
             self.report("fagor.pocket-tool-fit", hole.param_spans.get(letter, hole.span),
-                        f"{cycle_code(hole.cycle)} with tool T{show(state.tool_in_spindle)} (radius {radius:g}): {reason}{fits}")
+                        f"{cycle_code(hole.cycle)} with tool T{show(state.tool_in_spindle)} (radius {radius:g}): {reason}{fits}{scaled_note(state)}")
+
+    def _symbolic(self, hole, kind, params, radius, state) -> None:
+        """Sizes that depend on free parameters: every condition of the concrete check as
+        one hazard for the solver (``proved``, or ``violated`` with a witness)."""
+        if type(params.get("M", 0.0)) is not float:
+            self.report("fagor.pocket-tool-fit", hole.span, f"{cycle_code(hole.cycle)}: the corner type M is a computed value; the tool fit was not checked",
+                        Status.UNKNOWN, "symbolic corner type")
+            return
+        misfit = _MISFITS[kind](params, radius)
+        sizes = ", ".join(f"{letter}={show(params[letter])}" for letter in "JKLQC" if letter in params)
+        self.checker.report_verdict("fagor.pocket-tool-fit", hole.param_spans.get("J", hole.span),
+                                    f"{cycle_code(hole.cycle)}: tool T{show(state.tool_in_spindle)} (radius {radius:g}) does not fit the {_FEATURE_WORDS[kind]} "
+                                    f"({sizes}){scaled_note(state)}: the control alarms", self.checker.judge(misfit, state), state)
 
     @staticmethod
     def _stepover(params, radius) -> list:
@@ -189,6 +203,42 @@ class PocketToolFit(ReportsMissingContext):
             return []
         return [("J", f"{fit.reason} left inside the thread's root (J{abs(params['J']):g} less twice the thread depth K{abs(params['K']):g}): "
                  "the tool cannot enter the pre-drilled hole", fit.largest_radius)]
+
+
+def _stepover_misfit(params, radius):
+    """The stepover C wider than the tool's diameter (no C: the control's own 3/4 of it)."""
+    stepover = params.get("C")
+    return False if stepover is None else hazard(">", stepover, 2 * radius)
+
+
+def _rectangle_misfit(params, radius):
+    length, width = values.mul(values.absolute(params["J"]), 2.0), values.mul(values.absolute(params["K"]), 2.0)
+    allowance = values.mul(params.get("L", 0.0), 2.0)
+    corner = params.get("Q", 0.0) if params.get("M") == 1.0 else 0.0
+    whole = pocket.rectangle_misfit(length, width, corner, radius, strict=True)
+    roughed = pocket.rectangle_misfit(values.sub(length, allowance), values.sub(width, allowance), 0.0, radius, strict=True)
+    return pocket.either(_stepover_misfit(params, radius), pocket.either(whole, roughed))
+
+
+def _circle_misfit(params, radius):
+    room = values.mul(values.sub(values.absolute(params["J"]), params.get("L", 0.0)), 2.0)
+    return pocket.either(_stepover_misfit(params, radius), pocket.circle_misfit(room, radius, strict=True))
+
+
+def _bore_misfit(params, radius):
+    diameter = values.absolute(params["J"])
+    core = hazard("<", radius, values.mul(values.sub(diameter, params.get("K", 0.0)), 0.25))
+    return pocket.either(pocket.circle_misfit(diameter, radius, strict=True), core)
+
+
+def _internal_misfit(params, radius):
+    room = values.sub(values.absolute(params["J"]), values.mul(values.absolute(params["K"]), 2.0))
+    return pocket.circle_misfit(room, radius, strict=True)
+
+
+# The conditions of PocketToolFit's concrete checks, for sizes that depend on free parameters
+_MISFITS = {"rectangle": _rectangle_misfit, "circle": _circle_misfit, "bore": _bore_misfit, "internal": _internal_misfit}
+_FEATURE_WORDS = {"rectangle": "rectangular pocket", "circle": "circular pocket", "bore": "bore", "internal": "thread's pre-drilled hole"}
 
 
 @rule("fagor.g86-back-off")
