@@ -185,6 +185,7 @@ class Machine:
     max_feed: float | None = None
     lathe_x: str | None = None  # lathe: are X travel and work offsets a "diameter" or a "radius"?
     spindle_encoder: bool | None = None  # a motor-driven spindle with an encoder, which rigid tapping needs
+    one_workpiece: frozenset[str] = frozenset()  # work offsets that all hold the one blank the stock describes
 
 
 @dataclass
@@ -221,6 +222,7 @@ class Context:
             self.machine.max_feed if self.machine.max_feed is not None else base.machine.max_feed,
             self.machine.lathe_x or base.machine.lathe_x,
             self.machine.spindle_encoder if self.machine.spindle_encoder is not None else base.machine.spindle_encoder,
+            self.machine.one_workpiece or base.machine.one_workpiece,
         )
         return Context(
             self.stock or base.stock, tools, machine, base.assumptions + self.assumptions,

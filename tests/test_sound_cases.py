@@ -248,3 +248,58 @@ def test_a_fagor_pocket_under_a_scaling_is_judged_scaled():
     scaled = check_text(text.replace("{define}", "G72 S0.5"), "part.pim", Settings(dialect="fagor"))
     assert Status.VIOLATED not in statuses(scaled, "fagor.pocket-tool-fit")  # G72 is not modelled: never a verdict from the written sizes
     assert statuses(scaled, "fagor.pocket-tool-fit") == {Status.UNKNOWN}
+
+
+# --------------------------------------------------------------------------- a change of work offset
+
+TWO_OFFSETS = """
+    %
+    O3002
+    (ncverify: stock box X0:100 Y0:100 Z-20:0)
+    (ncverify: tool 1 radius 5 length 60)
+    (ncverify: assume 60 <= #1 <= 90 and -40 <= #2 <= -10)
+    G21 G17 G90 G54
+    T1 M06
+    G00 X-20. Y50. Z50. S1000 M03
+    G00 Z-5.
+    G00 X#2
+    G00 Z50.
+    G55 X-20. Y50.
+    G00 Z-5.
+    G00 X#1
+    M30
+    %
+"""
+
+
+def test_the_stock_is_not_judged_under_a_second_work_offset_unless_the_project_says_it_holds_the_same_blank():
+    from conftest import check_program
+
+    alone = check_program(TWO_OFFSETS, "two.nc")
+    assert statuses(alone, "core.rapid-into-stock", 10) == {Status.PROVED}  # beside the blank under G54
+    assert statuses(alone, "core.rapid-into-stock", 14) == set()  # under G55: another part, not judged ...
+    [said] = [d for d in findings(alone, "core.rapid-into-stock") if d.reason == "another work offset"]
+    assert said.status is Status.UNKNOWN and "G54 to G55" in said.message  # ... and said so, once
+    shared = check_program(TWO_OFFSETS, "two.nc", '[machine]\none_workpiece = ["G54", "G55"]\n')
+    assert statuses(shared, "core.rapid-into-stock", 14) == {Status.VIOLATED}  # the same blank: X60..90 at Z-5 is inside it
+
+
+def test_a_move_after_a_change_of_work_offset_starts_where_the_old_offset_left_the_tool():
+    """Selecting G55 does not move the tool: its place in G55's coordinates depends on the
+    offsets' values, so a rapid that moves one axis after the change starts from an unknown
+    place and is never shown to cross the blank on the old offset's coordinates."""
+    from conftest import check_program
+
+    text = TWO_OFFSETS.replace("G55 X-20. Y50.", "G55").replace("G00 X#1\n", "G00 X50.\n")
+    shared = check_program(text, "two.nc", '[machine]\none_workpiece = ["G54", "G55"]\n')
+    assert statuses(shared, "core.rapid-into-stock", 13) <= {Status.UNKNOWN}
+    assert statuses(shared, "core.rapid-into-stock", 14) <= {Status.UNKNOWN}
+
+
+def test_the_project_file_names_the_offsets_that_share_the_blank_as_a_list():
+    from conftest import project
+    from ncverify.project import ConfigError
+
+    assert project('[machine]\none_workpiece = ["g54", "G55"]\n').machine.one_workpiece == {"G54", "G55"}
+    with pytest.raises(ConfigError):
+        project('[machine]\none_workpiece = "G54"\n')
