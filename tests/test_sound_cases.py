@@ -303,3 +303,57 @@ def test_the_project_file_names_the_offsets_that_share_the_blank_as_a_list():
     assert project('[machine]\none_workpiece = ["g54", "G55"]\n').machine.one_workpiece == {"G54", "G55"}
     with pytest.raises(ConfigError):
         project('[machine]\none_workpiece = "G54"\n')
+
+
+# --------------------------------------------------------------------------- BLK FORM CYLINDER
+
+ROUND_BLANK = """
+    0  BEGIN PGM CYL MM
+    1  ; ncverify: tool 1 radius 5 length 60
+    2  {define}
+    3  BLK FORM CYLINDER Z R25 L100
+    4  TOOL CALL 1 Z S2000
+    5  L  X+40 Y+0 Z+50 R0 FMAX M3
+    6  L  Z-5 R0 FMAX
+    7  L  X+30 Y+30 R0 FMAX
+    8  L  X+Q1 Y+0 R0 FMAX
+    9  L  X+0 Y+{near} R0 FMAX
+    10 L  Z+50 R0 FMAX
+    11 END PGM CYL MM
+"""
+
+
+def _round(define: str, near: str = "29"):
+    return check_text(textwrap.dedent(ROUND_BLANK).lstrip().replace("{define}", define).replace("{near}", near), "cyl.h")
+
+
+def test_blk_form_cylinder_is_a_round_blank_about_the_tool_axis_not_a_lathe_bar():
+    result = _round("Q1 = 35", "100")
+    assert statuses(result, "core.rapid-into-stock") <= {Status.UNKNOWN}  # every rapid stays outside R25 + the tool's 5
+    assert not findings(result, "core.rapid-into-stock", 10)  # Y100 is far off the blank (a lathe bar ignores Y)
+    inside = _round("Q1 = 28")
+    assert statuses(inside, "core.rapid-into-stock", 9) == {Status.VIOLATED}  # the tool's side reaches R23..33 at Y0
+    describe = findings(inside, "core.rapid-into-stock", 9)[0].message
+    assert "round blank D50 about Z Z-100..0" in describe
+
+
+def test_a_cylinder_along_another_axis_or_a_hollow_one_is_no_stock():
+    from ncverify.lower.heidenhain import stock_from_text
+
+    assert stock_from_text("1 BLK FORM CYLINDER Z R25 L100\n").diameter == 50
+    assert stock_from_text("1 BLK FORM CYLINDER X R25 L100\n") is None
+    assert stock_from_text("1 BLK FORM CYLINDER Z R25 L100 DIST+0 DI20\n") is None
+
+
+def test_symbolic_rapids_against_the_round_blank_get_a_verdict():
+    result = _round("; ncverify: assume 31 <= Q1 <= 40")
+    assert statuses(result, "core.rapid-into-stock", 9) == {Status.PROVED}  # from X30 Y30 down to X31..40 Y0: R30 is kept
+    [finding] = findings(result, "core.rapid-into-stock", 10)  # from X31..40 Y0 to X0 Y29 cuts across the blank
+    assert finding.status is Status.VIOLATED and 31 <= finding.witness["Q1"] <= 40
+
+
+@hypothesis_settings(max_examples=10, deadline=None)
+@given(fraction=st.one_of(st.sampled_from([0.0, 1.0]), st.floats(0.0, 1.0)))
+def test_the_round_blank_proof_holds_for_values_sampled_from_the_box(fraction):
+    value = 31.0 + fraction * 9.0
+    assert Status.VIOLATED not in statuses(_round(f"Q1 = {value!r}", "100"), "core.rapid-into-stock", 9)
