@@ -357,3 +357,64 @@ def test_symbolic_rapids_against_the_round_blank_get_a_verdict():
 def test_the_round_blank_proof_holds_for_values_sampled_from_the_box(fraction):
     value = 31.0 + fraction * 9.0
     assert Status.VIOLATED not in statuses(_round(f"Q1 = {value!r}", "100"), "core.rapid-into-stock", 9)
+
+
+# --------------------------------------------------------------------------- diameter or radius programming
+
+LATHE_BAR = """
+    ; ncverify: stock cylinder D40 Z-80:0
+    ; ncverify: tool 1 radius 0.4 length 0
+    G18 G90 G54 {mode}
+    T1 D1
+    G0 X60 Z5
+    G0 X30 Z-10
+    G0 X60
+    M30
+"""
+LATHE_PROJECT = "[machine]\ntype = \"lathe\"\nlathe_x = \"diameter\"\ntravel = { x = [0, 100], z = [-200, 50] }\nwork_offsets = { G54 = [0, 0, 0] }\n"
+
+
+def _bar(mode: str, travel: str = LATHE_PROJECT):
+    from conftest import check_program
+
+    return check_program(LATHE_BAR.replace("{mode}", mode), "bar.mpf", travel, dialect="sinumerik", machine="lathe")
+
+
+LINUXCNC_BAR = """
+    (ncverify: stock cylinder D40 Z-80:0)
+    (ncverify: tool 1 radius 0.4 length 0)
+    G18 G90 G54 {mode}
+    T1 M6
+    G0 X60 Z5
+    G0 X15 Z-10
+    G0 X60
+    M30
+"""
+
+
+def test_linuxcnc_reads_x_as_a_radius_until_g7():
+    from conftest import check_program
+
+    def bar(mode):
+        return check_program(LINUXCNC_BAR.replace("{mode}", mode), "bar.ngc", LATHE_PROJECT, dialect="linuxcnc", machine="lathe")
+
+    assert statuses(bar("G7"), "core.rapid-into-stock", 7) == {Status.VIOLATED}  # a diameter of 15 inside the D40 bar
+    for mode in ("", "G8"):  # a radius of 15: inside too, but the bar's radius model is not there: unknown, never a guess
+        assert Status.VIOLATED not in statuses(bar(mode), "core.rapid-into-stock"), mode
+        assert "lathe X as a radius" in {d.reason for d in findings(bar(mode), "core.rapid-into-stock")}, mode
+
+
+def test_the_bar_is_judged_only_where_x_is_known_to_be_a_diameter():
+    assert statuses(_bar("DIAMON"), "core.rapid-into-stock", 7) == {Status.VIOLATED}  # X30 is inside the D40 bar
+    for mode in ("DIAMOF", "DIAM90", ""):  # X30 would be a radius of 30, outside it; or nobody knows
+        result = _bar(mode)
+        assert Status.VIOLATED not in statuses(result, "core.rapid-into-stock"), mode
+        assert any(d.status is Status.UNKNOWN and d.reason in ("lathe X as a radius", "diameter mode not known")
+                   for d in findings(result, "core.rapid-into-stock")), mode
+
+
+def test_the_travel_check_reads_x_by_the_diameter_mode():
+    far = LATHE_PROJECT.replace("x = [0, 100]", "x = [0, 50]").replace('lathe_x = "diameter"', 'lathe_x = "radius"')
+    assert Status.VIOLATED not in statuses(_bar("DIAMON", travel=far), "core.travel-limit", 5)  # X60 is a radius of 30 within the travel's 50
+    assert Status.VIOLATED in statuses(_bar("DIAMOF", travel=far), "core.travel-limit", 5)  # X60 is a radius of 60
+    assert Status.VIOLATED not in statuses(_bar("DIAM90", travel=far), "core.travel-limit")

@@ -26,6 +26,20 @@ def plane_scale(state) -> float | None:
     return None if similar is None else similar[0]
 
 
+_DIAMETER_MODES = {"diameter": True, "radius": False}
+UNKNOWN_DIAMETER_MODE = ("whether the lathe's X is a diameter or a radius is not known (SINUMERIK: no DIAMON or DIAMOF yet, "
+                         "or DIAM90, which reads radii in incremental blocks)")
+
+
+def lathe_x_is_diameter(state) -> bool | None:
+    """Whether a lathe program's X is a diameter: the mode in force (SINUMERIK DIAMON /
+    DIAMOF, LinuxCNC G7 / G8); without one, a diameter, as on the ISO family's lathes. None
+    when it is not known: SINUMERIK before DIAMON or DIAMOF (machine data decides), and
+    DIAM90, which reads diameters in absolute blocks and radii in incremental ones."""
+    mode = state.modal.get("diameter")
+    return True if mode is None else _DIAMETER_MODES.get(mode)
+
+
 def scaled_note(state) -> str:
     """What a finding on a cycle's size adds when a scale factor made it: "" without one."""
     factor = plane_scale(state)

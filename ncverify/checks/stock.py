@@ -18,6 +18,7 @@ from ..context import Stock, active_edge, radius_delta
 from ..diagnostics import Status
 from ..verdict import both
 from ..values import Condition, Sym
+from .common import UNKNOWN_DIAMETER_MODE, lathe_x_is_diameter
 from .material import other_workpiece, tool_axis_problem
 
 _RAPID = 0  # MotionRun kind code
@@ -130,6 +131,12 @@ class _NeedsStock(Rule):
         if elsewhere is not None:
             if self.first_time(state, (self.rule_id, "other workpiece", state.modal.get("work_offset"))):
                 self.report(self.rule_id, span, f"not checked: {elsewhere}", Status.UNKNOWN, "another work offset")
+            return None
+        diameter = lathe_x_is_diameter(state) if stock.kind == "cylinder" else True
+        if diameter is not True:
+            if self.first_time(state, (self.rule_id, "lathe X", diameter)):
+                why = UNKNOWN_DIAMETER_MODE if diameter is None else "X is a radius (DIAMOF, G8): the bar is described by its diameter in X"
+                self.report(self.rule_id, span, f"not checked: {why}", Status.UNKNOWN, "lathe X as a radius" if diameter is False else "diameter mode not known")
             return None
         return stock
 
