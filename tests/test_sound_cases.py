@@ -418,3 +418,29 @@ def test_the_travel_check_reads_x_by_the_diameter_mode():
     assert Status.VIOLATED not in statuses(_bar("DIAMON", travel=far), "core.travel-limit", 5)  # X60 is a radius of 30 within the travel's 50
     assert Status.VIOLATED in statuses(_bar("DIAMOF", travel=far), "core.travel-limit", 5)  # X60 is a radius of 60
     assert Status.VIOLATED not in statuses(_bar("DIAM90", travel=far), "core.travel-limit")
+
+
+# --------------------------------------------------------------------------- the corpus programs of these cases
+
+CORPUS = __import__("pathlib").Path(__file__).resolve().parents[1] / "corpus"
+
+
+@pytest.mark.parametrize("program, rule, line", [
+    ("sinumerik/param-pocket-minval-proved.mpf", "sinumerik.cutter-radius", 9),
+    ("fagor/param-pocket-int-proved.pim", "fagor.pocket-tool-fit", 11),
+])
+def test_the_proved_corpus_programs_prove_the_tool_fit(program, rule, line):
+    from ncverify import check_file
+
+    assert statuses(check_file(CORPUS / program), rule, line) == {Status.PROVED}
+
+
+@pytest.mark.parametrize("program, rule, line, parameter, low, high", [
+    ("sinumerik/param-pocket-rounded-violated.mpf", "sinumerik.cutter-radius", 10, "R1", 8.0, 9.0),
+    ("heidenhain/param-rect-pocket-violated.h", "heidenhain.tool-too-large", 14, "Q1", 8.0, 9.0),
+])
+def test_the_violated_corpus_programs_name_a_witness_where_the_rounding_makes_the_pocket_too_small(program, rule, line, parameter, low, high):
+    from ncverify import check_file
+
+    [finding] = findings(check_file(CORPUS / program), rule, line)
+    assert finding.status is Status.VIOLATED and low <= finding.witness[parameter] < high

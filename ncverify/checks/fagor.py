@@ -7,7 +7,7 @@ holds what needs the tool table, the machine state or the pattern runner's fault
 from __future__ import annotations
 
 from ..ir import cycle_code
-from .. import pocket, values
+from .. import frames, pocket, values
 from ..check import Rule, hazard, rule, show
 from ..diagnostics import Status
 from .common import ReportsMissingContext, scaled_note
@@ -16,6 +16,12 @@ from .common import ReportsMissingContext, scaled_note
 
 def _is_fagor(cycle: str) -> bool:
     return cycle.startswith("fagor.")
+
+
+def _unmodelled_frame(state) -> bool:
+    """Under a transformation that is not modelled (G72) the control knows where the tool
+    is; only this analysis does not, so a position it lacks there is no finding."""
+    return state.frame is frames.UNKNOWN
 
 
 @rule("fagor.cycle-starts-spindle")
@@ -40,7 +46,7 @@ class UnknownStartPlane(Rule):
     """Zi is where the tool is on the tool axis when the cycle is defined (seed L629, L871)."""
 
     def hole(self, hole, state):
-        if not _is_fagor(hole.cycle) or hole.initial is not None or not self.first_time(state, ("fagor.unknown-start-plane", hole.definition)):
+        if not _is_fagor(hole.cycle) or hole.initial is not None or _unmodelled_frame(state) or not self.first_time(state, ("fagor.unknown-start-plane", hole.definition)):
             return
         default = "" if "Z" in hole.params else " and the reference plane defaults to it (no Z written)"
         self.report("fagor.unknown-start-plane", hole.definition or hole.span,
@@ -273,7 +279,7 @@ class HoleAtUnknownPosition(Rule):
         if not _is_fagor(hole.cycle):
             return
         first, second, _ = state.plane_axes
-        if hole.position.get(first) is not None and hole.position.get(second) is not None:
+        if hole.position.get(first) is not None and hole.position.get(second) is not None or _unmodelled_frame(state):
             return
         if self.first_time(state, ("fagor.hole-at-unknown-position", hole.definition)):
             self.report("fagor.hole-at-unknown-position", hole.span,
