@@ -54,7 +54,8 @@ TOOL_RANGES = {"clearance_angle": (0.0, 90.0), "edge_position": (1.0, 9.0), "poi
 @dataclass(frozen=True)
 class Stock:
     """The blank. ``box``: x, y, z ranges; ``polygon``: a shapely polygon in XY between two
-    Z levels; ``cylinder``: a bar of ``diameter`` along Z (lathe, X is a diameter)."""
+    Z levels (with a ``diameter``: a round blank, :meth:`round_blank`); ``cylinder``: a bar of
+    ``diameter`` along Z (lathe, X is a diameter)."""
 
     kind: str
     z_range: tuple[float, float]
@@ -84,6 +85,18 @@ class Stock:
         return cls("polygon", _ordered(z), outline=outline, origin=origin, span=span)
 
     @classmethod
+    def round_blank(cls, radius: float, z, origin="project file", span=None) -> "Stock":
+        """A round blank standing along Z about the workpiece origin (Klartext ``BLK FORM
+        CYLINDER Z``; X and Y are coordinates, not a lathe's diameter): the polygon of
+        ``_ROUND_SIDES`` sides around the circle, which holds it whole (proofs against it
+        hold for the circle) and reaches past it by less than 0.004 % of the radius."""
+        if not radius > 0 or not math.isfinite(radius):
+            raise ValueError("the blank's radius must be a positive finite number")
+        outer = radius / math.cos(math.pi / _ROUND_SIDES)
+        corners = [(outer * math.cos(2 * math.pi * (k + 0.5) / _ROUND_SIDES), outer * math.sin(2 * math.pi * (k + 0.5) / _ROUND_SIDES)) for k in range(_ROUND_SIDES)]
+        return replace(cls.polygon(corners, z, origin, span), diameter=2.0 * radius)
+
+    @classmethod
     def cylinder(cls, diameter, z, origin="project file", span=None) -> "Stock":
         if not diameter > 0 or not math.isfinite(diameter):
             raise ValueError("the stock diameter must be a positive finite number")
@@ -94,7 +107,12 @@ class Stock:
             return f"box X{self.x_range[0]:g}..{self.x_range[1]:g} Y{self.y_range[0]:g}..{self.y_range[1]:g} Z{self.z_range[0]:g}..{self.z_range[1]:g}"
         if self.kind == "cylinder":
             return f"bar D{self.diameter:g} Z{self.z_range[0]:g}..{self.z_range[1]:g}"
+        if self.diameter is not None:
+            return f"round blank D{self.diameter:g} about Z Z{self.z_range[0]:g}..{self.z_range[1]:g}"
         return f"polygon stock Z{self.z_range[0]:g}..{self.z_range[1]:g}"
+
+
+_ROUND_SIDES = 360
 
 
 def _ordered(pair) -> tuple[float, float]:
@@ -200,6 +218,7 @@ class Machine:
     max_feed: float | None = None
     lathe_x: str | None = None  # lathe: are X travel and work offsets a "diameter" or a "radius"?
     spindle_encoder: bool | None = None  # a motor-driven spindle with an encoder, which rigid tapping needs
+    one_workpiece: frozenset[str] = frozenset()  # work offsets that all hold the one blank the stock describes
 
 
 @dataclass
@@ -236,6 +255,7 @@ class Context:
             self.machine.max_feed if self.machine.max_feed is not None else base.machine.max_feed,
             self.machine.lathe_x or base.machine.lathe_x,
             self.machine.spindle_encoder if self.machine.spindle_encoder is not None else base.machine.spindle_encoder,
+            self.machine.one_workpiece or base.machine.one_workpiece,
         )
         return Context(
             self.stock or base.stock, tools, machine, base.assumptions + self.assumptions,

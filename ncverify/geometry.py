@@ -160,9 +160,20 @@ def may_enter_symbolic(stock: Stock, start, end, dogleg: bool = False) -> z3.Boo
             constraints.append(coordinate > low + EPSILON)
         if math.isfinite(high):
             constraints.append(coordinate < high - EPSILON)
-    if stock.kind == "polygon":
+    if _is_round(stock):
+        constraints.append(_within_circle(point[0], point[1], stock.diameter / 2.0))
+    elif stock.kind == "polygon":
         constraints.append(z3.Or(*(_inside_triangle(point[0], point[1], triangle) for triangle in _triangles(stock.outline.wkb))))
     return z3.And(*constraints)
+
+
+def _is_round(stock: Stock) -> bool:
+    """A round blank about Z (:meth:`Stock.round_blank`): its symbolic test is the circle itself."""
+    return stock.kind == "polygon" and stock.diameter is not None
+
+
+def _within_circle(x, y, radius: float) -> z3.BoolRef:
+    return x * x + y * y < (radius - EPSILON) ** 2
 
 
 @functools.lru_cache(maxsize=8)
@@ -281,6 +292,9 @@ def tool_may_enter_symbolic(stock: Stock, start, end, radius: float, length: flo
             constraints.append(dx * dx + dy * dy < (radius - EPSILON) ** 2)
         else:
             constraints += [x > x_low + EPSILON, x < x_high - EPSILON, y > y_low + EPSILON, y < y_high - EPSILON]
+        return z3.And(*constraints)
+    if _is_round(stock):
+        constraints.append(_within_circle(x, y, stock.diameter / 2.0 + radius))
         return z3.And(*constraints)
     widened = stock.outline.buffer(radius, join_style="mitre", mitre_limit=1000.0) if radius > EPSILON else stock.outline
     constraints.append(z3.Or(*(_inside_triangle(x, y, triangle) for triangle in _triangles(widened.wkb))))

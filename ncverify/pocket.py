@@ -11,9 +11,10 @@ sampled at a quarter of the radius; a stretch of it farther than that from the r
 region is reported as unreached: a neck narrower than the tool, a fillet smaller than its
 radius, a lobe it cannot enter.
 
-Every function returns a :class:`Fit` with the largest tool radius that fits, so that a
-finding can say which tool would do. Values are concrete floats; callers with symbolic
-dimensions answer ``unknown`` or build their own solver condition.
+The ``*_fit`` functions return a :class:`Fit` with the largest tool radius that fits, so
+that a finding can say which tool would do; their values are concrete floats. The
+``*_misfit`` functions state the same conditions as a hazard for sizes that depend on free
+parameters (a condition the solver proves impossible or shows with a witness).
 """
 from __future__ import annotations
 
@@ -23,6 +24,9 @@ from dataclasses import dataclass, field
 import numpy
 import shapely
 from shapely.geometry import Polygon
+
+from . import values
+from .verdict import both, hazard
 
 _TOLERANCE = 1e-6  # mm: distances closer than this count as touching
 # Arcs beside a sharp corner move the tool that fills it up to about 15 % farther from the
@@ -73,6 +77,41 @@ def slot_fit(width: float, tool_radius: float, strict: bool = False) -> Fit:
     if not _within(tool_radius, largest, strict):
         return Fit(False, largest, [], f"the tool (diameter {2 * tool_radius:g}) is wider than the {width:g} slot")
     return Fit(True, largest)
+
+
+def circle_misfit(diameter, tool_radius: float, strict: bool = False):
+    """The hazard that the tool does not fit a circle or bore of ``diameter`` (a number or a
+    symbolic value; none when it is zero or less): the condition of :func:`circle_fit`."""
+    return _misfit(values.mul(diameter, 0.5), tool_radius, strict)
+
+
+def slot_misfit(width, tool_radius: float, strict: bool = False):
+    """The hazard that the tool does not fit a slot of ``width``: the condition of :func:`slot_fit`."""
+    return _misfit(values.mul(width, 0.5), tool_radius, strict)
+
+
+def rectangle_misfit(length, width, corner_radius, tool_radius: float, strict: bool = False):
+    """The hazard that the tool does not fit a rectangular pocket: the conditions of
+    :func:`rectangle_fit` (narrower than the tool, or rounded corners tighter than it)."""
+    narrow = either(slot_misfit(length, tool_radius, strict), slot_misfit(width, tool_radius, strict))
+    return either(narrow, both(hazard(">", corner_radius, 0.0), _misfit(corner_radius, tool_radius, False)))
+
+
+def _misfit(limit, tool_radius: float, strict: bool):
+    if strict:
+        return hazard(">=", tool_radius, values.sub(limit, _TOLERANCE))
+    return hazard(">", tool_radius, values.add(limit, _TOLERANCE))
+
+
+def either(first, second):
+    """One hazard or the other (True, False or conditions)."""
+    if first is True or second is True:
+        return True
+    if first is False:
+        return second
+    if second is False:
+        return first
+    return values.logical("OR", first, second)
 
 
 def polygon_fit(pocket: Polygon, tool_radius: float) -> Fit:

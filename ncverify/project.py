@@ -168,7 +168,7 @@ class _Reader:
 
     def machine(self, table) -> Machine:
         table = self.table(table, "[machine]")
-        self.keys(table, {"travel", "work_offsets", "max_spindle", "max_feed", "type", "lathe_x", "spindle_encoder"}, "[machine]")
+        self.keys(table, {"travel", "work_offsets", "max_spindle", "max_feed", "type", "lathe_x", "spindle_encoder", "one_workpiece"}, "[machine]")
         machine = Machine()
         if "type" in table:
             if table["type"] not in ("mill", "lathe"):
@@ -182,6 +182,11 @@ class _Reader:
             if not isinstance(table["spindle_encoder"], bool):
                 self.fail("[machine] spindle_encoder", "expected true or false")
             machine.spindle_encoder = table["spindle_encoder"]
+        if "one_workpiece" in table:
+            names = table["one_workpiece"]
+            if not isinstance(names, list) or not all(isinstance(name, str) for name in names):
+                self.fail("[machine] one_workpiece", 'expected a list of work offsets, such as ["G54", "G55"]')
+            machine.one_workpiece = frozenset(name.upper() for name in names)
         travel = self.table(table.get("travel", {}), "[machine] travel")
         for axis, limits in travel.items():
             if axis.lower() not in _AXES:

@@ -5,7 +5,8 @@ A Sym carries a Z3 term (for the proofs) and an interval (for cheap decisions): 
 questions - is this depth negative? is this feed zero? - are settled by the interval
 without calling the solver. Concrete arithmetic never touches Z3. Transcendental functions
 of symbolic values become fresh Z3 variables bounded by the function's range, which
-over-approximates soundly: everything the program can do is still included.
+over-approximates soundly: everything the program can do is still included. Rounding
+(``FIX``, ``FUP``, ``ROUND``) and ``MIN``/``MAX`` are exact (see :func:`defined`).
 """
 from __future__ import annotations
 
@@ -268,9 +269,54 @@ _FUNCTIONS = {
 }
 
 
+# Rounding and MIN/MAX of symbolic values stay named in their term, so that a finding shows
+# FIX(Q1 / 2), not a formula; :func:`defined` puts their exact definition in their place
+# for the solver (Z3's ToInt is the floor). Each maps a bound the way it maps a value
+# (they are monotone), which gives the interval.
+_NAMED = {name: z3.Function(name, *(z3.RealSort(),) * (arity + 1)) for name, arity in (("FIX", 1), ("FUP", 1), ("ROUND", 1), ("MIN", 2), ("MAX", 2))}
+
+
+def _floor(term):
+    return z3.ToReal(z3.ToInt(term))
+
+
+def _definitions() -> tuple:
+    x, y = z3.Var(0, z3.RealSort()), z3.Var(1, z3.RealSort())
+    bodies = {"FIX": z3.If(x >= 0, _floor(x), -_floor(-x)), "FUP": z3.If(x >= 0, -_floor(-x), _floor(x)),
+              "ROUND": z3.If(x >= 0, _floor(x + 0.5), -_floor(0.5 - x)), "MIN": z3.If(x <= y, x, y), "MAX": z3.If(x >= y, x, y)}
+    return tuple((_NAMED[name], body) for name, body in bodies.items())
+
+
+_DEFINITIONS = _definitions()
+
+
+def defined(term):
+    """``term`` with every named rounding and MIN/MAX replaced by its definition."""
+    return z3.substitute_funs(term, *_DEFINITIONS)
+
+
+_ON_BOUNDS = {"FIX": lambda x: float(math.trunc(x)), "FUP": lambda x: float(math.ceil(x) if x >= 0 else math.floor(x)), "ROUND": _round_half_away}
+
+
+def _rounded(name: str, argument: Sym) -> Sym:
+    low, high = ((_ON_BOUNDS[name](bound) if math.isfinite(bound) else bound) for bound in (argument.low, argument.high))
+    return _sym(_NAMED[name](argument.term), low, high, argument)
+
+
+def extreme(name: str, a: Value, b: Value) -> Value:
+    """``MIN``/``MAX`` of two values, exact for symbolic ones."""
+    if type(a) is float and type(b) is float:
+        return min(a, b) if name == "MIN" else max(a, b)
+    (al, ah), (bl, bh) = interval(a), interval(b)
+    pick = min if name == "MIN" else max
+    return _sym(_NAMED[name](term_of(a), term_of(b)), pick(al, bl), pick(ah, bh), a, b)
+
+
 def call(name: str, args: list[Value]) -> Value:
     if name == "ABS":
         return absolute(args[0])
+    if name in ("MIN", "MAX"):
+        return extreme(name, *args)
     if name == "ATAN2":
         y, x = args
         if type(y) is float and type(x) is float:
@@ -288,11 +334,13 @@ def call(name: str, args: list[Value]) -> Value:
         _check(argument.high >= 0, f"SQRT of a negative number (at most {argument.high:g})")
     if name == "LN":
         _check(argument.high > 0, f"LN of a number that is at most {argument.high:g}")
+    if name in _ON_BOUNDS:
+        return _rounded(name, argument)
     return fresh(name, low, high)
 
 
 def known_functions() -> set[str]:
-    return set(_FUNCTIONS) | {"ABS", "ATAN2"}
+    return set(_FUNCTIONS) | {"ABS", "ATAN2", "MIN", "MAX"}
 
 
 # --------------------------------------------------------------------------- logic

@@ -37,6 +37,7 @@ def judge(hazard: "bool | Condition", path_condition: list, timeout_s: float = 5
     context = values.check_context()  # the check's own: a model that depends on the program alone
 
     def local(term):
+        term = values.defined(term)
         return term if context is None else term.translate(context)
 
     solver = z3.Solver(ctx=context)

@@ -8,8 +8,10 @@ languages differ there: G52 and G92 together (LinuxCNC keeps one offset for both
 a cycle started below its R point (LinuxCNC first rises to R), the G98 level when R lies
 above the initial level (LinuxCNC returns to the higher of the two), the pecking cycles
 (rs274 reports every peck, ncverify one infeed), G85/G89 under G98 (LinuxCNC feeds out
-all the way to the initial level, Fanuc to R and then rapids), and the power-on return level (written
-explicitly: Fanuc starts in G98, LinuxCNC in G99).
+all the way to the initial level, Fanuc to R and then rapids), the power-on return level (written
+explicitly: Fanuc starts in G98, LinuxCNC in G99), and the position just after a change of
+work offset (ncverify does not know it: it depends on the offsets' values, which rs274 has
+as zeros; every axis is written with the change).
 """
 from __future__ import annotations
 
@@ -58,7 +60,9 @@ _statement = st.one_of(
     _axes.map(lambda words: "G01 " + _words(words) + " F200."),
     _axes.map(lambda words: "G91 G01 " + _words(words) + " F200.\nG90"),
     _arc(),
-    st.sampled_from(["G54", "G55", "G56", "G59"]),
+    # a change of work offset leaves ncverify's position unknown until every axis is written
+    # again (where the tool stands in the new offset depends on the offsets' values)
+    st.sampled_from(["G54", "G55", "G56", "G59"]).map(lambda code: f"{code} G00 X0. Y0. Z10."),
     _hole(),
 )
 _shift = st.one_of(st.just(""), _axes.map(lambda words: "G52 " + _words(words)), _axes.map(lambda words: "G92 " + _words(words)))

@@ -79,8 +79,13 @@ ROUNDED_DIVISOR = """
 
 
 def test_an_unknown_value_is_shown_by_what_it_came_from_not_by_its_internal_name():
+    [message] = messages(ROUNDED_DIVISOR.replace("INT (", "SIN ("), "core.arithmetic-domain", "heidenhain")
+    assert message.startswith("division by Q1951 = SIN(…), which can be zero")
+
+
+def test_a_rounded_value_is_shown_with_its_argument():
     [message] = messages(ROUNDED_DIVISOR, "core.arithmetic-domain", "heidenhain")
-    assert message.startswith("division by Q1951 = FIX(…), which can be zero")
+    assert message.startswith("division by Q1951 = FIX(99999999/100000000 + 1/2*Q1804 + -1/2*Q1805), which can be zero")
 
 
 def test_checking_a_program_twice_in_one_process_gives_the_same_findings_word_for_word():

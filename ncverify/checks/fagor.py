@@ -7,15 +7,21 @@ holds what needs the tool table, the machine state or the pattern runner's fault
 from __future__ import annotations
 
 from ..ir import cycle_code
-from .. import pocket, values
+from .. import frames, pocket, values
 from ..check import Rule, hazard, rule, show
 from ..diagnostics import Status
-from .common import ReportsMissingContext
+from .common import ReportsMissingContext, scaled_note
 
 
 
 def _is_fagor(cycle: str) -> bool:
     return cycle.startswith("fagor.")
+
+
+def _unmodelled_frame(state) -> bool:
+    """Under a transformation that is not modelled (G72) the control knows where the tool
+    is; only this analysis does not, so a position it lacks there is no finding."""
+    return state.frame is frames.UNKNOWN
 
 
 @rule("fagor.cycle-starts-spindle")
@@ -40,7 +46,7 @@ class UnknownStartPlane(Rule):
     """Zi is where the tool is on the tool axis when the cycle is defined (seed L629, L871)."""
 
     def hole(self, hole, state):
-        if not _is_fagor(hole.cycle) or hole.initial is not None or not self.first_time(state, ("fagor.unknown-start-plane", hole.definition)):
+        if not _is_fagor(hole.cycle) or hole.initial is not None or _unmodelled_frame(state) or not self.first_time(state, ("fagor.unknown-start-plane", hole.definition)):
             return
         default = "" if "Z" in hole.params else " and the reference plane defaults to it (no Z written)"
         self.report("fagor.unknown-start-plane", hole.definition or hole.span,
@@ -123,16 +129,30 @@ class PocketToolFit(ReportsMissingContext):
         radius = self.spindle_tool_radius(state, hole.span, "fagor.pocket-tool-fit")
         if radius is None:
             return
-        params = hole.params
-        if not all(type(params.get(letter, 0.0)) is float for letter in "JKCLQ"):
-            self.report("fagor.pocket-tool-fit", hole.span, f"{cycle_code(hole.cycle)}: the sizes are computed values; the tool fit was not checked",
-                        Status.UNKNOWN, "symbolic pocket size")
+        params = self.workpiece_sizes(hole.params, "JKCLQ", state, hole.span, "fagor.pocket-tool-fit")
+        if params is None:
+            return
+        if not all(type(params.get(letter, 0.0)) is float for letter in "JKCLQM"):
+            self._symbolic(hole, kind, params, radius, state)
             return
         problems = getattr(self, f"_{kind}")(params, radius)
         for letter, reason, largest in problems:
             fits = f"; the largest tool that fits has a radius of {largest:g}" if largest is not None else ""
             self.report("fagor.pocket-tool-fit", hole.param_spans.get(letter, hole.span),
-                        f"{cycle_code(hole.cycle)} with tool T{show(state.tool_in_spindle)} (radius {radius:g}): {reason}{fits}")
+                        f"{cycle_code(hole.cycle)} with tool T{show(state.tool_in_spindle)} (radius {radius:g}): {reason}{fits}{scaled_note(state)}")
+
+    def _symbolic(self, hole, kind, params, radius, state) -> None:
+        """Sizes that depend on free parameters: every condition of the concrete check as
+        one hazard for the solver (``proved``, or ``violated`` with a witness)."""
+        if type(params.get("M", 0.0)) is not float:
+            self.report("fagor.pocket-tool-fit", hole.span, f"{cycle_code(hole.cycle)}: the corner type M is a computed value; the tool fit was not checked",
+                        Status.UNKNOWN, "symbolic corner type")
+            return
+        misfit = _MISFITS[kind](params, radius)
+        sizes = ", ".join(f"{letter}={show(params[letter])}" for letter in "JKLQC" if letter in params)
+        self.checker.report_verdict("fagor.pocket-tool-fit", hole.param_spans.get("J", hole.span),
+                                    f"{cycle_code(hole.cycle)}: tool T{show(state.tool_in_spindle)} (radius {radius:g}) does not fit the {_FEATURE_WORDS[kind]} "
+                                    f"({sizes}){scaled_note(state)}: the control alarms", self.checker.judge(misfit, state), state)
 
     @staticmethod
     def _stepover(params, radius) -> list:
@@ -191,6 +211,42 @@ class PocketToolFit(ReportsMissingContext):
                  "the tool cannot enter the pre-drilled hole", fit.largest_radius)]
 
 
+def _stepover_misfit(params, radius):
+    """The stepover C wider than the tool's diameter (no C: the control's own 3/4 of it)."""
+    stepover = params.get("C")
+    return False if stepover is None else hazard(">", stepover, 2 * radius)
+
+
+def _rectangle_misfit(params, radius):
+    length, width = values.mul(values.absolute(params["J"]), 2.0), values.mul(values.absolute(params["K"]), 2.0)
+    allowance = values.mul(params.get("L", 0.0), 2.0)
+    corner = params.get("Q", 0.0) if params.get("M") == 1.0 else 0.0
+    whole = pocket.rectangle_misfit(length, width, corner, radius, strict=True)
+    roughed = pocket.rectangle_misfit(values.sub(length, allowance), values.sub(width, allowance), 0.0, radius, strict=True)
+    return pocket.either(_stepover_misfit(params, radius), pocket.either(whole, roughed))
+
+
+def _circle_misfit(params, radius):
+    room = values.mul(values.sub(values.absolute(params["J"]), params.get("L", 0.0)), 2.0)
+    return pocket.either(_stepover_misfit(params, radius), pocket.circle_misfit(room, radius, strict=True))
+
+
+def _bore_misfit(params, radius):
+    diameter = values.absolute(params["J"])
+    core = hazard("<", radius, values.mul(values.sub(diameter, params.get("K", 0.0)), 0.25))
+    return pocket.either(pocket.circle_misfit(diameter, radius, strict=True), core)
+
+
+def _internal_misfit(params, radius):
+    room = values.sub(values.absolute(params["J"]), values.mul(values.absolute(params["K"]), 2.0))
+    return pocket.circle_misfit(room, radius, strict=True)
+
+
+# The conditions of PocketToolFit's concrete checks, for sizes that depend on free parameters
+_MISFITS = {"rectangle": _rectangle_misfit, "circle": _circle_misfit, "bore": _bore_misfit, "internal": _internal_misfit}
+_FEATURE_WORDS = {"rectangle": "rectangular pocket", "circle": "circular pocket", "bore": "bore", "internal": "thread's pre-drilled hole"}
+
+
 @rule("fagor.g86-back-off")
 class G86BackOffDirection(Rule):
     """The page's constraints catch a missing Q and a back-off that is ignored or zero. With
@@ -223,7 +279,7 @@ class HoleAtUnknownPosition(Rule):
         if not _is_fagor(hole.cycle):
             return
         first, second, _ = state.plane_axes
-        if hole.position.get(first) is not None and hole.position.get(second) is not None:
+        if hole.position.get(first) is not None and hole.position.get(second) is not None or _unmodelled_frame(state):
             return
         if self.first_time(state, ("fagor.hole-at-unknown-position", hole.definition)):
             self.report("fagor.hole-at-unknown-position", hole.span,

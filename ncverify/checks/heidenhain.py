@@ -9,12 +9,12 @@ import math
 from dataclasses import replace
 
 from ..ir import cycle_code
-from .. import frames, geometry, pocket, values
+from .. import frames, pocket, values
 from ..check import Rule, hazard, rule, show
 from ..diagnostics import Status
 from ..verdict import Verdict
 from ..context import radius_delta
-from .common import ReportsMissingContext
+from .common import ReportsMissingContext, plane_scale, scaled_note
 
 _DEPTH_CHECKED = {200, 201, 202, 203, 205, 208, 241, 206, 207, 209, 251, 252, 253, 254, 256, 257, 258, 272, 273, 274}
 _PLUNGE_CHECKED = {251, 252, 253, 254}
@@ -187,6 +187,9 @@ class _PocketFit(CycleRule):
         tool = spindle_tool(self, state, span, "heidenhain.tool-too-large", "radius")
         if tool is None:
             return
+        params = self.workpiece_sizes(params, _SIZE_PARAMETERS, state, span, "heidenhain.tool-too-large")
+        if params is None:
+            return
         if number == 22:
             self._contour_pocket(params, span, tool, state)
             return
@@ -204,27 +207,32 @@ class _PocketFit(CycleRule):
             self.missing("heidenhain.tool-too-large", span, "a pocket size that depends on a free parameter")
             return
         if not fit.fits:
-            self.report("heidenhain.tool-too-large", where, f"cycle {number}: {fit.reason} (tool T{show(state.tool_in_spindle)}, R={tool.radius:g}); "
+            self.report("heidenhain.tool-too-large", where, f"cycle {number}: {fit.reason} (tool T{show(state.tool_in_spindle)}, R={tool.radius:g}){scaled_note(state)}; "
                         f"the largest tool radius that fits is {fit.largest_radius:g}")
 
-    # cycle -> (the size parameter, what it is, whether the tool must be strictly smaller):
-    # sizes the solver can judge when they depend on free parameters
-    _SYMBOLIC_SIZES = {252: ("Q223", "circular pocket of diameter", True), 208: ("Q335", "bore of diameter", False),
-                       253: ("Q219", "slot of width", False), 254: ("Q219", "circular slot of width", False)}
+    # cycle -> (the size parameters, what they are, the hazard that the tool does not fit them):
+    # sizes the solver judges when they depend on free parameters
+    _SYMBOLIC_SIZES = {
+        252: (("Q223",), "circular pocket of diameter", lambda sizes, radius: pocket.circle_misfit(*sizes, radius, strict=True)),
+        208: (("Q335",), "bore of diameter", lambda sizes, radius: pocket.circle_misfit(*sizes, radius)),
+        253: (("Q219",), "slot of width", lambda sizes, radius: pocket.slot_misfit(*sizes, radius)),
+        254: (("Q219",), "circular slot of width", lambda sizes, radius: pocket.slot_misfit(*sizes, radius)),
+        251: (("Q219", "Q218", "Q220"), "rectangular pocket of width, length and corner radius",
+              lambda sizes, radius: pocket.rectangle_misfit(*sizes, radius, strict=True)),
+    }
 
     def _judge_symbolic_size(self, number, params, spans, span, tool, state) -> bool:
-        """A circle or slot whose size depends on free parameters goes to the solver (the
-        conditions of :func:`pocket.circle_fit` and :func:`pocket.slot_fit`): ``proved``, or
-        ``violated`` with a witness. True when it was judged here."""
-        name, what, strict = self._SYMBOLIC_SIZES.get(number, (None, None, None))
-        size = params.get(name)
-        if not isinstance(size, values.Sym):
+        """A pocket, slot or bore whose size depends on free parameters goes to the solver
+        (the conditions of :mod:`ncverify.pocket`): ``proved``, or ``violated`` with a
+        witness. True when it was judged here."""
+        names, what, misfit = self._SYMBOLIC_SIZES.get(number, ((), None, None))
+        sizes = [params.get(name, 0.0) for name in names]
+        if not any(isinstance(size, values.Sym) for size in sizes):
             return False
-        half = values.mul(size, 0.5)
-        too_large = hazard(">=", tool.radius, values.sub(half, geometry.EPSILON)) if strict else hazard(">", tool.radius, values.add(half, geometry.EPSILON))
-        self.checker.report_verdict("heidenhain.tool-too-large", spans.get(name, span),
-                                    f"cycle {number}: the tool (diameter {2 * tool.radius:g}, T{show(state.tool_in_spindle)}) does not fit the {what} {show(size)}",
-                                    self.checker.judge(too_large, state), state)
+        self.checker.report_verdict("heidenhain.tool-too-large", spans.get(names[0], span),
+                                    f"cycle {number}: the tool (diameter {2 * tool.radius:g}, T{show(state.tool_in_spindle)}) does not fit the {what} "
+                                    f"{' x '.join(show(size) for size in sizes)}{scaled_note(state)}",
+                                    self.checker.judge(misfit(sizes, tool.radius), state), state)
         return True
 
     def _contour_pocket(self, params, span, tool, state):
@@ -235,6 +243,9 @@ class _PocketFit(CycleRule):
         machines around it without an alarm (reference B §9 item 21, seed L9575-9593)."""
         area = params.get("@region")
         allowance = params.get("Q3", 0.0)
+        if plane_scale(state) != 1.0:
+            self.missing("heidenhain.tool-too-large", span, "a contour pocket under a scaling cycle (11 or 26): its outline is compared as written only")
+            return
         if area is None or type(allowance) is not float:
             self.missing("heidenhain.tool-too-large", span, "the contour of cycle 14 could not be resolved (free Q parameters, CT or FK elements, or an R0 subcontour)")
             return
@@ -299,6 +310,11 @@ _CLEARANCE_HEIGHT = {
 }
 
 
+# The lengths of the pocket, slot, bore and polygon cycles the tool must fit, which the
+# control scales with the positions (cycles 11 and 26)
+_SIZE_PARAMETERS = ("Q218", "Q219", "Q220", "Q223", "Q335", "Q368", "Q571")
+
+
 class _ContourPlungeAngle(CycleRule):
     """C21, C27: 22 ROUGH-OUT with a reciprocating feed Q19 and 275 with a reciprocating
     plunge Q366 = 2 need the tool's plunge ANGLE (seed L9582-9593, L10305-10311); the
@@ -323,6 +339,9 @@ class _PolygonPocketFit(CycleRule):
 
     def judge_cycle(self, number, params, spans, span, state):
         if number != 272 or params.get("@shape") != 1278.0 or params.get("Q650", 0.0) != 0.0 or not self.first_time(state, ("polygon-fit", span)):
+            return
+        params = self.workpiece_sizes(params, _SIZE_PARAMETERS, state, span, "heidenhain.tool-too-large")
+        if params is None:
             return
         diameter, corners, circumscribed = params.get("Q571"), params.get("Q572"), params.get("Q573", 0.0)
         factor, allowance = params.get("Q578", 0.0), params.get("Q368", 0.0)

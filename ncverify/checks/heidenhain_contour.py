@@ -281,7 +281,7 @@ class CylinderRadius(CycleRule):
         stock = self.checker.context.stock
         if number not in _CYLINDER or radius is None or not self.first_time(state, ("cylinder-radius", span)):
             return
-        if stock is None or stock.kind != "cylinder" or stock.diameter is None:
+        if stock is None or stock.diameter is None:
             self.missing("heidenhain.cylinder-radius", span, "no BLK FORM CYLINDER to compare the cylinder radius Q16 with")
             return
         blank = stock.diameter / 2.0

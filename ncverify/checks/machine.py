@@ -13,7 +13,7 @@ from ..check import hazard, rule, show
 from ..context import NO_TOOL_TABLE
 from ..diagnostics import Status
 from ..values import Condition, Sym
-from .common import ReportsMissingContext
+from .common import UNKNOWN_DIAMETER_MODE, ReportsMissingContext, lathe_x_is_diameter
 
 _AXIS_INDEX = {"X": 0, "Y": 1, "Z": 2, "A": 3, "B": 4, "C": 5}
 
@@ -61,7 +61,7 @@ class TravelLimit(ReportsMissingContext):
         if not travel:
             self.missing("core.travel-limit", span, "no machine travel limits ([machine] travel in ncverify.toml)")
             return None
-        lathe_x_scale = self._lathe_x_scale(span)
+        lathe_x_scale = self._lathe_x_scale(span, state)
         name = state.modal.get("work_offset", "G54")
         offsets = context.machine.work_offsets.get(name.split()[0] if name.startswith("G54.1") else name)
         if offsets is None:
@@ -78,9 +78,10 @@ class TravelLimit(ReportsMissingContext):
             frame[axis] = (offset, low, high, lathe_x_scale if axis == "X" else 1.0)
         return frame
 
-    def _lathe_x_scale(self, span) -> float | None:
-        """How program X becomes machine X: 1 on a mill; on a lathe 1 or 0.5 per
-        ``[machine] lathe_x``, None (X not checked, said once) when it is not given."""
+    def _lathe_x_scale(self, span, state) -> float | None:
+        """How program X becomes machine X: 1 on a mill; on a lathe from the program's
+        diameter or radius mode to ``[machine] lathe_x``; None (X not checked, said once)
+        when either is not known."""
         context = self.checker.context
         if not context.lathe:
             return 1.0
@@ -88,7 +89,11 @@ class TravelLimit(ReportsMissingContext):
         if lathe_x is None:
             self.missing("core.travel-limit", span, "X of a lathe: say whether travel and work offsets are diameters or radii ([machine] lathe_x)")
             return None
-        return 0.5 if lathe_x == "radius" else 1.0
+        diameter = lathe_x_is_diameter(state)
+        if diameter is None:
+            self.missing("core.travel-limit", span, UNKNOWN_DIAMETER_MODE)
+            return None
+        return {(True, "diameter"): 1.0, (True, "radius"): 0.5, (False, "diameter"): 2.0, (False, "radius"): 1.0}[(diameter, lathe_x)]
 
     def _with_tool_length(self, offset, state, span):
         register = state.length_register

@@ -92,7 +92,7 @@ class Material:
 
     # -- events, after the rules have seen them
     def segment(self, segment, state) -> None:
-        if not self.modelled or segment.kind == "rapid":
+        if not self.modelled or segment.kind == "rapid" or other_workpiece(self.checker.context, state) is not None:
             return
         cutter = self._cutter(state)
         if cutter is None:
@@ -126,7 +126,7 @@ class Material:
     def motion_run(self, run, state, upto: int | None = None) -> None:
         """Cut the run's feed moves before ``upto`` (all of them when None) not cut yet:
         a rapid inside the run is judged against what the run cut before it."""
-        if not self.modelled or run is not self._run:
+        if not self.modelled or run is not self._run or other_workpiece(self.checker.context, state) is not None:
             return
         stop = len(run) if upto is None else upto
         if stop <= self._run_done:
@@ -259,6 +259,22 @@ class Material:
         """For a rapid, a tool of unknown size is at least its axis: a thin flat rod."""
         cutter = self._cutter(state)
         return cutter if isinstance(cutter, Cutter) else Cutter(0.0)
+
+
+_STOCK_OFFSET = "stock work offset"  # rule_state: the work offset the path first met the stock under
+
+
+def other_workpiece(context, state) -> str | None:
+    """Why the stock may not be the workpiece here: the stock is the blank under the work
+    offset in force where a path first meets it, and a program that changes the offset
+    usually machines another part or fixture there. None when the offset is that one, or
+    both are named in ``[machine] one_workpiece``."""
+    name = state.modal.get("work_offset", "G54")
+    first = state.rule_state.setdefault(_STOCK_OFFSET, name)
+    if name == first or {name, first} <= context.machine.one_workpiece:
+        return None
+    return (f"the work offset changed from {first} to {name}: a second offset usually holds another part or fixture, so the stock "
+            f"(described for {first}) was not compared (if both hold the one blank, list them in [machine] one_workpiece)")
 
 
 def tool_axis_problem(state) -> str | None:

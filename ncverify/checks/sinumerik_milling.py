@@ -11,8 +11,8 @@ from .. import values
 from ..check import Rule, hazard, rule, show
 from ..frames import AXES
 from ..interpret.sinumerik_cycles import levels
-from ..pocket import circle_fit, rectangle_fit, slot_fit
-from .common import ReportsMissingContext
+from ..pocket import circle_fit, circle_misfit, rectangle_fit, rectangle_misfit, slot_fit, slot_misfit
+from .common import ReportsMissingContext, scaled_note
 from .sinumerik import PLANE_CYCLES, contour_not_found, contour_points_unknown, cycle_name, digit_problem, is_sinumerik, numeric_parameter, plane_point
 from .sinumerik_tools import active_edge
 
@@ -39,30 +39,36 @@ class CutterRadius(ReportsMissingContext):
             self.report("sinumerik.cutter-radius", run.span, f"{cycle} with {tool}: would raise alarm {alarm[0]} \"{alarm[1]}\"")
             return
         if cycle in _FEATURES:
-            self._fit(run, cycle, radius, tool)
+            self._fit(run, cycle, radius, tool, state)
         stepover = run.params.get("_MIDA")
         if cycle in ("POCKET3", "POCKET4", "CYCLE71") and type(stepover) is float and stepover > 2 * radius:
             self.report("sinumerik.cutter-radius", run.param_spans.get("_MIDA", run.span),
                         f"{cycle}: stepover _MIDA={show(stepover)} is larger than the tool diameter {2 * radius:g} of {tool}: "
                         "would raise alarm 61111 \"infeed width > tool diameter\"")
 
-    def _fit(self, run, cycle, radius, tool):
+    def _fit(self, run, cycle, radius, tool, state):
         """61105 for a tool too large for the feature; a slot tool below half the width (not checked by the control)."""
-        names, fit_of, what = _FEATURES[cycle]
-        dimensions = {name: run.params.get(name) for name in names}
-        if any(type(value) is not float for value in dimensions.values()):
-            return
-        fit = fit_of(dimensions, radius)
+        shape, names, strict, what = _FEATURES[cycle]
         span = run.param_spans.get(names[0], run.span)
-        if fit is not None and not fit.fits:
+        sizes = self.workpiece_sizes({name: run.params.get(name) for name in names}, names, state, span, "sinumerik.cutter-radius")
+        if sizes is None or any(value is None or isinstance(value, str) for value in sizes.values()):
+            return
+        dimensions = [sizes[name] for name in names]
+        scaled = scaled_note(state)
+        if any(isinstance(value, values.Sym) for value in dimensions):
+            self.checker.report_verdict("sinumerik.cutter-radius", span, f"{cycle}: {tool} does not fit the {what} ({', '.join(f'{name}={show(value)}' for name, value in zip(names, dimensions))}){scaled}: "
+                                        "would raise alarm 61105 \"cutter radius too large\"", self.checker.judge(_MISFITS[shape](dimensions, radius, strict), state), state)
+            return
+        fit = _FITS[shape](dimensions, radius, strict)
+        if not fit.fits:
             self.report("sinumerik.cutter-radius", span,
-                        f"{cycle}: {tool} does not fit the {what}: {fit.reason}; the largest radius that fits is {fit.largest_radius:g}: "
+                        f"{cycle}: {tool} does not fit the {what}{scaled}: {fit.reason}; the largest radius that fits is {fit.largest_radius:g}: "
                         "would raise alarm 61105 \"cutter radius too large\"")
-        width, kind = dimensions.get("WID"), run.params.get("VARI", 0.0)
+        width, kind = sizes.get("WID"), run.params.get("VARI", 0.0)
         edge_finishing_only = cycle == "SLOT2" and (type(kind) is not float or kind % 10 == 3)
         if cycle in ("SLOT1", "SLOT2") and 0 < 4 * radius < abs(width) and not edge_finishing_only:
             self.report("sinumerik.cutter-radius", span,
-                        f"{cycle}: {tool} is less than half the slot width WID={show(width)}: the cycle does not check this and leaves material "
+                        f"{cycle}: {tool} is less than half the slot width WID={show(width)}{scaled}: the cycle does not check this and leaves material "
                         f"in the slot (seed A L5930; SLOT2 alarm 61905 \"cutter radius too small\"); use a tool of diameter {abs(width) / 2:g} to {abs(width):g}")
         if cycle in _POCKET_CORNERS_AND_ALLOWANCE:
             self._pocket_corners_and_allowance(run, cycle, radius, tool)
@@ -98,10 +104,6 @@ def _spindle_tool_radius(checker, state):
     return None if tool is None else tool.radius
 
 
-def _rectangle(names):
-    return lambda dims, radius: rectangle_fit(abs(dims[names[0]]), abs(dims[names[1]]), abs(dims[names[2]]) if len(names) > 2 else 0.0, radius)
-
-
 # The alarm for a tool radius the cycle cannot use: 61117 "radius <= 0", 61112 "radius negative" (appendix L19773, L19810).
 _RADIUS_SIGN = {"CYCLE71": ("61117", "active tool radius <= 0"), "POCKET3": ("61117", "active tool radius <= 0"),
                 "POCKET4": ("61117", "active tool radius <= 0"), "CYCLE72": ("61112", "tool radius negative"),
@@ -113,14 +115,27 @@ _RADIUS_SIGN = {"CYCLE71": ("61117", "active tool radius <= 0"), "POCKET3": ("61
 _POCKET_CORNERS_AND_ALLOWANCE = {"POCKET1": ("CRAD", "FAL"), "POCKET2": ("", "FAL"), "POCKET3": ("_CRAD", "_FAL")}
 
 
+# cycle -> (shape, the size parameters, whether the tool must be smaller than the feature,
+# what it is). A pocket's corner radius is judged apart (no alarm, see above); a circular
+# pocket's size is its radius.
 _FEATURES = {
-    "POCKET1": (("LENG", "WID", "CRAD"), _rectangle(("LENG", "WID")), "pocket"),
-    "POCKET3": (("_LENG", "_WID", "_CRAD"), _rectangle(("_LENG", "_WID")), "pocket"),
-    "POCKET2": (("PRAD",), lambda dims, radius: circle_fit(2 * abs(dims["PRAD"]), radius), "circular pocket"),
-    "POCKET4": (("_PRAD",), lambda dims, radius: circle_fit(2 * abs(dims["_PRAD"]), radius), "circular pocket"),
-    "SLOT1": (("WID",), lambda dims, radius: slot_fit(abs(dims["WID"]), radius, strict=True), "slot"),
-    "SLOT2": (("WID",), lambda dims, radius: slot_fit(abs(dims["WID"]), radius, strict=True), "slot"),
-    "LONGHOLE": (("LENG",), lambda dims, radius: slot_fit(abs(dims["LENG"]), radius), "elongated hole length"),
+    "POCKET1": ("rectangle", ("LENG", "WID"), False, "pocket"),
+    "POCKET3": ("rectangle", ("_LENG", "_WID"), False, "pocket"),
+    "POCKET2": ("circle", ("PRAD",), False, "circular pocket"),
+    "POCKET4": ("circle", ("_PRAD",), False, "circular pocket"),
+    "SLOT1": ("slot", ("WID",), True, "slot"),
+    "SLOT2": ("slot", ("WID",), True, "slot"),
+    "LONGHOLE": ("slot", ("LENG",), False, "elongated hole length"),
+}
+_FITS = {
+    "rectangle": lambda sizes, radius, strict: rectangle_fit(abs(sizes[0]), abs(sizes[1]), 0.0, radius, strict),
+    "circle": lambda sizes, radius, strict: circle_fit(2 * abs(sizes[0]), radius, strict),
+    "slot": lambda sizes, radius, strict: slot_fit(abs(sizes[0]), radius, strict),
+}
+_MISFITS = {
+    "rectangle": lambda sizes, radius, strict: rectangle_misfit(values.absolute(sizes[0]), values.absolute(sizes[1]), 0.0, radius, strict),
+    "circle": lambda sizes, radius, strict: circle_misfit(values.mul(values.absolute(sizes[0]), 2.0), radius, strict),
+    "slot": lambda sizes, radius, strict: slot_misfit(values.absolute(sizes[0]), radius, strict),
 }
 
 

@@ -18,7 +18,8 @@ from ..context import Stock, active_edge, radius_delta
 from ..diagnostics import Status
 from ..verdict import both
 from ..values import Condition, Sym
-from .material import tool_axis_problem
+from .common import UNKNOWN_DIAMETER_MODE, lathe_x_is_diameter
+from .material import other_workpiece, tool_axis_problem
 
 _RAPID = 0  # MotionRun kind code
 _ROLE_WORDS = {
@@ -117,10 +118,26 @@ class _NeedsStock(Rule):
     rule_id = ""
     looked_at = None
 
-    def stock(self, span):
+    def stock(self, span, state):
+        """The stock to judge against here; None when there is none (said at the end) or
+        when the work offset in force may hold another workpiece (said once per path and
+        offset)."""
         stock = self.checker.context.stock
         if stock is None and self.looked_at is None:
             self.looked_at = span
+        if stock is None:
+            return None
+        elsewhere = other_workpiece(self.checker.context, state)
+        if elsewhere is not None:
+            if self.first_time(state, (self.rule_id, "other workpiece", state.modal.get("work_offset"))):
+                self.report(self.rule_id, span, f"not checked: {elsewhere}", Status.UNKNOWN, "another work offset")
+            return None
+        diameter = lathe_x_is_diameter(state) if stock.kind == "cylinder" else True
+        if diameter is not True:
+            if self.first_time(state, (self.rule_id, "lathe X", diameter)):
+                why = UNKNOWN_DIAMETER_MODE if diameter is None else "X is a radius (DIAMOF, G8): the bar is described by its diameter in X"
+                self.report(self.rule_id, span, f"not checked: {why}", Status.UNKNOWN, "lathe X as a radius" if diameter is False else "diameter mode not known")
+            return None
         return stock
 
     def finish(self):
@@ -136,7 +153,7 @@ class RapidIntoStock(_NeedsStock):
     def segment(self, segment, state, run=None, index: int | None = None):
         if segment.kind != "rapid" or segment.role == "out-of-hole":
             return  # back up the hole the tool has just made: no stock there
-        stock = self.stock(segment.span)
+        stock = self.stock(segment.span, state)
         if stock is None:
             return
         start, end = _point(segment.start, stock), _point(segment.end, stock)
@@ -217,7 +234,7 @@ class RapidIntoStock(_NeedsStock):
         rapids = numpy.flatnonzero(run.kinds == _RAPID)
         if not len(rapids):
             return
-        stock = self.stock(run.span(int(rapids[0])))
+        stock = self.stock(run.span(int(rapids[0])), state)
         if stock is None:
             return
         if self.checker.context.rapid_path == "dogleg" or stock.kind == "polygon" or len(run.axes) != 3:
@@ -286,7 +303,7 @@ class ClearanceBelowStock(_NeedsStock):
         axis = hole.drill_axis
         if hole.model.r_incremental or hole.model.infeed == "back_bore":
             return
-        stock = self.stock(hole.definition or hole.span)
+        stock = self.stock(hole.definition or hole.span, state)
         if stock is None:
             return
         if axis != "Z" and (axis not in ("X", "Y") or stock.kind != "box"):

@@ -21,9 +21,10 @@ class CircleSmallerThanTool(ReportsMissingContext):
         if run.model.shape != "circle" or run.params.get("I") is None:
             return
         radius = self.spindle_tool_radius(state, run.span, "core.tool-too-large")
-        if radius is None:
+        sizes = None if radius is None else self.workpiece_sizes(run.params, ("I",), state, run.span, "core.tool-too-large")
+        if sizes is None:
             return
-        circle = values.absolute(run.params["I"])
+        circle = values.absolute(sizes["I"])
         verdict = self.checker.judge(hazard("<=", values.sub(circle, radius), 0.0), state)
         self.checker.report_verdict("core.tool-too-large", run.param_spans.get("I", run.span),
                                     f"{cycle_code(run.cycle)}: the circle of radius {show(circle)} is not larger than the tool radius {radius:g}: "

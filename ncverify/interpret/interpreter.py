@@ -618,7 +618,15 @@ class Interpreter(ControlFlow):
         return None if value is VACANT else value
 
     def _work_offset(self, op: ir.WorkOffset, block):
-        self.state.modal["work_offset"] = op.name
+        """Another work offset leaves the tool where it is on the machine; where that is in
+        the new offset's coordinates depends on the offsets' values, which the program does
+        not hold, so the position is unknown until the program sets it again. (Before any
+        selection the power-on offset, G54 in the ISO family, is in force.)"""
+        state = self.state
+        previous = state.modal.get("work_offset")
+        if previous != op.name and (previous is not None or op.name != "G54"):
+            state.move_to(dict.fromkeys(state.position))
+        state.modal["work_offset"] = op.name
         return None
 
     def _set_feed(self, op: ir.SetFeed, block):

@@ -881,6 +881,18 @@ class KlartextFrontend:
         return context
 
 
+def _round_blank(rest: str, words: dict) -> Stock | None:
+    """``BLK FORM CYLINDER Z R.. L.. [DIST..]``: a round blank about the tool axis Z through
+    the datum, its top at DIST (default 0). A cylinder along X or Y, or a hollow one (an
+    inner diameter DI), is not modelled: no stock, so the stock rules say unknown."""
+    radius = words.get("R", words.get("D", 0.0) / 2.0)
+    length = words.get("L")
+    if not rest.strip().upper().startswith("Z") or "DI" in words or not radius > 0 or not length:
+        return None
+    top = words.get("DIST", 0.0)
+    return Stock.round_blank(radius, (top - length, top), origin="program (BLK FORM CYLINDER)")
+
+
 def stock_from_text(text: str) -> Stock | None:
     """``BLK FORM 0.1 Z X.. Y.. Z..`` (MIN corner) + ``BLK FORM 0.2 X.. Y.. Z..`` (MAX
     corner, ``I`` = from the MIN corner) or ``BLK FORM CYLINDER Z R.. L..`` (reference A §4.1)."""
@@ -889,12 +901,7 @@ def stock_from_text(text: str) -> Stock | None:
         kind, rest = match.group(1).upper(), match.group(2)
         words = {word.upper(): float(value.replace(",", ".")) for word, value in _STOCK_WORD.findall(rest)}
         if kind == "CYLINDER":
-            radius = words.get("R", words.get("D", 0.0) / 2.0)
-            length = words.get("L")
-            if radius > 0 and length:
-                top = words.get("DIST", 0.0)
-                return Stock.cylinder(2.0 * radius, (top - length, top), origin="program", span=None)
-            return None
+            return _round_blank(rest, words)
         corners[kind] = words
     low, high = corners.get("0.1"), corners.get("0.2")
     if not low or not high:

@@ -281,8 +281,8 @@ class IsoLowering:
                 modal_ops.append(op_type(span, "keep", self._value(word)))
 
     def _lower_feed_speed_tool(self, rest, stages, read, path, consumer) -> None:
-        if consumer is not None and consumer[0]["effect"] == "macro_call":
-            return
+        if consumer is not None and consumer[0]["effect"] in ("macro_call", "frame"):
+            return  # the words are the call's arguments, or the factors of a scaling (Fagor G72 S)
         word = rest.pop("F", None)
         if word is not None:
             value = word.value
@@ -335,10 +335,23 @@ class IsoLowering:
             params, spans = self._cycle_params(rest, read, path, entry["cycle"])
             op_type = ir.CycleDefine if effect == "cycle" else ir.CycleCall
             stages[_MOTION].append(op_type(span, entry["cycle"], params, spans))
+        elif effect == "frame":
+            stages[_MOTION].append(self._frame(entry, word, span, rest))
         elif effect == "unsupported":
             stages[_MOTION].append(ir.Unsupported(span, f"G{code_key(word.value)} ({entry['meaning']})", tuple(entry.get("affects", ()))))
             block.notes.append(ir.Note("core.unsupported-code", f"G{code_key(word.value)} ({entry['meaning']}) is read but not modelled; checks that depend on its motion answer unknown", span))
             rest.clear()
+
+    @staticmethod
+    def _frame(entry, word, span, rest) -> ir.SetFrame:
+        """A coordinate transformation that is not modelled (scaling, rotation) leaves the
+        frame unknown until its cancel resets it; written values that all equal the table's
+        ``neutral`` value (Fagor ``G72 S1``) cancel it too."""
+        written = [w.value for w in rest.values()]
+        rest.clear()
+        neutral = entry.get("neutral")
+        cancels = neutral is not None and written and all(type(value) is float and value == neutral for value in written)
+        return ir.SetFrame(span, "reset" if cancels else entry["component"], what=f"G{code_key(word.value)} ({entry['meaning']})")
 
     def _cycle_params(self, rest, read, path, cycle_id) -> tuple[dict, dict]:
         """The words a cycle takes. For a modal hole cycle the hole position (the plane

@@ -105,6 +105,8 @@ _SKIP = re.compile(r"/\d?")
 # Functions the interpreter evaluates, under their SINUMERIK names.
 FUNCTIONS = {"SIN": "SIN", "COS": "COS", "TAN": "TAN", "ASIN": "ASIN", "ACOS": "ACOS", "SQRT": "SQRT", "ABS": "ABS",
              "ROUND": "ROUND", "TRUNC": "FIX", "LN": "LN", "EXP": "EXP", "ATAN": "ATAN"}
+# MINVAL/MAXVAL: the smaller / larger of two values (840D programming knowledge)
+TWO_ARGUMENT_FUNCTIONS = {"MINVAL": "MIN", "MAXVAL": "MAX"}
 
 
 def read_line(text: str, line: int) -> ReadBlock:
@@ -754,6 +756,8 @@ def _combine(operator: str, left, right):
 def _function(name: str, args: list, start: int):
     if name in FUNCTIONS and len(args) == 1 and args[0] is not None:
         return ir.Func(FUNCTIONS[name], (args[0],))
+    if name in TWO_ARGUMENT_FUNCTIONS and len(args) == 2 and None not in args:
+        return ir.Func(TWO_ARGUMENT_FUNCTIONS[name], tuple(args))
     if name == "POT" and len(args) == 1 and args[0] is not None:
         return ir.Binary("*", args[0], args[0])
     if name in ("AC", "IC") and len(args) == 1:

@@ -18,9 +18,10 @@ active); every change rebuilds the frame and hands it to the interpreter. How th
   so it is the outermost map. Mirroring after rotating makes a mirrored program's angles
   turn the other way, as on the control's display.
 - Cycle 11 scales all three axes, so cycle dimensions scale too: the cycles compute in
-  program coordinates and their motion is mapped (Q200, Q201, Q203 all scaled). Sizes the
-  rules read straight from the parameters (pocket sides, radii, slot widths) are not:
-  under cycle 11 or 26 the tool-fit rules compare the programmed sizes (a known limit).
+  program coordinates and their motion is mapped (Q200, Q201, Q203 all scaled). The
+  tool-fit rules scale the sizes they read from the parameters (pocket sides, radii, slot
+  widths) by the frame's factor in the working plane, and answer unknown where the plane
+  is scaled unevenly (cycle 26 with two factors).
 - Cycle 19 with any angle other than 0, and PLANE, tilt the working plane, which is not
   modelled: the frame is unknown until cycle 19 with all angles 0 or PLANE RESET.
 - Cycle 247 (L8221-8223) resets shift, mirror image, rotation and both scalings (not 19).
