@@ -307,7 +307,10 @@ class Interpreter(ControlFlow):
         return block_of
 
     def _should_cache(self) -> bool:
-        return bool(self.state.loops) or len(self.state.call_stack) > 1
+        """Keep lowered lines when they are likely to run again: inside a loop, in a called
+        program, or once a jump was taken (GOTO and O-word loops are jumps back), so a loop
+        body is read and lowered once, not on every pass."""
+        return bool(self.state.loops) or len(self.state.call_stack) > 1 or bool(self.state.jump_counts)
 
     def _blocks(self, source, offset, line_number, raw, path, cache, frontend_blocks):
         if cache or self.state.loops:
