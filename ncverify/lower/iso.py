@@ -427,15 +427,18 @@ def _decimal_point_message(letter: str, value: float, increment: float) -> str:
 
 # ---------------------------------------------------------------------- front end
 
-_PLAIN_MOTION = re.compile(rb"[ \t]*(?:[NGXYZABCF][ \t]*[+-]?(?:\d+\.?\d*|\.\d+)[ \t]*)+")
-_PLAIN_WORD_BYTES = re.compile(rb"([NGXYZABCF])[ \t]*([+-]?(?:\d+\.?\d*|\.\d+))")
-_LETTERS = {ord(letter): letter for letter in "NGXYZABCF"}
+_PLAIN_MOTION = re.compile(rb"[ \t]*(?:[NGXYZABCF][ \t]*[+-]?(?:\d+\.?\d*|\.\d+)[ \t]*)+")  # batchable: straight moves only
+# What the fast lowering takes: the plain blocks and arcs with their centre or radius words.
+_FAST_LINE = re.compile(rb"[ \t]*(?:[NGXYZABCFIJKR][ \t]*[+-]?(?:\d+\.?\d*|\.\d+)[ \t]*)+")
+_PLAIN_WORD_BYTES = re.compile(rb"([NGXYZABCFIJKR])[ \t]*([+-]?(?:\d+\.?\d*|\.\d+))")
+_LETTERS = {ord(letter): letter for letter in "NGXYZABCFIJKR"}
+_ARC_LETTERS = frozenset("IJKR")
 _NUMBER_BYTES = rb"([+-]?(?:\d+\.?\d*|\.\d+))"
 # Nearly all CAM output writes its words in this order; one match reads the whole block.
-_CANONICAL_LETTERS = ("N", "G", "X", "Y", "Z", "F")
+_CANONICAL_LETTERS = ("N", "G", "X", "Y", "Z", "I", "J", "K", "R", "F")
 _CANONICAL = re.compile(
-    rb"[ \t]*(?:N(\d+)[ \t]*)?(?:G(0?[0-3])(?![0-9.])[ \t]*)?(?:X" + _NUMBER_BYTES + rb"[ \t]*)?(?:Y" + _NUMBER_BYTES
-    + rb"[ \t]*)?(?:Z" + _NUMBER_BYTES + rb"[ \t]*)?(?:F" + _NUMBER_BYTES + rb"[ \t]*)?"
+    rb"[ \t]*(?:N(\d+)[ \t]*)?(?:G(0?[0-3])(?![0-9.])[ \t]*)?"
+    + b"".join(rb"(?:" + letter + _NUMBER_BYTES + rb"[ \t]*)?" for letter in (b"X", b"Y", b"Z", b"I", b"J", b"K", b"R", b"F"))
 )
 _FAST_MOTION = {0.0: "rapid", 1.0: "linear", 2.0: "arc_cw", 3.0: "arc_ccw"}
 _PROGRAM_START = re.compile(rb"(?i)[ \t]*(?:%[ \t]*)?(?:N\d+[ \t]*)?[O:][ \t]*(\d+)")
@@ -454,7 +457,7 @@ class IsoFrontend:
         self.lowering = lowering
 
     def blocks(self, raw: bytes, line: int, path: str | None) -> list[ir.Block]:
-        if _PLAIN_MOTION.fullmatch(raw):
+        if _FAST_LINE.fullmatch(raw):
             block = self._plain_motion(raw, line, path)
             if block is not None:
                 return [block]
@@ -465,8 +468,10 @@ class IsoFrontend:
         return [self.lowering.lower(read, path) for read in read_line(text, line)]
 
     def _plain_motion(self, raw: bytes, line: int, path: str | None) -> ir.Block | None:
-        """The fast path: ``[N..] [G0-G3] axis words [F..]`` straight to IR, without
-        reader objects. Returns None when the block needs the general lowering."""
+        """The fast path: ``[N..] [G0-G3] axis words [I J K | R] [F..]`` straight to IR,
+        without reader objects (centre and radius words only on an arc or a modal move, as
+        the general lowering takes them). Returns None when the block needs the general
+        lowering."""
         canonical = _CANONICAL.fullmatch(raw)
         if canonical is not None:
             words = [(letter, value, regs) for letter, value, regs in zip(_CANONICAL_LETTERS, canonical.groups(), canonical.regs[1:]) if value is not None]
@@ -478,6 +483,7 @@ class IsoFrontend:
         move_end = 0
         targets = {}
         columns = {}
+        arc = {}
         for letter, text, (value_start, value_end) in words:
             start = raw.rindex(letter.encode(), 0, value_start)
             if letter == "N":
@@ -505,8 +511,15 @@ class IsoFrontend:
                 if move_start is None or start < move_start:
                     move_start = start
                 move_end = max(move_end, value_end)
+            elif letter in _ARC_LETTERS and letter not in arc and (b"." in text or not increment):
+                arc[letter] = float(text)
+                columns[letter] = (start, value_end)
+                move_start = start if move_start is None else min(move_start, start)
+                move_end = max(move_end, value_end)
             else:
                 return None
+        if arc and kind in ("rapid", "linear"):
+            return None  # centre words on a straight move: the general lowering says what they are
         stripped = raw.strip()
         first = raw.index(stripped[:1]) if stripped else 0
         block = ir.Block(line, first + 1, first + len(stripped) + 1, [], label=label)
@@ -514,7 +527,7 @@ class IsoFrontend:
             block.ops.append(feed_op)
         if move_start is not None:
             span = Span(line, move_start + 1, line, move_end + 1, path)
-            block.ops.append(ir.Move(span, kind, targets, None, {}, frozenset(), columns))
+            block.ops.append(ir.Move(span, kind, targets, arc or None, dict(arc), frozenset(), columns))
         return block
 
     def is_plain(self, raw: bytes) -> bool:
