@@ -14,7 +14,7 @@ import numpy
 from .. import ir, values
 from ..dialect import DialectSetup
 from ..read.iso import ReadBlock, Statement, Word, read_line
-from ..read.iso_runs import read_plain_run
+from ..read.iso_runs import read_plain_run_at
 from ..source import Span, decode_line, find_all, line_start
 from ..tables import CodeTable, code_key, iso_table
 from ..values import VACANT
@@ -539,11 +539,7 @@ class IsoFrontend:
         :mod:`ncverify.read.iso_runs`); None when the streak is short."""
         if self.lowering.twins or "X" not in self.lowering.axis_letters:
             return None
-        end = min(len(buffer), offset + limit)
-        chunk = bytes(buffer[offset:end])
-        if end < len(buffer):
-            chunk = chunk[: chunk.rfind(b"\n") + 1]
-        run = read_plain_run(chunk, stop_at_small_integers=bool(self.lowering.increment))
+        run = read_plain_run_at(buffer, offset, limit, stop_at_small_integers=bool(self.lowering.increment))
         if run is None:
             return None
         table, pointless = run.table, run.pointless

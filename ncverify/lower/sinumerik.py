@@ -34,7 +34,7 @@ from .. import ir
 from ..context import Context, Stock, Tool, tool_value_problem
 from ..cycle_models import load_cycle_table
 from ..dialect import DialectSetup
-from ..read.iso_runs import read_plain_run
+from ..read.iso_runs import read_plain_run_at
 from ..read.sinumerik import Item, ReadBlock, read_line
 from ..resources import data_dir
 from ..source import Span, decode_line
@@ -449,11 +449,7 @@ class SinumerikFrontend:
         SINUMERIK number is always in mm or inch (no least-increment scaling)."""
         if self.lowering.uses_modal_call:
             return None
-        end = min(len(buffer), offset + limit)
-        chunk = bytes(buffer[offset:end])
-        if end < len(buffer):
-            chunk = chunk[: chunk.rfind(b"\n") + 1]
-        run = read_plain_run(chunk, stop_at_small_integers=False)
+        run = read_plain_run_at(buffer, offset, limit)
         if run is None:
             return None
         table = run.table
