@@ -457,8 +457,11 @@ class IsoFrontend:
         self.lowering = lowering
 
     def blocks(self, raw: bytes, line: int, path: str | None) -> list[ir.Block]:
-        if _FAST_LINE.fullmatch(raw):
-            block = self._plain_motion(raw, line, path)
+        canonical = _CANONICAL.fullmatch(raw)
+        if canonical is not None and canonical.lastindex is None:
+            canonical = None  # a blank line: no word
+        if canonical is not None or _FAST_LINE.fullmatch(raw):
+            block = self._plain_motion(raw, line, path, canonical)
             if block is not None:
                 return [block]
         return self._lower_text(decode_line(raw), line, path)
@@ -467,16 +470,16 @@ class IsoFrontend:
         """The general path: the line read into blocks, each lowered."""
         return [self.lowering.lower(read, path) for read in read_line(text, line)]
 
-    def _plain_motion(self, raw: bytes, line: int, path: str | None) -> ir.Block | None:
+    def _plain_motion(self, raw: bytes, line: int, path: str | None, canonical: re.Match | None = None) -> ir.Block | None:
         """The fast path: ``[N..] [G0-G3] axis words [I J K | R] [F..]`` straight to IR,
         without reader objects (centre and radius words only on an arc or a modal move, as
         the general lowering takes them). Returns None when the block needs the general
-        lowering."""
-        canonical = _CANONICAL.fullmatch(raw)
-        if canonical is not None:
-            words = [(letter, value, regs) for letter, value, regs in zip(_CANONICAL_LETTERS, canonical.groups(), canonical.regs[1:]) if value is not None]
+        lowering. ``canonical``: the block's match of the usual word order, when it has one."""
+        if canonical is not None:  # each number follows its letter directly
+            words = [(letter, value, (value_start - 1, value_end)) for letter, value, (value_start, value_end)
+                     in zip(_CANONICAL_LETTERS, canonical.groups(), canonical.regs[1:]) if value is not None]
         else:
-            words = [(_LETTERS[match.group(1)[0]], match.group(2), match.span(2)) for match in _PLAIN_WORD_BYTES.finditer(raw)]
+            words = [(_LETTERS[match.group(1)[0]], match.group(2), (match.start(1), match.end(2))) for match in _PLAIN_WORD_BYTES.finditer(raw)]
         lowering = self.lowering
         increment = lowering.increment
         label = kind = move_start = feed_op = None
@@ -484,8 +487,7 @@ class IsoFrontend:
         targets = {}
         columns = {}
         arc = {}
-        for letter, text, (value_start, value_end) in words:
-            start = raw.rindex(letter.encode(), 0, value_start)
+        for letter, text, (start, value_end) in words:
             if letter == "N":
                 if label is not None:
                     return None
