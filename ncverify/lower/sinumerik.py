@@ -39,6 +39,7 @@ from ..read.sinumerik import Item, ReadBlock, read_line
 from ..resources import data_dir
 from ..source import Span, decode_line
 from . import modal_call
+from .iso import FastMotionForm, fast_motion_block
 
 WHILE_LOOP, FOR_LOOP, ENDLESS_LOOP, REPEAT_LOOP = 1, 2, 3, 4
 UNTIL_FLAG = "_REPEAT_UNTIL_"
@@ -421,6 +422,11 @@ def _nested_modal_call(name: str, span: Span):
 # ---------------------------------------------------------------------- frontend
 
 _PLAIN_MOTION = re.compile(rb"[ \t]*(?:[NGXYZF][ \t]*[+-]?(?:\d+\.?\d*|\.\d+)[ \t]*)+")
+# Plain motion lines lowered without the reader, as the general lowering would (N is a block
+# number, not a label; I/J/K are arc data only, outside the move's span; R is a parameter).
+_FAST_WORD = rb"[GXYZABCFIJK][+-]?(?:\d+\.?\d*|\.\d+)"
+_FAST_LINE = re.compile(rb"[ \t]*(?:N\d+[ \t]+)?" + _FAST_WORD + rb"(?:[ \t]+" + _FAST_WORD + rb")*[ \t]*")  # N first, words apart
+_FAST_FORM = FastMotionForm(frozenset(_AXES), numbered_labels=False, arc_letters=frozenset(_ARC_WORDS), arc_words_in_span=False)
 _PROGRAM_HEADER = re.compile(rb"(?mi)^[ \t]*%_N_(\w+?)_(MPF|SPF)\b")
 _PROC = re.compile(rb"(?mi)^[ \t]*(?:N\d+[ \t]*)?PROC[ \t]+(\w+)")
 _PROGRAM_END = re.compile(rb"(?mi)^[^;\n]*\bM0?(?:2|30)\b(?![ \t]*=)")
@@ -436,6 +442,10 @@ class SinumerikFrontend:
         self._proc_cache: dict = {}
 
     def blocks(self, raw: bytes, line: int, path: str | None) -> list[ir.Block]:
+        if not self.lowering.uses_modal_call and _FAST_LINE.fullmatch(raw):  # with MCALL, a move also carries the call
+            block = fast_motion_block(raw, line, path, _FAST_FORM)
+            if block is not None:
+                return [block]
         return self.lowering.lower(read_line(decode_line(raw), line), path)
 
     def is_plain(self, raw: bytes) -> bool:
