@@ -7,7 +7,9 @@ Writes each program (200,000 blocks by default) into ``benchmarks/out/``, then t
 programs LinuxCNC can read (the ISO rows), ``rs274 -t tool.tbl -g`` from
 ``.ci/install-rs274`` on the very same file. Both are timed end to end, process start
 included, in paired alternating runs (ours, theirs, ours, theirs ...) so that a load spike
-on a shared machine hits both alike; the minimum of the runs is printed with the ratio.
+on a shared machine hits both alike. Printed: the minimum wall time and the minimum CPU time
+(user + system, of the process and its children) of each, and their ratios; on a machine
+shared with other jobs the CPU time is the steadier figure.
 SINUMERIK, Klartext and Fagor programs are timed for ncverify only (rs274 reads ISO only).
 """
 from __future__ import annotations
@@ -18,6 +20,7 @@ import json
 import math
 import os
 import platform
+import resource
 import subprocess
 import sys
 import time
@@ -261,17 +264,17 @@ class Program:
             (path.parent / "tool.tbl").write_text(TOOL_TABLE, encoding="ascii")
         return path
 
-    def run_ncverify(self, path: Path) -> float:
+    def run_ncverify(self, path: Path) -> tuple[float, float]:
         report = path.with_suffix(".json")
         command = [sys.executable, "-m", "ncverify.cli", "check", str(path), "--format", "json", "--output", str(report),
                    "--no-cache", *self.options]  # a cached result would time nothing
         # As installed by pip: modules are compiled once, not on every start.
         environment = {name: value for name, value in os.environ.items() if name != "PYTHONDONTWRITEBYTECODE"}
-        seconds = _timed(command, env=environment)
+        timing = _timed(command, env=environment)
         _check_report(report, path)
-        return seconds
+        return timing
 
-    def run_rs274(self, path: Path) -> float:
+    def run_rs274(self, path: Path) -> tuple[float, float]:
         environment = dict(os.environ, LD_LIBRARY_PATH=str(RS274.parent.parent / "lib"))
         return _timed([str(RS274), "-t", "tool.tbl", "-g", path.name, path.with_suffix(".canon").name], cwd=path.parent, env=environment)
 
@@ -287,15 +290,19 @@ PROGRAMS = (
 )
 
 
-def _timed(command: list[str], **options) -> float:
+def _timed(command: list[str], **options) -> tuple[float, float]:
+    """Wall time and CPU time (user + system) of one run of ``command``."""
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
     started = time.perf_counter()
     completed = subprocess.run(command, check=False, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, stdin=subprocess.DEVNULL, **options)
     seconds = time.perf_counter() - started
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    cpu = (after.ru_utime + after.ru_stime) - (before.ru_utime + before.ru_stime)
     if completed.returncode not in (0, 1):  # ncverify: 1 = findings; rs274: 1 = stopped on an error
         sys.exit(f"{command[0]} failed ({completed.returncode}): {completed.stderr.decode(errors='replace')[-2000:]}")
     if command[0] == str(RS274) and completed.returncode:
         sys.exit(f"rs274 stopped on an error, so it did not run the whole program: {completed.stderr.decode(errors='replace')[-2000:]}")
-    return seconds
+    return seconds, cpu
 
 
 def _check_report(report: Path, program: Path) -> None:
@@ -329,21 +336,29 @@ def main() -> None:
             ours.append(program.run_ncverify(path))
             if program.rs274 and have_rs274:
                 theirs.append(program.run_rs274(path))
-        rows.append((program.name, min(ours), min(theirs) if theirs else None))
+        rows.append((program.name, _best(ours), _best(theirs) if theirs else None))
         _print_row(*rows[-1])
     if arguments.markdown:
         print(f"\n{arguments.blocks:,} blocks per program, minimum of {arguments.runs} paired runs, "
               f"{datetime.date.today().isoformat()}, {_machine()}\n")
-        print("| program | ncverify check | rs274 | ncverify / rs274 |\n|---|---|---|---|")
+        print("| program | ncverify wall / CPU | rs274 wall / CPU | ratio wall / CPU |\n|---|---|---|---|")
         for name, ours, theirs in rows:
-            print(f"| {name} | {ours:.2f} s | {f'{theirs:.2f} s' if theirs else '-'} | {f'{ours / theirs:.2f}' if theirs else '-'} |")
+            ratio = f"{ours[0] / theirs[0]:.2f} / {ours[1] / theirs[1]:.2f}" if theirs else "-"
+            print(f"| {name} | {ours[0]:.2f} s / {ours[1]:.2f} s | {f'{theirs[0]:.2f} s / {theirs[1]:.2f} s' if theirs else '-'} | {ratio} |")
     if not have_rs274:
         print("rs274 is not installed (.ci/install-rs274): ncverify's times only", file=sys.stderr)
 
 
-def _print_row(name: str, ours: float, theirs: float | None) -> None:
-    ratio = f"ratio {ours / theirs:5.2f}" if theirs else ""
-    print(f"{name:22s} ncverify {ours:6.2f} s   " + (f"rs274 {theirs:6.2f} s   {ratio}" if theirs else "rs274 -"), flush=True)
+def _best(timings: list[tuple[float, float]]) -> tuple[float, float]:
+    """The minimum wall time and the minimum CPU time of the runs."""
+    return min(wall for wall, _ in timings), min(cpu for _, cpu in timings)
+
+
+def _print_row(name: str, ours: tuple[float, float], theirs: tuple[float, float] | None) -> None:
+    line = f"{name:22s} ncverify {ours[0]:6.2f} s wall {ours[1]:6.2f} s CPU"
+    if theirs:
+        line += f"   rs274 {theirs[0]:6.2f} s wall {theirs[1]:6.2f} s CPU   ratio {ours[0] / theirs[0]:5.2f} wall {ours[1] / theirs[1]:5.2f} CPU"
+    print(line, flush=True)
 
 
 if __name__ == "__main__":
