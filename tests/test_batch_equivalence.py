@@ -24,7 +24,12 @@ _PLAIN_BLOCK = st.tuples(
 _OTHER_BLOCK = st.sampled_from(
     ["G91", "G90", "M05", "M03", "G41 D1", "G40", "F0", "G20", "G21", "(WALL)", "", "G02 X1. Y1. R5.", "G1", "T2 M06", "G43 H02", "G49"]
 )
-_BODY = st.lists(st.one_of(_PLAIN_BLOCK, _PLAIN_BLOCK, _PLAIN_BLOCK, _OTHER_BLOCK), min_size=20, max_size=120)
+# Arcs in the fast lowering's form between the plain blocks, and helices (an arc with a Z
+# move, a full turn): the plain blocks after one are modal arcs, never part of a batch.
+_ARC_BLOCK = st.sampled_from(
+    ["G03 X2. Y0. I1. J0.", "G2 X0. Y0. Z-1. I5. J0. F300.", "G02 X3. Y4. R5.", "N7 G3 X-1.5 Y2.5 Z-0.5 I0.25 J-0.75", "G2 I2. J0."]
+)
+_BODY = st.lists(st.one_of(_PLAIN_BLOCK, _PLAIN_BLOCK, _PLAIN_BLOCK, _OTHER_BLOCK, _ARC_BLOCK), min_size=20, max_size=120)
 
 
 def _program(body: list[str], header: list[str]) -> str:

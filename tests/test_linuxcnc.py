@@ -10,6 +10,7 @@ from ncverify import Settings, check_file, check_text
 from ncverify.detect import detect
 from ncverify.lower.linuxcnc import read_tool_table
 from rs274 import run_ncverify
+from test_read_iso import plain_blocks
 
 CORPUS = Path(__file__).resolve().parent.parent.parent / "shared" / "corpus-realworld" / "linuxcnc"
 
@@ -108,3 +109,15 @@ def test_the_words_of_an_m_code_are_not_a_hole_of_a_modal_cycle():
     ours, _trace = run_ncverify(program)
     assert 3 not in ours.moves and 4 not in ours.moves
     assert ours.moves[5][-1][:3] == (2.0, 1.0, 1.0)
+
+
+@settings(max_examples=300, deadline=None)
+@given(block=plain_blocks(), line=st.integers(min_value=1, max_value=10**6))
+def test_plain_motion_and_arc_lines_lower_fast_like_the_linuxcnc_lowering(block, line):
+    """LinuxCNC shares ISO's fast lowering of plain motion and arc lines; the IR must be
+    the one its own reader and lowering make."""
+    from ncverify.lower.linuxcnc import LinuxcncFrontend, LinuxcncLowering, linuxcnc_table
+
+    text, _ = block
+    frontend = LinuxcncFrontend(LinuxcncLowering(linuxcnc_table()))
+    assert frontend.blocks(text.encode("ascii"), line, None) == frontend._lower_text(text, line, None)

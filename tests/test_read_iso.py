@@ -329,14 +329,15 @@ _space = st.sampled_from(["", " ", "  ", "\t"])
 
 @st.composite
 def plain_blocks(draw) -> tuple[str, list[tuple[str, str]]]:
-    """A plain block (optional N, optional G0-G3, X/Y/Z/F words once each) in random order
-    and spacing; returns the text and the (letter, number text) pairs written."""
+    """A plain block (optional N, optional G0-G3, X/Y/Z/F and arc centre or radius words
+    I/J/K/R once each) in random order and spacing; returns the text and the (letter,
+    number text) pairs written."""
     words: list[tuple[str, str]] = []
     if draw(st.booleans()):
         words.append(("N", draw(_digits)))
     if draw(st.booleans()):
         words.append(("G", draw(st.sampled_from(["0", "1", "2", "3", "00", "01", "02", "03"]))))
-    for letter in draw(st.lists(st.sampled_from("XYZF"), unique=True, max_size=4)):
+    for letter in draw(st.lists(st.sampled_from("XYZFIJKR"), unique=True, max_size=6)):
         words.append((letter, draw(numbers())))
     if not words:
         words.append(("X", draw(numbers())))
@@ -374,6 +375,18 @@ def _lower_both_ways(text: str, key=("mitsubishi-e60", "mill")):
     fast = frontend.blocks(text.encode("ascii"), 1, None)
     grammar = [frontend.lowering.lower(read, None) for read in read_line(text, 1, force_grammar=True)]
     return fast, grammar
+
+
+@pytest.mark.parametrize("text", ["N12 G2 X10. Y5. I-5. J0. F800.", "G03 X1.5 Y2. Z-1. I0.5 J.5", "X3. Y4. R5.", "Y4. R-5. X3. G2"])
+def test_arcs_with_centre_or_radius_words_take_the_fast_path(text):
+    fast = FRONTENDS[("mitsubishi-e60", "mill")]._plain_motion(text.encode("ascii"), 1, None)
+    assert fast is not None
+    assert [fast] == _lower_both_ways(text)[1]
+
+
+@pytest.mark.parametrize("text", ["G1 X1. I2.", "G0 X1. R3.", "G2 X1. I1. I2."])
+def test_centre_words_on_a_straight_move_or_twice_leave_the_fast_path(text):
+    assert FRONTENDS[("mitsubishi-e60", "mill")]._plain_motion(text.encode("ascii"), 1, None) is None
 
 
 @pytest.mark.parametrize("text", ["G1 X1. X2.", "G0 G1 X1.", "N1 N2 X1.", "G1 X1 Y2 Z3 A4 B5 C6 F7"])

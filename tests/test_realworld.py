@@ -3,17 +3,19 @@
 The files are not part of this repository (see the corpus README and MANIFEST.tsv for
 their sources and licences); the module is skipped where the corpus is not present.
 
-Every file must be checked without a crash, in bounded time, and without a ``core.syntax``
+Every file must be checked without a crash and without a ``core.syntax``
 finding in the file itself, unless the file really is broken (``KNOWN_BROKEN``). Findings
 in other files the program calls (found in the same folder) belong to those files and are
 tested with them.
 
 The findings each file must give, with the reason each is real or not, are reviewed in
 ``realworld_expectations.toml`` (``test_realworld_expectations.py``).
+
+How long each file takes is measured by ``benchmarks/realworld.py``, not here: a time limit
+fails on a loaded machine for reasons that are not the program's.
 """
 from __future__ import annotations
 
-import time
 from pathlib import Path
 
 import pytest
@@ -26,7 +28,6 @@ FANUC = REALWORLD / "fanuc"
 if not FANUC.is_dir():
     pytest.skip(f"third-party corpus not present at {REALWORLD}", allow_module_level=True)
 
-TIME_LIMIT_SECONDS = 10.0
 
 # Files that are not valid Fanuc-style ISO as they stand: their syntax findings are true.
 KNOWN_BROKEN = {
@@ -45,12 +46,6 @@ SYNTAX_FALSE_ALARMS: dict[str, str] = {}
 FILES = sorted(path for path in FANUC.iterdir() if path.is_file())
 
 
-def _run(path: Path):
-    started = time.perf_counter()
-    result = check_file(path, Settings())
-    return result, time.perf_counter() - started
-
-
 def _file_params():
     for path in FILES:
         reason = SYNTAX_FALSE_ALARMS.get(path.name)
@@ -59,10 +54,9 @@ def _file_params():
 
 
 @pytest.mark.parametrize("path", list(_file_params()))
-def test_file_is_checked_quickly_and_reads_unless_broken(path):
-    result, elapsed = _run(path)
+def test_file_is_checked_and_reads_unless_broken(path):
+    result = check_file(path, Settings())
     assert result.skipped is None, f"not checked: {result.skipped}"
-    assert elapsed < TIME_LIMIT_SECONDS, f"took {elapsed:.1f} s"
     syntax = [d for d in result.diagnostics if d.rule == "core.syntax" and d.span.path in (None, str(path))]
     if path.name in KNOWN_BROKEN:
         assert syntax, f"listed as broken ({KNOWN_BROKEN[path.name]}) but no syntax finding: remove it from KNOWN_BROKEN"

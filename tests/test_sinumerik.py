@@ -17,6 +17,7 @@ from ncverify import Settings, check_text
 from ncverify.check import Checker
 from ncverify.detect import detect
 from ncverify.diagnostics import Status
+from test_read_iso import plain_blocks
 from ncverify.lower.sinumerik import SinumerikFrontend, SinumerikLowering, program_context
 from ncverify.interpret.sinumerik_cycles import levels, pattern_positions
 from ncverify.read.sinumerik import read_line
@@ -576,3 +577,24 @@ def test_batched_plain_blocks_report_what_block_by_block_reports(lines):
         return sorted((d.rule, d.span.line, d.span.column, d.status.value, d.message) for d in result.diagnostics)
 
     assert run(True) == run(False)
+
+
+@hypothesis_settings(max_examples=300, deadline=None)
+@given(block=plain_blocks(), line=st.integers(min_value=1, max_value=10**6))
+def test_plain_motion_and_arc_lines_lower_without_the_reader_like_the_general_lowering(block, line):
+    """SINUMERIK CAM lines (N G0-G3 X Y Z I J K F) skip the reader; the IR must be the one
+    the reader and the general lowering make."""
+    from ncverify.lower.sinumerik import SinumerikFrontend, SinumerikLowering
+    from ncverify.read.sinumerik import read_line
+
+    text, _ = block
+    frontend = SinumerikFrontend(SinumerikLowering())
+    assert frontend.blocks(text.encode("ascii"), line, None) == frontend.lowering.lower(read_line(text, line), None)
+
+
+@pytest.mark.parametrize("text", ["N20 G2 X10.5 Y5 I-5 J0 F800", "G1 X1 Y2 Z-1", "G03 X0 Y3 J1.5"])
+def test_cam_motion_lines_take_the_fast_lowering(text):
+    from ncverify.lower.iso import fast_motion_block
+    from ncverify.lower.sinumerik import _FAST_FORM
+
+    assert fast_motion_block(text.encode("ascii"), 1, None, _FAST_FORM) is not None

@@ -1,15 +1,17 @@
 """ncverify on real, third-party SINUMERIK programs (``shared/corpus-realworld/sinumerik``).
 
 The files are not part of this repository; the module is skipped where the corpus is not
-present. Every file must be detected as SINUMERIK from its text, checked without a crash in
-bounded time, and read without a ``core.syntax`` finding unless the file really is broken
+present. Every file must be detected as SINUMERIK from its text, checked without a crash, and
+read without a ``core.syntax`` finding unless the file really is broken
 (``KNOWN_BROKEN``). ``REVIEWED_ERRORS`` holds every violated error finding, each read at the
 last triage; a new one fails until it is read and either added with its reason or fixed as
 a false alarm. The warnings read at the same triage are listed in ``REVIEWED_WARNINGS``.
+
+How long each file takes is measured by ``benchmarks/realworld.py``, not here: a time limit
+fails on a loaded machine for reasons that are not the program's.
 """
 from __future__ import annotations
 
-import time
 from pathlib import Path
 
 import pytest
@@ -21,7 +23,6 @@ SINUMERIK = Path(__file__).resolve().parents[2] / "shared" / "corpus-realworld" 
 if not SINUMERIK.is_dir():
     pytest.skip(f"third-party corpus not present at {SINUMERIK}", allow_module_level=True)
 
-TIME_LIMIT_SECONDS = 10.0
 
 KNOWN_BROKEN = {
     "004_deathaxe-SYNTAX_CHECK.SPF": "a syntax-highlighter test file: the lines it marks '; syntax error' (G5[10]=, M5[10]=, "
@@ -32,17 +33,10 @@ KNOWN_BROKEN = {
 FILES = sorted(path for path in SINUMERIK.iterdir() if path.is_file())
 
 
-def _run(path: Path):
-    started = time.perf_counter()
-    result = check_file(path, Settings())
-    return result, time.perf_counter() - started
-
-
 @pytest.mark.parametrize("path", FILES, ids=[path.name for path in FILES])
-def test_file_is_detected_checked_quickly_and_reads_unless_broken(path):
-    result, elapsed = _run(path)
+def test_file_is_detected_checked_and_reads_unless_broken(path):
+    result = check_file(path, Settings())
     assert result.dialect == "sinumerik", result.dialect
-    assert elapsed < TIME_LIMIT_SECONDS, f"took {elapsed:.1f} s"
     syntax = [d for d in result.diagnostics if d.rule == "core.syntax" and d.span.path is None]
     if path.name in KNOWN_BROKEN:
         assert syntax, f"listed as broken ({KNOWN_BROKEN[path.name]}) but no syntax finding"

@@ -310,7 +310,10 @@ class Interpreter(ControlFlow):
         return block_of
 
     def _should_cache(self) -> bool:
-        return bool(self.state.loops) or len(self.state.call_stack) > 1
+        """Keep lowered lines when they are likely to run again: inside a loop, in a called
+        program, or once a jump was taken (GOTO and O-word loops are jumps back), so a loop
+        body is read and lowered once, not on every pass."""
+        return bool(self.state.loops) or len(self.state.call_stack) > 1 or bool(self.state.jump_counts)
 
     def _blocks(self, source, offset, line_number, raw, path, cache, frontend_blocks):
         if cache or self.state.loops:
@@ -404,6 +407,8 @@ class Interpreter(ControlFlow):
         op = expr.op
         left = self.evaluate(expr.left, span)
         right = self.evaluate(expr.right, span)
+        if type(left) is float and type(right) is float:  # plain numbers (loop counters): no operand to convert
+            return self._arithmetic(op, left, right, expr, span)
         if op in values.COMPARISONS:
             if left is VACANT or right is VACANT:
                 return self._compare_vacant(op, left, right)
@@ -414,6 +419,14 @@ class Interpreter(ControlFlow):
             return values.logical(op, 0.0 if left is VACANT else left, 0.0 if right is VACANT else right)
         left = self._arithmetic_operand(left, expr.left, span)
         right = self._arithmetic_operand(right, expr.right, span)
+        return self._arithmetic(op, left, right, expr, span)
+
+    def _arithmetic(self, op: str, left, right, expr: ir.Binary, span):
+        """``left op right`` for operands that are numbers or symbolic values."""
+        if op in values.COMPARISONS:
+            return values.compare(op, left, right)
+        if op in ("AND", "OR", "XOR"):
+            return values.logical(op, left, right)
         try:
             if op == "+":
                 return values.add(left, right)

@@ -39,7 +39,7 @@ from ..source import Span, decode_line
 from ..tables import CodeTable, _load, code_key
 from ..values import VACANT
 from . import modal_call
-from .iso import _PLAIN_MOTION, IsoFrontend, IsoLowering
+from .iso import IsoFrontend, IsoLowering, fast_motion_block
 
 _PLANE_NORMAL = {"xy": "Z", "zx": "Y", "yz": "X"}
 _PLANE_CODES = {"xy": 17.0, "zx": 18.0, "yz": 19.0}
@@ -559,8 +559,8 @@ class FagorFrontend:
         self._plain = IsoFrontend(lowering)  # plain motion blocks read as in ISO
 
     def blocks(self, raw: bytes, line: int, path: str | None) -> list[ir.Block]:
-        if not self.lowering.reads_every_block and _PLAIN_MOTION.fullmatch(raw):
-            block = self._plain._plain_motion(raw, line, path)
+        if not self.lowering.reads_every_block:
+            block = fast_motion_block(raw, line, path, self._plain.fast_form)
             if block is not None:
                 return [block]
         text = decode_line(raw)

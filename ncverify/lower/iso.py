@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import math
 import re
+from dataclasses import dataclass
 
 import numpy
 
@@ -15,7 +16,7 @@ from .. import ir, values
 from ..cycle_models import UNKNOWN_CYCLE
 from ..dialect import DialectSetup
 from ..read.iso import ReadBlock, Statement, Word, read_line
-from ..read.iso_runs import read_plain_run
+from ..read.iso_runs import read_plain_run_at
 from ..source import Span, decode_line, find_all, line_start
 from ..tables import CodeTable, code_key, iso_table
 from ..values import VACANT
@@ -441,21 +442,116 @@ def _decimal_point_message(letter: str, value: float, increment: float) -> str:
 
 # ---------------------------------------------------------------------- front end
 
-_PLAIN_MOTION = re.compile(rb"[ \t]*(?:[NGXYZABCF][ \t]*[+-]?(?:\d+\.?\d*|\.\d+)[ \t]*)+")
-_PLAIN_WORD_BYTES = re.compile(rb"([NGXYZABCF])[ \t]*([+-]?(?:\d+\.?\d*|\.\d+))")
-_LETTERS = {ord(letter): letter for letter in "NGXYZABCF"}
+_PLAIN_MOTION = re.compile(rb"[ \t]*(?:[NGXYZABCF][ \t]*[+-]?(?:\d+\.?\d*|\.\d+)[ \t]*)+")  # batchable: straight moves only
+# What the fast lowering takes: the plain blocks and arcs with their centre or radius words.
+_FAST_LINE = re.compile(rb"[ \t]*(?:[NGXYZABCFIJKR][ \t]*[+-]?(?:\d+\.?\d*|\.\d+)[ \t]*)+")
+_PLAIN_WORD_BYTES = re.compile(rb"([NGXYZABCFIJKR])[ \t]*([+-]?(?:\d+\.?\d*|\.\d+))")
+_LETTERS = {ord(letter): letter for letter in "NGXYZABCFIJKR"}
 _NUMBER_BYTES = rb"([+-]?(?:\d+\.?\d*|\.\d+))"
 # Nearly all CAM output writes its words in this order; one match reads the whole block.
-_CANONICAL_LETTERS = ("N", "G", "X", "Y", "Z", "F")
+_CANONICAL_LETTERS = ("N", "G", "X", "Y", "Z", "I", "J", "K", "R", "F")
 _CANONICAL = re.compile(
-    rb"[ \t]*(?:N(\d+)[ \t]*)?(?:G(0?[0-3])(?![0-9.])[ \t]*)?(?:X" + _NUMBER_BYTES + rb"[ \t]*)?(?:Y" + _NUMBER_BYTES
-    + rb"[ \t]*)?(?:Z" + _NUMBER_BYTES + rb"[ \t]*)?(?:F" + _NUMBER_BYTES + rb"[ \t]*)?"
+    rb"[ \t]*(?:N(\d+)[ \t]*)?(?:G(0?[0-3])(?![0-9.])[ \t]*)?"
+    + b"".join(rb"(?:" + letter + _NUMBER_BYTES + rb"[ \t]*)?" for letter in (b"X", b"Y", b"Z", b"I", b"J", b"K", b"R", b"F"))
 )
 _FAST_MOTION = {0.0: "rapid", 1.0: "linear", 2.0: "arc_cw", 3.0: "arc_ccw"}
 _PROGRAM_START = re.compile(rb"(?i)[ \t]*(?:%[ \t]*)?(?:N\d+[ \t]*)?[O:][ \t]*(\d+)")
 _PROGRAM_END = re.compile(rb"(?i)M0*(?:2|30)(?![0-9.])")
 _RETURN = re.compile(rb"(?i)M99(?![0-9.])")
 _SETUP = re.compile(rb"(?i)(?<![A-Z])(?:M0*6|G5[4-9])(?![0-9])")
+
+
+@dataclass(frozen=True, slots=True)
+class FastMotionForm:
+    """What a dialect's lowering makes of a plain motion line, for :func:`lower_fast_motion`:
+    its axis letters (incremental twins excluded), least input increments (0: numbers are
+    mm or inch), whether ``N`` numbers are jump labels (ISO) or only block numbers
+    (SINUMERIK), which letters give an arc's centre or radius, and whether those belong to
+    the move's span, words and columns (ISO) or to its arc only (SINUMERIK)."""
+
+    axis_letters: frozenset
+    increment: float = 0.0
+    feed_increment: float = 0.0
+    numbered_labels: bool = True
+    arc_letters: frozenset = frozenset("IJKR")
+    arc_words_in_span: bool = True
+
+
+def fast_motion_block(raw: bytes, line: int, path: str | None, form: FastMotionForm) -> ir.Block | None:
+    """The line lowered by :func:`lower_fast_motion` when it has the plain form, else None."""
+    canonical = _CANONICAL.fullmatch(raw)
+    if canonical is not None and canonical.lastindex is None:
+        canonical = None  # a blank line: no word
+    if canonical is None and not _FAST_LINE.fullmatch(raw):
+        return None
+    return lower_fast_motion(raw, line, path, form, canonical)
+
+
+def lower_fast_motion(raw: bytes, line: int, path: str | None, form: FastMotionForm, canonical: re.Match | None = None) -> ir.Block | None:
+    """The fast path: ``[N..] [G0-G3] axis words [I J K | R] [F..]`` straight to IR,
+    without reader objects (centre and radius words only on an arc or a modal move, as
+    the general lowering takes them). Returns None when the block needs the general
+    lowering. ``canonical``: the block's match of the usual word order, when it has one."""
+    if canonical is not None:  # each number follows its letter directly
+        words = [(letter, value, (value_start - 1, value_end)) for letter, value, (value_start, value_end)
+                 in zip(_CANONICAL_LETTERS, canonical.groups(), canonical.regs[1:]) if value is not None]
+    else:
+        words = [(_LETTERS[match.group(1)[0]], match.group(2), (match.start(1), match.end(2))) for match in _PLAIN_WORD_BYTES.finditer(raw)]
+    increment = form.increment
+    label = kind = move_start = feed_op = None
+    numbered = False
+    move_end = 0
+    targets = {}
+    columns = {}
+    arc = {}
+    for letter, text, (start, value_end) in words:
+        if letter == "N":
+            if numbered:
+                return None
+            numbered = True
+            label = float(text) if form.numbered_labels else None
+        elif letter == "G":
+            if kind is not None:
+                return None
+            kind = _FAST_MOTION.get(float(text))
+            if kind is None:
+                return None
+            move_start = start if move_start is None else min(move_start, start)
+            move_end = max(move_end, value_end)
+        elif letter == "F":
+            if feed_op is not None:
+                return None
+            feed = ir.IncrementCount(float(text), "feed") if form.feed_increment and b"." not in text else float(text)
+            feed_op = ir.SetFeed(Span(line, start + 1, line, value_end + 1, path), feed)
+        elif letter in form.axis_letters and letter not in targets:
+            if increment and b"." not in text and 1 <= abs(float(text)) < 1000:
+                return None  # a decimal-point trap: the general path reports it
+            targets[letter] = ir.IncrementCount(float(text), "length") if increment and b"." not in text else float(text)
+            columns[letter] = (start, value_end)
+            if move_start is None or start < move_start:
+                move_start = start
+            move_end = max(move_end, value_end)
+        elif letter in form.arc_letters and letter not in arc and (b"." in text or not increment):
+            arc[letter] = float(text)
+            if form.arc_words_in_span:
+                columns[letter] = (start, value_end)
+                move_start = start if move_start is None else min(move_start, start)
+                move_end = max(move_end, value_end)
+        else:
+            return None
+    if arc and kind in ("rapid", "linear"):
+        return None  # centre words on a straight move: the general lowering says what they are
+    stripped = raw.strip()
+    first = raw.index(stripped[:1]) if stripped else 0
+    block = ir.Block(line, first + 1, first + len(stripped) + 1, [], label=label)
+    if feed_op is not None:
+        block.ops.append(feed_op)
+    if move_start is not None:
+        span = Span(line, move_start + 1, line, move_end + 1, path)
+        block.ops.append(ir.Move(span, kind, targets, arc or None, dict(arc) if form.arc_words_in_span else {}, frozenset(), columns))
+    elif arc:
+        return None  # centre words alone: the general lowering places them
+    return block
 
 
 class IsoFrontend:
@@ -466,70 +562,19 @@ class IsoFrontend:
 
     def __init__(self, lowering: IsoLowering):
         self.lowering = lowering
+        self.fast_form = FastMotionForm(lowering.axis_letters - frozenset(lowering.twins), lowering.increment, lowering.feed_increment)
 
     def blocks(self, raw: bytes, line: int, path: str | None) -> list[ir.Block]:
-        if _PLAIN_MOTION.fullmatch(raw):
-            block = self._plain_motion(raw, line, path)
-            if block is not None:
-                return [block]
-        return self._lower_text(decode_line(raw), line, path)
+        block = fast_motion_block(raw, line, path, self.fast_form)
+        return [block] if block is not None else self._lower_text(decode_line(raw), line, path)
 
     def _lower_text(self, text: str, line: int, path: str | None) -> list[ir.Block]:
         """The general path: the line read into blocks, each lowered."""
         return [self.lowering.lower(read, path) for read in read_line(text, line)]
 
-    def _plain_motion(self, raw: bytes, line: int, path: str | None) -> ir.Block | None:
-        """The fast path: ``[N..] [G0-G3] axis words [F..]`` straight to IR, without
-        reader objects. Returns None when the block needs the general lowering."""
-        canonical = _CANONICAL.fullmatch(raw)
-        if canonical is not None:
-            words = [(letter, value, regs) for letter, value, regs in zip(_CANONICAL_LETTERS, canonical.groups(), canonical.regs[1:]) if value is not None]
-        else:
-            words = [(_LETTERS[match.group(1)[0]], match.group(2), match.span(2)) for match in _PLAIN_WORD_BYTES.finditer(raw)]
-        lowering = self.lowering
-        increment = lowering.increment
-        label = kind = move_start = feed_op = None
-        move_end = 0
-        targets = {}
-        columns = {}
-        for letter, text, (value_start, value_end) in words:
-            start = raw.rindex(letter.encode(), 0, value_start)
-            if letter == "N":
-                if label is not None:
-                    return None
-                label = float(text)
-            elif letter == "G":
-                if kind is not None:
-                    return None
-                kind = _FAST_MOTION.get(float(text))
-                if kind is None:
-                    return None
-                move_start = start if move_start is None else min(move_start, start)
-                move_end = max(move_end, value_end)
-            elif letter == "F":
-                if feed_op is not None:
-                    return None
-                feed = ir.IncrementCount(float(text), "feed") if lowering.feed_increment and b"." not in text else float(text)
-                feed_op = ir.SetFeed(Span(line, start + 1, line, value_end + 1, path), feed)
-            elif letter in lowering.axis_letters and letter not in lowering.twins and letter not in targets:
-                if increment and b"." not in text and 1 <= abs(float(text)) < 1000:
-                    return None  # a decimal-point trap: the general path reports it
-                targets[letter] = ir.IncrementCount(float(text), "length") if increment and b"." not in text else float(text)
-                columns[letter] = (start, value_end)
-                if move_start is None or start < move_start:
-                    move_start = start
-                move_end = max(move_end, value_end)
-            else:
-                return None
-        stripped = raw.strip()
-        first = raw.index(stripped[:1]) if stripped else 0
-        block = ir.Block(line, first + 1, first + len(stripped) + 1, [], label=label)
-        if feed_op is not None:
-            block.ops.append(feed_op)
-        if move_start is not None:
-            span = Span(line, move_start + 1, line, move_end + 1, path)
-            block.ops.append(ir.Move(span, kind, targets, None, {}, frozenset(), columns))
-        return block
+    def _plain_motion(self, raw: bytes, line: int, path: str | None, canonical: re.Match | None = None) -> ir.Block | None:
+        """The fast lowering of a plain motion line (:func:`lower_fast_motion`), or None."""
+        return lower_fast_motion(raw, line, path, self.fast_form, canonical)
 
     def is_plain(self, raw: bytes) -> bool:
         """Could this line be part of a :class:`ir.MoveBatch`?"""
@@ -540,11 +585,7 @@ class IsoFrontend:
         :mod:`ncverify.read.iso_runs`); None when the streak is short."""
         if self.lowering.twins or "X" not in self.lowering.axis_letters:
             return None
-        end = min(len(buffer), offset + limit)
-        chunk = bytes(buffer[offset:end])
-        if end < len(buffer):
-            chunk = chunk[: chunk.rfind(b"\n") + 1]
-        run = read_plain_run(chunk, stop_at_small_integers=bool(self.lowering.increment))
+        run = read_plain_run_at(buffer, offset, limit, stop_at_small_integers=bool(self.lowering.increment))
         if run is None:
             return None
         table, pointless = run.table, run.pointless

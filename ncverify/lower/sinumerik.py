@@ -35,11 +35,12 @@ from .. import ir
 from ..context import Context, Stock, Tool, tool_value_problem
 from ..cycle_models import CycleModel, load_cycle_table
 from ..dialect import DialectSetup
-from ..read.iso_runs import read_plain_run
+from ..read.iso_runs import read_plain_run_at
 from ..read.sinumerik import Item, ReadBlock, read_line
 from ..resources import data_dir
 from ..source import Span, decode_line
 from . import modal_call
+from .iso import FastMotionForm, fast_motion_block
 
 WHILE_LOOP, FOR_LOOP, ENDLESS_LOOP, REPEAT_LOOP = 1, 2, 3, 4
 UNTIL_FLAG = "_REPEAT_UNTIL_"
@@ -422,6 +423,11 @@ def _nested_modal_call(name: str, span: Span):
 # ---------------------------------------------------------------------- frontend
 
 _PLAIN_MOTION = re.compile(rb"[ \t]*(?:[NGXYZF][ \t]*[+-]?(?:\d+\.?\d*|\.\d+)[ \t]*)+")
+# Plain motion lines lowered without the reader, as the general lowering would (N is a block
+# number, not a label; I/J/K are arc data only, outside the move's span; R is a parameter).
+_FAST_WORD = rb"[GXYZABCFIJK][+-]?(?:\d+\.?\d*|\.\d+)"
+_FAST_LINE = re.compile(rb"[ \t]*(?:N\d+[ \t]+)?" + _FAST_WORD + rb"(?:[ \t]+" + _FAST_WORD + rb")*[ \t]*")  # N first, words apart
+_FAST_FORM = FastMotionForm(frozenset(_AXES), numbered_labels=False, arc_letters=frozenset(_ARC_WORDS), arc_words_in_span=False)
 _PROGRAM_HEADER = re.compile(rb"(?mi)^[ \t]*%_N_(\w+?)_(MPF|SPF)\b")
 _PROC = re.compile(rb"(?mi)^[ \t]*(?:N\d+[ \t]*)?PROC[ \t]+(\w+)")
 _PROGRAM_END = re.compile(rb"(?mi)^[^;\n]*\bM0?(?:2|30)\b(?![ \t]*=)")
@@ -437,6 +443,10 @@ class SinumerikFrontend:
         self._proc_cache: dict = {}
 
     def blocks(self, raw: bytes, line: int, path: str | None) -> list[ir.Block]:
+        if not self.lowering.uses_modal_call and _FAST_LINE.fullmatch(raw):  # with MCALL, a move also carries the call
+            block = fast_motion_block(raw, line, path, _FAST_FORM)
+            if block is not None:
+                return [block]
         return self.lowering.lower(read_line(decode_line(raw), line), path)
 
     def is_plain(self, raw: bytes) -> bool:
@@ -450,11 +460,7 @@ class SinumerikFrontend:
         SINUMERIK number is always in mm or inch (no least-increment scaling)."""
         if self.lowering.uses_modal_call:
             return None
-        end = min(len(buffer), offset + limit)
-        chunk = bytes(buffer[offset:end])
-        if end < len(buffer):
-            chunk = chunk[: chunk.rfind(b"\n") + 1]
-        run = read_plain_run(chunk, stop_at_small_integers=False)
+        run = read_plain_run_at(buffer, offset, limit)
         if run is None:
             return None
         table = run.table

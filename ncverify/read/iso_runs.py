@@ -27,6 +27,7 @@ _COLUMN[list(LETTERS)] = numpy.arange(len(LETTERS))
 _POWERS_OF_TEN = 10.0 ** numpy.arange(23)
 _MAX_DIGITS = 15  # mantissas stay below 2**53
 _MOTION_CODES = (0.0, 1.0)
+_FIRST_CHUNK = 1 << 14  # bytes read first; CAM streaks between arcs are short
 
 
 @dataclass(slots=True)
@@ -153,3 +154,20 @@ def read_plain_run(chunk: bytes, minimum_lines: int = 16, stop_at_small_integers
     line_starts = numpy.concatenate(([0], newlines + 1))[:line_count]
     blocks = int(numpy.count_nonzero(numpy.diff(rows)) + 1) if len(rows) else 0
     return PlainRun(table, pointless, line_starts, stop, blocks)
+
+
+def read_plain_run_at(buffer, offset: int, limit: int, stop_at_small_integers: bool = False) -> PlainRun | None:
+    """The plain run from ``offset`` of ``buffer`` on (whole lines, at most ``limit``
+    bytes). The chunk read starts small and grows fourfold while the run fills it: the
+    arrays cost what the run is long, so a streak of ten lines between two arcs does not
+    pay for classifying a whole ``limit`` of text."""
+    size = min(_FIRST_CHUNK, limit)
+    while True:
+        end = min(len(buffer), offset + size)
+        chunk = bytes(buffer[offset:end])
+        if end < len(buffer):
+            chunk = chunk[: chunk.rfind(b"\n") + 1]
+        run = read_plain_run(chunk, stop_at_small_integers=stop_at_small_integers)
+        if run is None or run.length < len(chunk) or end >= len(buffer) or size >= limit:
+            return run
+        size = min(size * 4, limit)
