@@ -357,7 +357,7 @@ class KlartextLowering:
             block.ops.append(arc_pseudo)
         elif words["targets"]:
             if machine:
-                block.ops.append(ir.MachineMove(span, dict(words["targets"])))
+                block.ops.append(ir.MachineMove(span, dict(words["targets"]), zero_is_reference=False))  # M91/M92: positions of the machine maker's choosing
             elif kind == "rapid" and "Z" in words["targets"] and set(words["targets"]) <= {"X", "Y", "Z"}:
                 block.ops.append(_pseudo(span, "lift", {("I" if axis in words["incremental"] else "") + axis: value for axis, value in words["targets"].items()}))
             else:

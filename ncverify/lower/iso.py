@@ -324,6 +324,8 @@ class IsoLowering:
             stages[_MOTION].append(ir.ReferenceReturn(span, entry["kind"], values, extra, incremental))
         elif effect == "machine_move":
             stages[_MOTION].append(ir.MachineMove(span, self._take_axes(rest)))
+        elif effect == "home":
+            stages[_MOTION].append(ir.Home(span, tuple(self._take_axes(rest))))
         elif effect == "macro_call":
             program = self._pop(rest, "P")
             repeat = self._pop(rest, "L", 1.0)
