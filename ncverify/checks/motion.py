@@ -26,8 +26,8 @@ class FeedMissing(Rule):
     positive (one finding per mistake, not one per block)."""
 
     def segment(self, segment, state):
-        if segment.kind not in _CUTTING:
-            return
+        if segment.kind not in _CUTTING or segment.kind == "thread" and not segment.cycle:
+            return  # a thread (G33) follows the spindle: its lead is the feed, no F is read
         self._check(state.feed, segment.span, "cycle infeed" if segment.cycle else "cutting move", state)
 
     def motion_run(self, run, state):

@@ -432,6 +432,10 @@ class ControlFlow:
         frame = self.state.call_stack[-1]
         last_line = max(source.line_number_at(len(source)) - (1 if source.buffer[-1:] == b"\n" else 0), 1) if len(source) else 1
         span = Span(last_line, 1, last_line, 1, self._path_name(source))
+        text_end_ends = getattr(self.frontend, "text_end_ends_program", None)
+        if frame.kind == "main" and text_end_ends is not None and text_end_ends(bytes(source.buffer)):
+            self._change("end", span, None, None, "eof")
+            return
         program, end_code = _unended(frame)
         self._fault("core.program-end-missing", span, f"{program} ends without {end_code}: the control stops at the end of the text with the spindle and coolant as they are")
         self._change("end", span, None, None, "eof")
