@@ -172,7 +172,7 @@ class ArcGeometry(Rule):
             hazard_term = radius * radius < values.term_of(arc.chord_sq) / 4 - 1e-6
             message = f"arc radius R{show(arc.radius_word)} can be smaller than half the distance to the end point: no such arc exists (alarm)"
         else:
-            start, end = values.fresh("r").term, values.fresh("r").term  # named per check, not per process
+            start, end = values.helper("r").term, values.helper("r").term  # named per check, not per process
             hazard_term = z3.And(start >= 0, end >= 0, start * start == values.term_of(arc.start_radius_sq), end * end == values.term_of(arc.end_radius_sq),
                                  z3.Or(start - end > self._tolerance(state), end - start > self._tolerance(state)))
             message = "the end point can lie off the arc: its distance to the centre differs from the start point's"
