@@ -293,6 +293,7 @@ class Jump(Op):
     target: Expr  # a sequence number / label
     condition: Expr | None = None
     direction: str | None = None  # forward / backward / nearest: search only that way (SINUMERIK GOTOF/GOTOB/GOTO)
+    optional: bool = False  # a missing target is no alarm: the program goes on with the next block (SINUMERIK GOTOC)
 
 
 @dataclass(slots=True)

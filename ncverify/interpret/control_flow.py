@@ -117,6 +117,8 @@ class ControlFlow:
         if type(target) not in (float, str):
             self._unsupported_here(op.span, "a jump whose target depends on a free parameter")
             raise PathEnd
+        if op.optional and not self.label_exists(target):
+            return None  # GOTOC: no alarm, the next block runs
         position = self.find_label(target, op.span, direction=op.direction)
         self._count_jump(position, op.span, f"the jump to {self.frontend.describe_label(target)}")
         return position
@@ -233,6 +235,14 @@ class ControlFlow:
                 offset = self._program_index(source).get(name, 0)
                 return source, offset
         return None
+
+    def label_exists(self, label) -> bool:
+        """Does the running program carry ``label`` anywhere?"""
+        frame = self.state.call_stack[-1]
+        key = (id(frame.source), frame.program, label)
+        if key not in self.label_cache:
+            self.label_cache[key] = self._scan_label(frame.source, frame, label)
+        return bool(self.label_cache[key])
 
     def find_label(self, label: float, span, source: ProgramSource | None = None, frame: CallFrame | None = None,
                    direction: str | None = None) -> Position:

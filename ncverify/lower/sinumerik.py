@@ -112,7 +112,7 @@ class SinumerikLowering:
 
     def lower(self, read: ReadBlock, path: str | None) -> list[ir.Block]:
         block = ir.Block(read.line, read.start + 1, read.end + 1, [], skippable=read.skip)
-        block.label = read.label
+        block.label = read.label if read.label is not None or read.number is None else f"N{read.number}"  # GOTOF N100 lands on a block number
         block.comments = tuple((text, Span.on_line(read.line, start, end, path)) for text, start, end in read.comments)
         if read.header:
             block.program_start = read.header[0]
@@ -166,11 +166,11 @@ class SinumerikLowering:
         if kind == "if":
             return [ir.Jump(span, f"IF#{read.line}", ir.Binary("EQ", item.condition, 0.0))]
         if kind == "goto":
-            return [ir.Jump(span, item.value, item.condition, _DIRECTIONS[item.name])]
+            return [ir.Jump(span, _jump_target(item.value), item.condition, _DIRECTIONS[item.name], optional=item.name == "GOTOC")]
         if kind == "case":
-            jumps = [ir.Jump(span, label, ir.Binary("EQ", item.value, value), "nearest") for value, label in item.args]
+            jumps = [ir.Jump(span, _jump_target(label), ir.Binary("EQ", item.value, value), "nearest") for value, label in item.args]
             if item.extra is not None:
-                jumps.append(ir.Jump(span, item.extra, None, "nearest"))
+                jumps.append(ir.Jump(span, _jump_target(item.extra), None, "nearest"))
             return jumps
         if kind == "while":
             return [ir.LoopStart(span, WHILE_LOOP, item.condition)]
@@ -534,6 +534,8 @@ class SinumerikFrontend:
             offset = self._structure(buffer).get(label)
             return [] if offset is None else [offset]
         text = str(label).upper()
+        if re.fullmatch(r"N\d+", text):  # GOTOF N100: a block number, not a label named N100
+            text = text[1:]
         if text.replace(".", "").isdigit():
             pattern = re.compile(rb"(?mi)^[ \t]*(?:/\d?[ \t]*)?N0*" + str(int(float(text))).encode() + rb"(?![0-9.])")
         else:
@@ -703,3 +705,11 @@ def setup(settings, detection, project) -> DialectSetup:
 def _home_op(stages: dict) -> ir.Home | None:
     """The block's G74 reference point approach, if it has one."""
     return next((op for op in stages["motion"] if isinstance(op, ir.Home)), None)
+
+
+def _jump_target(label):
+    """A jump's target as the blocks carry it: a label by name, a block number as ``N100``
+    (written ``N100`` or ``100``)."""
+    if isinstance(label, str) and re.fullmatch(r"N?\d+", label):
+        return f"N{int(label.lstrip('N'))}"
+    return label
