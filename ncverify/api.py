@@ -137,7 +137,28 @@ def check_source(source: ProgramSource, settings: Settings, project: Context | N
         _inputs_are_not_mistakes(result, _assumed_names(source, settings, detection, project))
     if detection.dialect == "iso" and settings.profile is None and not profile_evidence(source.head(), detection.machine):
         _codes_of_an_assumed_profile(result)
+    _one_finding_per_unknown_code(result)
     return result
+
+
+def _one_finding_per_unknown_code(result: FileResult) -> None:
+    """A code the control lacks is one cause however often it is written: its first block
+    is reported, with the lines of the others, instead of a finding per block."""
+    first: dict[tuple, tuple[Diagnostic, list[int]]] = {}
+    kept = []
+    for diagnostic in result.diagnostics:
+        if diagnostic.rule.endswith(".unknown-code") and diagnostic.status is Status.VIOLATED:
+            key = (diagnostic.rule, diagnostic.message.split(" ", 1)[0])
+            if key in first:
+                first[key][1].append(diagnostic.span.line)
+                continue
+            first[key] = (diagnostic, [])
+        kept.append(diagnostic)
+    for diagnostic, lines in first.values():
+        if lines:
+            shown = ", ".join(str(line) for line in lines[:8]) + (", ..." if len(lines) > 8 else "")
+            diagnostic.message += f" (the same code in {len(lines)} more block{'s' if len(lines) > 1 else ''}: line{'s' if len(lines) > 1 else ''} {shown})"
+    result.diagnostics = kept
 
 
 def _codes_of_an_assumed_profile(result: FileResult) -> None:

@@ -50,3 +50,13 @@ def test_a_thread_follows_the_spindle_and_needs_no_feed_word(tmp_path):
     text = "G18 G20 G90 G0 X.2 Z0\nS500 M3\nG33 Z-.5 K.05\nG0 X.3\nM2\n"
     assert "core.feed-missing" not in _violated(tmp_path, text)
     assert "core.feed-missing" in _violated(tmp_path, text.replace("G33 Z-.5 K.05", "G1 Z-.5"))
+
+
+def test_a_code_the_control_lacks_is_one_finding_however_often_it_is_written(tmp_path):
+    """One cause, one finding: the first block with the code, naming the lines of the others."""
+    text = "G21 G90 G0 X0 Y0 Z5\n" + "G68.2 X0 Y0 Z0 I0 J0 K0\nG0 X1\n" * 4 + "G69.5\nM2\n"
+    program = tmp_path / "program.ngc"
+    program.write_text(text, encoding="utf-8")
+    found = [d for d in check_file(program, Settings()).diagnostics if d.rule == "linuxcnc.unknown-code" and d.status is Status.VIOLATED]
+    assert [d.span.line for d in found] == [2, 10]
+    assert "the same code in 3 more blocks: lines 4, 6, 8" in found[0].message
