@@ -39,3 +39,17 @@ def test_an_assumed_input_through_a_rounding_stays_unknown_not_proved():
     allowed value; ncverify does not know FIX's values, so it may not prove the opposite."""
     findings = _divisions("(ncverify: assume 0 <= #7 <= 3)\nO100\n#2 = 10. / [FIX[#7 / 4.] + 1. - 1.]\nG0 X#2\nM30\n", "assumed.nc")
     assert findings and all(d.status is not Status.PROVED for d in findings)
+
+
+@pytest.mark.parametrize("program, path", [
+    ("O100\n#1 = 10. / #5221\nG0 X#1\nM30\n", "offset.nc"),                        # a work offset: a system variable
+    ("O100\n#1 = 10. / #4001\nG0 X#1\nM30\n", "modal.nc"),                         # a modal state read back
+    ("P1 = 10 / V.G.TOOL\nG0 X P1\nM30\n", "tool.pim"),                            # Fagor: the tool in the spindle
+    ("R1 = 10 / $AA_IM[X]\nG0 X=R1\nM30\n", "axis.mpf"),                           # SINUMERIK: an axis position
+    ("0 BEGIN PGM S MM\n1 FN 18: SYSREAD Q1 = ID20 NR1\n2 Q2 = 10 / Q1\n3 END PGM S MM\n", "sysread.h"),
+])
+def test_a_division_by_a_system_value_is_never_violated(program, path):
+    """System variables and machine data are the machine's: values the program reads, never
+    free parameters a witness may set to zero."""
+    findings = _divisions(program, path)
+    assert findings and all(d.status is not Status.VIOLATED for d in findings)
