@@ -84,14 +84,31 @@ class SpindleOffCutting(Rule):
     def segment(self, segment, state):
         if segment.kind not in _CUTTING or state.spindle != "off" or segment.role == "contour":
             return
+        if self._in_the_air(segment.start.get("Z"), segment.end.get("Z")):
+            return
         self._report_once(segment.span, state)
 
     def motion_run(self, run, state):
         if state.spindle != "off" or state.rule_state.get("spindle-off-reported"):
             return
         cutting = numpy.flatnonzero(run.kinds == _FEED)
-        if len(cutting):
-            self._report_once(run.span(int(cutting[0])), state)
+        for index in cutting:
+            if "Z" in run.axes:
+                column = run.axes.index("Z")
+                start, end = run.points[index, column], run.points[index + 1, column]
+                if self._in_the_air(None if numpy.isnan(start) else float(start), None if numpy.isnan(end) else float(end)):
+                    continue
+            self._report_once(run.span(int(index)), state)
+            return
+
+    def _in_the_air(self, start_z, end_z) -> bool:
+        """A feed move that stays above the top of the stock cuts nothing (a pen plotter's move
+        above the paper, an approach at feed). Without a stock nothing is taken as in the air:
+        Z0 is the part's top on many set-ups, the table's on others."""
+        stock = self.checker.context.stock
+        if stock is None or stock.kind == "cylinder" or type(start_z) is not float or type(end_z) is not float:
+            return False
+        return min(start_z, end_z) > stock.top
 
     def _report_once(self, span, state):
         if state.rule_state.get("spindle-off-reported"):

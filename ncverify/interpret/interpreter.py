@@ -276,6 +276,7 @@ class Interpreter(ControlFlow):
     def _execute_batch(self, run: ir.MoveBatch, source: ProgramSource, path) -> None:
         """Run a batch of plain blocks with arrays (the per-block path's twin)."""
         state = self.state
+        state.left_start = frozenset()  # a batch never runs from the start position (see _batch_allowed)
         axes = run.axes
         start_point = numpy.array([_as_float(state.position.get(axis)) for axis in axes])
         kinds = _forward_fill(run.kinds.astype(numpy.float64), -1, float(ir.MoveBatch.KINDS.index(state.modal["motion"])))
