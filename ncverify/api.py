@@ -16,7 +16,7 @@ from .detect import Detection, detect, profile_evidence
 from .verdict import show
 from .diagnostics import Diagnostic, Severity, Status, Suppressed
 from .interpret import Interpreter
-from .context import Context, RegisterLimits, RuleContext, ToolTable
+from .context import Context, RegisterLimits, RuleContext, ToolTable, describe_start, start_position
 from .dialect import setup_for
 from .library import SubprogramLibrary
 from .project import find_project_file, load_project
@@ -48,6 +48,7 @@ class FileResult:
     detection_evidence: str = ""  # why this dialect, profile and machine type (--verbose)
     values: dict[int, list[tuple[str, str]]] = field(default_factory=dict)  # with Settings.record_values: line -> (variable, value shown)
     failed: bool = False  # the analysis itself failed (ncverify.watchdog): not checked, exit code 2
+    assumptions: list[str] = field(default_factory=list)  # what the verdicts assume beyond the program (the start position)
 
     def to_json(self) -> dict:
         entry = {"path": self.path, "dialect": self.dialect, "dialect_confidence": self.dialect_confidence}
@@ -59,6 +60,8 @@ class FileResult:
             entry["least_input_increment"] = self.least_input_increment
         if self.skipped:
             entry["skipped"] = self.skipped
+        if self.assumptions:
+            entry["assumptions"] = list(self.assumptions)
         entry["diagnostics"] = [diagnostic.to_json() for diagnostic in self.diagnostics]
         entry["suppressed"] = [item.to_json() for item in self.suppressed]
         if self.truncated:
@@ -134,7 +137,28 @@ def check_source(source: ProgramSource, settings: Settings, project: Context | N
         _inputs_are_not_mistakes(result, _assumed_names(source, settings, detection, project))
     if detection.dialect == "iso" and settings.profile is None and not profile_evidence(source.head(), detection.machine):
         _codes_of_an_assumed_profile(result)
+    _one_finding_per_unknown_code(result)
     return result
+
+
+def _one_finding_per_unknown_code(result: FileResult) -> None:
+    """A code the control lacks is one cause however often it is written: its first block
+    is reported, with the lines of the others, instead of a finding per block."""
+    first: dict[tuple, tuple[Diagnostic, list[int]]] = {}
+    kept = []
+    for diagnostic in result.diagnostics:
+        if diagnostic.rule.endswith(".unknown-code") and diagnostic.status is Status.VIOLATED:
+            key = (diagnostic.rule, diagnostic.message.split(" ", 1)[0])
+            if key in first:
+                first[key][1].append(diagnostic.span.line)
+                continue
+            first[key] = (diagnostic, [])
+        kept.append(diagnostic)
+    for diagnostic, lines in first.values():
+        if lines:
+            shown = ", ".join(str(line) for line in lines[:8]) + (", ..." if len(lines) > 8 else "")
+            diagnostic.message += f" (the same code in {len(lines)} more block{'s' if len(lines) > 1 else ''}: line{'s' if len(lines) > 1 else ''} {shown})"
+    result.diagnostics = kept
 
 
 def _codes_of_an_assumed_profile(result: FileResult) -> None:
@@ -240,11 +264,14 @@ def _run(source: ProgramSource, settings: Settings, detection: Detection, result
         source, frontend, checker, settings, power_on=dialect.power_on, cycle_models=dialect.cycle_models,
         twins=dialect.twins, machine=dialect.machine, increment=dialect.increment or 0.0,
         feed_increment=dialect.feed_increment, runtime=dialect.runtime, tools=rule_context.tools, library=library, assumptions=context.assumptions, pins=pins,
+        parked_at_start=tuple(start_position(rule_context.machine, rule_context.stock)),
     )
     interpreter.run()
     checker.finish()
     result.profile, result.machine = dialect.profile, dialect.machine
     result.least_input_increment = dialect.increment
+    start = describe_start(rule_context.machine, rule_context.stock)
+    result.assumptions = [start] if start else []
     result.diagnostics = sorted(checker.diagnostics, key=Diagnostic.sort_key)
     result.suppressed = checker.suppressed
     result.truncated = dict(checker.truncated)

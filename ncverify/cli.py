@@ -55,7 +55,7 @@ def build_parser() -> argparse.ArgumentParser:
     check.add_argument("--fail-on", choices=("error", "warning", "info", "never"), default="error")
     check.add_argument("--fail-on-unknown", action="store_true", help="unknown verdicts fail the run too")
     check.add_argument("--show-proved", action="store_true", help="list proved verdicts in the text report (they are always in JSON)")
-    check.add_argument("--verbose", "-v", action="store_true", help="say on stderr why each file was read as its dialect, profile and machine type")
+    check.add_argument("--verbose", "-v", action="store_true", help="say on stderr why each file was read as its dialect, profile and machine type, and what its verdicts assume (the start position)")
     check.add_argument("--loop-bound", type=_bounded_int(_MAX_LOOP_BOUND), default=Settings.loop_bound, metavar="N",
                        help="iterations of one loop or repeats of one jump before the analysis gives up (default %(default)s)")
     check.add_argument("--max-paths", type=_bounded_int(_MAX_PATHS), default=Settings.max_paths, metavar="N")
@@ -298,6 +298,8 @@ def _collect(outcomes: list[FileOutcome], verbose: bool = False) -> tuple[list[F
         if verbose:
             print(f"{result.path}: read as {result.dialect} ({result.dialect_confidence:g}): {result.detection_evidence or result.skipped or 'given'}",
                   file=sys.stderr)
+            for assumption in result.assumptions:
+                print(f"{result.path}: assumed: {assumption}", file=sys.stderr)
         if (outcome.explicit and result.skipped) or is_not_checked(result):
             errors.append(f"{outcome.result.path}: not checked: {outcome.result.skipped}")
         if outcome.text is not None:

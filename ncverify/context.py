@@ -219,6 +219,29 @@ class Machine:
     lathe_x: str | None = None  # lathe: are X travel and work offsets a "diameter" or a "radius"?
     spindle_encoder: bool | None = None  # a motor-driven spindle with an encoder, which rigid tapping needs
     one_workpiece: frozenset[str] = frozenset()  # work offsets that all hold the one blank the stock describes
+    start: dict[str, float] | None = None  # where the tool starts, in workpiece coordinates ({}: unknown; None: the default)
+
+
+def start_position(machine: Machine, stock: "Stock | None") -> dict[str, float]:
+    """Where the tool stands when the program starts and after a reference return or a full
+    retract, in workpiece coordinates: ``[machine] start`` when given, else above the top of
+    the stock by its own height (the other axes unknown), else nowhere known."""
+    if machine.start is not None:
+        return dict(machine.start)
+    if stock is None:
+        return {}
+    low, high = stock.z_range
+    return {"Z": high + (high - low)}
+
+
+def describe_start(machine: Machine, stock: "Stock | None") -> str | None:
+    """The start position as the report's assumptions state it."""
+    start = start_position(machine, stock)
+    if not start:
+        return None
+    where = " ".join(f"{axis}{value:g}" for axis, value in sorted(start.items()))
+    origin = "[machine] start" if machine.start is not None else "the default: above the stock top by its height, other axes unknown"
+    return f"the tool starts at {where}, and reference returns and full retracts take it back there ({origin})"
 
 
 @dataclass
@@ -256,6 +279,7 @@ class Context:
             self.machine.lathe_x or base.machine.lathe_x,
             self.machine.spindle_encoder if self.machine.spindle_encoder is not None else base.machine.spindle_encoder,
             self.machine.one_workpiece or base.machine.one_workpiece,
+            self.machine.start if self.machine.start is not None else base.machine.start,
         )
         return Context(
             self.stock or base.stock, tools, machine, base.assumptions + self.assumptions,

@@ -30,7 +30,7 @@ _SIGNATURES: dict[str, list[tuple[str, float]]] = {
         (r"(?im)^\s*(?:N\d+\s*)?(?:ELSE|ENDIF|ENDWHILE|ENDFOR|ENDLOOP|LOOP|REPEAT|UNTIL)\b", 5),
     ],
     "fagor": [
-        (r"(?im)#(?:MCALL|PCALL|CALL|MDOFF|LATHECY|MILLCY|TOOL\s+AX)\b", 6), (r"(?im)\$(?:IF|GOTO|WHILE|FOR|SWITCH|ELSE|ENDIF)\b", 5),
+        (r"(?im)#(?:MCALL|PCALL|CALL|MDOFF|LATHECY|MILLCY|TOOL\s+AX)\b", 6), (r"(?im)\$(?:IF|GOTO|WHILE|FOR|SWITCH|ELSE|ENDIF|RPT|DO)\b", 5),
         (r"(?im)\bG16[0-5]\b", 4), (r"(?im)\bG21[0-2]\b", 3), (r"(?im)\(RPT\s+N", 5), (r"(?im)\bV\.[A-Z]\.", 4),
         # Fagor cycle blocks: the tool-axis word is the reference plane and I the depth, no R (G81 Z2 I-20)
         # (ISO G81/G82/G84/G85 never take I; Haas G83 and ISO G87 may, always with an R point)

@@ -147,7 +147,7 @@ def may_enter_symbolic(stock: Stock, start, end, dogleg: bool = False) -> z3.Boo
     the triangles of its outline (strictly inside across the outline's own edges, on either
     side of the edges the triangulation adds)."""
     # named per check (z3.FreshReal numbers per process, and the names steer the solver's model)
-    distinct = [values.fresh("t").term for _ in range(3 if dogleg else 1)]
+    distinct = [values.helper("t").term for _ in range(3 if dogleg else 1)]
     ts = distinct if dogleg else distinct * 3
     constraints = [z3.And(t >= 0, t <= 1) for t in distinct]
     point = []
@@ -272,7 +272,7 @@ def tool_may_enter_symbolic(stock: Stock, start, end, radius: float, length: flo
     mitred corners, a little more than the tool reaches: a proof stays sound, and a
     violation the widening alone makes does not survive the witness's concrete run."""
     # named per check, like may_enter_symbolic's (the names steer the solver's model)
-    distinct = [values.fresh("t").term for _ in range(3 if dogleg else 1)]
+    distinct = [values.helper("t").term for _ in range(3 if dogleg else 1)]
     ts = distinct if dogleg else distinct * 3
     constraints = [z3.And(t >= 0, t <= 1) for t in distinct]
     point = []

@@ -40,6 +40,8 @@ Operations (all carry the ``span`` of the words they came from):
                     and TRANS set the same frame from their runner (:mod:`ncverify.frames`)
 ``ReferenceReturn`` returns to a machine reference point through an intermediate point
 ``MachineMove``     a one-shot move in machine coordinates (G53)
+``Home``            axes go to the machine's reference point by a search or approach with no
+                    intermediate point (SINUMERIK G74, Fagor G74): ``axes`` empty for all
 ``SetFeed``         feed rate word
 ``SetSpindleSpeed`` spindle speed word (or a speed clamp)
 ``Spindle``         spindle start cw / ccw, stop, orient (``apart``: reported without the block's moves)
@@ -242,6 +244,12 @@ class ReferenceReturn(Op):
 @dataclass(slots=True)
 class MachineMove(Op):
     targets: dict[str, Expr]
+    zero_is_reference: bool = True  # machine zero is the reference point (ISO G53, SINUMERIK G53/SUPA), not HEIDENHAIN M91/M92
+
+
+@dataclass(slots=True)
+class Home(Op):
+    axes: tuple[str, ...] = ()  # empty: every axis
 
 
 @dataclass(slots=True)
@@ -308,6 +316,7 @@ class Jump(Op):
     target: Expr  # a sequence number / label
     condition: Expr | None = None
     direction: str | None = None  # forward / backward / nearest: search only that way (SINUMERIK GOTOF/GOTOB/GOTO)
+    optional: bool = False  # a missing target is no alarm: the program goes on with the next block (SINUMERIK GOTOC)
 
 
 @dataclass(slots=True)

@@ -168,7 +168,7 @@ class _Reader:
 
     def machine(self, table) -> Machine:
         table = self.table(table, "[machine]")
-        self.keys(table, {"travel", "work_offsets", "max_spindle", "max_feed", "type", "lathe_x", "spindle_encoder", "one_workpiece"}, "[machine]")
+        self.keys(table, {"travel", "work_offsets", "max_spindle", "max_feed", "type", "lathe_x", "spindle_encoder", "one_workpiece", "start"}, "[machine]")
         machine = Machine()
         if "type" in table:
             if table["type"] not in ("mill", "lathe"):
@@ -187,6 +187,8 @@ class _Reader:
             if not isinstance(names, list) or not all(isinstance(name, str) for name in names):
                 self.fail("[machine] one_workpiece", 'expected a list of work offsets, such as ["G54", "G55"]')
             machine.one_workpiece = frozenset(name.upper() for name in names)
+        if "start" in table:
+            machine.start = self.start(table["start"])
         travel = self.table(table.get("travel", {}), "[machine] travel")
         for axis, limits in travel.items():
             if axis.lower() not in _AXES:
@@ -201,6 +203,20 @@ class _Reader:
             if key in table:
                 setattr(machine, key, self.number(table[key], f"[machine] {key}", positive=True))
         return machine
+
+    def start(self, value) -> dict[str, float]:
+        """``start = { x = 0, y = 0, z = 100 }`` (workpiece coordinates, any of the axes) or
+        ``start = "unknown"``."""
+        if value == "unknown":
+            return {}
+        if not isinstance(value, dict):
+            self.fail("[machine] start", 'expected a table of axes ({ x = 0, y = 0, z = 100 }) or "unknown"')
+        start = {}
+        for axis, number in value.items():
+            if axis.upper() not in ("X", "Y", "Z", "A", "B", "C"):
+                self.fail(f"[machine] start.{axis}", "unknown axis")
+            start[axis.upper()] = self.number(number, f"[machine] start.{axis}")
+        return start
 
     def assumptions(self, table) -> list[Assumption]:
         table = self.table(table, "[assume]")

@@ -85,6 +85,15 @@ def fresh(label: str, low: float = -INF, high: float = INF) -> Sym:
     return Sym(z3.Real(f"{label}~{next(numbers)}"), low, high, exact=False)
 
 
+HELPER_MARK = "?"  # the label's first character for an existential helper (a point along a path), not an unknown quantity
+
+
+def helper(label: str) -> Sym:
+    """An existential helper of one question (where along a move the tool meets the stock):
+    the solver picks it, it stands for nothing the program or the machine leaves unknown."""
+    return fresh(HELPER_MARK + label)
+
+
 _FRESH_NAME = re.compile(r"([^\s()*+/~-]+)~\d+")
 
 

@@ -59,8 +59,51 @@ def judge(hazard: "bool | Condition", path_condition: list, timeout_s: float = 5
             elif z3.is_algebraic_value(value):
                 witness[declaration.name()] = float(value.approx(10).as_decimal(10).rstrip("?"))
         # sorted: the model lists its values in an order that varies from one check to the next in one process
-        return Verdict(Status.VIOLATED, {k: v for k, v in sorted(witness.items()) if "~" not in k and "!" not in k})
+        named = {k: v for k, v in sorted(witness.items()) if _names_a_parameter(k)}
+        if _avoidable_by_unnamed_values(solver, model, hazard, local, context):
+            return Verdict(Status.UNKNOWN, named, "it happens only for some values of a quantity ncverify does not know (a rounding, "
+                                                  "a comparison of text, a probe result or another value no parameter names)")
+        return Verdict(Status.VIOLATED, named)
     return Verdict(Status.UNKNOWN, reason=f"the solver gave no answer within {timeout_s:g} s ({solver.reason_unknown()})")
+
+
+def _names_a_parameter(name: str) -> bool:
+    """Parameters are named by the program; ``label~n`` are :func:`values.fresh` unknowns and
+    ``!`` names the solver's own."""
+    return "~" not in name and "!" not in name
+
+
+def _avoidable_by_unnamed_values(solver, model, hazard: Condition, local, context) -> bool:
+    """With the parameters fixed at the model's values, can the unknowns no parameter names
+    (:func:`values.fresh`) still keep the hazard from happening? Then the hazard is no
+    evidence of a fault: it needs one of those unknowns to take a particular value. A
+    solver that cannot tell counts as avoidable."""
+    assertions = list(solver.assertions())
+    constants = _constants(assertions)
+    fixed = [constant for constant in constants if _names_a_parameter(constant.decl().name()) or constant.decl().name().startswith(values.HELPER_MARK)]
+    if len(fixed) == len(constants):
+        return False
+    check = z3.Solver(ctx=context)
+    check.set("timeout", 2000)
+    check.add(*assertions[:-1])  # the path condition; the hazard was added last
+    check.add(z3.Not(local(hazard.term)))
+    for constant in fixed:
+        check.add(constant == model.eval(constant, model_completion=True))
+    return check.check() != z3.unsat
+
+
+def _constants(terms) -> list:
+    """The uninterpreted constants (parameters and unknowns) the terms mention."""
+    found, seen, stack = [], set(), list(terms)
+    while stack:
+        term = stack.pop()
+        if term.get_id() in seen:
+            continue
+        seen.add(term.get_id())
+        if z3.is_const(term) and term.decl().kind() == z3.Z3_OP_UNINTERPRETED:
+            found.append(term)
+        stack.extend(term.children())
+    return found
 
 
 def hazard(op: str, a, b) -> "bool | Condition":

@@ -305,7 +305,7 @@ def test_h22_a_thread_mill_called_with_rl_is_reported_too():
 
 
 def test_h10_rigid_tapping_leaves_a_stopped_spindle_stopped_for_the_next_cut():
-    body = "5  " + TAPPING + "\n6  L  X+30  Y+30 R0 FMAX M99\n7  L  X+60 Y+60 FMAX\n8  L  Z+5 F500"
+    body = "5  " + TAPPING + "\n6  L  X+30  Y+30 R0 FMAX M99\n7  L  X+60 Y+60 FMAX\n8  L  Z-5 F500"  # the next cut goes into the blank
     assert lines(check(program(body, start="L  Z+100 R0 FMAX M5")), "core.spindle-off-cutting") == [14]
     assert not lines(check(program(body)), "core.spindle-off-cutting")
 

@@ -1,4 +1,4 @@
-"""Reviewed expectations for every HEIDENHAIN, SINUMERIK and Fanuc-style program of the
+"""Reviewed expectations for every HEIDENHAIN, SINUMERIK, Fanuc-style and LinuxCNC program of the
 third-party corpus (``../shared/corpus-realworld``), checked as a new user would: no project
 file, no options.
 
@@ -21,9 +21,10 @@ from ncverify import Settings, check_file
 from ncverify.diagnostics import Severity, Status
 
 REALWORLD = Path(__file__).resolve().parents[2] / "shared" / "corpus-realworld"
-FOLDERS = ("heidenhain", "sinumerik", "fanuc")
+FOLDERS = ("heidenhain", "sinumerik", "fanuc", "linuxcnc")
+PRECISION_FOLDERS = ("heidenhain/", "sinumerik/", "fanuc/")  # the README's figure; LinuxCNC is reviewed, not counted
 EXPECTATIONS = tomllib.loads((Path(__file__).parent / "realworld_expectations.toml").read_text(encoding="utf-8"))
-PRECISION_FLOOR = 0.85  # measured at the last review; see the README, "Precision on real programs"
+PRECISION_FLOOR = 0.90  # the issue's bar; measured 62 of 67 at the last review (see the README, "Precision on real programs")
 
 if not all((REALWORLD / folder).is_dir() for folder in FOLDERS):
     pytest.skip(f"third-party corpus not present at {REALWORLD}", allow_module_level=True)
@@ -59,6 +60,6 @@ def test_file_gives_exactly_its_reviewed_findings(name):
 
 
 def test_precision_does_not_fall():
-    findings = EXPECTATIONS["finding"]
+    findings = [entry for entry in EXPECTATIONS["finding"] if entry["file"].startswith(PRECISION_FOLDERS)]
     real = sum(1 for entry in findings if entry["real"])
     assert real / len(findings) >= PRECISION_FLOOR

@@ -419,8 +419,15 @@ class TransformAtEnd(Rule):
 
 @rule("heidenhain.depth-through-blank")
 class DepthThroughBlank(ReportsMissingContext):
-    """A43 H41: a hole bottom below the underside of the blank cuts into the fixture or the
-    table (a through hole needs a spacer under the part)."""
+    """A43 H41: a hole bottom below the underside of the blank reaches what the part lies on.
+
+    The reference asks for a warning; the verdict is ``unknown`` instead, as a machinist
+    reads it: a bottom below the underside is how a through hole is programmed (the drill's
+    point and a break-through pass the underside), the manual's own example C200 does it
+    (Q203 = -10, Q201 = -15 in the blank Z-20..0: bottom Z-25), and BLK FORM describes the
+    blank for the graphics, not what it is clamped on. Whether parallels or a spacer lie
+    under the hole is the set-up's, which the program does not state. A bottom that is not
+    below the underside for any allowed value is ``proved``."""
 
     def hole(self, hole, state):
         if cycle_number(hole.cycle) is None or hole.bottom is None or not self.first_time(state, ("through-blank", hole.definition)):

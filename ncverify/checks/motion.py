@@ -26,8 +26,8 @@ class FeedMissing(Rule):
     positive (one finding per mistake, not one per block)."""
 
     def segment(self, segment, state):
-        if segment.kind not in _CUTTING:
-            return
+        if segment.kind not in _CUTTING or segment.kind == "thread" and not segment.cycle:
+            return  # a thread (G33) follows the spindle: its lead is the feed, no F is read
         self._check(state.feed, segment.span, "cycle infeed" if segment.cycle else "cutting move", state)
 
     def motion_run(self, run, state):
@@ -84,14 +84,31 @@ class SpindleOffCutting(Rule):
     def segment(self, segment, state):
         if segment.kind not in _CUTTING or state.spindle != "off" or segment.role == "contour":
             return
+        if self._in_the_air(segment.start.get("Z"), segment.end.get("Z")):
+            return
         self._report_once(segment.span, state)
 
     def motion_run(self, run, state):
         if state.spindle != "off" or state.rule_state.get("spindle-off-reported"):
             return
         cutting = numpy.flatnonzero(run.kinds == _FEED)
-        if len(cutting):
-            self._report_once(run.span(int(cutting[0])), state)
+        for index in cutting:
+            if "Z" in run.axes:
+                column = run.axes.index("Z")
+                start, end = run.points[index, column], run.points[index + 1, column]
+                if self._in_the_air(None if numpy.isnan(start) else float(start), None if numpy.isnan(end) else float(end)):
+                    continue
+            self._report_once(run.span(int(index)), state)
+            return
+
+    def _in_the_air(self, start_z, end_z) -> bool:
+        """A feed move that stays above the top of the stock cuts nothing (a pen plotter's move
+        above the paper, an approach at feed). Without a stock nothing is taken as in the air:
+        Z0 is the part's top on many set-ups, the table's on others."""
+        stock = self.checker.context.stock
+        if stock is None or stock.kind == "cylinder" or type(start_z) is not float or type(end_z) is not float:
+            return False
+        return min(start_z, end_z) > stock.top
 
     def _report_once(self, span, state):
         if state.rule_state.get("spindle-off-reported"):
@@ -172,7 +189,7 @@ class ArcGeometry(Rule):
             hazard_term = radius * radius < values.term_of(arc.chord_sq) / 4 - 1e-6
             message = f"arc radius R{show(arc.radius_word)} can be smaller than half the distance to the end point: no such arc exists (alarm)"
         else:
-            start, end = values.fresh("r").term, values.fresh("r").term  # named per check, not per process
+            start, end = values.helper("r").term, values.helper("r").term  # named per check, not per process
             hazard_term = z3.And(start >= 0, end >= 0, start * start == values.term_of(arc.start_radius_sq), end * end == values.term_of(arc.end_radius_sq),
                                  z3.Or(start - end > self._tolerance(state), end - start > self._tolerance(state)))
             message = "the end point can lie off the arc: its distance to the centre differs from the start point's"

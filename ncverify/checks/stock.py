@@ -7,12 +7,13 @@ through a pocket machined earlier is still reported (future work, see the rule p
 from __future__ import annotations
 
 
+import dataclasses
 import math
 
 import numpy
 
 from ..ir import cycle_code
-from .. import frames, geometry
+from .. import context, frames, geometry
 from ..check import Rule, Verdict, hazard, rule, show
 from ..context import Stock, active_edge, radius_delta
 from ..diagnostics import Status
@@ -156,6 +157,8 @@ class RapidIntoStock(_NeedsStock):
         stock = self.stock(segment.span, state)
         if stock is None:
             return
+        if state.parked or state.left_start:
+            segment = self._from_start_position(segment, state)
         start, end = _point(segment.start, stock), _point(segment.end, stock)
         what = _ROLE_WORDS.get(segment.role, "rapid move")
         if segment.cycle:
@@ -192,6 +195,22 @@ class RapidIntoStock(_NeedsStock):
             self.report(self.rule_id, segment.span, message)
         elif left.outcome == "unsure":
             self._unsure(segment, what, start, end, stock, state)
+
+    def _from_start_position(self, segment, state):
+        """A parked axis (at the program start, after a reference return or a full retract)
+        stands at the start position (``[machine] start``, by default above the stock), not
+        nowhere: its unknown ends are placed there. Only with the tool along +Z of the
+        workpiece, where a parked Z is the height of the tool."""
+        if tool_axis_problem(state) is not None:
+            return segment
+        start_position = context.start_position(self.checker.context.machine, self.checker.context.stock)
+        start = self._placed(segment.start, state.parked | state.left_start, start_position)
+        end = self._placed(segment.end, state.parked, start_position)
+        return dataclasses.replace(segment, start=start, end=end)
+
+    @staticmethod
+    def _placed(point: dict, parked, start_position: dict) -> dict:
+        return {**point, **{axis: start_position[axis] for axis in parked if axis in start_position and point.get(axis) is None}}
 
     def _retracts(self, start, end, state) -> bool:
         """With the stock as cut so far: a rapid straight up the tool's own axis from where

@@ -117,6 +117,8 @@ class ControlFlow:
         if type(target) not in (float, str):
             self._unsupported_here(op.span, "a jump whose target depends on a free parameter")
             raise PathEnd
+        if op.optional and not self.label_exists(target):
+            return None  # GOTOC: no alarm, the next block runs
         position = self.find_label(target, op.span, direction=op.direction)
         self._count_jump(position, op.span, f"the jump to {self.frontend.describe_label(target)}")
         return position
@@ -233,6 +235,14 @@ class ControlFlow:
                 offset = self._program_index(source).get(name, 0)
                 return source, offset
         return None
+
+    def label_exists(self, label) -> bool:
+        """Does the running program carry ``label`` anywhere?"""
+        frame = self.state.call_stack[-1]
+        key = (id(frame.source), frame.program, label)
+        if key not in self.label_cache:
+            self.label_cache[key] = self._scan_label(frame.source, frame, label)
+        return bool(self.label_cache[key])
 
     def find_label(self, label: float, span, source: ProgramSource | None = None, frame: CallFrame | None = None,
                    direction: str | None = None) -> Position:
@@ -442,6 +452,10 @@ class ControlFlow:
         frame = self.state.call_stack[-1]
         last_line = max(source.line_number_at(len(source)) - (1 if source.buffer[-1:] == b"\n" else 0), 1) if len(source) else 1
         span = Span(last_line, 1, last_line, 1, self._path_name(source))
+        text_end_ends = getattr(self.frontend, "text_end_ends_program", None)
+        if frame.kind == "main" and text_end_ends is not None and text_end_ends(bytes(source.buffer)):
+            self._change("end", span, None, None, "eof")
+            return
         program, end_code = _unended(frame)
         self._fault("core.program-end-missing", span, f"{program} ends without {end_code}: the control stops at the end of the text with the spindle and coolant as they are")
         self._change("end", span, None, None, "eof")

@@ -85,6 +85,10 @@ class MachineState:
     coordinate_shift: dict = field(default_factory=dict)  # G92/G52: machine = program + work offset + shift (None: unknown)
     frame: frames.Frame | None = None  # program -> workpiece coordinates (None: the identity)
     frame_statements: FrameStatements = field(default_factory=FrameStatements)
+    # Axes standing at the machine's start or reference position ([machine] start): unknown
+    # in program coordinates, placed there by the rules that judge where the tool comes from
+    parked: frozenset = frozenset()
+    left_start: frozenset = frozenset()  # axes parked until the last move: the segment it makes starts there
 
     def fork(self) -> "MachineState":
         twin = MachineState(**{name: getattr(self, name) for name in self.__slots__})
@@ -101,8 +105,25 @@ class MachineState:
         return twin
 
     def move_to(self, updates: dict) -> None:
-        """Positions are copy-on-write: segments keep the dicts they were given."""
+        """Positions are copy-on-write: segments keep the dicts they were given. An axis
+        moved to anything but its reference position is no longer parked."""
         self.position = {**self.position, **updates}
+        self.leave_start(updates)
+
+    def leave_start(self, axes) -> None:
+        """The axes move: those that were parked are not any more, but the segment of this
+        move still starts at the start position."""
+        if self.parked or self.left_start:
+            self.left_start = self.parked.intersection(axes)
+            self.parked = self.parked.difference(axes)
+
+    def park(self, axes) -> None:
+        """The axes reach the machine's start or reference position (unknown in program
+        coordinates)."""
+        axes = tuple(axes)
+        self.position = {**self.position, **dict.fromkeys(axes)}
+        self.parked = self.parked.union(axes)
+        self.left_start = self.left_start.difference(axes)
 
     @property
     def plane_axes(self) -> tuple[str, str, str]:
@@ -123,7 +144,7 @@ class Interpreter(ControlFlow):
     def __init__(self, source: ProgramSource, frontend, observer, settings: Settings, *, power_on: dict,
                  cycle_models: dict, twins: dict, machine: str = "mill", increment: float = 0.0,
                  feed_increment: float = 0.0, library=None, assumptions=(), pins: dict | None = None, runtime=None,
-                 tools: ToolTable | None = None):
+                 tools: ToolTable | None = None, parked_at_start: tuple[str, ...] = ()):
         self.cycle_models = cycle_models
         self._dialect_batch_allowed = getattr(runtime, "batch_allowed", None)
         self._system_variables = tuple(hook for hook in (modal_call_value, getattr(runtime, "system_variable", None),
@@ -151,6 +172,7 @@ class Interpreter(ControlFlow):
         self.free_parameters: dict[str, Sym] = {}
         self.pins = pins or {}  # free parameters fixed to a witness's values, for its replay
         self.state = MachineState()
+        self.parked_at_start = frozenset(parked_at_start)  # the axes [machine] start places
         self.state.path_condition = self._assume(assumptions)
         self.assumed_conditions = len(self.state.path_condition)  # what a path knows before any branch
         if hasattr(observer, "call_site"):
@@ -159,7 +181,7 @@ class Interpreter(ControlFlow):
             ir.SetModal: self._set_modal, ir.Move: self._move, ir.Dwell: self._nothing,
             ir.CutterComp: self._cutter_comp, ir.LengthOffset: self._length_offset,
             ir.WorkOffset: self._work_offset, ir.CoordinateShift: self._coordinate_shift, ir.SetFrame: self._set_frame,
-            ir.ReferenceReturn: self._reference_return, ir.MachineMove: self._machine_move,
+            ir.ReferenceReturn: self._reference_return, ir.MachineMove: self._machine_move, ir.Home: self._home,
             ir.SetFeed: self._set_feed, ir.SetSpindleSpeed: self._set_spindle_speed,
             ir.Spindle: self._spindle, ir.Coolant: self._coolant, ir.ToolSelect: self._tool_select,
             ir.ToolChange: self._tool_change, ir.CycleDefine: self._cycle_define,
@@ -183,6 +205,8 @@ class Interpreter(ControlFlow):
         if called:
             state.spindle = "inherited"
             state.feed_inherited = True
+        else:
+            state.parked = self.parked_at_start
         worklist = [(state, Position(self.source, main_start))]
         while worklist:
             self.state, position = worklist.pop()
@@ -246,7 +270,7 @@ class Interpreter(ControlFlow):
                 and (frames.program_to_workpiece(state) is None or frames.program_to_workpiece(state).is_numeric)
                 and state.modal.get("motion") in ir.MoveBatch.KINDS and not isinstance(state.feed, Sym)
                 and not any(isinstance(value, Sym) for value in state.position.values())
-                and self._dialect_allows_batch(state))
+                and not state.parked and self._dialect_allows_batch(state))
 
     def _dialect_allows_batch(self, state) -> bool:
         """A dialect whose plain blocks also change state of its own says when a batch may skip that."""
@@ -255,6 +279,7 @@ class Interpreter(ControlFlow):
     def _execute_batch(self, run: ir.MoveBatch, source: ProgramSource, path) -> None:
         """Run a batch of plain blocks with arrays (the per-block path's twin)."""
         state = self.state
+        state.left_start = frozenset()  # a batch never runs from the start position (see _batch_allowed)
         axes = run.axes
         start_point = numpy.array([_as_float(state.position.get(axis)) for axis in axes])
         kinds = _forward_fill(run.kinds.astype(numpy.float64), -1, float(ir.MoveBatch.KINDS.index(state.modal["motion"])))
@@ -825,14 +850,26 @@ class Interpreter(ControlFlow):
         written_absolute = {axis: expr for axis, expr in op.via.items() if axis not in op.incremental}
         self._change("reference_return", op.span, block, op_values(written_absolute, self, op.span), op.which, None,
                      op_values({"P": op.words["P"]}, self, op.span) if "P" in op.words else {})
-        state.move_to(dict.fromkeys(targets))  # at the machine reference point: unknown in work coordinates
+        if op.which in ("home", "secondary"):
+            state.park(targets)  # at the machine reference point: unknown in work coordinates
+        else:
+            state.move_to(dict.fromkeys(targets))
         for axis in targets:  # a reference return cancels the axis's G52 local origin
             if ("local-origin", axis) in state.rule_state:
                 self._set_local_origin(axis, 0.0)
         return None
 
     def _machine_move(self, op: ir.MachineMove, block):
+        """A move in machine coordinates: unknown in program coordinates; to machine zero
+        where the dialect's machine zero is the reference point (G53 Z0 on the ISO family,
+        ``SUPA Z0`` on SINUMERIK), the axis is parked there."""
+        home = [axis for axis, expr in op.targets.items() if op.zero_is_reference and _is_zero(self.value(expr, op.span))]
         self.state.move_to(dict.fromkeys(op.targets))
+        self.state.park(home)
+        return None
+
+    def _home(self, op: ir.Home, block):
+        self.state.park(op.axes or tuple(self.state.position) or ("X", "Y", "Z"))
         return None
 
     # ------------------------------------------------------------------ motion
@@ -868,6 +905,7 @@ class Interpreter(ControlFlow):
                 value = None if current is None else values.add(current, value)
             end[axis] = value
         state.position = end
+        state.leave_start(op.targets)
         state.motion_seen = True
         if kind == "thread" and op.words:
             self._change("thread", op.span, block, None, op_values(op.words, self, op.span))  # G33 Q start angle, E lead
@@ -1000,6 +1038,10 @@ def _forward_fill(column, empty, initial: float):
     numpy.maximum.accumulate(index, out=index)
     padded = numpy.concatenate(([initial], numpy.where(missing, numpy.nan, column)))
     return padded[index]
+
+
+def _is_zero(value) -> bool:
+    return type(value) is float and value == 0.0
 
 
 def _scaled(value, scale: float):

@@ -236,7 +236,7 @@ class FagorLowering(IsoLowering):
             if isinstance(op, ir.SetModal) and op.group == "plane":
                 changed = ir.Binary("NE", _STATE_VARIABLES[0], _PLANE_CODES[op.value])
                 result.append(ir.Conditional(op.span, changed, [ir.CycleCancel(op.span)]))
-            elif isinstance(op, ir.Unsupported) and op.what.startswith(("G20 ", "G74 ")):
+            elif isinstance(op, ir.Home) or isinstance(op, ir.Unsupported) and op.what.startswith("G20 "):
                 result.append(ir.CycleCancel(op.span))
             result.append(op)
         return result

@@ -360,7 +360,7 @@ class KlartextLowering:
             block.ops.append(arc_op)
         elif words["targets"]:
             if machine:
-                block.ops.append(ir.MachineMove(span, dict(words["targets"])))
+                block.ops.append(ir.MachineMove(span, dict(words["targets"]), zero_is_reference=False))  # M91/M92: positions of the machine maker's choosing
             elif kind == "rapid" and "Z" in words["targets"] and set(words["targets"]) <= {"X", "Y", "Z"}:
                 block.ops.append(ir.Lift(span, _written(words)))
             else:

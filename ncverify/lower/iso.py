@@ -244,6 +244,8 @@ class IsoLowering:
                 stages[_MODAL].append(ir.SetModal(span, entry["modal"], entry["value"]))
             elif effect == "comp":
                 stages[_MODAL].append(ir.CutterComp(span, entry["side"], None))
+                if entry.get("d_is_diameter"):  # LinuxCNC G41.1/G42.1: D is the tool's diameter, not an offset register
+                    rest.pop("D", None)
             elif effect == "length":
                 stages[_MODAL].append(ir.LengthOffset(span, entry["mode"], None))
             elif effect == "work_offset":
@@ -266,8 +268,8 @@ class IsoLowering:
 
     def _lower_registers(self, rest, stages, read, path, consumer) -> None:
         """D and H without a G41/G43 in the block change the register of the active mode."""
-        if consumer is not None and consumer[0]["effect"] in ("macro_call", "cycle_call"):
-            return
+        if consumer is not None and consumer[0]["effect"] in ("macro_call", "cycle_call", "unsupported"):
+            return  # the words belong to the call or to the code not modelled (LinuxCNC G70 D: a cut depth)
         modal_ops = stages[_MODAL]
         for letter, op_type in (("D", ir.CutterComp), ("H", ir.LengthOffset)):
             word = rest.pop(letter, None)
@@ -326,6 +328,8 @@ class IsoLowering:
             stages[_MOTION].append(ir.ReferenceReturn(span, entry["kind"], values, extra, incremental))
         elif effect == "machine_move":
             stages[_MOTION].append(ir.MachineMove(span, self._take_axes(rest)))
+        elif effect == "home":
+            stages[_MOTION].append(ir.Home(span, tuple(self._take_axes(rest))))
         elif effect == "macro_call":
             program = self._pop(rest, "P")
             repeat = self._pop(rest, "L", 1.0)

@@ -304,6 +304,14 @@ class LinuxcncFrontend(IsoFrontend):
         newline = buffer.find(b"\n", end.end())
         return len(buffer) if newline < 0 else newline + 1
 
+    @staticmethod
+    def text_end_ends_program(buffer) -> bool:
+        """LinuxCNC ends a program at its closing '%' as at M2, and a file that opens with
+        ``o<name> sub`` is a subroutine file, run by a call, not as a program: neither needs
+        M2/M30 at the end of its text."""
+        lines = [line.strip() for line in bytes(buffer).splitlines() if line.strip() and not line.strip().startswith((b";", b"("))]
+        return bool(lines) and (lines[-1] == b"%" or _SUB.match(lines[0] + b"\n") is not None)
+
     def is_subprogram(self, buffer, start: int, end: int) -> bool:
         """Everything but the main code at the top is called (``sub`` bodies, ``O1`` programs)."""
         return start != 0

@@ -114,7 +114,7 @@ class SinumerikLowering:
 
     def lower(self, read: ReadBlock, path: str | None) -> list[ir.Block]:
         block = ir.Block(read.line, read.start + 1, read.end + 1, [], skippable=read.skip)
-        block.label = read.label
+        block.label = read.label if read.label is not None or read.number is None else f"N{read.number}"  # GOTOF N100 lands on a block number
         block.comments = tuple((text, Span.on_line(read.line, start, end, path)) for text, start, end in read.comments)
         if read.header:
             block.program_start = read.header[0]
@@ -143,7 +143,8 @@ class SinumerikLowering:
                     ops[-1].params["OTHER_WORDS"] = float(len(read.items) - 1)  # a cycle call must stand alone (seed L527)
                 stages["call"].extend(ops)
         if words:
-            self._words(words, stages, read, path, block)
+            supa = any(item.kind == "command" and item.name == "SUPA" for item in read.items)
+            self._words(words, stages, read, path, block, supa)
         for stage in _STAGE_ORDER:
             block.ops.extend(stages[stage])
         if self.uses_modal_call and modal_call.moves(block.ops) and not any(item.kind == "mcall" for item in read.items):
@@ -167,11 +168,11 @@ class SinumerikLowering:
         if kind == "if":
             return [ir.Jump(span, f"IF#{read.line}", ir.Binary("EQ", item.condition, 0.0))]
         if kind == "goto":
-            return [ir.Jump(span, item.value, item.condition, _DIRECTIONS[item.name])]
+            return [ir.Jump(span, _jump_target(item.value), item.condition, _DIRECTIONS[item.name], optional=item.name == "GOTOC")]
         if kind == "case":
-            jumps = [ir.Jump(span, label, ir.Binary("EQ", item.value, value), "nearest") for value, label in item.args]
+            jumps = [ir.Jump(span, _jump_target(label), ir.Binary("EQ", item.value, value), "nearest") for value, label in item.args]
             if item.extra is not None:
-                jumps.append(ir.Jump(span, item.extra, None, "nearest"))
+                jumps.append(ir.Jump(span, _jump_target(item.extra), None, "nearest"))
             return jumps
         if kind == "while":
             return [ir.LoopStart(span, WHILE_LOOP, item.condition)]
@@ -274,7 +275,7 @@ class SinumerikLowering:
 
     # ------------------------------------------------------------------ address words
 
-    def _words(self, words: list[Item], stages: dict, read: ReadBlock, path, block: ir.Block) -> None:
+    def _words(self, words: list[Item], stages: dict, read: ReadBlock, path, block: ir.Block, supa: bool = False) -> None:
         targets: dict = {}
         incremental, absolute = set(), set()
         columns: dict = {}
@@ -282,7 +283,7 @@ class SinumerikLowering:
         motion = None
         motion_span = None
         move_words: dict = {}
-        machine_move = axis_data = False
+        machine_move, axis_data = supa, False  # SUPA: this block's axes in machine coordinates, like G153
         for item in words:
             span = Span.on_line(read.line, item.start, item.end, path)
             name, value = item.name, item.value
@@ -321,6 +322,8 @@ class SinumerikLowering:
                 stages["offset"].extend([ir.LengthOffset(span, "off" if off else "plus"), ir.Assign(span, ACTIVE_EDGE, value)])
             elif name in ("SPOS", "SPOSA"):
                 stages["spindle"].append(ir.Spindle(span, "orient"))
+            elif re.fullmatch(r"[XYZABC]\d", name) and _home_op(stages) is not None:
+                _home_op(stages).axes += (name[0],)  # G74 X1=0: machine axis X1 to its reference point
             elif name in ("TURN", "AP", "RP", "ANG", "CIP") or re.fullmatch(r"[A-Z]\d", name):
                 stages["motion"].append(ir.Unsupported(span, f"{name}= ({'polar or angle' if name in ('AP', 'RP', 'ANG') else 'extended'} programming)", ("position",)))
             else:
@@ -332,6 +335,9 @@ class SinumerikLowering:
             stages["feed"] = [op for op in stages["feed"] if not isinstance(op, ir.SetFeed)]
             stages["speed"] = []
         if axis_data:  # G74/G75/G110-G112/G58/G59...: the axis words are data, not a move
+            home = _home_op(stages)
+            if home is not None:
+                home.axes += tuple(targets)
             for op in stages["offset"]:
                 if isinstance(op, ir.SetFrame):
                     op.values = dict(targets)  # G58/G59: the translation of the axes written
@@ -379,7 +385,7 @@ class SinumerikLowering:
         elif effect == "machine_move":
             return None, True
         elif effect == "reference":
-            stages["motion"].append(ir.Unsupported(span, "G74 (reference point approach)", ("position",)))
+            stages["motion"].append(ir.Home(span))
         return None, False
 
     def _m_code(self, value, span: Span, stages: dict, block: ir.Block) -> None:
@@ -394,10 +400,9 @@ class SinumerikLowering:
             stages["stop"].append(ir.Stop(span, entry["kind"]))
         elif effect == "return":
             stages["stop"].append(ir.Return(span))
-        elif effect == "spindle":
-            stages["spindle"].append(ir.Spindle(span, entry["state"]))
-        elif effect == "coolant":
-            stages["spindle"].append(ir.Coolant(span, entry["state"]))
+        elif effect in ("spindle", "coolant"):
+            stage = "stop" if entry.get("output") == "after" else "spindle"  # the table's output timing (codes.toml)
+            stages[stage].append((ir.Spindle if effect == "spindle" else ir.Coolant)(span, entry["state"]))
         elif effect == "tool_change":
             # The new tool's first cutting edge (D1) becomes active with the change (840D default).
             stages["tool"].extend([ir.ToolChange(span), ir.LengthOffset(span, "plus"), ir.Assign(span, ACTIVE_EDGE, 1.0)])
@@ -536,6 +541,8 @@ class SinumerikFrontend:
             offset = self._structure(buffer).get(label)
             return [] if offset is None else [offset]
         text = str(label).upper()
+        if re.fullmatch(r"N\d+", text):  # GOTOF N100: a block number, not a label named N100
+            text = text[1:]
         if text.replace(".", "").isdigit():
             pattern = re.compile(rb"(?mi)^[ \t]*(?:/\d?[ \t]*)?N0*" + str(int(float(text))).encode() + rb"(?![0-9.])")
         else:
@@ -700,3 +707,16 @@ def setup(settings, detection, project) -> DialectSetup:
     models = {f"sinumerik.{name}": replace(model, called_after_motion=True) for name, model in loaded["cycles"].items()}
     limits = {"d_register_max": 32000.0, "h_register_max": 32000.0, "tool_number_max": 32000.0}
     return DialectSetup(SinumerikFrontend(SinumerikLowering()), power_on, models, None, machine, {}, None, 0.0, limits)
+
+
+def _home_op(stages: dict) -> ir.Home | None:
+    """The block's G74 reference point approach, if it has one."""
+    return next((op for op in stages["motion"] if isinstance(op, ir.Home)), None)
+
+
+def _jump_target(label):
+    """A jump's target as the blocks carry it: a label by name, a block number as ``N100``
+    (written ``N100`` or ``100``)."""
+    if isinstance(label, str) and re.fullmatch(r"N?\d+", label):
+        return f"N{int(label.lstrip('N'))}"
+    return label

@@ -220,8 +220,9 @@ def _for_arguments(code: str, start: int) -> list:
 
 
 def _label_list(code: str, start: int) -> list:
+    """``N10, N20`` and a count: ``, 3`` or Fagor's repetition word, ``N20 NR3``."""
     labels = []
-    for item in code[start:].split(","):
+    for item in re.sub(r"\s+NR\s*(?=\d)", ",", code[start:]).split(","):
         item = item.strip()
         match = re.fullmatch(r"N(\d+)|\[([A-Z_][A-Z0-9_]*)\]|(\d+)", item)
         if match is None:

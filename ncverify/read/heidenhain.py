@@ -148,6 +148,9 @@ _FUNCTIONS = {
     "LN": "LN", "EXP": "EXP", "ABS": "ABS", "INT": "FIX", "SQ": "SQ", "NEG": "NEG", "FRAC": "FRAC", "SGN": "SGN", "LOG": "LOG",
 }
 PARAMETER_PREFIXES = ("Q", "QL", "QR", "QS")
+# String functions whose result is a number (STRLEN ( SRC_QS1 ), STRCOMP ( SRC_QS1 SEA_QS2 ), INSTR,
+# TONUMB): the texts are not followed, so the number is an unknown value
+_STRING_FUNCTIONS = frozenset({"STRLEN", "STRCOMP", "INSTR", "TONUMB"})
 
 
 class Cursor:
@@ -296,7 +299,23 @@ class Cursor:
             if token.text in _FUNCTIONS:
                 self.index += 1
                 return _function(_FUNCTIONS[token.text], self._unary())
+            if token.text in _STRING_FUNCTIONS:
+                self.index += 1
+                self._skip_group()
+                return ir.Var(f"{token.text}()")
         raise ReadError(f"expected a number or a Q parameter, found {token.text!r}", token.span)
+
+    def _skip_group(self) -> None:
+        """A parenthesised argument list of a string function, read past as written."""
+        self.expect_symbol("(")
+        depth = 1
+        while depth:
+            token = self.peek()
+            if token is None:
+                raise ReadError("')' is missing", self.end_span)
+            self.index += 1
+            if token.kind == "symbol" and token.text in "()":
+                depth += 1 if token.text == "(" else -1
 
     def parameter(self) -> ir.Var:
         """``Q12``, ``QL3``, ``QR7``, ``QS2``, or an indirect ``Q(Q1+2)``."""

@@ -72,6 +72,8 @@ _NUMBER = r"[+-]?(?:\d+\.?\d*|\.\d+)"
 _PLAIN_CODE = re.compile(rf"[ \t]*(?:[A-Z][ \t]*{_NUMBER}[ \t]*)*")
 _PLAIN_WORD = re.compile(rf"([A-Z])[ \t]*({_NUMBER})")
 _COMMENT = re.compile(r"\([^)]*\)")
+# Macro output to a port (Fanuc macro B, Haas): DPRNT[..] / BPRNT[..] print, POPEN / PCLOS open and close the port
+_OUTPUT_STATEMENT = re.compile(r"[ \t]*(?:(N[ \t]*\d+)[ \t]*)?(?:[DB]PRNT[ \t]*\[[^\n]*\]|POPEN|PCLOS)[ \t]*")
 # A line of a CNC simulator's or editor's own ($Inches, $AddRegPart, #region): not G-code.
 _DIRECTIVE = re.compile(r"\$[A-Z]|#[A-Z]")
 # After ';' (end of block), prose rather than words is a comment (Mastercam, Mach3 posts):
@@ -154,6 +156,11 @@ def _read_block(code, text, line, start, end, comments, force_grammar) -> ReadBl
     if not content:
         first, last = (comments[0][1], comments[-1][2]) if comments else (start, end)
     block = ReadBlock(line, first, last, [], list(comments))
+    output = _OUTPUT_STATEMENT.fullmatch(segment)
+    if output is not None:  # macro output (DPRNT, BPRNT, POPEN, PCLOS): data to a port, no machine state
+        if output.group(1) is not None:
+            block.items = [Word("N", float(output.group(1)[1:]), False, start + output.start(1), start + output.end(1))]
+        return block
     if not force_grammar and _PLAIN_CODE.fullmatch(segment):
         block.items = [
             Word(match.group(1), float(match.group(2)), "." in match.group(2), match.start() + start, match.end() + start)

@@ -107,6 +107,11 @@ FUNCTIONS = {"SIN": "SIN", "COS": "COS", "TAN": "TAN", "ASIN": "ASIN", "ACOS": "
              "ROUND": "ROUND", "TRUNC": "FIX", "LN": "LN", "EXP": "EXP", "ATAN": "ATAN"}
 # MINVAL/MAXVAL: the smaller / larger of two values (840D programming knowledge)
 TWO_ARGUMENT_FUNCTIONS = {"MINVAL": "MIN", "MAXVAL": "MAX"}
+# Predefined functions that may be written with a blank before their parenthesis (SIN (30));
+# any other name needs its '(' straight after it to be a call.
+PREDEFINED_FUNCTIONS = frozenset(FUNCTIONS) | {"POT", "AC", "IC", "ATAN2", "MINVAL", "MAXVAL", "BOUND", "CTRANS", "CROT",
+                                              "STRLEN", "INDEX", "RINDEX", "MINDEX", "MATCH", "SUBSTR", "TOUPPER",
+                                              "TOLOWER", "NUMBER", "ISNUMBER", "ISVAR", "AXNAME", "AXSTRING", "SPI"}
 
 
 def read_line(text: str, line: int) -> ReadBlock:
@@ -288,8 +293,11 @@ class _BlockParser:
             if letter == "R":
                 raise _Fail(f"R{match.group(2)} without '=': an R parameter is assigned with R{match.group(2)}=value", position)
             if letter == "N":
-                raise _Fail("the block number N must start the block", position)
-            self.block.items.append(Item("word", position, match.end(), letter, number))
+                if self.block.number is not None or self.block.items or self.block.label or number != int(number):
+                    raise _Fail("the block number N must start the block", position)
+                self.block.number = int(number)  # N10G0X0: the block number written against the next word
+            else:
+                self.block.items.append(Item("word", position, match.end(), letter, number))
             position = match.end()
             if not inside:
                 return
@@ -725,7 +733,7 @@ class _BlockParser:
             upper = text.upper()
             if upper in ("TRUE", "FALSE"):
                 return 1.0 if upper == "TRUE" else 0.0
-            if self.at("(") and self.peek()[2] == end:
+            if self.at("(") and (self.peek()[2] == end or upper in PREDEFINED_FUNCTIONS):
                 args, _ = self._arguments()
                 return _function(upper, args, start)
             if self.at("[") and self.peek()[2] == end:

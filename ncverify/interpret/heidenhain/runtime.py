@@ -230,8 +230,11 @@ def _retract_run(runner, op, block):
     amount = runner.words({"MB": op.amount}, op.span).get("MB")
     state = runner.state
     axis = _plane(state)[2]
-    if amount == "FMAX" or amount == "MAX" or type(amount) is str or amount is None:
-        state.move_to({axis: None})  # up to the software limit: where that is in workpiece coordinates is unknown
+    if amount == "MAX":
+        state.park((axis,))  # up to the software limit: the top of the travel, unknown in workpiece coordinates
+        return None
+    if type(amount) is str or amount is None:
+        state.move_to({axis: None})
         return None
     current = state.position.get(axis)
     runner.move_to({axis: None if current is None else values.add(current, amount)}, op.span, block, "retract", None)
