@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import math
 import re
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy
@@ -469,14 +470,14 @@ _SETUP = re.compile(rb"(?i)(?<![A-Z])(?:M0*6|G5[4-9])(?![0-9])")
 class FastMotionForm:
     """What a dialect's lowering makes of a plain motion line, for :func:`lower_fast_motion`:
     its axis letters (incremental twins excluded), least input increments (0: numbers are
-    mm or inch), whether ``N`` numbers are jump labels (ISO) or only block numbers
-    (SINUMERIK), which letters give an arc's centre or radius, and whether those belong to
+    mm or inch), the label an ``N`` number gives its block (ISO: the number; SINUMERIK:
+    ``N<number>``, which ``GOTOF N100`` finds), which letters give an arc's centre or radius, and whether those belong to
     the move's span, words and columns (ISO) or to its arc only (SINUMERIK)."""
 
     axis_letters: frozenset
     increment: float = 0.0
     feed_increment: float = 0.0
-    numbered_labels: bool = True
+    number_label: Callable[[str], object] = float
     arc_letters: frozenset = frozenset("IJKR")
     arc_words_in_span: bool = True
 
@@ -513,7 +514,7 @@ def lower_fast_motion(raw: bytes, line: int, path: str | None, form: FastMotionF
             if numbered:
                 return None
             numbered = True
-            label = float(text) if form.numbered_labels else None
+            label = form.number_label(text)
         elif letter == "G":
             if kind is not None:
                 return None
