@@ -409,3 +409,10 @@ def test_the_project_file_takes_auto_and_off_for_the_resolution(tmp_path):
     assert load_project_text('[settings]\nstock_resolution = "auto"\n', tmp_path / "ncverify.toml").settings == {"stock_resolution": None}
     with pytest.raises(ConfigError, match="auto, off"):
         load_project_text('[settings]\nstock_resolution = "fine"\n', tmp_path / "ncverify.toml")
+
+
+def test_paths_that_fork_and_only_look_at_the_workpiece_share_it_without_a_copy():
+    program = ("(ncverify: stock box X0:100 Y0:100 Z-20:0)\n(ncverify: tool 1 radius 4 type endmill)\n(ncverify: assume 0 <= #1 <= 10)\n"
+               "G21 G90 G17 G54\nT1 M06\nG43 H01 Z50.\nS6000 M03\nG00 X50. Y30.\nZ2.\nG01 Z-5. F200.\nX80.\nIF [#1 GT 5.] GOTO 10\n"
+               "G00 X60.\nN10 G00 X65.\nG00 Z50.\nM30\n")
+    assert _rapid_rules(program, stock_memory=8 * 100 * 100 + 1000) == []  # room for one field: the rapids on both paths read it

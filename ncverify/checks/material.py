@@ -190,10 +190,9 @@ class Material:
             return None
         if run is not None:
             self.motion_run(run, state, upto=index)
-        mine = self._mine(state)
+        mine = self._current(state)
         if mine is None:
             return None
-        self._flush(mine)
         lowest = start if start[2] <= end[2] else end
         if lowest[2] < mine.deepest - _TOUCH and geometry.enters(self.stock, lowest, lowest) is not None:
             return RapidVerdict("hits", tuple(lowest))  # deeper than any cut has gone, inside the blank: whatever the tools' sizes
@@ -209,9 +208,8 @@ class Material:
         """Before a feed move is cut: its tool's non-cutting parts against what is left (the
         moves of a batch are judged as :meth:`motion_run` cuts them)."""
         parts = self._holder_parts(state) if self.milled and segment.kind != "rapid" else []
-        if not parts or not self._placeable(segment.start, segment.end, state) or (mine := self._mine(state)) is None:
+        if not parts or not self._placeable(segment.start, segment.end, state) or (mine := self._current(state)) is None:
             return
-        self._flush(mine)
         start, end = _point(segment.start), _point(segment.end)
         for a, b in ((start, start), (end, end)) if segment.arc is not None else ((start, end),):  # an arc's tool is surely at its ends
             self._judge_holder(mine.piece, a, b, parts, segment.span, state)
@@ -261,9 +259,8 @@ class Material:
         if self.turning is not None:
             self.turning.finish(state)
             return
-        if state.rule_state.get(_KEY) is None or (mine := self._mine(state)) is None:
+        if state.rule_state.get(_KEY) is None or (mine := self._current(state)) is None:
             return
-        self._flush(mine)
         if self.final is None:
             self.final = mine.piece
 
@@ -289,6 +286,14 @@ class Material:
             mine.take_over(holder)
         state.rule_state[_KEY] = mine
         return mine if mine.piece is not None else None
+
+    def _current(self, state) -> _PathPiece | None:
+        """This path's workpiece as cut so far, to look at: its buffered cuts swept, but no
+        copy made when it is shared (the paths sharing it share those cuts too)."""
+        holder = self._holder(state)
+        if holder.piece is not None:
+            self._flush(holder)
+        return holder if holder.piece is not None else None
 
     def _allocate(self, make) -> Workpiece | None:
         """A new height field from ``make`` while the fields made so far stay under the cap."""
