@@ -148,7 +148,7 @@ def _stock_resolution(text: str) -> float | None:
     try:
         value = float(text)
     except ValueError:
-        raise argparse.ArgumentTypeError(f"{text!r} is neither a number nor 'auto' or 'off'") from None
+        raise argparse.ArgumentTypeError(f"{text!r} is not a number, 'auto' or 'off'") from None
     if not 0.0 <= value < float("inf"):
         raise argparse.ArgumentTypeError("must be 0 or 'off' (the blank), a cell size in mm, or 'auto'")
     return value

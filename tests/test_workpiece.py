@@ -416,3 +416,16 @@ def test_paths_that_fork_and_only_look_at_the_workpiece_share_it_without_a_copy(
                "G21 G90 G17 G54\nT1 M06\nG43 H01 Z50.\nS6000 M03\nG00 X50. Y30.\nZ2.\nG01 Z-5. F200.\nX80.\nIF [#1 GT 5.] GOTO 10\n"
                "G00 X60.\nN10 G00 X65.\nG00 Z50.\nM30\n")
     assert _rapid_rules(program, stock_memory=8 * 100 * 100 + 1000) == []  # room for one field: the rapids on both paths read it
+
+
+def test_the_command_line_takes_auto_off_or_a_size_and_refuses_anything_else(capsys):
+    from ncverify.cli import build_parser
+
+    def resolution(word):
+        return build_parser().parse_args(["check", "p.nc", "--stock-resolution", word]).stock_resolution
+
+    assert resolution("auto") is None and resolution("off") == 0.0 and resolution("0.2") == 0.2
+    with pytest.raises(SystemExit):
+        resolution("fine")
+    assert "'fine' is not a number, 'auto' or 'off'" in capsys.readouterr().err
+    assert build_parser().parse_args(["check", "p.nc"]).stock_resolution is None  # the default: the cut stock, cells from the tools
