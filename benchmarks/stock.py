@@ -1,11 +1,11 @@
 """Time ``ncverify check`` on a long surfacing program with a stock, with and without the
-model of the stock as cut so far (``--stock-resolution auto`` turns it on).
+model of the stock as cut so far (on by default; ``--stock-resolution off`` turns it off).
 
     python benchmarks/stock.py [BLOCKS] [RESOLUTION]
 
 The program is the zig-zag of ``dialects.py`` cutting 1 mm into a 101 x 1000 mm blank with
 a 6 mm ball end mill. Prints the time and peak memory of each run: the figures in the
-README's Speed section.
+README's section "The stock as cut so far".
 """
 from __future__ import annotations
 
@@ -35,7 +35,8 @@ def write_program(blocks: int, path: Path) -> None:
 
 def run(program: Path, *options: str) -> tuple[float, float]:
     """Seconds and peak resident memory (MiB) of one check."""
-    command = [sys.executable, "-c", _RUN, "check", str(program), "--format", "json", "--output", str(program.with_suffix(".json")), *options]
+    command = [sys.executable, "-c", _RUN, "check", str(program), "--format", "json", "--output", str(program.with_suffix(".json")),
+               "--no-cache", "--jobs", "1", *options]  # in this process, so that its peak memory is the check's
     started = time.perf_counter()
     completed = subprocess.run(command, check=False, capture_output=True, text=True)
     elapsed = time.perf_counter() - started
@@ -48,7 +49,7 @@ def main() -> None:
     program = HERE / "out" / f"stock-surfacing-{blocks}.nc"
     if not program.exists():
         write_program(blocks, program)
-    blank, blank_memory = run(program)
+    blank, blank_memory = run(program, "--stock-resolution", "off")
     cut, cut_memory = run(program, "--stock-resolution", resolution or "auto")
     print(f"{blocks:,} blocks against the blank:       {blank:6.2f} s, peak {blank_memory:5.0f} MiB")
     print(f"{blocks:,} blocks against the cut stock:   {cut:6.2f} s, peak {cut_memory:5.0f} MiB ({cut / blank:.2f} x)")

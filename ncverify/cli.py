@@ -81,9 +81,9 @@ def build_parser() -> argparse.ArgumentParser:
     check.add_argument("--sarif-proved", action="store_true", help="SARIF: list proved verdicts as results too (code scanning shows every result as an alert)")
     check.add_argument("--sarif-category", default="ncverify", metavar="NAME", help="SARIF: the run's automationDetails category (one per analysed library)")
     check.add_argument("--plot", metavar="DIR", help="draw the toolpath of every failing file into DIR (needs ncverify[plot])")
-    check.add_argument("--stock-resolution", type=_stock_resolution, default=Settings.stock_resolution, metavar="MM|auto",
-                       help="judge rapids against the stock as cut so far, with cells of MM (auto: from the smallest tool); "
-                            "default 0: against the blank")
+    check.add_argument("--stock-resolution", type=_stock_resolution, default=Settings.stock_resolution, metavar="MM|auto|off",
+                       help="judge rapids against the stock as cut so far, with cells of MM (default auto: from the smallest tool); "
+                            "0 or off: against the raw blank")
     check.add_argument("--stock-out", metavar="FILE", help="write the workpiece the program leaves (.stl or .npz; {stem}: the program's name)")
 
     plot = commands.add_parser("plot", help="draw a program's toolpath with its findings")
@@ -142,14 +142,15 @@ def _finite(minimum: float | None = None, above: float | None = None):
 
 
 def _stock_resolution(text: str) -> float | None:
-    if text.strip().lower() == "auto":
-        return None
+    word = text.strip().lower()
+    if word in ("auto", "off"):
+        return None if word == "auto" else 0.0
     try:
         value = float(text)
     except ValueError:
-        raise argparse.ArgumentTypeError(f"{text!r} is neither a number nor 'auto'") from None
+        raise argparse.ArgumentTypeError(f"{text!r} is not a number, 'auto' or 'off'") from None
     if not 0.0 <= value < float("inf"):
-        raise argparse.ArgumentTypeError("must be 0 (off), a cell size in mm, or 'auto'")
+        raise argparse.ArgumentTypeError("must be 0 or 'off' (the blank), a cell size in mm, or 'auto'")
     return value
 
 

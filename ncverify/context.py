@@ -21,7 +21,7 @@ from .source import Span
 TOOL_TYPES = ("drill", "endmill", "ball", "bullnose", "chamfer", "spot", "tap", "threadmill", "boring", "reamer",
               "facemill", "slot", "turning", "grooving", "parting", "threading", "probe")
 TOOL_KEYS = ("radius", "corner", "length", "cutting_length", "usable_length", "angle", "pitch", "nose_radius", "edge",
-             "clearance_angle", "edge_position", "point_angle", "width")
+             "clearance_angle", "edge_position", "point_angle", "width", "holder_diameter", "holder_length")
 # Common spellings of the tool types (hyphens, underscores and blanks are dropped first).
 _TOOL_TYPE_SPELLINGS = {
     "facemill": ("face", "shellmill", "facingmill"), "endmill": ("flat", "flatendmill", "squareendmill", "mill", "cutter"),
@@ -144,6 +144,8 @@ class Tool:
     edge_position: float | None = None  # the turning tool's cutting-edge position SL (TOOL_RANGES)
     point_angle: float | None = None  # degrees, a drill's point angle (TOOL.T T-ANGLE); 0: not entered
     width: float | None = None  # a grooving or parting tool's cutting width
+    holder_diameter: float | None = None  # the holder's diameter, from holder_length (or usable_length) above the tip upward
+    holder_length: float | None = None  # how far the holder reaches down from the spindle gauge line (at ``length`` above the tip)
     origin: str = "project file"
     edges: dict = field(default_factory=dict)  # SINUMERIK: the data of cutting edges D2, D3... by D number (the fields above: D1)
 

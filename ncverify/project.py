@@ -21,6 +21,7 @@ SETTINGS = {
     "stock_resolution": float,
 }
 _MAY_BE_ZERO = {"least_input_increment", "stock_resolution"}  # 0: whole units; 0: no in-process stock
+_WORDS = {"stock_resolution": {"auto": None, "off": 0.0}}  # settings that take a word for a value
 _CHOICES = {"machine": MACHINES, "rapid_path": ("straight", "dogleg"), "dialect": tuple(DIALECTS)}
 _LARGEST = {"loop_bound": 100_000_000, "call_depth": 1000, "max_paths": 100_000}  # beyond these a bound no longer bounds the run
 _AXES = ("x", "y", "z", "a", "b", "c", "u", "v", "w")
@@ -95,6 +96,11 @@ class _Reader:
                 self.fail(f"[settings] {key}", f"unknown setting (known: {', '.join(sorted(SETTINGS))})")
             if kind is float and isinstance(value, int) and not isinstance(value, bool):
                 value = float(value)
+            if key in _WORDS and isinstance(value, str):
+                if value not in _WORDS[key]:
+                    self.fail(f"[settings] {key}", f"expected a number or one of {', '.join(_WORDS[key])}, got {value!r}")
+                settings[key] = _WORDS[key][value]
+                continue
             if not isinstance(value, kind) or isinstance(value, bool):
                 self.fail(f"[settings] {key}", f"expected a {kind.__name__}, got {value!r}")
             if key in _CHOICES and value not in _CHOICES[key]:

@@ -245,7 +245,7 @@ def test_a_cycle_along_minus_z_is_the_mirror_of_the_same_cycle_along_plus_z(cycl
         block = cycle.format(z=sign * reference, i=sign * depth, d=surface)
         stock = "Z-25:0" if sign > 0 else "Z0:25"
         program = f"; ncverify: stock box X0:50 Y0:50 {stock}\nG0 G90 X10 Y10 Z{sign * start} F300 S1000 M3\n#TOOL AX [Z{'+' if sign > 0 else '-'}]\n{'G99' if g99 else 'G98'} {block}\nG80\nM30\n"
-        result = check_text(program, "t.pim", Settings(dialect="fagor"))
+        result = check_text(program, "t.pim", Settings(dialect="fagor", stock_resolution=0.0))  # the cut stock is kept along +Z only
         levels = [(hole.r_point, hole.bottom) for hole in trace(program).holes]
         return levels, reported_hazards(result)
 

@@ -317,7 +317,7 @@ def test_h27_a_retract_level_inside_the_blank_is_reported():
 
 
 def test_h28_an_in_plane_rapid_below_the_top_of_the_blank_is_reported():
-    assert lines(check(program("5  L  X+10  Y+10 R0 FMAX\n6  L  Z-2 F100\n7  L  X+50  Y+50 R0 FMAX")), "core.rapid-into-stock") == [8, 9]  # and up out of it
+    assert lines(check(program("5  L  X+10  Y+10 R0 FMAX\n6  L  Z-2 F100\n7  L  X+50  Y+50 R0 FMAX")), "core.rapid-into-stock") == [8]  # up out of it, along the axis: nothing new
     assert not lines(check(program("5  L  X+10  Y+10 R0 FMAX\n6  L  Z+2 F100\n7  L  X+50  Y+50 R0 FMAX")), "core.rapid-into-stock")
 
 
@@ -727,7 +727,7 @@ def test_thread_cutting_pre_positioned_over_the_hole_reaches_the_blank():
 
 def test_thread_cutting_feeds_its_depth_from_where_the_tool_is_and_stays_there():
     assert cycle_moves(program(thread_cutting()), "heidenhain.18") == [("feed", "infeed", -18.0)]
-    assert lines(check(program(thread_cutting() + "\n11 L  X+90 FMAX")), "core.rapid-into-stock") == [12, 13]  # out of the thread at Z-18 sideways, then up
+    assert lines(check(program(thread_cutting() + "\n11 L  X+90 FMAX")), "core.rapid-into-stock") == [12]  # out of the thread at Z-18 sideways (then up its own axis)
 
 
 def test_thread_cutting_with_the_spindle_running_is_reported():
@@ -779,7 +779,7 @@ def test_cycle_12_runs_its_program_at_the_call(tmp_path):
     called = "0  BEGIN PGM PART2 MM\n1  L  Z-5 R0 F100\n2  END PGM PART2 MM\n"
     result = check_file(program_cycle(tmp_path, called), Settings())
     assert not lines(result, "heidenhain.call-without-cycle")
-    assert lines(result, "core.rapid-into-stock") == [9, 10]
+    assert lines(result, "core.rapid-into-stock") == [9]
 
 
 def test_cycle_12_whose_program_is_not_there_is_reported(tmp_path):

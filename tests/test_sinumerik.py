@@ -235,11 +235,11 @@ def test_a_rapid_into_the_workpiece_blank_is_found_with_no_project_file():
         S3000 M3 F400
         G0 X-10 Y10 Z5
         G1 Z-3
-        G1 X90
+        G1 X90 Y50
         G0 X-10
         M30
     """)
-    [crash] = findings(result, "core.rapid-into-stock", Status.VIOLATED)
+    [crash] = findings(result, "core.rapid-into-stock", Status.VIOLATED)  # back at the depth along Y50, beside the diagonal slot
     assert crash.span.line == 7
 
 
@@ -504,7 +504,8 @@ def test_planes_from_free_parameters_are_judged_for_every_value():
 def test_a_pocket_rapids_to_its_centre_at_the_retract_plane_and_ends_there():
     """POCKET1 goes to the centre at RTP with G0, then to RFP + SDIS: a reference plane
     given below the top of the blank is a rapid into the material. After the cycle the tool
-    is above the centre at RTP, so the next G0 is checked from there."""
+    is above the centre at RTP, so the next G0 is checked from there: down into the pocket
+    just cut, but 1 mm below its floor."""
     result = check("""
         WORKPIECE(,"",,"BOX",0,0,-30,-80,0,0,100,100)
         $TC_DP6[1,1]=5
@@ -513,7 +514,7 @@ def test_a_pocket_rapids_to_its_centre_at_the_retract_plane_and_ends_there():
         G0 X50 Y50 Z20
         POCKET1(10, -5, 2, -12, 0, 60, 40, 8, 30, 30, 0, 100, 300, 3, 2, 0.2, 0)
         POCKET1(10, 0, 2, -6, 0, 60, 40, 8, 70, 70, 0, 100, 300, 3, 2, 0.2, 0)
-        G0 X70 Y70 Z-1
+        G0 X70 Y70 Z-7
         M30
     """)
     crashes = findings(result, "core.rapid-into-stock", Status.VIOLATED)

@@ -92,7 +92,7 @@ def test_a_cycle_whose_levels_are_safe_for_the_whole_range_is_proved_on_every_le
         assert entry.message.startswith("proved impossible"), entry.message
         assert not entry.witness
     rapids = at(result, "core.rapid-into-stock", status=Status.PROVED)
-    assert {d.span.line for d in rapids} >= {7, 8, 10}  # approach, next hole at R, retract
+    assert {d.span.line for d in rapids} >= {7, 8}  # approach, next hole at R (the retract runs up the tool's own axis: nothing to prove)
     assert not violated(result)
 
 
@@ -201,8 +201,8 @@ def test_a_symbolic_rapid_that_can_enter_the_stock_is_violated_and_one_that_cann
     assert safe.status is Status.PROVED
     [plunge] = at(result, "core.rapid-into-stock", 7)
     assert plunge.status is Status.VIOLATED and -3.0 <= plunge.witness["#5"] < 0.0
-    assert at(result, "core.rapid-into-stock", 8, Status.VIOLATED)  # back up out of the material
-    assert assert_reproduces(text, result) == 2
+    assert not at(result, "core.rapid-into-stock", 8)  # back up its own axis out of the material: it meets nothing new
+    assert assert_reproduces(text, result) == 1
 
 
 def test_a_witness_satisfies_a_relational_assumption():
@@ -548,7 +548,9 @@ def test_pinned_parameters_give_the_same_violations_as_assigned_ones(case):
     values, body = case
     assigned = "\n".join(_HEAD + [f"{name}={literal(value)}" for name, value in values.items()] + body) + "\n"
     pinned = "\n".join(_HEAD + [f"(ncverify: assume {name} == {literal(value)})" for name, value in values.items()] + body) + "\n"
-    concrete, symbolic = check(assigned), check(pinned)
+    # against the blank: the solver judges symbolic rapids against it, and the cut stock only
+    # through the concrete replay of a witness (which makes a crash the cuts avoid unknown)
+    concrete, symbolic = check(assigned, stock_resolution=0.0), check(pinned, stock_resolution=0.0)
     assert _violations(symbolic) == _violations(concrete)
     assert not [d for d in symbolic.diagnostics if NOT_REPRODUCED in (d.reason or "")]
 
@@ -594,10 +596,10 @@ def _samples(ranges: dict, draw_fraction) -> list[dict]:
 @given(cycle_with_ranges(), st.data())
 def test_proved_holds_on_sampled_values_and_violated_reproduces(case, data):
     text, ranges = case
-    result = check(text)
+    result = check(text, stock_resolution=0.0)  # the blank, as the solver sees it (see the test above)
     findings = [d for d in result.diagnostics if d.rule in LEVEL_RULES]
     assert not [d for d in findings if NOT_REPRODUCED in (d.reason or "")]
-    assert_reproduces(text, result)
+    assert_reproduces(text, result, stock_resolution=0.0)
     proved = {(d.rule, d.span.line) for d in findings if d.status is Status.PROVED}
     if not proved:
         return

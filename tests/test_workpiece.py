@@ -6,7 +6,8 @@ import math
 
 import numpy
 import pytest
-from hypothesis import given, settings, strategies as st
+import shapely
+from hypothesis import assume, given, settings, strategies as st
 
 from ncverify.context import Stock
 from ncverify.workpiece import Cutter, ModelTooLarge, Workpiece
@@ -201,7 +202,9 @@ def test_without_the_edge_position_nothing_is_surely_turned_away():
     bar = Bar(BAR)
     bar.cut((16.0, 1.0), (16.0, -30.0), 0.8)
     assert bar.rapid((17.0, -5.0), (17.0, -25.0), 0.4, (0.4, 0.4)).outcome != "clear"
-    assert bar.rapid((18.0, -40.0), (18.0, -45.0), 0.8).outcome == "unsure"
+    # 2 mm deep in the uncut bar: wherever the edge position puts the nose, its centre is in the material
+    assert bar.rapid((18.0, -40.0), (18.0, -45.0), 0.8).outcome == "hits"
+    assert bar.rapid((19.5, -40.0), (19.5, -45.0), 0.8).outcome == "unsure"  # 0.5 mm: the nose may lie outside the bar
 
 
 @settings(max_examples=30, deadline=None)
@@ -241,3 +244,188 @@ def test_a_rapid_of_a_tool_of_unknown_size_is_never_shown_clear_beside_its_axis(
     along = [d for d in result.diagnostics if d.rule == "core.rapid-into-stock" and d.span.line == 11]
     assert [d.status for d in along] == [Status.UNKNOWN]
     assert not [d for d in result.diagnostics if d.rule == "core.rapid-into-stock" and d.span.line == 10]  # straight up its own axis
+
+
+# --------------------------------------------------------------------------- the turned bar
+
+def _centre_distance(points, moves, offset):
+    """Distance of (z, radius) points from the nose centre's paths, sampled densely (apart
+    from the model's shapely sweep)."""
+    t = numpy.linspace(0.0, 1.0, 2001)
+    nearest = numpy.full(len(points), numpy.inf)
+    for start, end in moves:
+        path = numpy.asarray(start, float) + t[:, None] * (numpy.asarray(end, float) - numpy.asarray(start, float)) + offset
+        nearest = numpy.minimum(nearest, numpy.hypot(points[:, 1:2] - path[None, :, 0], points[:, :1] - path[None, :, 1]).min(axis=1))
+    return nearest
+
+
+section_points = st.tuples(st.floats(8.0, 24.0), st.floats(-40.0, 4.0))  # (radius, z) tips around a D40 bar
+
+
+@settings(max_examples=30, deadline=None)
+@given(st.lists(st.tuples(section_points, section_points), min_size=1, max_size=4), st.floats(0.2, 1.6), st.integers(1, 9))
+def test_the_bar_s_bounds_hold_the_material_sampled_by_brute_force(moves, nose, edge_position):
+    from ncverify.workpiece import Bar, nose_centre
+
+    bar = Bar(BAR)
+    offset = nose_centre(float(edge_position), nose)
+    for start, end in moves:
+        bar.cut(start, end, nose, offset)
+    rng = numpy.random.default_rng(11)
+    sample = numpy.column_stack([rng.uniform(-60.0, 0.0, 400), rng.uniform(0.0, 20.0, 400)])  # (z, radius)
+    swept = _centre_distance(sample, moves, numpy.asarray(offset)) < nose - 1e-3  # surely under the true nose
+    clear_of_nose = _centre_distance(sample, moves, numpy.asarray(offset)) > nose + 0.01  # surely not
+    inside_most = shapely.contains_xy(bar.most, sample[:, 0], sample[:, 1])
+    inside_least = shapely.contains_xy(bar.least, sample[:, 0], sample[:, 1])
+    assert not (swept & inside_least).any()  # what the nose took is never counted as surely there
+    assert inside_most[clear_of_nose].all()  # what it never reached is always counted as maybe there
+
+
+@settings(max_examples=20, deadline=None)
+@given(st.lists(st.tuples(section_points, section_points), min_size=2, max_size=4), st.randoms(use_true_random=False))
+def test_the_order_of_the_turning_cuts_does_not_change_the_bar(moves, random):
+    from ncverify.workpiece import Bar, nose_centre
+
+    forward, shuffled = Bar(BAR), Bar(BAR)
+    offset = nose_centre(3.0, 0.8)
+    for start, end in moves:
+        forward.cut(start, end, 0.8, offset)
+    moves = list(moves)
+    random.shuffle(moves)
+    for start, end in moves:
+        shuffled.cut(start, end, 0.8, offset)
+    assert forward.most.symmetric_difference(shuffled.most).area < 1e-6
+    assert forward.least.symmetric_difference(shuffled.least).area < 1e-6
+
+
+def test_the_edge_position_puts_the_nose_centre_on_the_side_away_from_the_cut():
+    from ncverify.workpiece import nose_centre
+
+    assert nose_centre(3.0, 0.8) == (0.8, 0.8)  # external, towards the chuck: the centre outwards and behind the tip
+    assert nose_centre(2.0, 0.4) == (-0.4, 0.4)  # internal, towards the chuck
+    assert nose_centre(8.0, 0.5) == (0.5, -0.0)  # the tip below the centre
+    assert nose_centre(9.0, 0.5) == (-0.0, -0.0)  # the centre is the point
+    assert nose_centre(None, 0.5) is None and nose_centre(3.5, 0.5) is None
+
+
+def _lathe_findings(program: str, **options):
+    from ncverify import Settings, check_text
+
+    result = check_text(program, "t.nc", Settings(machine="lathe", **options))
+    return {(d.span.line, d.status.value) for d in result.diagnostics if d.rule == "core.rapid-into-stock" and d.span.line > 8}
+
+
+_TURNED = ("(ncverify: stock cylinder D40 Z-60:0)\n(ncverify: tool 1 radius 0.8 nose-radius 0.8 edge-position 3 type turning)\n"
+           "G21 G40 G99 G54\nT0101\nG97 S1500 M03\nG00 X44. Z2.\nG00 X37.\nG01 Z-30. F0.2\nG01 X38.\nG00 Z2.\n")
+
+
+def test_a_rapid_back_over_the_turned_diameter_passes_and_one_past_the_shoulder_fails():
+    assert _lathe_findings(_TURNED + "G00 X100. Z100.\nM30\n") == set()
+    assert _lathe_findings(_TURNED + "G00 X38. Z-35.\nG00 X100.\nM30\n") >= {(11, "violated")}
+    assert (10, "violated") in _lathe_findings(_TURNED + "M30\n", stock_resolution=0.0)  # the blank alone: the same retract is a crash
+
+
+def test_without_the_edge_position_a_rapid_over_the_turned_diameter_is_unknown_never_passed():
+    program = _TURNED.replace(" edge-position 3", "") + "M30\n"
+    assert _lathe_findings(program) == {(10, "unknown")}
+
+
+# --------------------------------------------------------------------------- the holder and the shank
+
+def _holder_findings(program: str, **options):
+    from ncverify import Settings, check_text
+
+    result = check_text(program, "t.nc", Settings(**options))
+    return [(d.span.line, d.status.value) for d in result.diagnostics if d.rule == "core.holder-collision"]
+
+
+def _plunge(depth: float, tool: str) -> str:
+    return (f"(ncverify: stock box X0:100 Y0:60 Z-60:0)\n(ncverify: tool 1 {tool})\nG21 G90 G17 G54\nT1 M06\nG43 H01 Z50.\nS6000 M03\n"
+            f"G00 X50. Y30.\nZ2.\nG01 Z{-depth:.4f} F200.\nG00 Z50.\nM30\n")
+
+
+@settings(max_examples=25, deadline=None)
+@given(st.floats(0.5, 40.0), st.floats(1.0, 30.0))
+def test_a_plunge_deeper_than_the_flutes_is_a_shank_collision_and_one_within_them_is_not(depth, flutes):
+    assume(abs(depth - flutes) > 1e-3)
+    found = _holder_findings(_plunge(depth, f"radius 4 cutting-length {flutes} type endmill"))
+    assert found == ([(9, "violated")] if depth > flutes else [])
+
+
+def test_the_holder_meets_the_blank_beside_a_hole_deeper_than_the_tool_sticks_out():
+    tool = "radius 3 length 80 holder-length 60 holder-diameter 30 type endmill"  # 20 mm out of the holder
+    assert _holder_findings(_plunge(25.0, tool)) == [(9, "violated")]
+    assert _holder_findings(_plunge(15.0, tool)) == []
+
+
+def test_a_tool_without_flute_length_or_holder_gets_no_holder_finding():
+    assert _holder_findings(_plunge(40.0, "radius 4 type endmill")) == []
+    assert _holder_findings(_plunge(40.0, "radius 4 cutting-length 10 type endmill"), stock_resolution=0.0) == []  # no model: not checked
+
+
+def test_a_shank_in_a_slot_cut_before_meets_nothing():
+    program = ("(ncverify: stock box X0:100 Y0:60 Z-60:0)\n(ncverify: tool 1 radius 4 cutting-length 10 type endmill)\nG21 G90 G17 G54\nT1 M06\n"
+               "G43 H01 Z50.\nS6000 M03\nG00 X20. Y30.\nZ2.\nG01 Z-8. F200.\nX80.\nZ-16.\nX20.\nG00 Z50.\nM30\n")
+    assert _holder_findings(program) == []
+
+
+# --------------------------------------------------------------------------- the memory cap
+
+def _rapid_rules(program: str, **options):
+    from ncverify import Settings, check_text
+
+    result = check_text(program, "t.nc", Settings(**options))
+    note = [(0, d.rule, d.status.value) for d in result.diagnostics if d.rule == "core.stock-model-too-large"]  # said once, at the first move
+    return note + sorted((d.span.line, d.rule, d.status.value) for d in result.diagnostics if d.rule == "core.rapid-into-stock" and d.span.line > 7)
+
+
+_RETRACT = ("(ncverify: stock box X0:500 Y0:500 Z-20:0)\n(ncverify: tool 1 radius 4 type endmill)\nG21 G90 G17 G54\nT1 M06\nG43 H01 Z50.\nS6000 M03\n"
+            "G00 X50. Y30.\nZ2.\nG01 Z-5. F200.\nX80.\nG00 Z50.\nM30\n")
+
+
+def test_a_model_over_the_cap_gives_a_note_and_the_blank_s_verdicts_not_an_out_of_memory_kill():
+    assert _rapid_rules(_RETRACT) == []  # the retract out of the slot: clear against the cut stock
+    too_fine = _rapid_rules(_RETRACT, stock_resolution=0.01)  # 500 x 500 mm at 0.01 mm: 19 GiB
+    assert too_fine == [(0, "core.stock-model-too-large", "unknown"), (11, "core.rapid-into-stock", "violated")]
+    assert _rapid_rules(_RETRACT, stock_memory=1 << 16) == too_fine  # auto: cells of the tool's radius (4 mm) need 122 KiB
+    assert _rapid_rules(_RETRACT, stock_resolution=0.0) == [(11, "core.rapid-into-stock", "violated")]  # off: no note
+
+
+def test_forked_paths_that_would_copy_the_workpiece_past_the_cap_fall_back_to_the_blank():
+    program = ("(ncverify: stock box X0:100 Y0:100 Z-20:0)\n(ncverify: tool 1 radius 4 type endmill)\n(ncverify: assume 0 <= #1 <= 10)\n"
+               "G21 G90 G17 G54\nT1 M06\nG43 H01 Z50.\nS6000 M03\nG00 X50. Y30.\nZ2.\nG01 Z-5. F200.\nIF [#1 GT 5.] GOTO 10\nX60.\n"
+               "N10 X80.\nG00 X65.\nG00 Z50.\nM30\n")  # back along the slot at its depth: clear against the cut stock only
+    one_field = 8 * 100 * 100 + 1000  # room for one field of 1 mm cells (a quarter of the radius), not for two
+    found = _rapid_rules(program, stock_memory=one_field)
+    assert ("core.stock-model-too-large", "unknown") in {(rule, status) for _, rule, status in found}
+    assert (14, "core.rapid-into-stock", "violated") in found  # one path is judged against the blank
+    assert _rapid_rules(program) == []
+
+
+def test_the_project_file_takes_auto_and_off_for_the_resolution(tmp_path):
+    from ncverify.project import ConfigError, load_project_text
+
+    assert load_project_text('[settings]\nstock_resolution = "off"\n', tmp_path / "ncverify.toml").settings == {"stock_resolution": 0.0}
+    assert load_project_text('[settings]\nstock_resolution = "auto"\n', tmp_path / "ncverify.toml").settings == {"stock_resolution": None}
+    with pytest.raises(ConfigError, match="auto, off"):
+        load_project_text('[settings]\nstock_resolution = "fine"\n', tmp_path / "ncverify.toml")
+
+
+def test_paths_that_fork_and_only_look_at_the_workpiece_share_it_without_a_copy():
+    program = ("(ncverify: stock box X0:100 Y0:100 Z-20:0)\n(ncverify: tool 1 radius 4 type endmill)\n(ncverify: assume 0 <= #1 <= 10)\n"
+               "G21 G90 G17 G54\nT1 M06\nG43 H01 Z50.\nS6000 M03\nG00 X50. Y30.\nZ2.\nG01 Z-5. F200.\nX80.\nIF [#1 GT 5.] GOTO 10\n"
+               "G00 X60.\nN10 G00 X65.\nG00 Z50.\nM30\n")
+    assert _rapid_rules(program, stock_memory=8 * 100 * 100 + 1000) == []  # room for one field: the rapids on both paths read it
+
+
+def test_the_command_line_takes_auto_off_or_a_size_and_refuses_anything_else(capsys):
+    from ncverify.cli import build_parser
+
+    def resolution(word):
+        return build_parser().parse_args(["check", "p.nc", "--stock-resolution", word]).stock_resolution
+
+    assert resolution("auto") is None and resolution("off") == 0.0 and resolution("0.2") == 0.2
+    with pytest.raises(SystemExit):
+        resolution("fine")
+    assert "'fine' is not a number, 'auto' or 'off'" in capsys.readouterr().err
+    assert build_parser().parse_args(["check", "p.nc"]).stock_resolution is None  # the default: the cut stock, cells from the tools

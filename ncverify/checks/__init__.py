@@ -1,6 +1,6 @@
 """Rule logic that needs more than a parameter constraint, one module per theme.
 Importing this package registers every rule class with :func:`ncverify.check.rule`."""
-from . import holes, machine, motion, stock, tooling, tools  # noqa: F401
+from . import holder, holes, machine, motion, stock, tooling, tools  # noqa: F401
 from . import cycle_hazards  # noqa: F401
 from . import modal_hazards  # noqa: F401
 from . import fagor  # noqa: F401

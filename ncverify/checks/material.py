@@ -11,11 +11,16 @@ Cuts are buffered and swept in batches: CAM programs are millions of tiny moves.
 from __future__ import annotations
 
 import math
+import weakref
 from collections import deque
+from dataclasses import replace
 
 import numpy
 
 from .. import frames, geometry, workpiece
+from ..context import active_edge, radius_delta
+from . import turning_stock
+from .turning_stock import Turning
 from ..verdict import both, hazard
 from ..workpiece import Cutter, RapidVerdict, Workpiece
 
@@ -30,23 +35,25 @@ _POINTED = {"drill", "spot", "chamfer"}
 _FLAT = {"endmill", "facemill", "slot", "reamer", "boring", "threadmill", "tap"}
 _NOT_CUTTING = {"probe"}
 AUTO_RESOLUTION = (0.05, 1.0)  # bounds of the resolution chosen from the smallest tool
+_FIELD_BYTES_PER_CELL = 8  # two float32 bounds
 
 
 class _PathPiece:
     """One path's workpiece and its buffered cuts. Paths that fork share it until one of
-    them cuts (the interpreter calls ``forked`` on rule memory when a path forks)."""
+    them cuts (the interpreter calls ``forked`` on rule memory when a path forks). ``piece``
+    None: past the memory cap, this path is judged against the blank."""
 
-    __slots__ = ("piece", "lines", "chords", "shared", "symbolic", "recent", "deepest", "sizeless")
+    __slots__ = ("piece", "lines", "chords", "sharers", "symbolic", "recent", "deepest", "sizeless")
 
-    def __init__(self, piece: Workpiece):
-        self.piece, self.lines, self.chords, self.shared = piece, [], [], False
+    def __init__(self, piece: Workpiece | None):
+        self.piece, self.lines, self.chords, self.sharers = piece, [], [], 1
         self.symbolic: list[tuple[dict, dict]] = []  # cuts whose place depends on free parameters
         self.recent: deque = deque(maxlen=_RECENT)  # the last straight cuts, exactly: (start, end, cutter)
         self.deepest = math.inf  # the lowest any tool tip has cut: below it, the blank is whole
         self.sizeless = False  # a tool of unknown size has cut (swept as its axis only)
 
     def forked(self) -> None:
-        self.shared = True
+        self.sharers += 1
 
     def sized(self, cutter):
         """The cutter to sweep: a tool whose size the table does not give (``False``) is
@@ -62,15 +69,11 @@ class _PathPiece:
         self.piece.cut_anywhere()
         self.deepest = -math.inf
 
-    def own(self, state) -> "_PathPiece":
-        if not self.shared:
-            return self
-        mine = _PathPiece(self.piece.copy())
-        mine.lines, mine.chords, mine.symbolic = list(self.lines), list(self.chords), list(self.symbolic)
-        mine.recent = deque(self.recent, maxlen=_RECENT)
-        mine.deepest, mine.sizeless = self.deepest, self.sizeless
-        state.rule_state[_KEY] = mine
-        return mine
+    def take_over(self, shared: "_PathPiece") -> None:
+        """Carry on from the workpiece's twin this path shared until now."""
+        self.lines, self.chords, self.symbolic = list(shared.lines), list(shared.chords), list(shared.symbolic)
+        self.recent = deque(shared.recent, maxlen=_RECENT)
+        self.deepest, self.sizeless = shared.deepest, shared.sizeless
 
 
 class Material:
@@ -81,23 +84,36 @@ class Material:
         context, settings = checker.context, checker.settings
         self.stock = context.stock
         self.tools = context.tools
-        self.resolution = _resolution(self.stock, self.tools, context.machine.kind, settings)
+        self.resolution, self.too_large = _resolution(self.stock, self.tools, context.machine.kind, settings)
+        self.turning = Turning(self.stock, self.tools) if turning_stock.kept(self.stock, context.machine.kind, settings) else None
         self.air: dict[str, list[float]] = {}  # tool -> [feed length, air length]
         self.final: Workpiece | None = None
+        self._allocated = 0  # bytes of height fields made for this file's paths
+        self.holder_rule = None  # the rule judging each feed move's holder and shank against the material before it
         self._run, self._run_done = None, 0
 
     @property
     def modelled(self) -> bool:
+        return self.resolution is not None or self.turning is not None
+
+    @property
+    def milled(self) -> bool:
+        """The height field of a milled blank is kept (not a turned bar)."""
         return self.resolution is not None
 
     # -- events, after the rules have seen them
     def segment(self, segment, state) -> None:
         if not self.modelled or segment.kind == "rapid" or other_workpiece(self.checker.context, state) is not None:
             return
+        if self.turning is not None:
+            self.turning.segment(segment, state)
+            return
         cutter = self._cutter(state)
         if cutter is None:
             return  # a probe: it touches, it does not cut
-        mine = self._holder(state).own(state)
+        mine = self._mine(state)
+        if mine is None:
+            return
         if not self._placeable(segment.start, segment.end, state):
             mine.unplaced()
             if tool_axis_problem(state) is None:
@@ -135,10 +151,15 @@ class Material:
         self._run_done = stop
         if not len(feeds):
             return
+        if self.turning is not None:
+            self.turning.cut_run(run, feeds, state)
+            return
         cutter = self._cutter(state)
         if cutter is None:
             return
-        mine = self._holder(state).own(state)
+        mine = self._mine(state)
+        if mine is None:
+            return
         if any(axis not in run.axes for axis in "XYZ") or not tool_axis_problem(state) is None:
             mine.unplaced()
             return
@@ -150,17 +171,28 @@ class Material:
         if known.any():
             mine.deepest = min(mine.deepest, float(numpy.minimum(starts[known, 2], ends[known, 2]).min()))
         self._flush(mine)
-        self._sweep(mine.piece, starts[known], ends[known], mine.sized(cutter), 0.0, _tool_name(state))
+        parts = self._holder_parts(state)
+        if not parts:
+            self._sweep(mine.piece, starts[known], ends[known], mine.sized(cutter), 0.0, _tool_name(state))
+            return
+        for start, end, index in zip(starts[known], ends[known], feeds[known]):  # move by move: each against what the ones before left
+            self._judge_holder(mine.piece, start, end, parts, run.span(int(index)), state)
+            self._sweep(mine.piece, start[None], end[None], mine.sized(cutter), 0.0, _tool_name(state))
 
     # -- questions from the rules
     def rapid(self, start, end, state, run=None, index: int | None = None) -> RapidVerdict | None:
         """Does a rapid between two known points meet what is left (None: no model)?"""
+        if self.turning is not None:
+            if run is not None:
+                self.motion_run(run, state, upto=index)
+            return self.turning.rapid(start, end, state)
         if not self.modelled or not tool_axis_problem(state) is None:
             return None
         if run is not None:
             self.motion_run(run, state, upto=index)
-        mine = self._holder(state).own(state)
-        self._flush(mine)
+        mine = self._current(state)
+        if mine is None:
+            return None
         lowest = start if start[2] <= end[2] else end
         if lowest[2] < mine.deepest - _TOUCH and geometry.enters(self.stock, lowest, lowest) is not None:
             return RapidVerdict("hits", tuple(lowest))  # deeper than any cut has gone, inside the blank: whatever the tools' sizes
@@ -172,9 +204,33 @@ class Material:
             return RapidVerdict("clear")
         return verdict
 
+    def holder(self, segment, state) -> None:
+        """Before a feed move is cut: its tool's non-cutting parts against what is left (the
+        moves of a batch are judged as :meth:`motion_run` cuts them)."""
+        parts = self._holder_parts(state) if self.milled and segment.kind != "rapid" else []
+        if not parts or not self._placeable(segment.start, segment.end, state) or (mine := self._current(state)) is None:
+            return
+        start, end = _point(segment.start), _point(segment.end)
+        for a, b in ((start, start), (end, end)) if segment.arc is not None else ((start, end),):  # an arc's tool is surely at its ends
+            self._judge_holder(mine.piece, a, b, parts, segment.span, state)
+
+    def _holder_parts(self, state) -> list:
+        return self.holder_rule.parts(state) if self.holder_rule is not None else []
+
+    def _judge_holder(self, piece: Workpiece, start, end, parts, span, state) -> None:
+        """Each non-cutting part of the tool (height above the tip, its shape, its name)
+        against the material before the move; the first that meets it is reported."""
+        for height, shape, part in parts:
+            verdict = piece.rapid(*[(point[0], point[1], point[2] + height) for point in (start, end)], shape)
+            if verdict.outcome == "hits":
+                self.holder_rule.collides(span, start, end, part, verdict.point, state)
+                return
+
     def has_cut(self, state) -> bool:
+        if self.turning is not None:
+            return self.turning.has_cut(state)
         holder = state.rule_state.get(_KEY)
-        return holder is not None and holder.piece.cuts > 0
+        return holder is not None and holder.piece is not None and holder.piece.cuts > 0
 
     def sizeless_cuts(self, state) -> bool:
         """Some cut on this path was made by a tool whose size the table does not give."""
@@ -200,11 +256,11 @@ class Material:
 
     def finish(self, state) -> None:
         """At a path's end: sweep what is buffered, and keep the first path's result."""
-        holder = state.rule_state.get(_KEY)
-        if holder is None:
+        if self.turning is not None:
+            self.turning.finish(state)
             return
-        mine = holder.own(state)
-        self._flush(mine)
+        if state.rule_state.get(_KEY) is None or (mine := self._current(state)) is None:
+            return
         if self.final is None:
             self.final = mine.piece
 
@@ -212,8 +268,51 @@ class Material:
     def _holder(self, state) -> _PathPiece:
         holder = state.rule_state.get(_KEY)
         if holder is None:
-            holder = state.rule_state[_KEY] = _PathPiece(Workpiece(self.stock, self.resolution, self._memory_cap))
+            holder = state.rule_state[_KEY] = _PathPiece(self._allocate(lambda: Workpiece(self.stock, self.resolution, self._memory_cap)))
         return holder
+
+    def _mine(self, state) -> _PathPiece | None:
+        """This path's own workpiece, copied from the one it shares with the paths it forked
+        from; None when the copy would take the fields of all paths over the memory cap:
+        this path is then judged against the blank (and the rules say so)."""
+        holder = self._holder(state)
+        if holder.piece is None:
+            return None
+        if holder.sharers == 1:
+            return holder
+        holder.sharers -= 1  # the last path left on it cuts it without a copy
+        mine = _PathPiece(self._allocate(holder.piece.copy))
+        if mine.piece is not None:
+            mine.take_over(holder)
+        state.rule_state[_KEY] = mine
+        return mine if mine.piece is not None else None
+
+    def _current(self, state) -> _PathPiece | None:
+        """This path's workpiece as cut so far, to look at: its buffered cuts swept, but no
+        copy made when it is shared (the paths sharing it share those cuts too)."""
+        holder = self._holder(state)
+        if holder.piece is not None:
+            self._flush(holder)
+        return holder if holder.piece is not None else None
+
+    def _allocate(self, make) -> Workpiece | None:
+        """A new height field from ``make`` while the fields made so far stay under the cap."""
+        cells = self._field_bytes()
+        if self._allocated + cells > self._memory_cap:
+            self.too_large = (f"the stock as cut so far is not modelled past a fork: the paths' copies of the workpiece would take over the cap of "
+                              f"{_mebibytes(self._memory_cap)}")
+            return None
+        self._allocated += cells
+        piece = make()
+        weakref.finalize(piece, self._release, cells)
+        return piece
+
+    def _release(self, cells: int) -> None:
+        self._allocated -= cells
+
+    def _field_bytes(self) -> int:
+        x_low, y_low, x_high, y_high = workpiece.outline(self.stock).bounds
+        return math.ceil((x_high - x_low) / self.resolution) * math.ceil((y_high - y_low) / self.resolution) * _FIELD_BYTES_PER_CELL
 
     @property
     def _memory_cap(self) -> int:
@@ -245,19 +344,27 @@ class Material:
     def _placeable(self, start: dict, end: dict, state) -> bool:
         return tool_axis_problem(state) is None and all(type(point.get(axis)) is float for point in (start, end) for axis in "XYZ")
 
-    def _cutter(self, state):
+    def _cutter(self, state, largest: bool = False):
         """The swept shape of the tool in the spindle: a Cutter, None for a tool that does
-        not cut (a probe), False when it is not known."""
+        not cut (a probe), False when it is not known. The radius is the active cutting
+        edge's (SINUMERIK D), with a programmed radius delta (Klartext ``TOOL CALL .. DR``)
+        counted where it makes the tool smaller, or, for a rapid (``largest``), larger."""
         tool = self.tools.in_spindle(state)
-        if tool is None or tool.radius is None or tool.radius <= 0.0:
+        edge, delta = active_edge(state), radius_delta(state)
+        if tool is not None and edge != 1.0:
+            tool = tool.edge_data(edge) if type(edge) is float else None
+        if tool is None or tool.radius is None or type(delta) is not float:
+            return False
+        radius = tool.radius + (max(delta, 0.0) if largest else min(delta, 0.0))
+        if radius <= 0.0:
             return False
         if tool.type in _NOT_CUTTING:
             return None
-        return cutter_of(tool)
+        return cutter_of(replace(tool, radius=radius))
 
     def _rapid_cutter(self, state) -> Cutter:
         """For a rapid, a tool of unknown size is at least its axis: a thin flat rod."""
-        cutter = self._cutter(state)
+        cutter = self._cutter(state, largest=True)
         return cutter if isinstance(cutter, Cutter) else Cutter(0.0)
 
 
@@ -304,20 +411,35 @@ def cutter_of(tool) -> Cutter:
     return Cutter(tool.radius, known=False)
 
 
-def _resolution(stock, tools, machine, settings) -> float | None:
-    """The cell size when the model is kept; None when rapids are judged against the blank:
-    turned off, no stock, a lathe bar, or a requested resolution over the memory cap."""
+def _resolution(stock, tools, machine, settings) -> tuple[float | None, str | None]:
+    """The cell size when the model is kept, else None and, when the model was wanted but
+    does not fit the memory cap, why (the rules then judge against the blank and say so).
+    Not kept: turned off, no stock, a lathe bar (:mod:`.turning_stock` keeps that)."""
     wanted, cap = settings.stock_resolution, settings.stock_memory
     if wanted == 0 or stock is None or machine == "lathe" or stock.kind not in ("box", "polygon"):
-        return None
+        return None, None
     x_low, y_low, x_high, y_high = workpiece.outline(stock).bounds
     area = (x_high - x_low) * (y_high - y_low)
+    fitting = math.sqrt(area * _FIELD_BYTES_PER_CELL / cap) * 1.01  # the finest cells the cap allows
     if wanted is not None:
-        return wanted if area / wanted ** 2 * 8 <= cap else None
+        return (wanted, None) if wanted >= fitting else (None, _too_large(stock, f"cells of {wanted:g} mm", wanted, area, cap))
     radii = [tool.radius for tool in tools.values() if tool.radius]
-    chosen = min(max(min(radii) / 4.0 if radii else 0.5, AUTO_RESOLUTION[0]), AUTO_RESOLUTION[1])
-    fitting = math.sqrt(area * 8 / cap) * 1.01
-    return max(chosen, fitting)
+    smallest = min(radii) if radii else None
+    chosen = min(max(smallest / 4.0 if smallest else 0.5, AUTO_RESOLUTION[0]), AUTO_RESOLUTION[1])
+    if smallest is not None and fitting > smallest:  # cells wider than the tool: none of its cuts would surely clear a cell
+        return None, _too_large(stock, f"cells no wider than the smallest tool radius {smallest:g} mm", smallest, area, cap)
+    return max(chosen, fitting), None
+
+
+def _too_large(stock, cells: str, size: float, area: float, cap: int) -> str:
+    needed = area / size ** 2 * _FIELD_BYTES_PER_CELL
+    return (f"the stock as cut so far is not modelled: the blank ({stock.describe()}) at {cells} needs {_mebibytes(needed)}, "
+            f"over the cap of {_mebibytes(cap)}")
+
+
+def _mebibytes(size: float) -> str:
+    mebibytes = size / 2**20
+    return f"{mebibytes:,.0f} MiB" if mebibytes >= 10 else f"{mebibytes:.2g} MiB"
 
 
 def _tool_name(state) -> str:

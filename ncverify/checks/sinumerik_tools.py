@@ -24,7 +24,7 @@ def active_edge(state):
     return edge if type(edge) is float else None
 
 
-def _active_tool_number(state, lathe: bool):
+def active_tool_number(state, lathe: bool):
     """The tool that cuts: the one M6 loaded; on a lathe the T word changes the turret at
     once (the part B examples call the turning cycles after ``T3 D1`` with no M6), so there
     the selected tool, unless an M6 loaded another one (then it depends on the machine)."""
@@ -40,7 +40,7 @@ class _EdgeRule(ReportsMissingContext):
     def edge_tool(self, state):
         """``(data of the active edge, None)`` when they are known, else ``(None, why not)``.
         Annotations and the project file describe edge D1; ``$TC_DP..[t,d]`` any edge."""
-        number = _active_tool_number(state, self.checker.context.lathe)
+        number = active_tool_number(state, self.checker.context.lathe)
         if number is None:
             return None, "which tool is active is not known"
         edge = active_edge(state)

@@ -186,7 +186,7 @@ class RapidIntoStock(_NeedsStock):
         if hit is None:
             return
         left = self.checker.material.rapid(start, end, state, run, index) if self.checker.context.rapid_path != "dogleg" else None
-        if left is None:
+        if left is None or (left.outcome == "hits" and segment.role in _INTO_CLEARED):  # a hole bored before this program is in neither model
             self._judge_against_blank(segment, what, start, end, hit, stock)
         elif left.outcome == "hits":
             message = self._message(what, start, end, left.point, stock, cut=self.checker.material.has_cut(state))
@@ -217,7 +217,7 @@ class RapidIntoStock(_NeedsStock):
         the tool stands, for every allowed value. Every point it passes is where the tool's
         body already is, so it meets nothing the tool has not met already (the holder is
         judged on its own)."""
-        if not self.checker.material.modelled or tool_axis_problem(state) is not None or not (_same(start[0], end[0]) and _same(start[1], end[1])):
+        if not self.checker.material.milled or tool_axis_problem(state) is not None or not (_same(start[0], end[0]) and _same(start[1], end[1])):
             return False
         falls = hazard("<", end[2], start[2])
         if isinstance(falls, bool):
@@ -236,16 +236,19 @@ class RapidIntoStock(_NeedsStock):
                                         f"({stock.describe()}) where the earlier cuts, for these values, did not go down: the tool crashes into it at rapid",
                                         verdict, state)
             return
+        resolution = self.checker.material.resolution
+        limits = (f"{resolution:g} mm cells, or a cut it could not place" if resolution is not None
+                  else "an insert whose nose radius or cutting-edge position is not in the tool table, an arc, or a cut it could not place")
         self.report(self.rule_id, segment.span, f"{what} from {_where(start)} to {_where(end)} passes through the blank ({stock.describe()}) where earlier cuts "
-                    f"may have removed the material, closer to it than the model of the cut stock can tell ({self.checker.material.resolution:g} mm cells, "
-                    "or a cut it could not place): not checked", Status.UNKNOWN, "within the in-process stock's error")
+                    f"may have removed the material, closer to it than the model of the cut stock can tell ({limits}): not checked",
+                    Status.UNKNOWN, "within the in-process stock's error")
 
     def _judge_against_blank(self, segment, what, start, end, hit, stock) -> None:
-        """No model of the cut stock: the blank decides, except where the cycle itself
-        goes down into material removed before it."""
+        """No model of the cut stock (or one that shows material where the cycle goes down
+        into a hole it needs bored before it): the blank decides, except there."""
         if segment.role in _INTO_CLEARED:
-            self.report(self.rule_id, segment.span, f"{what} goes down {_INTO_CLEARED[segment.role]} to {_where(end)}: the stock model is the blank, "
-                        "with no holes or cleared material yet, so this entry was not checked", Status.UNKNOWN, "the stock is not updated by cutting or pre-boring")
+            self.report(self.rule_id, segment.span, f"{what} goes down {_INTO_CLEARED[segment.role]} to {_where(end)}: the stock model has no "
+                        "holes bored or material cleared before this program, so this entry was not checked", Status.UNKNOWN, "the stock model knows no pre-boring")
             return
         self.report(self.rule_id, segment.span, self._message(what, start, end, hit, stock))
 
@@ -308,6 +311,24 @@ class RapidIntoStock(_NeedsStock):
         where = "material left by the cuts so far" if cut else "the blank"
         return (f"{what} from {_where(start)} to {_where(end)} passes through the stock ({stock.describe()}) near {_where(hit)}: "
                 f"the tool crashes into {where} at rapid")
+
+
+@rule("core.stock-model-too-large")
+class StockModelTooLarge(Rule):
+    """The stock as cut so far did not fit the memory cap (the blank, or the copies forked
+    paths need): said once, where the first move after it was judged against the blank."""
+
+    def segment(self, segment, state):
+        self._note(segment.span)
+
+    def motion_run(self, run, state):
+        self._note(run.span(0))
+
+    def _note(self, span) -> None:
+        why = self.checker.material.too_large
+        if why is not None:
+            self.report("core.stock-model-too-large", span, f"{why}: rapids are judged against the raw blank instead "
+                        "(retracts out of cut material may be reported; raise --stock-resolution or give the tool table)", Status.UNKNOWN, why)
 
 
 @rule("core.clearance-below-stock")

@@ -1,0 +1,24 @@
+(ncverify-test: --machine lathe)
+%
+O2221 (TURN A D40 BAR DOWN TO D34 OVER 30 MM, X IN DIAMETER)
+(DEFECT: THE LAST RAPID RETURNS AT X34. TO Z-40., PAST THE SHOULDER INTO THE UNCUT BAR)
+(ncverify: stock cylinder D40 Z-60:0)
+(ncverify: tool 1 radius 0.8 nose-radius 0.8 edge-position 3 type turning)
+G21 G40 G99 G54
+T0101
+G97 S1500 M03
+G00 X44. Z2.
+G00 X37.
+G01 Z-30. F0.2
+G01 X38.
+G00 Z2.
+G00 X34.
+G01 Z-30. F0.2
+G01 X35.
+G00 Z2.
+G00 X34.
+G00 Z-40.
+G00 X100. Z100.
+M05
+M30
+%

@@ -1,0 +1,29 @@
+%
+O2711 (GROOVE AROUND A 40 X 30 ISLAND, 18 DEEP IN STEPS OF 6 MM: 12 MM FLUTES, 20 MM OUT OF THE HOLDER)
+(ncverify: stock box X0:100 Y0:80 Z-40:0)
+(ncverify: tool 1 radius 5 cutting-length 12 usable-length 20 length 90 holder-diameter 32 type endmill)
+G21 G90 G17 G40 G49 G80 G54
+T1 M06
+G43 H01 Z50.
+S6000 M03
+G00 X35. Y30.
+Z2.
+G01 Z-6. F150.
+X65. F500.
+Y50.
+X35.
+Y30.
+G01 Z-12. F150.
+X65. F500.
+Y50.
+X35.
+Y30.
+G01 Z-18. F150.
+X65. F500.
+Y50.
+X35.
+Y30.
+G00 Z50.
+M05
+M30
+%
