@@ -24,6 +24,9 @@ from dataclasses import dataclass, field
 
 SAMPLES = 200  # points per move
 TOUCH = 1e-3  # how far into the stock a sample must reach to count as contact (mm)
+# A witness of a violation may graze the stock at a corner, between two samples: it is
+# reproduced with ten times the samples, and coming within NEAR of the stock counts.
+NEAR = 0.05
 
 
 @dataclass(frozen=True)
@@ -275,14 +278,14 @@ def run(case: Case, parameter: float) -> list[Move]:
 def touching(case: Case, parameter: float, near: bool = False) -> set[tuple]:
     """Tags of the rapids along which the tool reaches ``TOUCH`` into the stock (``near``:
     comes that near to it)."""
-    touch = -TOUCH if near else TOUCH
+    touch, samples = (-NEAR, SAMPLES * 10) if near else (TOUCH, SAMPLES)
     stock = tuple((low + offset, high + offset) for (low, high), offset in zip(case.stock, case.offset))
-    return {move.tag for move in run(case, parameter) if move.kind == "rapid" and _touches(stock, move, touch)}
+    return {move.tag for move in run(case, parameter) if move.kind == "rapid" and _touches(stock, move, touch, samples)}
 
 
-def _touches(stock, move: Move, touch: float) -> bool:
+def _touches(stock, move: Move, touch: float, samples: int) -> bool:
     (x_low, x_high), (y_low, y_high), (z_low, z_high) = stock
-    for x, y, z in _samples(move):
+    for x, y, z in _samples(move, samples):
         if z > z_high - touch or z + move.tool.length < z_low + touch:
             continue
         dx = max(x_low - x, 0.0, x - x_high)
@@ -296,21 +299,21 @@ def outside_travel(case: Case, parameter: float, near: bool = False) -> set[tupl
     """Tags of the moves along which the tool tip leaves the travel by more than ``TOUCH``.
     A move that starts outside is the hazard of the move before it and is not judged again
     (the first move, its end point alone, is); ``near``: the moves that come within
-    ``TOUCH`` of the travel's end or start outside it."""
-    margin = -TOUCH if near else TOUCH
+    ``NEAR`` of the travel's end or start outside it."""
+    margin, samples = (-NEAR, SAMPLES * 10) if near else (TOUCH, SAMPLES)
 
     def outside(point, margin) -> bool:
         return any(value < low - margin or value > high + margin for value, (low, high) in zip(point, case.travel))
 
     return {move.tag for move in run(case, parameter)
-            if (near or move.start == move.end or not outside(move.start, -margin)) and any(outside(point, margin) for point in _samples(move))}
+            if (near or move.start == move.end or not outside(move.start, -margin)) and any(outside(point, margin) for point in _samples(move, samples))}
 
 
-def _samples(move: Move):
+def _samples(move: Move, samples: int = SAMPLES):
     """Points along a move: a straight line, or the arc about its centre."""
     if move.centre is None:
-        for sample in range(SAMPLES + 1):
-            share = sample / SAMPLES
+        for sample in range(samples + 1):
+            share = sample / samples
             yield tuple(a + (b - a) * share for a, b in zip(move.start, move.end))
         return
     (cx, cy, _), (sx, sy, z) = move.centre, move.start
@@ -319,6 +322,6 @@ def _samples(move: Move):
     sweep = (end - begin) % (2 * math.pi) or 2 * math.pi  # counter-clockwise
     if move.clockwise:
         sweep -= 2 * math.pi
-    for sample in range(SAMPLES + 1):
-        angle = begin + sweep * sample / SAMPLES
+    for sample in range(samples + 1):
+        angle = begin + sweep * sample / samples
         yield cx + radius * math.cos(angle), cy + radius * math.sin(angle), z

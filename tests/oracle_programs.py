@@ -23,7 +23,9 @@ COUNTER = {"iso": "#2", "linuxcnc": "#101", "sinumerik": "R2", "fagor": "P2", "h
 STOCK = ((0.0, 100.0), (0.0, 80.0), (-20.0, 0.0))
 TOOLS = {1: Tool(2.0, 60.0), 2: Tool(5.0, 80.0), 3: Tool(8.0, 50.0)}
 SAFE_START = Rapid(Linear(-50.0), Linear(-50.0), Linear(50.0))
-# The transforms each dialect's writer can write (ISO draws G92 or G68, never both: G92 under a rotation is not defined here)
+# The transforms each dialect's writer can write. ISO draws G92 or G68, never both (G92
+# under a rotation is not defined here); LinuxCNC G52 or G92, never both (they share one
+# offset there, a G52 replaces a G92 preset).
 FRAMES = {"iso": ("shift", "preset", "rotate"), "linuxcnc": ("shift", "preset"), "sinumerik": ("shift", "rotate", "scale", "mirror"),
           "heidenhain": ("shift", "rotate", "scale", "mirror"), "fagor": ("preset",)}
 
@@ -70,6 +72,8 @@ def cases(draw, dialect: str) -> Case:
     kinds = FRAMES[dialect]
     if dialect == "iso":
         kinds = ("shift", draw(st.sampled_from(["preset", "rotate"])))
+    elif dialect == "linuxcnc":
+        kinds = (draw(st.sampled_from(kinds)),)
     frames = _frames(dialect, kinds)
     tool_changes = st.sampled_from(sorted(TOOLS)).map(ToolChange)
     rapid, feed = _moves(False)

@@ -15,6 +15,7 @@ from ..diagnostics import Status
 from ..verdict import Verdict
 from ..context import radius_delta
 from .common import ReportsMissingContext
+from . import modelled
 
 _DEPTH_CHECKED = {200, 201, 202, 203, 205, 208, 241, 206, 207, 209, 251, 252, 253, 254, 256, 257, 258, 272, 273, 274}
 _PLUNGE_CHECKED = {251, 252, 253, 254}
@@ -71,6 +72,7 @@ def _machining_depth(number, params):
 
 class CycleRule(ReportsMissingContext):
     """Judges every cycle execution, hole or pocket, once per definition and place."""
+    reads = modelled.AS_WRITTEN
 
     def hole(self, hole, state):
         self.judge_cycle(cycle_number(hole.cycle), hole.params, hole.param_spans, hole.definition or hole.span, state)
@@ -365,6 +367,7 @@ class ToolTooLarge(CycleRuleOfParts):
 class ContourClearanceHeight(CycleRule):
     """Part B H13/H14: the SL, contour-train and OCM cycles travel between areas and retract
     at a clearance height (Q7, Q260) that must lie above the set-up clearance and the blank."""
+    reads = modelled.GEOMETRY
 
     def judge_cycle(self, number, params, spans, span, state):
         if number not in _CLEARANCE_HEIGHT:
@@ -409,6 +412,7 @@ class TransformAtEnd(Rule):
 class DepthThroughBlank(ReportsMissingContext):
     """A43 H41: a hole bottom below the underside of the blank cuts into the fixture or the
     table (a through hole needs a spacer under the part)."""
+    reads = modelled.GEOMETRY
 
     def hole(self, hole, state):
         if cycle_number(hole.cycle) is None or hole.bottom is None or not self.first_time(state, ("through-blank", hole.definition)):

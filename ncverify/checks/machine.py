@@ -13,6 +13,7 @@ from ..check import hazard, rule, show
 from ..diagnostics import Status
 from ..values import Condition, Sym
 from .common import ReportsMissingContext
+from . import modelled
 
 _AXIS_INDEX = {"X": 0, "Y": 1, "Z": 2, "A": 3, "B": 4, "C": 5}
 
@@ -25,6 +26,7 @@ class TravelLimit(ReportsMissingContext):
     inside the travel. On a lathe the program's X is a diameter: ``[machine] lathe_x`` says
     whether travel and offsets are diameters too or radii (then X is halved first), and arcs
     are judged at their end points."""
+    reads = modelled.GEOMETRY
 
     def segment(self, segment, state):
         frame = self._frame(segment.span, state)
@@ -179,6 +181,7 @@ def _arc_extremes(direction, centre, radius, start, end, axes):
 
 @rule("core.tool-not-in-table", "core.spindle-over-limit", "core.feed-over-limit")
 class MachineLimits(ReportsMissingContext):
+    reads = modelled.AS_WRITTEN
     def change(self, change, state):
         if change.what == "tool_change" and type(change.new) is float:
             tools = self.checker.context.tools
