@@ -26,6 +26,9 @@ class Rule:
     in ``state.rule_state`` so that forked paths do not share it."""
 
     ids: tuple[str, ...] = ()
+    # The kinds of machine state this rule's proofs account for (ncverify.checks.modelled);
+    # under any other that is active, its proved becomes unknown. Nothing by default.
+    reads: frozenset = frozenset()
 
     def __init__(self, checker: "Checker"):
         self.checker = checker
@@ -67,6 +70,7 @@ class Checker:
     configured severities and disabled rules."""
 
     def __init__(self, settings, context: RuleContext, severity_overrides: dict | None = None, suppressions: dict | None = None):
+        from .checks import modelled
         from .checks.material import Material
 
         self.settings = settings
@@ -92,6 +96,13 @@ class Checker:
         self._cycle_run = _handlers(rules, "cycle_run") + [self._constraints_on_run]
         self._change = _handlers(rules, "change")
         self._finish = _handlers(rules, "finish")
+        self._unread = modelled.unread
+        # what each rule's proofs read: its class's declaration; a constraint from rules/
+        # compares cycle parameters as written; a division by zero is the value's alone
+        self._reads = {rule_id: cls.reads for cls in rule_classes() for rule_id in cls.ids}
+        self._reads.update({definition.id: modelled.AS_WRITTEN for definition in self.definitions.values()
+                            if definition.constraints and definition.id not in self._reads})
+        self._reads.setdefault("core.arithmetic-domain", modelled.EVERY)
         self._constraints = [
             (definition, constraint)
             for definition in self.definitions.values()
@@ -191,10 +202,15 @@ class Checker:
 
     def report_verdict(self, rule_id: str, span: Span, message: str, verdict: Verdict | None, state) -> None:
         """Report a judged hazard: violated with its witness, unknown with the reason, or a
-        ``proved`` entry when symbolic values were shown safe."""
+        ``proved`` entry when symbolic values were shown safe, under state the rule reads
+        (``Rule.reads``; otherwise unknown, naming the state)."""
         if verdict is None:
             return
         if verdict.status is Status.PROVED:
+            unread = self._unread(state, self._reads.get(rule_id, frozenset()))
+            if unread is not None:
+                self.report(rule_id, span, f"not proved: {unread}, which this rule does not model: {message}", Status.UNKNOWN, f"not modelled: {unread}")
+                return
             message = f"{_PROVED_PREFIX}{message}"
         self.report(rule_id, span, message, verdict.status, verdict.reason, verdict.witness)
 

@@ -6,6 +6,7 @@ from .. import ir, values
 from ..cycle_models import CycleModel
 from ..interpret import modal_call
 from ..check import Rule, hazard, rule, show
+from . import modelled
 
 _COMP_CODE = {"left": "G41", "right": "G42", "auto": "G46"}
 _SHIFT_LETTERS = {"xy": ("I", "J"), "zx": ("K", "I"), "yz": ("J", "K")}
@@ -86,6 +87,7 @@ class CycleModalAtEnd(Rule):
 class CycleShift(Rule):
     """G76 fine boring and G87 back boring move the tool off the wall by a shift: I/J in
     G17, K/I in G18, J/K in G19 (the address table also names Q)."""
+    reads = modelled.AS_WRITTEN
 
     def hole(self, hole, state):
         if "shift" not in hole.model.bottom:
@@ -168,6 +170,7 @@ def _same_position(a: tuple, b: tuple, absolute: bool) -> bool:
 @rule("core.cycle-parameter-value")
 class CycleParameterValue(Rule):
     """Every parameter whose cycle table entry lists ``allowed`` values."""
+    reads = modelled.AS_WRITTEN
 
     def __init__(self, checker):
         super().__init__(checker)
@@ -205,6 +208,7 @@ class CycleParameterValue(Rule):
 
 @rule("core.lathe-arc-over-180")
 class LatheArcOver180(Rule):
+    reads = modelled.AS_WRITTEN
     def motion_run(self, run, state):
         """Runs hold no arcs."""
 
@@ -279,6 +283,7 @@ class TwoBlockMixture(Rule):
 class ThreadParameters(Rule):
     """G76 second block against the first block's finishing allowance, and the lead; the
     plain conditions on P and Q are constraints on the rule's page."""
+    reads = modelled.AS_WRITTEN
 
     def cycle_run(self, run, state):
         if run.first_block or run.model.shape != "thread" or not run.model.two_blocks:
@@ -303,6 +308,7 @@ class ThreadParameters(Rule):
 
 @rule("core.thread-start-angle")
 class ThreadStartAngle(Rule):
+    reads = modelled.AS_WRITTEN
     def change(self, change, state):
         if change.what != "thread" or not change.new or "Q" not in change.new:
             return

@@ -11,6 +11,7 @@ from .. import frames, pocket, values
 from ..check import Rule, hazard, rule, show
 from ..diagnostics import Status
 from .common import ReportsMissingContext, scaled_note
+from . import modelled
 
 
 
@@ -57,6 +58,7 @@ class UnknownStartPlane(Rule):
 @rule("fagor.pocket-incremental-depth")
 class PocketIncrementalDepth(Rule):
     """G87/G88 in G91: the text measures I from Z, the manual's examples from Zi (H12)."""
+    reads = modelled.AS_WRITTEN
 
     def hole(self, hole, state):
         cycle = state.cycle
@@ -119,6 +121,7 @@ class PocketToolFit(ReportsMissingContext):
     """G87/G88/G210/G211: the tool against the pocket, bore or thread (seed L1386-1390,
     L1499-1503, L1599-1613; H13, H14, H20, H22). Sizes come from the cycle and the tool
     radius from the tool table; the largest tool that fits is reported."""
+    reads = modelled.SCALED_SIZES
 
     def hole(self, hole, state):
         kind = hole.model.pocket or hole.model.thread_mill
@@ -291,6 +294,7 @@ class HoleAtUnknownPosition(Rule):
 class RigidTappingEncoder(ReportsMissingContext):
     """G84 R1 is rigid tapping, which needs a motor-driven spindle with an encoder (seed
     L1090, L1132-1135; H19); ``[machine] spindle_encoder`` says whether the machine has one."""
+    reads = modelled.AS_WRITTEN
 
     def hole(self, hole, state):
         rigid = hole.params.get("R")
@@ -311,6 +315,7 @@ class _PastTheStock(ReportsMissingContext):
     face: its bottom for a tool coming down Z, and for a box stock its face on any axis,
     either way (``hole.up``). Without the stock, or its extent along that axis, the rule
     answers unknown once per file."""
+    reads = modelled.GEOMETRY
 
     rule_id = ""
 

@@ -15,6 +15,7 @@ from ..diagnostics import Status
 from ..verdict import Verdict
 from ..context import radius_delta
 from .common import ReportsMissingContext, plane_scale, scaled_note
+from . import modelled
 
 _DEPTH_CHECKED = {200, 201, 202, 203, 205, 208, 241, 206, 207, 209, 251, 252, 253, 254, 256, 257, 258, 272, 273, 274}
 _PLUNGE_CHECKED = {251, 252, 253, 254}
@@ -64,6 +65,7 @@ def _machining_depth(number, params):
 
 class CycleRule(ReportsMissingContext):
     """Judges every cycle execution, hole or pocket, once per definition and place."""
+    reads = modelled.AS_WRITTEN
 
     def hole(self, hole, state):
         self.judge_cycle(cycle_number(hole.cycle), hole.params, hole.param_spans, hole.definition or hole.span, state)
@@ -369,6 +371,7 @@ class PlungeAngle(CycleRuleOfParts):
 class ToolTooLarge(CycleRuleOfParts):
     """The tool against the pocket, slot, bore or contour pocket it cuts, and against the
     1278 polygon pocket of OCM."""
+    reads = modelled.SCALED_SIZES
 
     parts = (_PocketFit, _PolygonPocketFit)
 
@@ -377,6 +380,7 @@ class ToolTooLarge(CycleRuleOfParts):
 class ContourClearanceHeight(CycleRule):
     """Part B H13/H14: the SL, contour-train and OCM cycles travel between areas and retract
     at a clearance height (Q7, Q260) that must lie above the set-up clearance and the blank."""
+    reads = modelled.GEOMETRY
 
     def judge_cycle(self, number, params, spans, span, state):
         if number not in _CLEARANCE_HEIGHT:
@@ -428,6 +432,7 @@ class DepthThroughBlank(ReportsMissingContext):
     blank for the graphics, not what it is clamped on. Whether parallels or a spacer lie
     under the hole is the set-up's, which the program does not state. A bottom that is not
     below the underside for any allowed value is ``proved``."""
+    reads = modelled.GEOMETRY
 
     def hole(self, hole, state):
         if cycle_number(hole.cycle) is None or hole.bottom is None or not self.first_time(state, ("through-blank", hole.definition)):

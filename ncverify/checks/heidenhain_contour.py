@@ -241,6 +241,7 @@ class ContourDefinition(CycleRule):
 class BelowClearanceHeight(CycleRule):
     """H16: cycle 276 stops with an error when the tool is below the clearance height Q7 at
     the call (seed L10444-10446)."""
+    reads = frozenset()  # compares positions as the program writes them with the blank: no active state is read
 
     def judge_cycle(self, number, params, spans, span, state):
         height, position = params.get("Q7"), params.get("@position")

@@ -49,6 +49,7 @@ def _untransformed(state) -> bool:
 class _BlankRule(CycleRule):
     """A cycle judged against the blank in the working plane: needs a box or polygon blank
     and no coordinate transformation."""
+    reads = frozenset()  # compares positions as the program writes them with the blank: no active state is read
 
     def blank_outline(self, rule_id: str, span, state):
         stock = self.checker.context.stock
@@ -295,6 +296,7 @@ class FaceMillingBlank(_BlankRule):
 class ThreadCuttingPosition(CycleRule):
     """Reference B H41: cycle 18 cuts from where the tool is, DEPTH along the tool axis, with
     no approach of its own: a thread that ends above the blank cuts nothing."""
+    reads = frozenset()  # compares positions as the program writes them with the blank: no active state is read
 
     def judge_cycle(self, number, params, spans, span, state):
         if number != 18 or not self.first_time(state, ("thread-cutting-position", span, state.position.get(state.plane_axes[2]))):

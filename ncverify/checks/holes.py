@@ -3,6 +3,7 @@ from __future__ import annotations
 
 from ..ir import cycle_code
 from ..check import Rule, hazard, rule, show
+from . import modelled
 
 
 
@@ -16,6 +17,7 @@ class MissingParameter(Rule):
 
 @rule("core.cycle-depth-sign", "core.cycle-zero-depth", "core.cycle-r-above-initial")
 class HoleLevels(Rule):
+    reads = modelled.AS_WRITTEN
     def hole(self, hole, state):
         bottom, r_point, initial = hole.bottom, hole.r_point, hole.initial
         if bottom is None or r_point is None or hole.model.r_incremental:
@@ -41,6 +43,7 @@ class HoleLevels(Rule):
 
 @rule("core.peck-depth")
 class PeckDepth(Rule):
+    reads = modelled.AS_WRITTEN
     def hole(self, hole, state):
         if (hole.model.infeed or "").startswith("peck") and not hole.model.r_incremental:
             depth = hole.params.get("Q")

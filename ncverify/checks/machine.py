@@ -14,6 +14,7 @@ from ..context import NO_TOOL_TABLE
 from ..diagnostics import Status
 from ..values import Condition, Sym
 from .common import UNKNOWN_DIAMETER_MODE, ReportsMissingContext, lathe_x_is_diameter
+from . import modelled
 
 _AXIS_INDEX = {"X": 0, "Y": 1, "Z": 2, "A": 3, "B": 4, "C": 5}
 
@@ -26,6 +27,7 @@ class TravelLimit(ReportsMissingContext):
     inside the travel. On a lathe the program's X is a diameter: ``[machine] lathe_x`` says
     whether travel and offsets are diameters too or radii (then X is halved first), and arcs
     are judged at their end points."""
+    reads = modelled.GEOMETRY_AND_DIAMETER
 
     def segment(self, segment, state):
         frame = self._frame(segment.span, state)
@@ -185,6 +187,7 @@ def _arc_extremes(direction, centre, radius, start, end, axes):
 
 @rule("core.tool-not-in-table", "core.spindle-over-limit", "core.feed-over-limit")
 class MachineLimits(ReportsMissingContext):
+    reads = modelled.AS_WRITTEN
     def change(self, change, state):
         if change.what == "tool_change" and type(change.new) is float:
             tools = self.checker.context.tools

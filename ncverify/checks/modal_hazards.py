@@ -11,6 +11,7 @@ import numpy
 from .. import ir, values
 from ..check import Rule, hazard, rule, show
 from ..diagnostics import Status
+from . import modelled
 
 _CUTTING = frozenset({"feed", "arc", "thread"})
 _FEED = 1  # MotionRun kind code of a feed segment
@@ -139,6 +140,7 @@ class LengthOffsetMotion(Rule):
     (at the start, after a tool change, which takes Z to the change position, after a
     reference return or a machine-coordinate move) it moves from the top of the travel, and
     the usual ``M06`` / ``G43 H01`` / ``G00 Z1.`` sequence is not reported."""
+    reads = modelled.AS_WRITTEN
 
     def change(self, change, state):
         if self.checker.context.lathe:
@@ -226,6 +228,7 @@ class LengthOffsetMotion(Rule):
 
 @rule("core.reference-point-number")
 class ReferencePointNumber(Rule):
+    reads = modelled.AS_WRITTEN
     def change(self, change, state):
         if change.what != "reference_return" or change.new != "secondary":
             return
@@ -250,6 +253,7 @@ class ReferencePointNumber(Rule):
 class OffsetDataSetting(Rule):
     """G10 L2 / L20 with a P the E60 replaces silently (seed L1595, L1619-1625), and G10 in
     G91, which adds to the offset each time it runs (seed L1569, L1579)."""
+    reads = modelled.AS_WRITTEN
 
     def change(self, change, state):
         if change.what != "data_setting":
@@ -310,6 +314,7 @@ class CoordinateSettingRepeated(Rule):
 class FeedPlausibility(Rule):
     """A feed read in the wrong mode's units: above 5 mm/rev (0.2 in/rev) in G95, or below
     1 mm/min (0.04 in/min) in G94. One finding per feed value, like core.feed-missing."""
+    reads = modelled.AS_WRITTEN
 
     def change(self, change, state):
         if change.what == "feed_mode":
@@ -392,6 +397,7 @@ def _same(a, b) -> bool:
 class SurfaceSpeedAtCentre(Rule):
     """Lathe, G96 in force, a cut that reaches X0 (or crosses it): one finding per G96
     episode."""
+    reads = frozenset()  # compares positions as the program writes them with the blank: no active state is read
 
     def change(self, change, state):
         if change.what == "spindle_mode" and change.old != change.new:

@@ -10,6 +10,7 @@ from .. import values
 from ..values import Condition
 from ..diagnostics import Status
 from ..check import Rule, hazard, rule, show
+from . import modelled
 
 _CUTTING = frozenset({"feed", "arc", "thread"})
 
@@ -24,6 +25,7 @@ def _same_feed(a, b) -> bool:
 class FeedMissing(Rule):
     """Reported at the first cutting move of each feed value that is missing or not
     positive (one finding per mistake, not one per block)."""
+    reads = modelled.AS_WRITTEN
 
     def segment(self, segment, state):
         if segment.kind not in _CUTTING or segment.kind == "thread" and not segment.cycle:
@@ -171,6 +173,7 @@ class CompensationAtEnd(Rule):
 
 @rule("core.arc-geometry")
 class ArcGeometry(Rule):
+    reads = modelled.AS_WRITTEN
     tolerance = 0.01  # in program units, unless the dialect states its control's own (RuleContext.arc_tolerance)
 
     def _tolerance(self, state) -> float:
@@ -232,6 +235,7 @@ class InchMetricSwitch(Rule):
 
 @rule("core.g28-absolute")
 class ReferenceReturnThroughWork(Rule):
+    reads = modelled.AS_WRITTEN
     def change(self, change, state):
         if change.what != "reference_return" or state.modal.get("distance") != "absolute":
             return

@@ -18,6 +18,7 @@ from ..ir import cycle_code
 from .. import values
 from ..check import Rule, hazard, rule, show
 from ..interpret.sinumerik_cycles import COARSE_PITCH, levels
+from . import modelled
 
 
 def cycle_name(run) -> str:
@@ -138,6 +139,7 @@ class ReferencePlane(Rule):
     """Alarm 61101 (seed A L2139-2146): a relative depth with RTP = RFP, or the retract
     plane lying between the reference plane and the depth. And the message "Depth:
     according to value for relative depth" when DP and DPR disagree (L2127-2134)."""
+    reads = modelled.AS_WRITTEN
 
     def cycle_run(self, run, state):
         name = cycle_name(run)
@@ -302,6 +304,7 @@ class CycleBlock(Rule):
     """A cycle call must stand in a block of its own (seed A L527); the retract plane must
     not lie between the reference plane and the safety clearance (reference A section 9
     item 6): every rapid between holes then runs closer to the surface than SDIS."""
+    reads = modelled.AS_WRITTEN
 
     def cycle_run(self, run, state):
         if not is_sinumerik(run):
@@ -329,6 +332,7 @@ class StartBelowSurface(Rule):
     the tool axis; milling cycles rapid to their start point at RTP from where the tool is
     (reference A section 9 item 7, seed L2072-2076). A tool standing beyond the reference
     plane RFP when the cycle is called got there by a positioning move under the surface."""
+    reads = modelled.AS_WRITTEN
 
     def cycle_run(self, run, state):
         if not is_sinumerik(run) or run.model.shape not in ("sinumerik_drill", "sinumerik_mill"):
@@ -362,6 +366,7 @@ class FirstDrillingDepth(Rule):
     """CYCLE83's first drilling depth (FDEP, or RFP - s*FDPR when FDPR is programmed) must
     lie strictly between RFP + SDIS and the final depth: alarm 61107 (seed A L2532-2535,
     L2561-2564; the exact condition is derived, reference A section 6.3)."""
+    reads = modelled.AS_WRITTEN
 
     def cycle_run(self, run, state):
         if run.cycle != "sinumerik.CYCLE83":
@@ -383,6 +388,7 @@ class ThreadPitch(Rule):
     """Alarm 61001 "thread pitch wrong": MPIT (a metric thread size) and PIT (a pitch)
     both programmed and contradicting each other (CYCLE84/840 seed A L2950-2953, CYCLE97
     seed B L17056-17062)."""
+    reads = modelled.AS_WRITTEN
 
     def cycle_run(self, run, state):
         name = cycle_name(run)
@@ -427,6 +433,7 @@ class ThreadMillBore(Rule):
     half a pitch (reference A section 9 item 36, seed L5305-5316: a thread from -20 to 0 with
     pitch 3 needs the bore down to -21.5). A bore drilled earlier in the program at the
     thread's centre must reach that far."""
+    reads = modelled.AS_WRITTEN
 
     def hole(self, hole, state):
         first, second, _normal = state.plane_axes

@@ -15,6 +15,7 @@ from ..pocket import circle_fit, circle_misfit, rectangle_fit, rectangle_misfit,
 from .common import ReportsMissingContext, scaled_note
 from .sinumerik import PLANE_CYCLES, contour_not_found, contour_points_unknown, cycle_name, digit_problem, is_sinumerik, numeric_parameter, plane_point
 from .sinumerik_tools import active_edge
+from . import modelled
 
 
 # --------------------------------------------------------------------------- tool against the feature
@@ -25,6 +26,7 @@ class CutterRadius(ReportsMissingContext):
     width > tool diameter" (POCKET3/4, CYCLE71), 61117/61112 for a radius the cycle cannot use,
     and a slot tool below half the slot width, from the tool radius in the tool data ($TC_DP6
     in the program or the project's tool table)."""
+    reads = modelled.SCALED_SIZES
 
     def cycle_run(self, run, state):
         cycle = cycle_name(run)
@@ -148,6 +150,7 @@ class PocketContour(ReportsMissingContext):
     point, no RND/CHF at the last element, a roughing tool _TN (61984), the stepover at most 80 %
     of the tool diameter (61982), the tool not standing on a contour start point. (Whether a
     CYCLE74 ran before CYCLE73 is not judged: REPEAT of a program section is not modelled.)"""
+    reads = modelled.AS_WRITTEN
 
     def cycle_run(self, run, state):
         name = cycle_name(run) if is_sinumerik(run) else ""
@@ -237,6 +240,7 @@ class MillingDepthSign(Rule):
     retract side of the reference plane or on it (reference A section 9 item 3, seed
     L2098-2104): nothing is cut, and the control raises no alarm unless the retract plane
     also lies between them (61101). Holes are judged by the core hole rules."""
+    reads = modelled.AS_WRITTEN
 
     def cycle_run(self, run, state):
         name = cycle_name(run) if is_sinumerik(run) else ""
@@ -262,6 +266,7 @@ class ScaledCycle(ReportsMissingContext):
     """CYCLE71/72 with a scale factor active (61011) and CYCLE76/77 with different factors
     on the two plane axes (61012) [appendix L19650-19660], from the programmable frame;
     unknown when an entry of the frame is not a number."""
+    reads = modelled.AS_WRITTEN
 
     def cycle_run(self, run, state):
         alarm = _SCALE_ALARMS.get(cycle_name(run)) if is_sinumerik(run) else None

@@ -16,6 +16,7 @@ from .. import ir
 from ..check import rule, show
 from ..frames import Frame
 from .common import ReportsMissingContext
+from . import modelled
 
 
 def active_edge(state):
@@ -36,6 +37,7 @@ def active_tool_number(state, lathe: bool):
 
 class _EdgeRule(ReportsMissingContext):
     """A rule that needs the data of the active cutting edge."""
+    reads = modelled.AS_WRITTEN
 
     def edge_tool(self, state):
         """``(data of the active edge, None)`` when they are known, else ``(None, why not)``.
@@ -247,6 +249,7 @@ class PocketEdge(ReportsMissingContext):
     """CYCLE73 computes its paths with the offsets of edge D1 and allows no other edge (no
     spare-tool strategy): another D raises alarm 61989 (reference A sections 6.24 and 9 item
     39, seed L9530-9620, L10703-10775)."""
+    reads = modelled.AS_WRITTEN
 
     def cycle_run(self, run, state):
         if run.cycle != "sinumerik.CYCLE73":

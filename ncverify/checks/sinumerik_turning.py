@@ -11,6 +11,7 @@ from shapely.geometry import LineString, Point, Polygon
 from ..check import Rule, hazard, rule, show
 from .common import ReportsMissingContext
 from .sinumerik import contour_not_found, contour_points_unknown, cycle_name, is_sinumerik, plane_point, quoted
+from . import modelled
 
 
 # --------------------------------------------------------------------------- stock removal contours (CYCLE95, CYCLE950)
@@ -21,6 +22,7 @@ class StockRemovalContour(ReportsMissingContext):
     enough plane blocks, only lines and arcs up to 180 degrees, no plane, frame or G41/G42
     inside, G0-G3 in the first block, no G41/G42 at the call, and the start position
     outside the rectangle the contour spans (61607)."""
+    reads = modelled.AS_WRITTEN
 
     def cycle_run(self, run, state):
         facts = run.params.get("CONTOUR") if run.cycle == "sinumerik.CYCLE95" else None
@@ -54,6 +56,7 @@ class ContourDirection(ReportsMissingContext):
     L16362-16364, L16422-16426, L16472-16487): the first block must give both plane
     coordinates; longitudinal machining needs a contour monotone along the first plane axis,
     face machining along the second. Judged on the contour's end points."""
+    reads = modelled.AS_WRITTEN
 
     def cycle_run(self, run, state):
         facts = run.params.get("CONTOUR") if run.cycle == "sinumerik.CYCLE95" else None
@@ -88,6 +91,7 @@ class ExtendedStockRemoval(ReportsMissingContext):
     (61740) and hold the finished contour (61735) with material between them (61724); neither
     contour may end with RND/CHF, and the two must not run together in the middle of the
     finished contour (the material to remove must be connected)."""
+    reads = modelled.AS_WRITTEN
 
     def cycle_run(self, run, state):
         if run.cycle != "sinumerik.CYCLE950":
@@ -173,6 +177,7 @@ class UndercutForm(Rule):
 class UndercutFeed(Rule):
     """CYCLE94 and CYCLE96 cut the undercut at the feed programmed before the call (reference
     B section 9 item 42, seed L15570-15572, L16732-16734): there must be one."""
+    reads = modelled.AS_WRITTEN
 
     def cycle_run(self, run, state):
         if run.cycle not in ("sinumerik.CYCLE94", "sinumerik.CYCLE96"):
@@ -192,6 +197,7 @@ class GrooveDwell(ReportsMissingContext):
     """CYCLE93's dwell DTB at the groove base should last at least one spindle revolution
     (reference B section 9 item 29, seed L15201-15205): judged under G97, where the speed S
     is the revolutions per minute; unknown otherwise."""
+    reads = modelled.AS_WRITTEN
 
     def cycle_run(self, run, state):
         dwell = run.params.get("DTB") if run.cycle == "sinumerik.CYCLE93" else None

@@ -14,6 +14,7 @@ import numpy
 
 from ..ir import cycle_code
 from .. import context, frames, geometry
+from . import modelled
 from ..check import Rule, Verdict, hazard, rule, show
 from ..context import Stock, active_edge, radius_delta
 from ..diagnostics import Status
@@ -61,9 +62,9 @@ def _separated(stock, start: dict, end: dict, tool=None) -> bool:
 
 
 # What the cylinder model of the tool reads: the stock's kind, the tool in the spindle and
-# its radius and length from the tool table, and the tool axis (the working plane's normal,
-# Fagor's #TOOL AX, the frame's Z: material.tool_axis_problem). Under any other state it is
-# not used (see _judge).
+# its radius and length from the tool table, standing along +Z of the workpiece. Along any
+# other tool axis the concrete check judges the tool's axis alone, and no proof is given
+# (the rule does not read modelled.TOOL_AXIS).
 
 
 def _cylinder_tool(rule_instance, stock, state):
@@ -81,13 +82,6 @@ def _cylinder_tool(rule_instance, stock, state):
     if tool is None or tool.radius is None or type(delta) is not float:
         return None
     return tool.radius + delta, tool.length
-
-
-def _no_tool_reason(stock, state) -> str:
-    problem = tool_axis_problem(state)
-    if problem is not None:
-        return f"{problem}: the tool's side is not modelled there, only its axis was shown clear of the stock"
-    return "tool radius not known: only the tool's axis was shown clear of the stock"
 
 
 def _enters(stock, start, end, tool, dogleg: bool = False):
@@ -150,6 +144,7 @@ class _NeedsStock(Rule):
 @rule("core.rapid-into-stock")
 class RapidIntoStock(_NeedsStock):
     rule_id = "core.rapid-into-stock"
+    reads = modelled.GEOMETRY
 
     def segment(self, segment, state, run=None, index: int | None = None):
         if segment.kind != "rapid" or segment.role == "out-of-hole":
@@ -302,8 +297,9 @@ class RapidIntoStock(_NeedsStock):
         """A symbolic verdict; with no tool radius known only the tool's axis was judged,
         which proves nothing about its side: ``proved`` becomes ``unknown``."""
         verdict = self.checker.judge(Condition(condition), state)
-        if verdict is not None and verdict.status is Status.PROVED and tool is None and self.checker.context.stock.kind != "cylinder":
-            verdict = Verdict(Status.UNKNOWN, reason=_no_tool_reason(self.checker.context.stock, state))
+        if (verdict is not None and verdict.status is Status.PROVED and tool is None and self.checker.context.stock.kind != "cylinder"
+                and tool_axis_problem(state) is None):  # along another axis: the state the rule does not read says so
+            verdict = Verdict(Status.UNKNOWN, reason="tool radius not known: only the tool's axis was shown clear of the stock")
         self.checker.report_verdict(self.rule_id, span, message, verdict, state)
 
     @staticmethod
@@ -338,6 +334,7 @@ class ClearanceBelowStock(_NeedsStock):
     ``#TOOL AX [X-]``: ``hole.up``)."""
 
     rule_id = "core.clearance-below-stock"
+    reads = modelled.GEOMETRY | {modelled.TOOL_AXIS}  # the levels are taken along the hole's own axis and side
 
     def hole(self, hole, state):
         axis = hole.drill_axis

@@ -8,6 +8,7 @@ from ..ir import cycle_code
 from .. import frames, values
 from ..check import hazard, rule, show
 from .common import ReportsMissingContext
+from . import modelled
 
 # Which arc direction puts the tool inside the arc, per compensation side.
 _CONCAVE = {("left", "ccw"), ("right", "cw")}
@@ -16,6 +17,7 @@ _CONCAVE = {("left", "ccw"), ("right", "cw")}
 @rule("core.tool-too-large")
 class CircleSmallerThanTool(ReportsMissingContext):
     """G12/G13: the tool centre runs on a circle of radius |I| minus the tool radius."""
+    reads = modelled.SCALED_SIZES
 
     def cycle_run(self, run, state):
         if run.model.shape != "circle" or run.params.get("I") is None:
@@ -35,6 +37,7 @@ class CircleSmallerThanTool(ReportsMissingContext):
 class ConcaveArcTighterThanTool(ReportsMissingContext):
     """With G41/G42 on, an arc whose centre lies on the tool's side must have a radius of
     at least the tool radius, or the offset path cannot follow it."""
+    reads = modelled.AS_WRITTEN
 
     def segment(self, segment, state):
         arc = segment.arc
@@ -58,6 +61,7 @@ class ConcaveArcTighterThanTool(ReportsMissingContext):
 @rule("core.tap-feed-pitch")
 class TapFeedMatchesPitch(ReportsMissingContext):
     """A tapping cycle feeds one pitch per revolution: F = pitch x S in G94, F = pitch in G95."""
+    reads = modelled.AS_WRITTEN
 
     tolerance = 0.01  # relative
 

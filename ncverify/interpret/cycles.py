@@ -242,16 +242,19 @@ class CycleRunner(Runtime):
             self.move_to({axis: r_point}, span, block, "out-of-hole", name, retract_kind)
         if reference is not None:
             self.move_to({axis: reference}, span, block, "out-of-hole", name)
-        self.retract(cycle, span, block, r_point, retract_kind if straight_out else "rapid")
+        if straight_out:  # from the bottom up its own hole, then on up over the R point the tool came down through
+            self.retract(cycle, span, block, r_point, retract_kind, "out-of-hole")
+        else:
+            self.retract(cycle, span, block, r_point)
 
-    def retract(self, cycle: ActiveCycle, span, block, r_point=None, kind: str = "rapid") -> None:
+    def retract(self, cycle: ActiveCycle, span, block, r_point=None, kind: str = "rapid", role: str = "retract") -> None:
         """G98: rapid back to the initial level (G99 stays at the R point); with
         ``retract_to_higher`` (LinuxCNC) to the higher of the initial level and R."""
         if self.state.modal.get("cycle_return") != "r_point" and cycle.initial is not None:
             level = cycle.initial
             if cycle.model.retract_to_higher and type(level) is float and type(r_point) is float:
                 level = max(level * cycle.up, r_point * cycle.up) * cycle.up
-            self.move_to({self.drill_axis(cycle.model): level}, span, block, "retract", cycle.cycle, kind)
+            self.move_to({self.drill_axis(cycle.model): level}, span, block, role, cycle.cycle, kind)
 
     def _levels(self, model: CycleModel, axis: str, data: dict, initial, incremental: bool):
         """R point and bottom on the drilling axis (seed L2059 and the lathe table L2890)."""

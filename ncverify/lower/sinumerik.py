@@ -57,6 +57,11 @@ def _swivel(item: Item, span: Span) -> list[ir.Op]:
     return [ir.SetFrame(span, "swivel_off" if neutral else "swivel", what="CYCLE800 (swivelling the working plane)")]
 
 
+# Kinematic transformations: while one is on, X/Y/Z are not the machine's linear axes (a
+# face or a cylinder surface unrolled, an orientation) and positions mean something the
+# rules do not model; TRAFOOF turns it off. The modal group "transformation" names it.
+KINEMATIC_TRANSFORMATIONS = {"TRANSMIT": "TRANSMIT (face machining)", "TRACYL": "TRACYL (cylinder surface)",
+                             "TRAORI": "TRAORI (tool orientation)", "TRAANG": "TRAANG (inclined axis)", "TRAFOOF": None}
 _FRAME_COMPONENTS = {"TRANS": "translation", "ROT": "rotation", "SCALE": "scale", "MIRROR": "mirror"}
 _AXIS_DATA_CODES = frozenset({"74", "75", "110", "111", "112", "58", "59", "25", "26"})
 _STAGE_ORDER = ("feed", "tool", "speed", "spindle", "dwell", "modal", "offset", "motion", "call", "stop")
@@ -198,6 +203,8 @@ class SinumerikLowering:
             return [ir.Return(span)]
         if kind == "frame":
             return [self._frame(item, span)]
+        if kind == "command" and item.name in KINEMATIC_TRANSFORMATIONS:
+            return [ir.SetModal(span, "transformation", KINEMATIC_TRANSFORMATIONS[item.name])]
         if kind == "setal":
             return [ir.Alarm(span, item.value, "", "alarm {number} with SETAL")]
         if kind == "repeat_section":

@@ -1,0 +1,83 @@
+"""What a proof reads: the kinds of machine state a ``proved`` verdict can depend on.
+
+Every rule class declares ``reads``, the kinds of state its proofs account for: those it
+models (the stock rule maps each position through the frame, so translations, rotations,
+scalings and mirror images are read), and those its verdict cannot depend on (a cycle
+parameter compared with another as the program writes them). Whenever a kind it does not
+read is active on the path, :meth:`ncverify.check.Checker.report_verdict` turns its
+``proved`` into ``unknown`` and names the state; violations stand (they were shown for
+concrete values and replayed).
+"""
+from __future__ import annotations
+
+import numpy
+
+from .. import frames
+from .material import tool_axis_problem
+
+TRANSLATION = "translation"
+ROTATION = "rotation"
+SCALING = "scaling"
+MIRROR = "mirror image"
+UNMODELLED_FRAME = "unmodelled frame"
+TOOL_AXIS = "tool axis"
+KINEMATICS = "kinematic transformation"
+DIAMETER = "diameter programming"
+KINDS = (TRANSLATION, ROTATION, SCALING, MIRROR, UNMODELLED_FRAME, TOOL_AXIS, KINEMATICS, DIAMETER)
+
+# Positions judged in workpiece coordinates, through the one program-to-workpiece map.
+GEOMETRY = frozenset({TRANSLATION, ROTATION, SCALING, MIRROR})
+# Program values compared among themselves or with the tool table, as the program writes
+# them: where the part lies, how it is turned or mirrored and along which axis the tool
+# stands leave them as they are; a scaling (sizes), a kinematic transformation or diameter
+# programming (what a value means) do not.
+AS_WRITTEN = frozenset({TRANSLATION, ROTATION, MIRROR, UNMODELLED_FRAME, TOOL_AXIS})
+# Cycle sizes compared with the tool as the control cuts them: the written size times the
+# factor that scales the working plane (``common.ReportsMissingContext.workpiece_sizes``; uneven: unknown).
+SCALED_SIZES = AS_WRITTEN | {SCALING}
+# Positions judged in workpiece coordinates, with a lathe's X read as a diameter or a
+# radius by the mode in force (``common.lathe_x_is_diameter``; not known: unknown).
+GEOMETRY_AND_DIAMETER = GEOMETRY | {DIAMETER}
+EVERY = frozenset(KINDS)
+
+
+def active(state) -> dict[str, str]:
+    """The kinds of state in force on the path (plain milling along +Z in an unshifted
+    system has none), each with the words that say so."""
+    found = _frame_kinds(frames.program_to_workpiece(state))
+    problem = tool_axis_problem(state)
+    if problem is not None:
+        found[TOOL_AXIS] = problem
+    transformation = state.modal.get("transformation")
+    if transformation:
+        found[KINEMATICS] = f"the kinematic transformation {transformation} is on"
+    if state.modal.get("diameter") in ("diameter", "diameter when absolute"):
+        found[DIAMETER] = "X is programmed as a diameter"
+    return found
+
+
+def _frame_kinds(frame) -> dict[str, str]:
+    if frame is None or frame.is_identity:
+        return {}
+    if any(entry is None for row in frame.linear for entry in row):
+        return {UNMODELLED_FRAME: "a tilted or otherwise unmodelled coordinate system is active"}
+    found = {}
+    if not all(type(value) is float and value == 0.0 for value in frame.offset):
+        found[TRANSLATION] = "a datum shift is active"
+    linear = numpy.array(frame.linear, dtype=float)
+    lengths = numpy.linalg.norm(linear, axis=0)
+    if not numpy.allclose(lengths, 1.0):
+        found[SCALING] = "a scaling is active"
+    if numpy.linalg.det(linear) < 0:
+        found[MIRROR] = "a mirror image is active"
+    turned = linear / numpy.where(lengths == 0.0, 1.0, lengths)
+    # a rotation leaves entries off the diagonal, or (by 180 degrees) turns two axes round
+    if not numpy.allclose(turned, numpy.diag(numpy.diag(turned))) or (numpy.diag(turned) < 0).sum() >= 2:
+        found[ROTATION] = "a rotation is active"
+    return found
+
+
+def unread(state, reads: frozenset) -> str | None:
+    """Why a proof that reads ``reads`` does not hold here, or None."""
+    missing = [why for kind, why in active(state).items() if kind not in reads]
+    return "; ".join(missing) if missing else None
