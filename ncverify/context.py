@@ -337,6 +337,16 @@ def radius_delta(state):
     return state.klartext.radius_delta
 
 
+def active_tool_number(state, lathe: bool):
+    """The tool that cuts: the one M6 loaded; on a lathe the T word changes the turret at
+    once (the part B examples call the turning cycles after ``T3 D1`` with no M6), so there
+    the selected tool, unless an M6 loaded another one (then it depends on the machine)."""
+    mounted, selected = state.tool_in_spindle, state.tool_selected
+    if not lathe or selected is None or selected == mounted:
+        return mounted if type(mounted) is float else None
+    return selected if mounted is None and type(selected) is float else None
+
+
 def active_edge(state):
     """The active SINUMERIK cutting edge (1.0 where no D word set one; a symbolic value
     when it depends on a free parameter)."""

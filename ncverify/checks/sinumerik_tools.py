@@ -15,6 +15,7 @@ from typing import NamedTuple
 from .. import ir
 from ..check import rule, show
 from ..frames import Frame
+from ..context import active_tool_number
 from .common import ReportsMissingContext
 from . import modelled
 
@@ -23,16 +24,6 @@ def active_edge(state):
     """The active D number, or None when the program has not set it on this path."""
     edge = state.global_variables.get(ir.ACTIVE_EDGE)
     return edge if type(edge) is float else None
-
-
-def active_tool_number(state, lathe: bool):
-    """The tool that cuts: the one M6 loaded; on a lathe the T word changes the turret at
-    once (the part B examples call the turning cycles after ``T3 D1`` with no M6), so there
-    the selected tool, unless an M6 loaded another one (then it depends on the machine)."""
-    mounted, selected = state.tool_in_spindle, state.tool_selected
-    if not lathe or selected is None or selected == mounted:
-        return mounted if type(mounted) is float else None
-    return selected if mounted is None and type(selected) is float else None
 
 
 class _EdgeRule(ReportsMissingContext):

@@ -15,9 +15,8 @@ from __future__ import annotations
 import numpy
 
 from .. import workpiece
-from ..context import active_edge
+from ..context import active_edge, active_tool_number
 from ..workpiece import Bar, RapidVerdict
-from .sinumerik_tools import active_tool_number
 
 _KEY = "turned bar"
 _FEED = 1  # MotionRun kind code
