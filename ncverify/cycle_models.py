@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import tomllib
 from dataclasses import dataclass, fields
+from functools import cache
 
 from .resources import data_dir
 
@@ -96,9 +97,12 @@ class CycleTableError(ValueError):
     pass
 
 
+@cache
 def load_cycle_table(dialect: str) -> dict[str, dict]:
     """The cycle models of ``dialects/<dialect>/cycles.toml`` by cycle id, each checked
-    against :class:`CycleModel` and its parameters against :class:`ParameterSpec`."""
+    against :class:`CycleModel` and its parameters against :class:`ParameterSpec`. Read
+    once per process (the Klartext setup asks for it for every file); the models are
+    read-only, like the code tables."""
     path = data_dir("dialects") / dialect / "cycles.toml"
     with path.open("rb") as handle:
         models = tomllib.load(handle)["cycle"]
