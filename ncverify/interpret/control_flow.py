@@ -238,7 +238,8 @@ class ControlFlow:
                    direction: str | None = None) -> Position:
         """The block carrying ``label``. ``direction`` ``forward`` / ``backward`` searches
         only that way from the current block and takes the nearest (SINUMERIK GOTOF/GOTOB,
-        where a label may repeat); ``nearest`` tries forward, then backward (GOTO)."""
+        where a label may repeat); ``nearest`` tries forward, then backward (GOTO);
+        ``backward-first`` backward, then forward (SINUMERIK REPEAT)."""
         frame = frame or self.state.call_stack[-1]
         source = source or frame.source
         key = (id(source), frame.program, label)
@@ -253,7 +254,7 @@ class ControlFlow:
         after = [position for position in found if position.offset > current]
         if direction is not None:
             before = [position for position in found if position.offset < current]
-            nearest = after[:1] if direction == "forward" else before[-1:] if direction == "backward" else (after[:1] or before[-1:])
+            nearest = {"forward": after[:1], "backward": before[-1:], "backward-first": before[-1:] or after[:1]}.get(direction, after[:1] or before[-1:])
             if not nearest:
                 self._fault("core.label-not-found", span, f"{self.frontend.describe_label(label)} is not {'after' if direction == 'forward' else 'before'} this block in {frame.program}: the control alarms here")
                 raise PathEnd
@@ -286,8 +287,8 @@ class ControlFlow:
         if type(repeat) is not float:
             self._unsupported_here(op.span, "a call whose repeat count depends on a free parameter")
             raise PathEnd
-        if not 0 <= repeat <= 9999:
-            self._fault("core.repeat-count-range", op.span, f"repeat count L{repeat:g} is outside 0-9999")
+        if op.most_repeats is not None and not 0 <= repeat <= op.most_repeats:
+            self._fault("core.repeat-count-range", op.span, f"repeat count L{repeat:g} is outside 0-{op.most_repeats:g}")
         if repeat < 1:
             return None
         if op.kind == "local":
@@ -377,7 +378,7 @@ class ControlFlow:
             self._fault("core.label-not-found", op.span, "the call names no label (M97 without P?)")
             return None
         current = self.state.call_stack[-1]
-        target = self.find_label(label, op.span)
+        target = self.find_label(label, op.span, direction=op.direction)
         if len(self.state.call_stack) > self.settings.call_depth:
             self._fault("core.call-depth", op.span, f"calls nest deeper than {self.settings.call_depth} levels (recursion through "
                         f"{self.frontend.describe_label(label)}?): the control alarms")
