@@ -148,7 +148,7 @@ class SinumerikLowering:
                     ops[-1].params["OTHER_WORDS"] = float(len(read.items) - 1)  # a cycle call must stand alone (seed L527)
                 stages["call"].extend(ops)
         if words:
-            _call_repeat(words, stages["call"], read, path)
+            _call_repeat(words, stages["call"])
             self._words(words, stages, read, path, block)
         for stage in _STAGE_ORDER:
             block.ops.extend(stages[stage])
@@ -411,7 +411,7 @@ class SinumerikLowering:
             stages["tool"].extend([ir.ToolChange(span), ir.LengthOffset(span, "plus"), ir.Assign(span, ACTIVE_EDGE, 1.0)])
 
 
-def _call_repeat(words: list[Item], calls: list[ir.Op], read: ReadBlock, path) -> None:
+def _call_repeat(words: list[Item], calls: list[ir.Op]) -> None:
     """``L10 P3``, ``NAME P=3``: the P word of a subprogram call is its repeat count
     (1-9999 on the control); it is taken out of the block's words."""
     call = next((op for op in calls if isinstance(op, ir.Call) and op.kind == "proc"), None)
