@@ -16,7 +16,7 @@ from ncverify import Settings, check_file, check_text
 from ncverify.api import check_source
 from ncverify.cli import main
 from ncverify.source import ProgramSource
-from ncverify.watchdog import Budget, check_within_budget, is_not_checked
+from ncverify.watchdog import Budget, check_within_budget, is_not_checked, run_within_budget
 
 CLEAN_ISO = "G21 G90 G54\nT1 M06\nG43 H1 Z50.\nS1000 M03\nG00 X0. Y0.\nG01 Z-1. F100.\nG00 Z50.\nM05\nM30\n"
 
@@ -527,3 +527,37 @@ def test_linuxcnc_reads_hostile_expressions_and_numbers_without_a_crash(program)
     result = check_text(program, "t.ngc", Settings(dialect="linuxcnc"))
     assert result.skipped is None
     assert "core.syntax" in rules_of(result)
+
+
+def test_the_parameters_of_a_condition_are_found_in_time_however_much_its_terms_share():
+    """A loop that doubles a free sum makes a term of 2**80 paths over 80 nodes: walked as a
+    tree it never ended (found by the fuzzing run, past the watchdog)."""
+    import z3
+
+    from ncverify.interpret.control_flow import _condition_parameters
+    from ncverify.values import Condition
+
+    term = z3.Real("Q2")
+    for _ in range(80):
+        term = term + term
+    started = time.monotonic()
+    assert _condition_parameters(Condition(term > 1)) == {"Q2"}
+    assert time.monotonic() - started < 5
+
+
+def test_the_watchdog_stops_an_analysis_that_drops_its_first_timeout():
+    """A timeout raised inside a destructor is dropped (Z3's ``__del__`` did that): the
+    timer fires again until the analysis ends."""
+    def analysis():
+        try:
+            while True:
+                pass
+        except BaseException:  # noqa: BLE001 - what a destructor does to the first timeout
+            pass
+        while True:
+            pass
+
+    started = time.monotonic()
+    result = run_within_budget("part.nc", analysis, Budget(seconds=0.5))
+    assert is_not_checked(result) and "ran past its budget" in result.skipped
+    assert time.monotonic() - started < 10

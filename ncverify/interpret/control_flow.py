@@ -499,8 +499,12 @@ def _condition_parameters(condition: Condition) -> set[str]:
     import z3
 
     found = set()
+    seen = set()  # a term shares its sub-terms: walked as a tree, a loop's sums take exponential time
 
     def walk(term):
+        if term.get_id() in seen:
+            return
+        seen.add(term.get_id())
         if z3.is_const(term) and term.decl().kind() == z3.Z3_OP_UNINTERPRETED:
             found.add(values.readable(str(term)))
         for child in term.children():
