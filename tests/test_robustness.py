@@ -561,3 +561,12 @@ def test_the_watchdog_stops_an_analysis_that_drops_its_first_timeout():
     result = run_within_budget("part.nc", analysis, Budget(seconds=0.5))
     assert is_not_checked(result) and "ran past its budget" in result.skipped
     assert time.monotonic() - started < 10
+
+
+def test_tapping_after_a_call_of_a_program_that_is_not_here_is_no_crash():
+    """The spindle a missing subprogram leaves is not known: the tapping rule used to look
+    it up and raise KeyError (found by the fuzzing run)."""
+    program = "O1\nG21 G90 G54\nT9 M06\nM98 P1000\nG43 Z50. H09\nG99 G84 X20. Y20. Z-14. R3. F250.\nG80\nM30\n"
+    result = check_text(program, "t.nc", Settings(dialect="iso"))
+    assert result.skipped is None
+    assert "core.tapping-spindle-direction" not in rules_of(result)
