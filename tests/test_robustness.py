@@ -570,3 +570,9 @@ def test_tapping_after_a_call_of_a_program_that_is_not_here_is_no_crash():
     result = check_text(program, "t.nc", Settings(dialect="iso"))
     assert result.skipped is None
     assert "core.tapping-spindle-direction" not in rules_of(result)
+
+
+def test_a_sinumerik_case_that_ends_after_a_constant_is_a_syntax_finding():
+    """``CASE ... OF 8`` with nothing after the constant raised IndexError (found by the fuzzing run)."""
+    result = check_text("R1=1\nCASE(R1) OF 8\nM30\n", "t.mpf", Settings(dialect="sinumerik"))
+    assert result.skipped is None and "core.syntax" in rules_of(result)

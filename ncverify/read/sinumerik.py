@@ -501,7 +501,7 @@ class _BlockParser:
             value = self._primary()
             direction = self.take()[1].upper()
             if direction not in ("GOTOF", "GOTOB", "GOTO", "GOTOC"):
-                raise _Fail("CASE: each constant is followed by GOTOF/GOTOB and a label", self.tokens[self.index - 1][2])
+                raise _Fail("CASE: each constant is followed by GOTOF/GOTOB and a label", start)
             branches.append((value, self._label_target()))
         self.block.items.append(Item("case", start, self.last_end(), value=selector, args=branches, extra=default))
 
