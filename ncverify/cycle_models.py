@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import tomllib
 from dataclasses import dataclass, field, fields
+from functools import cache
 
 from .resources import data_dir
 
@@ -100,8 +101,11 @@ class CycleTableError(ValueError):
     pass
 
 
+@cache
 def load_cycle_table(dialect: str) -> dict[str, CycleModel]:
-    """The cycle models of ``dialects/<dialect>/cycles.toml`` by cycle id."""
+    """The cycle models of ``dialects/<dialect>/cycles.toml`` by cycle id, read once per
+    process (the Klartext setup asks for them for every file); the models are frozen and
+    nobody adds to the table."""
     return typed_cycle_table(read_cycle_table(dialect))
 
 

@@ -59,6 +59,7 @@ from __future__ import annotations
 import importlib
 import tomllib
 from dataclasses import dataclass, field
+from functools import cache
 
 from .context import Context
 from .resources import data_dir
@@ -82,8 +83,13 @@ class DialectInfo:
         """The profiles a ``--profile`` may name, sorted; none for a dialect without them."""
         if self.profiles_table is None:
             return []
-        with (data_dir("dialects") / self.id / self.profiles_table).open("rb") as handle:
-            return sorted(tomllib.load(handle))
+        return list(_profile_names(self.id, self.profiles_table))
+
+
+@cache  # the command line asks for them each time it builds its parser
+def _profile_names(dialect: str, table: str) -> tuple[str, ...]:
+    with (data_dir("dialects") / dialect / table).open("rb") as handle:
+        return tuple(sorted(tomllib.load(handle)))
 
 
 DIALECTS: dict[str, DialectInfo] = {info.id: info for info in (

@@ -343,6 +343,8 @@ class Call(Op):
     repeat: Expr = 1.0
     arguments: dict[str, Expr] = field(default_factory=dict)
     start_label: Expr | None = None  # M98 H: start at a sequence number
+    most_repeats: float | None = 9999.0  # the control's limit on the repeat count (None: none is known)
+    direction: str | None = None  # a local call by label: where to search it (see Jump; "backward-first": before, else after)
 
 
 @dataclass(slots=True)

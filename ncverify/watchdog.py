@@ -93,7 +93,8 @@ def _deadline(seconds: float | None):
         raise _OverTime
 
     previous = signal.signal(signal.SIGALRM, expire)
-    signal.setitimer(signal.ITIMER_REAL, seconds)
+    # then again every second: a raise that lands in a destructor (Z3's __del__) is dropped
+    signal.setitimer(signal.ITIMER_REAL, seconds, 1.0)
     try:
         yield
     finally:

@@ -60,16 +60,21 @@ class DwellFraction(Rule):
             self.report("core.dwell-fraction", hole.param_spans.get("P", hole.span), f"{cycle_code(hole.cycle)}: dwell P{show(dwell)} has a fraction, which the cycle ignores: it dwells P{int(dwell)}")
 
 
+_SPINDLE_WORDS = {"off": "stopped", "cw": "clockwise (M03)", "ccw": "counter-clockwise (M04)"}
+
+
 @rule("core.tapping-spindle-direction")
 class TappingSpindle(Rule):
     def hole(self, hole, state):
         expected = hole.model.spindle_before
         if expected is None or state.spindle == expected or hole.params.get(",R") == 1.0 and state.spindle != "off":
             return
+        if state.spindle not in _SPINDLE_WORDS:
+            return  # "inherited": what a called program that is not here left is not known
         if not self.first_time(state, ("core.tapping-spindle-direction", hole.definition)):
             return
         wanted = "M03 (clockwise)" if expected == "cw" else "M04 (counter-clockwise)"
-        actual = {"off": "stopped", "cw": "clockwise (M03)", "ccw": "counter-clockwise (M04)"}[state.spindle]
+        actual = _SPINDLE_WORDS[state.spindle]
         self.report("core.tapping-spindle-direction", hole.span, f"{cycle_code(hole.cycle)} tapping needs the spindle running {wanted}, but it is {actual}: the tap strips the thread or breaks")
 
 

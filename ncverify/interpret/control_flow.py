@@ -248,7 +248,8 @@ class ControlFlow:
                    direction: str | None = None) -> Position:
         """The block carrying ``label``. ``direction`` ``forward`` / ``backward`` searches
         only that way from the current block and takes the nearest (SINUMERIK GOTOF/GOTOB,
-        where a label may repeat); ``nearest`` tries forward, then backward (GOTO)."""
+        where a label may repeat); ``nearest`` tries forward, then backward (GOTO);
+        ``backward-first`` backward, then forward (SINUMERIK REPEAT)."""
         frame = frame or self.state.call_stack[-1]
         source = source or frame.source
         key = (id(source), frame.program, label)
@@ -263,7 +264,7 @@ class ControlFlow:
         after = [position for position in found if position.offset > current]
         if direction is not None:
             before = [position for position in found if position.offset < current]
-            nearest = after[:1] if direction == "forward" else before[-1:] if direction == "backward" else (after[:1] or before[-1:])
+            nearest = {"forward": after[:1], "backward": before[-1:], "backward-first": before[-1:] or after[:1]}.get(direction, after[:1] or before[-1:])
             if not nearest:
                 self._fault("core.label-not-found", span, f"{self.frontend.describe_label(label)} is not {'after' if direction == 'forward' else 'before'} this block in {frame.program}: the control alarms here")
                 raise PathEnd
@@ -296,8 +297,8 @@ class ControlFlow:
         if type(repeat) is not float:
             self._unsupported_here(op.span, "a call whose repeat count depends on a free parameter")
             raise PathEnd
-        if not 0 <= repeat <= 9999:
-            self._fault("core.repeat-count-range", op.span, f"repeat count L{repeat:g} is outside 0-9999")
+        if op.most_repeats is not None and not 0 <= repeat <= op.most_repeats:
+            self._fault("core.repeat-count-range", op.span, f"repeat count L{repeat:g} is outside 0-{op.most_repeats:g}")
         if repeat < 1:
             return None
         if op.kind == "local":
@@ -387,7 +388,7 @@ class ControlFlow:
             self._fault("core.label-not-found", op.span, "the call names no label (M97 without P?)")
             return None
         current = self.state.call_stack[-1]
-        target = self.find_label(label, op.span)
+        target = self.find_label(label, op.span, direction=op.direction)
         if len(self.state.call_stack) > self.settings.call_depth:
             self._fault("core.call-depth", op.span, f"calls nest deeper than {self.settings.call_depth} levels (recursion through "
                         f"{self.frontend.describe_label(label)}?): the control alarms")
@@ -522,8 +523,12 @@ def _condition_parameters(condition: Condition) -> set[str]:
     import z3
 
     found = set()
+    seen = set()  # a term shares its sub-terms: walked as a tree, a loop's sums take exponential time
 
     def walk(term):
+        if term.get_id() in seen:
+            return
+        seen.add(term.get_id())
         if z3.is_const(term) and term.decl().kind() == z3.Z3_OP_UNINTERPRETED:
             found.add(values.readable(str(term)))
         for child in term.children():

@@ -148,6 +148,10 @@ class PatternError(Exception):
     """A pattern the control refuses (the message says why)."""
 
 
+class PatternTooLarge(Exception):
+    """A pattern of more points than may be expanded (``args[0]``: how many)."""
+
+
 def run_pattern(runner, op, block, model, params):
     state = runner.state
     code = cycle_code(op.cycle)
@@ -161,9 +165,13 @@ def run_pattern(runner, op, block, model, params):
     start = (state.position.get(first), state.position.get(second))
     concrete = all(type(value) is float for value in (*start, *params.values()))
     try:
-        count, points = pattern_points(model.pattern, params, start if concrete else (0.0, 0.0))
+        count, points = pattern_points(model.pattern, params, start if concrete else (0.0, 0.0), runner.loop_bound)
     except PatternError as error:
         runner.fault("fagor.pattern-parameters", op.span, f"{code}: {error}: the control alarms")
+        return None
+    except PatternTooLarge as error:
+        runner.within_loop_bound(error.args[0], op.span, code)
+        state.move_to({first: None, second: None})
         return None
     skipped = _skip_list(code, params, count, op, runner)
     if not concrete:
@@ -180,24 +188,31 @@ def run_pattern(runner, op, block, model, params):
     return None
 
 
-def pattern_points(pattern: str, params: dict, start: tuple[float, float]) -> tuple[int, list[tuple[float, float]]]:
-    """The point count and the points after the first (which the definition machined)."""
+def pattern_points(pattern: str, params: dict, start: tuple[float, float], most: float = math.inf) -> tuple[int, list[tuple[float, float]]]:
+    """The point count and the points after the first (which the definition machined);
+    :class:`PatternTooLarge` before a list of more than ``most`` points is made."""
     if pattern == "line":
-        count, step = _side(params, "X", "I", "K", "the line")
+        count, step = _side(params, "X", "I", "K", "the line", most)
         direction = _unit(params.get("A", 0.0))
         return count, [_along(start, direction, step * k) for k in range(1, count)]
     if pattern in ("parallelogram", "grid"):
-        count_a, step_a = _side(params, "X", "I", "K", "the first side")
-        count_b, step_b = _side(params, "Y", "J", "D", "the second side")
+        count_a, step_a = _side(params, "X", "I", "K", "the first side", most)
+        count_b, step_b = _side(params, "Y", "J", "D", "the second side", most)
+        _within(count_a * count_b, most)
         angle = params.get("A", 0.0)
         first_side, second_side = _unit(angle), _unit(angle + params.get("B", 90.0))
         nodes = _grid_order(count_a, count_b) if pattern == "grid" else _outline_order(count_a, count_b)
         points = [_along(_along(start, first_side, step_a * i), second_side, step_b * j) for i, j in nodes]
         return len(points), points[1:]
-    return _circular(pattern, params, start)
+    return _circular(pattern, params, start, most)
 
 
-def _side(params, length_letter, step_letter, count_letter, what) -> tuple[int, float]:
+def _within(count, most: float) -> None:
+    if isinstance(count, (int, float)) and not count <= most:  # NaN too
+        raise PatternTooLarge(count)
+
+
+def _side(params, length_letter, step_letter, count_letter, what, most) -> tuple[int, float]:
     """Exactly two of length, step and count (seed L1986, L2081, L2161)."""
     given = [letter for letter in (length_letter, step_letter, count_letter) if letter in params]
     if len(given) != 2:
@@ -207,10 +222,12 @@ def _side(params, length_letter, step_letter, count_letter, what) -> tuple[int, 
         if step == 0:
             raise PatternError(f"the step {step_letter}0 is zero")
         exact = abs(length / step)
+        _within(exact + 1, most)
         if abs(exact - round(exact)) > 1e-6:
             raise PatternError(f"{length_letter}{length:g} is not a whole number of steps {step_letter}{step:g} ({exact:g})")
         return int(round(exact)) + 1, step
-    if count != int(count) or count < 1:
+    _within(count, most)
+    if not math.isfinite(count) or count != int(count) or count < 1:
         raise PatternError(f"the number of points {count_letter}{count:g} is not a whole number of at least 1")
     if step is None:
         step = length / (count - 1) if count > 1 else 0.0
@@ -247,7 +264,7 @@ def _outline_order(count_a: int, count_b: int) -> list[tuple[int, int]]:
     return nodes
 
 
-def _circular(pattern, params, start):
+def _circular(pattern, params, start, most):
     centre = (start[0] + params.get("X", 0.0), start[1] + params.get("Y", 0.0))
     radius = math.hypot(start[0] - centre[0], start[1] - centre[1])
     if radius == 0:
@@ -265,12 +282,14 @@ def _circular(pattern, params, start):
         if step == 0:
             raise PatternError("the angular step I0 is zero")
         exact = abs(total / step)
+        _within(exact + 1, most)
         if abs(exact - round(exact)) > 1e-6:
             raise PatternError(f"the angular step I{step:g} does not divide {'360' if pattern == 'circle' else f'B{total:g}'} into whole steps ({exact:g})")
         count = int(round(exact)) + (0 if pattern == "circle" else 1)
     else:
         count = params["K"]
-        if count != int(count) or count < 1:
+        _within(count, most)
+        if not math.isfinite(count) or count != int(count) or count < 1:
             raise PatternError(f"the number of points K{count:g} is not a whole number of at least 1")
         count = int(count)
         step = 360.0 / count if pattern == "circle" else (total / (count - 1) if count > 1 else 0.0)

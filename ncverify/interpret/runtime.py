@@ -66,6 +66,23 @@ class Runtime:
 
     # ------------------------------------------------------------------ what the rules see
 
+    @property
+    def loop_bound(self) -> int:
+        """How often one loop may run (``--loop-bound``): also the most holes one pattern may make."""
+        return self._interp.settings.loop_bound
+
+    def within_loop_bound(self, count, span, what: str) -> bool:
+        """Whether a pattern or repeat of ``count`` holes (points, positions) stays within
+        the loop bound, as the iterations of a loop must. One past it (or not a number) is
+        not expanded, which would take time and memory without end: the finding
+        ``core.loop-bound`` says so, and the caller leaves its points unknown."""
+        bound = self.loop_bound
+        if count <= bound:
+            return True
+        self.fault("core.loop-bound", span, f"{what} makes {count:,.0f} holes, more than the loop bound of {bound:,}: they are not placed and "
+                   "none of them is checked", "unknown", f"loop bound {bound} reached")
+        return False
+
     def fault(self, rule: str, span, message: str, status: str = "violated", reason: str | None = None) -> None:
         """A finding of ``rule`` at ``span``."""
         self._interp._fault(rule, span, message, status, reason)

@@ -152,10 +152,13 @@ def pattern(runner, op, block, model, params):
     """HOLES1 / HOLES2 / CYCLE801: G0 from position to position, the modal cycle at each."""
     _report_run(runner, op, block, model, params)
     state = runner.state
-    positions = pattern_positions(op.cycle.split(".")[-1], params)
+    name = op.cycle.split(".")[-1]
+    count = pattern_size(name, params)
+    positions = pattern_positions(name, params) if count is not None and runner.within_loop_bound(count, op.span, name) else None
     if positions is None:
-        runner.fault("core.unsupported-code", op.span, f"{op.cycle.split('.')[-1]}: the positions depend on free parameters; the pattern is not analysed",
-                      "unknown", "pattern parameters depend on free parameters")
+        if count is None:
+            runner.fault("core.unsupported-code", op.span, f"{name}: the positions depend on free parameters; the pattern is not analysed",
+                          "unknown", "pattern parameters depend on free parameters")
         first, second, _ = state.plane_axes
         state.move_to({first: None, second: None})
         return None
@@ -171,35 +174,43 @@ def pattern(runner, op, block, model, params):
     return None
 
 
-def pattern_positions(cycle: str, params: dict):
-    """The plane positions of a pattern cycle, or None when a value is not a number."""
-    def number(name):
-        value = params.get(name, 0.0)
-        return value if type(value) is float else None
+_PATTERN_PARAMETERS = {"HOLES1": ("SPCA", "SPCO", "STA1", "FDIS", "DBH", "NUM"), "HOLES2": ("CPA", "CPO", "RAD", "STA1", "INDA", "NUM"),
+                       "CYCLE801": ("_SPCA", "_SPCO", "_STA", "_DIS1", "_DIS2", "_NUM1", "_NUM2")}
 
-    if cycle == "HOLES1":
-        names = ("SPCA", "SPCO", "STA1", "FDIS", "DBH", "NUM")
-    elif cycle == "HOLES2":
-        names = ("CPA", "CPO", "RAD", "STA1", "INDA", "NUM")
-    else:
-        names = ("_SPCA", "_SPCO", "_STA", "_DIS1", "_DIS2", "_NUM1", "_NUM2")
-    found = [number(name) for name in names]
-    if any(value is None for value in found) or any(value > 1000 for value in found[5:]):
+
+def _pattern_numbers(cycle: str, params: dict) -> list | None:
+    """The pattern's parameters in order (an omitted one is 0), or None when one is not a number."""
+    found = [params.get(name, 0.0) for name in _PATTERN_PARAMETERS[cycle]]
+    return found if all(type(value) is float for value in found) else None
+
+
+def pattern_size(cycle: str, params: dict) -> float | None:
+    """How many positions a pattern cycle has (NUM, or _NUM1 x _NUM2), or None when its
+    parameters are not numbers."""
+    found = _pattern_numbers(cycle, params)
+    return None if found is None else math.prod(max(count, 0.0) for count in found[5:])
+
+
+def pattern_positions(cycle: str, params: dict):
+    """The plane positions of a pattern cycle, or None when a value is not a number (the
+    caller bounds their count with :func:`pattern_size` first)."""
+    found = _pattern_numbers(cycle, params)
+    if found is None:
         return None
     if cycle == "HOLES1":
         x, y, angle, first, step, count = found
         cos, sin = math.cos(math.radians(angle)), math.sin(math.radians(angle))
-        return [(x + (first + k * step) * cos, y + (first + k * step) * sin) for k in range(max(int(count), 0))]
+        return [(x + (first + k * step) * cos, y + (first + k * step) * sin) for k in range(int(max(count, 0.0)))]
     if cycle == "HOLES2":
         x, y, radius, start, increment, count = found
-        count = max(int(count), 0)
+        count = int(max(count, 0.0))
         increment = increment or (360.0 / count if count else 0.0)
         return [(x + radius * math.cos(math.radians(start + k * increment)), y + radius * math.sin(math.radians(start + k * increment)))
                 for k in range(count)]
     x, y, angle, column, row, columns, rows = found
     cos, sin = math.cos(math.radians(angle)), math.sin(math.radians(angle))
     return [(x + i * column * cos - j * row * sin, y + i * column * sin + j * row * cos)
-            for j in range(max(int(rows), 0)) for i in range(max(int(columns), 0))]
+            for j in range(int(max(rows, 0.0))) for i in range(int(max(columns, 0.0)))]
 
 
 def one_shot(runner, op, block, model, params):

@@ -20,6 +20,7 @@ lowered, before their ``while``).
 """
 from __future__ import annotations
 
+import math
 import re
 import tomllib
 from functools import cache
@@ -325,8 +326,8 @@ class LinuxcncFrontend(IsoFrontend):
             body = number[1:] if number[:1].lower() == "o" else number
             if body.startswith("<"):
                 return body[1:-1].replace(" ", "").upper()
-            return f"O{int(float(body))}" if body.replace(".", "").isdigit() else body.upper()
-        return f"O{int(number)}"
+            return f"O{int(body.split('.')[0] or '0')}" if body.replace(".", "").isdigit() else body.upper()
+        return f"O{int(number)}" if math.isfinite(number) else f"O{number:g}"
 
     def describe_label(self, label) -> str:
         if isinstance(label, str) and "|" in label:

@@ -44,6 +44,12 @@ from .iso import FastMotionForm, fast_motion_block
 
 WHILE_LOOP, FOR_LOOP, ENDLESS_LOOP, REPEAT_LOOP = 1, 2, 3, 4
 UNTIL_FLAG = "_REPEAT_UNTIL_"
+# A REPEAT of a section is a local call of its start label; the block that ends the section
+# returns while $REPEAT_END names it (its label, or the REPEAT block itself for a section
+# that runs up to the REPEAT), or, for that form, while an ENDLABEL comes first.
+REPEAT_END = ir.Var("$REPEAT_END")
+REPEAT_TO_ENDLABEL = ir.Var("$REPEAT_TO_ENDLABEL")
+_REPEAT_STATE = {REPEAT_END.name: "", REPEAT_TO_ENDLABEL.name: 0.0}
 _AXES = ("X", "Y", "Z", "A", "B", "C", "U", "V", "W")
 _ARC_WORDS = ("I", "J", "K")
 _DIRECTIONS = {"GOTOF": "forward", "GOTOB": "backward", "GOTO": "nearest", "GOTOC": "nearest"}
@@ -116,6 +122,7 @@ class SinumerikLowering:
         self.cycles = loaded["cycles"]
         self.uses_modal_call = False  # an MCALL of a subprogram anywhere: moves carry the modal call
         self.modal_call_arity = 0  # the most arguments any such MCALL passes
+        self.uses_repeat = False  # a REPEAT/REPEATB of a section anywhere: labelled blocks may end one
 
     def lower(self, read: ReadBlock, path: str | None) -> list[ir.Block]:
         block = ir.Block(read.line, read.start + 1, read.end + 1, [], skippable=read.skip)
@@ -149,9 +156,12 @@ class SinumerikLowering:
                 stages["call"].extend(ops)
         if words:
             supa = any(item.kind == "command" and item.name == "SUPA" for item in read.items)
+            _call_repeat(words, stages["call"])
             self._words(words, stages, read, path, block, supa)
         for stage in _STAGE_ORDER:
             block.ops.extend(stages[stage])
+        if self.uses_repeat and isinstance(read.label, str):
+            block.ops.extend(_section_end(read.label, block.span))
         if self.uses_modal_call and modal_call.moves(block.ops) and not any(item.kind == "mcall" for item in read.items):
             positions = {str(index): str(index) for index in range(self.modal_call_arity)}
             block.ops.append(modal_call.call_after_move(block.span, "proc", positions))
@@ -208,7 +218,7 @@ class SinumerikLowering:
         if kind == "setal":
             return [ir.Alarm(span, item.value, "", "alarm {number} with SETAL")]
         if kind == "repeat_section":
-            return [ir.Unsupported(span, "REPEAT of a program section", ("position",))]
+            return _repeat_section(item, span, read.line)
         if kind == "unsupported":
             affects = () if item.name.startswith("a synchronised") or item.name.startswith("a curve") else ("position",)
             return [ir.Unsupported(span, item.name, affects)]
@@ -415,6 +425,47 @@ class SinumerikLowering:
             stages["tool"].extend([ir.ToolChange(span), ir.LengthOffset(span, "plus"), ir.Assign(span, ACTIVE_EDGE, 1.0)])
 
 
+def _call_repeat(words: list[Item], calls: list[ir.Op]) -> None:
+    """``L10 P3``, ``NAME P=3``: the P word of a subprogram call is its repeat count
+    (1-9999 on the control); it is taken out of the block's words."""
+    call = next((op for op in calls if isinstance(op, ir.Call) and op.kind == "proc"), None)
+    count = next((item for item in words if item.name == "P"), None)
+    if call is None or count is None:
+        return
+    words.remove(count)
+    call.repeat = count.value
+
+
+def _repeat_section(item: Item, span: Span, line: int) -> list[ir.Op]:
+    """``REPEAT A P=n`` (A up to the first ENDLABEL, else up to this block), ``REPEAT A B
+    P=n`` (A to B) and ``REPEATB A P=n`` (the block A): the section runs n more times (once
+    without P) as a local call of A, found backward first, then forward. No limit of n is
+    stated, so only the loop bound ends a huge count. The section's end is saved and set
+    around the call, so that a REPEAT inside a repeated section ends its own."""
+    here = f"@REPEAT{line}"
+    labels = item.value
+    if item.name == "REPEATB":
+        end, to_endlabel = labels[0], 0.0
+    else:
+        end, to_endlabel = (labels[1], 0.0) if len(labels) > 1 else (here, 1.0)
+    saved_end, saved_flag = ir.Var(f"$REPEAT_END{here}"), ir.Var(f"$REPEAT_TO_ENDLABEL{here}")
+    count = item.args[0] if item.args[0] is not None else 1.0
+    return [ir.Conditional(span, ir.Binary("EQ", REPEAT_END, here), [ir.Return(span, local_only=True)]),
+            ir.Assign(span, saved_end, REPEAT_END), ir.Assign(span, saved_flag, REPEAT_TO_ENDLABEL),
+            ir.Assign(span, REPEAT_END, end), ir.Assign(span, REPEAT_TO_ENDLABEL, to_endlabel),
+            ir.Call(span, "local", labels[0], count, most_repeats=None, direction="backward-first"),
+            ir.Assign(span, REPEAT_END, saved_end), ir.Assign(span, REPEAT_TO_ENDLABEL, saved_flag)]
+
+
+def _section_end(label: str, span: Span) -> list[ir.Op]:
+    """What a labelled block does at its end while a REPEAT runs: return where the section
+    ends here."""
+    ends = [ir.Conditional(span, ir.Binary("EQ", REPEAT_END, label), [ir.Return(span, local_only=True)])]
+    if label == "ENDLABEL":
+        ends.append(ir.Conditional(span, ir.Binary("EQ", REPEAT_TO_ENDLABEL, 1.0), [ir.Return(span, local_only=True)]))
+    return ends
+
+
 def _positional_arguments(item: Item) -> dict:
     """A subprogram call's arguments by position ("0", "1"...); an omitted one is 0."""
     return {str(index): (0.0 if arg is None else arg) for index, arg in enumerate(item.args)}
@@ -444,6 +495,7 @@ _PROGRAM_HEADER = re.compile(rb"(?mi)^[ \t]*%_N_(\w+?)_(MPF|SPF)\b")
 _PROC = re.compile(rb"(?mi)^[ \t]*(?:N\d+[ \t]*)?PROC[ \t]+(\w+)")
 _PROGRAM_END = re.compile(rb"(?mi)^[^;\n]*\bM0?(?:2|30)\b(?![ \t]*=)")
 _MODAL_CALL = re.compile(rb"(?mi)^[^;\n]*\bMCALL[ \t]+(\w+)[^\n]*")
+_REPEAT_SECTION = re.compile(rb"(?mi)^[^;\n]*\bREPEATB?[ \t]+[A-Z_]")
 _SUBPROGRAM_END = re.compile(rb"(?mi)^[^;\n]*\b(?:M17|RET)\b(?![ \t]*=)")
 _STRUCTURE_LINE = re.compile(r"^\s*(?:/\d?\s*)?(?:N\d+\s*)?(?:[A-Za-z_]\w*\s*:(?!=)\s*)?(IF|ELSE|ENDIF)\b(.*)$", re.IGNORECASE)
 
@@ -487,6 +539,8 @@ class SinumerikFrontend:
         with ``PROC NAME`` is that subprogram, and one that ends with M17/RET and never with
         M2/M30 is a subprogram stored on its own."""
         self._find_modal_calls(buffer)
+        if _REPEAT_SECTION.search(buffer):
+            self.lowering.uses_repeat = True
         found = [(match.group(1).decode().upper(), match.start()) for match in _PROGRAM_HEADER.finditer(buffer)]
         if found:
             return found
@@ -541,7 +595,7 @@ class SinumerikFrontend:
         machine's, read as inputs (unknown without an ``assume``), never set to 0 freely
         (the modal-call variables the interpreter answers itself)."""
         constant = _SYSTEM_CONSTANTS.get(name.upper())
-        return constant
+        return constant if constant is not None else _REPEAT_STATE.get(name)
 
     def label_offsets(self, buffer, label):
         if isinstance(label, str) and "#" in label:

@@ -11,11 +11,13 @@ items, plus :class:`OWord` items, so the ISO lowering distributes the words.
 """
 from __future__ import annotations
 
+import math
 import re
 from dataclasses import dataclass, field
 
 from .. import ir
 from .iso import ReadBlock, Statement, SyntaxProblem, Word
+from .limits import MAX_TERMS, terms_message
 
 FUNCTIONS = {"ABS", "ACOS", "ASIN", "ATAN", "COS", "EXP", "FIX", "FUP", "ROUND", "LN", "SIN", "SQRT", "TAN", "EXISTS"}
 OWORD_KEYWORDS = {"SUB", "ENDSUB", "CALL", "RETURN", "IF", "ELSEIF", "ELSE", "ENDIF", "WHILE", "ENDWHILE", "DO",
@@ -58,6 +60,7 @@ class _Text:
         self.chars = "".join(char for char, _ in chars).upper()
         self.columns = [column for _, column in chars]
         self.position = 0
+        self.terms = 0  # values read in this line (limits.MAX_TERMS)
 
     def column(self, index: int | None = None) -> int:
         index = self.position if index is None else index
@@ -160,6 +163,8 @@ def _read_oword(body: _Text) -> "OWord | Word":
         name = f"o<{_read_name(body)}>"
     else:
         number = _read_number(body)
+        if not math.isfinite(number):
+            raise ReadError(f"O-word number {number:g} is not a number a control reads", start)
         name = f"o{int(number)}"
     match = _KEYWORD.match(body.chars, body.position)
     if match is None and body.at_end() and not name.startswith("o<"):
@@ -204,7 +209,7 @@ def _read_parameter(body: _Text) -> ir.Var:
     if body.peek() in ("#", "["):
         return ir.Var(_read_value(body))
     number = _read_number(body)
-    if number != int(number) or number < 0:
+    if not math.isfinite(number) or number != int(number) or number < 0:
         raise ReadError(f"parameter number #{number:g} is not a whole number", start)
     return ir.Var(f"#{int(number)}")
 
@@ -214,6 +219,9 @@ def _read_value(body: _Text, depth: int = 0) -> ir.Expr:
     optional sign."""
     if depth > _MAX_DEPTH:
         raise ReadError("expression nested too deeply", body.column())
+    body.terms += 1
+    if body.terms > MAX_TERMS:
+        raise ReadError(terms_message(MAX_TERMS), body.column())
     char = body.peek()
     if char in ("+", "-") and body.peek(2)[1:] in ("[", "#") or char in ("+", "-") and _FUNCTION.match(body.chars, body.position + 1):
         body.position += 1

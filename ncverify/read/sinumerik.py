@@ -478,6 +478,14 @@ class _BlockParser:
         if self.done():
             self._simple("repeat", start)
             return
+        self._repeat_section("REPEAT", start, "a start label, an end label (or none) and P=count", 2)
+
+    def _kw_repeatb(self, start):
+        self._repeat_section("REPEATB", start, "the label of one block and P=count", 1)
+
+    def _repeat_section(self, keyword: str, start: int, takes: str, most_labels: int) -> None:
+        """``REPEAT A [B] [P=n]`` / ``REPEATB A [P=n]``: the labels (upper case) and the
+        count expression (None: once)."""
         labels = []
         while not self.done() and self.peek()[0] == "name" and self.peek(1)[1] != "=":
             labels.append(self.take()[1].upper())
@@ -486,12 +494,9 @@ class _BlockParser:
             self.take()
             self.expect("=")
             count = self.expression()
-        if not self.done():
-            raise _Fail("REPEAT takes a start label, an end label and P=count", self.peek()[2])
-        self.block.items.append(Item("repeat_section", start, self.last_end(), "REPEAT", labels, args=[count]))
-
-    def _kw_repeatb(self, start):
-        self.rest(start, "REPEATB (repeat of one labelled block)")
+        if not self.done() or not 1 <= len(labels) <= most_labels:
+            raise _Fail(f"{keyword} takes {takes}", self.peek()[2] if not self.done() else start)
+        self.block.items.append(Item("repeat_section", start, self.last_end(), keyword, labels, args=[count]))
 
     def _kw_case(self, start):
         selector = self.expression()
@@ -506,7 +511,7 @@ class _BlockParser:
             value = self._primary()
             direction = self.take()[1].upper()
             if direction not in ("GOTOF", "GOTOB", "GOTO", "GOTOC"):
-                raise _Fail("CASE: each constant is followed by GOTOF/GOTOB and a label", self.tokens[self.index - 1][2])
+                raise _Fail("CASE: each constant is followed by GOTOF/GOTOB and a label", start)
             branches.append((value, self._label_target()))
         self.block.items.append(Item("case", start, self.last_end(), value=selector, args=branches, extra=default))
 

@@ -33,9 +33,9 @@ CORPUS = ROOT / "corpus"
 REALWORLD = ROOT.parent / "shared" / "corpus-realworld"
 SCHEMAS = ROOT.parent / "shared" / "schemas"
 FORMATS = ("text", "json", "sarif")
-DIALECTS = (None, "iso", "heidenhain", "sinumerik", "fagor")
+DIALECTS = (None, "iso", "heidenhain", "sinumerik", "fagor", "linuxcnc")
 EXIT_CODES = frozenset({0, 1, 2})
-FILE_TIMEOUT_S = 20.0  # the watchdog's budget per input: reaching it counts as a hang
+FILE_TIMEOUT_S = 60.0  # the watchdog's budget per input: reaching it counts as a hang (wall clock: room for a busy shared machine)
 LOOP_BOUND = 20  # small, so that every input is quick and only an unbounded loop reaches the timeout
 MAX_PATHS = 8
 SOLVER_TIMEOUT_S = 1  # per query: hostile inputs make hard queries, and the verdict is not what is tested
@@ -45,18 +45,32 @@ MEMORY_BOUND_MIB = 3072  # peak resident memory of the whole fuzzing process
 TOKENS = {
     "iso": ["G00 X10. Y10.", "G01 Z-5. F100.", "G81 X0 Y0 Z-10. R2. F50.", "G80", "M98 P1000 L3", "M99", "O1000",
             "#1=[#1+1]", "WHILE [#1 LT 5] DO1", "END1", "IF [#1 GT 2] GOTO 10", "N10", "G65 P9010 A1.", "M30", "GOTO 10",
-            "G02 X5. Y5. R2.", "G41 D1", "T1 M06", "G43 H1", "#100=[1/0]", "M97 P100", "G28 G91 Z0"],
+            "G02 X5. Y5. R2.", "G41 D1", "T1 M06", "G43 H1", "#100=[1/0]", "M97 P100", "G28 G91 Z0",
+            "M98 P99991000", "M98 P1000 L999999999", "G81 X0 Y0 Z-10. R2. K999999999", "G81 Z-5. R1. L1E9"],
     "heidenhain": ["BEGIN PGM FZ MM", "END PGM FZ MM", "L X+10 Y+10 FMAX", "L Z-5 F100", "CALL LBL 1", "CALL LBL 2 REP 99999",
                    "LBL 1", "LBL 2", "LBL 0", "Q1 = Q1 + 1", "FN 12: IF +Q1 LT +5 GOTO LBL 1", "CYCL DEF 200 DRILLING ~",
                    "Q200=+2 ;SET-UP CLEARANCE ~", "CYCL CALL", "TOOL CALL 1 Z S1000", "BLK FORM 0.1 Z X+0 Y+0 Z-20",
-                   "BLK FORM 0.2 X+100 Y+100 Z+0", "CC X+0 Y+0", "C X+10 Y+0 DR+", "FN 14: ERROR = 1000", "Q2 = (Q1"],
+                   "BLK FORM 0.2 X+100 Y+100 Z+0", "CC X+0 Y+0", "C X+10 Y+0 DR+", "FN 14: ERROR = 1000", "Q2 = (Q1",
+                   "CYCL DEF 220 POLAR PATTERN ~", "Q241=+999999999 ;NR OF REPETITIONS ~", "CYCL DEF 221 CARTESIAN PATTERN ~",
+                   "Q242=+999999999 ;NUMBER OF COLUMNS ~", "PATTERN DEF ~", "ROW1 (X+0 Y+0 D+1 NUMX999999999 NUMY999999999)",
+                   "CYCL CALL PAT FMAX"],
     "sinumerik": ["G0 X10 Y10", "G1 Z-5 F100", "R1=R1+1", "WHILE R1<5", "ENDWHILE", "LOOP", "ENDLOOP", "IF R1>2 GOTOB MARK",
                   "MARK:", "GOTOF MARK", "REPEAT", "UNTIL R1>1000000", "FOR R2=1 TO 1000000", "ENDFOR", "CYCLE81(10,0,2,-5)",
                   "MCALL CYCLE81(10,0,2,-5)", "MCALL", "DEF REAL R9=1", 'IF $MN_AXCONF_MACHAX_NAME_TAB[0] <> "X"', "ENDIF",
-                  "WORKPIECE(,,,\"BOX\",0,0,-20,-80,0,0,100,100)", "SUB1", "PROC SUB1", "M17", "$TC_DP1[1,1]=120"],
+                  "WORKPIECE(,,,\"BOX\",0,0,-20,-80,0,0,100,100)", "SUB1", "PROC SUB1", "M17", "$TC_DP1[1,1]=120",
+                  "REPEAT MARK P=999999999", "REPEATB MARK P=999999999", "REPEAT MARK END_MARK P=5", "END_MARK:",
+                  "L10 P999999999", "CALL \"SUB1\" P=999999999", "SUB1 P=3", "MCALL HOLES1(0,0,0,10,999999999)",
+                  "HOLES2(0,0,50,0,10,999999999)", "CYCLE801(0,0,0,10,10,999999999,999999999)"],
     "fagor": ["G0 X10 Y10", "G1 Z-5 F100", "$IF P1 > 2", "$ENDIF", "$WHILE P1 < 5", "$ENDWHILE", "$GOTO N10", "N10",
               "(RPT N10, N20)", "N20", "#CALL SUB1", "%L SUB1", "#RET", "P1 = P1 + 1", "G81 Z2 I-20", "G80", "#MCALL SUB1",
-              "#MDOFF", "$FOR P2=1,1000000,1", "$ENDFOR", "#TOOL AX [Z+]", "G160 A0 I10 K3"],
+              "#MDOFF", "$FOR P2=1,1000000,1", "$ENDFOR", "#TOOL AX [Z+]", "G160 A0 I10 K3",
+              "G160 A0 I10 K999999999", "G161 A0 I10 K999999999 J10 D999999999", "G162 I100 K999999999",
+              "G163 X0 Y0 I10 K999999999", "G164 X0 Y0 I999999999", "G165 X0 Y0 A0 B90 I10 K999999999",
+              "#RPT [N10, N20, 999999999]", "#CALL SUB1 [999999999]", "(RPT N10, N20) N999999999"],
+    "linuxcnc": ["O100 sub", "O100 endsub", "O100 call [1] [2]", "O101 while [#1 LT 5]", "O101 endwhile", "#1 = [#1 + 1]",
+                 "O102 repeat [999999999]", "O102 endrepeat", "O103 if [#<x> GT 2]", "O103 else", "O103 endif", "#<x> = 3",
+                 "O104 do", "O104 while [1]", "O105 return", "G0 X10 Y10", "G1 Z-5 F100", "G81 Z-5 R1 L999999999",
+                 "G2 X5 Y5 I2.5 J0", "M30", "%", "O200 call", "O<named> call", "O<named> sub", "O<named> endsub"],
 }
 HOSTILE = ["(" * 60 + "1" + ")" * 60, "[" * 60 + "1" + "]" * 60, "+".join(["1"] * 400), "-" * 300 + "1",
            "1E400", "9" * 400, "NAN", "INF", '"', "'", ";", "(", ")", "[", "]", "\t", "\r", "\ufeff", "\x00", "\u00e9\u4e2d",
@@ -230,7 +244,7 @@ class Runner:
         tally.by_dialect[dialect or "detected"] = tally.by_dialect.get(dialect or "detected", 0) + 1
         program = self.work / f"input{suffix}"
         program.write_bytes(data)
-        options = ["--format", report_format, "--file-timeout", f"{FILE_TIMEOUT_S:g}", "--loop-bound", str(LOOP_BOUND),
+        options = ["--format", report_format, "--no-cache", "--file-timeout", f"{FILE_TIMEOUT_S:g}", "--loop-bound", str(LOOP_BOUND),
                    "--max-paths", str(MAX_PATHS), "--solver-timeout", str(SOLVER_TIMEOUT_S)] + (["--dialect", dialect] if dialect else [])
         failure = self._one(data, program, options, repeat=tally.inputs % self.repeat_every == 0)
         if failure is not None:

@@ -51,7 +51,7 @@ def test_programs_made_of_a_dialects_statements_never_crash(runner, dialect):
     @settings(max_examples=12, deadline=None, derandomize=True, database=None, suppress_health_check=list(HealthCheck))
     @given(text=_program(dialect), report_format=st.sampled_from(FORMATS), forced=st.sampled_from(DIALECTS))
     def check(text, report_format, forced):
-        failure = runner.check(text.encode("utf-8", "surrogatepass"), {"iso": ".nc", "heidenhain": ".h", "sinumerik": ".mpf", "fagor": ".pim"}[dialect],
+        failure = runner.check(text.encode("utf-8", "surrogatepass"), {"iso": ".nc", "heidenhain": ".h", "sinumerik": ".mpf", "fagor": ".pim", "linuxcnc": ".ngc"}[dialect],
                                report_format, forced)
         assert failure is None, describe([failure])
 

@@ -350,9 +350,11 @@ def _def_active(runner, op, block, number, params, cycle_model):
     state = runner.state
     runner.report_cycle(CycleRun(f"heidenhain.{number}", cycle_model, op.span, block, _numbers(params), dict(op.param_spans)))
     if number in (220, 221):
-        points = _pattern_points(number, params)
+        size = _pattern_size(number, params)
+        points = _pattern_points(number, params) if size is not None and runner.within_loop_bound(size, op.span, f"cycle {number}") else None
         if points is None:
-            runner.fault("core.unsupported-code", op.span, f"cycle {number}'s points depend on free parameters; the holes are not placed", "unknown", f"cycle {number}")
+            if size is None:
+                runner.fault("core.unsupported-code", op.span, f"cycle {number}'s points depend on free parameters; the holes are not placed", "unknown", f"cycle {number}")
             state.move_to(dict.fromkeys(_plane(state)[:2]))
             return None
         return _run_at_points(runner, op, block, points, pattern=params)
@@ -494,6 +496,9 @@ def _pattern_run(runner, op, block, params):
         index, word = key.split(":", 1)
         forms.setdefault(int(index), {})[word] = value
     points = []
+    if not runner.within_loop_bound(sum(_pattern_form_size(form) for form in forms.values()), op.span, "PATTERN DEF"):
+        forms = {}
+        points = None
     for index in sorted(forms):
         found = _pattern_form_points(forms[index], points)
         if found is None:
@@ -504,18 +509,20 @@ def _pattern_run(runner, op, block, params):
     return None
 
 
-_MAX_PATTERN_POINTS = 100_000
+def _pattern_form_size(form: dict) -> float:
+    """At most how many points one PATTERN DEF element has (0 when a count is not a number:
+    then the element is not expanded anyway)."""
+    counts = [form.get(key, 1.0) for key in ("NUM", "NUMX", "NUMY")]
+    return math.prod(max(count, 1.0) for count in counts) if all(type(count) is float for count in counts) else 0.0
 
 
 def _pattern_form_points(form: dict, earlier: list):
-    """The X, Y (and surface Z) of one PATTERN DEF element (reference A §4.5)."""
+    """The X, Y (and surface Z) of one PATTERN DEF element (reference A §4.5); the caller
+    bounds their number with :func:`_pattern_form_size` first."""
     kind = form.get("form")
     words = {key: value for key, value in form.items() if key != "form"}
-    if any(type(value) is not float for value in words.values()):
+    if not all(type(value) is float and math.isfinite(value) for value in words.values()):
         return None
-    counts = [words.get(key, 1.0) for key in ("NUM", "NUMX", "NUMY")]
-    if not all(math.isfinite(count) for count in counts) or math.prod(max(count, 1.0) for count in counts) > _MAX_PATTERN_POINTS:
-        return None  # far more points than a pattern holds: not expanded (time, memory), the positions stay unknown
     z = words.get("Z", 0.0)
     if kind == "POS":
         last = earlier[-1] if earlier else (0.0, 0.0, 0.0)
@@ -549,15 +556,22 @@ def _rotated(x0, y0, dx, dy, angle, z):
     return (x0 + dx * math.cos(angle) - dy * math.sin(angle), y0 + dx * math.sin(angle) + dy * math.cos(angle), z)
 
 
+def _pattern_size(number: int, params: dict) -> float | None:
+    """How many points cycle 220 (Q241) or 221 (Q242 x Q243) has; None when not numbers."""
+    counts = [params.get(name) for name in (("Q241",) if number == 220 else ("Q242", "Q243"))]
+    return math.prod(max(count, 0.0) for count in counts) if all(type(count) is float for count in counts) else None
+
+
 def _pattern_points(number: int, params: dict):
-    """Cycle 220 (polar) / 221 (Cartesian) pattern points (reference B)."""
+    """Cycle 220 (polar) / 221 (Cartesian) pattern points (reference B); the caller bounds
+    their number with :func:`_pattern_size` first."""
     if number == 220:
         names = ("Q216", "Q217", "Q244", "Q245", "Q246", "Q247", "Q241")
         found = [params.get(name) for name in names]
         if any(type(value) is not float for value in found):
             return None
         x0, y0, diameter, start, end, step, count = found
-        count = int(count)
+        count = int(max(count, 0.0))
         if step == 0.0 and count > 1:
             span = end - start
             step = span / count if abs(span) >= 360.0 else span / (count - 1)
@@ -569,7 +583,7 @@ def _pattern_points(number: int, params: dict):
         return None
     x0, y0, dx, dy, columns, rows = found
     rotation = math.radians(params.get("Q224", 0.0) if type(params.get("Q224", 0.0)) is float else 0.0)
-    return [_rotated(x0, y0, column * dx, row * dy, rotation, 0.0) for row in range(int(rows)) for column in range(int(columns))]
+    return [_rotated(x0, y0, column * dx, row * dy, rotation, 0.0) for row in range(int(max(rows, 0.0))) for column in range(int(max(columns, 0.0)))]
 
 
 def _call_run(runner, op, block, params):
