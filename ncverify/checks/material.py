@@ -191,8 +191,8 @@ class Material:
         if run is not None:
             self.motion_run(run, state, upto=index)
         mine = self._current(state)
-        if mine is None:
-            return None
+        if mine is None or mine.piece.cuts == 0:
+            return None  # nothing cut yet on this path: the blank's exact check decides, not the grid
         lowest = start if start[2] <= end[2] else end
         if lowest[2] < mine.deepest - _TOUCH and geometry.enters(self.stock, lowest, lowest) is not None:
             return RapidVerdict("hits", tuple(lowest))  # deeper than any cut has gone, inside the blank: whatever the tools' sizes
