@@ -140,6 +140,7 @@ class Workpiece:
         if not len(starts):
             return 0.0
         self.cuts += 1
+        starts, ends = self._within_slab(starts, ends, cutter)
         a, b, z_low, z_high, slack = self._split_steep(*_merge_runs(starts, ends, self.resolution / 4.0, self.resolution))
         z_low, z_high, slack = z_low - stray, z_high + stray, slack + stray
         may_cut = numpy.zeros(len(a), bool)
@@ -186,9 +187,8 @@ class Workpiece:
         return at_end if at_end.outcome == "hits" else verdict
 
     def _rapid_path(self, start, end, cutter: Cutter) -> RapidVerdict:
-        a, b = numpy.array([start], float), numpy.array([end], float)
-        z = numpy.array([a[0, 2], b[0, 2]])
-        pieces = self._split_steep(a, b, z[:1].clip(max=z.min()), z[1:].clip(min=z.max()), numpy.zeros(1))
+        a, b = self._within_slab(numpy.array([start], float), numpy.array([end], float), cutter)
+        pieces = self._split_steep(a, b, numpy.minimum(a[:, 2], b[:, 2]), numpy.maximum(a[:, 2], b[:, 2]), numpy.zeros(len(a)))
         clear = True
         for owner, (z_low, z_high, _), cells, distance in self._cells_near(*pieces, cutter.radius + self.half_diagonal):
             nearest = self._square_distance(cells, pieces[0][owner], pieces[1][owner])  # a point of the (closed) cell this close to the piece
@@ -205,6 +205,25 @@ class Workpiece:
         return RapidVerdict("clear" if clear else "unsure")
 
     # Shared machinery ------------------------------------------------------------------
+
+    def _within_slab(self, starts, ends, cutter: Cutter):
+        """Moves with the tip kept between a little below the blank's bottom (by the tool's
+        own tip height) and a little above its top: a piece below meets or removes every cell
+        it passes over as it would at any depth below, one above meets nothing at any height
+        above, so the pieces outside are laid on the slab's faces. Without this a plunge to
+        Z-1e8 would be split into steps of one cell by the hundred million."""
+        low = self.bottom - float(cutter.lift(numpy.array(cutter.radius))) - self.resolution
+        high = self.top + self.resolution
+        heights = numpy.concatenate((starts[:, 2], ends[:, 2]))
+        if heights.min() >= low and heights.max() <= high:
+            return starts, ends
+        rise = ends[:, 2] - starts[:, 2]
+        with numpy.errstate(divide="ignore", invalid="ignore"):
+            crossings = [numpy.where(rise != 0.0, (level - starts[:, 2]) / rise, 0.0) for level in (low, high)]
+        ts = numpy.sort(numpy.clip(numpy.stack([numpy.zeros(len(starts)), *crossings, numpy.ones(len(starts))], axis=1), 0.0, 1.0), axis=1)
+        points = starts[:, None, :] + ts[:, :, None] * (ends - starts)[:, None, :]
+        points[:, :, 2] = numpy.clip(points[:, :, 2], low, high)
+        return points[:, :-1].reshape(-1, 3), points[:, 1:].reshape(-1, 3)
 
     def _split_steep(self, a, b, z_low, z_high, slack):
         """Pieces split so that none climbs or falls more than one cell. Only single moves

@@ -92,6 +92,17 @@ def test_a_slot_removes_its_exact_volume_within_the_resolution(resolution):
     assert most - least <= (2 * 20 + 2 * math.pi * 3) * 4 * 4 * resolution  # a band of a few cells along the outline
 
 
+@pytest.mark.parametrize("cutter", [Cutter(3.0), Cutter(3.0, corner=3.0), Cutter(3.0, point_angle=118.0)])
+def test_a_plunge_far_past_the_blank_cuts_and_meets_as_one_just_past_it(cutter):
+    """A plunge to Z-1e8 (a typo a fuzzer found) is laid on the slab around the blank: the
+    same field as a plunge well below the bottom, not a hundred million cell-high steps."""
+    far, near = Workpiece(BLANK, 0.5), Workpiece(BLANK, 0.5)
+    far.cut([[20, 15, 50]], [[20, 15, -1e8]], cutter)
+    near.cut([[20, 15, 50]], [[20, 15, BLANK.z_range[0] - 10.0]], cutter)
+    assert numpy.array_equal(far.upper, near.upper) and numpy.array_equal(far.lower, near.lower)
+    assert Workpiece(BLANK, 0.5).rapid((25, 15, 50), (25, 15, -1e8), cutter).outcome == "hits"
+
+
 def test_a_drilled_hole_removes_a_cylinder_and_its_cone():
     piece = Workpiece(BLANK, 0.1)
     drill = Cutter(4.0, point_angle=118.0)
