@@ -165,8 +165,9 @@ def _iso_post(blocks: int) -> Iterator[str]:
     return _repeat_parts(blocks, head, _iso_part, ["G0 Z50.", "M30"])
 
 
-def _sinumerik_part(offset: float) -> Iterator[str]:
-    """SINUMERIK 840D post: arcs alternately as CR= and I/J; holes by CYCLE81."""
+def _contour(offset: float, radius_word: str) -> Iterator[str]:
+    """The compensated profile of a SINUMERIK or Fagor post (the same G words): arcs
+    alternately by their radius (``radius_word``) and by I/J relative to the start."""
     yield from ("T1 D1", "M6", "S8000 M3", f"G0 X-10 Y{offset + SIZE / 2:.3f}", "G0 Z5", "G1 Z0 F300",
                 f"G41 G1 X0 Y{offset + SIZE / 2:.3f} F800")
     for number, move in enumerate(_profile()):
@@ -174,11 +175,17 @@ def _sinumerik_part(offset: float) -> Iterator[str]:
         if move.centre is None:
             yield f"G1 X{x:.3f} Y{offset + y:.3f} Z{move.z:.3f}"
         elif number % 2 == 0:
-            yield f"G2 X{x:.3f} Y{offset + y:.3f} CR={CORNER:.3f}"
+            yield f"G2 X{x:.3f} Y{offset + y:.3f} {radius_word}{CORNER:.3f}"
         else:
             i, j = move.centre[0] - move.start[0], move.centre[1] - move.start[1]
             yield f"G2 X{x:.3f} Y{offset + y:.3f} I{i:.3f} J{j:.3f}"
-    yield from (f"G40 G1 X-10 Y{offset + SIZE / 2:.3f}", "G0 Z15", "T2 D1", "M6", "S3000 M3", "G0 Z15")
+    yield from (f"G40 G1 X-10 Y{offset + SIZE / 2:.3f}", "G0 Z15")
+
+
+def _sinumerik_part(offset: float) -> Iterator[str]:
+    """SINUMERIK 840D post: arcs alternately as CR= and I/J; holes by CYCLE81."""
+    yield from _contour(offset, "CR=")
+    yield from ("T2 D1", "M6", "S3000 M3", "G0 Z15")
     for x, y in _holes():
         yield f"G0 X{x:.3f} Y{offset + y:.3f}"
         yield "CYCLE81(15, 0, 2, -5)"
@@ -218,18 +225,8 @@ def _heidenhain_post(blocks: int) -> Iterator[str]:
 
 def _fagor_part(offset: float) -> Iterator[str]:
     """Fagor 8065 post: arcs as I/J (relative to the start) and R; holes by G81."""
-    yield from ("T1 D1", "M6", "S8000 M3", f"G0 X-10 Y{offset + SIZE / 2:.3f}", "G0 Z5", "G1 Z0 F300",
-                f"G41 G1 X0 Y{offset + SIZE / 2:.3f} F800")
-    for number, move in enumerate(_profile()):
-        x, y = move.end
-        if move.centre is None:
-            yield f"G1 X{x:.3f} Y{offset + y:.3f} Z{move.z:.3f}"
-        elif number % 2 == 0:
-            yield f"G2 X{x:.3f} Y{offset + y:.3f} R{CORNER:.3f}"
-        else:
-            i, j = move.centre[0] - move.start[0], move.centre[1] - move.start[1]
-            yield f"G2 X{x:.3f} Y{offset + y:.3f} I{i:.3f} J{j:.3f}"
-    yield from (f"G40 G1 X-10 Y{offset + SIZE / 2:.3f}", "G0 Z15", "T2 D2", "M6", "S3000 M3", "G0 Z15")
+    yield from _contour(offset, "R")
+    yield from ("T2 D2", "M6", "S3000 M3", "G0 Z15")
     for index, (x, y) in enumerate(_holes()):
         yield f"G98 G81 X{x:.3f} Y{offset + y:.3f} Z2 I-5 F150" if index == 0 else f"X{x:.3f} Y{offset + y:.3f}"
     yield from ("G80", "G0 Z50", "M5")
