@@ -40,7 +40,9 @@ def test_param_pocket_proved_on_the_command_line_json(capsys):
     code = cli_main(["check", str(PROVED), "--format", "json"])
     document = json.loads(capsys.readouterr().out)
     assert code == 0
-    assert document["summary"]["proved"] >= 10 and document["summary"]["error"] == 0
+    # the retracts straight up out of the pocket (lines 19, 35) meet nothing the tool has not
+    # met already: the cut stock passes them without a proof of their own
+    assert document["summary"]["proved"] >= 9 and document["summary"]["error"] == 0
     assert document["files"][0]["free_parameters"] == ["#1", "#2", "#3", "#4"]
 
 
