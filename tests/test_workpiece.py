@@ -3,6 +3,7 @@ against an independent brute-force sweep and exact volumes; rapids are judged fr
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy
 import pytest
@@ -440,3 +441,23 @@ def test_the_command_line_takes_auto_off_or_a_size_and_refuses_anything_else(cap
         resolution("fine")
     assert "'fine' is not a number, 'auto' or 'off'" in capsys.readouterr().err
     assert build_parser().parse_args(["check", "p.nc"]).stock_resolution is None  # the default: the cut stock, cells from the tools
+
+
+def test_a_checked_file_leaves_no_checker_and_no_workpiece_behind():
+    """The language server, a batch in one process and the fuzzer check file after file: the
+    checker and the cut stock it made must be freed after each (the workpiece's finalizer once
+    held them for good, about 0.1 MB a file)."""
+    import gc
+
+    from ncverify import Settings, check_file
+    from ncverify.check import Checker
+
+    def alive():
+        gc.collect()
+        return sum(isinstance(item, (Checker, Workpiece)) for item in gc.get_objects())
+
+    before = alive()
+    program = Path(__file__).resolve().parents[1] / "corpus" / "iso" / "clean-pocket-rapid-retract.nc"
+    for _ in range(3):
+        check_file(program, Settings())
+    assert alive() == before

@@ -304,7 +304,9 @@ class Material:
             return None
         self._allocated += cells
         piece = make()
-        weakref.finalize(piece, self._release, cells)
+        # the finalizer holds its callback for as long as the piece lives: a weak one, or this
+        # model (and its checker and every piece it holds) would never be freed
+        weakref.finalize(piece, _release, weakref.WeakMethod(self._release), cells)
         return piece
 
     def _release(self, cells: int) -> None:
@@ -477,3 +479,10 @@ def _inside_cut(start, end, cutter: Cutter, cut) -> bool:
     reach = workpiece.distance_to_segment(ends[:, 0], ends[:, 1], numpy.repeat(a, 2, axis=0), numpy.repeat(b, 2, axis=0))
     deepest_cut = max(cut_start[2], cut_end[2]) + float(cut_cutter.lift(numpy.array([cut_cutter.radius]))[0])
     return bool((reach <= room).all()) and min(start[2], end[2]) >= deepest_cut
+
+
+def _release(release: weakref.WeakMethod, cells: int) -> None:
+    """A freed piece's cells go back to its model, if that is still alive."""
+    method = release()
+    if method is not None:
+        method(cells)
