@@ -576,3 +576,12 @@ def test_a_sinumerik_case_that_ends_after_a_constant_is_a_syntax_finding():
     """``CASE ... OF 8`` with nothing after the constant raised IndexError (found by the fuzzing run)."""
     result = check_text("R1=1\nCASE(R1) OF 8\nM30\n", "t.mpf", Settings(dialect="sinumerik"))
     assert result.skipped is None and "core.syntax" in rules_of(result)
+
+
+def test_a_fagor_pattern_with_a_computed_count_is_unknown_not_a_crash(tmp_path):
+    """G163 K of a free parameter (the fuzzer's find): the points are not placed, unknown."""
+    program = tmp_path / "part.pim"
+    program.write_text("G17 G90 G54\nT1 D1 M6\nG0 X10 Y10 Z20\nG99 G81 Z2 I-10 F200\nG163 X5 Y0 K P7\nG80\nM30\n", encoding="utf-8")
+    result = check_file(program, Settings())
+    assert result.skipped is None
+    assert [d.status.value for d in result.diagnostics if d.rule == "core.unsupported-code"] == ["unknown"]

@@ -163,7 +163,9 @@ def run_pattern(runner, op, block, model, params):
         return None
     first, second, _normal = state.plane_axes
     start = (state.position.get(first), state.position.get(second))
-    concrete = all(type(value) is float for value in (*start, *params.values()))
+    if not all(type(value) is float for value in params.values()):
+        return _unplaced(runner, op, code, state)  # a computed count or step: nothing to check it against
+    concrete = all(type(value) is float for value in start)
     try:
         count, points = pattern_points(model.pattern, params, start if concrete else (0.0, 0.0), runner.loop_bound)
     except PatternError as error:
@@ -175,10 +177,7 @@ def run_pattern(runner, op, block, model, params):
         return None
     skipped = _skip_list(code, params, count, op, runner)
     if not concrete:
-        runner.fault("core.unsupported-code", op.span, f"{code} with computed values: its points are not placed; the holes after it are not checked",
-                      "unknown", "pattern with symbolic values")
-        state.move_to({first: None, second: None})
-        return None
+        return _unplaced(runner, op, code, state)
     motion = state.modal.get("motion")
     state.modal["motion"] = "rapid" if params.get("C", 0.0) == 0.0 else "linear"  # G160-G162: always G00 (seed L2007)
     for number, (abscissa, ordinate) in enumerate(points, start=2):
@@ -186,6 +185,14 @@ def run_pattern(runner, op, block, model, params):
             runner.make_hole(cycle, op.span, block, {first: abscissa, second: ordinate})
     state.modal["motion"] = motion
     return None
+
+
+def _unplaced(runner, op, code: str, state) -> None:
+    """A pattern computed from values not known here: unknown, and the tool is lost."""
+    runner.fault("core.unsupported-code", op.span, f"{code} with computed values: its points are not placed; the holes after it are not checked",
+                 "unknown", "pattern with symbolic values")
+    first, second, _normal = state.plane_axes
+    state.move_to({first: None, second: None})
 
 
 def pattern_points(pattern: str, params: dict, start: tuple[float, float], most: float = math.inf) -> tuple[int, list[tuple[float, float]]]:
