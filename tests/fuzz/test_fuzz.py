@@ -10,7 +10,8 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from harness import DIALECTS, EXTREME_NUMBERS, FORMATS, HOSTILE, REALWORLD, SCHEMAS, TOKENS, Runner, campaign, seed_programs
+from harness import (DIALECTS, EXTREME_NUMBERS, FORMATS, HOSTILE, REALWORLD, SCHEMAS, TOKENS, Runner, campaign, resident_mib,
+                     seed_programs)
 
 MUTATED_INPUTS = 90  # about 15 s on the build machine
 
@@ -56,3 +57,14 @@ def test_programs_made_of_a_dialects_statements_never_crash(runner, dialect):
         assert failure is None, describe([failure])
 
     check()
+
+
+def test_the_memory_check_sees_what_the_process_holds_now_not_its_peak():
+    before = resident_mib()
+    block = bytearray(256 << 20)
+    block[::4096] = b"x" * len(block[::4096])  # touch every page so it is resident
+    held = resident_mib()
+    del block
+    after = resident_mib()
+    assert held - before > 200
+    assert held - after > 200
