@@ -139,6 +139,8 @@ def _tool(text: str, span: Span) -> Tool:
             setattr(tool, key, float(value))
         else:
             raise ValueError(f"unknown tool key {key!r} (accepted: type, {', '.join(k.replace('_', '-') for k in TOOL_KEYS)})")
+    if problem := tool_value_problem("radius", tool.radius):
+        raise ValueError(problem)
     if tool.radius <= 0:
         raise ValueError("the tool radius must be positive")
     return tool

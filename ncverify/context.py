@@ -161,7 +161,10 @@ class Tool:
 
 
 def tool_value_problem(key: str, value: float) -> str | None:
-    """Why ``value`` cannot be the tool's ``key`` (outside its range in TOOL_RANGES), or None."""
+    """Why ``value`` cannot be the tool's ``key`` (not finite, or outside its range in
+    TOOL_RANGES), or None."""
+    if not math.isfinite(value):
+        return f"{key.replace('_', '-')} must be a finite number, got {value:g}"
     low, high = TOOL_RANGES.get(key, (None, None))
     if low is not None and not low <= value <= high:
         return f"{key.replace('_', '-')} must lie in {low:g}..{high:g}, got {value:g}"

@@ -532,6 +532,9 @@ def test_semicolon_comments_carry_annotations_too():
     "tool 1 radius -3",
     "tool 1 radius 3 flutes 4",
     "tool 1 radius 3 type laser",
+    "tool 1 radius 3 usable-length 21E400",  # inf: the holder check once failed on it (fuzzing)
+    "tool 1 radius 3 length nan",
+    "tool 1 radius " + "9" * 400,
     "assume #1 <",
     "assume #1 > [2]",
     "assume foo(#1) > 2",

@@ -302,6 +302,19 @@ def test_tool_t_columns_left_at_zero_are_not_entered(tmp_path):
     assert tools[0].usable_length is None and names["DRILL_D8"] == 4.0
 
 
+def test_tool_t_values_that_are_not_finite_are_not_entered(tmp_path):
+    from ncverify.lower.heidenhain import read_tool_table
+
+    lines = TOOL_T.splitlines()
+    lines[3] = lines[3].replace("+4 ", "inf", 1)  # R of tool 4
+    lines[4] = lines[4].replace("40      1.25", "nan     1.25")  # LU of tool 9
+    (tmp_path / "TOOL.T").write_text("\n".join(lines[:5] + ["1e999" + lines[4][5:]] + lines[5:]) + "\n")
+    tools, _names = read_tool_table(tmp_path / "TOOL.T")
+    assert tools[4].radius is None and tools[4].length == 95.5
+    assert tools[9].usable_length is None and tools[9].pitch == 1.25
+    assert set(tools) == {0, 4, 9}
+
+
 _PLAIN_WORDS = st.tuples(st.sampled_from(["X", "Y", "Z", "IX", "IY", "IZ"]), st.sampled_from(["+", "-", ""]),
                          st.from_regex(r"\A[0-9]{1,4}(\.[0-9]{0,3})?\Z"))
 

@@ -73,6 +73,11 @@ def test_tool_table_lines_give_number_radius_and_length():
     assert (tools[7].radius, tools[7].length) == (0.125, 0.5)
 
 
+def test_a_tool_table_line_with_a_number_too_large_for_a_float_is_left_out():
+    tools = read_tool_table(f"T1 P1 D{'9' * 400} Z-12.5\nT{'9' * 400} P2 D6\nT2 P2 D6 Z1\n")
+    assert set(tools) == {2}
+
+
 _LINE_PIECES = st.sampled_from(["G1", "X", "#<a>", "#1", "=", "[", "]", "1.5", "-", "**", "AND", "o100", "o<s>", "sub", "if",
                                 "endif", "call", "while", "do", "(c)", "(abort,x)", ";x", "@", "^", "EXISTS", "ATAN", "/", "M98",
                                 "O1", "N10", " ", "SIN"])

@@ -20,7 +20,7 @@ from __future__ import annotations
 import re
 
 from .. import ir
-from ..context import Context, Stock, Tool
+from ..context import Context, Stock, Tool, tool_value_problem
 from ..cycle_models import load_cycle_table
 from ..dependencies import note_file
 from ..dialect import DialectSetup
@@ -951,7 +951,7 @@ def read_tool_table(path) -> tuple[dict[int, Tool], dict[str, float]]:
             cells[name] = line[starts[index] : end].strip()
         try:
             number = int(float(cells.get("T", "")))
-        except ValueError:
+        except (ValueError, OverflowError):  # not a number, or inf
             continue
         tool = Tool(number, cells.get("NAME") or None, origin="TOOL.T")
         for column, field in _TOOL_COLUMNS.items():
@@ -959,13 +959,14 @@ def read_tool_table(path) -> tuple[dict[int, Tool], dict[str, float]]:
                 value = float(cells.get(column, "").replace(",", "."))
             except ValueError:
                 continue
-            if value > 0 or column in ("ANGLE", "R2", "T-ANGLE"):  # LU, LCUTS, PITCH 0: not entered
+            if tool_value_problem(field, value) is None and (value > 0 or column in ("ANGLE", "R2", "T-ANGLE")):  # LU, LCUTS, PITCH 0: not entered
                 setattr(tool, field, value)
         try:
-            if tool.radius is not None:
-                tool.radius += float(cells.get("DR", "0").replace(",", ".") or 0)
+            delta = float(cells.get("DR", "0").replace(",", ".") or 0)
         except ValueError:
-            pass
+            delta = 0.0
+        if tool.radius is not None and tool_value_problem("radius", delta) is None:
+            tool.radius += delta
         tools[number] = tool
         if tool.name:
             by_name[tool.name.upper()] = float(number)

@@ -480,7 +480,7 @@ def read_tool_table(text: str) -> dict[int, Tool]:
     for line in text.splitlines():
         code = line.split(";", 1)[0]
         words = {letter.upper(): float(value) for letter, value in _TOOL_WORD.findall(code)}
-        if "T" not in words:
+        if "T" not in words or not all(map(math.isfinite, words.values())):
             continue
         number = int(words["T"])
         diameter = words.get("D")
