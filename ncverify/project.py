@@ -314,7 +314,16 @@ def parse_assumption(text: str) -> ast.Expression:
     for node in ast.walk(tree):
         if not isinstance(node, _ALLOWED_NODES):
             raise SyntaxError(f"{type(node).__name__.lower()} is not allowed in an assumption")
+        if isinstance(node, ast.Constant) and not _is_finite_number(node.value):
+            raise SyntaxError(f"{ast.get_source_segment(python, node) or node.value!r} is not a finite number")
     return tree
+
+
+def _is_finite_number(value) -> bool:
+    try:
+        return math.isfinite(float(value))
+    except (OverflowError, TypeError, ValueError):
+        return False
 
 
 def parameter_name(identifier: str) -> str:

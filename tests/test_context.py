@@ -538,6 +538,8 @@ def test_semicolon_comments_carry_annotations_too():
     "assume #1 <",
     "assume #1 > [2]",
     "assume foo(#1) > 2",
+    "assume -160 <= #1 <= -1" + "5" * 400,  # overflowed the constraint evaluator (fuzzing)
+    "assume #1 < 1e400",
     "ignore",
     "ignore Bad Name!",
     "",
