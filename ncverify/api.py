@@ -147,8 +147,8 @@ def _one_finding_per_unknown_code(result: FileResult) -> None:
     first: dict[tuple, tuple[Diagnostic, list[int]]] = {}
     kept = []
     for diagnostic in result.diagnostics:
-        if diagnostic.rule.endswith(".unknown-code") and diagnostic.status is Status.VIOLATED:
-            key = (diagnostic.rule, diagnostic.message.split(" ", 1)[0])
+        if diagnostic.rule.endswith(".unknown-code") and diagnostic.status in (Status.VIOLATED, Status.UNKNOWN):
+            key = (diagnostic.rule, diagnostic.status, diagnostic.message.split(" ", 1)[0])
             if key in first:
                 first[key][1].append(diagnostic.span.line)
                 continue

@@ -54,9 +54,51 @@ def test_a_thread_follows_the_spindle_and_needs_no_feed_word(tmp_path):
 
 def test_a_code_the_control_lacks_is_one_finding_however_often_it_is_written(tmp_path):
     """One cause, one finding: the first block with the code, naming the lines of the others."""
-    text = "G21 G90 G0 X0 Y0 Z5\n" + "G68.2 X0 Y0 Z0 I0 J0 K0\nG0 X1\n" * 4 + "G69.5\nM2\n"
+    text = "G21 G90 G0 X0 Y0 Z5\n" + "G168 X0 Y0 Z0\nG0 X1\n" * 4 + "G169\nM2\n"
     program = tmp_path / "program.ngc"
     program.write_text(text, encoding="utf-8")
     found = [d for d in check_file(program, Settings()).diagnostics if d.rule == "linuxcnc.unknown-code" and d.status is Status.VIOLATED]
     assert [d.span.line for d in found] == [2, 10]
     assert "the same code in 3 more blocks: lines 4, 6, 8" in found[0].message
+
+
+@pytest.mark.parametrize("end", ["M2", "M30", "m2", "M02"])
+@pytest.mark.parametrize("left_on, rule", [
+    ("G81 X10 Y10 Z-2 R1\nX20\n", "core.cycle-modal-at-end"),
+    ("G41 D1\nG1 X10 Y5\nX20\n", "core.comp-active-at-end"),
+])
+def test_m2_and_m30_put_back_the_motion_mode_and_cutter_compensation(tmp_path, end, left_on, rule):
+    """LinuxCNC's program end sets the motion mode to G1 (no cycle) and turns compensation off:
+    the next program does not inherit them. On the ISO family the end keeps them."""
+    text = f"G21 G90 G17 G0 X0 Y0 Z5\nS1000 M3\nF100\n{left_on}{end}\n"
+    assert rule not in _violated(tmp_path, text)
+    iso = tmp_path / "O1.nc"
+    iso.write_text(f"O1\nT1 M6\nG43 H1 Z50\n{text}", encoding="utf-8")
+    assert rule in {d.rule for d in check_file(iso, Settings(dialect="iso")).diagnostics if d.status is Status.VIOLATED}
+
+
+@pytest.mark.parametrize("remaps, expected", [
+    (None, {("G68.2", "unknown"), ("G69", "unknown"), ("G168", "violated")}),  # not declared: a remappable code may exist
+    ('["G68.2", "g69"]', {("G68.2", "unknown"), ("G69", "unknown"), ("G168", "violated")}),
+    ('["G69"]', {("G68.2", "violated"), ("G69", "unknown"), ("G168", "violated")}),
+    ("[]", {("G68.2", "violated"), ("G69", "violated"), ("G168", "violated")}),
+])
+def test_a_code_a_configuration_can_remap_depends_on_the_declared_remaps(tmp_path, remaps, expected):
+    """LinuxCNC lets a configuration add free G codes of G0-G99.9 (one decimal at most) by
+    REMAP: such a code is unknown until ``[machine] remaps`` says which the machine has; a
+    code outside that range, or missing from the declared remaps, makes LinuxCNC refuse it."""
+    if remaps is not None:
+        (tmp_path / "ncverify.toml").write_text(f"[machine]\nremaps = {remaps}\n", encoding="utf-8")
+    program = tmp_path / "program.ngc"
+    program.write_text("G21 G90 G0 X0 Y0 Z5\nG68.2 X0 Y0 Z0 I0 J0 K0\nG0 X1\nG69\nG168 X1\nM2\n", encoding="utf-8")
+    found = {(d.message.split(" ", 1)[0], d.status.value) for d in check_file(program, Settings()).diagnostics
+             if d.rule == "linuxcnc.unknown-code"}
+    assert found == expected
+
+
+def test_remaps_that_are_not_a_list_of_codes_are_refused(tmp_path):
+    (tmp_path / "ncverify.toml").write_text('[machine]\nremaps = "G68.2"\n', encoding="utf-8")
+    program = tmp_path / "program.ngc"
+    program.write_text("G0 X0\nM2\n", encoding="utf-8")
+    with pytest.raises(Exception, match="remaps"):
+        check_file(program, Settings())

@@ -429,8 +429,17 @@ class ControlFlow:
     def _stop(self, op: ir.Stop, block):
         self._change("stop", op.span, block, None, op.kind)
         if op.kind == "end":
+            self._reset_at_end(op.resets)
             self._program_end(op.span, block, "end")
         return None
+
+    def _reset_at_end(self, resets: tuple) -> None:
+        """What the control's program end puts back before the next program (LinuxCNC's M2
+        and M30: the motion mode to G1, so no canned cycle, and cutter compensation off)."""
+        if "cycle" in resets:
+            self._cancel_cycle()
+        if "cutter_comp" in resets:
+            self.state.comp_side, self.state.comp_register = "off", None
 
     def _program_file_end(self, op: ir.ProgramEnd, block):
         """The end of a program file (Klartext END PGM) ends the main program like M30 and
