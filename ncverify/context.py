@@ -326,6 +326,7 @@ class RuleContext:
     rapid_path: str = "straight"
     wording: Mapping[str, str] = field(default_factory=dict)
     arc_tolerance: "ArcTolerance | None" = None  # the control's own, where the dialect states it
+    lengths_by_set_up: bool = False  # see DialectSetup.lengths_by_set_up
 
     @property
     def lathe(self) -> bool:

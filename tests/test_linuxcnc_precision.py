@@ -102,3 +102,33 @@ def test_remaps_that_are_not_a_list_of_codes_are_refused(tmp_path):
     program.write_text("G0 X0\nM2\n", encoding="utf-8")
     with pytest.raises(Exception, match="remaps"):
         check_file(program, Settings())
+
+
+_TOOL_CHANGE_THEN_CUT = "G20 G90 G17\nT4 M6\nS1000 M3\nG0 X0 Y0 Z1\nG1 Z-0.1 F10\nG1 X2\nG0 Z1\nM2\n"
+
+
+@pytest.mark.parametrize("table, expected", [
+    (None, {Status.UNKNOWN}),                        # lengths or touch-off in the work offset: the set-up decides
+    ("T4 P4 D1.0 Z0.5 ;half-inch tool\n", {Status.VIOLATED}),
+    ("T4 P4 D1.0 Z0 ;touched off in G54\n", set()),
+    ("T4 P4 D1.0 ;no length\n", {Status.UNKNOWN}),
+])
+def test_a_missing_length_offset_matters_where_the_tool_table_holds_a_length(tmp_path, table, expected):
+    """LinuxCNC's M6 applies no length offset: cutting without G43 ignores the length the tool
+    table holds for the tool, and nothing is ignored where it holds none (tools touched off in
+    the work offset)."""
+    if table is not None:
+        (tmp_path / "tool.tbl").write_text(table, encoding="utf-8")
+    program = tmp_path / "program.ngc"
+    program.write_text(_TOOL_CHANGE_THEN_CUT, encoding="utf-8")
+    found = {d.status for d in check_file(program, Settings()).diagnostics if d.rule == "core.no-length-offset"}
+    assert found == expected
+
+
+def test_with_g43_nothing_is_reported_and_on_the_iso_family_it_stays_a_warning(tmp_path):
+    program = tmp_path / "program.ngc"
+    program.write_text(_TOOL_CHANGE_THEN_CUT.replace("T4 M6\n", "T4 M6\nG43\n"), encoding="utf-8")
+    assert not [d for d in check_file(program, Settings()).diagnostics if d.rule == "core.no-length-offset"]
+    iso = tmp_path / "O4.nc"
+    iso.write_text("O4\n" + _TOOL_CHANGE_THEN_CUT.replace("M2", "M30"), encoding="utf-8")
+    assert {d.status for d in check_file(iso, Settings(dialect="iso")).diagnostics if d.rule == "core.no-length-offset"} == {Status.VIOLATED}

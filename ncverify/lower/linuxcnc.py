@@ -521,4 +521,5 @@ def setup(settings, detection, project) -> DialectSetup:
     # LinuxCNC refuses an arc whose end radius differs from its start radius by more than 0.001 in
     # (0.0254 mm) and by more than 0.1 % of the start radius (found by running rs274)
     return DialectSetup(LinuxcncFrontend(lowering), table.power_on, table.cycles, None, machine,
-                        dict(table.words.get("incremental_twins", {})), 0.0, 0.0, limits, arc_tolerance=_ARC_TOLERANCE)
+                        dict(table.words.get("incremental_twins", {})), 0.0, 0.0, limits, arc_tolerance=_ARC_TOLERANCE,
+                        lengths_by_set_up=True)  # M6 applies no length; tools touched off in the work offset have none
