@@ -147,8 +147,8 @@ def _one_finding_per_unknown_code(result: FileResult) -> None:
     first: dict[tuple, tuple[Diagnostic, list[int]]] = {}
     kept = []
     for diagnostic in result.diagnostics:
-        if diagnostic.rule.endswith(".unknown-code") and diagnostic.status is Status.VIOLATED:
-            key = (diagnostic.rule, diagnostic.message.split(" ", 1)[0])
+        if diagnostic.rule.endswith(".unknown-code") and diagnostic.status in (Status.VIOLATED, Status.UNKNOWN):
+            key = (diagnostic.rule, diagnostic.status, diagnostic.message.split(" ", 1)[0])
             if key in first:
                 first[key][1].append(diagnostic.span.line)
                 continue
@@ -251,7 +251,7 @@ def _run(source: ProgramSource, settings: Settings, detection: Detection, result
     rule_context = RuleContext(
         machine=replace(context.machine, kind=dialect.machine), stock=context.stock, tools=ToolTable(context.tools),
         limits=RegisterLimits(**dialect.limits), rapid_path=settings.rapid_path, wording=wording(detection.dialect, dialect.profile),
-        arc_tolerance=dialect.arc_tolerance,
+        arc_tolerance=dialect.arc_tolerance, lengths_by_set_up=dialect.lengths_by_set_up,
     )
     checker = (checker_class or Checker)(settings, rule_context, context.severity, found.suppressions)
     for note in found.notes:

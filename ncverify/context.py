@@ -225,6 +225,7 @@ class Machine:
     spindle_encoder: bool | None = None  # a motor-driven spindle with an encoder, which rigid tapping needs
     one_workpiece: frozenset[str] = frozenset()  # work offsets that all hold the one blank the stock describes
     start: dict[str, float] | None = None  # where the tool starts, in workpiece coordinates ({}: unknown; None: the default)
+    remaps: frozenset[str] | None = None  # LinuxCNC: the G codes the configuration remaps (None: not declared)
 
 
 def start_position(machine: Machine, stock: "Stock | None") -> dict[str, float]:
@@ -285,6 +286,7 @@ class Context:
             self.machine.spindle_encoder if self.machine.spindle_encoder is not None else base.machine.spindle_encoder,
             self.machine.one_workpiece or base.machine.one_workpiece,
             self.machine.start if self.machine.start is not None else base.machine.start,
+            self.machine.remaps if self.machine.remaps is not None else base.machine.remaps,
         )
         return Context(
             self.stock or base.stock, tools, machine, base.assumptions + self.assumptions,
@@ -327,6 +329,7 @@ class RuleContext:
     rapid_path: str = "straight"
     wording: Mapping[str, str] = field(default_factory=dict)
     arc_tolerance: "ArcTolerance | None" = None  # the control's own, where the dialect states it
+    lengths_by_set_up: bool = False  # see DialectSetup.lengths_by_set_up
 
     @property
     def lathe(self) -> bool:

@@ -90,6 +90,7 @@ class CycleModel:
     # LinuxCNC
     rises_to_r: bool = False  # a tool below R rises to it before positioning
     retract_to_higher: bool = False  # G98 returns straight out to the higher of the initial level and R
+    feeds_out_to_r: bool = False  # leaves the hole at feed to R only, then rapids to the G98 level (rs274's G85)
 
 
 UNKNOWN_CYCLE = CycleModel(name="")  # the model of a cycle the tables do not have

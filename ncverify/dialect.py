@@ -119,6 +119,7 @@ class DialectSetup:
     limits: dict = field(default_factory=dict)  # dialect limits the rules read (register ranges)
     runtime: object = None  # the dialect's run-time hooks (DialectInfo.runtime), set by setup_for
     arc_tolerance: object = None  # context.ArcTolerance: the control's own arc check, where stated
+    lengths_by_set_up: bool = False  # a missing length offset matters only where the tool table holds lengths (LinuxCNC)
 
 
 def setup_for(dialect: str, settings, detection, project: Context) -> DialectSetup | None:

@@ -356,6 +356,7 @@ class Return(Op):
 @dataclass(slots=True)
 class Stop(Op):
     kind: str  # stop (M00), optional (M01), end (M02/M30)
+    resets: tuple = ()  # the states a program end puts back, where the control does that ("cycle", "cutter_comp")
 
 
 @dataclass(slots=True)

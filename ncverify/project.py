@@ -174,7 +174,7 @@ class _Reader:
 
     def machine(self, table) -> Machine:
         table = self.table(table, "[machine]")
-        self.keys(table, {"travel", "work_offsets", "max_spindle", "max_feed", "type", "lathe_x", "spindle_encoder", "one_workpiece", "start"}, "[machine]")
+        self.keys(table, {"travel", "work_offsets", "max_spindle", "max_feed", "type", "lathe_x", "spindle_encoder", "one_workpiece", "start", "remaps"}, "[machine]")
         machine = Machine()
         if "type" in table:
             if table["type"] not in ("mill", "lathe"):
@@ -195,6 +195,11 @@ class _Reader:
             machine.one_workpiece = frozenset(name.upper() for name in names)
         if "start" in table:
             machine.start = self.start(table["start"])
+        if "remaps" in table:
+            codes = table["remaps"]
+            if not isinstance(codes, list) or not all(isinstance(code, str) for code in codes):
+                self.fail("[machine] remaps", 'expected a list of the G codes the LinuxCNC configuration remaps, such as ["G68.2", "G69"]')
+            machine.remaps = frozenset(code.strip().upper() for code in codes)
         travel = self.table(table.get("travel", {}), "[machine] travel")
         for axis, limits in travel.items():
             if axis.lower() not in _AXES:

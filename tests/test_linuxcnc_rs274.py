@@ -46,6 +46,8 @@ EXPLAINED_ERRORS = {
     "008_linuxcnc-bad-ccomp-gouging.ngc": "the concave-corner gouge check of cutter compensation is not modelled",
     "018_linuxcnc-fanuc-g90-g94.ngc": "the standalone rs274 has no W axis; a machine with one takes the line",
     "027_linuxcnc-bad-g64-r-on-g61.ngc": "an R word no code uses is not reported",
+    "028_linuxcnc-g68-frame.ngc": "G68.2/G68.4/G69 are free codes a configuration can add by REMAP: unknown until the machine's remaps "
+                                  "are declared, where the standalone rs274 (no remaps) stops",
     "031_linuxcnc-g76-d-word.ngc": "a D word with nothing to use it is not reported",
     "036_linuxcnc-iniparam.ngc": "#<_ini[..]> comes from the machine's INI file, which the standalone rs274 lacks; ncverify leaves it free",
     "047_linuxcnc-lathe-txxxx.ngc": "the tool number is checked against the tool table only when one is given (the harness gives none)",
@@ -191,3 +193,41 @@ def test_an_arc_is_refused_exactly_when_rs274_refuses_it(units, code, radius, of
     theirs = run_rs274(program)
     _ours, trace = run_ncverify(program)
     assert (theirs.error is not None) == (trace.errors.get(3) == "core.arc-geometry"), (theirs.error, trace.errors)
+
+
+# ---------------------------------------------------------------------- O-word labels
+_RETURN_IN_IF = ("o<chg> sub\n#<t> = #1\nO100 if [#<t> EQ 0]\nO100     return [999]\nO100 endif\nO200 if [#<t> EQ 5]\n"
+                 "O200 return [3] ; a comment\nO200 endif\nG0 X5\no<chg> endsub [1]\no<chg> call [0]\nG0 Y#<_value>\n"
+                 "o<chg> call [5]\nG0 Y#<_value>\no<chg> call [7]\nG0 Y#<_value>\nM2\n")
+OWORD_LABELS = {
+    "a return labelled like the if around it": (_RETURN_IN_IF, None),
+    "a return with a label of its own": ("o<a> sub\nG0 X1\no<b> return\nG0 X3\no<a> endsub\no<a> call\nG0 X9\nM2\n", None),
+    "a numbered return in a numbered sub": ("o100 sub\nG0 X1\no7 return\nG0 X3\no100 endsub\no100 call\nG0 X9\nM2\n", None),
+    "a return outside any subroutine": ("G0 X1\nO100 return\nG0 X2\nM2\n", "not in a subroutine definition"),
+    "a label reused for an if and a later while": (
+        "#1 = 2\no<l30> if [#1 GT 1]\nG0 X1\no<l30> endif\n#2 = 0\no<l30> while [#2 LT 3]\n#2 = [#2 + 1]\nG0 X#2\n"
+        "o<l30> endwhile\nM2\n", "duplicate O-word label"),
+    "a label reused inside a subroutine": (
+        "o<helix> sub\no<l30> if [#1 eq 2]\nG0 X1\no<l30> else\nG0 X2\no<l30> endif\n#<z> = 0\no<l30> while [#<z> GT -3]\n"
+        "#<z> = [#<z> - 1]\nG0 Z#<z>\no<l30> endwhile\no<helix> endsub\no<helix> call [2]\nM2\n", "duplicate O-word label"),
+    "a break labelled otherwise than its loop": ("#1=0\no100 while [#1 LT 3]\n#1=[#1+1]\nG0 X#1\no200 break\no100 endwhile\nM2\n",
+                                                  "undefined O-word label"),
+    "an else labelled otherwise than its if": ("#1=0\no100 if [#1 LT 3]\nG0 X1\no200 else\nG0 X2\no100 endif\nM2\n", "undefined O-word label"),
+}
+
+
+@pytest.mark.parametrize("text, refusal", OWORD_LABELS.values(), ids=OWORD_LABELS.keys())
+def test_o_word_labels_are_refused_exactly_where_rs274_refuses_them(text, refusal):
+    """rs274 returns from a subroutine on a ``return`` of any label inside its definition,
+    and refuses one outside every definition, a label that opens two constructs, and a
+    middle word (``else``, ``break``) whose label opens no construct around it."""
+    rs274_available()
+    theirs = run_rs274(text)
+    ours, trace = run_ncverify(text)
+    refused = {line for rule, line, status in trace.findings if rule == "linuxcnc.oword-structure" and status == "violated"}
+    if refusal is None:
+        assert theirs.error is None and refused == set()
+        assert compare(theirs, ours) == []
+    else:
+        assert refusal.lower() in theirs.error.lower()
+        assert any(line in error_lines(theirs) for line in refused), (theirs.error, refused)

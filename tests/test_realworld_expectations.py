@@ -24,7 +24,7 @@ REALWORLD = Path(__file__).resolve().parents[2] / "shared" / "corpus-realworld"
 FOLDERS = ("heidenhain", "sinumerik", "fanuc", "linuxcnc")
 PRECISION_FOLDERS = ("heidenhain/", "sinumerik/", "fanuc/")  # the README's figure; LinuxCNC is reviewed, not counted
 EXPECTATIONS = tomllib.loads((Path(__file__).parent / "realworld_expectations.toml").read_text(encoding="utf-8"))
-PRECISION_FLOOR = 0.90  # the bar; measured 62 of 67 at the last review (see the README, "Precision on real programs")
+PRECISION_FLOOR = 0.90  # the bar; measured 62 of 64 at the last review (see the README, "Precision on real programs")
 
 if not all((REALWORLD / folder).is_dir() for folder in FOLDERS):
     pytest.skip(f"third-party corpus not present at {REALWORLD}", allow_module_level=True)

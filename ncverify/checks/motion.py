@@ -65,17 +65,40 @@ class FeedMissing(Rule):
         self.checker.report_verdict("core.feed-missing", span, f"{what} at feed F{show(feed)}: the axes would not move (feed zero or negative)", verdict, state)
 
 
+_AIR = "air"  # the move stays above the stock's top: it cuts nothing
+_MATERIAL = "material"  # the move can touch material
+
+
+class _SpindleOffStretch:
+    """The feed moves of one stretch with the spindle stopped that may touch material: the
+    first that surely can (``touching``), and before it the moves above Z0 with no stock to
+    place them, each lower than the one before (``above_zero``: span and lowest Z)."""
+
+    __slots__ = ("touching", "above_zero")
+
+    def __init__(self):
+        self.touching = None
+        self.above_zero: list = []
+
+
 @rule("core.spindle-off-cutting")
 class SpindleOffCutting(Rule):
     """Feed moves with the spindle stopped. A program that never starts the spindle and
     runs no machining cycle on any path is not a cutting program (a measuring macro, a
     probing routine, a pen plotter, a subprogram whose caller starts the spindle): its
-    findings are held back and the file gets one ``unknown`` instead."""
+    findings are held back and the file gets one ``unknown`` instead.
+
+    Only a move that can touch material is a fault. Above the stock's top it is not
+    reported. With no stock, Z0 is the part's top on many set-ups and the table's on others:
+    a move that reaches Z0 touches one or the other and is reported; one that stays above
+    Z0 is reported where the program itself feeds across the plane with the spindle running
+    at that height or higher (it cuts there), and is ``unknown`` otherwise."""
 
     def __init__(self, checker):
         super().__init__(checker)
         self.machining = False  # the spindle was started, or a cycle drilled or cut, somewhere
-        self.held: list = []
+        self.stretches: list[_SpindleOffStretch] = []
+        self.highest_cut: float | None = None  # highest Z of a spindle-on feed move across the plane
 
     def hole(self, hole, state):
         self.machining = True
@@ -84,53 +107,97 @@ class SpindleOffCutting(Rule):
         self.machining = True
 
     def segment(self, segment, state):
-        if segment.kind not in _CUTTING or state.spindle != "off" or segment.role == "contour":
+        if segment.kind not in _CUTTING or segment.role == "contour":
             return
-        if self._in_the_air(segment.start.get("Z"), segment.end.get("Z")):
+        start_z, end_z = segment.start.get("Z"), segment.end.get("Z")
+        if state.spindle in ("cw", "ccw"):
+            if type(end_z) is float and any(segment.start.get(axis) is not segment.end.get(axis) for axis in ("X", "Y")):
+                self._cut_at(end_z)
             return
-        self._report_once(segment.span, state)
+        if state.spindle == "off":
+            self._hold(segment.span, start_z, end_z, state)
 
     def motion_run(self, run, state):
-        if state.spindle != "off" or state.rule_state.get("spindle-off-reported"):
+        column = run.axes.index("Z") if "Z" in run.axes else None
+        feeds = numpy.flatnonzero(run.kinds == _FEED)
+        if state.spindle in ("cw", "ccw"):
+            self._cuts_of_run(run, feeds, column)
             return
-        cutting = numpy.flatnonzero(run.kinds == _FEED)
-        for index in cutting:
-            if "Z" in run.axes:
-                column = run.axes.index("Z")
-                start, end = run.points[index, column], run.points[index + 1, column]
-                if self._in_the_air(None if numpy.isnan(start) else float(start), None if numpy.isnan(end) else float(end)):
-                    continue
-            self._report_once(run.span(int(index)), state)
+        if state.spindle != "off":
             return
+        for index in feeds:
+            if self._stretch(state).touching is not None:
+                return
+            start = end = None
+            if column is not None:
+                start, end = (None if numpy.isnan(z) else float(z) for z in (run.points[index, column], run.points[index + 1, column]))
+            self._hold(run.span(int(index)), start, end, state)
 
-    def _in_the_air(self, start_z, end_z) -> bool:
-        """A feed move that stays above the top of the stock cuts nothing (a pen plotter's move
-        above the paper, an approach at feed). Without a stock nothing is taken as in the air:
-        Z0 is the part's top on many set-ups, the table's on others."""
+    def _cuts_of_run(self, run, feeds, column) -> None:
+        plane = [run.axes.index(axis) for axis in ("X", "Y") if axis in run.axes]
+        if column is None or not plane or not len(feeds):
+            return
+        moved = (run.points[feeds + 1][:, plane] != run.points[feeds][:, plane]).any(axis=1)
+        heights = run.points[feeds + 1, column][moved]
+        heights = heights[~numpy.isnan(heights)]
+        if len(heights):
+            self._cut_at(float(heights.max()))
+
+    def _cut_at(self, z: float) -> None:
+        self.highest_cut = z if self.highest_cut is None else max(self.highest_cut, z)
+
+    def _where(self, start_z, end_z) -> str | float:
+        """Where a feed move runs: in the air above the stock, into material, or (no stock,
+        on a mill) the lowest Z of a move that stays above Z0, decided at the end."""
+        if type(start_z) is not float or type(end_z) is not float:
+            return _MATERIAL
+        lowest = min(start_z, end_z)
         stock = self.checker.context.stock
-        if stock is None or stock.kind == "cylinder" or type(start_z) is not float or type(end_z) is not float:
-            return False
-        return min(start_z, end_z) > stock.top
+        if stock is None:
+            return lowest if lowest > 0.0 and not self.checker.context.lathe else _MATERIAL
+        if stock.kind == "cylinder":
+            return _MATERIAL
+        return _AIR if lowest > stock.top else _MATERIAL
 
-    def _report_once(self, span, state):
-        if state.rule_state.get("spindle-off-reported"):
+    def _stretch(self, state) -> _SpindleOffStretch:
+        stretch = state.rule_state.get("spindle-off-stretch")
+        if stretch is None:
+            stretch = state.rule_state["spindle-off-stretch"] = _SpindleOffStretch()
+            self.stretches.append(stretch)
+        return stretch
+
+    def _hold(self, span, start_z, end_z, state) -> None:
+        stretch = self._stretch(state)
+        where = self._where(start_z, end_z)
+        if where == _AIR or stretch.touching is not None:
             return
-        state.rule_state["spindle-off-reported"] = True
-        self.held.append(span)
+        if where == _MATERIAL:
+            stretch.touching = span
+        elif not stretch.above_zero or where < stretch.above_zero[-1][1]:
+            stretch.above_zero.append((span, where))
 
     def change(self, change, state):
         if change.what == "spindle":
-            state.rule_state.pop("spindle-off-reported", None)
+            state.rule_state.pop("spindle-off-stretch", None)
             self.machining |= change.new in ("cw", "ccw")
 
     def finish(self):
-        if self.held and not self.machining:
-            self.report("core.spindle-off-cutting", self.held[0], "feed moves with the spindle stopped in a program that never starts it: "
+        stretches = [stretch for stretch in self.stretches if stretch.touching is not None or stretch.above_zero]
+        if stretches and not self.machining:
+            first = stretches[0].above_zero[0][0] if stretches[0].above_zero else stretches[0].touching
+            self.report("core.spindle-off-cutting", first, "feed moves with the spindle stopped in a program that never starts it: "
                         "taken as measuring or positioning moves", Status.UNKNOWN,
                         "the program never starts the spindle (a measuring or probing routine, or its caller starts it)")
             return
-        for span in self.held:
-            self.report("core.spindle-off-cutting", span, "cutting move while the spindle is stopped (no M03/M04 since the start or since the last M05): the tool rubs or breaks")
+        for stretch in stretches:
+            cutting = next((span for span, lowest in stretch.above_zero if self.highest_cut is not None and lowest <= self.highest_cut), stretch.touching)
+            if cutting is not None:
+                self.report("core.spindle-off-cutting", cutting, "cutting move while the spindle is stopped (no M03/M04 since the start or since the last M05): the tool rubs or breaks")
+            else:
+                self.report("core.spindle-off-cutting", stretch.above_zero[0][0], "feed move with the spindle stopped above Z0", Status.UNKNOWN,
+                            "no stock is defined and the program cuts no higher with the spindle running: above Z0 the tool is clear of "
+                            "the part when Z0 is its top, not when Z0 is the table's; give the stock ([stock] in ncverify.toml or a "
+                            "'ncverify: stock' annotation)")
 
 
 @rule("core.comp-on-arc")

@@ -5,6 +5,7 @@ import numpy
 
 from ..ir import cycle_code
 from ..check import Rule, rule, show
+from ..diagnostics import Status
 from ..interpret import modal_call
 
 
@@ -69,7 +70,19 @@ class NoLengthOffset(Rule):
 
     def _report(self, span, state):
         state.rule_state["no-length-offset"] = True
-        self.report("core.no-length-offset", span, f"tool T{show(state.tool_in_spindle)} cuts with no length offset (no G43 H since the tool change): Z positions ignore the tool's length")
+        message = f"tool T{show(state.tool_in_spindle)} cuts with no length offset (no G43 H since the tool change): Z positions ignore the tool's length"
+        context = self.checker.context
+        if not context.lengths_by_set_up:
+            self.report("core.no-length-offset", span, message)
+            return
+        tool = context.tools.in_spindle(state)
+        length = None if tool is None else tool.length
+        if length is None:
+            self.report("core.no-length-offset", span, message, Status.UNKNOWN,
+                        "the tool change applies no length: it matters only where the tool table holds the tool's length, not on a "
+                        "set-up that touches each tool off in the work offset; give the tool table (lengths) to decide")
+        elif length != 0.0:
+            self.report("core.no-length-offset", span, f"{message} ({show(length)} in the tool table)")
 
 
 @rule("core.cycle-modal-at-tool-change")

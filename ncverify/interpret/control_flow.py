@@ -187,7 +187,8 @@ class ControlFlow:
         whose feed and spindle come from a caller we cannot see."""
         programs = self._program_index(self.source)
         if not programs:
-            return "main", 0, False
+            stored_as_subprogram = getattr(self.frontend, "stored_as_subprogram", None)
+            return "main", 0, stored_as_subprogram is not None and stored_as_subprogram(self.source.name)
         buffer = self.source.buffer
         offsets = sorted(programs.values()) + [len(buffer)]
         names = sorted(programs, key=programs.get)
@@ -428,8 +429,17 @@ class ControlFlow:
     def _stop(self, op: ir.Stop, block):
         self._change("stop", op.span, block, None, op.kind)
         if op.kind == "end":
+            self._reset_at_end(op.resets)
             self._program_end(op.span, block, "end")
         return None
+
+    def _reset_at_end(self, resets: tuple) -> None:
+        """What the control's program end puts back before the next program (LinuxCNC's M2
+        and M30: the motion mode to G1, so no canned cycle, and cutter compensation off)."""
+        if "cycle" in resets:
+            self._cancel_cycle()
+        if "cutter_comp" in resets:
+            self.state.comp_side, self.state.comp_register = "off", None
 
     def _program_file_end(self, op: ir.ProgramEnd, block):
         """The end of a program file (Klartext END PGM) ends the main program like M30 and
@@ -446,26 +456,53 @@ class ControlFlow:
         raise PathEnd
 
     def _end_of_text(self, source: ProgramSource):
-        self._ran_off_the_end(source)
+        resume = self._ran_off_the_end(source)
+        if resume is not None:
+            return resume
         raise PathEnd
 
-    def _ran_off_the_end(self, source: ProgramSource) -> None:
+    def _ran_off_the_end(self, source: ProgramSource) -> Position | None:
+        """Report a program whose text ends without its end code; where the control's
+        behaviour there is not known, continue at the caller (see :meth:`_unended_subprogram`)."""
         frame = self.state.call_stack[-1]
         last_line = max(source.line_number_at(len(source)) - (1 if source.buffer[-1:] == b"\n" else 0), 1) if len(source) else 1
         span = Span(last_line, 1, last_line, 1, self._path_name(source))
         text_end_ends = getattr(self.frontend, "text_end_ends_program", None)
         if frame.kind == "main" and text_end_ends is not None and text_end_ends(bytes(source.buffer)):
             self._change("end", span, None, None, "eof")
-            return
-        program, end_code = _unended(frame)
+            return None
+        if self._subprogram_end_unknown(frame):
+            return self._unended_subprogram(frame, span, "ends")
+        program, end_code = _unended(frame, self.frontend)
         self._fault("core.program-end-missing", span, f"{program} ends without {end_code}: the control stops at the end of the text with the spindle and coolant as they are")
         self._change("end", span, None, None, "eof")
+        return None
 
-    def _program_ran_into_next(self, block: ir.Block, frame: CallFrame) -> None:
-        program, end_code = _unended(frame)
+    def _program_ran_into_next(self, block: ir.Block, frame: CallFrame) -> Position:
+        if self._subprogram_end_unknown(frame):
+            resume = self._unended_subprogram(frame, block.span, f"runs into program {block.program_start}")
+            if resume is not None:
+                return resume
+            raise PathEnd
+        program, end_code = _unended(frame, self.frontend)
         self._fault("core.program-end-missing", block.span, f"{program} runs into program {block.program_start} without {end_code}")
         self._change("end", block.span, block, None, "eof")
         raise PathEnd
+
+    def _subprogram_end_unknown(self, frame: CallFrame) -> bool:
+        return frame.kind != "main" and getattr(self.frontend, "subprogram_text_end", "violated") == "unknown"
+
+    def _unended_subprogram(self, frame: CallFrame, span: Span, how: str) -> Position | None:
+        """A subprogram whose text ends without its return, on a control whose manual does not
+        say what happens there: ``unknown``; a caller in the check goes on after the call (what
+        follows is checked as if the control returned), a file checked alone ends there."""
+        program, end_code = _unended(frame, self.frontend)
+        self._fault("core.program-end-missing", span, f"{program} {how} without {end_code}", status="unknown",
+                    reason=f"the manual does not say what the control does at the end of a subprogram without {end_code}; end it with {end_code.replace('/', ' or ')}")
+        if frame.return_to is None:
+            self._change("end", span, None, None, "eof")
+            return None
+        return self._return(ir.Return(span), None)
 
     def _closes_tape(self, source: ProgramSource, offset: int) -> bool:
         marks = self._tape_marks(source)
@@ -503,10 +540,10 @@ class ControlFlow:
                             self.observer.note(note)
 
 
-def _unended(frame: CallFrame) -> tuple[str, str]:
+def _unended(frame: CallFrame, frontend) -> tuple[str, str]:
     """How a message names the program of ``frame``, and the code that should end it."""
     program = frame.program if frame.program != "main" else "the program"
-    return program, "M02/M30" if frame.kind == "main" else "M99"
+    return program, "M02/M30" if frame.kind == "main" else getattr(frontend, "subprogram_end", "M99")
 
 
 def _gaps(ranges: list[tuple[int, int]], size: int):

@@ -237,7 +237,7 @@ class CycleRunner(Runtime):
             self.move_to({axis: entry}, span, block, "into-hole", name)
         self.move_to({axis: bottom}, span, block, "infeed", name, "feed")
         retract_kind = "feed" if model.retract == "feed" else "rapid"
-        straight_out = model.retract_to_higher and reference is None and state.modal.get("cycle_return") != "r_point"
+        straight_out = model.retract_to_higher and not model.feeds_out_to_r and reference is None and state.modal.get("cycle_return") != "r_point"
         if not straight_out:  # LinuxCNC leaves the hole straight to the G98 level, at the cycle's retract kind
             self.move_to({axis: r_point}, span, block, "out-of-hole", name, retract_kind)
         if reference is not None:

@@ -358,7 +358,7 @@ class Interpreter(ControlFlow):
         if block.program_start and first_op == 0:
             frame = state.call_stack[-1]
             if frame.start != self._line_offset and not (frame.start == 0 and self._is_first_program(self._line_source, self._line_offset)):
-                self._program_ran_into_next(block, frame)
+                return self._program_ran_into_next(block, frame)
         if block.notes:
             for note in block.notes:
                 self.observer.note(note)

@@ -209,7 +209,7 @@ class IsoLowering:
             elif effect == "tool_change":
                 stages[_TOOL].append(ir.ToolChange(span))
             elif effect == "stop":
-                stages[_STOP].append(ir.Stop(span, entry["kind"]))
+                stages[_STOP].append(ir.Stop(span, entry["kind"], tuple(entry.get("resets", ()))))
             elif effect == "call":
                 stages[_CALL].append(self._call(entry["kind"], span, rest, read, path))
             elif effect == "return":

@@ -102,10 +102,29 @@ def _exists(target: ir.Var) -> ir.Expr:
 class LinuxcncLowering(IsoLowering):
     """ISO word lowering with O-words, RS274NGC expressions and active comments."""
 
-    def __init__(self, table: CodeTable):
+    def __init__(self, table: CodeTable, remaps: frozenset[str] | None = None):
         super().__init__(table, 0.0)
         self.max_m_words = 5  # RS274NGC: one M word per modal group, up to five groups
         self.loops: dict[tuple, tuple[str, int]] = {}  # (path, o-name) -> (loop kind, line of its head)
+        self.remaps = remaps  # the G codes the machine's configuration remaps; None: not declared
+
+    def _unknown_code(self, note: ir.Note) -> None:
+        """A G code LinuxCNC lacks. One that a configuration may add by remapping (a free code
+        of G0-G99.9 with at most one decimal) is unknown until ``[machine] remaps`` lists the
+        machine's remaps; any other, or one the declared remaps lack, makes LinuxCNC refuse
+        the block (an error)."""
+        code = note.message.split(" ", 1)[0]  # the lowering's message starts with the code ("G68.2 is not a code ...")
+        note.rule = "linuxcnc.unknown-code"
+        if _REMAPPABLE.fullmatch(code) and (self.remaps is None or code in self.remaps):
+            note.status = "unknown"
+            if self.remaps is None:
+                note.message = f"{code} is not a built-in LinuxCNC code: a machine's configuration can add it by a remap (REMAP={code} in its INI file)"
+                note.reason = f'the machine\'s remaps are not declared: list them in ncverify.toml, [machine] remaps = ["{code}"] ([] for none)'
+            else:
+                note.message = f"{code} runs the remap of the machine's configuration: its effect is not modelled"
+                note.reason = "a remapped code runs the configuration's own subroutine"
+            return
+        note.message = note.message.replace("its effect is not modelled", "LinuxCNC stops with 'Unknown g code used'")
 
     def _dwell_seconds(self, rest: dict) -> ir.Expr | None:
         """G4 P is in seconds, with or without a decimal point."""
@@ -128,8 +147,8 @@ class LinuxcncLowering(IsoLowering):
                 self._polar_unsupported(block, polar, read, path)
             self._comment_actions(block)
             for note in block.notes:
-                if note.rule == "core.unknown-code":  # LinuxCNC refuses the block: an error, not a warning
-                    note.rule, note.message = "linuxcnc.unknown-code", note.message.replace("its effect is not modelled", "LinuxCNC stops with 'Unknown g code used'")
+                if note.rule == "core.unknown-code":
+                    self._unknown_code(note)
             return [block]
         oword = owords[0]
         read.items = [item for item in read.items if not isinstance(item, OWord)]
@@ -400,6 +419,8 @@ class LinuxcncFrontend(IsoFrontend):
         return context
 
 
+_REMAPPABLE = re.compile(r"G\d{1,2}(?:\.\d)?")  # the range of G codes a configuration may remap (one decimal at most)
+
 _OPENERS = {"SUB": "sub", "IF": "if", "WHILE": "while", "DO": "do", "REPEAT": "repeat"}
 _CLOSERS = {"ENDSUB": "sub", "ENDIF": "if", "ENDWHILE": "while", "ENDREPEAT": "repeat"}
 
@@ -461,7 +482,11 @@ def _pair(oword: OWord, span: Span, stack, opened, report) -> None:
         report(span, f"{name} {keyword.lower()} closes no open {name} {kind}" + (f" (the innermost open construct is {stack[-1][1]} {stack[-1][0]})" if stack else "")
                + ": LinuxCNC stops here")
         return
-    wanted = {"ELSEIF": ("if",), "ELSE": ("if",), "BREAK": ("while", "do", "repeat"), "CONTINUE": ("while", "do", "repeat"), "RETURN": ("sub",)}.get(keyword)
+    if keyword == "RETURN":  # rs274 takes a return of any label inside a subroutine definition
+        if not any(entry[0] == "sub" for entry in stack):
+            report(span, f"{name} return is not in a subroutine definition: LinuxCNC stops here")
+        return
+    wanted = {"ELSEIF": ("if",), "ELSE": ("if",), "BREAK": ("while", "do", "repeat"), "CONTINUE": ("while", "do", "repeat")}.get(keyword)
     if wanted is not None and not any(entry[0] in wanted and entry[1] == name for entry in stack):
         report(span, f"{name} {keyword.lower()} is outside any {name} {' / '.join(wanted)}: LinuxCNC stops here")
 
@@ -491,9 +516,10 @@ def read_tool_table(text: str) -> dict[int, Tool]:
 def setup(settings, detection, project) -> DialectSetup:
     machine = settings.machine or project.machine.kind or detection.machine or "mill"
     table = linuxcnc_table(machine)
-    lowering = LinuxcncLowering(table)
+    lowering = LinuxcncLowering(table, project.machine.remaps)
     limits = {"d_register_max": 99999.0, "h_register_max": 99999.0, "tool_number_max": 99999.0}
     # LinuxCNC refuses an arc whose end radius differs from its start radius by more than 0.001 in
     # (0.0254 mm) and by more than 0.1 % of the start radius (found by running rs274)
     return DialectSetup(LinuxcncFrontend(lowering), table.power_on, table.cycles, None, machine,
-                        dict(table.words.get("incremental_twins", {})), 0.0, 0.0, limits, arc_tolerance=_ARC_TOLERANCE)
+                        dict(table.words.get("incremental_twins", {})), 0.0, 0.0, limits, arc_tolerance=_ARC_TOLERANCE,
+                        lengths_by_set_up=True)  # M6 applies no length; tools touched off in the work offset have none

@@ -501,6 +501,12 @@ _STRUCTURE_LINE = re.compile(r"^\s*(?:/\d?\s*)?(?:N\d+\s*)?(?:[A-Za-z_]\w*\s*:(?
 
 
 class SinumerikFrontend:
+    # A subprogram ends with M17 or RET (cycles manual L8555, L14068, L16610). Neither the
+    # manual nor the reference says what the 840D does when a subprogram's text ends without
+    # one (no alarm is listed, no implicit return described): that end is unknown, not a fault.
+    subprogram_end = "M17/RET"
+    subprogram_text_end = "unknown"
+
     def __init__(self, lowering: SinumerikLowering):
         self.lowering = lowering
         self._structures: dict = {}
@@ -563,6 +569,12 @@ class SinumerikFrontend:
             for item in read_line(decode_line(line), 1).items:
                 if item.kind == "mcall":
                     self.lowering.modal_call_arity = max(self.lowering.modal_call_arity, len(item.args))
+
+    @staticmethod
+    def stored_as_subprogram(name: str) -> bool:
+        """A file stored as ``NAME.SPF`` (a Sub Program File, manual glossary L20593) is a
+        subprogram: it is called by a main program (L21560), never run as one."""
+        return name.lower().endswith(".spf")
 
     def is_subprogram(self, buffer, start: int, end: int) -> bool:
         header = _PROGRAM_HEADER.match(buffer, start)
