@@ -116,11 +116,6 @@ def cycle_code(cycle: str) -> str:
     return cycle.rsplit(".", 1)[-1]
 
 
-# The variables a modal call lives in (written by ncverify.lower.modal_call, read by the
-# interpreter, ncverify.interpret.modal_call): on/off, the program, one per argument, and
-# whether the modally called program runs now.
-MODAL_CALL_SWITCH, MODAL_CALL_NAME, INSIDE_MODAL_CALL = "$MCALL", "$MCALLNAME", "$INMCALL"
-MODAL_CALL_ARGUMENT = "$MCALLARG:"
 # The SINUMERIK cutting edge in use (D word, M6), written by the lowering, read by the tool rules.
 ACTIVE_EDGE = "$P_TOOL"
 
@@ -345,6 +340,40 @@ class Call(Op):
     start_label: Expr | None = None  # M98 H: start at a sequence number
     most_repeats: float | None = 9999.0  # the control's limit on the repeat count (None: none is known)
     direction: str | None = None  # a local call by label: where to search it (see Jump; "backward-first": before, else after)
+
+
+@dataclass(slots=True)
+class ModalCallOn(Op):
+    """Make ``program`` the modal call (Fagor ``#MCALL``, SINUMERIK ``MCALL NAME(...)``): it
+    runs after every later block that moves (:class:`ModalCallRun`) until
+    :class:`ModalCallOff` or the next ``ModalCallOn``. ``arguments`` (by key) are evaluated
+    here, when the call is switched on."""
+
+    program: Expr
+    arguments: dict[str, Expr] = field(default_factory=dict)
+
+
+@dataclass(slots=True)
+class ModalCallOff(Op):
+    pass
+
+
+@dataclass(slots=True)
+class ModalCallRun(Op):
+    """After a block that moves: call the modal program, if a modal call is on and that
+    program is not running now, as a :class:`Call` of ``kind`` whose argument ``name`` is
+    the argument stored under ``parameters[name]`` (vacant when the call stored none)."""
+
+    kind: str
+    parameters: dict[str, str]
+
+
+@dataclass(slots=True)
+class NoteInsideModalCall(Op):
+    """Report ``note`` when the block runs inside the modally called program (an MCALL
+    there: modal calls cannot nest)."""
+
+    note: "Note"
 
 
 @dataclass(slots=True)

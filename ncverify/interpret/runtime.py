@@ -91,6 +91,10 @@ class Runtime:
         """A construct read but not modelled here: what depends on it answers unknown."""
         self._interp._unsupported_here(span, what)
 
+    def note(self, note: ir.Note) -> None:
+        """A finding the lowering wrote for the case that the path reaches it."""
+        self._interp.observer.note(note)
+
     def change(self, what: str, span, block, old=None, new=None) -> None:
         """A state change the rules watch (``spindle``, ``transforms``, ...)."""
         self._interp._change(what, span, block, old, new)

@@ -322,7 +322,7 @@ class FagorLowering(IsoLowering):
         canned cycle (its moves are resolved when it runs)."""
         name, *arguments = statement.args
         written = dict(arguments)
-        block.ops.extend(modal_call.switch_on(span, name, written, self.modal_call_letters, _VACANT))
+        block.ops.append(modal_call.switch_on(span, name, written, self.modal_call_letters, _VACANT))
 
     def _error(self, block, statement, span) -> None:
         """``#ERROR ["text"]``: the program stops with its own error message (a guard exit
@@ -331,11 +331,10 @@ class FagorLowering(IsoLowering):
         block.ops.append(ir.Alarm(span, 0.0, message, "an error with #ERROR"))
 
     def _modal_call_off(self, block, statement, span) -> None:
-        block.ops.append(modal_call.switch_off(span))
+        block.ops.append(ir.ModalCallOff(span))
 
-    def _modal_subroutine_call(self, span: Span) -> ir.Conditional:
-        parameters = {_PCALL_PARAMETERS[letter]: letter for letter in self.modal_call_letters}
-        return modal_call.call_after_move(span, "macro", parameters)
+    def _modal_subroutine_call(self, span: Span) -> ir.ModalCallRun:
+        return ir.ModalCallRun(span, "macro", {_PCALL_PARAMETERS[letter]: letter for letter in self.modal_call_letters})
 
     def _tool_axis(self, block, statement, span) -> None:
         match = re.fullmatch(r"(?i)AX\s*\[\s*([A-Z])(\d*)\s*([+-]?)\s*\]", statement.text)
