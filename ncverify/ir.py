@@ -290,7 +290,7 @@ class CycleDefine(Op):
 
 @dataclass(slots=True)
 class CycleCancel(Op):
-    pass
+    plane_change_to: str | None = None  # Fagor G17-G19: the cycle ends only if this plane is a new one
 
 
 @dataclass(slots=True)
@@ -467,6 +467,33 @@ class DialectStatement(Op):
     what: str  # the statement, as the dialect's run-time module names it
     params: dict[str, Expr] = field(default_factory=dict)
     param_spans: dict[str, Span] = field(default_factory=dict)
+
+
+@dataclass(slots=True)
+class ToolAxis(Op):
+    """Fagor ``#TOOL AX [Z-]``: the axis the tool points along ("?" for one the cycles are
+    not modelled for: X2, U...) and its direction."""
+
+    axis: str
+    direction: str  # "+" or "-"
+
+
+@dataclass(slots=True)
+class CycleSet(Op):
+    """Fagor ``#LATHECY ON``/``OFF`` (``turning``) and ``#MILLCY ON``/``OFF``: whether
+    G81-G88 are turning or milling cycles."""
+
+    turning: bool
+    on: bool
+
+
+@dataclass(slots=True)
+class DialectDeferred(Op):
+    """A block whose meaning depends on the dialect's state where it runs (a Fagor cycle
+    block: the plane, ``#TOOL AX`` and the cycle set): the dialect's run-time code calls
+    ``resolve`` with that state for the real ops and notes."""
+
+    resolve: object  # Callable[..., tuple[list[Op], list[Note]]], its arguments the dialect's
 
 
 @dataclass(slots=True)

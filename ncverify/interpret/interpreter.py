@@ -21,6 +21,7 @@ import numpy
 from .. import frames, ir, values
 from .control_flow import ControlFlow, CallFrame, LoopFrame, PathEnd, Position
 from .cycles import ActiveCycle, CycleRunner
+from .fagor import FagorState
 from .heidenhain.state import KlartextState
 from . import modal_call
 from ..context import ToolTable
@@ -81,6 +82,7 @@ class MachineState:
     last_reference_via: dict = field(default_factory=dict)
     rule_state: dict = field(default_factory=dict)  # per-path memory of the rules (and of nothing else)
     klartext: KlartextState = field(default_factory=KlartextState)  # HEIDENHAIN dialect state (replaced, never changed in place)
+    fagor: FagorState = field(default_factory=FagorState)  # Fagor dialect state (replaced, never changed in place)
     modal_call: modal_call.ModalCall | None = None  # the last modal call switched on (replaced, never changed in place)
     feed_inherited: bool = False  # a called program checked alone: its caller set the feed
     coordinate_shift: dict = field(default_factory=dict)  # G92/G52: machine = program + work offset + shift (None: unknown)
@@ -959,7 +961,8 @@ class Interpreter(ControlFlow):
         return self.cycles.define(op, block)
 
     def _cycle_cancel(self, op: ir.CycleCancel, block):
-        self._cancel_cycle()
+        if op.plane_change_to is None or op.plane_change_to != self.state.modal["plane"]:
+            self._cancel_cycle()
         return None
 
     def _cancel_cycle(self) -> None:
@@ -1000,6 +1003,10 @@ class Interpreter(ControlFlow):
                 raise PathEnd
             resolved.append(value)
         ops, notes = op.resolve(tuple(resolved))
+        return self.run_lowered(ops, notes, block)
+
+    def run_lowered(self, ops: list, notes: list, block):
+        """Run the ops a block lowered only now turned out to be (and report its notes)."""
         for note in notes:
             self.observer.note(note)
         block = replace(block, ops=ops)  # handlers that look at the block's other ops see the resolved ones

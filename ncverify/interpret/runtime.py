@@ -114,6 +114,11 @@ class Runtime:
         compensation change a dialect operation makes); returns what its handler returns."""
         return self._interp._handlers[type(op)](op, block)
 
+    def run_lowered(self, ops: list, notes: list, block):
+        """Run the ops of a block whose lowering waited for the state where it runs (and
+        report its notes); returns where execution goes next, None for the next op."""
+        return self._interp.run_lowered(ops, notes, block)
+
     def cancel_cycle(self) -> None:
         """The modal canned cycle ends (its data goes with it)."""
         self._interp._cancel_cycle()
