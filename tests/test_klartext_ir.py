@@ -52,3 +52,34 @@ def test_the_interpreter_has_a_handler_for_every_operation_klartext_lowers_to():
     emitted = {type(op) for path in _CORPUS for op in lowered(path.read_text(encoding="latin-1"), path)}
     assert emitted
     assert not {kind.__name__ for kind in emitted if kind not in interpreter._handlers}
+
+
+def test_a_cycle_run_holds_only_the_programs_parameters(monkeypatch):
+    """What the rules need beside the parameters (the contour, its region, the OCM shape...)
+    travels as typed facts of the run, never as made-up names among its parameters."""
+    from ncverify import check_file
+    from ncverify.interpret.runtime import Runtime
+
+    names, facts = set(), []
+    report_cycle = Runtime.report_cycle
+
+    def recording(runtime, run):
+        names.update(run.params)
+        facts.append(run.facts)
+        report_cycle(runtime, run)
+
+    monkeypatch.setattr(Runtime, "report_cycle", recording)
+    for path in _CORPUS:
+        check_file(path)
+    assert names and all(name[:1].isalpha() for name in names)
+    assert any(fact.contour is not None for fact in facts)  # the corpus has contour cycles
+
+
+def test_only_cycles_that_act_when_defined_take_toleranced_sizes():
+    """A tolerance text the control cannot read reaches the rules with the run of the
+    definition, which only the cycles that act when defined (the OCM shapes) report."""
+    from ncverify.interpret.heidenhain.runtime import DEF_ACTIVE
+
+    models = setup_for("heidenhain", Settings(), None, Context()).cycle_models
+    toleranced = {int(ir.cycle_code(cycle)) for cycle, model in models.items() if any(spec.tolerance for spec in model.params.values())}
+    assert toleranced and toleranced <= DEF_ACTIVE
