@@ -464,9 +464,69 @@ class MFunction(Op):
 
 @dataclass(slots=True)
 class DialectStatement(Op):
-    what: str  # the statement, as the dialect's run-time module names it
+    """A statement only one dialect has, with its words by name. Its type says which (the
+    Klartext ones below); the dialect's run-time module has a handler for each type."""
+
     params: dict[str, Expr] = field(default_factory=dict)
     param_spans: dict[str, Span] = field(default_factory=dict)
+
+
+@dataclass(slots=True)
+class CallActiveCycle(DialectStatement):
+    """Klartext ``CYCL CALL`` (word ``how``: CALL, PAT or POS, with the POS target), ``M99``,
+    ``M89``: run the CALL-active cycle."""
+
+
+@dataclass(slots=True)
+class PositioningBlock(DialectStatement):
+    """A Klartext block that positions, where an ``M89`` cycle runs: words ``fed`` (1: at
+    feed), ``plane`` (how many plane axes it moves) and ``relative`` (1: incremental)."""
+
+
+@dataclass(slots=True)
+class OldCycle(DialectStatement):
+    """Klartext old-style cycle sub-block ``CYCL DEF 7.0 DATUM SHIFT`` / ``7.1 X+60``: its
+    words, the cycle's ``number`` and the ``sub``-block; ``program`` is the program of
+    ``12.1 PGM``."""
+
+    number: int = 0
+    sub: int = 0
+    program: str | None = None
+
+
+@dataclass(slots=True)
+class Transformation(DialectStatement):
+    """Klartext ``TRANS DATUM/MIRROR/ROTATION/SCALE/RESET`` and ``PLANE`` (word ``what``)."""
+
+
+@dataclass(slots=True)
+class PatternDef(DialectStatement):
+    """Klartext ``PATTERN DEF``: words ``<n>:form`` and ``<n>:<word>`` per pattern."""
+
+
+@dataclass(slots=True)
+class GlobalDef(DialectStatement):
+    """Klartext ``GLOBAL DEF``: the values PREDEF parameters take."""
+
+
+@dataclass(slots=True)
+class SelectPattern(DialectStatement):
+    """Klartext ``SEL PATTERN``: word ``table``, the point table ``CYCL CALL PAT`` runs on."""
+
+
+@dataclass(slots=True)
+class SelectContour(DialectStatement):
+    """Klartext ``SEL CONTOUR``: the contour is described in another program."""
+
+
+@dataclass(slots=True)
+class DeclareContour(DialectStatement):
+    """Klartext ``DECLARE CONTOUR`` of a contour-definition program (word ``DEPTH``)."""
+
+
+@dataclass(slots=True)
+class ContourDef(DialectStatement):
+    """Klartext ``CONTOUR DEF``: pockets ``P<n>``, islands ``I<n>``, voids ``V<n>`` by label, depths ``D<n>``."""
 
 
 @dataclass(slots=True)

@@ -37,6 +37,15 @@ def test_state_dependent_constructs_are_typed_operations():
     assert ir.CycleCall not in kinds
 
 
+def test_statements_only_klartext_has_are_operations_of_their_own_type():
+    text = "\n".join(["0 BEGIN PGM T MM", "1 CYCL DEF 12.0 PGM CALL", "2 CYCL DEF 12.1 PGM SUB1.H", "3 CYCL CALL", "4 TRANS DATUM AXIS X+10",
+                      '5 SEL PATTERN "HOLES.PNT"', "6 L X+10 R0 FMAX", "7 END PGM T MM", ""])
+    statements = [op for op in lowered(text) if isinstance(op, ir.DialectStatement)]
+    assert [type(op) for op in statements] == [ir.OldCycle, ir.CallActiveCycle, ir.Transformation, ir.SelectPattern, ir.PositioningBlock]
+    old = statements[0]
+    assert (old.number, old.sub, old.program, old.params) == (12, 1, "SUB1", {})  # the cycle's own words only
+
+
 @pytest.mark.parametrize("path", _CORPUS, ids=lambda path: path.name)
 def test_every_cycle_id_of_a_corpus_program_is_a_cycle_number(path):
     ops = lowered(path.read_text(encoding="latin-1"), path)

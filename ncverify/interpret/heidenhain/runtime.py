@@ -2,7 +2,7 @@
 
 The lowering (:mod:`ncverify.lower.heidenhain`) turns constructs that need machine state
 into IR operations (``ir.Pole``, ``ir.PoleArc``, ``ir.LabelCall``, ...) and the
-statements no other dialect has into ``ir.DialectStatement`` operations; :data:`OPERATIONS`
+statements no other dialect has into operations of their own type (``ir.DialectStatement``); :data:`OPERATIONS`
 gives the interpreter the handler of each, which drives it through the public
 :class:`~ncverify.interpret.runtime.Runtime`. Dialect state lives in the
 path's :class:`~ncverify.interpret.heidenhain.state.KlartextState` (``state.klartext``),
@@ -395,8 +395,7 @@ def _old_cycle_run(runner, op, block, params):
     and 18 (their data arrive in sub-blocks and join the definition); the data blocks of a
     DEF-active one (9.1 DWELL, 32.1 T) go to the rules as they come."""
     state = runner.state
-    number = int(params.pop("@number"))
-    sub = int(params.pop("@sub"))
+    number, sub = op.number, op.sub
     cycle_model = runner.cycle_model(f"heidenhain.{number}")
     if sub == 0:
         _put(state, old_cycle=(number, {}))
@@ -407,7 +406,8 @@ def _old_cycle_run(runner, op, block, params):
     if number not in DEF_ACTIVE:
         definition = state.klartext.cycle
         if definition is not None and definition.number == number:
-            _put(state, cycle=replace(definition, params={**definition.params, **params}, spans={**definition.spans, **op.param_spans}))
+            program = op.program if op.program is not None else definition.program
+            _put(state, cycle=replace(definition, params={**definition.params, **params}, spans={**definition.spans, **op.param_spans}, program=program))
         return None
     runner.report_cycle(CycleRun(f"heidenhain.{number}", cycle_model, op.span, block, _numbers(params), dict(op.param_spans)))
     if number == 14:
@@ -1043,20 +1043,20 @@ def _pocket(runner, op, block, definition, shift, surface_offset):
 
 def _statement_run(runner, op: ir.DialectStatement, block):
     """A Klartext statement no other dialect has, with its words' values."""
-    return _STATEMENTS[op.what](runner, op, block, runner.words(op.params, op.span))
+    return _STATEMENTS[type(op)](runner, op, block, runner.words(op.params, op.span))
 
 
 _STATEMENTS = {
-    "old_cycle": _old_cycle_run, "trans": _trans_run, "pattern": _pattern_run, "call": _call_run,
-    "select_pattern": special.select_pattern_run, "positioned": _positioned_run, "contour_def": _contour_def_run,
-    "global_def": _global_def_run, "select_contour": _select_contour_run, "declare_contour": _declare_contour_run,
+    ir.OldCycle: _old_cycle_run, ir.Transformation: _trans_run, ir.PatternDef: _pattern_run, ir.CallActiveCycle: _call_run,
+    ir.SelectPattern: special.select_pattern_run, ir.PositioningBlock: _positioned_run, ir.ContourDef: _contour_def_run,
+    ir.GlobalDef: _global_def_run, ir.SelectContour: _select_contour_run, ir.DeclareContour: _declare_contour_run,
 }
 # The handlers of the operations this dialect lowers to and the shared interpreter leaves
 # to it: ``run(runner, op, block)`` with the path's :class:`~ncverify.interpret.runtime.Runtime`.
 OPERATIONS = {
     ir.Pole: _pole_run, ir.PoleArc: _arc_run, ir.TangentArc: _tangent_run, ir.PolarMove: _polar_run,
     ir.Lift: _lift_run, ir.Retract: _retract_run, ir.ToolFeed: _tool_feed_run, ir.ToolDelta: _tool_delta_run, ir.LabelCall: _label_call_run,
-    ir.MFunction: special.m_function_run, ir.CycleDefine: _define_run, ir.DialectStatement: _statement_run,
+    ir.MFunction: special.m_function_run, ir.CycleDefine: _define_run, **dict.fromkeys(_STATEMENTS, _statement_run),
 }
 _SPECIAL_FAMILIES = {"engrave": special.engrave, "face232": special.face_milling,
                      "thread_cut": special.thread_cutting, "machine_moving": special.machine_moving,
