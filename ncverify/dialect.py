@@ -98,7 +98,7 @@ DIALECTS: dict[str, DialectInfo] = {info.id: info for info in (
     DialectInfo("heidenhain", "HEIDENHAIN TNC 620 Klartext", (".h", ".i"), "ncverify.lower.heidenhain",
                 runtime="ncverify.interpret.heidenhain.runtime"),
     DialectInfo("sinumerik", "SINUMERIK 840D", (".mpf", ".spf"), "ncverify.lower.sinumerik", ("mill", "lathe")),
-    DialectInfo("fagor", "Fagor 8060/8065", (".pim", ".pit"), "ncverify.lower.fagor"),
+    DialectInfo("fagor", "Fagor 8060/8065", (".pim", ".pit"), "ncverify.lower.fagor", runtime="ncverify.interpret.fagor"),
     DialectInfo("linuxcnc", "LinuxCNC (RS274NGC)", (".ngc",), "ncverify.lower.linuxcnc", ("mill", "lathe")),
 )}
 MACHINES = tuple(dict.fromkeys(machine for info in DIALECTS.values() for machine in info.machines))

@@ -116,11 +116,6 @@ def cycle_code(cycle: str) -> str:
     return cycle.rsplit(".", 1)[-1]
 
 
-# The variables a modal call lives in (written by ncverify.lower.modal_call, read by the
-# interpreter, ncverify.interpret.modal_call): on/off, the program, one per argument, and
-# whether the modally called program runs now.
-MODAL_CALL_SWITCH, MODAL_CALL_NAME, INSIDE_MODAL_CALL = "$MCALL", "$MCALLNAME", "$INMCALL"
-MODAL_CALL_ARGUMENT = "$MCALLARG:"
 # The SINUMERIK cutting edge in use (D word, M6), written by the lowering, read by the tool rules.
 ACTIVE_EDGE = "$P_TOOL"
 
@@ -295,7 +290,7 @@ class CycleDefine(Op):
 
 @dataclass(slots=True)
 class CycleCancel(Op):
-    pass
+    plane_change_to: str | None = None  # Fagor G17-G19: the cycle ends only if this plane is a new one
 
 
 @dataclass(slots=True)
@@ -345,6 +340,40 @@ class Call(Op):
     start_label: Expr | None = None  # M98 H: start at a sequence number
     most_repeats: float | None = 9999.0  # the control's limit on the repeat count (None: none is known)
     direction: str | None = None  # a local call by label: where to search it (see Jump; "backward-first": before, else after)
+
+
+@dataclass(slots=True)
+class ModalCallOn(Op):
+    """Make ``program`` the modal call (Fagor ``#MCALL``, SINUMERIK ``MCALL NAME(...)``): it
+    runs after every later block that moves (:class:`ModalCallRun`) until
+    :class:`ModalCallOff` or the next ``ModalCallOn``. ``arguments`` (by key) are evaluated
+    here, when the call is switched on."""
+
+    program: Expr
+    arguments: dict[str, Expr] = field(default_factory=dict)
+
+
+@dataclass(slots=True)
+class ModalCallOff(Op):
+    pass
+
+
+@dataclass(slots=True)
+class ModalCallRun(Op):
+    """After a block that moves: call the modal program, if a modal call is on and that
+    program is not running now, as a :class:`Call` of ``kind`` whose argument ``name`` is
+    the argument stored under ``parameters[name]`` (vacant when the call stored none)."""
+
+    kind: str
+    parameters: dict[str, str]
+
+
+@dataclass(slots=True)
+class NoteInsideModalCall(Op):
+    """Report ``note`` when the block runs inside the modally called program (an MCALL
+    there: modal calls cannot nest)."""
+
+    note: "Note"
 
 
 @dataclass(slots=True)
@@ -436,9 +465,96 @@ class MFunction(Op):
 
 @dataclass(slots=True)
 class DialectStatement(Op):
-    what: str  # the statement, as the dialect's run-time module names it
+    """A statement only one dialect has, with its words by name. Its type says which (the
+    Klartext ones below); the dialect's run-time module has a handler for each type."""
+
     params: dict[str, Expr] = field(default_factory=dict)
     param_spans: dict[str, Span] = field(default_factory=dict)
+
+
+@dataclass(slots=True)
+class CallActiveCycle(DialectStatement):
+    """Klartext ``CYCL CALL`` (word ``how``: CALL, PAT or POS, with the POS target), ``M99``,
+    ``M89``: run the CALL-active cycle."""
+
+
+@dataclass(slots=True)
+class PositioningBlock(DialectStatement):
+    """A Klartext block that positions, where an ``M89`` cycle runs: words ``fed`` (1: at
+    feed), ``plane`` (how many plane axes it moves) and ``relative`` (1: incremental)."""
+
+
+@dataclass(slots=True)
+class OldCycle(DialectStatement):
+    """Klartext old-style cycle sub-block ``CYCL DEF 7.0 DATUM SHIFT`` / ``7.1 X+60``: its
+    words, the cycle's ``number`` and the ``sub``-block; ``program`` is the program of
+    ``12.1 PGM``."""
+
+    number: int = 0
+    sub: int = 0
+    program: str | None = None
+
+
+@dataclass(slots=True)
+class Transformation(DialectStatement):
+    """Klartext ``TRANS DATUM/MIRROR/ROTATION/SCALE/RESET`` and ``PLANE`` (word ``what``)."""
+
+
+@dataclass(slots=True)
+class PatternDef(DialectStatement):
+    """Klartext ``PATTERN DEF``: words ``<n>:form`` and ``<n>:<word>`` per pattern."""
+
+
+@dataclass(slots=True)
+class GlobalDef(DialectStatement):
+    """Klartext ``GLOBAL DEF``: the values PREDEF parameters take."""
+
+
+@dataclass(slots=True)
+class SelectPattern(DialectStatement):
+    """Klartext ``SEL PATTERN``: word ``table``, the point table ``CYCL CALL PAT`` runs on."""
+
+
+@dataclass(slots=True)
+class SelectContour(DialectStatement):
+    """Klartext ``SEL CONTOUR``: the contour is described in another program."""
+
+
+@dataclass(slots=True)
+class DeclareContour(DialectStatement):
+    """Klartext ``DECLARE CONTOUR`` of a contour-definition program (word ``DEPTH``)."""
+
+
+@dataclass(slots=True)
+class ContourDef(DialectStatement):
+    """Klartext ``CONTOUR DEF``: pockets ``P<n>``, islands ``I<n>``, voids ``V<n>`` by label, depths ``D<n>``."""
+
+
+@dataclass(slots=True)
+class ToolAxis(Op):
+    """Fagor ``#TOOL AX [Z-]``: the axis the tool points along ("?" for one the cycles are
+    not modelled for: X2, U...) and its direction."""
+
+    axis: str
+    direction: str  # "+" or "-"
+
+
+@dataclass(slots=True)
+class CycleSet(Op):
+    """Fagor ``#LATHECY ON``/``OFF`` (``turning``) and ``#MILLCY ON``/``OFF``: whether
+    G81-G88 are turning or milling cycles."""
+
+    turning: bool
+    on: bool
+
+
+@dataclass(slots=True)
+class DialectDeferred(Op):
+    """A block whose meaning depends on the dialect's state where it runs (a Fagor cycle
+    block: the plane, ``#TOOL AX`` and the cycle set): the dialect's run-time code calls
+    ``resolve`` with that state for the real ops and notes."""
+
+    resolve: object  # Callable[..., tuple[list[Op], list[Note]]], its arguments the dialect's
 
 
 @dataclass(slots=True)

@@ -92,6 +92,27 @@ class Hole:
     up: float = 1.0  # +1: the tool comes from the + side of the drilling axis (the usual); -1: from the - side (Fagor #TOOL AX [Z-])
 
 
+@dataclass(frozen=True, slots=True)
+class CycleFacts:
+    """What the rules of a cycle run read beside the program's parameters, where the run
+    knows it (the Klartext contour, OCM and cylinder cycles); None or empty where it does not."""
+
+    contour: object = None  # the contour the cycle machines (ncverify.interpret.heidenhain.contour.ContourUse)
+    region: object = None  # the area that contour encloses (its pockets less its islands)
+    own_q: tuple | None = None  # the Q1-Q20 the program set itself, which the SL cycles overwrite
+    last_rougher: Value | None = None  # the tool of the last cycle 22 (what Q438 = -1 of cycle 24 names)
+    declared_depths: tuple | None = None  # DECLARE CONTOUR: whether each declaration so far had a DEPTH
+    shape: float | None = None  # OCM 272-274: the cycle whose data they machine (271, 1271-1278)
+    boundary: float | None = None  # OCM: the boundary cycle since the shape, if any
+    rougher_forgotten: bool | None = None  # OCM: no 272 roughing since the contour was defined
+    position: dict | None = None  # where the tool stands when the cycle is called
+    spindle: str | None = None  # the spindle when the cycle is called
+    bad_tolerances: tuple = ()  # (parameter, text) of toleranced sizes the control cannot read
+
+
+NO_FACTS = CycleFacts()
+
+
 @dataclass(slots=True)
 class CycleRun:
     """A one-shot cycle (lathe G70-G76, G12/G13) with its resolved parameters."""
@@ -103,6 +124,7 @@ class CycleRun:
     params: dict[str, Value]
     param_spans: dict[str, Span] = field(default_factory=dict)
     first_block: bool = False
+    facts: CycleFacts = NO_FACTS
 
 
 @dataclass(slots=True)

@@ -406,6 +406,14 @@ def _decide_by_interval(op, al, ah, bl, bh) -> bool | None:
     return None
 
 
+def stored(value):
+    """What a variable holds when ``value`` is written to it: a decided condition as 1 or 0,
+    an undecided one as a fresh unknown between 0 and 1; any other value as it is."""
+    if isinstance(value, (bool, Condition)):
+        return 1.0 if value is True else 0.0 if value is False else fresh("condition", 0.0, 1.0)
+    return value
+
+
 def truth(value) -> "bool | Condition":
     """Truth of a numeric value used as a condition (non-zero is true)."""
     if isinstance(value, (bool, Condition)):

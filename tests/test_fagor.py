@@ -477,6 +477,12 @@ def test_a_cycle_block_in_a_loop_follows_the_tool_axis_of_each_pass():
     assert [hole.up for hole in run.holes] == [1.0, -1.0]
 
 
+def test_each_path_keeps_its_own_tool_axis_and_cycle_set():
+    run = trace("G0 G90 X0 Y0 Z25 S800 M3\n#TOOL AX [Z-]\n$IF P9==1\n#TOOL AX [X+]\n#LATHECY ON\n$ENDIF\nG81 Z2 I-20\nG80\nM30\n")
+    assert [hole.up for hole in run.holes] == [-1.0]  # P9 = 1 turns (no hole), the other path drills along Z-
+    assert sorted((state.fagor.tool_axis, state.fagor.lathe_cycles) for state in run.states) == [(("X", "+"), True), (("Z", "-"), False)]
+
+
 def test_pcall_gives_the_subroutine_its_own_local_parameters():
     run = trace('%L MOVE\nP0=P0+5\nG0 X P0\n#RET\nP0=1\nG0 X0 Y0 Z10\n#PCALL MOVE A42\nG0 Y P0\nM30\n')
     ends = [(segment.end["X"], segment.end["Y"]) for segment in run.segments]

@@ -101,3 +101,36 @@ def test_no_batch_of_plain_moves_once_a_subprogram_may_be_called_modally():
     assert cycle_only.is_plain(b"G0 X10") and not with_subprogram.is_plain(b"G0 X10")
     assert with_subprogram.plain_run(b"G0 X10\nG0 X20\n", 0, 1) is None
     assert with_subprogram.lowering.modal_call_arity == 2
+
+
+def test_the_arguments_are_the_values_when_the_call_was_switched_on():
+    result = _check(_main("""
+        R7 = -4
+        MCALL DIVE(R7)
+        R7 = 5
+        G0 X20
+        MCALL
+    """))
+    assert any("to X20 Y10 Z-4 passes" in message for message in _crashes(result))
+
+
+def test_the_modal_call_forks_with_the_path():
+    """Switched off on one branch of an unknown condition, it still runs on the other (and
+    switched on on one, it runs there)."""
+    switched_off_on_one_branch = _check(_main("""
+        MCALL DIVE(-4)
+        IF R5 > 0
+          MCALL
+        ENDIF
+        G0 X20
+        MCALL
+    """))
+    switched_on_on_one_branch = _check(_main("""
+        IF R5 > 0
+          MCALL DIVE(-4)
+        ENDIF
+        G0 X20
+        MCALL
+    """))
+    for result in (switched_off_on_one_branch, switched_on_on_one_branch):
+        assert any("to X20 Y10 Z-4 passes" in message for message in _crashes(result))

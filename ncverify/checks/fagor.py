@@ -110,10 +110,10 @@ class CycleSetLeftOn(Rule):
     def change(self, change, state):
         if change.what != "end":
             return
-        for flag in ("$LATHECY", "$MILLCY"):
-            if state.global_variables.get(flag) == 1.0:
-                self.report("fagor.cycle-set-left-on", change.span, f"#{flag[1:]} ON is still in force at the program end: the next program's G81-G88 "
-                            f"are {'turning' if flag == '$LATHECY' else 'milling'} cycles unless it switches back (#{flag[1:]} OFF)")
+        for statement, cycles, on in (("LATHECY", "turning", state.fagor.lathe_cycles), ("MILLCY", "milling", state.fagor.mill_cycles)):
+            if on:
+                self.report("fagor.cycle-set-left-on", change.span, f"#{statement} ON is still in force at the program end: the next program's G81-G88 "
+                            f"are {cycles} cycles unless it switches back (#{statement} OFF)")
 
 
 @rule("fagor.pocket-tool-fit")

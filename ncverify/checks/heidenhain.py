@@ -12,6 +12,7 @@ from ..ir import cycle_code
 from .. import frames, pocket, values
 from ..check import Rule, hazard, rule, show
 from ..diagnostics import Status
+from ..trace import NO_FACTS
 from ..verdict import Verdict
 from ..context import radius_delta
 from .common import ReportsMissingContext, plane_scale, scaled_note
@@ -68,13 +69,13 @@ class CycleRule(ReportsMissingContext):
     reads = modelled.AS_WRITTEN
 
     def hole(self, hole, state):
-        self.judge_cycle(cycle_number(hole.cycle), hole.params, hole.param_spans, hole.definition or hole.span, state)
+        self.judge_cycle(cycle_number(hole.cycle), hole.params, hole.param_spans, hole.definition or hole.span, state, NO_FACTS)
 
     def cycle_run(self, run, state):
         if not run.first_block:
-            self.judge_cycle(cycle_number(run.cycle), run.params, run.param_spans, run.span, state)
+            self.judge_cycle(cycle_number(run.cycle), run.params, run.param_spans, run.span, state, run.facts)
 
-    def judge_cycle(self, number, params, spans, span, state): ...
+    def judge_cycle(self, number, params, spans, span, state, facts): ...
 
 
 class CycleRuleOfParts(CycleRule):
@@ -87,16 +88,16 @@ class CycleRuleOfParts(CycleRule):
         super().__init__(checker)
         self._parts = [part(checker) for part in self.parts]
 
-    def judge_cycle(self, number, params, spans, span, state):
+    def judge_cycle(self, number, params, spans, span, state, facts):
         for part in self._parts:
-            part.judge_cycle(number, params, spans, span, state)
+            part.judge_cycle(number, params, spans, span, state, facts)
 
 
 @rule("heidenhain.usable-length")
 class UsableLength(CycleRule):
     """H4: the control stops when the tool's usable length LU is shorter than the depth."""
 
-    def judge_cycle(self, number, params, spans, span, state):
+    def judge_cycle(self, number, params, spans, span, state, facts):
         if number not in _DEPTH_CHECKED and number not in _SL_CYCLES and number not in _DEPTH_OF:
             return
         names, depth = _machining_depth(number, params)
@@ -121,7 +122,7 @@ class TapPitch(CycleRule):
 
     tolerance = 0.01  # relative: what the floating holder takes up is not stated
 
-    def judge_cycle(self, number, params, spans, span, state):
+    def judge_cycle(self, number, params, spans, span, state, facts):
         if number == 206:
             self._floating_feed(params, spans, span, state)
             return
@@ -158,7 +159,7 @@ class _PocketPlungeAngle(CycleRule):
     """H11: a helical or reciprocating plunge needs the tool's ANGLE; 252's vertical plunge
     takes only ANGLE 0 or 90."""
 
-    def judge_cycle(self, number, params, spans, span, state):
+    def judge_cycle(self, number, params, spans, span, state, facts):
         strategy = params.get("Q366")
         if number not in _PLUNGE_CHECKED or type(strategy) is not float or not self.first_time(state, ("plunge-angle", span)):
             return
@@ -181,10 +182,10 @@ class _PocketFit(CycleRule):
     that would is reported. Part B C21: a cycle-22 contour pocket the tool enters but
     cannot clear is residual material, a warning."""
 
-    def judge_cycle(self, number, params, spans, span, state):
+    def judge_cycle(self, number, params, spans, span, state, facts):
         if number not in (208, 251, 252, 253, 254, 22, 272) or not self.first_time(state, ("tool-too-large", span)):
             return
-        if number == 272 and (params.get("@shape") not in (1271.0, 1272.0, 1273.0) or params.get("Q650", 0.0) != 0.0):
+        if number == 272 and (facts.shape not in (1271.0, 1272.0, 1273.0) or params.get("Q650", 0.0) != 0.0):
             return  # a free OCM contour or an island / boundary shape: no pocket to fit
         tool = spindle_tool(self, state, span, "heidenhain.tool-too-large", "radius")
         if tool is None:
@@ -193,7 +194,7 @@ class _PocketFit(CycleRule):
         if params is None:
             return
         if number == 22:
-            self._contour_pocket(params, span, tool, state)
+            self._contour_pocket(params, span, tool, state, facts.region)
             return
         radius = tool.radius
         if number == 272:  # the smallest inside radius OCM cuts is R + Q578 R, beside the allowance Q368 (reference B H23)
@@ -204,7 +205,7 @@ class _PocketFit(CycleRule):
             radius = tool.radius * (1.0 + factor) + allowance
         if self._judge_symbolic_size(number, params, spans, span, tool, state):
             return
-        fit, where = self._fit(number, params, spans, radius, span)
+        fit, where = self._fit(number, params, spans, radius, span, facts.shape)
         if fit is None:
             self.missing("heidenhain.tool-too-large", span, "a pocket size that depends on a free parameter")
             return
@@ -237,13 +238,12 @@ class _PocketFit(CycleRule):
                                     self.checker.judge(misfit(sizes, tool.radius), state), state)
         return True
 
-    def _contour_pocket(self, params, span, tool, state):
+    def _contour_pocket(self, params, span, tool, state, area):
         """Cycle 22 roughs with the side allowance Q3 left on the walls: the tool centre
         keeps R + Q3 from the contour (reference B H21). A pocket the tool cannot enter is
         not machined at all; where it enters, what it cannot reach (a neck narrower than
         2 (R + Q3), an inside radius below R + Q3) stays as residual material: the control
         machines around it without an alarm (reference B §9 item 21, seed L9575-9593)."""
-        area = params.get("@region")
         allowance = params.get("Q3", 0.0)
         if plane_scale(state) != 1.0:
             self.missing("heidenhain.tool-too-large", span, "a contour pocket under a scaling cycle (11 or 26): its outline is compared as written only")
@@ -280,7 +280,7 @@ class _PocketFit(CycleRule):
         return f"{max(radius - allowance, 0.0):.3g}"
 
     @staticmethod
-    def _fit(number, params, spans, radius, span):
+    def _fit(number, params, spans, radius, span, shape):
         def concrete(*names):
             found = [params.get(name, 0.0) for name in names]
             return found if all(type(value) is float for value in found) else None
@@ -288,7 +288,6 @@ class _PocketFit(CycleRule):
         if number == 251:
             found = concrete("Q218", "Q219", "Q220")
             return (pocket.rectangle_fit(*found, radius, strict=True) if found else None), spans.get("Q219", span)
-        shape = params.get("@shape")
         if number == 272 and shape == 1271.0:
             found = concrete("Q218", "Q219", "Q220")
             return (pocket.rectangle_fit(*found, radius) if found else None), spans.get("Q219", span)
@@ -322,7 +321,7 @@ class _ContourPlungeAngle(CycleRule):
     plunge Q366 = 2 need the tool's plunge ANGLE (seed L9582-9593, L10305-10311); the
     pocket cycles are judged by :class:`_PocketPlungeAngle`."""
 
-    def judge_cycle(self, number, params, spans, span, state):
+    def judge_cycle(self, number, params, spans, span, state, facts):
         name = {22: "Q19", 275: "Q366"}.get(number)
         value = params.get(name) if name else None
         if type(value) is not float or value == 0.0 or (number == 275 and value != 2.0) or not self.first_time(state, ("contour-plunge-angle", span)):
@@ -339,8 +338,8 @@ class _PolygonPocketFit(CycleRule):
     Q571 cos(180/n) when Q571 is the circumscribed circle) against R (1 + Q578) + Q368, as
     for the circle 1272 (seed L12600-12744, L10990-10997)."""
 
-    def judge_cycle(self, number, params, spans, span, state):
-        if number != 272 or params.get("@shape") != 1278.0 or params.get("Q650", 0.0) != 0.0 or not self.first_time(state, ("polygon-fit", span)):
+    def judge_cycle(self, number, params, spans, span, state, facts):
+        if number != 272 or facts.shape != 1278.0 or params.get("Q650", 0.0) != 0.0 or not self.first_time(state, ("polygon-fit", span)):
             return
         params = self.workpiece_sizes(params, _SIZE_PARAMETERS, state, span, "heidenhain.tool-too-large")
         if params is None:
@@ -382,7 +381,7 @@ class ContourClearanceHeight(CycleRule):
     at a clearance height (Q7, Q260) that must lie above the set-up clearance and the blank."""
     reads = modelled.GEOMETRY
 
-    def judge_cycle(self, number, params, spans, span, state):
+    def judge_cycle(self, number, params, spans, span, state, facts):
         if number not in _CLEARANCE_HEIGHT:
             return
         name, surface_name, clearance_name, lines = _CLEARANCE_HEIGHT[number]

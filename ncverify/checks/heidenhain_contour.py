@@ -1,9 +1,10 @@
 """Klartext contour, contour-train, OCM and cylinder-surface hazards (reference B §9).
 
-The cycle runner hands each contour cycle's run over with the contour it machines
-(``@contour``: cycle 14 or CONTOUR DEF and what each subprogram holds, see
-:mod:`ncverify.interpret.heidenhain.contour`) and the machine state the rules need (``@position``
-at the call, ``@spindle``, the OCM ``@boundary``, ``@rougher_forgotten``). Parameter-only
+The cycle runner hands each contour cycle's run over with the facts the rules need beside
+its parameters (:class:`ncverify.trace.CycleFacts`): the contour it machines (``contour``:
+cycle 14 or CONTOUR DEF and what each subprogram holds, see
+:mod:`ncverify.interpret.heidenhain.contour`) and the machine state (``position`` at the
+call, ``spindle``, the OCM ``boundary``, ``rougher_forgotten``). Parameter-only
 hazards of these cycles are constraints in ``rules/heidenhain/*.md``.
 """
 from __future__ import annotations
@@ -37,8 +38,8 @@ class ContourSubprogram(CycleRule):
     """A3, A5, A6: what a contour subprogram may hold, how many a contour train takes, and
     how a trochoidal slot starts."""
 
-    def judge_cycle(self, number, params, spans, span, state):
-        use = params.get("@contour")
+    def judge_cycle(self, number, params, spans, span, state, facts):
+        use = facts.contour
         if use is None or (number not in _SL | _TRAINS | _CYLINDER | _OCM):
             return
         if use.how == "cycle 14" and len(use.labels) > _LABELS_MAX and self.first_time(state, ("label-count", use.span)):
@@ -100,8 +101,8 @@ class ContourFeed(CycleRule):
     """A3 (part): feed rates and M functions in a contour subprogram, which describes only
     the geometry (seed L9071)."""
 
-    def judge_cycle(self, number, params, spans, span, state):
-        use = params.get("@contour")
+    def judge_cycle(self, number, params, spans, span, state, facts):
+        use = facts.contour
         if use is None:
             return
         for subprogram in use.subprograms:
@@ -119,8 +120,8 @@ class ContourCompensation(CycleRule):
     """A1, A4: cycle-14 subcontours of SL cycles need RL or RR (pocket or island comes from
     it); with cycle 270 or CONTOUR DEF the subprograms must have none."""
 
-    def judge_cycle(self, number, params, spans, span, state):
-        use = params.get("@contour")
+    def judge_cycle(self, number, params, spans, span, state, facts):
+        use = facts.contour
         if use is None:
             return
         governed = "CONTOUR DEF" if use.how == "CONTOUR DEF" else ("cycle 270" if number in (25, 276) and "Q391" in params else None)
@@ -143,8 +144,8 @@ class ContourOverlapStart(CycleRule):
     (seed L9254-9320): the first pocket must start outside the pockets and islands it
     overlaps (else only the common area is machined), an island inside a pocket."""
 
-    def judge_cycle(self, number, params, spans, span, state):
-        use = params.get("@contour")
+    def judge_cycle(self, number, params, spans, span, state, facts):
+        use = facts.contour
         if use is None or number not in _SL or use.how != "cycle 14":
             return
         found = [subprogram.contour for subprogram in use.subprograms]
@@ -180,11 +181,11 @@ class ContourDefinition(CycleRule):
     """A7-A9: CONTOUR DEF limits, subcontour depths against the cycle depth, and the kinds
     Q569 of cycle 271 demands; a shape island with no boundary."""
 
-    def judge_cycle(self, number, params, spans, span, state):
-        use = params.get("@contour")
-        self._declared(params.get("@declared_depths"), span, state)
-        if number in _OCM and params.get("@shape") in (1271.0, 1272.0, 1273.0, 1278.0):
-            self._shape_island(number, params, spans, span, state)
+    def judge_cycle(self, number, params, spans, span, state, facts):
+        use = facts.contour
+        self._declared(facts.declared_depths, span, state)
+        if number in _OCM and facts.shape in (1271.0, 1272.0, 1273.0, 1278.0):
+            self._shape_island(number, params, spans, span, state, facts.boundary)
         if use is None or use.how != "CONTOUR DEF" or not self.first_time(state, ("contour-def", use.span)):
             return
         kinds = use.kinds or ()
@@ -231,8 +232,8 @@ class ContourDefinition(CycleRule):
             self.report("heidenhain.contour-def", use.span, f"cycle 271 has Q569={show(boundary)}, so every subcontour after the first must be one of the {wanted[1]}, "
                         f"but subcontour {', '.join(map(str, wrong))} is not: the control rejects the contour (seed L11168-11175)")
 
-    def _shape_island(self, number, params, spans, span, state):
-        if params.get("Q650") == 1.0 and params.get("@boundary") is None and self.first_time(state, ("shape-island", span)):
+    def _shape_island(self, number, params, spans, span, state, boundary):
+        if params.get("Q650") == 1.0 and boundary is None and self.first_time(state, ("shape-island", span)):
             self.report("heidenhain.contour-def", spans.get("Q650", span), f"cycle {number} machines an island shape (Q650=1) with no boundary cycle "
                         "1281 or 1282 after the shape: the control needs the boundary to know what to clear around the island (seed L12200-12205)")
 
@@ -243,8 +244,8 @@ class BelowClearanceHeight(CycleRule):
     the call (seed L10444-10446)."""
     reads = frozenset()  # compares positions as the program writes them with the blank: no active state is read
 
-    def judge_cycle(self, number, params, spans, span, state):
-        height, position = params.get("Q7"), params.get("@position")
+    def judge_cycle(self, number, params, spans, span, state, facts):
+        height, position = params.get("Q7"), facts.position
         if number != 276 or height is None or position is None:
             return
         axis = state.plane_axes[2]
@@ -261,7 +262,7 @@ class BelowClearanceHeight(CycleRule):
 class CylinderClearance(CycleRule):
     """H19: the set-up clearance Q6 of a cylinder-surface cycle must exceed the tool radius."""
 
-    def judge_cycle(self, number, params, spans, span, state):
+    def judge_cycle(self, number, params, spans, span, state, facts):
         clearance = params.get("Q6")
         if number not in _CYLINDER or clearance is None or not self.first_time(state, ("cylinder-clearance", span)):
             return
@@ -277,7 +278,7 @@ class CylinderClearance(CycleRule):
 class CylinderRadius(CycleRule):
     """H19: Q16 should be the radius of the BLK FORM CYLINDER the depth is measured from."""
 
-    def judge_cycle(self, number, params, spans, span, state):
+    def judge_cycle(self, number, params, spans, span, state, facts):
         radius = params.get("Q16")
         stock = self.checker.context.stock
         if number not in _CYLINDER or radius is None or not self.first_time(state, ("cylinder-radius", span)):
@@ -296,8 +297,8 @@ class CylinderRadius(CycleRule):
 class CylinderSpindle(CycleRule):
     """H30: 28, 29 and 39 must be called with the spindle running (seed L13641-13642)."""
 
-    def judge_cycle(self, number, params, spans, span, state):
-        if number in (28, 29, 39) and params.get("@spindle") == "off" and self.first_time(state, ("cylinder-spindle", span)):
+    def judge_cycle(self, number, params, spans, span, state, facts):
+        if number in (28, 29, 39) and facts.spindle == "off" and self.first_time(state, ("cylinder-spindle", span)):
             self.report("heidenhain.cylinder-spindle", span, f"cycle {number} is called with the spindle stopped: the cycle plunges and mills at once, "
                         "a standing tool collides (the control says so only if the machine parameter displaySpindleErr is set)")
 
@@ -307,7 +308,7 @@ class SlotWidth(CycleRule):
     """C27, C28: the trochoidal slot 275 needs a width between the tool diameter and twice
     it; the cylinder slot 28 a width of at least the tool diameter plus both allowances."""
 
-    def judge_cycle(self, number, params, spans, span, state):
+    def judge_cycle(self, number, params, spans, span, state, facts):
         if number not in (275, 28) or not self.first_time(state, ("slot-width", span)):
             return
         name = "Q219" if number == 275 else "Q20"
@@ -334,7 +335,7 @@ class SlotWidth(CycleRule):
 class OcmToolCorner(CycleRule):
     """C26: 272 and 273 compute their paths without the tool's corner radius R2."""
 
-    def judge_cycle(self, number, params, spans, span, state):
+    def judge_cycle(self, number, params, spans, span, state, facts):
         if number not in (272, 273) or not self.first_time(state, ("ocm-tool-corner", span)):
             return
         tool = self.checker.context.tools.in_spindle(state)
@@ -350,8 +351,8 @@ class RougherForgotten(CycleRule):
     """H37: CONTOUR DEF makes the control forget the last roughing tool; Q438 = -1 then
     means 'no roughing before' (seed L11284-11286)."""
 
-    def judge_cycle(self, number, params, spans, span, state):
-        if number in (273, 274, 277) and params.get("Q438") == -1.0 and params.get("@rougher_forgotten") and self.first_time(state, ("rougher", span)):
+    def judge_cycle(self, number, params, spans, span, state, facts):
+        if number in (273, 274, 277) and params.get("Q438") == -1.0 and facts.rougher_forgotten and self.first_time(state, ("rougher", span)):
             self.report("heidenhain.rougher-forgotten", spans.get("Q438", span), f"cycle {number} with Q438=-1 (the last roughing tool) after a CONTOUR DEF "
                         "and no OCM roughing since: CONTOUR DEF resets the remembered roughing tool, so the control assumes nothing was roughed and "
                         "the finishing tool takes the full material; give the roughing tool's number in Q438")
@@ -361,8 +362,8 @@ class RougherForgotten(CycleRule):
 class SlQParameters(CycleRule):
     """H36: the SL and cylinder cycles keep their parameters in Q1-Q20 (seed L9360-9361)."""
 
-    def judge_cycle(self, number, params, spans, span, state):
-        own = params.get("@own_q")
+    def judge_cycle(self, number, params, spans, span, state, facts):
+        own = facts.own_q
         if own and self.first_time(state, ("sl-q-parameters",)):
             user = f"calls SL cycle {number}" if number is not None else "declares SL contours (DECLARE CONTOUR)"
             self.report("heidenhain.sl-q-parameters", span, f"the program sets {', '.join(own)} itself and {user}: the SL and cylinder cycles "
@@ -375,12 +376,12 @@ class _SideFinishingRadius(CycleRule):
     the roughing allowance Q3 plus the rougher's radius (seed L9833-9834); Q438 names the
     rougher (-1: the tool of the last 22, 0: none)."""
 
-    def judge_cycle(self, number, params, spans, span, state):
+    def judge_cycle(self, number, params, spans, span, state, facts):
         side, finish_allowance = params.get("Q3"), params.get("Q14")
         if number != 24 or side is None or finish_allowance is None or not self.first_time(state, ("side-finishing-radius", span)):
             return
         finisher = spindle_tool(self, state, span, "heidenhain.sl-allowance", "radius")
-        rougher = self._rougher_radius(params, span)
+        rougher = self._rougher_radius(params, span, facts.last_rougher)
         if finisher is None or rougher is None:
             return
         finishing, roughing = values.add(finish_allowance, finisher.radius), values.add(side, rougher)
@@ -389,9 +390,9 @@ class _SideFinishingRadius(CycleRule):
                                     f"{finisher.radius:g} is not below the roughing allowance Q3={show(side)} plus the rougher's radius {rougher:g}: the finisher has no "
                                     "room beside what the roughing left (seed L9833-9834)", verdict, state)
 
-    def _rougher_radius(self, params, span):
+    def _rougher_radius(self, params, span, last_rougher):
         reference = params.get("Q438", -1.0)
-        number = params.get("@last_rougher") if reference == -1.0 else reference
+        number = last_rougher if reference == -1.0 else reference
         if reference == 0.0:
             return 0.0
         tool = self.checker.context.tools.numbered(number)
@@ -406,10 +407,10 @@ class _ContourMillingAllowance(CycleRule):
     roughing allowance (Q3 of 20, Q368 of 271) must then exceed Q14 plus the tool radius
     (seed L9836-9840, L11863-11868)."""
 
-    def judge_cycle(self, number, params, spans, span, state):
+    def judge_cycle(self, number, params, spans, span, state, facts):
         name = {24: "Q3", 274: "Q368"}.get(number)
         side, finish_allowance = params.get(name), params.get("Q14")
-        if name is None or side is None or finish_allowance is None or not _single_island(params.get("@contour")):
+        if name is None or side is None or finish_allowance is None or not _single_island(facts.contour):
             return
         if not self.first_time(state, ("contour-milling", span)):
             return
@@ -444,7 +445,7 @@ class PilotDrill(CycleRule):
     """C31: cycle 21 places its plunge holes for the rougher Q13; a drill wider than that
     rougher may not fit where the rougher does (seed L9483-9490)."""
 
-    def judge_cycle(self, number, params, spans, span, state):
+    def judge_cycle(self, number, params, spans, span, state, facts):
         rougher = params.get("Q13")
         if number != 21 or type(rougher) is not float or rougher == 0.0 or not self.first_time(state, ("pilot-drill", span)):
             return
@@ -465,8 +466,8 @@ class PilotDrill(CycleRule):
 class ToleranceText(CycleRule):
     """A10: a toleranced dimension of an OCM shape that is none of the forms the control reads."""
 
-    def judge_cycle(self, number, params, spans, span, state):
-        for name, text in params.get("@bad_tolerances", ()):
+    def judge_cycle(self, number, params, spans, span, state, facts):
+        for name, text in facts.bad_tolerances:
             where = spans.get(name, span)
             if self.first_time(state, ("tolerance", where)):
                 self.report("heidenhain.tolerance", where, f"cycle {number}: {name}=\"{text}\" is not a tolerance the control reads (10+0.01-0.015, an ISO 286 fit "

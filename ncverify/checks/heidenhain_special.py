@@ -73,7 +73,7 @@ class StudApproachRoom(_BlankRule):
     from it, at Q206. Where that point lies over the BLK FORM, the tool plunges into the
     blank instead of beside it."""
 
-    def judge_cycle(self, number, params, spans, span, state):
+    def judge_cycle(self, number, params, spans, span, state, facts):
         first, second, axis = state.plane_axes
         here = (state.position.get(first), state.position.get(second))
         if number not in (256, 257, 258) or not self.first_time(state, ("stud-approach", span, here)):
@@ -150,7 +150,7 @@ def _point_angle_use(number, params) -> str | None:
 class PointAngle(CycleRule):
     """H29: a cycle that computes a depth from the tool's point angle needs T-ANGLE."""
 
-    def judge_cycle(self, number, params, spans, span, state):
+    def judge_cycle(self, number, params, spans, span, state, facts):
         use = _point_angle_use(number, params)
         if use is None or not self.first_time(state, ("point-angle", span)):
             return
@@ -172,7 +172,7 @@ class CuttingLength(CycleRule):
     """H44, part B C22: a plunging depth Q202 longer than the tool's cutting length LCUTS:
     the control reduces the infeed by itself, so the cycle takes more passes than programmed."""
 
-    def judge_cycle(self, number, params, spans, span, state):
+    def judge_cycle(self, number, params, spans, span, state, facts):
         infeed = params.get("Q202")
         if number not in _INFEED_LIMITED or infeed is None or not self.first_time(state, ("cutting-length", span)):
             return
@@ -265,7 +265,7 @@ class FaceMillingBlank(_BlankRule):
     (the first infeed is measured from it), Q386 above its underside, and the start point,
     R + Q357 before the surface edge, off the blank."""
 
-    def judge_cycle(self, number, params, spans, span, state):
+    def judge_cycle(self, number, params, spans, span, state, facts):
         if number != 232 or not self.first_time(state, ("face-milling-blank", span)):
             return
         found = _numbers(params, "Q225", "Q226", "Q227", "Q386", "Q218")
@@ -298,7 +298,7 @@ class ThreadCuttingPosition(CycleRule):
     no approach of its own: a thread that ends above the blank cuts nothing."""
     reads = frozenset()  # compares positions as the program writes them with the blank: no active state is read
 
-    def judge_cycle(self, number, params, spans, span, state):
+    def judge_cycle(self, number, params, spans, span, state, facts):
         if number != 18 or not self.first_time(state, ("thread-cutting-position", span, state.position.get(state.plane_axes[2]))):
             return
         axis = state.plane_axes[2]

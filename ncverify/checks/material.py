@@ -28,7 +28,6 @@ _KEY = "workpiece"
 _FEED = 1  # MotionRun kind code
 _FLUSH_AT = 4096  # buffered moves per batch
 _RECENT = 64  # straight cuts kept exactly, for rapids back into what they cut
-_FAGOR_TOOL_AXIS = "$TOOLAX"  # Fagor's #TOOL AX, as the lowering keeps it
 _AXIS_ONLY = Cutter(0.0)  # the sweep of a tool whose radius is not known
 _TOUCH = 1e-6  # mm: a rapid this close to the deepest cut is not below it
 _POINTED = {"drill", "spot", "chamfer"}
@@ -390,8 +389,7 @@ def tool_axis_problem(state) -> str | None:
     """Why the tool is not known to stand along +Z of the workpiece, or None."""
     if state.plane_axes[2] != "Z":
         return f"the tool axis is {state.plane_axes[2]} (working plane)"
-    axis = state.global_variables.get(_FAGOR_TOOL_AXIS)
-    if axis is not None and axis != 3.0:
+    if state.fagor.tool_axis not in (None, ("Z", "+")):
         return "#TOOL AX sets a tool axis other than Z+"
     frame = frames.program_to_workpiece(state)
     if frame is not None and not (frame.keeps_axis("Z") and type(frame.linear[2][2]) is float and frame.linear[2][2] > 0):

@@ -21,8 +21,9 @@ import numpy
 from .. import frames, ir, values
 from .control_flow import ControlFlow, CallFrame, LoopFrame, PathEnd, Position
 from .cycles import ActiveCycle, CycleRunner
+from .fagor import FagorState
 from .heidenhain.state import KlartextState
-from .modal_call import system_value as modal_call_value
+from . import modal_call
 from ..context import ToolTable
 from ..settings import Settings
 from ..source import ProgramSource, Span
@@ -81,6 +82,8 @@ class MachineState:
     last_reference_via: dict = field(default_factory=dict)
     rule_state: dict = field(default_factory=dict)  # per-path memory of the rules (and of nothing else)
     klartext: KlartextState = field(default_factory=KlartextState)  # HEIDENHAIN dialect state (replaced, never changed in place)
+    fagor: FagorState = field(default_factory=FagorState)  # Fagor dialect state (replaced, never changed in place)
+    modal_call: modal_call.ModalCall | None = None  # the last modal call switched on (replaced, never changed in place)
     feed_inherited: bool = False  # a called program checked alone: its caller set the feed
     coordinate_shift: dict = field(default_factory=dict)  # G92/G52: machine = program + work offset + shift (None: unknown)
     frame: frames.Frame | None = None  # program -> workpiece coordinates (None: the identity)
@@ -147,7 +150,7 @@ class Interpreter(ControlFlow):
                  tools: ToolTable | None = None, parked_at_start: tuple[str, ...] = ()):
         self.cycle_models = cycle_models
         self._dialect_batch_allowed = getattr(runtime, "batch_allowed", None)
-        self._system_variables = tuple(hook for hook in (modal_call_value, getattr(runtime, "system_variable", None),
+        self._system_variables = tuple(hook for hook in (getattr(runtime, "system_variable", None),
                                                          getattr(frontend, "system_variable", None)) if hook is not None)
         self.twins = twins
         self.assigned: dict[int, list[tuple[str, object]]] = {}  # line -> (variable, value) of assignment statements, with settings.record_values
@@ -192,7 +195,7 @@ class Interpreter(ControlFlow):
             ir.Unsupported: self._unsupported, ir.ProgramEnd: self._program_file_end,
             ir.ToolLength: self._tool_length, ir.Approach: self._nothing,
         }
-        for kind, run in getattr(runtime, "OPERATIONS", {}).items():
+        for kind, run in (modal_call.HANDLERS | getattr(runtime, "OPERATIONS", {})).items():
             self._handlers[kind] = partial(run, self.cycles)
 
     # ------------------------------------------------------------------ running
@@ -419,6 +422,8 @@ class Interpreter(ControlFlow):
                 return values.call(expr.name, arguments)
             except DomainError as error:
                 self._domain_error(str(error), span)
+        if kind is Sym or expr is VACANT:
+            return expr  # a value already evaluated (a modal call's stored argument)
         raise TypeError(f"not an expression: {expr!r}")
 
     def _scale_increment(self, expr: ir.IncrementCount) -> float:
@@ -583,8 +588,7 @@ class Interpreter(ControlFlow):
 
     def write_variable(self, var: ir.Var, value, span=None, assignment: bool = False) -> None:
         name = self.variable_name(var, span)
-        if isinstance(value, (bool, Condition)):
-            value = 1.0 if value is True else 0.0 if value is False else values.fresh("condition", 0.0, 1.0)
+        value = values.stored(value)
         if assignment and self.settings.record_values and span is not None and span.path is None:
             self.assigned.setdefault(span.line, []).append((name, value))
         if self.frontend.variable_scope(name) == "local":
@@ -877,15 +881,15 @@ class Interpreter(ControlFlow):
     def _move(self, op: ir.Move, block):
         state = self.state
         kind = op.kind
-        modal_call = state.cycle is not None and state.cycle.model.called_after_motion  # SINUMERIK MCALL
+        modal_cycle = state.cycle is not None and state.cycle.model.called_after_motion  # SINUMERIK MCALL
         if kind is not None:
             if state.cycle is not None and state.cycle.model.motion_codes_keep_cycle:
                 state.modal["motion"] = kind  # Fagor: G0/G1 position in the cycle's zone
                 return self.cycles.modal_hole(op, block)
-            if state.cycle is not None and kind != "thread" and not modal_call:
+            if state.cycle is not None and kind != "thread" and not modal_cycle:
                 self._cancel_cycle()
             state.modal["motion"] = kind
-        elif state.cycle is not None and not modal_call:
+        elif state.cycle is not None and not modal_cycle:
             return self.cycles.modal_hole(op, block)
         else:
             kind = state.modal["motion"]
@@ -911,7 +915,7 @@ class Interpreter(ControlFlow):
             self._change("thread", op.span, block, None, op_values(op.words, self, op.span))  # G33 Q start angle, E lead
         arc = self._arc(op, kind, start) if kind in _ARC_KINDS else None
         self.observer.segment(Segment(_SEGMENT_KIND[kind], start, end, op.span, block, "programmed", None, arc), state)
-        if modal_call:
+        if modal_cycle:
             return self.cycles.modal_call(op, block)  # the MCALL cycle runs after every positioning
         return None
 
@@ -957,7 +961,8 @@ class Interpreter(ControlFlow):
         return self.cycles.define(op, block)
 
     def _cycle_cancel(self, op: ir.CycleCancel, block):
-        self._cancel_cycle()
+        if op.plane_change_to is None or op.plane_change_to != self.state.modal["plane"]:
+            self._cancel_cycle()
         return None
 
     def _cancel_cycle(self) -> None:
@@ -998,6 +1003,10 @@ class Interpreter(ControlFlow):
                 raise PathEnd
             resolved.append(value)
         ops, notes = op.resolve(tuple(resolved))
+        return self.run_lowered(ops, notes, block)
+
+    def run_lowered(self, ops: list, notes: list, block):
+        """Run the ops a block lowered only now turned out to be (and report its notes)."""
         for note in notes:
             self.observer.note(note)
         block = replace(block, ops=ops)  # handlers that look at the block's other ops see the resolved ones

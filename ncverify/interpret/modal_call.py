@@ -1,33 +1,67 @@
-"""The modal call as the interpreter sees it: which program runs after every move, and the
-values of the variables the lowering (:mod:`ncverify.lower.modal_call`) reads and writes.
+"""The modal call as the interpreter runs it: which program runs after every move, with
+which arguments (the IR operations :class:`ir.ModalCallOn`, :class:`ir.ModalCallOff`,
+:class:`ir.ModalCallRun` and :class:`ir.NoteInsideModalCall`, written by
+:mod:`ncverify.lower.modal_call`). The call is :attr:`MachineState.modal_call`, replaced,
+never changed in place, so that it forks with the path.
 """
 from __future__ import annotations
 
-from ..ir import INSIDE_MODAL_CALL as INSIDE, MODAL_CALL_ARGUMENT as ARGUMENT_PREFIX, MODAL_CALL_NAME as NAME, MODAL_CALL_SWITCH as SWITCH
-from ..values import VACANT
+from dataclasses import dataclass, field, replace
+
+from .. import ir
+from ..values import VACANT, stored
+
+
+@dataclass(frozen=True)
+class ModalCall:
+    """The last modal call switched on: its program, its arguments by key (evaluated when
+    it was switched on) and whether it is still on. Switching it off keeps the program:
+    while that program runs, an MCALL in it still nests."""
+
+    program: object  # the value of the program expression: a name, as a rule
+    arguments: dict = field(default_factory=dict)
+    on: bool = True
+
+    def running(self, call_stack) -> bool:
+        """Whether the modally called program runs now (it is on the call stack)."""
+        return any(frame.program == self.program for frame in call_stack)
 
 
 def active_program(state) -> str | None:
     """The program called after every move while a modal call is on, else None."""
-    if state.global_variables.get(SWITCH) in (None, 0.0, VACANT):
+    call = state.modal_call
+    if call is None or not call.on:
         return None
-    name = state.global_variables.get(NAME)
-    return name if isinstance(name, str) else "the modal subprogram"
+    return call.program if isinstance(call.program, str) else "the modal subprogram"
 
 
-def running_program(state) -> str | None:
-    """The name of the modally called program if it is running now."""
-    name = state.global_variables.get(NAME)
-    return name if any(frame.program == name for frame in state.call_stack) else None
+def switch_on(runtime, op: ir.ModalCallOn, block):
+    program = runtime.evaluate(op.program, op.span)
+    arguments = {key: stored(runtime.evaluate(expr, op.span)) for key, expr in op.arguments.items()}
+    runtime.state.modal_call = ModalCall(program, arguments)
 
 
-def system_value(name: str, state):
-    """``$INMCALL``, ``$MCALL`` before any modal call, and an argument no call stored
-    (vacant); None for any other name."""
-    if name == INSIDE:
-        return 0.0 if running_program(state) is None else 1.0
-    if name == SWITCH:
-        return 0.0
-    if name.startswith(ARGUMENT_PREFIX):
-        return VACANT
-    return None
+def switch_off(runtime, op: ir.ModalCallOff, block):
+    call = runtime.state.modal_call
+    if call is not None:
+        runtime.state.modal_call = replace(call, on=False)
+
+
+def run_after_move(runtime, op: ir.ModalCallRun, block):
+    """The call of the modal program after a block that moved, unless it runs already."""
+    state = runtime.state
+    call = state.modal_call
+    if call is None or not call.on or call.running(state.call_stack):
+        return None
+    arguments = {name: call.arguments.get(key, VACANT) for name, key in op.parameters.items()}
+    return runtime.call_subprogram(ir.Call(op.span, op.kind, call.program, 1.0, arguments), block)
+
+
+def note_inside(runtime, op: ir.NoteInsideModalCall, block):
+    call = runtime.state.modal_call
+    if call is not None and call.running(runtime.state.call_stack):
+        runtime.note(op.note)
+
+
+HANDLERS = {ir.ModalCallOn: switch_on, ir.ModalCallOff: switch_off, ir.ModalCallRun: run_after_move,
+            ir.NoteInsideModalCall: note_inside}

@@ -91,6 +91,10 @@ class Runtime:
         """A construct read but not modelled here: what depends on it answers unknown."""
         self._interp._unsupported_here(span, what)
 
+    def note(self, note: ir.Note) -> None:
+        """A finding the lowering wrote for the case that the path reaches it."""
+        self._interp.observer.note(note)
+
     def change(self, what: str, span, block, old=None, new=None) -> None:
         """A state change the rules watch (``spindle``, ``transforms``, ...)."""
         self._interp._change(what, span, block, old, new)
@@ -109,6 +113,11 @@ class Runtime:
         """Run one IR operation as if the program had it in ``block`` (a spindle or
         compensation change a dialect operation makes); returns what its handler returns."""
         return self._interp._handlers[type(op)](op, block)
+
+    def run_lowered(self, ops: list, notes: list, block):
+        """Run the ops of a block whose lowering waited for the state where it runs (and
+        report its notes); returns where execution goes next, None for the next op."""
+        return self._interp.run_lowered(ops, notes, block)
 
     def cancel_cycle(self) -> None:
         """The modal canned cycle ends (its data goes with it)."""

@@ -42,13 +42,6 @@ from . import modal_call
 from .iso import IsoFrontend, IsoLowering, fast_motion_block
 
 _PLANE_NORMAL = {"xy": "Z", "zx": "Y", "yz": "X"}
-_PLANE_CODES = {"xy": 17.0, "zx": 18.0, "yz": 19.0}
-_PLANES_BY_CODE = {code: plane for plane, code in _PLANE_CODES.items()}
-_AXIS_CODES = {"X": 1.0, "Y": 2.0, "Z": 3.0}
-_AXES_BY_CODE = {code: axis for axis, code in _AXIS_CODES.items()}
-_OTHER_AXIS = 9.0  # #TOOL AX along an axis the cycles are not modelled for (X2, U...)
-# What a cycle block means depends on these (system_variable answers them when unset)
-_STATE_VARIABLES = (ir.Var("$PLANE"), ir.Var("$TOOLAX"), ir.Var("$LATHECY"), ir.Var("$MILLCY"))
 _PLANE_AXES = {"xy": ("X", "Y"), "zx": ("Z", "X"), "yz": ("Y", "Z")}
 _TURNING_CODES = {f"{n}" for n in range(81, 89)}
 _NO_EFFECT_INSTRUCTIONS = {"HSC", "ROUNDPAR", "MSG", "WARNING", "WAIT", "FLUSH", "SYNC", "TIME", "DSBLK", "ESBLK", "SVON",
@@ -74,8 +67,9 @@ def fagor_table(machine: str = "mill") -> CodeTable:
 class FagorLowering(IsoLowering):
     """Lowers :class:`FagorLine` objects. What a cycle block means depends on the plane,
     ``#TOOL AX`` and the cycle set in force when it runs: such a block is lowered at run
-    time (:class:`ir.Deferred` over the state variables ``$PLANE``, ``$TOOLAX``,
-    ``$LATHECY``, ``$MILLCY``), so that loops, calls and forked paths each see their own."""
+    time (:class:`ir.DialectDeferred`, resolved with the plane and the typed Fagor state of
+    the path, :class:`ncverify.interpret.fagor.FagorState`), so that loops, calls and forked
+    paths each see their own."""
 
     def __init__(self, table: CodeTable):
         super().__init__(table, 0.0)
@@ -126,19 +120,17 @@ class FagorLowering(IsoLowering):
             block.notes.extend(notes)
             return block
 
-        def resolve(values: tuple) -> tuple[list, list]:
-            return self._word_ops(line, path, self._setting(values))
+        def resolve(plane: str, fagor) -> tuple[list, list]:
+            return self._word_ops(line, path, self._setting(plane, fagor))
 
-        block.ops.append(ir.Deferred(self._span(line, cycle_word.start, cycle_word.end, path), _STATE_VARIABLES, resolve))
+        block.ops.append(ir.DialectDeferred(self._span(line, cycle_word.start, cycle_word.end, path), resolve))
         return block
 
-    def _setting(self, values: tuple) -> tuple:
-        """(plane, tool axis or None, turning cycles) from the state variables' values."""
-        plane_code, axis_code, lathe_cycles, mill_cycles = values
-        plane = _PLANES_BY_CODE.get(plane_code, "xy")
-        tool_axis = None if axis_code == 0 else (_AXES_BY_CODE.get(abs(axis_code), "?"), "+" if axis_code > 0 else "-")
-        turning = mill_cycles != 1.0 if self.lathe_turning_default else lathe_cycles == 1.0
-        return plane, tool_axis, turning
+    def _setting(self, plane: str, fagor) -> tuple:
+        """(plane, tool axis or None, turning cycles) where the block runs; ``fagor`` is the
+        path's :class:`~ncverify.interpret.fagor.FagorState`."""
+        turning = not fagor.mill_cycles if self.lathe_turning_default else fagor.lathe_cycles
+        return plane, fagor.tool_axis, turning
 
     def _word_ops(self, line: FagorLine, path, setting) -> tuple[list, list]:
         words = list(line.words)
@@ -234,8 +226,7 @@ class FagorLowering(IsoLowering):
             if isinstance(op, ir.Stop) and op.kind == "end":
                 result.append(ir.CycleCancel(op.span))
             if isinstance(op, ir.SetModal) and op.group == "plane":
-                changed = ir.Binary("NE", _STATE_VARIABLES[0], _PLANE_CODES[op.value])
-                result.append(ir.Conditional(op.span, changed, [ir.CycleCancel(op.span)]))
+                result.append(ir.CycleCancel(op.span, op.value))
             elif isinstance(op, ir.Home) or isinstance(op, ir.Unsupported) and op.what.startswith("G20 "):
                 result.append(ir.CycleCancel(op.span))
             result.append(op)
@@ -322,7 +313,7 @@ class FagorLowering(IsoLowering):
         canned cycle (its moves are resolved when it runs)."""
         name, *arguments = statement.args
         written = dict(arguments)
-        block.ops.extend(modal_call.switch_on(span, name, written, self.modal_call_letters, _VACANT))
+        block.ops.append(modal_call.switch_on(span, name, written, self.modal_call_letters, _VACANT))
 
     def _error(self, block, statement, span) -> None:
         """``#ERROR ["text"]``: the program stops with its own error message (a guard exit
@@ -331,22 +322,21 @@ class FagorLowering(IsoLowering):
         block.ops.append(ir.Alarm(span, 0.0, message, "an error with #ERROR"))
 
     def _modal_call_off(self, block, statement, span) -> None:
-        block.ops.append(modal_call.switch_off(span))
+        block.ops.append(ir.ModalCallOff(span))
 
-    def _modal_subroutine_call(self, span: Span) -> ir.Conditional:
-        parameters = {_PCALL_PARAMETERS[letter]: letter for letter in self.modal_call_letters}
-        return modal_call.call_after_move(span, "macro", parameters)
+    def _modal_subroutine_call(self, span: Span) -> ir.ModalCallRun:
+        return ir.ModalCallRun(span, "macro", {_PCALL_PARAMETERS[letter]: letter for letter in self.modal_call_letters})
 
     def _tool_axis(self, block, statement, span) -> None:
         match = re.fullmatch(r"(?i)AX\s*\[\s*([A-Z])(\d*)\s*([+-]?)\s*\]", statement.text)
         block.ops.append(ir.CycleCancel(span))
-        axis = _AXIS_CODES.get(match.group(1).upper(), _OTHER_AXIS) if match is not None and not match.group(2) else _OTHER_AXIS
-        sign = -1.0 if match is not None and match.group(3) == "-" else 1.0
-        block.ops.append(ir.Assign(span, _STATE_VARIABLES[1], axis * sign))
+        axis = match.group(1).upper() if match is not None and not match.group(2) else "?"
+        direction = "-" if match is not None and match.group(3) == "-" else "+"
+        block.ops.append(ir.ToolAxis(span, axis if axis in "XYZ" else "?", direction))
 
     def _cycle_set(self, block, statement, span) -> None:
         on = statement.text.upper().startswith("ON")
-        block.ops.append(ir.Assign(span, ir.Var(f"${statement.keyword}"), 1.0 if on else 0.0))
+        block.ops.append(ir.CycleSet(span, statement.keyword == "LATHECY", on))
 
     def _return(self, block, statement, span) -> None:
         block.ops.append(ir.Return(span))
@@ -672,8 +662,6 @@ class FagorFrontend:
             return 0.0 if state.cycle is None else 1.0
         if name == _VACANT.name:
             return VACANT
-        if name == "$PLANE":
-            return _PLANE_CODES[state.modal["plane"]]
         if name.startswith("$"):
             return 0.0
         if name.startswith("V.C.") and len(name) == 5 and state.cycle is not None:

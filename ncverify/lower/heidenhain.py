@@ -9,7 +9,8 @@ operations the interpreter runs with that state: the pole ``CC`` and the moves a
 section repeat or a subprogram call (``ir.LabelCall``), the end of a program file
 (``ir.ProgramEnd``); ``CYCL DEF`` is an ``ir.CycleDefine`` the dialect's run-time module
 runs (DEF-active cycles act at once, the others wait for their call); statements no other
-dialect has (``CYCL CALL``, ``TRANS``, ``PATTERN DEF``, ...) are ``ir.DialectStatement`` operations run by
+dialect has (``CYCL CALL``, ``TRANS``, ``PATTERN DEF``, ...) are operations of their own type
+(``ir.CallActiveCycle``, ``ir.Transformation``, ``ir.PatternDef``, ...: ``ir.DialectStatement``) run by
 :mod:`ncverify.interpret.heidenhain.runtime`. Everything else is
 plain IR: ``L`` is a ``Move``, ``R0/RL/RR`` a ``CutterComp``, ``M3/M4/M5`` a ``Spindle``, ``TOOL CALL`` a tool change
 with the length compensation Klartext applies by itself, ``FN 9``-``FN 12`` conditional
@@ -103,7 +104,7 @@ class KlartextLowering:
             block.ops.append(ir.SetFeed(span, feed))
         block.ops.append(ir.Move(span, "linear", targets, None, {}, frozenset(incremental), columns))
         plane = [axis for axis in ("X", "Y") if axis in targets]
-        block.ops.append(ir.DialectStatement(span, "positioned", {"fed": 1.0, "plane": float(len(plane)), "relative": float(any(axis in incremental for axis in plane))}))
+        block.ops.append(ir.PositioningBlock(span, {"fed": 1.0, "plane": float(len(plane)), "relative": float(any(axis in incremental for axis in plane))}))
         return block
 
     def _general(self, raw: bytes, line: int, path: str | None) -> ir.Block:
@@ -172,7 +173,7 @@ class KlartextLowering:
             start = cursor.next().span
             reset = cursor.take_name("RESET") is not None
             cursor.index = len(cursor.tokens)
-            block.ops.append(ir.DialectStatement(cursor.rest_span(start), "trans", {"what": "PLANE"} if reset else {"what": "PLANE", "tilt": 1.0}))
+            block.ops.append(ir.Transformation(cursor.rest_span(start), {"what": "PLANE"} if reset else {"what": "PLANE", "tilt": 1.0}))
             return
         if word in _UNMODELLED:
             affects_position, what = _UNMODELLED[word]
@@ -371,7 +372,7 @@ class KlartextLowering:
         if words["targets"] and not calls and not machine:
             plane = [axis for axis in ("X", "Y") if axis in words["targets"]]
             relative = any(axis in words["incremental"] for axis in plane)
-            block.ops.append(ir.DialectStatement(span, "positioned", {"fed": 0.0 if kind == "rapid" else 1.0, "plane": float(len(plane)), "relative": float(relative)}))
+            block.ops.append(ir.PositioningBlock(span, {"fed": 0.0 if kind == "rapid" else 1.0, "plane": float(len(plane)), "relative": float(relative)}))
         self._m_after(block, words["m"], span)
 
     @staticmethod
@@ -397,9 +398,9 @@ class KlartextLowering:
                 block.ops.append(ir.MFunction(m_span, number))
         for number, m_span in m_words:
             if number == 99.0:
-                block.ops.append(ir.DialectStatement(m_span, "call", {"how": "M99"}))
+                block.ops.append(ir.CallActiveCycle(m_span, {"how": "M99"}))
             elif number == 89.0:
-                block.ops.append(ir.DialectStatement(m_span, "call", {"how": "M89"}))
+                block.ops.append(ir.CallActiveCycle(m_span, {"how": "M89"}))
         for number, m_span in m_words:
             if number in _M_STOP:
                 block.ops.append(ir.Stop(m_span, _M_STOP[number]))
@@ -635,12 +636,12 @@ class KlartextLowering:
     def _old_cycle(self, cursor, block, start, number, sub):
         """``CYCL DEF 7.0 DATUM SHIFT`` / ``7.1 X+60``: sub-block 0 names the cycle, the others
         carry its words (reference A §8.3-8.8)."""
-        words, spans = {"@number": float(number), "@sub": float(sub)}, {}
+        words, spans, program = {}, {}, None
         if sub == 0:
             cursor.index = len(cursor.tokens)
         elif number == 12:  # CYCL DEF 12.1 PGM name: the program the cycle call runs (reference B 6.31)
             cursor.take_name("PGM")
-            words["@program"] = _called_name(self._program_name(cursor, up_to_unit=False))
+            program = _called_name(self._program_name(cursor, up_to_unit=False))
         elif number == 14:  # CYCL DEF 14.1 CONTOUR LABEL1 /2 /3: the label numbers in order
             labels = [token for token in cursor.tokens[cursor.index:] if token.kind in ("number", "string")]
             for index, token in enumerate(labels):
@@ -665,7 +666,7 @@ class KlartextLowering:
                         spans[name] = cursor.rest_span(token.span)
                     except ReadError:
                         pass
-        block.ops.append(ir.DialectStatement(cursor.rest_span(start), "old_cycle", words, spans))
+        block.ops.append(ir.OldCycle(cursor.rest_span(start), words, spans, int(number), int(sub), program))
 
     def _cycle_call(self, cursor, block, start):
         how = cursor.take_name("PAT", "POS")
@@ -680,7 +681,7 @@ class KlartextLowering:
             params["F"] = "FMAX"
         span = cursor.rest_span(start)
         self._m_before(block, words["m"])
-        block.ops.append(ir.DialectStatement(span, "call", params))
+        block.ops.append(ir.CallActiveCycle(span, params))
         for number, m_span in words["m"]:
             if number in _M_STOP:
                 block.ops.append(ir.Stop(m_span, _M_STOP[number]))
@@ -700,7 +701,7 @@ class KlartextLowering:
                 word = cursor.expect_name()
                 params[f"{index}:{word.text}"] = cursor.value()
             index += 1
-        block.ops.append(ir.DialectStatement(cursor.rest_span(start), "pattern", params))
+        block.ops.append(ir.PatternDef(cursor.rest_span(start), params))
 
     def _global_def(self, cursor, block):
         """``GLOBAL DEF 100 GENERAL ~ Q200=+2 ~ ...``: values that cycle parameters written
@@ -711,7 +712,7 @@ class KlartextLowering:
         while not cursor.at_end() and not (cursor.is_name("Q") and cursor.peek(1) is not None and cursor.peek(1).kind == "number"):
             cursor.next()
         params = self._cycle_parameters(cursor)[0]
-        block.ops.append(ir.DialectStatement(cursor.rest_span(start), "global_def", params))
+        block.ops.append(ir.GlobalDef(cursor.rest_span(start), params))
 
     def _select_pattern(self, cursor, block):
         """``SEL PATTERN "HOLES.PNT"``: the point table CYCL CALL PAT runs on (reference A §4.5)."""
@@ -719,14 +720,14 @@ class KlartextLowering:
         cursor.expect_name("PATTERN")
         name = " ".join(token.text.strip('"') for token in cursor.tokens[cursor.index:] if token.kind != "end")
         cursor.index = len(cursor.tokens)
-        block.ops.append(ir.DialectStatement(cursor.rest_span(start), "select_pattern", {"table": name}))
+        block.ops.append(ir.SelectPattern(cursor.rest_span(start), {"table": name}))
 
     def _select_contour(self, cursor, block):
         """``SEL CONTOUR "MODEL"``: the contour of the SL / OCM cycles is described in another
         program (reference B 6.28), which is not run here: the contour is unknown."""
         start = cursor.expect_name("SEL").span
         cursor.index = len(cursor.tokens)
-        block.ops.append(ir.DialectStatement(cursor.rest_span(start), "select_contour", {}))
+        block.ops.append(ir.SelectContour(cursor.rest_span(start)))
 
     def _declare_contour(self, cursor, block):
         """``DECLARE CONTOUR QC2 = "121" DEPTH15``: a contour of a contour-definition program
@@ -738,7 +739,7 @@ class KlartextLowering:
                 params["DEPTH"] = cursor.value()
             else:
                 cursor.next()
-        block.ops.append(ir.DialectStatement(cursor.rest_span(start), "declare_contour", params))
+        block.ops.append(ir.DeclareContour(cursor.rest_span(start), params))
 
     def _contour_def(self, cursor, block, path):
         """``CONTOUR DEF P1 = LBL 1 I2 = LBL 2 V3 = LBL 3``: pockets, islands, voids (reference B §6.29)."""
@@ -757,7 +758,7 @@ class KlartextLowering:
             params[f"{kind.text}{int(number)}"] = label
             if cursor.take_name("DEPTH"):
                 params[f"D{int(number)}"] = cursor.value()
-        block.ops.append(ir.DialectStatement(cursor.rest_span(start), "contour_def", params))
+        block.ops.append(ir.ContourDef(cursor.rest_span(start), params))
 
     def _trans(self, cursor, block, path):
         start = cursor.expect_name("TRANS").span
@@ -773,7 +774,7 @@ class KlartextLowering:
                     params[word.text] = cursor.value()
                 elif what.text == "MIRROR" and word.text in _AXES:
                     params[word.text] = 1.0  # TRANS MIRROR AXIS X: the axes mirrored
-        block.ops.append(ir.DialectStatement(cursor.rest_span(start), "trans", params))
+        block.ops.append(ir.Transformation(cursor.rest_span(start), params))
 
 
 def _bare(cursor: Cursor, keywords=()) -> bool:

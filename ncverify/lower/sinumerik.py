@@ -164,7 +164,7 @@ class SinumerikLowering:
             block.ops.extend(_section_end(read.label, block.span))
         if self.uses_modal_call and modal_call.moves(block.ops) and not any(item.kind == "mcall" for item in read.items):
             positions = {str(index): str(index) for index in range(self.modal_call_arity)}
-            block.ops.append(modal_call.call_after_move(block.span, "proc", positions))
+            block.ops.append(ir.ModalCallRun(block.span, "proc", positions))
         return blocks
 
     # ------------------------------------------------------------------ statements
@@ -242,14 +242,14 @@ class SinumerikLowering:
         subprogram must not contain an MCALL of its own (L4362-4364)."""
         ops: list[ir.Op] = [ir.CycleCancel(span)]
         if self.uses_modal_call:
-            ops.append(modal_call.switch_off(span))
+            ops.append(ir.ModalCallOff(span))
             if item.name:
-                ops.insert(0, modal_call.inside_check(span, _nested_modal_call(item.name, span)))
+                ops.insert(0, ir.NoteInsideModalCall(span, _nested_modal_call(item.name, span)))
         if not item.name:
             return ops
         model = self.cycles.get(item.name)
         if model is None:
-            return ops + modal_call.switch_on(span, item.name, _positional_arguments(item), map(str, range(self.modal_call_arity)), 0.0)
+            return ops + [modal_call.switch_on(span, item.name, _positional_arguments(item), map(str, range(self.modal_call_arity)), 0.0)]
         params, spans = self._cycle_arguments(item, model, read, path)
         return ops + [ir.CycleDefine(span, f"sinumerik.{item.name}", params, spans)]
 
@@ -471,16 +471,11 @@ def _positional_arguments(item: Item) -> dict:
     return {str(index): (0.0 if arg is None else arg) for index, arg in enumerate(item.args)}
 
 
-def _nested_modal_call(name: str, span: Span):
-    """The resolver of an ``MCALL name`` block's :func:`modal_call.inside_check`: a finding
-    when it runs inside the modally called subprogram."""
-    def resolve(inside: tuple) -> tuple[list, list]:
-        if not inside[0]:
-            return [], []
-        message = (f"MCALL {name} inside the subprogram that MCALL calls modally: modal calls cannot nest "
-                   "(seed A L4362-4364); the control refuses it")
-        return [], [ir.Note("sinumerik.nested-mcall", message, span)]
-    return resolve
+def _nested_modal_call(name: str, span: Span) -> ir.Note:
+    """The finding of an ``MCALL name`` block that runs inside the modally called subprogram."""
+    message = (f"MCALL {name} inside the subprogram that MCALL calls modally: modal calls cannot nest "
+               "(seed A L4362-4364); the control refuses it")
+    return ir.Note("sinumerik.nested-mcall", message, span)
 
 
 # ---------------------------------------------------------------------- frontend
@@ -604,8 +599,7 @@ class SinumerikFrontend:
 
     def system_variable(self, name: str, state):
         """System constants are values (``$PI``); machine data and the rest are the
-        machine's, read as inputs (unknown without an ``assume``), never set to 0 freely
-        (the modal-call variables the interpreter answers itself)."""
+        machine's, read as inputs (unknown without an ``assume``), never set to 0 freely."""
         constant = _SYSTEM_CONSTANTS.get(name.upper())
         return constant if constant is not None else _REPEAT_STATE.get(name)
 

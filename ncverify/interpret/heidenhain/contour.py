@@ -174,9 +174,9 @@ class _Content:
             self.motion(op, axes, isinstance(op, ir.Lift))
 
     def statement(self, op: ir.DialectStatement) -> None:
-        if op.what == "call":
+        if isinstance(op, ir.CallActiveCycle):
             self.technology.append(("an M function", op.span))
-        elif op.what == "old_cycle" and op.params.get("@number") not in _TRANSFORMS:
+        elif isinstance(op, ir.OldCycle) and op.number not in _TRANSFORMS:
             self.forbidden.append(("a cycle definition", op.span))
 
     def motion(self, op, axes: set, straight: bool) -> None:

@@ -2,7 +2,7 @@
 
 The lowering (:mod:`ncverify.lower.heidenhain`) turns constructs that need machine state
 into IR operations (``ir.Pole``, ``ir.PoleArc``, ``ir.LabelCall``, ...) and the
-statements no other dialect has into ``ir.DialectStatement`` operations; :data:`OPERATIONS`
+statements no other dialect has into operations of their own type (``ir.DialectStatement``); :data:`OPERATIONS`
 gives the interpreter the handler of each, which drives it through the public
 :class:`~ncverify.interpret.runtime.Runtime`. Dialect state lives in the
 path's :class:`~ncverify.interpret.heidenhain.state.KlartextState` (``state.klartext``),
@@ -29,7 +29,7 @@ from .common import (cycle_feed as _cycle_feed, levels, numbers as _numbers, off
                      plane as _plane, put as _put)
 from .state import Definition
 from ..control_flow import PathEnd
-from ...trace import Arc, CycleRun, Hole
+from ...trace import Arc, CycleFacts, CycleRun, Hole
 
 _PLANES = {"xy": ("X", "Y", "Z"), "yz": ("Y", "Z", "X"), "zx": ("Z", "X", "Y")}
 # DEF-active cycles (seed L666-688): they act when defined and are never called. 12 and 238
@@ -315,9 +315,9 @@ def _define_run(runner, op: ir.CycleDefine, block):
             else:
                 runner.fault("core.unsupported-code", op.param_spans.get(name, op.span), f"{name} is PREDEF but no GLOBAL DEF before it gives the value: "
                               "the control's stored default is not known here", "unknown", "PREDEF without GLOBAL DEF")
-    _read_tolerances(params, cycle_model)
+    unreadable = _read_tolerances(params, cycle_model)
     if number in DEF_ACTIVE:
-        return _def_active(runner, op, block, number, params, cycle_model)
+        return _def_active(runner, op, block, number, params, cycle_model, CycleFacts(bad_tolerances=unreadable))
     definition = Definition(number, params, dict(op.param_spans), op.span, cycle_model)
     _put(state, cycle=definition)
     _put(state, m89=False)
@@ -327,9 +327,10 @@ def _define_run(runner, op: ir.CycleDefine, block):
     return None
 
 
-def _read_tolerances(params: dict, cycle_model: CycleModel) -> None:
+def _read_tolerances(params: dict, cycle_model: CycleModel) -> tuple:
     """A toleranced dimension written as text (``Q218="10H7"``) becomes the size the control
-    machines; texts it cannot read go to the rules as ``@bad_tolerances``."""
+    machines; the (parameter, text) the control cannot read are returned for the rules (only
+    the OCM shapes take such texts, and they act when defined)."""
     from .tolerance import toleranced
 
     unreadable = []
@@ -342,13 +343,12 @@ def _read_tolerances(params: dict, cycle_model: CycleModel) -> None:
                 del params[name]
             else:
                 params[name] = size
-    if unreadable:
-        params["@bad_tolerances"] = tuple(unreadable)
+    return tuple(unreadable)
 
 
-def _def_active(runner, op, block, number, params, cycle_model):
+def _def_active(runner, op, block, number, params, cycle_model, facts: CycleFacts):
     state = runner.state
-    runner.report_cycle(CycleRun(f"heidenhain.{number}", cycle_model, op.span, block, _numbers(params), dict(op.param_spans)))
+    runner.report_cycle(CycleRun(f"heidenhain.{number}", cycle_model, op.span, block, _numbers(params), dict(op.param_spans), facts=facts))
     if number in (220, 221):
         size = _pattern_size(number, params)
         points = _pattern_points(number, params) if size is not None and runner.within_loop_bound(size, op.span, f"cycle {number}") else None
@@ -395,8 +395,7 @@ def _old_cycle_run(runner, op, block, params):
     and 18 (their data arrive in sub-blocks and join the definition); the data blocks of a
     DEF-active one (9.1 DWELL, 32.1 T) go to the rules as they come."""
     state = runner.state
-    number = int(params.pop("@number"))
-    sub = int(params.pop("@sub"))
+    number, sub = op.number, op.sub
     cycle_model = runner.cycle_model(f"heidenhain.{number}")
     if sub == 0:
         _put(state, old_cycle=(number, {}))
@@ -407,7 +406,8 @@ def _old_cycle_run(runner, op, block, params):
     if number not in DEF_ACTIVE:
         definition = state.klartext.cycle
         if definition is not None and definition.number == number:
-            _put(state, cycle=replace(definition, params={**definition.params, **params}, spans={**definition.spans, **op.param_spans}))
+            program = op.program if op.program is not None else definition.program
+            _put(state, cycle=replace(definition, params={**definition.params, **params}, spans={**definition.spans, **op.param_spans}, program=program))
         return None
     runner.report_cycle(CycleRun(f"heidenhain.{number}", cycle_model, op.span, block, _numbers(params), dict(op.param_spans)))
     if number == 14:
@@ -472,7 +472,8 @@ def _declare_contour_run(runner, op, block, params):
     state = runner.state
     declared = state.klartext.declared_depths + ("DEPTH" in params,)
     _put(state, declared_depths=declared)
-    _observe(runner, CycleRun("heidenhain.declare-contour", UNKNOWN_CYCLE, op.span, block, {}), {"@declared_depths": declared, "@own_q": _own_reserved(state)})
+    runner.report_cycle(CycleRun("heidenhain.declare-contour", UNKNOWN_CYCLE, op.span, block, {},
+                                 facts=CycleFacts(declared_depths=declared, own_q=_own_reserved(state))))
     return None
 
 
@@ -814,7 +815,7 @@ def _sl_cycle(runner, op, block, definition):
     """SL cycles 21-24: the contour of cycle 14 / CONTOUR DEF, the data of cycle 20. The
     cycle moves to set-up clearance Q5 + Q6, machines to Q5 + Q1 and leaves the tool at the
     clearance height Q7 with its plane position unknown (posAfterContPocket, reference B
-    §4.5); the contour's region goes to the rules as ``@region``."""
+    §4.5); the contour's region goes to the rules as ``CycleFacts.region``."""
     from .contour import contours, region
     state = runner.state
     name = f"heidenhain.{definition.number}"
@@ -836,8 +837,8 @@ def _sl_cycle(runner, op, block, definition):
     if found is not None and kinds is not None:
         found = [replace(contour, pocket=pocket) for contour, pocket in zip(found, kinds)]
     area = region(found, by_start_points=use.how == "cycle 14") if found else None
-    facts = {"@region": area, "@contour": use, "@own_q": _own_reserved(state), "@last_rougher": state.klartext.sl_rougher}
-    _observe(runner, CycleRun(name, definition.model, op.span, block, params, spans), facts)
+    facts = CycleFacts(region=area, contour=use, own_q=_own_reserved(state), last_rougher=state.klartext.sl_rougher)
+    runner.report_cycle(CycleRun(name, definition.model, op.span, block, params, spans, facts=facts))
     if definition.number == 22:
         _put(state, sl_rougher=state.tool_in_spindle)  # what Q438 = -1 of cycle 24 refers to (seed L9818-9840)
     first, second, axis = _plane(state)
@@ -858,7 +859,7 @@ def _sl_cycle(runner, op, block, definition):
 def _ocm_cycle(runner, op, block, definition):
     """OCM 272-274: the data of 271 or of a standard shape 1271-1278; set-up clearance
     Q203 + Q200, floor Q203 + Q201, clearance height Q260 (absolute) at the end, the plane
-    position then unknown. The shape's number goes to the rules as ``@shape``."""
+    position then unknown. The shape's number goes to the rules as ``CycleFacts.shape``."""
     state = runner.state
     name = f"heidenhain.{definition.number}"
     data = state.klartext.ocm
@@ -870,12 +871,11 @@ def _ocm_cycle(runner, op, block, definition):
     shape, values_, spans_ = data
     params = dict(values_)
     params.update(_numbers(definition.params))
-    params["@shape"] = float(shape)
     spans = dict(spans_)
     spans.update(definition.spans)
-    facts = {"@contour": _contour_use(runner, op) if shape == 271 else None, "@boundary": state.klartext.ocm_boundary,
-             "@rougher_forgotten": state.klartext.roughed_since_contour_def is False}
-    _observe(runner, CycleRun(name, definition.model, op.span, block, params, spans), facts)
+    facts = CycleFacts(shape=float(shape), contour=_contour_use(runner, op) if shape == 271 else None, boundary=state.klartext.ocm_boundary,
+                       rougher_forgotten=state.klartext.roughed_since_contour_def is False)
+    runner.report_cycle(CycleRun(name, definition.model, op.span, block, params, spans, facts=facts))
     if definition.number == 272:
         _put(state, roughed_since_contour_def=True)
     first, second, axis = _plane(state)
@@ -911,15 +911,6 @@ def _own_reserved(state) -> tuple:
     return tuple(name for name in (f"Q{number}" for number in range(1, 21)) if name in state.global_variables)
 
 
-def _observe(runner, run: CycleRun, facts: dict) -> None:
-    """Hand a cycle run to the rules with facts that are not parameters (the contour, its
-    region), taken away again after: later rules and constraints see only numbers."""
-    run.params.update(facts)
-    runner.report_cycle(run)
-    for name in facts:
-        run.params.pop(name, None)
-
-
 def _missing_contour(runner, op, definition, seed: str) -> bool:
     """Report a contour cycle called with no cycle 14 before it (reference B H33)."""
     if runner.state.klartext.sl_labels:
@@ -945,8 +936,8 @@ def _contour_train(runner, op, block, definition):
     params = {**data, **_numbers(definition.params)}
     spans = {**data_spans, **definition.spans}
     name = f"heidenhain.{number}"
-    facts = {"@contour": _contour_use(runner, op), "@position": dict(state.position), "@own_q": _own_reserved(state) if number != 275 else ()}
-    _observe(runner, CycleRun(name, definition.model, op.span, block, params, spans), facts)
+    facts = CycleFacts(contour=_contour_use(runner, op), position=dict(state.position), own_q=_own_reserved(state) if number != 275 else ())
+    runner.report_cycle(CycleRun(name, definition.model, op.span, block, params, spans, facts=facts))
     first, second, axis = _plane(state)
     depth = params.get(_depth_name(definition))
     if depth == 0.0 and number != 276:
@@ -986,8 +977,8 @@ def _cylinder_cycle(runner, op, block, definition):
     if _missing_contour(runner, op, definition, "seed L13576-13600"):
         return None
     params = _numbers(definition.params)
-    _observe(runner, CycleRun(f"heidenhain.{number}", definition.model, op.span, block, params, dict(definition.spans)),
-             {"@contour": _contour_use(runner, op), "@spindle": state.spindle, "@own_q": _own_reserved(state)})
+    facts = CycleFacts(contour=_contour_use(runner, op), spindle=state.spindle, own_q=_own_reserved(state))
+    runner.report_cycle(CycleRun(f"heidenhain.{number}", definition.model, op.span, block, params, dict(definition.spans), facts=facts))
     if params.get("Q1") == 0.0:
         return None  # depth 0: the control skips the cycle (seed L13649-13650)
     runner.fault("core.unsupported-code", op.span, f"cycle {number} machines on the unrolled surface of the rotary axis, which is not modelled: "
@@ -1052,20 +1043,20 @@ def _pocket(runner, op, block, definition, shift, surface_offset):
 
 def _statement_run(runner, op: ir.DialectStatement, block):
     """A Klartext statement no other dialect has, with its words' values."""
-    return _STATEMENTS[op.what](runner, op, block, runner.words(op.params, op.span))
+    return _STATEMENTS[type(op)](runner, op, block, runner.words(op.params, op.span))
 
 
 _STATEMENTS = {
-    "old_cycle": _old_cycle_run, "trans": _trans_run, "pattern": _pattern_run, "call": _call_run,
-    "select_pattern": special.select_pattern_run, "positioned": _positioned_run, "contour_def": _contour_def_run,
-    "global_def": _global_def_run, "select_contour": _select_contour_run, "declare_contour": _declare_contour_run,
+    ir.OldCycle: _old_cycle_run, ir.Transformation: _trans_run, ir.PatternDef: _pattern_run, ir.CallActiveCycle: _call_run,
+    ir.SelectPattern: special.select_pattern_run, ir.PositioningBlock: _positioned_run, ir.ContourDef: _contour_def_run,
+    ir.GlobalDef: _global_def_run, ir.SelectContour: _select_contour_run, ir.DeclareContour: _declare_contour_run,
 }
 # The handlers of the operations this dialect lowers to and the shared interpreter leaves
 # to it: ``run(runner, op, block)`` with the path's :class:`~ncverify.interpret.runtime.Runtime`.
 OPERATIONS = {
     ir.Pole: _pole_run, ir.PoleArc: _arc_run, ir.TangentArc: _tangent_run, ir.PolarMove: _polar_run,
     ir.Lift: _lift_run, ir.Retract: _retract_run, ir.ToolFeed: _tool_feed_run, ir.ToolDelta: _tool_delta_run, ir.LabelCall: _label_call_run,
-    ir.MFunction: special.m_function_run, ir.CycleDefine: _define_run, ir.DialectStatement: _statement_run,
+    ir.MFunction: special.m_function_run, ir.CycleDefine: _define_run, **dict.fromkeys(_STATEMENTS, _statement_run),
 }
 _SPECIAL_FAMILIES = {"engrave": special.engrave, "face232": special.face_milling,
                      "thread_cut": special.thread_cutting, "machine_moving": special.machine_moving,

@@ -134,8 +134,8 @@ def thread_cutting(runner, op, block, definition, shift, surface_offset) -> None
 def program_call(runner, op, block, definition, shift, surface_offset):
     """Cycle 12 runs the program of 12.1 at each call, like CALL PGM: its Q parameters are
     the caller's (seed L14990-14991). At the points of a pattern the call is not followed."""
-    program = definition.params.get("@program")
-    single = isinstance(op, ir.DialectStatement) and (op.what == "positioned" or (op.what == "call" and op.params.get("how") != "PAT"))
+    program = definition.program
+    single = isinstance(op, ir.PositioningBlock) or (isinstance(op, ir.CallActiveCycle) and op.params.get("how") != "PAT")
     if not isinstance(program, str) or not single:
         runner.fault("core.unsupported-code", op.span, "cycle 12 at the points of a pattern, or without a program name, is not followed: "
                       "what the called program does is not analysed", "unknown", "cycle 12")

@@ -22,6 +22,7 @@ class Definition:
     spans: dict
     span: object
     model: CycleModel
+    program: str | None = None  # the program cycle 12 calls (12.1 PGM)
 
 
 @dataclass(frozen=True)
