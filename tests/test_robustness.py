@@ -502,6 +502,23 @@ def test_a_pattern_of_a_billion_holes_ends_at_the_loop_bound(name):
     assert name.split()[-1] in bound.message
 
 
+EMPTY_BY_ONE_SIDE = {
+    "cycle 221": HUGE_PATTERNS["cycle 221"][1].replace("Q242={n}", "Q242=+0"),
+    "PATTERN DEF": HUGE_PATTERNS["PATTERN DEF"][1].replace("NUMY3", "NUMY{n}").replace("NUMX{n}", "NUMX0"),
+    "CYCLE801": HUGE_PATTERNS["CYCLE801"][1].replace("{n},3)", "0,{n})"),
+    "G161": HUGE_PATTERNS["G161"][1].replace("K{n} J1 D3", "K0 J1 D{n}"),
+}
+
+
+@pytest.mark.parametrize("name", sorted(EMPTY_BY_ONE_SIDE))
+def test_a_pattern_with_no_columns_and_a_billion_rows_is_quick(name):
+    """None holes in all: the count passed the loop bound, and rows were once walked one by one (the fuzzer's find)."""
+    dialect = HUGE_PATTERNS[name][0]
+    started = time.monotonic()
+    check_text(EMPTY_BY_ONE_SIDE[name].format(n=999999999), settings=Settings(dialect=dialect))
+    assert time.monotonic() - started < 20
+
+
 @pytest.mark.parametrize("name", sorted(HUGE_PATTERNS))
 def test_a_pattern_is_bounded_by_the_loop_bound_and_expanded_within_it(name):
     dialect, program = HUGE_PATTERNS[name]

@@ -418,6 +418,16 @@ class CycleRunner(Runtime):
         return None
 
 
+def grid(columns: float, rows: float) -> list[tuple[int, int]]:
+    """(column, row) of every point of a pattern of ``columns`` x ``rows``, row by row; none
+    when either count is below 1 (callers bound the product by the loop bound, and a billion
+    rows of no columns must not be walked row by row)."""
+    columns, rows = int(max(columns, 0.0)), int(max(rows, 0.0))
+    if not columns or not rows:
+        return []
+    return [(column, row) for row in range(rows) for column in range(columns)]
+
+
 def _counts_unscaled(words: dict, model: CycleModel) -> dict:
     """Code and count words of a hole block (``,R1``, lathe ``K3``) as written: the Move's
     lowering cannot know the cycle and scales them like lengths (``_cycle_params`` does

@@ -12,7 +12,7 @@ import math
 
 from ..ir import cycle_code
 from .. import values
-from .cycles import DialectCycles
+from .cycles import DialectCycles, grid
 from ..trace import CycleRun
 
 _SKIP_LETTERS = "PQRSTUV"
@@ -253,11 +253,7 @@ def _along(point, direction, distance):
 def _grid_order(count_a: int, count_b: int) -> list[tuple[int, int]]:
     """Row by row, each row back the other way (zig-zag; the manual's figure is missing:
     uncertain)."""
-    nodes = []
-    for j in range(count_b):
-        row = range(count_a) if j % 2 == 0 else range(count_a - 1, -1, -1)
-        nodes.extend((i, j) for i in row)
-    return nodes
+    return [(i if j % 2 == 0 else count_a - 1 - i, j) for i, j in grid(count_a, count_b)]
 
 
 def _outline_order(count_a: int, count_b: int) -> list[tuple[int, int]]:

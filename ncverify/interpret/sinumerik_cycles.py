@@ -17,7 +17,7 @@ import math
 from typing import NamedTuple
 
 from .. import values
-from .cycles import DialectCycles
+from .cycles import DialectCycles, grid
 from ..cycle_models import CycleModel
 from ..trace import CycleRun, Hole
 from ..values import VACANT
@@ -209,8 +209,7 @@ def pattern_positions(cycle: str, params: dict):
                 for k in range(count)]
     x, y, angle, column, row, columns, rows = found
     cos, sin = math.cos(math.radians(angle)), math.sin(math.radians(angle))
-    return [(x + i * column * cos - j * row * sin, y + i * column * sin + j * row * cos)
-            for j in range(int(max(rows, 0.0))) for i in range(int(max(columns, 0.0)))]
+    return [(x + i * column * cos - j * row * sin, y + i * column * sin + j * row * cos) for i, j in grid(columns, rows)]
 
 
 def one_shot(runner, op, block, model, params):

@@ -29,6 +29,7 @@ from .common import (cycle_feed as _cycle_feed, levels, numbers as _numbers, off
                      plane as _plane, put as _put)
 from .state import Definition
 from ..control_flow import PathEnd
+from ..cycles import grid
 from ...trace import Arc, CycleFacts, CycleRun, Hole
 
 _PLANES = {"xy": ("X", "Y", "Z"), "yz": ("Y", "Z", "X"), "zx": ("Z", "X", "Y")}
@@ -536,13 +537,8 @@ def _pattern_form_points(form: dict, earlier: list):
         return [_rotated(x0, y0, index * words.get("D", 0.0), 0.0, rotation, z) for index in range(int(words.get("NUM", 0)))]
     if kind in ("PAT", "FRAME"):
         columns, rows = int(words.get("NUMX", 0)), int(words.get("NUMY", 0))
-        found = []
-        for row in range(rows):
-            for column in range(columns):
-                if kind == "FRAME" and 0 < row < rows - 1 and 0 < column < columns - 1:
-                    continue
-                found.append(_rotated(x0, y0, column * words.get("DX", 0.0), row * words.get("DY", 0.0), rotation, z))
-        return found
+        return [_rotated(x0, y0, column * words.get("DX", 0.0), row * words.get("DY", 0.0), rotation, z) for column, row in grid(columns, rows)
+                if kind == "PAT" or not (0 < row < rows - 1 and 0 < column < columns - 1)]
     if kind in ("CIRC", "PITCHCIRC"):
         count = int(words.get("NUM", 0))
         radius = words.get("D", 0.0) / 2.0
@@ -584,7 +580,7 @@ def _pattern_points(number: int, params: dict):
         return None
     x0, y0, dx, dy, columns, rows = found
     rotation = math.radians(params.get("Q224", 0.0) if type(params.get("Q224", 0.0)) is float else 0.0)
-    return [_rotated(x0, y0, column * dx, row * dy, rotation, 0.0) for row in range(int(max(rows, 0.0))) for column in range(int(max(columns, 0.0)))]
+    return [_rotated(x0, y0, column * dx, row * dy, rotation, 0.0) for column, row in grid(columns, rows)]
 
 
 def _call_run(runner, op, block, params):
