@@ -336,6 +336,10 @@ class _BlockParser:
         if not self.at("="):
             raise _Fail(f"'=' expected after {name}[...]", self.peek()[2])
         self.take()
+        if name in OPTION_PAIRS and self.at("("):
+            args, _spans = self._arguments()  # OSCTRL[Z]=(options set, options reset)
+            self.block.items.append(Item("command", start, self.last_end(), name, args=args))
+            return
         value = self.expression()
         self.block.items.append(Item("assign", start, self.last_end(), name, value, extra=indexed_var(name, indexes)))
 
@@ -783,7 +787,7 @@ def indexed_var(name: str, indexes: list):
     name (``$TC_DP6[1,1]``); a computed single index gives an indirect reference."""
     if all(type(index) is float for index in indexes):
         return ir.Var(f"{name}[{','.join(f'{index:g}' for index in indexes)}]")
-    if all(isinstance(index, ir.Var) and not index.name.startswith("$") and index.name in _AXIS_NAMES or type(index) is float
+    if all(isinstance(index, ir.Var) and type(index.name) is str and index.name in _AXIS_NAMES or type(index) is float
            for index in indexes):
         return ir.Var(f"{name}[{','.join(index.name if isinstance(index, ir.Var) else f'{index:g}' for index in indexes)}]")
     if len(indexes) == 1:
@@ -817,6 +821,9 @@ PREDEFINED_PROCEDURES = frozenset({
     "TRACYL", "TRAANG", "TRAFOOF", "DIAMCYCOF", "SPCON", "SPCOF", "WALIMON", "WALIMOF", "G25", "G26", "LIMS",
     "ACTBLOCNO", "STARTFIFO", "ROUNDUP", "SBLOF", "DISPLOF",
 })
+# Settings of an axis written as a pair in parentheses, the options to set and those to
+# reset (oscillation control): read, with no modelled effect.
+OPTION_PAIRS = frozenset({"OSCTRL"})
 # Predefined procedures that move axes or the spindle in ways the checker does not model.
 MOTION_PROCEDURES = {
     "SPOS": "spindle positioning", "SPOSA": "spindle positioning", "POS": "positioning axis motion",
