@@ -35,7 +35,7 @@ class HoleLevels(Rule):
         side = "" if hole.up > 0 else f" (the tool comes from {axis}-, so above means lower {axis})"
         report("core.cycle-depth-sign", span, f"{code}: hole bottom {axis}{show(bottom)} is above the R point {show(r_point)}{side}: "
                "the tool would feed upward out of the part and rapid back down", self.checker.judge(hazard(above, bottom, r_point), state), state)
-        if initial is not None:
+        if initial is not None and state.modal.get("cycle_return") != "r_point":  # under G99 the tool goes from hole to hole at R
             report("core.cycle-r-above-initial", hole.param_spans.get("R", hole.span),
                    f"{code}: R point {show(r_point)} is above the initial level {show(initial)}{side}: the tool moves between holes below the R plane",
                    self.checker.judge(hazard(above, r_point, initial), state), state)
@@ -56,6 +56,8 @@ class PeckDepth(Rule):
 class DwellFraction(Rule):
     def hole(self, hole, state):
         dwell = hole.params.get("P")
+        if "P" not in hole.model.params:
+            return  # a cycle that does not dwell at the bottom (G81): there is no dwell to shorten
         if type(dwell) is float and dwell != int(dwell):
             self.report("core.dwell-fraction", hole.param_spans.get("P", hole.span), f"{cycle_code(hole.cycle)}: dwell P{show(dwell)} has a fraction, which the cycle ignores: it dwells P{int(dwell)}")
 

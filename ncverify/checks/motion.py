@@ -86,8 +86,8 @@ class SpindleOffCutting(Rule):
     def segment(self, segment, state):
         if segment.kind not in _CUTTING or state.spindle != "off" or segment.role == "contour":
             return
-        if self._in_the_air(segment.start.get("Z"), segment.end.get("Z")):
-            return
+        if self._in_the_air(segment.start.get("Z"), segment.end.get("Z")) or state.plane_axes[2] in state.parked:
+            return  # above the stock, or with the tool axis still at its reference height: nothing is cut
         self._report_once(segment.span, state)
 
     def motion_run(self, run, state):
