@@ -3,6 +3,7 @@ from __future__ import annotations
 
 from ..ir import cycle_code
 from ..check import Rule, hazard, rule, show
+from ..diagnostics import Status
 from . import modelled
 
 
@@ -35,10 +36,13 @@ class HoleLevels(Rule):
         side = "" if hole.up > 0 else f" (the tool comes from {axis}-, so above means lower {axis})"
         report("core.cycle-depth-sign", span, f"{code}: hole bottom {axis}{show(bottom)} is above the R point {show(r_point)}{side}: "
                "the tool would feed upward out of the part and rapid back down", self.checker.judge(hazard(above, bottom, r_point), state), state)
-        if initial is not None and state.modal.get("cycle_return") != "r_point":  # under G99 the tool goes from hole to hole at R
+        if initial is not None:
+            verdict = self.checker.judge(hazard(above, r_point, initial), state)
+            if state.modal.get("cycle_return") == "r_point" and verdict is not None and verdict.status is not Status.PROVED:
+                return  # under G99 the tool goes from hole to hole at R, whatever the initial level
             report("core.cycle-r-above-initial", hole.param_spans.get("R", hole.span),
                    f"{code}: R point {show(r_point)} is above the initial level {show(initial)}{side}: the tool moves between holes below the R plane",
-                   self.checker.judge(hazard(above, r_point, initial), state), state)
+                   verdict, state)
 
 
 @rule("core.peck-depth")

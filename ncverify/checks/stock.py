@@ -374,6 +374,8 @@ class ClearanceBelowStock(_NeedsStock):
         x, y = position.get("X"), position.get("Y")
         if verdict is None or verdict.status is not Status.VIOLATED or not all(type(value) is float for value in (x, y, level)):
             return verdict
+        if self.checker.material.stayed_above(level, state) is not None:
+            return verdict  # cuts placed by free parameters: their assumed ranges, not the grid, say where they went
         left = self.checker.material.rapid((x, y, level), (x, y, level), state)
         if left is None or left.outcome == "hits":
             return verdict
