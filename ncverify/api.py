@@ -136,7 +136,7 @@ def check_source(source: ProgramSource, settings: Settings, project: Context | N
         _confirm_witnesses(source, settings, detection, result, project)
         _inputs_are_not_mistakes(result, _assumed_names(source, settings, detection, project))
     if detection.dialect == "iso" and settings.profile is None and not profile_evidence(source.head(), detection.machine):
-        _codes_of_an_assumed_profile(result)
+        _findings_of_an_assumed_profile(result)
     _one_finding_per_unknown_code(result)
     return result
 
@@ -161,11 +161,17 @@ def _one_finding_per_unknown_code(result: FileResult) -> None:
     result.diagnostics = kept
 
 
-def _codes_of_an_assumed_profile(result: FileResult) -> None:
+# Findings whose truth is the profile's: a code the control lacks, and a cycle dwell written
+# with a fraction (the E60 drops it; a Haas reads P in seconds, fraction and all).
+_PROFILE_DEPENDENT = frozenset({"core.unknown-code", "core.dwell-fraction"})
+
+
+def _findings_of_an_assumed_profile(result: FileResult) -> None:
     """Nothing in the text named the control, so the E60 profile is an assumption: a code it
-    lacks (G91.1, G15 on a Fanuc) says more about the assumption than about the program."""
+    lacks (G91.1, G15 on a Fanuc), or a dwell whose fraction it drops, says more about the
+    assumption than about the program."""
     for diagnostic in result.diagnostics:
-        if diagnostic.rule == "core.unknown-code" and diagnostic.status is Status.VIOLATED:
+        if diagnostic.rule in _PROFILE_DEPENDENT and diagnostic.status is Status.VIOLATED:
             diagnostic.status = Status.UNKNOWN
             diagnostic.reason = f"the {result.profile} profile was assumed, nothing in the program names its control; give --profile"
 

@@ -56,7 +56,8 @@ _SIGNATURES: dict[str, list[tuple[str, float]]] = {
 
 _NOT_A_PROGRAM = [
     (r"(?m)^\s*#\s*(?:include|define|ifndef|ifdef|endif|pragma)\b", "C or C++ source"),
-    (r"(?m)^\s*(?:def|class|import|from)\s+\w+.*:?\s*$", "Python source"),
+    # a Python definition ends with a colon: SINUMERIK's own DEF and PROC lines, in lower case too, do not
+    (r"(?m)^\s*(?:def|class)\s+\w+\s*(?:\(.*\))?\s*(?:->.*)?:\s*(?:#.*)?$|^\s*import\s+[\w.]+(?:\s+as\s+\w+)?\s*$|^\s*from\s+[\w.]+\s+import\s", "Python source"),
     (r"(?m)^\s*(?:public|private|static)?\s*(?:int|void|char|struct|typedef)\s+\w+", "C or C++ source"),
     (r"(?s)^\s*[{\[]\s*\"", "JSON data"),
     (r"(?s)^\s*<\?xml|^\s*<html", "XML or HTML"),

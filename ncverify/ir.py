@@ -175,7 +175,7 @@ class Move(Op):
     words: dict[str, Expr] = field(default_factory=dict)
     incremental: frozenset[str] = frozenset()  # axes written incrementally (U/W forms, IX..)
     word_columns: dict[str, tuple[int, int]] = field(default_factory=dict)  # 0-based, in span's line
-    absolute: frozenset[str] = frozenset()  # axes written absolutely whatever the modal mode (SINUMERIK X=AC(..))
+    absolute: frozenset[str] = frozenset()  # axes, and arc centre letters, written absolutely whatever the modal mode (SINUMERIK X=AC(..), I=AC(..))
 
     def word_span(self, letter: str) -> Span:
         """Where a word of this move is written (built on demand: moves are many)."""

@@ -67,3 +67,35 @@ def test_an_iso_program_with_plain_cycles_stays_iso():
         M30
         """)
     assert detect(text, text.encode()).dialect == "iso"
+
+
+LOWER_CASE_SINUMERIK = """\
+proc SPACING(int holes, real pitch)
+def int done
+def string[40] note
+if (holes<1)
+  note="no holes asked for"
+  setal(61002)
+else
+  done=holes*pitch
+endif
+ret
+"""
+
+PYTHON = """\
+import math
+from pathlib import Path
+
+def spacing(holes, pitch):
+    return holes * pitch
+"""
+
+
+def test_a_sinumerik_subprogram_in_lower_case_is_not_taken_for_python():
+    """DEF and PROC are SINUMERIK keywords in either case; a Python definition ends with a colon."""
+    assert detect(LOWER_CASE_SINUMERIK, suffix=".spf").dialect == "sinumerik"
+
+
+def test_python_source_is_still_not_a_program():
+    detection = detect(PYTHON, suffix=".spf")
+    assert detection.dialect is None and "Python" in detection.reason

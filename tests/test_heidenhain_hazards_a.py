@@ -524,6 +524,14 @@ def test_h35_transformations_with_a_tilt_are_reset_in_reverse_order(defined, res
     assert lines(check(text), "heidenhain.transform-reset-order") == ([first_reset] if reported else [])
 
 
+@pytest.mark.parametrize("resets", [SHIFT_RESET + "PLANE RESET STAY\n", "PLANE RESET STAY\n" + SHIFT_RESET])
+def test_h35_the_cycle_19_order_is_not_asked_of_the_plane_function(resets):
+    """The manual's reverse order is written for cycle 19 (seed L8161-8178); a CAM post that
+    resets the shift before PLANE RESET is not reported."""
+    text = program(f"{SHIFT}PLANE SPATIAL SPA+0 SPB+30 SPC+0 STAY\nL  Z+100 R0 FMAX\n{resets}")
+    assert not lines(check(text), "heidenhain.transform-reset-order")
+
+
 # --------------------------------------------------------------------------- H46 / B H35 pattern compatibility
 
 

@@ -224,6 +224,14 @@ def test_g30_reference_point_number(words, reported):
     assert bool(found(result, "core.reference-point-number")) is reported
 
 
+def test_g30_without_p_is_a_remark_not_a_warning():
+    """No P is the documented default (the 2nd reference point), the usual tool-change
+    retract: said at severity info, while a P that picks no point stays a warning."""
+    severities = {words: [d.severity.value for d in check(f"G91 G30 {words} Z0.\nM30\n").diagnostics
+                          if d.rule == "core.reference-point-number" and d.status is Status.VIOLATED] for words in ("", "P5")}
+    assert severities == {"": ["info"], "P5": ["warning"]}
+
+
 def test_g30_p5_names_the_point_that_does_not_exist():
     result = check("G91 G30 P5 Z0.\nM30\n")
     [(_, message)] = found(result, "core.reference-point-number")

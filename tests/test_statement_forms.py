@@ -34,6 +34,11 @@ FORMS = {  # extension -> programs, each using one form
   "N10G0X0Y0\nN20G1X10F100\nM30\n", "R1 = SIN (30)\nM30\n", "R1 = 5\nTRANS X=R1 Y=-R1\nTRANS\nM30\n",
   "$P_UIFR[1,X,TR]=10\nM30\n", "DEF AXIS AX1=X\nG0 AX[AX1]=10\nM30\n", "G0 AX[AXNAME(\"X\")]=10\nM30\n", "SETAL(61000)\nM30\n",
   "R1=TRUNC(2.5)+ROUND(1.5)+ABS(-1)\nM30\n", "IF (R1==1) AND (R2<>2) GOTOF L1\nL1: M30\n", "STOPRE\nM30\n",
+  "proc LIMIT(int count, real size)\ndef int k\nk=count*2\nif (k>10) and (size<0)\nsetal(61001)\nendif\nret\n",
+  "def real step\nstep=0.5\nwhile step<4\nstep=step*2\nendwhile\nm30\n",
+  "OSP1[Z]=10 OSP2[Z]=40\nOSCTRL[Z]=(1+2,16+32)\nM30\n",
+  "DEF INT SLOT[4], ORDER[4], K\nK=1\nORDER[K]=2\nR1=SLOT[ORDER[K]]+SLOT[ORDER[K]+1]\nM30\n",
+  "R3 = ABS ( $AA_IM [ X ] ) + $P_UIFR [ 1 , Y , TR ]\nM30\n", "$P_UIFR[2]=CTRANS(X,-12.5,Y,40):CROT(Z,30)\nG55\nM30\n", "N10DEF INT K=2\nN20GOTOF DONE\nN30 K=3\nDONE:\nN40M30\n", "PROC SUB9\nN10DEF REAL W\nN20W=1\nN30IF W>0 GOTOF SKIP\nSKIP:\nN40RET\n",
  ],
  "h": [
   "0 BEGIN PGM T MM\n1 FN 9: IF +Q1 EQU +0 GOTO LBL 1\n2 LBL 1\n3 LBL 0\n4 END PGM T MM\n",

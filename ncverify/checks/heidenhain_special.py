@@ -10,6 +10,7 @@ from shapely.geometry import Point, box
 
 from .. import ir, values
 from ..check import Rule, hazard, rule, show
+from ..diagnostics import Status
 from .heidenhain import CycleRule, cycle_number, spindle_tool
 
 _STUD_ROOM = 2.0  # mm beside the stud blank the approach keeps (seed L6429-6456, L6691-6715)
@@ -423,6 +424,11 @@ class ThreadDeeperThanHole(Rule):
         if needed >= drilled - 1e-9 or not self.first_time(state, ("thread-deeper", hole.span, point)):
             return
         overrun = f" and up to half the pitch more for its compensating move, to {axis}{needed:g}," if _THREAD_OVERRUN[number] else ""
-        self.report("heidenhain.thread-deeper-than-hole", hole.param_spans.get("Q201", hole.span),
-                    f"cycle {number} threads down to {axis}{hole.bottom:g}{overrun} at {first}{point[0]:g} {second}{point[1]:g}, but the hole drilled there "
-                    f"before ends at {axis}{drilled:g}: the tool runs into the bottom of the hole and breaks (reference A H6, H7)")
+        message = (f"cycle {number} threads down to {axis}{hole.bottom:g}{overrun} at {first}{point[0]:g} {second}{point[1]:g}, but the hole drilled there "
+                   f"before ends at {axis}{drilled:g}: the tool runs into the bottom of the hole and breaks (reference A H6, H7)")
+        stock = self.checker.context.stock
+        if axis == "Z" and stock is not None and drilled < stock.z_range[0]:  # drilled through the blank: no bottom to run into
+            self.report("heidenhain.thread-deeper-than-hole", hole.param_spans.get("Q201", hole.span), message, Status.UNKNOWN,
+                        "the hole drilled there goes through the blank, so it has no bottom; what lies under the part is the set-up's, not in the program")
+            return
+        self.report("heidenhain.thread-deeper-than-hole", hole.param_spans.get("Q201", hole.span), message)

@@ -96,16 +96,24 @@ class RotationCancelsCompensation(Rule):
 # The order the manual activates combined transformations in, and resets them the other way
 # round (seed L8166-8178): datum shift, tilted working plane, rotation.
 _CHAIN = {7: "the datum shift (cycle 7)", 19: "the tilted working plane (cycle 19)", 10: "the rotation (cycle 10)"}
+_TILTED_BY_PLANE = ("heidenhain", "tilted-by-plane")  # whether the tilt in force came from the PLANE function
 
 
 @rule("heidenhain.transform-reset-order")
 class TransformResetOrder(Rule):
     """H35: with a tilted working plane, the transformations are reset in the reverse order
     of their definition: rotation, then the tilt, then the datum shift (seed L8166-8178).
-    The activation order is the ``transforms`` change the frame lowering sends."""
+    The activation order is the ``transforms`` change the frame lowering sends. The manual
+    gives that order for cycle 19; a plane tilted with the PLANE function is not held to it
+    (a CAM post resets the shift before PLANE RESET as a matter of course)."""
 
     def change(self, change, state):
         if change.what != "transforms":
+            return
+        tilted_by_plane = state.rule_state.get(_TILTED_BY_PLANE, False)
+        tilt = dict(state.klartext.transforms).get(19)
+        state.rule_state[_TILTED_BY_PLANE] = tilt is not None and "tilt" in dict(tilt)  # PLANE lowers to {"tilt": 1}, cycle 19 to its angles
+        if tilted_by_plane:
             return
         before, after = change.old, change.new
         for reset in (number for number in before if number in _CHAIN and number not in after):

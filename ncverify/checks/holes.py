@@ -3,6 +3,7 @@ from __future__ import annotations
 
 from ..ir import cycle_code
 from ..check import Rule, hazard, rule, show
+from ..diagnostics import Status
 from . import modelled
 
 
@@ -36,9 +37,12 @@ class HoleLevels(Rule):
         report("core.cycle-depth-sign", span, f"{code}: hole bottom {axis}{show(bottom)} is above the R point {show(r_point)}{side}: "
                "the tool would feed upward out of the part and rapid back down", self.checker.judge(hazard(above, bottom, r_point), state), state)
         if initial is not None:
+            verdict = self.checker.judge(hazard(above, r_point, initial), state)
+            if state.modal.get("cycle_return") == "r_point" and verdict is not None and verdict.status is not Status.PROVED:
+                return  # under G99 the tool goes from hole to hole at R, whatever the initial level
             report("core.cycle-r-above-initial", hole.param_spans.get("R", hole.span),
                    f"{code}: R point {show(r_point)} is above the initial level {show(initial)}{side}: the tool moves between holes below the R plane",
-                   self.checker.judge(hazard(above, r_point, initial), state), state)
+                   verdict, state)
 
 
 @rule("core.peck-depth")
@@ -56,6 +60,8 @@ class PeckDepth(Rule):
 class DwellFraction(Rule):
     def hole(self, hole, state):
         dwell = hole.params.get("P")
+        if "P" not in hole.model.params:
+            return  # a cycle that does not dwell at the bottom (G81): there is no dwell to shorten
         if type(dwell) is float and dwell != int(dwell):
             self.report("core.dwell-fraction", hole.param_spans.get("P", hole.span), f"{cycle_code(hole.cycle)}: dwell P{show(dwell)} has a fraction, which the cycle ignores: it dwells P{int(dwell)}")
 

@@ -10,7 +10,7 @@ import numpy
 
 from .. import ir, values
 from ..check import Rule, hazard, rule, show
-from ..diagnostics import Status
+from ..diagnostics import Severity, Status
 from . import modelled
 
 _CUTTING = frozenset({"feed", "arc", "thread"})
@@ -233,9 +233,10 @@ class ReferencePointNumber(Rule):
         if change.what != "reference_return" or change.new != "secondary":
             return
         number = (change.words or {}).get("P")
-        if number is None:
+        if number is None:  # the documented default, the usual tool-change position (G91 G30 Z0): a remark, not a fault
             self.report("core.reference-point-number", change.span,
-                        "G30 without P returns to the 2nd reference point; write G30 P2, P3 or P4 to say which one is meant")
+                        "G30 without P returns to the 2nd reference point; write G30 P2, P3 or P4 to say which one is meant",
+                        severity=Severity.INFO)
             return
         outside = values.logical("AND", values.logical("AND", hazard("!=", number, 2.0), hazard("!=", number, 3.0)), hazard("!=", number, 4.0))
         if number == 1.0:

@@ -6,7 +6,7 @@ import math
 import numpy
 import z3
 
-from .. import values
+from .. import ir, values
 from ..values import Condition
 from ..diagnostics import Status
 from ..check import Rule, hazard, rule, show
@@ -114,7 +114,7 @@ class SpindleOffCutting(Rule):
             if type(end_z) is float and any(segment.start.get(axis) is not segment.end.get(axis) for axis in ("X", "Y")):
                 self._cut_at(end_z)
             return
-        if state.spindle == "off":
+        if state.spindle == "off" and state.plane_axes[2] not in state.parked:  # parked: the tool axis still at its reference height
             self._hold(segment.span, start_z, end_z, state)
 
     def motion_run(self, run, state):
@@ -220,8 +220,7 @@ class CompensationOnArc(Rule):
         pending = state.rule_state.get("comp-transition")
         if pending is None or segment.role != "programmed":
             return
-        first, second, _normal = state.plane_axes
-        if not any(segment.start.get(axis) is not segment.end.get(axis) for axis in (first, second)) and segment.kind != "arc":
+        if not _moves_in_plane(segment, state.plane_axes[:2]) and segment.kind != "arc":
             return
         del state.rule_state["comp-transition"]
         if segment.kind == "arc":
@@ -229,6 +228,20 @@ class CompensationOnArc(Rule):
             what = "cancelled (G40)" if side == "off" else f"switched on ({'G41' if side == 'left' else 'G42' if side == 'right' else 'G46'})"
             self.report("core.comp-on-arc", segment.span, f"radius compensation is {what} at line {span.line} and the first move after it is an arc: "
                         "the control needs a straight G00/G01 move to build up or remove the offset (alarm)")
+
+
+def _moves_in_plane(segment, axes) -> bool:
+    """Whether a straight move goes somewhere in the plane. Where a position is not known (in
+    a tilted working plane, after a reference return) the block's own words decide: one that
+    writes a plane axis is the straight move that builds up or removes the offset."""
+    for axis in axes:
+        start, end = segment.start.get(axis), segment.end.get(axis)
+        if start is None and end is None:
+            if any(isinstance(op, ir.Move) and axis in op.targets for op in segment.block.ops):
+                return True
+        elif start is not end:
+            return True
+    return False
 
 
 @rule("core.comp-active-at-end")

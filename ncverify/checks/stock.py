@@ -360,10 +360,28 @@ class ClearanceBelowStock(_NeedsStock):
                 continue  # each hole is judged until one shows the violation: holes differ in position
             inside = hazard("<", level, face - geometry.EPSILON) if hole.up > 0 else hazard(">", level, face + geometry.EPSILON)
             verdict = self.checker.judge(both(over_stock, inside), state)
+            if axis == "Z" and hole.up > 0:
+                verdict = self._against_cuts(verdict, hole.position, level, state)
             if verdict is not None and verdict.status is Status.VIOLATED:
                 state.rule_state[key] = True
             self.checker.report_verdict(self.rule_id, span, f"{code}: the {name} {axis}{show(level)} is {where}: "
                                         f"the cycle rapids into the material there", verdict, state)
+
+    def _against_cuts(self, verdict, position: dict, level, state):
+        """A level below the blank's top may lie in a pocket this program has already cut
+        (drilling the floor of a milled slot): the cut stock decides where it knows, and
+        where it cannot tell the level is ``unknown``, not a rapid into the material."""
+        x, y = position.get("X"), position.get("Y")
+        if verdict is None or verdict.status is not Status.VIOLATED or not all(type(value) is float for value in (x, y, level)):
+            return verdict
+        if self.checker.material.stayed_above(level, state) is not None:
+            return verdict  # cuts placed by free parameters: their assumed ranges, not the grid, say where they went
+        left = self.checker.material.rapid((x, y, level), (x, y, level), state)
+        if left is None or left.outcome == "hits":
+            return verdict
+        if left.outcome == "clear":
+            return None
+        return Verdict(Status.UNKNOWN, reason="earlier cuts of this program may have removed the material at that level")
 
     def _face_not_modelled(self, hole, axis: str, stock, state) -> None:
         """Once per cycle definition: the levels were not judged, which is unknown, not safe."""

@@ -56,10 +56,11 @@ class NoLengthOffset(Rule):
             state.rule_state.pop("no-length-offset", None)
 
     def segment(self, segment, state):
-        if segment.kind != "rapid" and self._applies(state):
-            self._report(segment.span, state)
+        if segment.kind != "rapid" and self._applies(state) and state.plane_axes[2] not in state.parked:
+            self._report(segment.span, state)  # a feed move with the tool axis still at its reference height cuts nothing
 
     def motion_run(self, run, state):
+        """Runs never start with an axis parked (the interpreter runs those block by block)."""
         cutting = numpy.flatnonzero(run.kinds == 1)
         if len(cutting) and self._applies(state):
             self._report(run.span(int(cutting[0])), state)

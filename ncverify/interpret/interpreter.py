@@ -922,11 +922,19 @@ class Interpreter(ControlFlow):
     def _emit(self, kind: str, start: dict, span, block, role: str = "programmed", cycle: str | None = None, arc: Arc | None = None) -> None:
         self.observer.segment(Segment(kind, start, self.state.position, span, block, role, cycle, arc), self.state)
 
+    def _x_scale(self) -> float:
+        """X positions to radial distances: halved where X is a diameter, by the mode in force
+        (SINUMERIK DIAMON, DIAM90 and DIAMOF, LinuxCNC G7 and G8) or, with none, on a lathe."""
+        mode = self.state.modal.get("diameter")
+        if mode is None:
+            return 0.5 if self.machine == "lathe" else 1.0
+        return 1.0 if mode == "radius" else 0.5
+
     def _arc(self, op: ir.Move, kind: str, start: dict) -> Arc:
         state = self.state
         first, second, normal = state.plane_axes
-        scale_first = 0.5 if self.machine == "lathe" and first == "X" else 1.0
-        scale_second = 0.5 if self.machine == "lathe" and second == "X" else 1.0
+        scale_first = self._x_scale() if first == "X" else 1.0
+        scale_second = self._x_scale() if second == "X" else 1.0
         s1, s2 = start.get(first), start.get(second)
         e1, e2 = state.position.get(first), state.position.get(second)
         direction = _ARC_KINDS[kind]
@@ -948,8 +956,9 @@ class Interpreter(ControlFlow):
         offset2 = 0.0 if offset2 is VACANT else offset2
         if state.modal.get("arc_distance") == "absolute":
             c1, c2 = offset1, offset2
-        else:
-            c1, c2 = values.add(s1, offset1), values.add(s2, offset2)
+        else:  # SINUMERIK I=AC(..) gives one coordinate of the centre itself, read like the axis's own positions
+            c1 = _scaled(offset1, scale_first) if centre_letters[first] in op.absolute else values.add(s1, offset1)
+            c2 = _scaled(offset2, scale_second) if centre_letters[second] in op.absolute else values.add(s2, offset2)
         start_radius = values.distance(s1, s2, c1, c2)
         end_radius = values.distance(e1, e2, c1, c2)
         return Arc(direction, (first, second, normal), (c1, c2), start_radius, end_radius,

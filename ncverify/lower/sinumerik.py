@@ -324,6 +324,8 @@ class SinumerikLowering:
                     absolute.add(name)
             elif name in _ARC_WORDS:
                 arc[name] = value
+                if item.mode == "AC":  # I=AC(..): the centre itself, not its distance from the start
+                    absolute.add(name)
             elif name == "CR":
                 arc["R"] = value
             elif name == "F":

@@ -101,6 +101,7 @@ _COMPARE = {"==": "EQ", "<>": "NE", "<": "LT", ">": "GT", "<=": "LE", ">=": "GE"
 _HEADER = re.compile(r"^\s*%_N_(\w+?)_(MPF|SPF|DEF|COM|CYP)\b", re.IGNORECASE)
 _LABEL = re.compile(r"([A-Za-z_][A-Za-z0-9_]*)\s*:(?!=)")
 _NUMBER_WORD = re.compile(r"[Nn](\d+)(?![\w.])")
+_NUMBER_AGAINST_NAME = re.compile(r"[Nn](\d+)(?=([A-Za-z_][A-Za-z0-9_]*))")
 _SKIP = re.compile(r"/\d?")
 # Functions the interpreter evaluates, under their SINUMERIK names.
 FUNCTIONS = {"SIN": "SIN", "COS": "COS", "TAN": "TAN", "ASIN": "ASIN", "ACOS": "ACOS", "SQRT": "SQRT", "ABS": "ABS",
@@ -222,7 +223,7 @@ class _BlockParser:
             position = skip.end()
         while position < len(code) and code[position] == " ":
             position += 1
-        number = _NUMBER_WORD.match(code, position)
+        number = _NUMBER_WORD.match(code, position) or self._number_against_keyword(position)
         if number:
             block.number = int(number.group(1))
             position = number.end()
@@ -234,6 +235,17 @@ class _BlockParser:
             position = label.end()
         while self.index < len(self.tokens) and self.tokens[self.index][2] < position:
             self.index += 1
+
+    def _number_against_keyword(self, position: int):
+        """``N10DEF INT I``, ``N20GOTOF END``: the block number written against a keyword.
+        The name token the two make is cut at the keyword, which is then read as usual."""
+        match = _NUMBER_AGAINST_NAME.match(self.code, position)
+        if match is None or match.group(2).upper() not in _BLOCK_KEYWORDS | DEF_TYPES:
+            return None
+        for index, (kind, text, start, end) in enumerate(self.tokens):
+            if start < match.end() < end:
+                self.tokens[index] = (kind, self.code[match.end():end], match.end(), end)
+        return match
 
     def _item(self) -> None:
         kind, text, start, end = self.peek()
@@ -336,6 +348,10 @@ class _BlockParser:
         if not self.at("="):
             raise _Fail(f"'=' expected after {name}[...]", self.peek()[2])
         self.take()
+        if name in OPTION_PAIRS and self.at("("):
+            args, _spans = self._arguments()  # OSCTRL[Z]=(options set, options reset)
+            self.block.items.append(Item("command", start, self.last_end(), name, args=args))
+            return
         value = self.expression()
         self.block.items.append(Item("assign", start, self.last_end(), name, value, extra=indexed_var(name, indexes)))
 
@@ -681,7 +697,8 @@ class _BlockParser:
     def expression(self):
         return self._binary_level(0)
 
-    _LEVELS = (("OR",), ("XOR",), ("AND",), ("B_OR", "B_XOR", "B_AND"), ("==", "<>", "<", ">", "<=", ">="), ("<<",),
+    # ':' chains frames (CTRANS(..):CROT(..)) and binds loosest
+    _LEVELS = ((":",), ("OR",), ("XOR",), ("AND",), ("B_OR", "B_XOR", "B_AND"), ("==", "<>", "<", ">", "<=", ">="), ("<<",),
                ("+", "-"), ("*", "/", "DIV", "MOD"))
 
     def _binary_level(self, level: int):
@@ -741,7 +758,7 @@ class _BlockParser:
             if self.at("(") and (self.peek()[2] == end or upper in PREDEFINED_FUNCTIONS):
                 args, _ = self._arguments()
                 return _function(upper, args, start)
-            if self.at("[") and self.peek()[2] == end:
+            if self.at("["):  # in an expression a bracket after a name is its index, blanks or not
                 return indexed_var(upper, self._index_list())
             return ir.Var(upper)
         if kind == "end":
@@ -763,7 +780,7 @@ def _combine(operator: str, left, right):
         return ir.Binary(operator, left, right)
     if operator == "DIV":
         return ir.Func("FIX", (ir.Binary("/", left, right),))
-    return ir.Var(f"({operator})")  # string concatenation, bit operations: an unknown value
+    return ir.Var(f"({operator})")  # string concatenation, bit operations, a frame chain: an unknown value
 
 
 def _function(name: str, args: list, start: int):
@@ -783,7 +800,7 @@ def indexed_var(name: str, indexes: list):
     name (``$TC_DP6[1,1]``); a computed single index gives an indirect reference."""
     if all(type(index) is float for index in indexes):
         return ir.Var(f"{name}[{','.join(f'{index:g}' for index in indexes)}]")
-    if all(isinstance(index, ir.Var) and not index.name.startswith("$") and index.name in _AXIS_NAMES or type(index) is float
+    if all(isinstance(index, ir.Var) and type(index.name) is str and index.name in _AXIS_NAMES or type(index) is float
            for index in indexes):
         return ir.Var(f"{name}[{','.join(index.name if isinstance(index, ir.Var) else f'{index:g}' for index in indexes)}]")
     if len(indexes) == 1:
@@ -817,6 +834,9 @@ PREDEFINED_PROCEDURES = frozenset({
     "TRACYL", "TRAANG", "TRAFOOF", "DIAMCYCOF", "SPCON", "SPCOF", "WALIMON", "WALIMOF", "G25", "G26", "LIMS",
     "ACTBLOCNO", "STARTFIFO", "ROUNDUP", "SBLOF", "DISPLOF",
 })
+# Settings of an axis written as a pair in parentheses, the options to set and those to
+# reset (oscillation control): read, with no modelled effect.
+OPTION_PAIRS = frozenset({"OSCTRL"})
 # Predefined procedures that move axes or the spindle in ways the checker does not model.
 MOTION_PROCEDURES = {
     "SPOS": "spindle positioning", "SPOSA": "spindle positioning", "POS": "positioning axis motion",
