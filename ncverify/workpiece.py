@@ -144,6 +144,7 @@ class Workpiece:
         a, b, z_low, z_high, slack = self._split_steep(*_merge_runs(starts, ends, self.resolution / 4.0, self.resolution))
         z_low, z_high, slack = z_low - stray, z_high + stray, slack + stray
         may_cut = numpy.zeros(len(a), bool)
+        first_cell, last_cell = self.nx * self.ny, -1
         for owner, (low, high, stray), cells, distance in self._cells_near(a, b, z_low, z_high, slack, cutter.radius + self.half_diagonal):
             flat = cells[0] * self.nx + cells[1]
             outer = numpy.maximum(distance - self.half_diagonal - stray, 0.0)  # nearest the cell's points can be to the true path
@@ -154,7 +155,9 @@ class Workpiece:
             covered = inner <= cutter.radius
             _sink(self.upper, flat[covered], high[covered] + cutter.lift(inner[covered]), up=True)
             _sink(self.lower, flat[touched], surface_low[touched], up=False)
-        self._clear_below_bottom()
+            if touched.any():
+                first_cell, last_cell = min(first_cell, int(flat[touched].min())), max(last_cell, int(flat[touched].max()))
+        self._clear_below_bottom(first_cell, last_cell + 1)
         return float(numpy.linalg.norm(b - a, axis=1)[~may_cut].sum())
 
     def cut_anywhere(self) -> None:
@@ -169,9 +172,14 @@ class Workpiece:
         twin.upper, twin.lower = self.upper.copy(), self.lower.copy()
         return twin
 
-    def _clear_below_bottom(self) -> None:
+    def _clear_below_bottom(self, first_cell: int, end_cell: int) -> None:
+        """No material below the blank's bottom. Only the cells a cut lowered (which lie
+        between ``first_cell`` and ``end_cell`` of the flattened grid; ``upper`` is lowered
+        only where ``lower`` is) can have gone below it: looking at the whole grid after
+        every arc cost more than the cut itself on a long stock."""
         for field in (self.upper, self.lower):
-            field[field <= self.bottom] = NO_MATERIAL
+            cells = field.reshape(-1)[first_cell:end_cell]
+            cells[cells <= self.bottom] = NO_MATERIAL
 
     # Rapids ----------------------------------------------------------------------------
 
