@@ -14,7 +14,6 @@ import math
 import weakref
 from collections import deque
 from itertools import groupby
-from dataclasses import replace
 
 import numpy
 
@@ -360,7 +359,7 @@ class Material:
             return False
         if tool.type in _NOT_CUTTING:
             return None
-        return cutter_of(replace(tool, radius=radius))
+        return cutter_of(tool, radius)
 
     def _rapid_cutter(self, state) -> Cutter:
         """For a rapid, a tool of unknown size is at least its axis: a thin flat rod."""
@@ -397,18 +396,19 @@ def tool_axis_problem(state) -> str | None:
     return None
 
 
-def cutter_of(tool) -> Cutter:
-    """A tool table entry as the shape the model sweeps."""
+def cutter_of(tool, radius: float) -> Cutter:
+    """A tool table entry, of radius ``radius`` (a programmed delta counted), as the shape
+    the model sweeps (asked on every cutting move: no copy of the entry is made)."""
     kind = tool.type
     if kind == "ball":
-        return Cutter(tool.radius, corner=tool.radius)
+        return Cutter(radius, corner=radius)
     if kind == "bullnose" and tool.corner is not None:
-        return Cutter(tool.radius, corner=min(tool.corner, tool.radius))
+        return Cutter(radius, corner=min(tool.corner, radius))
     if kind in _POINTED and (tool.point_angle or tool.angle):
-        return Cutter(tool.radius, point_angle=tool.point_angle or tool.angle)
+        return Cutter(radius, point_angle=tool.point_angle or tool.angle)
     if kind in _FLAT:
-        return Cutter(tool.radius)
-    return Cutter(tool.radius, known=False)
+        return Cutter(radius)
+    return Cutter(radius, known=False)
 
 
 def _resolution(stock, tools, machine, settings) -> tuple[float | None, str | None]:
