@@ -102,6 +102,7 @@ class Workpiece:
         self.bottom, self.top = stock.z_range
         self.half_diagonal = self.resolution * math.sqrt(0.5)
         self.upper, self.lower = self._blank(stock)
+        self.lower_emptied = False  # a cut that could not be placed emptied ``lower`` (see cut_anywhere)
 
     def _blank(self, stock: Stock):
         """Tops of the uncut blank: cells wholly inside carry material on every point, cells
@@ -163,9 +164,13 @@ class Workpiece:
         return float(numpy.linalg.norm(b - a, axis=1)[~may_cut].sum())
 
     def cut_anywhere(self) -> None:
-        """A cut that cannot be placed: any material may be gone, none is surely gone."""
+        """A cut that cannot be placed: any material may be gone, none is surely gone.
+        Cuts only ever lower ``lower``, so once it is emptied it stays empty: a program that
+        cuts unplaced move after move (cutter compensation) empties it once, not on every move."""
         self.cuts += 1
-        self.lower.fill(NO_MATERIAL)
+        if not self.lower_emptied:
+            self.lower.fill(NO_MATERIAL)
+            self.lower_emptied = True
 
     def copy(self) -> "Workpiece":
         """An independent copy (paths that fork cut their own workpieces)."""

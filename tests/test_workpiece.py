@@ -11,7 +11,7 @@ import shapely
 from hypothesis import assume, given, settings, strategies as st
 
 from ncverify.context import Stock
-from ncverify.workpiece import Cutter, ModelTooLarge, Workpiece
+from ncverify.workpiece import NO_MATERIAL, Cutter, ModelTooLarge, Workpiece
 
 BLANK = Stock.box((0, 40), (0, 30), (-10, 0))
 
@@ -141,6 +141,18 @@ def test_a_cut_that_cannot_be_placed_makes_hits_unsure_but_keeps_clear_answers()
     piece.cut_anywhere()
     assert piece.rapid((20, 15, -3), (20, 28, -3), Cutter(2.0)).outcome == "unsure"
     assert piece.rapid((20, 15, 1), (20, 28, 1), Cutter(2.0)).outcome == "clear"
+
+
+def test_cuts_placed_between_unplaced_ones_still_clear_what_they_cover_and_no_hit_becomes_sure():
+    """The lower bound is emptied once, by the first unplaced cut: later ones have nothing
+    left to empty, whatever placed cuts came between."""
+    piece = Workpiece(BLANK, 0.5)
+    piece.cut_anywhere()
+    piece.cut([[5, 15, -4]], [[35, 15, -4]], Cutter(3.0))
+    piece.cut_anywhere()
+    assert (piece.lower == NO_MATERIAL).all() and piece.cuts == 3
+    assert piece.rapid((10, 15, -2), (30, 15, -2), Cutter(1.0)).outcome == "clear"  # inside the slot, placed
+    assert piece.rapid((20, 5, -3), (20, 8, -3), Cutter(1.0)).outcome == "unsure"  # beside it: may be gone, may not
 
 
 def test_a_polygon_blank_keeps_material_only_inside_its_outline():
