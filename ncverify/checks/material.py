@@ -171,9 +171,12 @@ class Material:
         if known.any():
             mine.deepest = min(mine.deepest, float(numpy.minimum(starts[known, 2], ends[known, 2]).min()))
         self._flush(mine)
+        sized = mine.sized(cutter)
+        for start, end in zip(starts[known][-_RECENT:].tolist(), ends[known][-_RECENT:].tolist()):  # as the block-by-block path keeps them
+            mine.recent.append((tuple(start), tuple(end), sized))
         parts = self._holder_parts(state)
         if not parts:
-            self._sweep(mine.piece, starts[known], ends[known], mine.sized(cutter), 0.0, _tool_name(state))
+            self._sweep(mine.piece, starts[known], ends[known], sized, 0.0, _tool_name(state))
             return
         for start, end, index in zip(starts[known], ends[known], feeds[known]):  # move by move: each against what the ones before left
             self._judge_holder(mine.piece, start, end, parts, run.span(int(index)), state)
