@@ -102,6 +102,7 @@ class Workpiece:
         self.bottom, self.top = stock.z_range
         self.half_diagonal = self.resolution * math.sqrt(0.5)
         self.upper, self.lower = self._blank(stock)
+        self.lower_emptied = False  # a cut that could not be placed emptied ``lower`` (see cut_anywhere)
 
     def _blank(self, stock: Stock):
         """Tops of the uncut blank: cells wholly inside carry material on every point, cells
@@ -131,19 +132,22 @@ class Workpiece:
 
     # Cutting ---------------------------------------------------------------------------
 
-    def cut(self, starts, ends, cutter: Cutter, stray: float = 0.0) -> float:
+    def cut(self, starts, ends, cutter: Cutter, stray=0.0) -> float:
         """Sweep ``cutter`` along straight moves (arrays of (x, y, z) tip positions, one row
         a move) and lower the tops it passes under. ``stray``: how far the true path may
-        leave these chords, in any direction (an arc's sagitta). Returns the length of the
-        moves that surely cut nothing (air), judged before each chunk is applied."""
+        leave these chords, in any direction (an arc's sagitta), one number or one a row
+        (the chords of many arcs swept at once). Returns the length of the moves that surely
+        cut nothing (air), judged before each chunk is applied."""
         starts, ends = numpy.atleast_2d(numpy.asarray(starts, float)), numpy.atleast_2d(numpy.asarray(ends, float))
         if not len(starts):
             return 0.0
         self.cuts += 1
-        starts, ends = self._within_slab(starts, ends, cutter)
-        a, b, z_low, z_high, slack = self._split_steep(*_merge_runs(starts, ends, self.resolution / 4.0, self.resolution))
+        strays = numpy.broadcast_to(numpy.asarray(stray, float), len(starts))
+        starts, ends, strays = self._within_slab(starts, ends, cutter, strays)
+        a, b, z_low, z_high, slack, stray = self._split_steep(*_merge_runs(starts, ends, strays, self.resolution / 4.0, self.resolution))
         z_low, z_high, slack = z_low - stray, z_high + stray, slack + stray
         may_cut = numpy.zeros(len(a), bool)
+        first_cell, last_cell = self.nx * self.ny, -1
         for owner, (low, high, stray), cells, distance in self._cells_near(a, b, z_low, z_high, slack, cutter.radius + self.half_diagonal):
             flat = cells[0] * self.nx + cells[1]
             outer = numpy.maximum(distance - self.half_diagonal - stray, 0.0)  # nearest the cell's points can be to the true path
@@ -154,13 +158,19 @@ class Workpiece:
             covered = inner <= cutter.radius
             _sink(self.upper, flat[covered], high[covered] + cutter.lift(inner[covered]), up=True)
             _sink(self.lower, flat[touched], surface_low[touched], up=False)
-        self._clear_below_bottom()
+            if touched.any():
+                first_cell, last_cell = min(first_cell, int(flat[touched].min())), max(last_cell, int(flat[touched].max()))
+        self._clear_below_bottom(first_cell, last_cell + 1)
         return float(numpy.linalg.norm(b - a, axis=1)[~may_cut].sum())
 
     def cut_anywhere(self) -> None:
-        """A cut that cannot be placed: any material may be gone, none is surely gone."""
+        """A cut that cannot be placed: any material may be gone, none is surely gone.
+        Cuts only ever lower ``lower``, so once it is emptied it stays empty: a program that
+        cuts unplaced move after move (cutter compensation) empties it once, not on every move."""
         self.cuts += 1
-        self.lower.fill(NO_MATERIAL)
+        if not self.lower_emptied:
+            self.lower.fill(NO_MATERIAL)
+            self.lower_emptied = True
 
     def copy(self) -> "Workpiece":
         """An independent copy (paths that fork cut their own workpieces)."""
@@ -169,9 +179,14 @@ class Workpiece:
         twin.upper, twin.lower = self.upper.copy(), self.lower.copy()
         return twin
 
-    def _clear_below_bottom(self) -> None:
+    def _clear_below_bottom(self, first_cell: int, end_cell: int) -> None:
+        """No material below the blank's bottom. Only the cells a cut lowered (which lie
+        between ``first_cell`` and ``end_cell`` of the flattened grid; ``upper`` is lowered
+        only where ``lower`` is) can have gone below it: looking at the whole grid after
+        every arc cost more than the cut itself on a long stock."""
         for field in (self.upper, self.lower):
-            field[field <= self.bottom] = NO_MATERIAL
+            cells = field.reshape(-1)[first_cell:end_cell]
+            cells[cells <= self.bottom] = NO_MATERIAL
 
     # Rapids ----------------------------------------------------------------------------
 
@@ -187,7 +202,7 @@ class Workpiece:
         return at_end if at_end.outcome == "hits" else verdict
 
     def _rapid_path(self, start, end, cutter: Cutter) -> RapidVerdict:
-        a, b = self._within_slab(numpy.array([start], float), numpy.array([end], float), cutter)
+        a, b, _ = self._within_slab(numpy.array([start], float), numpy.array([end], float), cutter, numpy.zeros(1))
         pieces = self._split_steep(a, b, numpy.minimum(a[:, 2], b[:, 2]), numpy.maximum(a[:, 2], b[:, 2]), numpy.zeros(len(a)))
         clear = True
         for owner, (z_low, z_high, _), cells, distance in self._cells_near(*pieces, cutter.radius + self.half_diagonal):
@@ -206,32 +221,33 @@ class Workpiece:
 
     # Shared machinery ------------------------------------------------------------------
 
-    def _within_slab(self, starts, ends, cutter: Cutter):
+    def _within_slab(self, starts, ends, cutter: Cutter, strays):
         """Moves with the tip kept between a little below the blank's bottom (by the tool's
         own tip height) and a little above its top: a piece below meets or removes every cell
         it passes over as it would at any depth below, one above meets nothing at any height
         above, so the pieces outside are laid on the slab's faces. Without this a plunge to
-        Z-1e8 would be split into steps of one cell by the hundred million."""
+        Z-1e8 would be split into steps of one cell by the hundred million. ``strays`` (one
+        a move) go with the pieces."""
         low = self.bottom - float(cutter.lift(numpy.array(cutter.radius))) - self.resolution
         high = self.top + self.resolution
         heights = numpy.concatenate((starts[:, 2], ends[:, 2]))
         if heights.min() >= low and heights.max() <= high:
-            return starts, ends
+            return starts, ends, strays
         rise = ends[:, 2] - starts[:, 2]
         with numpy.errstate(divide="ignore", invalid="ignore"):
             crossings = [numpy.where(rise != 0.0, (level - starts[:, 2]) / rise, 0.0) for level in (low, high)]
         ts = numpy.sort(numpy.clip(numpy.stack([numpy.zeros(len(starts)), *crossings, numpy.ones(len(starts))], axis=1), 0.0, 1.0), axis=1)
         points = starts[:, None, :] + ts[:, :, None] * (ends - starts)[:, None, :]
         points[:, :, 2] = numpy.clip(points[:, :, 2], low, high)
-        return points[:, :-1].reshape(-1, 3), points[:, 1:].reshape(-1, 3)
+        return points[:, :-1].reshape(-1, 3), points[:, 1:].reshape(-1, 3), numpy.repeat(strays, ts.shape[1] - 1)
 
-    def _split_steep(self, a, b, z_low, z_high, slack):
+    def _split_steep(self, a, b, z_low, z_high, *per_piece):
         """Pieces split so that none climbs or falls more than one cell. Only single moves
         can be that steep (merged runs stay within one cell), so a split piece's heights
-        are its own end points'."""
+        are its own end points'; the ``per_piece`` arrays go with each part."""
         counts = numpy.maximum(1, numpy.ceil((z_high - z_low) / self.resolution)).astype(numpy.int64)
         if (counts == 1).all():
-            return a, b, z_low, z_high, slack
+            return a, b, z_low, z_high, *per_piece
         move = numpy.repeat(numpy.arange(len(a)), counts)
         step = numpy.arange(counts.sum()) - numpy.repeat(numpy.cumsum(counts) - counts, counts)
         t0, t1 = (step / counts[move])[:, None], ((step + 1) / counts[move])[:, None]
@@ -240,7 +256,7 @@ class Workpiece:
         split = counts[move] > 1
         low = numpy.where(split, numpy.minimum(start[:, 2], end[:, 2]), z_low[move])
         high = numpy.where(split, numpy.maximum(start[:, 2], end[:, 2]), z_high[move])
-        return start, end, low, high, slack[move]
+        return start, end, low, high, *(values[move] for values in per_piece)
 
     def _cells_near(self, a, b, z_low, z_high, slack, reach: float):
         """For chunks of pieces a-b: (piece, (z_low, z_high, slack), (rows, columns), distance)
@@ -397,12 +413,13 @@ def _sink(field, flat, heights, up: bool) -> None:
     numpy.minimum.at(field.reshape(-1), flat, stored)
 
 
-def _merge_runs(starts, ends, tolerance: float, rise: float):
+def _merge_runs(starts, ends, strays, tolerance: float, rise: float):
     """Consecutive moves of a connected path merged into chords where no vertex strays more
     than ``tolerance`` from the chord in XY and the heights stay within ``rise``: CAM output
     is thousands of tiny moves, and their tool discs overlap almost wholly. Each chord
     carries its heights' range and its actual stray (``slack``), which the sweep takes off
-    the tool radius where it claims material is surely gone and adds where it may be."""
+    the tool radius where it claims material is surely gone and adds where it may be, and
+    the largest of its moves' own ``strays`` (how far the true path leaves a move)."""
     count = len(starts)
     joined = numpy.ones(count, bool)
     joined[1:] = (starts[1:] == ends[:-1]).all(axis=1)
@@ -427,8 +444,7 @@ def _merge_runs(starts, ends, tolerance: float, rise: float):
     z_low = numpy.minimum.reduceat(z_values.min(axis=1), first)
     z_high = numpy.maximum.reduceat(z_values.max(axis=1), first)
     stray = distance_to_segment(ends[:, 0], ends[:, 1], a[owner, :2], b[owner, :2])
-    slack = numpy.maximum.reduceat(stray, first)
-    return a, b, z_low, z_high, slack
+    return a, b, z_low, z_high, numpy.maximum.reduceat(stray, first), numpy.maximum.reduceat(strays, first)
 
 
 def _chords_fit(starts, ends, joined, first, length, tolerance: float, rise: float):
@@ -558,25 +574,37 @@ def _swept_many(starts, ends, offset, radius: float, outwards: bool):
     return shapely.union_all(shapely.buffer(lines, radius * chord_factor, quad_segs=_ROUND_SEGMENTS))
 
 
-def arc_chords(start, end, centre, clockwise: bool, plane=(0, 1, 2), tolerance: float = 0.01):
-    """Chords of a circular (or helical) move, no farther than ``tolerance`` from it:
-    (starts, ends) as arrays of (x, y, z), and the sagitta they keep to. ``plane`` gives
-    the indices of the arc's first, second and normal axis (G17: 0, 1, 2)."""
-    first, second, normal = plane
-    start, end = numpy.asarray(start, float), numpy.asarray(end, float)
-    radius = math.hypot(start[first] - centre[0], start[second] - centre[1])
-    begin = math.atan2(start[second] - centre[1], start[first] - centre[0])
-    finish = math.atan2(end[second] - centre[1], end[first] - centre[0])
-    sweep = (begin - finish) % (2 * math.pi) if clockwise else (finish - begin) % (2 * math.pi)
-    if sweep == 0.0:
-        sweep = 2 * math.pi  # a full circle
-    step = 2 * math.acos(max(-1.0, 1 - tolerance / radius)) if radius > tolerance else math.pi / 2
-    count = max(1, math.ceil(sweep / step))
-    angles = begin + (-1 if clockwise else 1) * sweep * numpy.linspace(0.0, 1.0, count + 1)
-    points = numpy.empty((count + 1, 3))
-    points[:, first] = centre[0] + radius * numpy.cos(angles)
-    points[:, second] = centre[1] + radius * numpy.sin(angles)
-    points[:, normal] = numpy.linspace(start[normal], end[normal], count + 1)
-    points[-1] = end
-    sagitta = radius * (1 - math.cos(sweep / count / 2))
-    return points[:-1], points[1:], sagitta
+def arc_chords(starts, ends, centres, clockwise, planes, tolerance: float = 0.01):
+    """Chords of many circular (or helical) moves at once, none farther than ``tolerance``
+    from its arc: (chord starts, chord ends) as arrays of (x, y, z), the sagitta each chord
+    keeps to, and the arc each chord belongs to. Row ``k`` of the inputs is one arc: its
+    start and end points, its ``centres[k]`` on the plane's two axes, whether it turns
+    clockwise, and ``planes[k]``, the indices of its first, second and normal axis (G17:
+    0, 1, 2). An arc that ends where it starts is a full circle."""
+    starts, ends = numpy.asarray(starts, float).reshape(-1, 3), numpy.asarray(ends, float).reshape(-1, 3)
+    centres, planes = numpy.asarray(centres, float).reshape(-1, 2), numpy.asarray(planes, numpy.int64).reshape(-1, 3)
+    clockwise = numpy.asarray(clockwise, bool).reshape(-1)
+    arcs = numpy.arange(len(starts))
+    first, second, normal = planes.T
+    radius = numpy.hypot(starts[arcs, first] - centres[:, 0], starts[arcs, second] - centres[:, 1])
+    begin = numpy.arctan2(starts[arcs, second] - centres[:, 1], starts[arcs, first] - centres[:, 0])
+    finish = numpy.arctan2(ends[arcs, second] - centres[:, 1], ends[arcs, first] - centres[:, 0])
+    sweep = numpy.where(clockwise, begin - finish, finish - begin) % (2 * math.pi)
+    sweep[sweep == 0.0] = 2 * math.pi  # a full circle
+    with numpy.errstate(divide="ignore", invalid="ignore"):
+        step = numpy.where(radius > tolerance, 2 * numpy.arccos(numpy.maximum(-1.0, 1 - tolerance / radius)), math.pi / 2)
+    counts = numpy.maximum(1, numpy.ceil(sweep / step)).astype(numpy.int64)
+    owner = numpy.repeat(arcs, counts + 1)  # each arc's points, its end included
+    fraction = (numpy.arange(len(owner)) - numpy.repeat(numpy.cumsum(counts + 1) - (counts + 1), counts + 1)) / counts[owner]
+    angles = begin[owner] + numpy.where(clockwise[owner], -1.0, 1.0) * sweep[owner] * fraction
+    rows = numpy.arange(len(owner))
+    points = numpy.empty((len(owner), 3))
+    points[rows, first[owner]] = centres[owner, 0] + radius[owner] * numpy.cos(angles)
+    points[rows, second[owner]] = centres[owner, 1] + radius[owner] * numpy.sin(angles)
+    points[rows, normal[owner]] = starts[owner, normal[owner]] + (ends[owner, normal[owner]] - starts[owner, normal[owner]]) * fraction
+    last = numpy.cumsum(counts + 1) - 1
+    points[last] = ends
+    sagitta = radius * (1 - numpy.cos(sweep / counts / 2))
+    chord = numpy.ones(len(owner), bool)
+    chord[last] = False  # a chord runs from each point but an arc's last to the next
+    return points[chord], points[numpy.flatnonzero(chord) + 1], sagitta[owner[chord]], owner[chord]

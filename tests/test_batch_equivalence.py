@@ -30,20 +30,52 @@ _ARC_BLOCK = st.sampled_from(
     ["G03 X2. Y0. I1. J0.", "G2 X0. Y0. Z-1. I5. J0. F300.", "G02 X3. Y4. R5.", "N7 G3 X-1.5 Y2.5 Z-0.5 I0.25 J-0.75", "G2 I2. J0."]
 )
 _BODY = st.lists(st.one_of(_PLAIN_BLOCK, _PLAIN_BLOCK, _PLAIN_BLOCK, _OTHER_BLOCK, _ARC_BLOCK), min_size=20, max_size=120)
+_SMALL = st.floats(-30, 30, allow_nan=False).map(lambda value: f"{value:.3f}")
+# Arcs and helices of any shape in the three planes, by centre (I/J/K) or radius (R), full
+# circles (no end point), absolute or incremental, with the plain blocks they interrupt.
+_ANY_ARC = st.tuples(
+    st.sampled_from(["G2", "G3", "G02", "G03"]),
+    st.lists(st.sampled_from("XYZ"), unique=True, max_size=3).flatmap(lambda axes: st.tuples(*[_SMALL.map(lambda n, a=a: a + n) for a in axes])),
+    st.one_of(st.lists(st.sampled_from("IJK"), unique=True, min_size=1, max_size=2).flatmap(
+        lambda letters: st.tuples(*[_SMALL.map(lambda n, a=a: a + n) for a in letters])),
+        _SMALL.map(lambda n: ("R" + n,))),
+    st.one_of(st.none(), st.sampled_from(["F400.", "F0"])),
+).map(lambda parts: " ".join([parts[0], *parts[1], *parts[2], *([parts[3]] if parts[3] else [])]))
+_CAM_LINE = st.lists(st.sampled_from("XYZ"), unique=True, min_size=1, max_size=3).flatmap(
+    lambda axes: st.tuples(*[_SMALL.map(lambda n, a=a: a + n) for a in axes])).map(" ".join)  # as CAM writes them: every number with its point
+_STREAK = st.tuples(st.sampled_from(["G0", "G1"]), st.lists(_CAM_LINE, min_size=26, max_size=45)).map(
+    lambda parts: [parts[0], *parts[1]])  # long enough to be read as a batch (8 lines, then 16 more)
+_ARC_BODY = st.lists(st.one_of(_STREAK, *[st.lists(part, min_size=1, max_size=3) for part in (
+    _PLAIN_BLOCK, _ANY_ARC, _ARC_BLOCK, st.sampled_from(["G17", "G18", "G19", "G90", "G91", "G0", "G1"]))]),
+    min_size=6, max_size=30).map(lambda parts: [block for part in parts for block in part])
+_HEADER = st.lists(st.sampled_from(["G43 H01 Z50.", "S1000 M03", "F300."]), unique=True)
+_STOCK = ["(ncverify: stock box X-40:40 Y-40:40 Z-10:0)", "(ncverify: tool 1 radius 3 length 50 type endmill)"]
 
 
 def _program(body: list[str], header: list[str]) -> str:
     return "\n".join(["O1000", "G21 G90 G17 G54", "T1 M06", *header, *body, "M30"]) + "\n"
 
 
-@settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.too_slow])
-@given(body=_BODY, header=st.lists(st.sampled_from(["G43 H01 Z50.", "S1000 M03", "F300."]), unique=True))
-def test_batched_and_block_by_block_runs_report_the_same(body, header):
-    program = _program(body, header)
+def _assert_same_findings(program: str) -> None:
     batched = check_text(program)
     one_by_one = check_text(program, settings=Settings(per_block_only=True))
-    assert [(d.rule, d.span, d.message) for d in batched.diagnostics] == [(d.rule, d.span, d.message) for d in one_by_one.diagnostics]
+    assert [(d.rule, d.status, d.span, d.message) for d in batched.diagnostics] == [
+        (d.rule, d.status, d.span, d.message) for d in one_by_one.diagnostics]
     assert batched.blocks == one_by_one.blocks
+
+
+@settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(body=_BODY, header=_HEADER)
+def test_batched_and_block_by_block_runs_report_the_same(body, header):
+    _assert_same_findings(_program(body, header))
+
+
+@settings(max_examples=100, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(body=_ARC_BODY, header=_HEADER, stock=st.booleans())
+def test_arcs_and_helices_in_every_plane_give_the_same_findings_batched_or_block_by_block(body, header, stock):
+    """With a stock and a sized tool the cut stock follows the arcs (their chords are cut
+    in batches at each flush): a rapid after them is judged alike on both paths."""
+    _assert_same_findings(_program(body, [*(_STOCK if stock else []), *header]))
 
 
 def test_a_long_plain_program_is_run_in_batches_and_finds_the_missing_feed():

@@ -11,7 +11,7 @@ import shapely
 from hypothesis import assume, given, settings, strategies as st
 
 from ncverify.context import Stock
-from ncverify.workpiece import Cutter, ModelTooLarge, Workpiece
+from ncverify.workpiece import NO_MATERIAL, Cutter, ModelTooLarge, Workpiece
 
 BLANK = Stock.box((0, 40), (0, 30), (-10, 0))
 
@@ -143,6 +143,18 @@ def test_a_cut_that_cannot_be_placed_makes_hits_unsure_but_keeps_clear_answers()
     assert piece.rapid((20, 15, 1), (20, 28, 1), Cutter(2.0)).outcome == "clear"
 
 
+def test_cuts_placed_between_unplaced_ones_still_clear_what_they_cover_and_no_hit_becomes_sure():
+    """The lower bound is emptied once, by the first unplaced cut: later ones have nothing
+    left to empty, whatever placed cuts came between."""
+    piece = Workpiece(BLANK, 0.5)
+    piece.cut_anywhere()
+    piece.cut([[5, 15, -4]], [[35, 15, -4]], Cutter(3.0))
+    piece.cut_anywhere()
+    assert (piece.lower == NO_MATERIAL).all() and piece.cuts == 3
+    assert piece.rapid((10, 15, -2), (30, 15, -2), Cutter(1.0)).outcome == "clear"  # inside the slot, placed
+    assert piece.rapid((20, 5, -3), (20, 8, -3), Cutter(1.0)).outcome == "unsure"  # beside it: may be gone, may not
+
+
 def test_a_polygon_blank_keeps_material_only_inside_its_outline():
     triangle = Stock.polygon([(0, 0), (40, 0), (0, 30)], (-10, 0))
     piece = Workpiece(triangle, 0.5)
@@ -229,8 +241,8 @@ def test_an_arc_cut_as_chords_keeps_the_bounds_around_the_true_arc(radius, begin
     start = (centre[0] + radius * math.cos(begin), centre[1] + radius * math.sin(begin), -2.0)
     finish_angle = begin + direction * sweep
     end = (centre[0] + radius * math.cos(finish_angle), centre[1] + radius * math.sin(finish_angle), -3.0)
-    starts, ends, sagitta = arc_chords(start, end, centre, clockwise, tolerance=0.05)
-    assert sagitta <= 0.05 + 1e-12
+    starts, ends, sagitta, _ = arc_chords([start], [end], [centre], [clockwise], [(0, 1, 2)], tolerance=0.05)
+    assert (sagitta <= 0.05 + 1e-12).all()
     piece = Workpiece(BLANK, 0.5)
     piece.cut(starts, ends, cutter, stray=sagitta)
     angles = begin + direction * sweep * numpy.linspace(0, 1, 400)
@@ -242,6 +254,39 @@ def test_an_arc_cut_as_chords_keeps_the_bounds_around_the_true_arc(radius, begin
     rows, columns = (sample[:, 1] / 0.5).astype(int), (sample[:, 0] / 0.5).astype(int)
     assert (piece.upper[rows, columns] >= tops - 0.02).all()
     assert (piece.lower[rows, columns] <= tops + 0.02).all()
+
+
+_ARC = st.tuples(st.floats(0.01, 50), st.floats(-7, 7), st.floats(-7, 7), st.booleans(), st.floats(-5, 5),
+                 st.sampled_from([(0, 1, 2), (2, 0, 1), (1, 2, 0)]))  # radius, start and end angles, cw, rise, G17/G18/G19
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.lists(_ARC, min_size=1, max_size=8))
+def test_many_arcs_are_cut_into_the_chords_each_gives_alone_and_every_chord_point_is_on_its_arc(arcs):
+    """The material model cuts every buffered arc's chords at once: arc ``k``'s chords are
+    the ones it gives alone, each within the tolerance of the true arc (full circles too:
+    an arc that ends where it starts turns once)."""
+    from ncverify.workpiece import arc_chords
+
+    rows = []
+    for radius, begin, finish, clockwise, rise, plane in arcs:
+        start, end, centre = numpy.zeros(3), numpy.zeros(3), (3.0, -2.0)
+        for point, angle, height in ((start, begin, 1.0), (end, finish, 1.0 + rise)):
+            point[plane[0]], point[plane[1]], point[plane[2]] = centre[0] + radius * math.cos(angle), centre[1] + radius * math.sin(angle), height
+        rows.append((start, end, centre, clockwise, plane))
+    together = arc_chords(*[[row[field] for row in rows] for field in range(5)], tolerance=0.05)
+    for index, row in enumerate(rows):
+        alone = arc_chords(*[[field] for field in row], tolerance=0.05)
+        mine = together[3] == index
+        for part in range(3):
+            numpy.testing.assert_array_equal(together[part][mine], alone[part])
+        start, end, centre, _, plane = row
+        assert numpy.allclose(alone[0][0], start) and numpy.array_equal(alone[1][-1], end)
+        points = numpy.vstack([alone[0], alone[1][-1:]])
+        radius = math.hypot(start[plane[0]] - centre[0], start[plane[1]] - centre[1])
+        assert numpy.allclose(numpy.hypot(points[:, plane[0]] - centre[0], points[:, plane[1]] - centre[1]), radius, atol=1e-9)
+        assert (alone[2] <= 0.05 + 1e-12).all()
+        assert numpy.allclose(alone[1][:-1], alone[0][1:])  # joined, start to end
 
 
 def test_a_rapid_of_a_tool_of_unknown_size_is_never_shown_clear_beside_its_axis():

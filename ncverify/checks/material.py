@@ -13,7 +13,7 @@ from __future__ import annotations
 import math
 import weakref
 from collections import deque
-from dataclasses import replace
+from itertools import groupby
 
 import numpy
 
@@ -42,13 +42,13 @@ class _PathPiece:
     them cuts (the interpreter calls ``forked`` on rule memory when a path forks). ``piece``
     None: past the memory cap, this path is judged against the blank."""
 
-    __slots__ = ("piece", "lines", "chords", "sharers", "symbolic", "recent", "deepest", "sizeless")
+    __slots__ = ("piece", "lines", "arcs", "sharers", "symbolic", "recent", "deepest", "sizeless")
 
     def __init__(self, piece: Workpiece | None):
-        self.piece, self.lines, self.chords, self.sharers = piece, [], [], 1
+        self.piece, self.lines, self.arcs, self.sharers = piece, [], [], 1  # lines and arcs buffered, not cut yet
         self.symbolic: list[tuple[dict, dict]] = []  # cuts whose place depends on free parameters
         self.recent: deque = deque(maxlen=_RECENT)  # the last straight cuts, exactly: (start, end, cutter)
-        self.deepest = math.inf  # the lowest any tool tip has cut: below it, the blank is whole
+        self.deepest = math.inf  # the lowest any tool tip has cut (arcs counted when swept): below it, the blank is whole
         self.sizeless = False  # a tool of unknown size has cut (swept as its axis only)
 
     def forked(self) -> None:
@@ -70,7 +70,7 @@ class _PathPiece:
 
     def take_over(self, shared: "_PathPiece") -> None:
         """Carry on from the workpiece's twin this path shared until now."""
-        self.lines, self.chords, self.symbolic = list(shared.lines), list(shared.chords), list(shared.symbolic)
+        self.lines, self.arcs, self.symbolic = list(shared.lines), list(shared.arcs), list(shared.symbolic)
         self.recent = deque(shared.recent, maxlen=_RECENT)
         self.deepest, self.sizeless = shared.deepest, shared.sizeless
 
@@ -120,18 +120,18 @@ class Material:
             return
         start, end = _point(segment.start), _point(segment.end)
         if segment.arc is not None:
-            chords = self._chords(segment, start, end)
-            if chords is None:
+            arc = segment.arc
+            if arc.centre is None or any(type(value) is not float for value in arc.centre):
                 mine.unplaced()
                 return
-            mine.deepest = min(mine.deepest, float(chords[0][:, 2].min()) - chords[2], end[2] - chords[2])
-            mine.chords.append((chords, mine.sized(cutter), _tool_name(state)))
+            plane = tuple("XYZ".index(axis) for axis in arc.plane)
+            mine.arcs.append(((start, end, arc.centre, arc.direction == "cw", plane), mine.sized(cutter), _tool_name(state)))
         else:
             mine.deepest = min(mine.deepest, start[2], end[2])
             cutter = mine.sized(cutter)
             mine.lines.append((start, end, cutter, _tool_name(state)))
             mine.recent.append((start, end, cutter))
-        if len(mine.lines) + len(mine.chords) >= _FLUSH_AT:
+        if len(mine.lines) + len(mine.arcs) >= _FLUSH_AT:
             self._flush(mine)
 
     def begin_run(self, run) -> None:
@@ -170,9 +170,12 @@ class Material:
         if known.any():
             mine.deepest = min(mine.deepest, float(numpy.minimum(starts[known, 2], ends[known, 2]).min()))
         self._flush(mine)
+        sized = mine.sized(cutter)
+        for start, end in zip(starts[known][-_RECENT:].tolist(), ends[known][-_RECENT:].tolist()):  # as the block-by-block path keeps them
+            mine.recent.append((tuple(start), tuple(end), sized))
         parts = self._holder_parts(state)
         if not parts:
-            self._sweep(mine.piece, starts[known], ends[known], mine.sized(cutter), 0.0, _tool_name(state))
+            self._sweep(mine.piece, starts[known], ends[known], sized, 0.0, _tool_name(state))
             return
         for start, end, index in zip(starts[known], ends[known], feeds[known]):  # move by move: each against what the ones before left
             self._judge_holder(mine.piece, start, end, parts, run.span(int(index)), state)
@@ -320,27 +323,24 @@ class Material:
         return self.checker.settings.stock_memory
 
     def _flush(self, mine: _PathPiece) -> None:
-        for tool, group in _by_tool(mine.lines):
-            starts, ends, cutter = numpy.array([item[0] for item in group]), numpy.array([item[1] for item in group]), group[0][2]
-            self._sweep(mine.piece, starts, ends, cutter, 0.0, tool)
-        for (starts, ends, sagitta), cutter, tool in mine.chords:
+        for (cutter, tool), group in groupby(mine.lines, key=lambda line: line[2:]):
+            group = list(group)
+            self._sweep(mine.piece, numpy.array([line[0] for line in group]), numpy.array([line[1] for line in group]), cutter, 0.0, tool)
+        for (cutter, tool), group in groupby(mine.arcs, key=lambda arc: arc[1:]):  # many arcs' chords in one sweep
+            arcs = [arc[0] for arc in group]
+            starts, ends, sagitta, _ = workpiece.arc_chords(*[[arc[field] for arc in arcs] for field in range(5)],
+                                                           tolerance=self.resolution / 8.0)
+            mine.deepest = min(mine.deepest, float((numpy.minimum(starts[:, 2], ends[:, 2]) - sagitta).min()))
             self._sweep(mine.piece, starts, ends, cutter, sagitta, tool)
-        mine.lines, mine.chords = [], []
+        mine.lines, mine.arcs = [], []
 
-    def _sweep(self, piece: Workpiece, starts, ends, cutter: Cutter, stray: float, tool: str) -> None:
+    def _sweep(self, piece: Workpiece, starts, ends, cutter: Cutter, stray, tool: str) -> None:
         if not len(starts):
             return
         air = piece.cut(starts, ends, cutter, stray)
         totals = self.air.setdefault(tool, [0.0, 0.0])
         totals[0] += float(numpy.linalg.norm(ends - starts, axis=1).sum())
         totals[1] += air
-
-    def _chords(self, segment, start, end):
-        arc = segment.arc
-        plane = tuple("XYZ".index(axis) for axis in arc.plane)
-        if arc.centre is None or any(type(value) is not float for value in arc.centre):
-            return None
-        return workpiece.arc_chords(start, end, arc.centre, arc.direction == "cw", plane, tolerance=self.resolution / 8.0)
 
     def _placeable(self, start: dict, end: dict, state) -> bool:
         return tool_axis_problem(state) is None and all(type(point.get(axis)) is float for point in (start, end) for axis in "XYZ")
@@ -361,7 +361,7 @@ class Material:
             return False
         if tool.type in _NOT_CUTTING:
             return None
-        return cutter_of(replace(tool, radius=radius))
+        return cutter_of(tool, radius)
 
     def _rapid_cutter(self, state) -> Cutter:
         """For a rapid, a tool of unknown size is at least its axis: a thin flat rod."""
@@ -397,18 +397,19 @@ def tool_axis_problem(state) -> str | None:
     return None
 
 
-def cutter_of(tool) -> Cutter:
-    """A tool table entry as the shape the model sweeps."""
+def cutter_of(tool, radius: float) -> Cutter:
+    """A tool table entry, of radius ``radius`` (a programmed delta counted), as the shape
+    the model sweeps (asked on every cutting move: no copy of the entry is made)."""
     kind = tool.type
     if kind == "ball":
-        return Cutter(tool.radius, corner=tool.radius)
+        return Cutter(radius, corner=radius)
     if kind == "bullnose" and tool.corner is not None:
-        return Cutter(tool.radius, corner=min(tool.corner, tool.radius))
+        return Cutter(radius, corner=min(tool.corner, radius))
     if kind in _POINTED and (tool.point_angle or tool.angle):
-        return Cutter(tool.radius, point_angle=tool.point_angle or tool.angle)
+        return Cutter(radius, point_angle=tool.point_angle or tool.angle)
     if kind in _FLAT:
-        return Cutter(tool.radius)
-    return Cutter(tool.radius, known=False)
+        return Cutter(radius)
+    return Cutter(radius, known=False)
 
 
 def _resolution(stock, tools, machine, settings) -> tuple[float | None, str | None]:
@@ -449,18 +450,6 @@ def _tool_name(state) -> str:
 
 def _point(position: dict) -> tuple[float, float, float]:
     return position["X"], position["Y"], position["Z"]
-
-
-def _by_tool(lines):
-    """Consecutive buffered lines grouped by their tool (the cutter goes with the name)."""
-    group: list = []
-    for item in lines:
-        if group and (item[3] != group[-1][3] or item[2] != group[-1][2]):
-            yield group[0][3], group
-            group = []
-        group.append(item)
-    if group:
-        yield group[0][3], group
 
 
 def _inside_cut(start, end, cutter: Cutter, cut) -> bool:

@@ -8,8 +8,11 @@ from ... import values
 
 
 def put(state, **changes) -> None:
-    """Change the path's Klartext state (a new value: a forked path keeps its own)."""
-    state.klartext = replace(state.klartext, **changes)
+    """Change the path's Klartext state (a new value: a forked path keeps its own). Asked on
+    every positioning block, mostly to set what is already set: then nothing is copied."""
+    current = state.klartext
+    if any(getattr(current, name) is not value for name, value in changes.items()):
+        state.klartext = replace(current, **changes)
 
 
 def plane(state):
