@@ -10,7 +10,7 @@ import stat
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 
-from . import annotations, values
+from . import annotations, checks, values  # noqa: F401  (checks: importing it registers the rule classes)
 from .check import Checker
 from .detect import Detection, detect, profile_evidence
 from .verdict import show

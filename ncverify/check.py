@@ -2,7 +2,7 @@
 
 Rule *definitions* (id, category, default severity, page, parameter constraints) are data
 in ``rules/``; rule *logic* that needs more than a constraint is a class in
-``ncverify/checks/`` registered with :func:`ncverify.rule_registry.rule`. The :class:`Checker` is the
+``ncverify/checks/`` registered with :func:`rule`. The :class:`Checker` is the
 interpreter's observer: it hands each trace event to the rules that handle it.
 """
 from __future__ import annotations
@@ -10,15 +10,36 @@ from __future__ import annotations
 import ast
 from dataclasses import replace
 
-from . import values
+from . import modelled, values
+from .material import Material
 from .context import RuleContext
 from .diagnostics import Diagnostic, Severity, Status, Suppressed
 from .rule_pages import Constraint, RuleDefinition, RuleFileError, parse_rule_file, rule_definitions  # noqa: F401  (re-exported)
-from .rule_registry import rule, rule_classes  # noqa: F401  (rule classes take their decorator from here, with Rule)
 from .source import Span
 from .verdict import Verdict, evaluate_constraint, hazard, judge, show  # noqa: F401  (hazard, show: re-exported for the rules)
 
 # --------------------------------------------------------------------------- rule logic
+
+_RULE_CLASSES: list[type] = []
+
+
+def rule(*ids: str):
+    """Register a rule class reporting the given rule ids."""
+
+    def register(cls):
+        cls.ids = ids
+        _RULE_CLASSES.append(cls)
+        return cls
+
+    return register
+
+
+def rule_classes() -> list[type]:
+    """Every registered rule class, in registration order (the order events reach them).
+    The package :mod:`ncverify.checks` registers them when it is imported, which the
+    package's own import does (through :mod:`ncverify.api`), before any checker exists."""
+    return _RULE_CLASSES
+
 
 
 class Rule:
@@ -26,7 +47,7 @@ class Rule:
     in ``state.rule_state`` so that forked paths do not share it."""
 
     ids: tuple[str, ...] = ()
-    # The kinds of machine state this rule's proofs account for (ncverify.checks.modelled);
+    # The kinds of machine state this rule's proofs account for (ncverify.modelled);
     # under any other that is active, its proved becomes unknown. Nothing by default.
     reads: frozenset = frozenset()
 
@@ -70,9 +91,6 @@ class Checker:
     configured severities and disabled rules."""
 
     def __init__(self, settings, context: RuleContext, severity_overrides: dict | None = None, suppressions: dict | None = None):
-        from .checks import modelled
-        from .checks.material import Material
-
         self.settings = settings
         self.context = context  # stock, tools, machine, register limits: what rules may assume
         self.suppressions = suppressions or {}  # line -> rule ids / categories from "ignore" annotations

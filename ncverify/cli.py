@@ -18,6 +18,7 @@ from pathlib import Path
 from . import __version__, rule_registry
 from .api import FileResult, InputError, check_source, iter_program_files, project_for
 from .check import RuleFileError, rule_definitions
+from .rule_pages import explain_text
 from .project import ConfigError
 from .diagnostics import Severity, Status
 from .dialect import DIALECTS, MACHINES
@@ -443,15 +444,6 @@ def _exit_code(results: list[FileResult], errors: list[str], settings: Settings)
             elif diagnostic.status is Status.VIOLATED and threshold is not None and diagnostic.severity.rank >= threshold:
                 return EXIT_FINDINGS
     return EXIT_OK
-
-
-def explain_text(rule_id: str) -> str | None:
-    """The page ``ncverify explain`` prints (Markdown), or ``None`` for an unknown rule."""
-    definition = rule_definitions().get(rule_id)
-    if definition is None:
-        return None
-    header = f"{definition.id}  [{definition.category}, {definition.severity.value}]\n{definition.summary}\n"
-    return header + "\n" + definition.page
 
 
 def _explain(rule_id: str) -> int:

@@ -92,3 +92,12 @@ def rule_definitions() -> dict[str, RuleDefinition]:
         definition = parse_rule_file(path)
         definitions[definition.id] = definition
     return definitions
+
+
+def explain_text(rule_id: str) -> str | None:
+    """The page ``ncverify explain`` prints (Markdown), or ``None`` for an unknown rule."""
+    definition = rule_definitions().get(rule_id)
+    if definition is None:
+        return None
+    header = f"{definition.id}  [{definition.category}, {definition.severity.value}]\n{definition.summary}\n"
+    return header + "\n" + definition.page

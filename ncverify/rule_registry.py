@@ -3,7 +3,7 @@
 A rule's *definition* (id, category, severity, page) is its page in ``rules/``. Its
 *implementation* is exactly one of:
 
-- a rule class in ``ncverify/checks/`` registered with :func:`rule` (its page may add
+- a rule class in ``ncverify/checks/`` registered with :func:`ncverify.check.rule` (its page may add
   parameter constraints the class does not repeat);
 - parameter constraints only, written in its page (``[[constraint]]``);
 - a finding the reader, lowering or interpreter reports itself (a syntax error, a jump to
@@ -20,25 +20,8 @@ from dataclasses import dataclass
 from functools import cache
 from pathlib import Path
 
-_RULE_CLASSES: list[type] = []
-
-
-def rule(*ids: str):
-    """Register a rule class reporting the given rule ids."""
-
-    def register(cls):
-        cls.ids = ids
-        _RULE_CLASSES.append(cls)
-        return cls
-
-    return register
-
-
-def rule_classes() -> list[type]:
-    """Every registered rule class, in registration order (the order events reach them)."""
-    from . import checks  # noqa: F401  (importing the package registers the classes)
-
-    return _RULE_CLASSES
+from . import checks  # noqa: F401  (importing the package registers the rule classes)
+from .check import rule_classes, rule, rule_definitions  # noqa: F401  (re-exported)
 
 
 # Findings the stages before the checker report themselves, as notes of the reader or
@@ -109,8 +92,6 @@ class DuplicateRegistration(ValueError):
 
 def implementations() -> dict[str, Implementation]:
     """Every implemented rule id with its one implementation."""
-    from .check import rule_definitions
-
     classes: dict[str, str] = {}
     for cls in rule_classes():
         for rule_id in cls.ids:

@@ -17,7 +17,7 @@ from lsprotocol import types  # noqa: E402
 from pytest_lsp import ClientServerConfig, LanguageClient, client_capabilities  # noqa: E402
 
 from ncverify import Settings, check_text  # noqa: E402
-from ncverify.cli import explain_text  # noqa: E402
+from ncverify.rule_pages import explain_text  # noqa: E402
 
 ROOT = Path(__file__).resolve().parent.parent
 CORPUS = ROOT / "corpus"

@@ -1,5 +1,5 @@
 """What a proof reads: every rule that can answer ``proved`` declares the kinds of machine
-state it accounts for (``Rule.reads``, ``ncverify/checks/modelled.py``), and under any
+state it accounts for (``Rule.reads``, ``ncverify/modelled.py``), and under any
 other kind that is active its ``proved`` becomes ``unknown`` with the state named.
 
 The tests enumerate the kinds: each is made active alone on a real machine state, and
@@ -16,7 +16,7 @@ import pytest
 
 from ncverify import Settings, check_text, frames
 from ncverify.check import Checker, Rule, rule_classes
-from ncverify.checks import modelled
+from ncverify import modelled
 from ncverify.context import RuleContext
 from ncverify.diagnostics import Status
 from ncverify.interpret.interpreter import MachineState

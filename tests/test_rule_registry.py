@@ -6,7 +6,7 @@ import inspect
 
 import pytest
 
-from ncverify import rule_registry
+from ncverify import check
 from ncverify.check import Rule, rule_definitions
 from ncverify.rule_registry import REPORTED_BEFORE_THE_CHECKER, DuplicateRegistration, implementations, reporting_modules, rule, rule_classes
 
@@ -50,7 +50,7 @@ def test_the_page_constraints_are_the_ones_the_registry_names(rule_id):
 
 def test_a_rule_id_registered_by_two_classes_is_refused(monkeypatch):
     classes = list(rule_classes())
-    monkeypatch.setattr(rule_registry, "_RULE_CLASSES", classes)
+    monkeypatch.setattr(check, "_RULE_CLASSES", classes)
     rule("core.feed-missing")(type("SecondFeedMissing", (Rule,), {"segment": lambda self, segment, state: None}))
     with pytest.raises(DuplicateRegistration, match="core.feed-missing"):
         implementations()
@@ -58,7 +58,7 @@ def test_a_rule_id_registered_by_two_classes_is_refused(monkeypatch):
 
 def test_a_class_for_a_rule_the_interpreter_reports_is_refused(monkeypatch):
     classes = list(rule_classes())
-    monkeypatch.setattr(rule_registry, "_RULE_CLASSES", classes)
+    monkeypatch.setattr(check, "_RULE_CLASSES", classes)
     rule("core.syntax")(type("SyntaxAgain", (Rule,), {"segment": lambda self, segment, state: None}))
     with pytest.raises(DuplicateRegistration, match="core.syntax"):
         implementations()

@@ -6,7 +6,7 @@ from .. import ir, values
 from ..cycle_models import CycleModel
 from ..interpret import modal_call
 from ..check import Rule, hazard, rule, show
-from . import modelled
+from .. import modelled
 
 _COMP_CODE = {"left": "G41", "right": "G42", "auto": "G46"}
 _SHIFT_LETTERS = {"xy": ("I", "J"), "zx": ("K", "I"), "yz": ("J", "K")}

@@ -11,7 +11,7 @@ from .. import frames, pocket, values
 from ..check import Rule, hazard, rule, show
 from ..diagnostics import Status
 from .common import ReportsMissingContext, scaled_note
-from . import modelled
+from .. import modelled
 
 
 

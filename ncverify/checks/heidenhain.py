@@ -16,7 +16,7 @@ from ..trace import NO_FACTS
 from ..verdict import Verdict
 from ..context import radius_delta
 from .common import ReportsMissingContext, plane_scale, scaled_note
-from . import modelled
+from .. import modelled
 
 _DEPTH_CHECKED = {200, 201, 202, 203, 205, 208, 241, 206, 207, 209, 251, 252, 253, 254, 256, 257, 258, 272, 273, 274}
 _PLUNGE_CHECKED = {251, 252, 253, 254}

@@ -4,7 +4,7 @@ from __future__ import annotations
 from ..ir import cycle_code
 from ..check import Rule, hazard, rule, show
 from ..diagnostics import Status
-from . import modelled
+from .. import modelled
 
 
 

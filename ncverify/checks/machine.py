@@ -14,7 +14,7 @@ from ..context import NO_TOOL_TABLE
 from ..diagnostics import Status
 from ..values import Condition, Sym
 from .common import UNKNOWN_DIAMETER_MODE, ReportsMissingContext, lathe_x_is_diameter
-from . import modelled
+from .. import modelled
 
 _AXIS_INDEX = {"X": 0, "Y": 1, "Z": 2, "A": 3, "B": 4, "C": 5}
 

@@ -11,7 +11,7 @@ import numpy
 from .. import ir, values
 from ..check import Rule, hazard, rule, show
 from ..diagnostics import Severity, Status
-from . import modelled
+from .. import modelled
 
 _CUTTING = frozenset({"feed", "arc", "thread"})
 _FEED = 1  # MotionRun kind code of a feed segment

@@ -10,7 +10,7 @@ from .. import ir, values
 from ..values import Condition
 from ..diagnostics import Status
 from ..check import Rule, hazard, rule, show
-from . import modelled
+from .. import modelled
 
 _CUTTING = frozenset({"feed", "arc", "thread"})
 

@@ -18,7 +18,7 @@ from ..ir import cycle_code
 from .. import values
 from ..check import Rule, hazard, rule, show
 from ..interpret.sinumerik_cycles import COARSE_PITCH, levels
-from . import modelled
+from .. import modelled
 
 
 def cycle_name(run) -> str:

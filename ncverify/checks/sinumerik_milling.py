@@ -15,7 +15,7 @@ from ..pocket import circle_fit, circle_misfit, rectangle_fit, rectangle_misfit,
 from .common import ReportsMissingContext, scaled_note
 from .sinumerik import PLANE_CYCLES, contour_not_found, contour_points_unknown, cycle_name, digit_problem, is_sinumerik, numeric_parameter, plane_point
 from .sinumerik_tools import active_edge
-from . import modelled
+from .. import modelled
 
 
 # --------------------------------------------------------------------------- tool against the feature

@@ -17,7 +17,7 @@ from ..check import rule, show
 from ..frames import Frame
 from ..context import active_tool_number
 from .common import ReportsMissingContext
-from . import modelled
+from .. import modelled
 
 
 def active_edge(state):

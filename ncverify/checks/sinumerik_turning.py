@@ -11,7 +11,7 @@ from shapely.geometry import LineString, Point, Polygon
 from ..check import Rule, hazard, rule, show
 from .common import ReportsMissingContext
 from .sinumerik import contour_not_found, contour_points_unknown, cycle_name, is_sinumerik, plane_point, quoted
-from . import modelled
+from .. import modelled
 
 
 # --------------------------------------------------------------------------- stock removal contours (CYCLE95, CYCLE950)

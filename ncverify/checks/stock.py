@@ -14,14 +14,14 @@ import numpy
 
 from ..ir import cycle_code
 from .. import context, frames, geometry
-from . import modelled
+from .. import modelled
 from ..check import Rule, Verdict, hazard, rule, show
 from ..context import Stock, active_edge, radius_delta
 from ..diagnostics import Status
 from ..verdict import both
 from ..values import Condition, Sym
 from .common import UNKNOWN_DIAMETER_MODE, lathe_x_is_diameter
-from .material import other_workpiece, tool_axis_problem
+from ..material import other_workpiece, tool_axis_problem
 
 _RAPID = 0  # MotionRun kind code
 _ROLE_WORDS = {

@@ -8,7 +8,7 @@ from ..ir import cycle_code
 from .. import frames, values
 from ..check import hazard, rule, show
 from .common import ReportsMissingContext
-from . import modelled
+from .. import modelled
 
 # Which arc direction puts the tool inside the arc, per compensation side.
 _CONCAVE = {("left", "ccw"), ("right", "cw")}

@@ -14,7 +14,7 @@ from pygls.uris import to_fs_path
 
 from .. import __version__
 from ..api import FileResult
-from ..cli import explain_text
+from ..rule_pages import explain_text
 from ..detect import detect
 from .actions import code_actions
 from .analysis import EditorSettings, Runner

@@ -17,12 +17,12 @@ from itertools import groupby
 
 import numpy
 
-from .. import frames, geometry, workpiece
-from ..context import active_edge, radius_delta
+from . import frames, geometry, workpiece
+from .context import active_edge, radius_delta
 from . import turning_stock
 from .turning_stock import Turning
-from ..verdict import both, hazard
-from ..workpiece import Cutter, RapidVerdict, Workpiece
+from .verdict import both, hazard
+from .workpiece import Cutter, RapidVerdict, Workpiece
 
 _KEY = "workpiece"
 _FEED = 1  # MotionRun kind code

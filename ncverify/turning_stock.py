@@ -14,9 +14,9 @@ from __future__ import annotations
 
 import numpy
 
-from .. import workpiece
-from ..context import active_edge, active_tool_number
-from ..workpiece import Bar, RapidVerdict
+from . import workpiece
+from .context import active_edge, active_tool_number
+from .workpiece import Bar, RapidVerdict
 
 _KEY = "turned bar"
 _FEED = 1  # MotionRun kind code

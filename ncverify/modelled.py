@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import numpy
 
-from .. import frames
+from . import frames
 from .material import tool_axis_problem
 
 TRANSLATION = "translation"
