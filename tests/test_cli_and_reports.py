@@ -24,10 +24,10 @@ G1 X10. F100.
 G0 Z50.
 M30
 """
-# One error: feed-missing on line 2, columns 1-12 ("G01 X10. Y5."), plus a spindle warning.
-WITH_ERROR = "G21 G90\nG01 X10. Y5.\nS1000 M03\nM30\n"
+# One error: feed-missing on line 2, columns 1-17 ("G01 X10. Y5. Z-1."), plus a spindle warning.
+WITH_ERROR = "G0 G21 G90 Z1.\nG01 X10. Y5. Z-1.\nS1000 M03\nM30\n"
 # Only a warning: the spindle is off while cutting.
-WITH_WARNING = "G21 G90\nG0 X0.\nG1 X10. F100.\nS1000 M03\nM30\n"
+WITH_WARNING = "G21 G90\nG0 X0. Z1.\nG1 X10. Z-1. F100.\nS1000 M03\nM30\n"
 # Only an unknown verdict: the loop never ends.
 WITH_UNKNOWN = "WHILE [1 EQ 1] DO1\nEND1\nM30\n"
 C_HEADER = "#include <stdio.h>\n#define LIMIT 10\nint limit(void);\n"
@@ -263,8 +263,8 @@ def test_json_follows_the_contract(tmp_path, capsys):
 def test_json_positions_are_one_based_with_an_exclusive_end(tmp_path, capsys):
     _, document = run_json(capsys, write(tmp_path, "bad.nc", WITH_ERROR))
     [feed] = [d for d in document["files"][0]["diagnostics"] if d["rule"] == "core.feed-missing"]
-    # line 2 is "G01 X10. Y5.": twelve characters, columns 1..12, end exclusive 13
-    assert (feed["line"], feed["column"], feed["end_line"], feed["end_column"]) == (2, 1, 2, 13)
+    # line 2 is "G01 X10. Y5. Z-1.": seventeen characters, columns 1..17, end exclusive 18
+    assert (feed["line"], feed["column"], feed["end_line"], feed["end_column"]) == (2, 1, 2, 18)
     assert (feed["severity"], feed["status"], feed["category"]) == ("error", "violated", "feed")
 
 
@@ -350,7 +350,7 @@ def test_sarif_regions_match_the_json_positions(tmp_path, capsys):
     _, out, _ = run(capsys, "check", "--format", "sarif", path)
     [feed] = [r for r in json.loads(out)["runs"][0]["results"] if r["ruleId"] == "core.feed-missing"]
     region = feed["locations"][0]["physicalLocation"]["region"]
-    assert (region["startLine"], region["startColumn"], region["endLine"], region["endColumn"]) == (2, 1, 2, 13)
+    assert (region["startLine"], region["startColumn"], region["endLine"], region["endColumn"]) == (2, 1, 2, 18)
     assert feed["level"] == "error"
 
 

@@ -920,3 +920,45 @@ def test_the_depth_of_centring_to_a_diameter_is_not_compared_with_the_usable_len
 def test_centring_by_depth_needs_no_point_angle():
     result = check(program(CENTRING.replace("Q343=+1", "Q343=+0")), "[tools.1]\nradius = 4\npoint_angle = 0")
     assert not lines(result, "heidenhain.point-angle") and not lines(result, "heidenhain.point-angle", Status.UNKNOWN)
+
+
+# Cycle 200 drills X+30 Y+30 from Z0 down to Z-2 only, then 207 taps there and at X+70 Y+70,
+# where this program drills nothing, from Q203=-6 + Q200=2 = Z-4
+DRILL_THEN_TAP = """0  BEGIN PGM TAPS MM
+1  BLK FORM 0.1 Z X+0 Y+0 Z-20
+2  BLK FORM 0.2  X+100  Y+100  Z+0
+3  TOOL CALL 1 Z S2000
+4  L  Z+50 R0 FMAX M3
+5  CYCL DEF 200 DRILLING ~
+    Q200=+2 ;SET-UP CLEARANCE ~
+    Q201=-2 ;DEPTH ~
+    Q206=+150 ;FEED RATE FOR PLNGNG ~
+    Q202=+5 ;PLUNGING DEPTH ~
+    Q210=+0 ;DWELL TIME AT TOP ~
+    Q203=+0 ;SURFACE COORDINATE ~
+    Q204=+50 ;2ND SET-UP CLEARANCE
+6  L  X+30  Y+30 R0 FMAX M99
+7  TOOL CALL 2 Z S400
+8  CYCL DEF 207 RIGID TAPPING NEW ~
+    Q200=+2 ;SET-UP CLEARANCE ~
+    Q201=-8 ;DEPTH ~
+    Q239=+1.5 ;THREAD PITCH ~
+    Q203=-6 ;SURFACE COORDINATE ~
+    Q204=+56 ;2ND SET-UP CLEARANCE
+9  L  X+30  Y+30 R0 FMAX M99
+10 L  X+70  Y+70 R0 FMAX M99
+11 L  Z+50 R0 FMAX M30
+12 END PGM TAPS MM
+"""
+
+
+def test_a_tap_where_this_program_drilled_nothing_goes_down_an_earlier_hole_unknown_not_a_crash():
+    result = check(DRILL_THEN_TAP)
+    rapids = {(d.span.line, d.status) for d in result.diagnostics if d.rule == "core.rapid-into-stock"}
+    assert (23, Status.UNKNOWN) in rapids and (23, Status.VIOLATED) not in rapids
+
+
+def test_a_tap_below_the_bottom_of_a_hole_this_program_drilled_is_still_a_crash():
+    """The program drilled X+30 Y+30 only to Z-2: the tap's rapid to Z-4 enters solid material."""
+    result = check(DRILL_THEN_TAP)
+    assert 22 in lines(result, "core.rapid-into-stock")

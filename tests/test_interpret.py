@@ -493,6 +493,64 @@ def test_a_goto_to_a_missing_sequence_number_is_reported():
     assert missing.span.line == 1
 
 
+def test_sequence_numbers_reused_as_forward_labels_in_each_section_are_not_reported():
+    # each GOTO lands on the nearest copy after it, the one its own section means
+    result = check("""
+        #1=1
+        IF [#1 EQ 1] GOTO 5
+        #2=1
+        N5 #3=1
+        IF [#2 EQ 1] GOTO 5
+        #4=1
+        N5 M30
+    """)
+    assert findings(result, "core.duplicate-label") == []
+
+
+def test_a_goto_that_lands_on_the_next_block_while_a_copy_stands_behind_it_is_reported():
+    # the loop head N10 is taken by the copy right after the jump: the loop never closes
+    result = check("""
+        #1=0
+        N10 #1=#1+1
+        IF [#1 LT 3] GOTO 20
+        GOTO 30
+        N20 GOTO 10
+        (COPIED BLOCK)
+        N10 #1=#1+10
+        N30 M30
+    """)
+    [doubtful] = findings(result, "core.duplicate-label", Status.VIOLATED)
+    assert doubtful.span.line == 5
+
+
+def test_a_goto_that_wraps_to_the_top_past_a_nearer_copy_is_reported():
+    # no N10 after the jump: the search restarts at the top and takes line 2, not line 4
+    result = check("""
+        #1=0
+        N10 #1=#1+1
+        #2=0
+        N10 #2=#2+1
+        IF [#2 LT 3] GOTO 10
+        M30
+    """)
+    assert [d.span.line for d in findings(result, "core.duplicate-label", Status.VIOLATED)] == [5]
+
+
+def test_a_lathe_cycle_naming_a_repeated_number_is_still_reported():
+    result = check("""
+        G18 G99 T101 S500 M03
+        G0 X52. Z2.
+        G71 U1. R0.5
+        G71 P45 Q50 U0.4 W0.1 F0.2
+        N45 G0 X20.
+        N45 G1 Z-20.
+        N50 X52.
+        G0 X100. Z100. M05
+        M30
+    """, machine="lathe")
+    assert findings(result, "core.duplicate-label", Status.VIOLATED)
+
+
 def test_a_macro_alarm_is_reported_with_its_message_and_ends_the_path():
     result = check("""
         G90 G0 X0.

@@ -73,3 +73,24 @@ def test_without_a_stock_the_program_s_own_cutting_height_decides(off_z, cut_z, 
             f"G0 X0 Y0\nG1 Z{off_z:g} F100.\nG1 X50.\nG0 Z400.\nM30\n")
     found = [(d.span.line, d.status) for d in check_text(text, "table.nc", Settings()).diagnostics if d.rule == "core.spindle-off-cutting"]
     assert found == [(9, expected)]
+
+
+def _spindle_off_findings(text: str) -> set:
+    return {(d.span.line, d.status) for d in check_text(text, "start.nc", Settings()).diagnostics
+            if d.rule == "core.spindle-off-cutting"}
+
+
+@pytest.mark.parametrize("stock, expected", [("", {Status.UNKNOWN}),
+                                               ("(ncverify: stock box X-50:50 Y-50:50 Z-10:0)\n", set())])
+def test_a_feed_move_before_any_z_is_never_an_error(stock, expected):
+    """No Z yet: without a stock the tool is where the operator left it, in the air or in
+    the part (unknown); with one it starts parked above it. The first Z move comes down from
+    there to Z2, above the part."""
+    text = stock + "G90 G0 X0 Y0\nG1 X30. Y0 F1000.\nZ2.\nM3 S1000\nG1 Z-1. F100.\nX0.\nG0 Z50.\nM30\n"
+    assert {status for _, status in _spindle_off_findings(text)} == expected
+
+
+@pytest.mark.parametrize("depth", [-1.0, 0.0])
+def test_a_first_z_move_into_the_part_with_the_spindle_stopped_is_still_reported(depth):
+    text = f"G90 G0 X0 Y0\nG1 X30. Y0 F1000.\nG1 Z{depth:g} F100.\nM3 S1000\nX0.\nG0 Z50.\nM30\n"
+    assert (3, Status.VIOLATED) in _spindle_off_findings(text)

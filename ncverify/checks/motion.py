@@ -67,18 +67,21 @@ class FeedMissing(Rule):
 
 _AIR = "air"  # the move stays above the stock's top: it cuts nothing
 _MATERIAL = "material"  # the move can touch material
+_UNPLACED = "unplaced"  # a mill's tool height is unknown at both ends (Z not yet set): it may run in the air
 
 
 class _SpindleOffStretch:
     """The feed moves of one stretch with the spindle stopped that may touch material: the
     first that surely can (``touching``), and before it the moves above Z0 with no stock to
-    place them, each lower than the one before (``above_zero``: span and lowest Z)."""
+    place them, each lower than the one before (``above_zero``: span and lowest Z), and the
+    first at a height the program has not set (``unplaced``)."""
 
-    __slots__ = ("touching", "above_zero")
+    __slots__ = ("touching", "above_zero", "unplaced")
 
     def __init__(self):
         self.touching = None
         self.above_zero: list = []
+        self.unplaced = None
 
 
 @rule("core.spindle-off-cutting")
@@ -147,8 +150,14 @@ class SpindleOffCutting(Rule):
         self.highest_cut = z if self.highest_cut is None else max(self.highest_cut, z)
 
     def _where(self, start_z, end_z) -> str | float:
-        """Where a feed move runs: in the air above the stock, into material, or (no stock,
-        on a mill) the lowest Z of a move that stays above Z0, decided at the end."""
+        """Where a feed move runs: in the air above the stock, into material, (no stock, on a
+        mill) the lowest Z of a move that stays above Z0, decided at the end, or (on a mill)
+        unplaced where the program has not yet set the tool's height. A mill's first Z move
+        is taken to come down from above: its lowest point is where it ends."""
+        if start_z is None and not self.checker.context.lathe:
+            if end_z is None:
+                return _UNPLACED
+            start_z = end_z  # the first Z move: from where the operator left the tool down to its end
         if type(start_z) is not float or type(end_z) is not float:
             return _MATERIAL
         lowest = min(start_z, end_z)
@@ -173,6 +182,8 @@ class SpindleOffCutting(Rule):
             return
         if where == _MATERIAL:
             stretch.touching = span
+        elif where == _UNPLACED:
+            stretch.unplaced = stretch.unplaced or span
         elif not stretch.above_zero or where < stretch.above_zero[-1][1]:
             stretch.above_zero.append((span, where))
 
@@ -182,9 +193,9 @@ class SpindleOffCutting(Rule):
             self.machining |= change.new in ("cw", "ccw")
 
     def finish(self):
-        stretches = [stretch for stretch in self.stretches if stretch.touching is not None or stretch.above_zero]
+        stretches = [stretch for stretch in self.stretches if stretch.touching is not None or stretch.above_zero or stretch.unplaced]
         if stretches and not self.machining:
-            first = stretches[0].above_zero[0][0] if stretches[0].above_zero else stretches[0].touching
+            first = stretches[0].above_zero[0][0] if stretches[0].above_zero else stretches[0].touching or stretches[0].unplaced
             self.report("core.spindle-off-cutting", first, "feed moves with the spindle stopped in a program that never starts it: "
                         "taken as measuring or positioning moves", Status.UNKNOWN,
                         "the program never starts the spindle (a measuring or probing routine, or its caller starts it)")
@@ -193,6 +204,10 @@ class SpindleOffCutting(Rule):
             cutting = next((span for span, lowest in stretch.above_zero if self.highest_cut is not None and lowest <= self.highest_cut), stretch.touching)
             if cutting is not None:
                 self.report("core.spindle-off-cutting", cutting, "cutting move while the spindle is stopped (no M03/M04 since the start or since the last M05): the tool rubs or breaks")
+            elif not stretch.above_zero:
+                self.report("core.spindle-off-cutting", stretch.unplaced, "feed move with the spindle stopped at a height the program has not set", Status.UNKNOWN,
+                            "no Z has been programmed since the start: the tool runs where the operator left it, in the air above the part "
+                            "or in it")
             else:
                 self.report("core.spindle-off-cutting", stretch.above_zero[0][0], "feed move with the spindle stopped above Z0", Status.UNKNOWN,
                             "no stock is defined and the program cuts no higher with the spindle running: above Z0 the tool is clear of "

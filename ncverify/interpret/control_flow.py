@@ -119,7 +119,7 @@ class ControlFlow:
             raise PathEnd
         if op.optional and not self.label_exists(target):
             return None  # GOTOC: no alarm, the next block runs
-        position = self.find_label(target, op.span, direction=op.direction)
+        position = self.find_label(target, op.span, direction=op.direction, branch=True)
         self._count_jump(position, op.span, f"the jump to {self.frontend.describe_label(target)}")
         return position
 
@@ -246,11 +246,13 @@ class ControlFlow:
         return bool(self.label_cache[key])
 
     def find_label(self, label: float, span, source: ProgramSource | None = None, frame: CallFrame | None = None,
-                   direction: str | None = None) -> Position:
+                   direction: str | None = None, branch: bool = False) -> Position:
         """The block carrying ``label``. ``direction`` ``forward`` / ``backward`` searches
         only that way from the current block and takes the nearest (SINUMERIK GOTOF/GOTOB,
         where a label may repeat); ``nearest`` tries forward, then backward (GOTO);
-        ``backward-first`` backward, then forward (SINUMERIK REPEAT)."""
+        ``backward-first`` backward, then forward (SINUMERIK REPEAT). Without a direction a
+        repeated number is a finding; for a ``branch`` (GOTO) only where the landing is
+        doubtful (``_landing_doubtful``)."""
         frame = frame or self.state.call_stack[-1]
         source = source or frame.source
         key = (id(source), frame.program, label)
@@ -270,9 +272,34 @@ class ControlFlow:
                 self._fault("core.label-not-found", span, f"{self.frontend.describe_label(label)} is not {'after' if direction == 'forward' else 'before'} this block in {frame.program}: the control alarms here")
                 raise PathEnd
             return nearest[0]
-        if len(found) > 1:
+        if len(found) > 1 and (not branch or self._landing_doubtful(source, current, found, after)):
             self.observer.fault(Fault("core.duplicate-label", span, f"{self.frontend.describe_label(label)} appears {len(found)} times in {frame.program}; the jump goes to the first one after the current block"))
         return (after or found)[0]
+
+    def _landing_doubtful(self, source: ProgramSource, current: int, found: list[Position], after: list[Position]) -> bool:
+        """A GOTO to a number that several blocks carry lands on the nearest copy after it,
+        else on the first from the top: that is deterministic, and macros reuse numbers on
+        purpose as local forward labels. It is doubtful only where a copy it does not land on
+        is the plausible target: it wraps to the top past a nearer copy behind it (a loop
+        meant to close on that one), or a copy stands behind it and the landing is the block
+        that runs next anyway (a jump that skips nothing: a loop head taken by a later copy)."""
+        before = [position for position in found if position.offset < current]
+        if not after:
+            return len(before) > 1
+        return bool(before) and self._runs_next(source, current, after[0])
+
+    def _runs_next(self, source: ProgramSource, current: int, landing: Position) -> bool:
+        """Is ``landing`` the first block after the line at ``current`` (only empty or comment
+        lines between)?"""
+        line_end = source.buffer.find(b"\n", current)
+        if line_end < 0 or landing.block_index:
+            return False
+        path = self._path_name(source)
+        first_line = source.line_number_at(line_end + 1)
+        between = bytes(source.buffer[line_end + 1 : landing.offset]).splitlines()
+        return not any(block.ops or block.label is not None
+                       for number, raw in enumerate(between, first_line)
+                       for block in self.frontend.blocks(raw.rstrip(b"\r"), number, path))
 
     def _scan_label(self, source: ProgramSource, frame: CallFrame, label: float) -> list[Position]:
         start, end = self._program_bounds(source, frame.start)

@@ -733,7 +733,7 @@ def _hole(runner, op, block, definition, shift, surface_offset):
     missing = tuple(q for q in required if q not in params)
     found = levels(params, _depth_name(definition))
     set_up, bottom, retract = (found[:3] if found else (None, None, None))
-    predrilled = _predrilled(state, set_up)
+    predrilled = _predrilled(state, set_up) or _taps_an_earlier_hole(state, model)
     hole = Hole(name, model, op.span, block, axis, dict(state.position), retract, None if predrilled else set_up, bottom, _numbers(params),
                 dict(definition.spans), missing, definition.span)
     runner.report_hole(hole)
@@ -993,6 +993,16 @@ def _predrilled(state, level) -> bool:
     if type(level) is not float or None in point:
         return False
     return any(x == point[0] and y == point[1] and type(bottom) is float and bottom <= level for x, y, bottom in state.klartext.drilled)
+
+
+def _taps_an_earlier_hole(state, model) -> bool:
+    """A tap needs a hole. Tapping where this program has drilled nothing taps one that an
+    earlier operation made, and the blank (the raw part) does not show it: the way down to
+    the set-up clearance is a hole bored before, as for a drilled one."""
+    point = _plane_point(state)
+    if model.family != "tap" or None in point:
+        return False
+    return not any(x == point[0] and y == point[1] for x, y, _ in state.klartext.drilled)
 
 
 def _remember_hole(state, bottom) -> None:
