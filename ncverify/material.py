@@ -42,10 +42,11 @@ class _PathPiece:
     them cuts (the interpreter calls ``forked`` on rule memory when a path forks). ``piece``
     None: past the memory cap, this path is judged against the blank."""
 
-    __slots__ = ("piece", "lines", "arcs", "sharers", "symbolic", "recent", "deepest", "sizeless")
+    __slots__ = ("piece", "lines", "arcs", "buffered", "sharers", "symbolic", "recent", "deepest", "sizeless")
 
     def __init__(self, piece: Workpiece | None):
-        self.piece, self.lines, self.arcs, self.sharers = piece, [], [], 1  # lines and arcs buffered, not cut yet
+        self.piece, self.lines, self.arcs, self.sharers = piece, [], [], 1  # lines (in runs of moves) and arcs buffered, not cut yet
+        self.buffered = 0  # moves buffered: straight ones and arcs
         self.symbolic: list[tuple[dict, dict]] = []  # cuts whose place depends on free parameters
         self.recent: deque = deque(maxlen=_RECENT)  # the last straight cuts, exactly: (start, end, cutter)
         self.deepest = math.inf  # the lowest any tool tip has cut (arcs counted when swept): below it, the blank is whole
@@ -71,6 +72,7 @@ class _PathPiece:
     def take_over(self, shared: "_PathPiece") -> None:
         """Carry on from the workpiece's twin this path shared until now."""
         self.lines, self.arcs, self.symbolic = list(shared.lines), list(shared.arcs), list(shared.symbolic)
+        self.buffered = shared.buffered
         self.recent = deque(shared.recent, maxlen=_RECENT)
         self.deepest, self.sizeless = shared.deepest, shared.sizeless
 
@@ -126,13 +128,28 @@ class Material:
                 return
             plane = tuple("XYZ".index(axis) for axis in arc.plane)
             mine.arcs.append(((start, end, arc.centre, arc.direction == "cw", plane), mine.sized(cutter), _tool_name(state)))
-        else:
-            mine.deepest = min(mine.deepest, start[2], end[2])
-            cutter = mine.sized(cutter)
-            mine.lines.append((start, end, cutter, _tool_name(state)))
-            mine.recent.append((start, end, cutter))
-        if len(mine.lines) + len(mine.arcs) >= _FLUSH_AT:
-            self._flush(mine)
+            mine.buffered += 1
+            if mine.buffered >= _FLUSH_AT:
+                self._flush(mine)
+            return
+        mine.deepest = min(mine.deepest, start[2], end[2])
+        cutter = mine.sized(cutter)
+        mine.recent.append((start, end, cutter))
+        self._buffer(mine, [start], [end], cutter, _tool_name(state))
+
+    def _buffer(self, mine: _PathPiece, starts, ends, cutter: Cutter, tool: str) -> None:
+        """Straight cuts join the buffer, which is swept every ``_FLUSH_AT`` moves and when a
+        question needs the field: a batch's moves and the same moves block by block are
+        swept in the same groups, so the field (the grid merges neighbouring pieces within
+        a sweep) is the same on both paths. ``starts``, ``ends``: sequences of (x, y, z)."""
+        done = 0
+        while done < len(starts):
+            take = min(len(starts) - done, _FLUSH_AT - mine.buffered)
+            mine.lines.append((starts[done:done + take], ends[done:done + take], cutter, tool))
+            mine.buffered += take
+            done += take
+            if mine.buffered >= _FLUSH_AT:
+                self._flush(mine)
 
     def begin_run(self, run) -> None:
         """A batch of moves arrives: none of its feed moves is cut yet."""
@@ -169,14 +186,14 @@ class Material:
             mine.unplaced()
         if known.any():
             mine.deepest = min(mine.deepest, float(numpy.minimum(starts[known, 2], ends[known, 2]).min()))
-        self._flush(mine)
         sized = mine.sized(cutter)
         for start, end in zip(starts[known][-_RECENT:].tolist(), ends[known][-_RECENT:].tolist()):  # as the block-by-block path keeps them
             mine.recent.append((tuple(start), tuple(end), sized))
         parts = self._holder_parts(state)
         if not parts:
-            self._sweep(mine.piece, starts[known], ends[known], sized, 0.0, _tool_name(state))
+            self._buffer(mine, starts[known], ends[known], sized, _tool_name(state))
             return
+        self._flush(mine)
         for start, end, index in zip(starts[known], ends[known], feeds[known]):  # move by move: each against what the ones before left
             self._judge_holder(mine.piece, start, end, parts, run.span(int(index)), state)
             self._sweep(mine.piece, start[None], end[None], mine.sized(cutter), 0.0, _tool_name(state))
@@ -325,14 +342,15 @@ class Material:
     def _flush(self, mine: _PathPiece) -> None:
         for (cutter, tool), group in groupby(mine.lines, key=lambda line: line[2:]):
             group = list(group)
-            self._sweep(mine.piece, numpy.array([line[0] for line in group]), numpy.array([line[1] for line in group]), cutter, 0.0, tool)
+            starts, ends = (numpy.concatenate([numpy.reshape(line[end], (-1, 3)) for line in group]) for end in (0, 1))
+            self._sweep(mine.piece, starts, ends, cutter, 0.0, tool)
         for (cutter, tool), group in groupby(mine.arcs, key=lambda arc: arc[1:]):  # many arcs' chords in one sweep
             arcs = [arc[0] for arc in group]
             starts, ends, sagitta, _ = workpiece.arc_chords(*[[arc[field] for arc in arcs] for field in range(5)],
                                                            tolerance=self.resolution / 8.0)
             mine.deepest = min(mine.deepest, float((numpy.minimum(starts[:, 2], ends[:, 2]) - sagitta).min()))
             self._sweep(mine.piece, starts, ends, cutter, sagitta, tool)
-        mine.lines, mine.arcs = [], []
+        mine.lines, mine.arcs, mine.buffered = [], [], 0
 
     def _sweep(self, piece: Workpiece, starts, ends, cutter: Cutter, stray, tool: str) -> None:
         if not len(starts):

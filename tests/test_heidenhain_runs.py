@@ -174,6 +174,22 @@ _STREAK = st.one_of(st.lists(_PLAIN, max_size=10), st.lists(_PLAIN, min_size=25,
 _PART = st.one_of(_STREAK, _OTHER.map(lambda line: [line]))
 
 
+def test_a_batch_sweeps_its_cuts_in_the_groups_the_blocks_would():
+    """Found by the property below: the batch swept its feed moves apart from the ones
+    buffered before it, the blocks all in one sweep, and the grid merges neighbouring
+    pieces within a sweep, so the rapid's crash was placed at X0.25 on one path and X0.75
+    on the other."""
+    moves = ["L X+0.000", "L X-1.500 Y+0.000", "L X+0.000 Y+0.000", "L X-0,125 Y+0.000 Z+71.800", "L Y+15.471 F1200.5",
+             "L Y+0.000 Z-35.880", "L X-0.000 Y+0.000 Z-37.795", "L X+97.427 Y+92.000 Z+0.000", "L X+0.000 Y-0.000 Z+0.000",
+             "L X+0.000", "L X-0.000", "L X+40.535 Y-47.000 Z+0.000", "L X+21.768", "L X+0.000 Y+59.561 Z+0.000 F1200.5",
+             "L X+0.000 Y+130.893", "L X+0.000", "L X+0.000", "L X-64.081 Y+0.000 Z-0,125 F500", "L X+0.000", "L X+3 Y+1,5",
+             "L X+0.000 FMAX", "L X+24.881", "L X+0.000 Y+0.000 Z+0.000"]
+    text = program([f"{number} {move}" for number, move in enumerate(moves, start=len(_HEAD))])
+    batched = findings(text)
+    assert batched == findings(text, per_block_only=True)
+    assert any(finding[0] == "core.rapid-into-stock" and finding[2] == "violated" for finding in batched[0])
+
+
 @hypothesis_settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large])
 @given(st.lists(_PART, min_size=1, max_size=8))
 def test_batched_and_block_by_block_runs_report_the_same(parts):
