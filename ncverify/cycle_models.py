@@ -58,6 +58,7 @@ class CycleModel:
     family: str | None = None
     activity: str | None = None  # def | call
     ends_elsewhere: bool = False
+    start_end: list | tuple = ()  # start and end point in the tool axis, in place of Q203 and Q201
     requires: list | tuple = ()
     compatible: list | tuple = ()
     spindle_by_cycle: bool = False

@@ -93,7 +93,7 @@ Operations (all carry the ``span`` of the words they came from):
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Union
+from typing import Any, Callable, Union
 
 from .source import Span
 
@@ -150,7 +150,18 @@ class IncrementCount:
     kind: str = "length"
 
 
-Expr = Union[float, str, Var, Unary, Binary, Func, IncrementCount]  # str: a name (a label, a program)
+@dataclass(frozen=True, slots=True)
+class MachineValue:
+    """A value the machine holds that no program can name as a variable (the FAUTO feed of
+    the tool call, whether a hole cycle is modal, the result of a function that reads the
+    machine): ``read(state)`` gives it on the path where the expression is evaluated.
+    ``what`` says which value it is, for reading the IR."""
+
+    what: str
+    read: Callable[[Any], Any]
+
+
+Expr = Union[float, str, Var, Unary, Binary, Func, IncrementCount, MachineValue]  # str: a name (a label, a program)
 
 
 # --------------------------------------------------------------------------- operations

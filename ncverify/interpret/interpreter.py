@@ -422,6 +422,8 @@ class Interpreter(ControlFlow):
                 return values.call(expr.name, arguments)
             except DomainError as error:
                 self._domain_error(str(error), span)
+        if kind is ir.MachineValue:
+            return expr.read(self.state)
         if kind is Sym or expr is VACANT:
             return expr  # a value already evaluated (a modal call's stored argument)
         raise TypeError(f"not an expression: {expr!r}")

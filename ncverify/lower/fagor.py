@@ -50,8 +50,13 @@ _PCALL_PARAMETERS = {letter: f"P{index}" for index, letter in enumerate("ABCDEFG
 _REPEAT_COPIES = 1000  # outside a cycle's zone, NR up to this count copies the move op
 RPT_END = "$RPT_END"
 SWITCH_VALUE = "$SWITCH"
-_VACANT = ir.Var("$VACANT")
-_IN_CYCLE_ZONE = ir.Var("$INCYCLE")  # 1 while a hole cycle is modal (FagorFrontend.system_variable)
+
+
+def _hole_cycle_modal(state) -> float:
+    return 0.0 if state.cycle is None else 1.0
+
+
+_IN_CYCLE_ZONE = ir.MachineValue("a hole cycle is modal (1) or not (0)", _hole_cycle_modal)
 _MODAL_CALL_ARGUMENTS = re.compile(rb'(?im)#MCALL[ \t]+(?:"[^"\n]*"|[^\s;]+)([^\n;]*)')
 
 
@@ -313,7 +318,7 @@ class FagorLowering(IsoLowering):
         canned cycle (its moves are resolved when it runs)."""
         name, *arguments = statement.args
         written = dict(arguments)
-        block.ops.append(modal_call.switch_on(span, name, written, self.modal_call_letters, _VACANT))
+        block.ops.append(modal_call.switch_on(span, name, written, self.modal_call_letters, VACANT))
 
     def _error(self, block, statement, span) -> None:
         """``#ERROR ["text"]``: the program stops with its own error message (a guard exit
@@ -658,10 +663,6 @@ class FagorFrontend:
             return targets.get(key, f"@?{key}")
         if name == RPT_END:
             return -1.0
-        if name == _IN_CYCLE_ZONE.name:
-            return 0.0 if state.cycle is None else 1.0
-        if name == _VACANT.name:
-            return VACANT
         if name.startswith("$"):
             return 0.0
         if name.startswith("V.C.") and len(name) == 5 and state.cycle is not None:

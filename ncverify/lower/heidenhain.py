@@ -19,8 +19,9 @@ jumps, Q/QL/QR parameters ``Assign``.
 from __future__ import annotations
 
 import re
+from functools import cache
 
-from .. import ir
+from .. import ir, values
 from ..context import Context, Stock, Tool, tool_value_problem
 from ..cycle_models import load_cycle_table
 from ..dependencies import note_file
@@ -54,6 +55,23 @@ _M_STOP = {0.0: "stop", 1.0: "optional", 2.0: "end", 30.0: "end"}
 # M functions rules watch: M94 (modal rotary axis display) after cycle 19, M136/M137 (feed
 # per revolution on/off) at cycle 202 (seed L8095, L1890-1897).
 _M_WATCHED = frozenset({94.0, 136.0, 137.0})
+
+
+def _tool_call_feed(state):
+    """``F AUTO``: the feed of the TOOL CALL in force, unknown (never a free parameter a
+    witness could choose) when the tool call gave none."""
+    feed = state.klartext.tool_feed
+    return feed if feed is not None else values.fresh("FAUTO", 0.0)
+
+
+_TOOL_CALL_FEED = ir.MachineValue("the feed of the TOOL CALL (F AUTO)", _tool_call_feed)
+
+
+@cache
+def _function_result(function: int) -> ir.MachineValue:
+    """The result of FN ``function`` that reads the machine (FN 18 SYSREAD ...): unknown,
+    never a free parameter a witness could choose."""
+    return ir.MachineValue(f"the result of FN {function}", lambda _state: values.fresh(f"FN{function}"))
 
 
 class KlartextLowering:
@@ -315,7 +333,7 @@ class KlartextLowering:
             elif word == "FMAX":
                 found["rapid"] = True
             elif word in ("FAUTO", "FU", "FZ"):
-                found["feed"] = ir.Var("@TOOLF") if word == "FAUTO" else None
+                found["feed"] = _TOOL_CALL_FEED if word == "FAUTO" else None
                 if word != "FAUTO":
                     cursor.value()
             elif word == "F" and _bare(cursor, ("MAX", "AUTO")):
@@ -324,7 +342,7 @@ class KlartextLowering:
                 if cursor.take_name("MAX"):
                     found["rapid"] = True
                 elif cursor.take_name("AUTO"):
-                    found["feed"] = ir.Var("@TOOLF")
+                    found["feed"] = _TOOL_CALL_FEED
                 else:
                     found["feed"] = cursor.value()
             elif word == "M":
@@ -563,7 +581,7 @@ class KlartextLowering:
         if cursor.is_name("Q", "QL", "QR") and cursor.peek(2) is not None and cursor.peek(2).text == "=":
             target = cursor.parameter()
             cursor.index = len(cursor.tokens)
-            block.ops.append(ir.Assign(cursor.rest_span(start), target, ir.Var(f"@FN{function}")))
+            block.ops.append(ir.Assign(cursor.rest_span(start), target, _function_result(function)))
             return
         cursor.index = len(cursor.tokens)  # FN 15-29 without a result: print, PLC, tables
 

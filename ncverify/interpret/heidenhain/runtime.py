@@ -41,18 +41,6 @@ _TRANSFORMS = frozenset({7, 8, 10, 11, 19, 26})
 _HOLE_FAMILIES = frozenset({"drill", "tap", "thread"})
 
 
-def system_variable(name: str, state):
-    """Hidden values the lowering reads: the FAUTO feed of the TOOL CALL, results of FN
-    functions that read the machine (FN 18 SYSREAD ...): unknown, never a free parameter
-    a witness could choose."""
-    if not name.startswith("@"):
-        return None
-    if name == "@TOOLF":
-        feed = state.klartext.tool_feed
-        return feed if feed is not None else values.fresh("FAUTO", 0.0)
-    return values.fresh(name[1:])
-
-
 def batch_allowed(state) -> bool:
     """A batch of plain lines skips what each line's R0 and positioning step would do:
     nothing while the compensation is off and no cycle waits on positions."""
@@ -718,6 +706,15 @@ def run_cycle(runner, op, block, definition: Definition, shift=None, surface_off
     return None
 
 
+def _surface_and_depth(params: dict, start: str, end: str) -> None:
+    """A cycle that gives its start and end point in the tool axis (233: Q227 and Q386, seed
+    L7112-7528) has the surface Q203 at the start and the depth Q201 from start to end; the
+    depth is unknown unless both are numbers."""
+    params.pop("Q201", None)
+    if type(params.get(start)) is float and type(params.get(end)) is float:
+        params.update(Q203=params[start], Q201=params[end] - params[start])
+
+
 def _depth_name(definition: Definition) -> str:
     return definition.model.depth or "Q201"
 
@@ -1023,8 +1020,8 @@ def _pocket(runner, op, block, definition, shift, surface_offset):
     name = f"heidenhain.{definition.number}"
     runner.report_cycle(CycleRun(name, model, op.span, block, _numbers(params), dict(definition.spans)))
     axis = _plane(state)[2]
-    if definition.number == 233 and type(params.get("Q227")) is float and type(params.get("Q386")) is float:
-        params.update(Q203=params["Q227"], **{"@233": params["Q386"] - params["Q227"]})  # start and end in the tool axis (seed L7112-7528)
+    if model.start_end:
+        _surface_and_depth(params, *model.start_end)
     found = levels(params, _depth_name(definition))
     depth = params.get(_depth_name(definition))
     if depth == 0.0:
