@@ -560,6 +560,14 @@ class CycleSet(Op):
 
 
 @dataclass(slots=True)
+class RepeatEnd(Op):
+    """Fagor ``(RPT N10, N20)``: while the blocks run, the one labelled ``label`` (N20)
+    returns; ``None`` once the repeat is over."""
+
+    label: Expr | None
+
+
+@dataclass(slots=True)
 class DialectDeferred(Op):
     """A block whose meaning depends on the dialect's state where it runs (a Fagor cycle
     block: the plane, ``#TOOL AX`` and the cycle set): the dialect's run-time code calls

@@ -17,6 +17,7 @@ class FagorState:
     tool_axis: tuple[str, str] | None = None  # #TOOL AX: (axis, "+" or "-"), axis "?" for one not modelled; None: never set
     lathe_cycles: bool = False  # #LATHECY ON in force
     mill_cycles: bool = False  # #MILLCY ON in force
+    repeat_end: object = -1.0  # (RPT N10, N20) running: the label of its last block (N20); -1 otherwise
 
 
 def _tool_axis(runtime, op: ir.ToolAxis, block):
@@ -28,6 +29,11 @@ def _cycle_set(runtime, op: ir.CycleSet, block):
     runtime.state.fagor = replace(runtime.state.fagor, **changed)
 
 
+def _repeat_end(runtime, op: ir.RepeatEnd, block):
+    last = -1.0 if op.label is None else runtime.evaluate(op.label, op.span)
+    runtime.state.fagor = replace(runtime.state.fagor, repeat_end=last)
+
+
 def _resolve(runtime, op: ir.DialectDeferred, block):
     """A cycle block: lowered for the plane and the Fagor state in force here."""
     state = runtime.state
@@ -35,4 +41,4 @@ def _resolve(runtime, op: ir.DialectDeferred, block):
     return runtime.run_lowered(ops, notes, block)
 
 
-OPERATIONS = {ir.ToolAxis: _tool_axis, ir.CycleSet: _cycle_set, ir.DialectDeferred: _resolve}
+OPERATIONS = {ir.ToolAxis: _tool_axis, ir.CycleSet: _cycle_set, ir.RepeatEnd: _repeat_end, ir.DialectDeferred: _resolve}

@@ -14,8 +14,8 @@ differently:
 - **flow statements** ``$IF/$ELSEIF/$ELSE/$ENDIF``, ``$WHILE``, ``$DO``, ``$FOR``,
   ``$SWITCH/$CASE/$DEFAULT``, ``$BREAK``, ``$CONTINUE``, ``$GOTO``, ``(RPT N10, N20)``,
   lowered to jumps. A statement's partner lines are found from the program text when the
-  jump runs: the jump target is a system variable ``$@next:12`` that
-  :meth:`FagorFrontend.system_variable` resolves to the label ``@15`` of the partner line;
+  jump runs: the jump target is a machine value (:meth:`FagorLowering.partner`) that
+  resolves to the label ``@15`` of the partner line;
 - **calls** ``#CALL``, ``#PCALL`` (a new level of local parameters, its A-Z arguments
   set P0-P25), local subroutines
   ``%L NAME`` ending with ``M17``/``M29``/``#RET``; ``#MCALL`` / ``#MDOFF`` (see
@@ -48,7 +48,6 @@ _NO_EFFECT_INSTRUCTIONS = {"HSC", "ROUNDPAR", "MSG", "WARNING", "WAIT", "FLUSH",
                            "SVOFF", "TSYNC", "SELECT", "EXBLK", "MEXEC", "EXEC", "FEED", "ABORT", "CONTJOG", "COMMENT"}
 _PCALL_PARAMETERS = {letter: f"P{index}" for index, letter in enumerate("ABCDEFGHIJKLMNOPQRSTUVWXYZ")}
 _REPEAT_COPIES = 1000  # outside a cycle's zone, NR up to this count copies the move op
-RPT_END = "$RPT_END"
 SWITCH_VALUE = "$SWITCH"
 
 
@@ -57,6 +56,13 @@ def _hole_cycle_modal(state) -> float:
 
 
 _IN_CYCLE_ZONE = ir.MachineValue("a hole cycle is modal (1) or not (0)", _hole_cycle_modal)
+
+
+def _repeat_end(state):
+    return state.fagor.repeat_end
+
+
+_REPEAT_END = ir.MachineValue("the label of the last block of the RPT running", _repeat_end)
 _MODAL_CALL_ARGUMENTS = re.compile(rb'(?im)#MCALL[ \t]+(?:"[^"\n]*"|[^\s;]+)([^\n;]*)')
 
 
@@ -82,6 +88,7 @@ class FagorLowering(IsoLowering):
         self.uses_rpt = False
         self.uses_modal_call = False
         self.modal_call_letters: list[str] = []  # the argument letters any #MCALL of the program passes
+        self._structures: dict[int, tuple[object, dict]] = {}
 
     @property
     def reads_every_block(self) -> bool:
@@ -92,6 +99,24 @@ class FagorLowering(IsoLowering):
         """``G4 K0.5``: Fagor dwells are seconds in K (§12, uncertain); other forms as in ISO."""
         word = rest.pop("K", None)
         return word.value if word is not None else super()._dwell_seconds(rest)
+
+    def partner(self, kind: str, line: int) -> ir.MachineValue:
+        """Where a jump of the flow statement in ``line`` lands (``kind``: next, end, exit,
+        head, break, continue): the label of its partner line, found from the text of the
+        program the path runs when the jump runs (see :func:`program_structure`)."""
+        key = f"{kind}:{line}"
+
+        def label(state) -> str:
+            return self._structure(state.call_stack[-1].source.buffer).get(key, f"@?{key}")
+
+        return ir.MachineValue(f"the {kind} partner of the flow statement in line {line}", label)
+
+    def _structure(self, buffer) -> dict:
+        cached = self._structures.get(id(buffer))
+        if cached is None or cached[0] is not buffer:
+            cached = (buffer, program_structure(buffer))
+            self._structures[id(buffer)] = cached
+        return cached[1]
 
     # ------------------------------------------------------------------ one line
 
@@ -111,7 +136,7 @@ class FagorLowering(IsoLowering):
         if self.uses_modal_call and modal_call.moves(_with_repeats(block.ops)):
             block.ops.append(self._modal_subroutine_call(block.span))
         if self.uses_rpt and isinstance(block.label, float):
-            condition = ir.Binary("EQ", ir.Var(RPT_END), block.label)
+            condition = ir.Binary("EQ", _REPEAT_END, block.label)
             block.ops.append(ir.Conditional(block.span, condition, [ir.Return(block.span, local_only=True)]))
         return [block]
 
@@ -280,8 +305,8 @@ class FagorLowering(IsoLowering):
     @staticmethod
     def _repeat_blocks(span: Span, first, last, count) -> list[ir.Op]:
         """``(RPT N10, N20)``: run N10 to N20 as a local subroutine; the block labelled
-        with the last number returns while ``$RPT_END`` names it."""
-        return [ir.Assign(span, ir.Var(RPT_END), last), ir.Call(span, "local", first, count), ir.Assign(span, ir.Var(RPT_END), -1.0)]
+        with the last number returns while the repeat runs."""
+        return [ir.RepeatEnd(span, last), ir.Call(span, "local", first, count), ir.RepeatEnd(span, None)]
 
     # ------------------------------------------------------------------ statements
 
@@ -350,17 +375,17 @@ class FagorLowering(IsoLowering):
 
     def _if(self, block, statement, span, line):
         block.label = f"@{line}"
-        block.ops.append(ir.Jump(span, _partner("next", line), _negated(statement.args)))
+        block.ops.append(ir.Jump(span, self.partner("next", line), _negated(statement.args)))
         return [block]
 
     def _else_if(self, block, statement, span, line):
-        leave = ir.Block(line, block.start_column, block.end_column, [ir.Jump(span, _partner("end", line))])
+        leave = ir.Block(line, block.start_column, block.end_column, [ir.Jump(span, self.partner("end", line))])
         block.label = f"@{line}"
-        block.ops.append(ir.Jump(span, _partner("next", line), _negated(statement.args)))
+        block.ops.append(ir.Jump(span, self.partner("next", line), _negated(statement.args)))
         return [leave, block]
 
     def _else(self, block, statement, span, line):
-        leave = ir.Block(line, block.start_column, block.end_column, [ir.Jump(span, _partner("end", line))])
+        leave = ir.Block(line, block.start_column, block.end_column, [ir.Jump(span, self.partner("end", line))])
         block.label = f"@{line}"
         return [leave, block]
 
@@ -370,12 +395,12 @@ class FagorLowering(IsoLowering):
 
     def _while(self, block, statement, span, line):
         block.label = f"@{line}"
-        block.ops.append(ir.Jump(span, _partner("exit", line), _negated(statement.args)))
+        block.ops.append(ir.Jump(span, self.partner("exit", line), _negated(statement.args)))
         return [block]
 
     def _loop_end(self, block, statement, span, line):
         condition = statement.args[0] if statement.args else None
-        back = ir.Block(line, block.start_column, block.end_column, [ir.Jump(span, _partner("head", line), condition)], label=f"@{line}#c")
+        back = ir.Block(line, block.start_column, block.end_column, [ir.Jump(span, self.partner("head", line), condition)], label=f"@{line}#c")
         block.label = f"@{line}"
         return [back, block]
 
@@ -389,14 +414,14 @@ class FagorLowering(IsoLowering):
         init = ir.Block(line, block.start_column, block.end_column, [ir.Assign(span, target, start), ir.Jump(span, f"@{line}#t")], label=block.label)
         advance = ir.Block(line, block.start_column, block.end_column, [ir.Assign(span, target, ir.Binary("+", target, step))], label=f"@{line}#s")
         passed = ir.Binary("GT" if step > 0 else "LT", target, end)
-        test = ir.Block(line, block.start_column, block.end_column, [ir.Jump(span, _partner("exit", line), passed)], label=f"@{line}#t")
+        test = ir.Block(line, block.start_column, block.end_column, [ir.Jump(span, self.partner("exit", line), passed)], label=f"@{line}#t")
         return [init, advance, test]
 
     def _switch(self, block, statement, span, line):
         if not statement.args:
             block.notes.append(ir.Note("core.syntax", "$SWITCH needs the value to compare: $SWITCH P1", span))
             return [block]
-        block.ops.extend([ir.Assign(span, ir.Var(SWITCH_VALUE), statement.args[0]), ir.Jump(span, _partner("next", line))])
+        block.ops.extend([ir.Assign(span, ir.Var(SWITCH_VALUE), statement.args[0]), ir.Jump(span, self.partner("next", line))])
         return [block]
 
     def _case(self, block, statement, span, line):
@@ -409,7 +434,7 @@ class FagorLowering(IsoLowering):
             equal = ir.Binary("EQ", ir.Var(SWITCH_VALUE), value)
             matches = equal if matches is None else ir.Binary("OR", matches, equal)
         block.label = f"@{line}"
-        block.ops.append(ir.Jump(span, _partner("next", line), ir.Binary("EQ", matches, 0.0)))
+        block.ops.append(ir.Jump(span, self.partner("next", line), ir.Binary("EQ", matches, 0.0)))
         body = ir.Block(line, block.start_column, block.end_column, [], label=f"@{line}#b")
         return [into_body, block, body]
 
@@ -439,10 +464,6 @@ def _negated(args: list) -> ir.Expr:
     return ir.Binary("EQ", args[0], 0.0) if args else 0.0
 
 
-def _partner(kind: str, line: int) -> ir.Var:
-    return ir.Var(f"$@{kind}:{line}")
-
-
 def _unknown_flow(lowering, block, statement, span, line):
     block.notes.append(ir.Note("core.unsupported-code", f"${statement.keyword} is read but not modelled; the rest of this path answers unknown", span))
     block.ops.append(ir.Unsupported(span, f"${statement.keyword}", ("position",)))
@@ -465,12 +486,12 @@ _INSTRUCTIONS = {
 
 
 def _break(lowering, block, statement, span, line):
-    block.ops.append(ir.Jump(span, _partner("break", line)))
+    block.ops.append(ir.Jump(span, lowering.partner("break", line)))
     return [block]
 
 
 def _continue(lowering, block, statement, span, line):
-    block.ops.append(ir.Jump(span, _partner("continue", line)))
+    block.ops.append(ir.Jump(span, lowering.partner("continue", line)))
     return [block]
 
 
@@ -549,7 +570,6 @@ class FagorFrontend:
         self.lowering = lowering
         self.paren_comments = bool(lowering.table.settings.get("paren_comments", True))
         self.local_parameters = int(lowering.table.settings.get("local_parameters", 26))
-        self._structures: dict[int, tuple[object, dict]] = {}
         self._line_starts: dict[int, tuple[object, list]] = {}
         self._plain = IsoFrontend(lowering)  # plain motion blocks read as in ISO
 
@@ -641,13 +661,6 @@ class FagorFrontend:
             self._line_starts[id(buffer)] = cached
         return cached[1]
 
-    def _structure(self, buffer) -> dict:
-        cached = self._structures.get(id(buffer))
-        if cached is None or cached[0] is not buffer:
-            cached = (buffer, program_structure(buffer))
-            self._structures[id(buffer)] = cached
-        return cached[1]
-
     # ---- variables
 
     def variable_scope(self, name: str) -> str:
@@ -657,12 +670,6 @@ class FagorFrontend:
         return "global"
 
     def system_variable(self, name: str, state):
-        if name.startswith("$@"):
-            key = name[2:]
-            targets = self._structure(state.call_stack[-1].source.buffer)
-            return targets.get(key, f"@?{key}")
-        if name == RPT_END:
-            return -1.0
         if name.startswith("$"):
             return 0.0
         if name.startswith("V.C.") and len(name) == 5 and state.cycle is not None:
