@@ -46,9 +46,6 @@ interpreter as ``DialectSetup.runtime``. The lowering never imports it. Its opti
     Whether a batch may run now, for a dialect whose plain blocks also change state of its
     own (Klartext: an M89 cycle runs at every position); without it, whenever the
     interpreter's own conditions hold.
-``system_variable(name, state)``
-    Values of hidden variables the lowering writes into expressions (asked before the
-    frontend's ``system_variable``).
 ``OPERATIONS: dict``
     The handlers of IR operations the dialect lowers to and the shared interpreter leaves to
     it, by operation type: ``run(runtime, op, block)`` with the

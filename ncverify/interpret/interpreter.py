@@ -150,8 +150,7 @@ class Interpreter(ControlFlow):
                  tools: ToolTable | None = None, parked_at_start: tuple[str, ...] = ()):
         self.cycle_models = cycle_models
         self._dialect_batch_allowed = getattr(runtime, "batch_allowed", None)
-        self._system_variables = tuple(hook for hook in (getattr(runtime, "system_variable", None),
-                                                         getattr(frontend, "system_variable", None)) if hook is not None)
+        self._system_variable = getattr(frontend, "system_variable", None)
         self.twins = twins
         self.assigned: dict[int, list[tuple[str, object]]] = {}  # line -> (variable, value) of assignment statements, with settings.record_values
         self.tools = tools if tools is not None else ToolTable()
@@ -555,8 +554,8 @@ class Interpreter(ControlFlow):
             return self._free_parameter(name)
         if name in state.global_variables:
             return state.global_variables[name]
-        for answer in self._system_variables:
-            system = answer(name, state)
+        if self._system_variable is not None:
+            system = self._system_variable(name, state)
             if system is not None:
                 return system
         return self._free_parameter(name)
