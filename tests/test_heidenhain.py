@@ -381,3 +381,13 @@ def test_the_tool_calls_radius_delta_adds_to_the_table_radius_on_the_path_it_is_
     assert at(forked, "heidenhain.tool-too-large")  # the path through the second TOOL CALL
     free = check(text.replace("TOOL CALL 1 Z S2000", "TOOL CALL 1 Z S2000 DR+Q1"), "[tools.1]\nradius = 6")
     assert not at(free, "heidenhain.tool-too-large") and at(free, "heidenhain.tool-too-large", Status.UNKNOWN)
+
+
+def test_f_auto_moves_at_the_feed_of_the_tool_call_in_force():
+    limit = "[machine]\nmax_feed = 400"
+    moves = "5  L  X+10 Y+10 R0 FMAX\n6  L  X+20 F AUTO"
+    fast = program(moves).replace("TOOL CALL 1 Z S2000", "TOOL CALL 1 Z S2000 F500")
+    assert at(check(fast, limit), "core.feed-over-limit") == [7]
+    assert not at(check(fast.replace("F500", "F300"), limit), "core.feed-over-limit")
+    unknown = check(program(moves), limit)  # no feed in the tool call: unknown, never one a witness could choose
+    assert not at(unknown, "core.feed-over-limit") and at(unknown, "core.feed-over-limit", Status.UNKNOWN) == [7]
