@@ -10,6 +10,7 @@ Cuts are buffered and swept in batches: CAM programs are millions of tiny moves.
 """
 from __future__ import annotations
 
+import functools
 import math
 import weakref
 from collections import deque
@@ -123,11 +124,11 @@ class Material:
         start, end = _point(segment.start), _point(segment.end)
         if segment.arc is not None:
             arc = segment.arc
-            if arc.centre is None or any(type(value) is not float for value in arc.centre):
+            centre = arc.centre
+            if centre is None or type(centre[0]) is not float or type(centre[1]) is not float:
                 mine.unplaced()
                 return
-            plane = tuple("XYZ".index(axis) for axis in arc.plane)
-            mine.arcs.append(((start, end, arc.centre, arc.direction == "cw", plane), mine.sized(cutter), _tool_name(state)))
+            mine.arcs.append(((start, end, centre, arc.direction == "cw", _plane_indices(arc.plane)), mine.sized(cutter), _tool_name(state)))
             mine.buffered += 1
             if mine.buffered >= _FLUSH_AT:
                 self._flush(mine)
@@ -466,6 +467,12 @@ def _mebibytes(size: float) -> str:
 def _tool_name(state) -> str:
     number = state.tool_in_spindle
     return f"T{number:g}" if type(number) is float else "T?"
+
+
+@functools.lru_cache(maxsize=16)
+def _plane_indices(plane: tuple[str, str, str]) -> tuple[int, int, int]:
+    """The columns of a plane's axes in (X, Y, Z)."""
+    return tuple("XYZ".index(axis) for axis in plane)
 
 
 def _stacked(pieces) -> numpy.ndarray:
