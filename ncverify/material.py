@@ -10,6 +10,7 @@ Cuts are buffered and swept in batches: CAM programs are millions of tiny moves.
 """
 from __future__ import annotations
 
+import functools
 import math
 import weakref
 from collections import deque
@@ -123,11 +124,11 @@ class Material:
         start, end = _point(segment.start), _point(segment.end)
         if segment.arc is not None:
             arc = segment.arc
-            if arc.centre is None or any(type(value) is not float for value in arc.centre):
+            centre = arc.centre
+            if centre is None or type(centre[0]) is not float or type(centre[1]) is not float:
                 mine.unplaced()
                 return
-            plane = tuple("XYZ".index(axis) for axis in arc.plane)
-            mine.arcs.append(((start, end, arc.centre, arc.direction == "cw", plane), mine.sized(cutter), _tool_name(state)))
+            mine.arcs.append(((start, end, centre, arc.direction == "cw", _plane_indices(arc.plane)), mine.sized(cutter), _tool_name(state)))
             mine.buffered += 1
             if mine.buffered >= _FLUSH_AT:
                 self._flush(mine)
@@ -342,7 +343,7 @@ class Material:
     def _flush(self, mine: _PathPiece) -> None:
         for (cutter, tool), group in groupby(mine.lines, key=lambda line: line[2:]):
             group = list(group)
-            starts, ends = (numpy.concatenate([numpy.reshape(line[end], (-1, 3)) for line in group]) for end in (0, 1))
+            starts, ends = (_stacked(line[end] for line in group) for end in (0, 1))
             self._sweep(mine.piece, starts, ends, cutter, 0.0, tool)
         for (cutter, tool), group in groupby(mine.arcs, key=lambda arc: arc[1:]):  # many arcs' chords in one sweep
             arcs = [arc[0] for arc in group]
@@ -361,7 +362,9 @@ class Material:
         totals[1] += air
 
     def _placeable(self, start: dict, end: dict, state) -> bool:
-        return tool_axis_problem(state) is None and all(type(point.get(axis)) is float for point in (start, end) for axis in "XYZ")
+        return (tool_axis_problem(state) is None
+                and type(start.get("X")) is float and type(start.get("Y")) is float and type(start.get("Z")) is float
+                and type(end.get("X")) is float and type(end.get("Y")) is float and type(end.get("Z")) is float)
 
     def _cutter(self, state, largest: bool = False):
         """The swept shape of the tool in the spindle: a Cutter, None for a tool that does
@@ -464,6 +467,29 @@ def _mebibytes(size: float) -> str:
 def _tool_name(state) -> str:
     number = state.tool_in_spindle
     return f"T{number:g}" if type(number) is float else "T?"
+
+
+@functools.lru_cache(maxsize=16)
+def _plane_indices(plane: tuple[str, str, str]) -> tuple[int, int, int]:
+    """The columns of a plane's axes in (X, Y, Z)."""
+    return tuple("XYZ".index(axis) for axis in plane)
+
+
+def _stacked(pieces) -> numpy.ndarray:
+    """The buffered points as one (n, 3) array: a batch buffers arrays, a single move a list
+    of one (x, y, z); the lists are joined in Python and made one array, not one each."""
+    arrays, loose = [], []
+    for piece in pieces:
+        if isinstance(piece, numpy.ndarray):
+            if loose:
+                arrays.append(numpy.array(loose, dtype=float))
+                loose = []
+            arrays.append(numpy.reshape(piece, (-1, 3)))
+        else:
+            loose.extend(piece)
+    if loose:
+        arrays.append(numpy.array(loose, dtype=float))
+    return numpy.concatenate(arrays)
 
 
 def _point(position: dict) -> tuple[float, float, float]:

@@ -114,7 +114,8 @@ class SpindleOffCutting(Rule):
             return
         start_z, end_z = segment.start.get("Z"), segment.end.get("Z")
         if state.spindle in ("cw", "ccw"):
-            if type(end_z) is float and any(segment.start.get(axis) is not segment.end.get(axis) for axis in ("X", "Y")):
+            start, end = segment.start, segment.end
+            if type(end_z) is float and (start.get("X") is not end.get("X") or start.get("Y") is not end.get("Y")):
                 self._cut_at(end_z)
             return
         if state.spindle == "off" and state.plane_axes[2] not in state.parked:  # parked: the tool axis still at its reference height
@@ -314,6 +315,8 @@ class ArcGeometry(Rule):
         if own is not None and type(arc.start_radius) is float:  # LinuxCNC: refused only when off by both measures
             tolerance = max(tolerance, own.relative * arc.start_radius)
         verdict = self.checker.judge(hazard(">", difference, tolerance), state)
+        if verdict is None:
+            return  # the usual arc: its message is not worth writing
         if arc.start_radius == 0.0:
             message = "arc with no centre: I/J/K are all zero or missing and no R is given, so the centre is the start point (is G02/G03 still modal where a G01 was meant?)"
         else:

@@ -447,9 +447,12 @@ def _decimal_point_message(letter: str, value: float, increment: float) -> str:
 
 # ---------------------------------------------------------------------- front end
 
-_PLAIN_MOTION = re.compile(rb"[ \t]*(?:[NGXYZABCF][ \t]*[+-]?(?:\d+\.?\d*|\.\d+)[ \t]*)+")  # batchable: straight moves only
+# Possessive and atomic: a number or a run of blanks is only ever taken whole (a shorter
+# take leaves a digit, a point or a blank where a letter must follow), so a line that fails
+# fails at once instead of retrying every split of every number.
+_PLAIN_MOTION = re.compile(rb"[ \t]*+(?:[NGXYZABCF][ \t]*+[+-]?+(?>\d+\.?\d*|\.\d+)[ \t]*+)++")  # batchable: straight moves only
 # What the fast lowering takes: the plain blocks and arcs with their centre or radius words.
-_FAST_LINE = re.compile(rb"[ \t]*(?:[NGXYZABCFIJKR][ \t]*[+-]?(?:\d+\.?\d*|\.\d+)[ \t]*)+")
+_FAST_LINE = re.compile(rb"[ \t]*+(?:[NGXYZABCFIJKR][ \t]*+[+-]?+(?>\d+\.?\d*|\.\d+)[ \t]*+)++")
 _PLAIN_WORD_BYTES = re.compile(rb"([NGXYZABCFIJKR])[ \t]*([+-]?(?:\d+\.?\d*|\.\d+))")
 _LETTERS = {ord(letter): letter for letter in "NGXYZABCFIJKR"}
 _NUMBER_BYTES = rb"([+-]?(?:\d+\.?\d*|\.\d+))"
@@ -502,7 +505,7 @@ def lower_fast_motion(raw: bytes, line: int, path: str | None, form: FastMotionF
                  in zip(_CANONICAL_LETTERS, canonical.groups(), canonical.regs[1:]) if value is not None]
     else:
         words = [(_LETTERS[match.group(1)[0]], match.group(2), (match.start(1), match.end(2))) for match in _PLAIN_WORD_BYTES.finditer(raw)]
-    increment = form.increment
+    increment, axis_letters, arc_letters = form.increment, form.axis_letters, form.arc_letters
     label = kind = move_start = feed_op = None
     numbered = False
     move_end = 0
@@ -528,7 +531,7 @@ def lower_fast_motion(raw: bytes, line: int, path: str | None, form: FastMotionF
                 return None
             feed = ir.IncrementCount(float(text), "feed") if form.feed_increment and b"." not in text else float(text)
             feed_op = ir.SetFeed(Span(line, start + 1, line, value_end + 1, path), feed)
-        elif letter in form.axis_letters and letter not in targets:
+        elif letter in axis_letters and letter not in targets:
             if increment and b"." not in text and 1 <= abs(float(text)) < 1000:
                 return None  # a decimal-point trap: the general path reports it
             targets[letter] = ir.IncrementCount(float(text), "length") if increment and b"." not in text else float(text)
@@ -536,7 +539,7 @@ def lower_fast_motion(raw: bytes, line: int, path: str | None, form: FastMotionF
             if move_start is None or start < move_start:
                 move_start = start
             move_end = max(move_end, value_end)
-        elif letter in form.arc_letters and letter not in arc and (b"." in text or not increment):
+        elif letter in arc_letters and letter not in arc and (b"." in text or not increment):
             arc[letter] = float(text)
             if form.arc_words_in_span:
                 columns[letter] = (start, value_end)

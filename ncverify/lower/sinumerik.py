@@ -482,7 +482,7 @@ def _nested_modal_call(name: str, span: Span) -> ir.Note:
 
 # ---------------------------------------------------------------------- frontend
 
-_PLAIN_MOTION = re.compile(rb"[ \t]*(?:[NGXYZF][ \t]*[+-]?(?:\d+\.?\d*|\.\d+)[ \t]*)+")
+_PLAIN_MOTION = re.compile(rb"[ \t]*+(?:[NGXYZF][ \t]*+[+-]?+(?>\d+\.?\d*|\.\d+)[ \t]*+)++")  # possessive: see iso._PLAIN_MOTION
 # Plain motion lines lowered without the reader, as the general lowering would (N is a block
 # number, a label only as N<number>; I/J/K are arc data only, outside the move's span; R is a parameter).
 _FAST_WORD = rb"[GXYZABCFIJK][+-]?(?:\d+\.?\d*|\.\d+)"
