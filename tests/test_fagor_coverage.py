@@ -1,5 +1,5 @@
 """Which rule checks each hazard (H1-H33) and each control alarm of the Fagor reference
-(/work/shared/reference/fagor-8060-8065.md, section 11 and the cycle tables), or why it
+(../shared/reference/fagor-8060-8065.md, section 11 and the cycle tables), or why it
 cannot be decided from the program text and its context.
 
 Each entry is (rule ids, note). The note says what the rules leave out; an entry with no
