@@ -133,7 +133,15 @@ def _sum(value: Linear, parameter: str, counter: str, number) -> str:
     return text
 
 
-class _IsoWriter:
+class _Writer:
+    """Writes a case's steps in one dialect; each step is tagged with its place in the case."""
+
+    def steps(self, text: _Text, steps: tuple, path: tuple) -> None:
+        for index, step in enumerate(steps):
+            self.step(text, step, (*path, index))
+
+
+class _IsoWriter(_Writer):
     """ISO (Mitsubishi E60 / Fanuc macro B), and LinuxCNC with O-words for loops and subprograms."""
 
     def __init__(self, dialect: str):
@@ -176,10 +184,6 @@ class _IsoWriter:
             self.steps(text, case.steps[tag[0]].body, tag)
             text.line(tail.format(number))
 
-    def steps(self, text: _Text, steps: tuple, path: tuple) -> None:
-        for index, step in enumerate(steps):
-            self.step(text, step, (*path, index))
-
     def step(self, text: _Text, step, tag: tuple) -> None:
         n = self.number
         if isinstance(step, (Rapid, Feed)):
@@ -216,7 +220,7 @@ class _IsoWriter:
             raise TypeError(step)
 
 
-class _SinumerikWriter:
+class _SinumerikWriter(_Writer):
     def __init__(self):
         self.frame = {"shift": (0.0, 0.0), "mirror": False, "degrees": 0.0, "factor": 1.0}
 
@@ -235,10 +239,6 @@ class _SinumerikWriter:
         self.steps(text, case.steps, ())
         text.line("M30")
         return text
-
-    def steps(self, text: _Text, steps: tuple, path: tuple) -> None:
-        for index, step in enumerate(steps):
-            self.step(text, step, (*path, index))
 
     def step(self, text: _Text, step, tag: tuple) -> None:
         w = self.word
@@ -290,7 +290,7 @@ class _SinumerikWriter:
             text.line(f"ASCALE X={frame['factor']:g} Y={frame['factor']:g}")
 
 
-class _KlartextWriter:
+class _KlartextWriter(_Writer):
     def __init__(self):
         self.labels = 0
         self.subprograms = []
@@ -320,10 +320,6 @@ class _KlartextWriter:
                 lines[index] = f"{number} {line}"
                 number += 1
         return text
-
-    def steps(self, text: _Text, steps: tuple, path: tuple) -> None:
-        for index, step in enumerate(steps):
-            self.step(text, step, (*path, index))
 
     def step(self, text: _Text, step, tag: tuple) -> None:
         if isinstance(step, (Rapid, Feed)):
@@ -374,7 +370,7 @@ class _KlartextWriter:
             raise TypeError(step)
 
 
-class _FagorWriter:
+class _FagorWriter(_Writer):
     def __init__(self):
         self.subprograms = []
 
@@ -396,10 +392,6 @@ class _FagorWriter:
             self.steps(text, body, path)
             text.line("#RET")
         return text
-
-    def steps(self, text: _Text, steps: tuple, path: tuple) -> None:
-        for index, step in enumerate(steps):
-            self.step(text, step, (*path, index))
 
     def step(self, text: _Text, step, tag: tuple) -> None:
         if isinstance(step, (Rapid, Feed)):
