@@ -75,6 +75,16 @@ def test_without_a_stock_the_program_s_own_cutting_height_decides(off_z, cut_z, 
     assert found == [(9, expected)]
 
 
+@pytest.mark.parametrize("per_block_only", [False, True])
+def test_a_plunge_that_writes_the_same_x_again_is_no_cutting_height(per_block_only):
+    """``G1 X10. Z20.`` at X10 is a plunge: X is written again, not moved (it was once told
+    apart by identity, so a new float of the same value counted as a cut across)."""
+    text = "G21 G90 G17\nG0 X10. Y10. Z50.\nS1000 M3\nG1 X10. Z20. F100\nM5\nG1 X30. Z25.\nM30\n"
+    found = [(d.span.line, d.status) for d in check_text(text, "plunge.nc", Settings(dialect="iso", per_block_only=per_block_only)).diagnostics
+             if d.rule == "core.spindle-off-cutting"]
+    assert found == [(6, Status.UNKNOWN)]
+
+
 def _spindle_off_findings(text: str) -> set:
     return {(d.span.line, d.status) for d in check_text(text, "start.nc", Settings()).diagnostics
             if d.rule == "core.spindle-off-cutting"}

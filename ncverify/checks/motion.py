@@ -115,7 +115,7 @@ class SpindleOffCutting(Rule):
         start_z, end_z = segment.start.get("Z"), segment.end.get("Z")
         if state.spindle in ("cw", "ccw"):
             start, end = segment.start, segment.end
-            if type(end_z) is float and (start.get("X") is not end.get("X") or start.get("Y") is not end.get("Y")):
+            if type(end_z) is float and (_changed(start.get("X"), end.get("X")) or _changed(start.get("Y"), end.get("Y"))):
                 self._cut_at(end_z)
             return
         if state.spindle == "off" and state.plane_axes[2] not in state.parked:  # parked: the tool axis still at its reference height
@@ -343,3 +343,11 @@ class ReferenceReturnThroughWork(Rule):
             return
         verdict = self.checker.judge(hazard("<=", level, 0.0), state)
         self.checker.report_verdict("core.g28-absolute", change.span, f"{'G28' if change.new == 'home' else 'G30'} in G90 goes first to work Z{show(level)} at rapid: the tool passes through the work surface level (write G91 G28 Z0.)", verdict, state)
+
+
+def _changed(before, after) -> bool:
+    """A coordinate differs: numbers by value (a block may write the same X again), other
+    values (symbolic, unknown) unless they are the very same value."""
+    if type(before) is float and type(after) is float:
+        return before != after
+    return before is not after
