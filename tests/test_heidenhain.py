@@ -315,23 +315,6 @@ def test_tool_t_values_that_are_not_finite_are_not_entered(tmp_path):
     assert set(tools) == {0, 4, 9}
 
 
-_PLAIN_WORDS = st.tuples(st.sampled_from(["X", "Y", "Z", "IX", "IY", "IZ"]), st.sampled_from(["+", "-", ""]),
-                         st.from_regex(r"\A[0-9]{1,4}(\.[0-9]{0,3})?\Z"))
-
-
-@hypothesis_settings(max_examples=300, deadline=None)
-@given(st.integers(0, 99999), st.lists(_PLAIN_WORDS, min_size=1, max_size=3, unique_by=lambda word: word[0][-1]),
-       st.one_of(st.none(), st.integers(1, 9999)), st.sampled_from([" ", "  "]))
-def test_the_fast_path_for_plain_lines_gives_the_general_paths_blocks(number, words, feed, gap):
-    from ncverify.lower.heidenhain import _PLAIN_LINE
-
-    raw = f"{number} L{gap}" + gap.join(f"{letter}{sign}{value}" for letter, sign, value in words) + (f" F{feed}" if feed else "")
-    lowering = KlartextLowering()
-    match = _PLAIN_LINE.fullmatch(raw.encode())
-    assert match is not None, raw
-    assert lowering._plain(raw.encode(), match, 7, None) == lowering._general(raw.encode(), 7, None), raw
-
-
 def test_call_pgm_finds_the_called_file_by_path_name_or_number(tmp_path):
     from ncverify import check_file
 

@@ -46,9 +46,14 @@ _UNMODELLED = {
     "TABDATA": (False, "TABDATA"), "OPEN": (False, "OPEN FILE"), "PRESET": (True, "PRESET"), "MONITORING": (False, "MONITORING"),
     "POLARKIN": (True, "POLARKIN"), "LIFTOFF": (False, "LIFTOFF"), "SYSCALL": (False, "SYSCALL"),
 }
-# A plain straight move: block number, L, absolute or incremental X/Y/Z, an optional feed.
-_PLAIN_LINE = re.compile(rb"[ \t]*\d+[ \t]+L((?:[ \t]+I?[XYZ][+-]?\d+(?:[.,]\d*)?)+)(?:[ \t]+F\d+(?:\.\d*)?)?[ \t\r]*")
-_PLAIN_WORD = re.compile(rb"(I?[XYZ]|F)([+-]?\d+(?:[.,]\d*)?)")
+# The common motion lines of CAM output, read without the tokenizer (KlartextLowering._fast_motion):
+# [block number] L / CC / C / CR / CT, then words apart by blanks, each a letter run with an
+# optional sign and number written as the tokenizer reads them; which runs and forms a
+# function takes is sorted out word by word, anything else goes the general way.
+_FAST_WORD = rb"(I?[XYZABCUVW]|RL|RR|R|DR|FMAX|F|M)([+-]?)(\d+(?:\.\d*|,\d+)?|\.\d+)?"
+_FAST_LINE = re.compile(rb"[ \t]*(?:\d+[ \t]+)?(L|CC|CR|CT|C)((?:[ \t]+" + _FAST_WORD + rb")*)[ \t\r]*")
+_FAST_WORDS = re.compile(_FAST_WORD)
+_CIRCLE_EXTRA = {"C": ("DR", "R"), "CR": ("DR", "R"), "CT": ("R",)}  # words a circle takes beyond those of a line
 _M_SPINDLE = {3.0: "cw", 4.0: "ccw", 5.0: "off", 13.0: "cw", 14.0: "ccw", 19.0: "orient"}
 _M_COOLANT = {7.0: "mist", 8.0: "flood", 9.0: "off", 13.0: "flood", 14.0: "flood"}
 _M_STOP = {0.0: "stop", 1.0: "optional", 2.0: "end", 30.0: "end"}
@@ -92,37 +97,37 @@ class KlartextLowering:
         return blocks
 
     def _lower(self, raw: bytes, line: int, path: str | None) -> list[ir.Block]:
-        plain = _PLAIN_LINE.fullmatch(raw)
-        if plain is not None:
-            return [self._plain(raw, plain, line, path)]
-        return [self._general(raw, line, path)]
+        block = self._fast_motion(raw, line, path)
+        return [block if block is not None else self._general(raw, line, path)]
 
-    def _plain(self, raw: bytes, match, line: int, path) -> ir.Block:
-        """``12 L X+10.5 IY-3 Z+0 F500`` (the bulk of CAM output) without the tokenizer;
-        it must give the blocks the general path gives (tests/test_heidenhain.py)."""
-        targets, incremental, columns = {}, set(), {}
-        feed = None
-        end = None
-        for word in _PLAIN_WORD.finditer(raw, match.start(1)):
-            letter, value = word.group(1).decode(), float(word.group(2).replace(b",", b"."))
-            if letter == "F":
-                feed, end = value, word.end()
-                continue
-            axis = letter[-1]
-            targets[axis] = value
-            columns[axis] = (word.start(), word.end())
-            if letter[0] == "I":
-                incremental.add(axis)
-            end = word.end()
-        start = match.start(1) - 1
-        body_start = len(raw) - len(raw.lstrip())
-        block = ir.Block(line, body_start + 1, len(raw.rstrip()) + 1, [])
-        span = Span(line, start + 1, line, end + 1, path)
-        if feed is not None:
-            block.ops.append(ir.SetFeed(span, feed))
-        block.ops.append(ir.Move(span, "linear", targets, None, {}, frozenset(incremental), columns))
-        plane = [axis for axis in ("X", "Y") if axis in targets]
-        block.ops.append(ir.PositioningBlock(span, {"fed": 1.0, "plane": float(len(plane)), "relative": float(any(axis in incremental for axis in plane))}))
+    def _fast_motion(self, raw: bytes, line: int, path) -> ir.Block | None:
+        """``12 L X+10.5 IY-3 Z+0 RR F500 M3``, ``CC X.. Y..``, ``C X.. Y.. DR-``, ``CR X.. Y..
+        R+6 DR-``, ``CT ..`` (the bulk of CAM output) without the tokenizer, into the blocks
+        the general path makes of them (tests/test_heidenhain_fast_paths.py); None when the
+        line has another form, which the general path then reads."""
+        match = _FAST_LINE.fullmatch(raw)
+        if match is None:
+            return None
+        function = match.group(1).decode()
+        words = _motion_found()
+        extra = _CIRCLE_EXTRA.get(function, ())
+        last = match.end(1)
+        for word in _FAST_WORDS.finditer(raw, match.start(2), match.end(2)):
+            if not _fast_word(words, word, extra, line, path):
+                return None
+            last = word.end()
+        begin = match.start(1) + 1
+        span = Span(line, begin, line, last + 1, path)
+        block = ir.Block(line, len(raw) - len(raw.lstrip()) + 1, len(raw.rstrip()) + 1, [])
+        try:
+            if function == "L":
+                self._line_ops(block, words, span)
+            elif function == "CC":
+                self._pole_ops(block, words, span)
+            else:
+                self._circle_ops(block, function, words, span)
+        except ReadError:
+            return None
         return block
 
     def _general(self, raw: bytes, line: int, path: str | None) -> ir.Block:
@@ -308,7 +313,7 @@ class KlartextLowering:
     def _motion_words(self, cursor: Cursor, block: ir.Block, allowed_extra=()) -> dict:
         """The words after a path function: coordinates (``I`` = incremental), R0/RL/RR,
         F / FMAX / FAUTO, M functions, and the ``extra`` words of the function."""
-        found = {"targets": {}, "incremental": set(), "columns": {}, "m": [], "extra": {}, "feed": None, "rapid": False, "comp": None}
+        found = _motion_found()
         while not cursor.at_end():
             token = cursor.next()
             if token.kind != "name":
@@ -365,10 +370,12 @@ class KlartextLowering:
     def _line(self, cursor, block, path):
         start = cursor.expect_name("L")
         words = self._motion_words(cursor, block)
-        self._emit_motion(block, words, start.span, cursor, "rapid" if words["rapid"] else "linear")
+        self._line_ops(block, words, cursor.rest_span(start.span))
 
-    def _emit_motion(self, block, words, start_span, cursor, kind, arc_op=None):
-        span = cursor.rest_span(start_span)
+    def _line_ops(self, block, words, span):
+        self._emit_motion(block, words, span, "rapid" if words["rapid"] else "linear")
+
+    def _emit_motion(self, block, words, span, kind, arc_op=None):
         machine = any(number in (91.0, 92.0) for number, _ in words["m"])
         if words["feed"] is not None:
             block.ops.append(ir.SetFeed(span, words["feed"]))
@@ -426,30 +433,35 @@ class KlartextLowering:
     def _pole(self, cursor, block, path):
         start = cursor.expect_name("CC")
         words = self._motion_words(cursor, block)
-        block.ops.append(ir.Pole(cursor.rest_span(start.span), _written(words)))
+        self._pole_ops(block, words, cursor.rest_span(start.span))
+
+    @staticmethod
+    def _pole_ops(block, words, span):
+        block.ops.append(ir.Pole(span, _written(words)))
 
     def _circle(self, cursor, block, path):
         """``C`` arc about CC, ``CR`` arc by radius, ``CT`` tangential arc."""
         start = cursor.next()
-        extra = ("DR", "R") if start.text in ("C", "CR") else ("R",)
-        words = self._motion_words(cursor, block, extra)
-        span = cursor.rest_span(start.span)
+        words = self._motion_words(cursor, block, _CIRCLE_EXTRA[start.text])
+        self._circle_ops(block, start.text, words, cursor.rest_span(start.span))
+
+    def _circle_ops(self, block, function: str, words, span):
         direction = words["extra"].get("DR")
         if words["rapid"]:
             _rapid_arc(block, span)
-        if start.text == "CR":
+        if function == "CR":
             if "R" not in words["extra"] or direction is None:
                 raise ReadError("CR needs a radius R and a direction DR+ or DR-", span)
             kind = "arc_ccw" if direction == "+" else "arc_cw"
             arc = ir.Move(span, kind, dict(words["targets"]), {"R": words["extra"]["R"]}, {}, frozenset(words["incremental"]), words["columns"])
-            self._emit_motion(block, words, start.span, cursor, kind, arc)
+            self._emit_motion(block, words, span, kind, arc)
             return
         params = _written(words)
-        if start.text == "C":
+        if function == "C":
             params["DR"] = 1.0 if direction == "+" else -1.0 if direction == "-" else 0.0
-            self._emit_motion(block, words, start.span, cursor, None, ir.PoleArc(span, params))
+            self._emit_motion(block, words, span, None, ir.PoleArc(span, params))
         else:
-            self._emit_motion(block, words, start.span, cursor, None, ir.TangentArc(span, params))
+            self._emit_motion(block, words, span, None, ir.TangentArc(span, params))
 
     def _polar(self, cursor, block, path):
         start = cursor.next()
@@ -463,7 +475,7 @@ class KlartextLowering:
         span = cursor.rest_span(start.span)
         if words["rapid"] and start.text == "CP":
             _rapid_arc(block, span)
-        self._emit_motion(block, words, start.span, cursor, None, ir.PolarMove(span, kind, params))
+        self._emit_motion(block, words, span, None, ir.PolarMove(span, kind, params))
 
     def _corner(self, cursor, block, path):
         """RND / CHF between two contour elements: the corner is cut off, the end point stays."""
@@ -487,20 +499,20 @@ class KlartextLowering:
         if start.text == "DEP":
             words["comp"] = ("off", start.span)  # DEP ends the radius compensation
         if start.text == "DEP" and not plane <= words["targets"].keys():
-            self._emit_motion(block, dict(words, targets={}), start.span, cursor, "linear")
+            self._emit_motion(block, dict(words, targets={}), span, "linear")
             block.ops.append(ir.Unsupported(span, "DEP without its end point", ("position",)))
             return
-        self._emit_motion(block, words, start.span, cursor, "linear")
+        self._emit_motion(block, words, span, "linear")
 
     def _m_only(self, cursor, block, path):
         start = cursor.here()
         words = self._motion_words(cursor, block)
-        self._emit_motion(block, words, start, cursor, "rapid" if words["rapid"] else "linear")
+        self._emit_motion(block, words, cursor.rest_span(start), "rapid" if words["rapid"] else "linear")
 
     def _stop(self, cursor, block, path):
         start = cursor.expect_name("STOP").span
         words = self._motion_words(cursor, block)
-        self._emit_motion(block, words, start, cursor, "linear")
+        self._emit_motion(block, words, cursor.rest_span(start), "linear")
         block.ops.append(ir.Stop(start, "stop"))
 
     # ------------------------------------------------------------------ labels, calls, parameters
@@ -793,6 +805,57 @@ class KlartextLowering:
                 elif what.text == "MIRROR" and word.text in _AXES:
                     params[word.text] = 1.0  # TRANS MIRROR AXIS X: the axes mirrored
         block.ops.append(ir.Transformation(cursor.rest_span(start), params))
+
+
+def _motion_found() -> dict:
+    """What the words of a path function give, as :meth:`KlartextLowering._motion_words` fills it."""
+    return {"targets": {}, "incremental": set(), "columns": {}, "m": [], "extra": {}, "feed": None, "rapid": False, "comp": None}
+
+
+def _fast_word(found: dict, word, extra: tuple, line: int, path) -> bool:
+    """Enter one word of a fast motion line (:data:`_FAST_WORDS` match) as
+    :meth:`KlartextLowering._motion_words` enters it; False for a word it would read some
+    other way or refuse (it is then left to it)."""
+    letters, sign, number = word.group(1, 2, 3)
+    if letters in (b"RL", b"RR", b"FMAX"):
+        if sign or number is not None:
+            return False
+        if letters == b"FMAX":
+            found["rapid"] = True
+        else:
+            found["comp"] = ("left" if letters == b"RL" else "right", Span(line, word.start() + 1, line, word.start() + 3, path))
+        return True
+    if letters == b"DR":
+        if "DR" not in extra or not sign or number is not None:
+            return False
+        found["extra"]["DR"] = sign.decode()
+        return True
+    if number is None:
+        return False  # a bare letter or a sign without its number
+    if letters == b"M":
+        if sign or not number.isdigit() or len(number) > 15:  # (M140 MB.. does not get here: MB is no word of the line)
+            return False
+        found["m"].append((float(number), Span(line, word.start(3) + 1, line, word.end() + 1, path)))
+        return True
+    value = float(number.replace(b",", b"."))
+    if sign == b"-":
+        value = value * -1.0
+    if letters == b"R":
+        if not sign and number == b"0":
+            found["comp"] = ("off", Span(line, word.start() + 1, line, word.start() + 2, path))
+        elif "R" in extra:
+            found["extra"]["R"] = value
+        else:
+            return False
+    elif letters == b"F":
+        found["feed"] = value
+    else:
+        axis = chr(letters[-1])
+        found["targets"][axis] = value
+        found["columns"][axis] = (word.start(), word.end())
+        if letters[0] == ord("I"):
+            found["incremental"].add(axis)
+    return True
 
 
 def _bare(cursor: Cursor, keywords=()) -> bool:

@@ -2,8 +2,6 @@
 path's Klartext state, the working plane, cycle levels and the cycle's own feed."""
 from __future__ import annotations
 
-from dataclasses import replace
-
 from ... import values
 
 
@@ -11,8 +9,10 @@ def put(state, **changes) -> None:
     """Change the path's Klartext state (a new value: a forked path keeps its own). Asked on
     every positioning block, mostly to set what is already set: then nothing is copied."""
     current = state.klartext
-    if any(getattr(current, name) is not value for name, value in changes.items()):
-        state.klartext = replace(current, **changes)
+    for name, value in changes.items():
+        if getattr(current, name) is not value:
+            state.klartext = current.changed(changes)
+            return
 
 
 def plane(state):

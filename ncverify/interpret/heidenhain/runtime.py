@@ -67,8 +67,7 @@ def _pole_run(runner, op, block):
     if not given:
         pole[first], pole[second] = state.position.get(first), state.position.get(second)
         given = [first, second]
-    _put(state, pole=pole)
-    _put(state, pole_axes=tuple(axis for axis in "XYZ" if axis in given) if len(given) == 2 else (first, second))
+    _put(state, pole=pole, pole_axes=tuple(axis for axis in "XYZ" if axis in given) if len(given) == 2 else (first, second))
     return None
 
 
@@ -604,9 +603,10 @@ def _call_run(runner, op, block, params):
     return run_cycle(runner, op, block, definition)
 
 
-def _positioned_run(runner, op, block, params):
+def _positioned_run(runner, op, block):
     """After M89 every positioning block runs the cycle, until M99 or a new CYCL DEF
-    (seed L742-752)."""
+    (seed L742-752). Its words are numbers the lowering wrote: nothing to evaluate."""
+    params = op.params
     state = runner.state
     _put(state, fed_at=_plane_point(state) if params.get("fed") else None)
     ended = state.klartext.ended_elsewhere
@@ -989,7 +989,7 @@ def _predrilled(state, level) -> bool:
     point = _plane_point(state)
     if type(level) is not float or None in point:
         return False
-    return any(x == point[0] and y == point[1] and type(bottom) is float and bottom <= level for x, y, bottom in state.klartext.drilled)
+    return any(type(bottom) is float and bottom <= level for bottom in state.klartext.drilled.bottoms_at(*point))
 
 
 def _taps_an_earlier_hole(state, model) -> bool:
@@ -999,14 +999,14 @@ def _taps_an_earlier_hole(state, model) -> bool:
     point = _plane_point(state)
     if model.family != "tap" or None in point:
         return False
-    return not any(x == point[0] and y == point[1] for x, y, _ in state.klartext.drilled)
+    return not state.klartext.drilled.bottoms_at(*point)
 
 
 def _remember_hole(state, bottom) -> None:
     drilled = state.klartext.drilled
     point = _plane_point(state)
     if None not in point and len(drilled) < 10_000:
-        _put(state, drilled=drilled + ((point[0], point[1], bottom),))
+        _put(state, drilled=drilled.adding(point[0], point[1], bottom))
 
 
 def _pocket(runner, op, block, definition, shift, surface_offset):
@@ -1051,14 +1051,14 @@ def _statement_run(runner, op: ir.DialectStatement, block):
 
 _STATEMENTS = {
     ir.OldCycle: _old_cycle_run, ir.Transformation: _trans_run, ir.PatternDef: _pattern_run, ir.CallActiveCycle: _call_run,
-    ir.SelectPattern: special.select_pattern_run, ir.PositioningBlock: _positioned_run, ir.ContourDef: _contour_def_run,
+    ir.SelectPattern: special.select_pattern_run, ir.ContourDef: _contour_def_run,
     ir.GlobalDef: _global_def_run, ir.SelectContour: _select_contour_run, ir.DeclareContour: _declare_contour_run,
 }
 # The handlers of the operations this dialect lowers to and the shared interpreter leaves
 # to it: ``run(runner, op, block)`` with the path's :class:`~ncverify.interpret.runtime.Runtime`.
 OPERATIONS = {
     ir.Pole: _pole_run, ir.PoleArc: _arc_run, ir.TangentArc: _tangent_run, ir.PolarMove: _polar_run,
-    ir.Lift: _lift_run, ir.Retract: _retract_run, ir.ToolFeed: _tool_feed_run, ir.ToolDelta: _tool_delta_run, ir.LabelCall: _label_call_run,
+    ir.Lift: _lift_run, ir.PositioningBlock: _positioned_run, ir.Retract: _retract_run, ir.ToolFeed: _tool_feed_run, ir.ToolDelta: _tool_delta_run, ir.LabelCall: _label_call_run,
     ir.MFunction: special.m_function_run, ir.CycleDefine: _define_run, **dict.fromkeys(_STATEMENTS, _statement_run),
 }
 _SPECIAL_FAMILIES = {"engrave": special.engrave, "face232": special.face_milling,
