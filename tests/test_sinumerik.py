@@ -17,7 +17,7 @@ from ncverify import Settings, check_text
 from ncverify.check import Checker
 from ncverify.detect import detect
 from ncverify.diagnostics import Status
-from test_read_iso import plain_blocks
+from test_read_iso import numbers, plain_blocks
 from ncverify.lower.sinumerik import SinumerikFrontend, SinumerikLowering, program_context
 from ncverify.interpret.sinumerik_cycles import levels, pattern_positions
 from ncverify.read.sinumerik import read_line
@@ -591,6 +591,34 @@ def test_plain_motion_and_arc_lines_lower_without_the_reader_like_the_general_lo
     text, _ = block
     frontend = SinumerikFrontend(SinumerikLowering())
     assert frontend.blocks(text.encode("ascii"), line, None) == frontend.lowering.lower(read_line(text, line), None)
+
+
+@st.composite
+def radius_arc_lines(draw) -> str:
+    """Arcs by their radius as CAM output writes them (``N.. G2 X.. Y.. CR=.. F..``) and
+    lines close to that form: CR= first or twice, with centre words, spaces around '=', a
+    straight move, a parameter as the radius."""
+    words = [f"G{draw(st.sampled_from(['0', '1', '2', '3', '02', '03']))}"] if draw(st.booleans()) else []
+    words += [letter + draw(numbers()) for letter in draw(st.lists(st.sampled_from("XYZFIJ"), unique=True, max_size=4))]
+    radius = draw(st.sampled_from(["CR=", "CR=", "CR =", "CR= "])) + draw(st.one_of(numbers(), numbers(), st.just("R1")))
+    words.insert(draw(st.integers(0, len(words))), radius)
+    if draw(st.integers(0, 9)) == 0:
+        words.append("CR=" + draw(numbers()))
+    number = f"N{draw(st.integers(0, 9999))}" + draw(st.sampled_from([" ", "\t"])) if draw(st.booleans()) else ""
+    gap = draw(st.sampled_from([" ", "  ", "\t"]))
+    return draw(st.sampled_from(["", " "])) + number + gap.join(words) + draw(st.sampled_from(["", " "]))
+
+
+@hypothesis_settings(max_examples=400, deadline=None)
+@given(radius_arc_lines(), st.integers(min_value=1, max_value=10**6))
+def test_arcs_by_radius_lower_without_the_reader_like_the_general_lowering(text, line):
+    from ncverify.lower.sinumerik import _FAST_RADIUS_LINE, _fast_block
+
+    fast = _fast_block(text.encode("ascii"), line, None)
+    general = SinumerikLowering().lower(read_line(text, line), None)
+    assert fast is None or [fast] == general, text
+    if re.fullmatch(r"\s*(N\d+\s+)?G0?[23]\s+([XYZF]\S+\s+)*CR=[^R\s]+(\s+[XYZF]\S+)*\s*", text):
+        assert _FAST_RADIUS_LINE.fullmatch(text.encode()) and fast is not None, text  # the CAM form takes the fast path
 
 
 @pytest.mark.parametrize("text", ["N20 G2 X10.5 Y5 I-5 J0 F800", "G1 X1 Y2 Z-1", "G03 X0 Y3 J1.5"])
