@@ -150,6 +150,9 @@ def _split_comment(text: str) -> tuple[str, int | None]:
     return text, None
 
 
+_AFTER_AN_OPERAND = frozenset({",", ")", ""})  # texts of the tokens no operator starts with (the end of the block: "")
+
+
 class _BlockParser:
     def __init__(self, code: str, block: ReadBlock):
         self.code = code
@@ -695,6 +698,8 @@ class _BlockParser:
     # ------------------------------------------------------------------ expressions
 
     def expression(self):
+        if self.peek()[0] == "number" and self.peek(1)[1] in _AFTER_AN_OPERAND:
+            return self._unary()  # a literal argument (CYCLE81(15, 0, 2, -5)): no operator level has anything to take
         return self._binary_level(0)
 
     # ':' chains frames (CTRANS(..):CROT(..)) and binds loosest
