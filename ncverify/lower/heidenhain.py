@@ -376,10 +376,12 @@ class KlartextLowering:
         self._emit_motion(block, words, span, "rapid" if words["rapid"] else "linear")
 
     def _emit_motion(self, block, words, span, kind, arc_op=None):
-        machine = any(number in (91.0, 92.0) for number, _ in words["m"])
+        m_words = words["m"]
+        machine = bool(m_words) and any(number in (91.0, 92.0) for number, _ in m_words)
         if words["feed"] is not None:
             block.ops.append(ir.SetFeed(span, words["feed"]))
-        self._m_before(block, words["m"])
+        if m_words:
+            self._m_before(block, m_words)
         if words["comp"] is not None:
             block.ops.append(ir.CutterComp(words["comp"][1], words["comp"][0], only_if_changed=True))
         if arc_op is not None:
@@ -393,12 +395,13 @@ class KlartextLowering:
                 block.ops.append(ir.Move(span, kind, dict(words["targets"]), None, {}, frozenset(words["incremental"]), words["columns"]))
         if "MB" in words["extra"]:
             block.ops.append(ir.Retract(span, words["extra"]["MB"]))
-        calls = any(number in (89.0, 99.0) for number, _ in words["m"])
+        calls = bool(m_words) and any(number in (89.0, 99.0) for number, _ in m_words)
         if words["targets"] and not calls and not machine:
             plane = [axis for axis in ("X", "Y") if axis in words["targets"]]
             relative = any(axis in words["incremental"] for axis in plane)
             block.ops.append(ir.PositioningBlock(span, {"fed": 0.0 if kind == "rapid" else 1.0, "plane": float(len(plane)), "relative": float(relative)}))
-        self._m_after(block, words["m"], span)
+        if m_words:
+            self._m_after(block, m_words, span)
 
     @staticmethod
     def _m_before(block, m_words):

@@ -133,6 +133,8 @@ def _upper_outside_strings(text: str) -> str:
 def continues(raw: bytes) -> bool:
     """Does the block go on in the next line: ``~`` at the end of the code, before or after
     the line's comment (``Q200=+2 ;SET-UP CLEARANCE ~``, ``CYCL DEF 200 DRILLING ~ ;note``)?"""
+    if b"~" not in raw:
+        return False
     stripped = raw.rstrip()
     if stripped.endswith(b"~"):
         return True
