@@ -4,10 +4,10 @@ axis, in that order). A regular expression finds how far the streak goes (in C, 
 per line); the numbers are then read with numpy as :mod:`ncverify.read.iso_runs` reads
 them, exactly as ``float(text)`` would.
 
-A line with anything else ends the streak and goes through the general lowering: an
-incremental axis, an M function, a Q parameter, RL/RR, a comment, a number with more than
-9 + 6 digits. So does ``L .. Z.. FMAX``, which the lowering runs as a lift out of the cut
-rather than as a plain rapid.
+A line with anything else ends the streak and runs block by block (lowered by the
+per-line fast path or the general one): an incremental axis, an M function, a Q parameter,
+RL/RR, a comment, a number with more than 9 + 6 digits. So does ``L .. Z.. FMAX``, which
+the lowering runs as a lift out of the cut rather than as a plain rapid.
 
 The last line of a streak is left to the per-block path too: besides the position and the
 feed, a plain line leaves one more fact behind (whether the tool got to its plane point at
