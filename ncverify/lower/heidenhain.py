@@ -54,6 +54,7 @@ _FAST_WORD = rb"(I?[XYZABCUVW]|RL|RR|R|DR|FMAX|F|M)([+-]?)(\d+(?:\.\d*|,\d+)?|\.
 _FAST_LINE = re.compile(rb"[ \t]*(?:\d+[ \t]+)?(L|CC|CR|CT|C)((?:[ \t]+" + _FAST_WORD + rb")*)[ \t\r]*")
 _FAST_WORDS = re.compile(_FAST_WORD)
 _CIRCLE_EXTRA = {"C": ("DR", "R"), "CR": ("DR", "R"), "CT": ("R",)}  # words a circle takes beyond those of a line
+_FAST_AXIS_WORDS = {prefix.encode() + axis.encode(): (axis, prefix == "I") for axis in _AXES for prefix in ("", "I")}
 _M_SPINDLE = {3.0: "cw", 4.0: "ccw", 5.0: "off", 13.0: "cw", 14.0: "ccw", 19.0: "orient"}
 _M_COOLANT = {7.0: "mist", 8.0: "flood", 9.0: "off", 13.0: "flood", 14.0: "flood"}
 _M_STOP = {0.0: "stop", 1.0: "optional", 2.0: "end", 30.0: "end"}
@@ -818,8 +819,18 @@ def _motion_found() -> dict:
 def _fast_word(found: dict, word, extra: tuple, line: int, path) -> bool:
     """Enter one word of a fast motion line (:data:`_FAST_WORDS` match) as
     :meth:`KlartextLowering._motion_words` enters it; False for a word it would read some
-    other way or refuse (it is then left to it)."""
-    letters, sign, number = word.group(1, 2, 3)
+    other way or refuse (it is then left to it). Axis words, the most of them, come first."""
+    letters, sign, number = word.groups()
+    axis_word = _FAST_AXIS_WORDS.get(letters)
+    if axis_word is not None:
+        if number is None:
+            return False
+        axis, incremental = axis_word
+        found["targets"][axis] = _fast_value(sign, number)
+        found["columns"][axis] = word.span()
+        if incremental:
+            found["incremental"].add(axis)
+        return True
     if letters in (b"RL", b"RR", b"FMAX"):
         if sign or number is not None:
             return False
@@ -839,26 +850,21 @@ def _fast_word(found: dict, word, extra: tuple, line: int, path) -> bool:
         if sign or not number.isdigit() or len(number) > 15:  # (M140 MB.. does not get here: MB is no word of the line)
             return False
         found["m"].append((float(number), Span(line, word.start(3) + 1, line, word.end() + 1, path)))
-        return True
-    value = float(number.replace(b",", b"."))
-    if sign == b"-":
-        value = value * -1.0
-    if letters == b"R":
-        if not sign and number == b"0":
-            found["comp"] = ("off", Span(line, word.start() + 1, line, word.start() + 2, path))
-        elif "R" in extra:
-            found["extra"]["R"] = value
-        else:
-            return False
     elif letters == b"F":
-        found["feed"] = value
+        found["feed"] = _fast_value(sign, number)
+    elif not sign and number == b"0":  # R0
+        found["comp"] = ("off", Span(line, word.start() + 1, line, word.start() + 2, path))
+    elif "R" in extra:
+        found["extra"]["R"] = _fast_value(sign, number)
     else:
-        axis = chr(letters[-1])
-        found["targets"][axis] = value
-        found["columns"][axis] = (word.start(), word.end())
-        if letters[0] == ord("I"):
-            found["incremental"].add(axis)
+        return False
     return True
+
+
+def _fast_value(sign: bytes, number: bytes) -> float:
+    """A signed number as :meth:`Cursor.value` reads it (a minus multiplies by -1)."""
+    value = float(number.replace(b",", b"."))
+    return value * -1.0 if sign == b"-" else value
 
 
 def _bare(cursor: Cursor, keywords=()) -> bool:
