@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import operator
 
-from .. import ir
+from .. import ir, values
 
 COMPILED_KINDS = frozenset({ir.Var, ir.Unary, ir.Binary, ir.Func})  # nodes worth compiling (the rest are leaves)
 
@@ -94,15 +94,15 @@ def _binary(interpreter, expr: ir.Binary):
 
 
 def _arithmetic(operation):
-    """A node of ``+ - * /`` on floats: the operation itself; a division by zero or a result
-    past the float range goes to the general step, which reports it."""
+    """A node of arithmetic on floats: the operation itself; a division by zero, a domain
+    error or a result past the float range goes to the general step, which reports it."""
     def build(expr, left, right, combined):
         def run(span):
             a, b = left(span), right(span)
             if type(a) is float and type(b) is float:
                 try:
                     result = operation(a, b)
-                except ZeroDivisionError:
+                except ArithmeticError:  # ZeroDivisionError, values.DomainError
                     return combined(expr, a, b, span)
                 if result - result == 0.0:
                     return result
@@ -123,6 +123,6 @@ def _comparison(test):
 
 
 _INLINE = {"+": _arithmetic(operator.add), "-": _arithmetic(operator.sub), "*": _arithmetic(operator.mul),
-           "/": _arithmetic(operator.truediv),
+           "/": _arithmetic(operator.truediv), "MOD": _arithmetic(values.modulo), "**": _arithmetic(values.power),
            "EQ": _comparison(operator.eq), "NE": _comparison(operator.ne), "GT": _comparison(operator.gt),
            "GE": _comparison(operator.ge), "LT": _comparison(operator.lt), "LE": _comparison(operator.le)}

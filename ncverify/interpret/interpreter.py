@@ -543,6 +543,8 @@ class Interpreter(ControlFlow):
             return same if op == "EQ" else not same
         left = 0.0 if left is VACANT else left
         right = 0.0 if right is VACANT else right
+        if isinstance(left, str) or isinstance(right, str):
+            return Interpreter._compare_text(op, left, right)
         return values.compare(op, left, right)
 
     @staticmethod
