@@ -5,14 +5,14 @@ from __future__ import annotations
 
 import math
 
-from hypothesis import given, settings, strategies as st
+from hypothesis import example, given, settings, strategies as st
 
 from ncverify import Settings, ir, values
 from ncverify.context import Context
 from ncverify.detect import Detection
 from ncverify.dialect import setup_for
 from ncverify.interpret import Interpreter
-from ncverify.interpret.compiled import compile_expression
+from ncverify.interpret.compiled import compile_assignment, compile_expression
 from ncverify.interpret.control_flow import PathEnd
 from ncverify.source import ProgramSource, Span
 from ncverify.values import VACANT, Condition, Sym
@@ -100,6 +100,8 @@ MEMORY = st.dictionaries(st.sampled_from(LOCALS + GLOBALS), CONTENTS, max_size=6
 
 @settings(max_examples=400, deadline=None)
 @given(expr=EXPRESSIONS, contents=MEMORY)
+@example(expr=ir.Binary("GE", 1.0, ir.Var("#100")), contents={"#100": 1.0})  # equal operands: GE is not GT
+@example(expr=ir.Binary("LE", ir.Var("#1"), ir.Var("#2")), contents={"#1": -0.0, "#2": 0.0})
 def test_a_compiled_expression_gives_the_value_or_the_stop_the_general_evaluation_gives(expr, contents):
     machine, recorder = interpreter(contents)
     general = outcome(machine.evaluate_tree, expr, recorder)
@@ -125,6 +127,28 @@ def test_named_parameters_of_linuxcnc_read_the_same_compiled(expr, contents):
         general = outcome(machine.evaluate_tree, candidate, recorder)
         run = compile_expression(machine, candidate)
         assert outcome(lambda e, span: run(span), candidate, recorder) == general
+
+
+def tables(machine: Interpreter) -> tuple[dict, dict]:
+    state = machine.state
+    return ({name: shown(value) for name, value in state.local_variables.items()},
+            {name: shown(value) for name, value in state.global_variables.items()})
+
+
+@settings(max_examples=200, deadline=None)
+@given(expr=EXPRESSIONS, contents=MEMORY, target=st.sampled_from(LOCALS + GLOBALS).map(ir.Var))
+def test_a_compiled_assignment_stores_what_the_general_one_stores(expr, contents, target):
+    """Conditions are stored as 1, 0 or an unknown between them; vacant, text and symbolic
+    values as they are; local names in the local table."""
+    op = ir.Assign(SPAN, target, expr)
+    general, general_log = interpreter(contents)
+    fast, fast_log = interpreter(contents)
+
+    def assign_generally(op, span):
+        general.write_variable(op.target, general.evaluate_tree(op.value, span), span, assignment=True)
+
+    assert outcome(assign_generally, op, general_log) == outcome(lambda op, span: compile_assignment(fast, op)(), op, fast_log)
+    assert tables(fast) == tables(general)
 
 
 def test_the_fast_path_stops_where_the_general_one_does():

@@ -42,6 +42,26 @@ def compile_expression(interpreter, expr):
     return lambda span: interpreter.evaluate_tree(expr, span)  # leaves that read the state, and a number out of range
 
 
+def compile_assignment(interpreter, op: ir.Assign):
+    """A closure ``run()`` that carries out ``op`` as ``interpreter._assign`` does: a value is
+    written to the table of the target's scope (:func:`values.stored` of it). Assignments
+    recorded for the editor, and to a computed variable number, go through
+    :meth:`~ncverify.interpret.Interpreter.write_variable`."""
+    value, target, span = compile_expression(interpreter, op.value), op.target, op.span
+    if not isinstance(target.name, str) or interpreter.settings.record_values:
+        write = interpreter.write_variable
+        return lambda: write(target, value(span), span, assignment=True)
+    name = target.name
+    local = interpreter.is_local(name)
+
+    def assign():
+        result = value(span)
+        state = interpreter.state
+        (state.local_variables if local else state.global_variables)[name] = result if type(result) is float else values.stored(result)
+
+    return assign
+
+
 def _variable(interpreter, var: ir.Var):
     if not isinstance(var.name, str):  # an indirect reference: its name is computed on every read
         return lambda span: interpreter.read_variable(var, span)

@@ -168,7 +168,7 @@ class Interpreter(ControlFlow):
         self.line_cache: dict[tuple[int, int], list[ir.Block]] = {}
         self.line_text: dict[tuple[int, int], tuple] = {}  # (source, offset) -> the logical_lines item there
         self._seen: dict[int, object] = {}  # id -> expression evaluated before (kept, so that the id stays its own)
-        self._closures: dict[int, object] = {}  # id -> compiled closure of an expression in _seen
+        self._closures: dict[int, object] = {}  # id -> compiled closure of an expression or assignment in _seen
         self._local_names: dict[str, bool] = {}  # variable name -> is it local (frontend.variable_scope)
         self.label_cache: dict[tuple[int, str, float], list[int]] = {}
         self.landing_cache: dict[tuple, Position] = {}  # (source, program, label, from offset, direction, branch) -> where a jump lands
@@ -431,14 +431,24 @@ class Interpreter(ControlFlow):
         if run is not None:
             return run(span)
         if type(expr) in compiled.COMPILED_KINDS:
-            if id(expr) in self._seen:  # it holds the node, so no other object has its id
-                run = self._closures[id(expr)] = compiled.compile_expression(self, expr)
+            run = self._compiled(expr, compiled.compile_expression)
+            if run is not None:
                 return run(span)
-            if len(self._seen) >= _COMPILED_LIMIT:
-                self._seen.clear()
-                self._closures.clear()
-            self._seen[id(expr)] = expr  # seen once: compiled when it runs again
         return self.evaluate_tree(expr, span)
+
+    def _compiled(self, node, compile):
+        """``compile(self, node)``, kept in ``_closures`` by the node's id, once ``node`` runs a
+        second time (its lowered line was kept for a loop's next pass or another call); None
+        the first time."""
+        key = id(node)
+        if key in self._seen:  # _seen holds the node, so no other object has its id
+            run = self._closures[key] = compile(self, node)
+            return run
+        if len(self._seen) >= _COMPILED_LIMIT:
+            self._seen.clear()
+            self._closures.clear()
+        self._seen[key] = node
+        return None
 
     def evaluate_tree(self, expr, span: Span | None = None):
         """:meth:`evaluate` by walking the tree: the general evaluation every value, vacant,
@@ -1052,6 +1062,10 @@ class Interpreter(ControlFlow):
     # ------------------------------------------------------------------ macro statements
 
     def _assign(self, op: ir.Assign, block):
+        run = self._closures.get(id(op)) or self._compiled(op, compiled.compile_assignment)
+        if run is not None:
+            run()
+            return None
         value = self.evaluate(op.value, op.span)
         self.write_variable(op.target, value, op.span, assignment=True)
         return None
