@@ -267,7 +267,10 @@ class Interpreter(ControlFlow):
                 first_block = 0
             return self._end_of_text(source)
         finally:
-            self.visited.append((source, position.offset, streak_end))
+            visited = self.visited
+            last = visited[-1] if visited else None
+            if last is None or last[0] is not source or last[1] != position.offset or last[2] != streak_end:
+                visited.append((source, position.offset, streak_end))  # a loop's next pass reaches the same lines: kept once
 
     # ------------------------------------------------------------------ batches of plain blocks
 
