@@ -160,3 +160,12 @@ def test_the_fast_path_stops_where_the_general_one_does():
     assert [entry[1] for entry in recorder.reported] == ["core.arithmetic-domain"] * 5
     messages = [entry[3] for entry in recorder.reported]
     assert "division by zero" in messages[0] and "overflows" in messages[1] and "SQRT of a negative number (-4)" in messages[3]
+
+
+def test_text_in_a_logical_operation_or_ordered_against_vacant_is_not_followed():
+    """Either way the outcome is unknown (a condition on a fresh value), never a crash."""
+    machine, recorder = interpreter({"#100": "TEXT"})
+    against_vacant = machine.evaluate_tree(ir.Binary("GE", ir.Var("#100"), ir.Var("#0")), SPAN)
+    combined = machine.evaluate_tree(ir.Binary("AND", ir.Var("#100"), ir.Binary("EQ", ir.Var("#100"), "TEXT")), SPAN)
+    assert isinstance(against_vacant, Condition) and isinstance(combined, Condition)
+    assert recorder.reported == []

@@ -426,20 +426,18 @@ class Interpreter(ControlFlow):
         An expression evaluated a second time (a loop body's, a called program's: their
         lowered lines are kept) is compiled into a closure (:mod:`.compiled`) that gives the
         same values and faults without walking the tree again."""
-        if type(expr) is float:
-            if expr - expr != 0.0:  # inf or nan: a number no control holds
-                self._domain_error("a number beyond the control's range", span)
-            return expr
+        if type(expr) is float and expr - expr == 0.0:
+            return expr  # a number as written (inf and nan are faults of evaluate_tree)
         run = self._closures.get(id(expr))
         if run is not None:
             return run(span)
         if type(expr) in compiled.COMPILED_KINDS:
-            run = self._compiled(expr, compiled.compile_expression)
+            run = self._compile_on_second_run(expr, compiled.compile_expression)
             if run is not None:
                 return run(span)
         return self.evaluate_tree(expr, span)
 
-    def _compiled(self, node, compile):
+    def _compile_on_second_run(self, node, compile):
         """``compile(self, node)``, kept in ``_closures`` by the node's id, once ``node`` runs a
         second time (its lowered line was kept for a loop's next pass or another call); None
         the first time."""
@@ -458,7 +456,7 @@ class Interpreter(ControlFlow):
         text and symbolic, goes through, and the one compiled closures fall back to."""
         kind = type(expr)
         if kind is float:
-            if expr - expr != 0.0:
+            if expr - expr != 0.0:  # inf or nan: a number no control holds
                 self._domain_error("a number beyond the control's range", span)
             return expr
         if kind is ir.IncrementCount:
@@ -518,7 +516,7 @@ class Interpreter(ControlFlow):
                 return self._compare_text(op, left, right)
             return values.compare(op, self._as_number(left), self._as_number(right))
         if op in ("AND", "OR", "XOR"):
-            return values.logical(op, 0.0 if left is VACANT else left, 0.0 if right is VACANT else right)
+            return values.logical(op, _logical_operand(left), _logical_operand(right))
         left = self._arithmetic_operand(left, expr.left, span)
         right = self._arithmetic_operand(right, expr.right, span)
         return self._arithmetic(op, left, right, expr, span)
@@ -1065,7 +1063,7 @@ class Interpreter(ControlFlow):
     # ------------------------------------------------------------------ macro statements
 
     def _assign(self, op: ir.Assign, block):
-        run = self._closures.get(id(op)) or self._compiled(op, compiled.compile_assignment)
+        run = self._closures.get(id(op)) or self._compile_on_second_run(op, compiled.compile_assignment)
         if run is not None:
             run()
             return None
@@ -1143,6 +1141,14 @@ def _forward_fill(column, empty, initial: float):
     numpy.maximum.accumulate(index, out=index)
     padded = numpy.concatenate(([initial], numpy.where(missing, numpy.nan, column)))
     return padded[index]
+
+
+def _logical_operand(value):
+    """An operand of AND, OR and XOR: vacant counts as 0, text as a value the checker does
+    not follow."""
+    if value is VACANT:
+        return 0.0
+    return values.fresh("text") if isinstance(value, str) else value
 
 
 def _is_zero(value) -> bool:
