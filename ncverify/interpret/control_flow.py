@@ -255,6 +255,11 @@ class ControlFlow:
         doubtful (``_landing_doubtful``)."""
         frame = frame or self.state.call_stack[-1]
         source = source or frame.source
+        current = self._line_offset if source is self._line_source else -1
+        landing_key = (id(source), frame.program, label, current, direction, branch)
+        landing = self.landing_cache.get(landing_key)
+        if landing is not None:
+            return landing  # this jump was taken before from here, without a finding (a loop's jump back)
         key = (id(source), frame.program, label)
         found = self.label_cache.get(key)
         if found is None:
@@ -263,7 +268,6 @@ class ControlFlow:
         if not found:
             self._fault("core.label-not-found", span, f"label {self.frontend.describe_label(label)} is not in program {frame.program}: the control alarms here")
             raise PathEnd
-        current = self._line_offset if source is self._line_source else -1
         after = [position for position in found if position.offset > current]
         if direction is not None:
             before = [position for position in found if position.offset < current]
@@ -271,9 +275,12 @@ class ControlFlow:
             if not nearest:
                 self._fault("core.label-not-found", span, f"{self.frontend.describe_label(label)} is not {'after' if direction == 'forward' else 'before'} this block in {frame.program}: the control alarms here")
                 raise PathEnd
+            self.landing_cache[landing_key] = nearest[0]
             return nearest[0]
         if len(found) > 1 and (not branch or self._landing_doubtful(source, current, found, after)):
             self.observer.fault(Fault("core.duplicate-label", span, f"{self.frontend.describe_label(label)} appears {len(found)} times in {frame.program}; the jump goes to the first one after the current block"))
+        else:
+            self.landing_cache[landing_key] = (after or found)[0]
         return (after or found)[0]
 
     def _landing_doubtful(self, source: ProgramSource, current: int, found: list[Position], after: list[Position]) -> bool:

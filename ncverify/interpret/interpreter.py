@@ -23,7 +23,7 @@ from .control_flow import ControlFlow, CallFrame, LoopFrame, PathEnd, Position
 from .cycles import ActiveCycle, CycleRunner
 from .fagor import FagorState
 from .heidenhain.state import KlartextState
-from . import modal_call
+from . import compiled, modal_call
 from ..context import ToolTable
 from ..settings import Settings
 from ..source import ProgramSource, Span
@@ -166,7 +166,12 @@ class Interpreter(ControlFlow):
         self.cycles = CycleRunner(self)
         self.programs: dict[int, dict[str, int]] = {}
         self.line_cache: dict[tuple[int, int], list[ir.Block]] = {}
+        self.line_text: dict[tuple[int, int], tuple] = {}  # (source, offset) -> the logical_lines item there
+        self._seen: dict[int, object] = {}  # id -> expression evaluated before (kept, so that the id stays its own)
+        self._closures: dict[int, object] = {}  # id -> compiled closure of an expression or assignment in _seen
+        self._local_names: dict[str, bool] = {}  # variable name -> is it local (frontend.variable_scope)
         self.label_cache: dict[tuple[int, str, float], list[int]] = {}
+        self.landing_cache: dict[tuple, Position] = {}  # (source, program, label, from offset, direction, branch) -> where a jump lands
         self.visited: list[tuple[ProgramSource, int, int]] = []
         self.paths_started = 0
         self.blocks_run = 0
@@ -240,7 +245,7 @@ class Interpreter(ControlFlow):
         streak_end = position.offset
         plain_streak = 0
         try:
-            lines = logical_lines(source, position.offset, self.frontend)
+            lines = self._remembered_lines(source, position.offset) if cache else logical_lines(source, position.offset, self.frontend)
             for line_number, offset, next_offset, raw in lines:
                 if plain_streak >= _BATCH_AFTER and is_plain(raw) and self._batch_allowed():
                     plain_streak = 0
@@ -262,7 +267,10 @@ class Interpreter(ControlFlow):
                 first_block = 0
             return self._end_of_text(source)
         finally:
-            self.visited.append((source, position.offset, streak_end))
+            visited = self.visited
+            last = visited[-1] if visited else None
+            if last is None or last[0] is not source or last[1] != position.offset or last[2] != streak_end:
+                visited.append((source, position.offset, streak_end))  # a loop's next pass reaches the same lines: kept once
 
     # ------------------------------------------------------------------ batches of plain blocks
 
@@ -342,13 +350,33 @@ class Interpreter(ControlFlow):
         body is read and lowered once, not on every pass."""
         return bool(self.state.loops) or len(self.state.call_stack) > 1 or bool(self.state.jump_counts)
 
+    def _remembered_lines(self, source: ProgramSource, offset: int):
+        """:func:`logical_lines` from ``offset``, each line read from the text once and then
+        remembered, so that a loop's next pass does not read its body again."""
+        remembered, text_id = self.line_text, id(source)
+        reader, reader_at = None, -1
+        while True:
+            line = remembered.get((text_id, offset))
+            if line is None:
+                if reader_at != offset:
+                    reader = logical_lines(source, offset, self.frontend)
+                line = next(reader, None)
+                if line is None:
+                    return
+                reader_at = line[2]
+                if len(remembered) > _REMEMBERED_LINES:
+                    remembered.clear()
+                remembered[(text_id, offset)] = line
+            yield line
+            offset = line[2]
+
     def _blocks(self, source, offset, line_number, raw, path, cache, frontend_blocks):
         if cache or self.state.loops:
             key = (id(source), offset)
             blocks = self.line_cache.get(key)
             if blocks is None:
                 blocks = frontend_blocks(raw, line_number, path)
-                if len(self.line_cache) > 20_000:
+                if len(self.line_cache) > _REMEMBERED_LINES:
                     self.line_cache.clear()
                 self.line_cache[key] = blocks
             return blocks
@@ -393,7 +421,39 @@ class Interpreter(ControlFlow):
     # ------------------------------------------------------------------ expressions
 
     def evaluate(self, expr, span: Span | None = None):
-        """Value of an IR expression; VACANT passes through (callers decide what it means)."""
+        """Value of an IR expression; VACANT passes through (callers decide what it means).
+
+        An expression evaluated a second time (a loop body's, a called program's: their
+        lowered lines are kept) is compiled into a closure (:mod:`.compiled`) that gives the
+        same values and faults without walking the tree again."""
+        if type(expr) is float and expr - expr == 0.0:
+            return expr  # a number as written (inf and nan are faults of evaluate_tree)
+        run = self._closures.get(id(expr))
+        if run is not None:
+            return run(span)
+        if type(expr) in compiled.COMPILED_KINDS:
+            run = self._compile_on_second_run(expr, compiled.compile_expression)
+            if run is not None:
+                return run(span)
+        return self.evaluate_tree(expr, span)
+
+    def _compile_on_second_run(self, node, compile):
+        """``compile(self, node)``, kept in ``_closures`` by the node's id, once ``node`` runs a
+        second time (its lowered line was kept for a loop's next pass or another call); None
+        the first time."""
+        key = id(node)
+        if key in self._seen:  # _seen holds the node, so no other object has its id
+            run = self._closures[key] = compile(self, node)
+            return run
+        if len(self._seen) >= _COMPILED_LIMIT:
+            self._seen.clear()
+            self._closures.clear()
+        self._seen[key] = node
+        return None
+
+    def evaluate_tree(self, expr, span: Span | None = None):
+        """:meth:`evaluate` by walking the tree: the general evaluation every value, vacant,
+        text and symbolic, goes through, and the one compiled closures fall back to."""
         kind = type(expr)
         if kind is float:
             if expr - expr != 0.0:  # inf or nan: a number no control holds
@@ -408,24 +468,36 @@ class Interpreter(ControlFlow):
         if kind is ir.Var:
             return self.read_variable(expr, span)
         if kind is ir.Unary:
-            operand = self._arithmetic_operand(self.evaluate(expr.operand, span), expr.operand, span)
-            return values.neg(operand)
+            return self.negated(self.evaluate_tree(expr.operand, span), expr, span)
         if kind is ir.Binary:
-            result = self._binary(expr, span)
-            if type(result) is float and result - result != 0.0:
-                self._domain_error("the result overflows the control's number range", span)
-            return result
+            return self.combined(expr, self.evaluate_tree(expr.left, span), self.evaluate_tree(expr.right, span), span)
         if kind is ir.Func:
-            arguments = [self._arithmetic_operand(self.evaluate(arg, span), arg, span) for arg in expr.args]
-            try:
-                return values.call(expr.name, arguments)
-            except DomainError as error:
-                self._domain_error(str(error), span)
+            return self.function_value(expr, [self._arithmetic_operand(self.evaluate_tree(arg, span), arg, span) for arg in expr.args], span)
         if kind is ir.MachineValue:
             return expr.read(self.state)
         if kind is Sym or expr is VACANT:
             return expr  # a value already evaluated (a modal call's stored argument)
         raise TypeError(f"not an expression: {expr!r}")
+
+    def negated(self, operand, expr: ir.Unary, span):
+        """The value of ``expr`` (a sign) once its operand's value is known."""
+        return values.neg(self._arithmetic_operand(operand, expr.operand, span))
+
+    def function_value(self, expr: ir.Func, arguments: list, span):
+        """The value of ``expr`` once its arguments are known as operands
+        (:meth:`_arithmetic_operand` of each, taken as each is evaluated)."""
+        try:
+            return values.call(expr.name, arguments)
+        except DomainError as error:
+            self._domain_error(str(error), span)
+
+    def combined(self, expr: ir.Binary, left, right, span):
+        """The value of ``expr`` once its operands' values are known; a number past the
+        float range is a domain fault."""
+        result = self._binary(expr.op, left, right, expr, span)
+        if type(result) is float and result - result != 0.0:
+            self._domain_error("the result overflows the control's number range", span)
+        return result
 
     def _scale_increment(self, expr: ir.IncrementCount) -> float:
         if expr.kind == "feed":
@@ -434,10 +506,7 @@ class Interpreter(ControlFlow):
         scale = self.increment / 10.0 if self.state.modal.get("units") == "inch" else self.increment
         return expr.count * scale
 
-    def _binary(self, expr: ir.Binary, span):
-        op = expr.op
-        left = self.evaluate(expr.left, span)
-        right = self.evaluate(expr.right, span)
+    def _binary(self, op: str, left, right, expr: ir.Binary, span):
         if type(left) is float and type(right) is float:  # plain numbers (loop counters): no operand to convert
             return self._arithmetic(op, left, right, expr, span)
         if op in values.COMPARISONS:
@@ -447,7 +516,7 @@ class Interpreter(ControlFlow):
                 return self._compare_text(op, left, right)
             return values.compare(op, self._as_number(left), self._as_number(right))
         if op in ("AND", "OR", "XOR"):
-            return values.logical(op, 0.0 if left is VACANT else left, 0.0 if right is VACANT else right)
+            return values.logical(op, _logical_operand(left), _logical_operand(right))
         left = self._arithmetic_operand(left, expr.left, span)
         right = self._arithmetic_operand(right, expr.right, span)
         return self._arithmetic(op, left, right, expr, span)
@@ -485,6 +554,8 @@ class Interpreter(ControlFlow):
             return same if op == "EQ" else not same
         left = 0.0 if left is VACANT else left
         right = 0.0 if right is VACANT else right
+        if isinstance(left, str) or isinstance(right, str):
+            return Interpreter._compare_text(op, left, right)
         return values.compare(op, left, right)
 
     @staticmethod
@@ -543,10 +614,17 @@ class Interpreter(ControlFlow):
             raise PathEnd
         return f"{var.prefix}{int(round(index))}"
 
+    def is_local(self, name: str) -> bool:
+        """Is variable ``name`` local to a program? (The frontend's scope depends on the name alone.)"""
+        local = self._local_names.get(name)
+        if local is None:
+            local = self._local_names[name] = self.frontend.variable_scope(name) == "local"
+        return local
+
     def read_variable(self, var: ir.Var, span=None):
         name = self.variable_name(var, span)
         state = self.state
-        if self.frontend.variable_scope(name) == "local":
+        if self.is_local(name):
             if name in state.local_variables:
                 return state.local_variables[name]
             if self._in_macro() or getattr(self.frontend, "unset_is_vacant", _never)(name):
@@ -592,7 +670,7 @@ class Interpreter(ControlFlow):
         value = values.stored(value)
         if assignment and self.settings.record_values and span is not None and span.path is None:
             self.assigned.setdefault(span.line, []).append((name, value))
-        if self.frontend.variable_scope(name) == "local":
+        if self.is_local(name):
             self.state.local_variables[name] = value
         else:
             self.state.global_variables[name] = value
@@ -985,6 +1063,10 @@ class Interpreter(ControlFlow):
     # ------------------------------------------------------------------ macro statements
 
     def _assign(self, op: ir.Assign, block):
+        run = self._closures.get(id(op)) or self._compile_on_second_run(op, compiled.compile_assignment)
+        if run is not None:
+            run()
+            return None
         value = self.evaluate(op.value, op.span)
         self.write_variable(op.target, value, op.span, assignment=True)
         return None
@@ -1037,6 +1119,8 @@ def op_values(written: dict, interpreter: "Interpreter", span) -> dict:
     return evaluated
 
 
+_REMEMBERED_LINES = 20_000  # lowered lines (and their text) kept for the next pass of a loop
+_COMPILED_LIMIT = 100_000  # expressions kept with their closures; past it the cache starts again
 _BATCH_AFTER = 8  # plain blocks in a row before the rest of the streak is read as a batch
 _WATCHED_MODAL = frozenset({"feed_mode", "spindle_mode", "path_mode"})  # groups whose codes make a Change
 
@@ -1057,6 +1141,14 @@ def _forward_fill(column, empty, initial: float):
     numpy.maximum.accumulate(index, out=index)
     padded = numpy.concatenate(([initial], numpy.where(missing, numpy.nan, column)))
     return padded[index]
+
+
+def _logical_operand(value):
+    """An operand of AND, OR and XOR: vacant counts as 0, text as a value the checker does
+    not follow."""
+    if value is VACANT:
+        return 0.0
+    return values.fresh("text") if isinstance(value, str) else value
 
 
 def _is_zero(value) -> bool:
