@@ -108,6 +108,8 @@ class Workpiece:
         """Tops of the uncut blank: cells wholly inside carry material on every point, cells
         the outline crosses only maybe. Built a band of rows at a time, so that the scratch
         arrays stay small beside the fields."""
+        if stock.kind == "box":
+            return self._box_blank(stock)
         upper = numpy.empty((self.ny, self.nx), numpy.float32)
         lower = numpy.empty((self.ny, self.nx), numpy.float32)
         xs = self._x(numpy.arange(self.nx))
@@ -119,12 +121,20 @@ class Workpiece:
             lower[first:first + len(ys)] = numpy.where(surely, self.top, NO_MATERIAL)
         return upper, lower
 
-    def _blank_band(self, stock: Stock, xs, ys):
-        """(maybe, surely) material in the cells of centres ``xs`` x ``ys`` (rows by columns)."""
+    def _box_blank(self, stock: Stock):
+        """A box's tops: the grid starts at its corner, so material maybe on every cell and
+        surely on all but the last row and column where they stick out past its far sides
+        (filled whole, then those cleared: a long blank has many cells)."""
+        upper = numpy.full((self.ny, self.nx), self.top, numpy.float32)
+        lower = upper.copy()
         half = self.resolution / 2
-        if stock.kind == "box":  # the grid starts at the box's corner: only the far cells stick out
-            surely = (ys[:, None] + half <= stock.y_range[1]) & (xs[None, :] + half <= stock.x_range[1])
-            return numpy.ones_like(surely), surely
+        lower[self._y(numpy.arange(self.ny)) + half > stock.y_range[1], :] = NO_MATERIAL
+        lower[:, self._x(numpy.arange(self.nx)) + half > stock.x_range[1]] = NO_MATERIAL
+        return upper, lower
+
+    def _blank_band(self, stock: Stock, xs, ys):
+        """(maybe, surely) material in the cells of centres ``xs`` x ``ys`` (rows by columns)
+        of a polygon blank."""
         grid_x, grid_y = numpy.meshgrid(xs, ys)
         inside = shapely.contains_xy(stock.outline, grid_x, grid_y)
         edge = shapely.distance(stock.outline.boundary, shapely.points(grid_x, grid_y))
