@@ -311,6 +311,15 @@ class CoordinateSettingRepeated(Rule):
 # --------------------------------------------------------------------------- feed units
 
 
+# (feed mode, inch) -> (mode, lowest plausible feed, highest, unit)
+_FEED_LIMITS = {
+    ("per_revolution", False): ("per_revolution", None, 5.0, "mm/rev"),
+    ("per_revolution", True): ("per_revolution", None, 0.2, "in/rev"),
+    ("per_minute", False): ("per_minute", 1.0, None, "mm/min"),
+    ("per_minute", True): ("per_minute", 0.04, None, "in/min"),
+}
+
+
 @rule("core.feed-plausibility")
 class FeedPlausibility(Rule):
     """A feed read in the wrong mode's units: above 5 mm/rev (0.2 in/rev) in G95, or below
@@ -359,10 +368,7 @@ class FeedPlausibility(Rule):
             return None
         if self.checker.context.lathe and not state.rule_state.get("feed-mode-stated"):
             return None  # a lathe's power-on feed mode is a parameter (G95 on most): the program has not said
-        inch = state.modal.get("units") == "inch"
-        if mode == "per_revolution":
-            return (mode, None, 0.2 if inch else 5.0, "in/rev" if inch else "mm/rev")
-        return (mode, 0.04 if inch else 1.0, None, "in/min" if inch else "mm/min")
+        return _FEED_LIMITS[mode, state.modal.get("units") == "inch"]
 
     def _check(self, feed, span, state, limits):
         mode, low, high, unit = limits
