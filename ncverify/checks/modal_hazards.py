@@ -73,6 +73,7 @@ def _ran_before(state, key: str, span) -> bool:
 class TappingModeLeftOn(Rule):
     """G63 in force for a cut that is not a tap: one finding per G63 episode. A feed move
     along the tool axis only (Z on a mill, in G17) is taken for a tap written with G01."""
+    segment_kinds = _CUTTING
 
     def change(self, change, state):
         if change.what == "path_mode" and change.old != change.new:
@@ -325,6 +326,7 @@ class FeedPlausibility(Rule):
     """A feed read in the wrong mode's units: above 5 mm/rev (0.2 in/rev) in G95, or below
     1 mm/min (0.04 in/min) in G94. One finding per feed value, like core.feed-missing."""
     reads = modelled.AS_WRITTEN
+    segment_kinds = frozenset({"feed", "arc"})
 
     def change(self, change, state):
         if change.what == "feed_mode":
@@ -405,6 +407,7 @@ class SurfaceSpeedAtCentre(Rule):
     """Lathe, G96 in force, a cut that reaches X0 (or crosses it): one finding per G96
     episode."""
     reads = frozenset()  # compares positions as the program writes them with the blank: no active state is read
+    segment_kinds = frozenset({"feed", "arc"})
 
     def change(self, change, state):
         if change.what == "spindle_mode" and change.old != change.new:
