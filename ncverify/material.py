@@ -431,14 +431,19 @@ def tool_axis_problem(state) -> str | None:
 
 def cutter_of(tool, radius: float) -> Cutter:
     """A tool table entry, of radius ``radius`` (a programmed delta counted), as the shape
-    the model sweeps (asked on every cutting move: no copy of the entry is made)."""
-    kind = tool.type
+    the model sweeps (asked on every cutting move: no copy of the entry is made, and the
+    one shape is made once, which also lets the buffer group a tool's moves by identity)."""
+    return _cutter_shape(tool.type, radius, tool.corner, tool.point_angle or tool.angle)
+
+
+@functools.lru_cache(maxsize=64)
+def _cutter_shape(kind: str | None, radius: float, corner: float | None, point_angle: float | None) -> Cutter:
     if kind == "ball":
         return Cutter(radius, corner=radius)
-    if kind == "bullnose" and tool.corner is not None:
-        return Cutter(radius, corner=min(tool.corner, radius))
-    if kind in _POINTED and (tool.point_angle or tool.angle):
-        return Cutter(radius, point_angle=tool.point_angle or tool.angle)
+    if kind == "bullnose" and corner is not None:
+        return Cutter(radius, corner=min(corner, radius))
+    if kind in _POINTED and point_angle:
+        return Cutter(radius, point_angle=point_angle)
     if kind in _FLAT:
         return Cutter(radius)
     return Cutter(radius, known=False)
