@@ -480,9 +480,19 @@ def _mebibytes(size: float) -> str:
     return f"{mebibytes:,.0f} MiB" if mebibytes >= 10 else f"{mebibytes:.2g} MiB"
 
 
+_last_named: tuple = (None, "T?")  # the tool number last named, and its name
+
+
 def _tool_name(state) -> str:
-    number = state.tool_in_spindle
-    return f"T{number:g}" if type(number) is float else "T?"
+    """"T3" for the tool in the spindle, "T?" when not known; asked on every cutting move,
+    named anew only when the number is another value object (a tool change)."""
+    global _last_named
+    number, name = _last_named
+    if state.tool_in_spindle is not number:
+        number = state.tool_in_spindle
+        name = f"T{number:g}" if type(number) is float else "T?"
+        _last_named = (number, name)
+    return name
 
 
 @functools.lru_cache(maxsize=16)
