@@ -593,7 +593,27 @@ def test_plain_motion_and_arc_lines_lower_without_the_reader_like_the_general_lo
     assert frontend.blocks(text.encode("ascii"), line, None) == frontend.lowering.lower(read_line(text, line), None)
 
 
-@pytest.mark.parametrize("text", ["N20 G2 X10.5 Y5 I-5 J0 F800", "G1 X1 Y2 Z-1", "G03 X0 Y3 J1.5"])
+_NUMBER_TEXT = st.sampled_from(["6", "6.000", "-6.5", "0", ".5", "+2.25", "12.", "1000", "0.000"])
+
+
+@st.composite
+def radius_arc_lines(draw) -> str:
+    """Lines with the radius word CR= as CAM posts write arcs (and some that are no arc):
+    a G code, end point words, CR=, perhaps a feed or centre words, in any order."""
+    words = [draw(st.sampled_from(["G2", "G3", "G02", "G1", "G0"])), "CR=" + draw(_NUMBER_TEXT)]
+    words += [letter + draw(_NUMBER_TEXT) for letter in draw(st.lists(st.sampled_from("XYZFIJ"), unique=True, max_size=4))]
+    number = draw(st.one_of(st.none(), st.integers(min_value=1, max_value=9999)))
+    return " ".join(([f"N{number}"] if number is not None else []) + draw(st.permutations(words)))
+
+
+@hypothesis_settings(max_examples=300, deadline=None)
+@given(text=radius_arc_lines(), line=st.integers(min_value=1, max_value=10**6))
+def test_arc_lines_by_radius_lower_without_the_reader_like_the_general_lowering(text, line):
+    frontend = SinumerikFrontend(SinumerikLowering())
+    assert frontend.blocks(text.encode("ascii"), line, None) == frontend.lowering.lower(read_line(text, line), None)
+
+
+@pytest.mark.parametrize("text", ["N20 G2 X10.5 Y5 I-5 J0 F800", "G1 X1 Y2 Z-1", "G03 X0 Y3 J1.5", "G2 X6.000 Y40.000 CR=6.000", "N30 G3 X0 Y3 CR=-1.5 F500"])
 def test_cam_motion_lines_take_the_fast_lowering(text):
     from ncverify.lower.iso import fast_motion_block
     from ncverify.lower.sinumerik import _FAST_FORM

@@ -453,8 +453,8 @@ def _decimal_point_message(letter: str, value: float, increment: float) -> str:
 _PLAIN_MOTION = re.compile(rb"[ \t]*+(?:[NGXYZABCF][ \t]*+[+-]?+(?>\d+\.?\d*|\.\d+)[ \t]*+)++")  # batchable: straight moves only
 # What the fast lowering takes: the plain blocks and arcs with their centre or radius words.
 _FAST_LINE = re.compile(rb"[ \t]*+(?:[NGXYZABCFIJKR][ \t]*+[+-]?+(?>\d+\.?\d*|\.\d+)[ \t]*+)++")
-_PLAIN_WORD_BYTES = re.compile(rb"([NGXYZABCFIJKR])[ \t]*([+-]?(?:\d+\.?\d*|\.\d+))")
-_LETTERS = {ord(letter): letter for letter in "NGXYZABCFIJKR"}
+_PLAIN_WORD_BYTES = re.compile(rb"(CR=|[NGXYZABCFIJKR])[ \t]*([+-]?(?:\d+\.?\d*|\.\d+))")
+_LETTERS = {letter.encode(): letter for letter in "NGXYZABCFIJKR"} | {b"CR=": "R"}  # SINUMERIK's CR= is an arc's radius word
 _NUMBER_BYTES = rb"([+-]?(?:\d+\.?\d*|\.\d+))"
 # Nearly all CAM output writes its words in this order; one match reads the whole block.
 _CANONICAL_LETTERS = ("N", "G", "X", "Y", "Z", "I", "J", "K", "R", "F")
@@ -479,8 +479,9 @@ class FastMotionForm:
     its axis letters (incremental twins excluded), least input increments (0: numbers are
     mm or inch), the label an ``N`` number gives its block (ISO: the number; SINUMERIK:
     ``N<number>``, which ``GOTOF N100`` finds), which letters give an arc's centre or radius, and whether those belong to
-    the move's span, words and columns (ISO) or to its arc only (SINUMERIK). ``roles``:
-    what each letter does, looked up once a word."""
+    the move's span, words and columns (ISO) or to its arc only (SINUMERIK), and the lines
+    it takes (``line``; a line in the usual word order always). ``roles``: what each letter
+    does, looked up once a word."""
 
     axis_letters: frozenset
     increment: float = 0.0
@@ -488,6 +489,7 @@ class FastMotionForm:
     number_label: Callable[[str], object] = float
     arc_letters: frozenset = frozenset("IJKR")
     arc_words_in_span: bool = True
+    line: re.Pattern = _FAST_LINE
     roles: dict = field(init=False, repr=False, compare=False, hash=False)
 
     def __post_init__(self):
@@ -502,7 +504,7 @@ def fast_motion_block(raw: bytes, line: int, path: str | None, form: FastMotionF
     canonical = _CANONICAL.fullmatch(raw)
     if canonical is not None and canonical.lastindex is None:
         canonical = None  # a blank line: no word
-    if canonical is None and not _FAST_LINE.fullmatch(raw):
+    if canonical is None and not form.line.fullmatch(raw):
         return None
     return lower_fast_motion(raw, line, path, form, canonical)
 
@@ -514,7 +516,7 @@ def _plain_words(raw: bytes, canonical: re.Match | None) -> list[tuple[str, byte
         spans = canonical.regs
         return [(_CANONICAL_LETTERS[index], text, spans[index + 1][0] - 1, spans[index + 1][1])
                 for index, text in enumerate(canonical.groups()) if text is not None]
-    return [(_LETTERS[match.group(1)[0]], match.group(2), match.start(1), match.end(2)) for match in _PLAIN_WORD_BYTES.finditer(raw)]
+    return [(_LETTERS[match.group(1)], match.group(2), match.start(1), match.end(2)) for match in _PLAIN_WORD_BYTES.finditer(raw)]
 
 
 def lower_fast_motion(raw: bytes, line: int, path: str | None, form: FastMotionForm, canonical: re.Match | None = None) -> ir.Block | None:

@@ -484,10 +484,12 @@ def _nested_modal_call(name: str, span: Span) -> ir.Note:
 
 _PLAIN_MOTION = re.compile(rb"[ \t]*+(?:[NGXYZF][ \t]*+[+-]?+(?>\d+\.?\d*|\.\d+)[ \t]*+)++")  # possessive: see iso._PLAIN_MOTION
 # Plain motion lines lowered without the reader, as the general lowering would (N is a block
-# number, a label only as N<number>; I/J/K are arc data only, outside the move's span; R is a parameter).
-_FAST_WORD = rb"[GXYZABCFIJK][+-]?(?:\d+\.?\d*|\.\d+)"
+# number, a label only as N<number>; I/J/K and the radius CR= are arc data only, outside the
+# move's span; R is a parameter).
+_FAST_WORD = rb"(?:[GXYZABCFIJK]|CR=)[+-]?(?:\d+\.?\d*|\.\d+)"
 _FAST_LINE = re.compile(rb"[ \t]*(?:N\d+[ \t]+)?" + _FAST_WORD + rb"(?:[ \t]+" + _FAST_WORD + rb")*[ \t]*")  # N first, words apart
-_FAST_FORM = FastMotionForm(frozenset(_AXES), number_label=lambda digits: f"N{int(digits)}", arc_letters=frozenset(_ARC_WORDS), arc_words_in_span=False)
+_FAST_FORM = FastMotionForm(frozenset(_AXES), number_label=lambda digits: f"N{int(digits)}", arc_letters=frozenset((*_ARC_WORDS, "R")),
+                            arc_words_in_span=False, line=_FAST_LINE)
 _PROGRAM_HEADER = re.compile(rb"(?mi)^[ \t]*%_N_(\w+?)_(MPF|SPF)\b")
 _PROC = re.compile(rb"(?mi)^[ \t]*(?:N\d+[ \t]*)?PROC[ \t]+(\w+)")
 _PROGRAM_END = re.compile(rb"(?mi)^[^;\n]*\bM0?(?:2|30)\b(?![ \t]*=)")
