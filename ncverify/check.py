@@ -22,6 +22,11 @@ from .verdict import Verdict, evaluate_constraint, hazard, judge, show  # noqa: 
 
 _RULE_CLASSES: list[type] = []
 
+# Segment.kind values, and those that move at a feed
+SEGMENT_KINDS = frozenset({"rapid", "feed", "arc", "thread"})
+CUTTING = frozenset({"feed", "arc", "thread"})
+ARCS = frozenset({"arc"})
+
 
 def rule(*ids: str):
     """Register a rule class reporting the given rule ids."""
@@ -50,6 +55,9 @@ class Rule:
     # The kinds of machine state this rule's proofs account for (ncverify.modelled);
     # under any other that is active, its proved becomes unknown. Nothing by default.
     reads: frozenset = frozenset()
+    # The kinds of segment its ``segment`` handler judges: the checker hands it no other. A
+    # rule narrows it where the handler would return at once on the rest (moves are many).
+    segment_kinds: frozenset = SEGMENT_KINDS
 
     def __init__(self, checker: "Checker"):
         self.checker = checker
@@ -108,6 +116,8 @@ class Checker:
         rules = [cls(self) for cls in rule_classes() if not set(cls.ids) <= settings.disabled_rules]
         self.rules = rules
         self._segment = _handlers(rules, "segment")
+        self._segment_by_kind = {kind: [instance.segment for instance in rules if _overrides(instance, "segment") and kind in instance.segment_kinds]
+                                 for kind in SEGMENT_KINDS}
         self._motion_run = _handlers(rules, "motion_run")
         self._segment_only = [instance.segment for instance in rules if _overrides(instance, "segment") and not _overrides(instance, "motion_run")]
         self._hole = _handlers(rules, "hole") + [self._constraints_on_hole]
@@ -144,7 +154,7 @@ class Checker:
 
     # -- events from the interpreter
     def segment(self, segment, state) -> None:
-        for handler in self._segment:
+        for handler in self._segment_by_kind.get(segment.kind, self._segment):
             handler(segment, state)
         self.material.segment(segment, state)  # after the rules: they judge a move against the material before it
 

@@ -132,9 +132,11 @@ def program_to_workpiece(state) -> "Frame | None":
     identity. The travel check adds only the work offset and the tool length to this, so
     the stock check and the travel check always see the same point."""
     frame = state.frame
+    if not state.coordinate_shift or frame is UNKNOWN:  # most moves: no shift (asked on every move)
+        return frame
     shift = {axis: value for axis, value in state.coordinate_shift.items()
              if axis in _INDEX and not (type(value) is float and value == 0.0)}
-    if not shift or frame is UNKNOWN:
+    if not shift:
         return frame
     return compose(translation(shift), frame or IDENTITY)
 

@@ -116,12 +116,12 @@ class Material:
         mine = self._mine(state)
         if mine is None:
             return
-        if not self._placeable(segment.start, segment.end, state):
+        start, end = self._placed(segment, state)
+        if end is None:
             mine.unplaced()
             if tool_axis_problem(state) is None:
                 mine.symbolic.append((segment.start, segment.end))
             return
-        start, end = _point(segment.start), _point(segment.end)
         if segment.arc is not None:
             arc = segment.arc
             centre = arc.centre
@@ -129,14 +129,19 @@ class Material:
                 mine.unplaced()
                 return
             mine.arcs.append(((start, end, centre, arc.direction == "cw", _plane_indices(arc.plane)), mine.sized(cutter), _tool_name(state)))
-            mine.buffered += 1
-            if mine.buffered >= _FLUSH_AT:
-                self._flush(mine)
+            self._count_buffered(mine)
             return
         mine.deepest = min(mine.deepest, start[2], end[2])
         cutter = mine.sized(cutter)
         mine.recent.append((start, end, cutter))
-        self._buffer(mine, [start], [end], cutter, _tool_name(state))
+        mine.lines.append(([start], [end], cutter, _tool_name(state)))
+        self._count_buffered(mine)
+
+    def _count_buffered(self, mine: _PathPiece) -> None:
+        """One more move joined the buffer: sweep them all when it is full (see :meth:`_buffer`)."""
+        mine.buffered += 1
+        if mine.buffered >= _FLUSH_AT:
+            self._flush(mine)
 
     def _buffer(self, mine: _PathPiece, starts, ends, cutter: Cutter, tool: str) -> None:
         """Straight cuts join the buffer, which is swept every ``_FLUSH_AT`` moves and when a
@@ -228,9 +233,11 @@ class Material:
         """Before a feed move is cut: its tool's non-cutting parts against what is left (the
         moves of a batch are judged as :meth:`motion_run` cuts them)."""
         parts = self._holder_parts(state) if self.milled and segment.kind != "rapid" else []
-        if not parts or not self._placeable(segment.start, segment.end, state) or (mine := self._current(state)) is None:
+        if not parts:
             return
-        start, end = _point(segment.start), _point(segment.end)
+        start, end = self._placed(segment, state)
+        if end is None or (mine := self._current(state)) is None:
+            return
         for a, b in ((start, start), (end, end)) if segment.arc is not None else ((start, end),):  # an arc's tool is surely at its ends
             self._judge_holder(mine.piece, a, b, parts, segment.span, state)
 
@@ -361,10 +368,14 @@ class Material:
         totals[0] += float(numpy.linalg.norm(ends - starts, axis=1).sum())
         totals[1] += air
 
-    def _placeable(self, start: dict, end: dict, state) -> bool:
-        return (tool_axis_problem(state) is None
-                and type(start.get("X")) is float and type(start.get("Y")) is float and type(start.get("Z")) is float
-                and type(end.get("X")) is float and type(end.get("Y")) is float and type(end.get("Z")) is float)
+    @staticmethod
+    def _placed(segment, state) -> tuple:
+        """The move's (x, y, z) start and end on the model; (None, None) when it cannot be
+        placed there: a position not known as a number, or the tool not along +Z."""
+        start, end = _known_point(segment.start), _known_point(segment.end)
+        if start is None or end is None or tool_axis_problem(state) is not None:
+            return None, None
+        return start, end
 
     def _cutter(self, state, largest: bool = False):
         """The swept shape of the tool in the spindle: a Cutter, None for a tool that does
@@ -420,14 +431,19 @@ def tool_axis_problem(state) -> str | None:
 
 def cutter_of(tool, radius: float) -> Cutter:
     """A tool table entry, of radius ``radius`` (a programmed delta counted), as the shape
-    the model sweeps (asked on every cutting move: no copy of the entry is made)."""
-    kind = tool.type
+    the model sweeps (asked on every cutting move: no copy of the entry is made, and the
+    one shape is made once, which also lets the buffer group a tool's moves by identity)."""
+    return _cutter_shape(tool.type, radius, tool.corner, tool.point_angle or tool.angle)
+
+
+@functools.lru_cache(maxsize=64)
+def _cutter_shape(kind: str | None, radius: float, corner: float | None, point_angle: float | None) -> Cutter:
     if kind == "ball":
         return Cutter(radius, corner=radius)
-    if kind == "bullnose" and tool.corner is not None:
-        return Cutter(radius, corner=min(tool.corner, radius))
-    if kind in _POINTED and (tool.point_angle or tool.angle):
-        return Cutter(radius, point_angle=tool.point_angle or tool.angle)
+    if kind == "bullnose" and corner is not None:
+        return Cutter(radius, corner=min(corner, radius))
+    if kind in _POINTED and point_angle:
+        return Cutter(radius, point_angle=point_angle)
     if kind in _FLAT:
         return Cutter(radius)
     return Cutter(radius, known=False)
@@ -464,9 +480,19 @@ def _mebibytes(size: float) -> str:
     return f"{mebibytes:,.0f} MiB" if mebibytes >= 10 else f"{mebibytes:.2g} MiB"
 
 
+_last_named: tuple = (None, "T?")  # the tool number last named, and its name
+
+
 def _tool_name(state) -> str:
-    number = state.tool_in_spindle
-    return f"T{number:g}" if type(number) is float else "T?"
+    """"T3" for the tool in the spindle, "T?" when not known; asked on every cutting move,
+    named anew only when the number is another value object (a tool change)."""
+    global _last_named
+    number, name = _last_named
+    if state.tool_in_spindle is not number:
+        number = state.tool_in_spindle
+        name = f"T{number:g}" if type(number) is float else "T?"
+        _last_named = (number, name)
+    return name
 
 
 @functools.lru_cache(maxsize=16)
@@ -492,8 +518,10 @@ def _stacked(pieces) -> numpy.ndarray:
     return numpy.concatenate(arrays)
 
 
-def _point(position: dict) -> tuple[float, float, float]:
-    return position["X"], position["Y"], position["Z"]
+def _known_point(position: dict) -> tuple[float, float, float] | None:
+    """(x, y, z) of a position where all three are numbers, else None."""
+    x, y, z = position.get("X"), position.get("Y"), position.get("Z")
+    return (x, y, z) if type(x) is float and type(y) is float and type(z) is float else None
 
 
 def _inside_cut(start, end, cutter: Cutter, cut) -> bool:

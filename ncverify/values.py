@@ -463,6 +463,8 @@ def power(a: Value, b: Value) -> Value:
 def distance_sq(a1, a2, b1, b2):
     """Squared distance of two points in a plane (exact for symbolic values)."""
     d1, d2 = sub(a1, b1), sub(a2, b2)
+    if type(d1) is float and type(d2) is float:  # the usual case, asked for every arc
+        return d1 * d1 + d2 * d2
     return add(mul(d1, d1), mul(d2, d2))
 
 

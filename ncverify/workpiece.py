@@ -108,6 +108,8 @@ class Workpiece:
         """Tops of the uncut blank: cells wholly inside carry material on every point, cells
         the outline crosses only maybe. Built a band of rows at a time, so that the scratch
         arrays stay small beside the fields."""
+        if stock.kind == "box":
+            return self._box_blank(stock)
         upper = numpy.empty((self.ny, self.nx), numpy.float32)
         lower = numpy.empty((self.ny, self.nx), numpy.float32)
         xs = self._x(numpy.arange(self.nx))
@@ -119,12 +121,20 @@ class Workpiece:
             lower[first:first + len(ys)] = numpy.where(surely, self.top, NO_MATERIAL)
         return upper, lower
 
-    def _blank_band(self, stock: Stock, xs, ys):
-        """(maybe, surely) material in the cells of centres ``xs`` x ``ys`` (rows by columns)."""
+    def _box_blank(self, stock: Stock):
+        """A box's tops: the grid starts at its corner, so material maybe on every cell and
+        surely on all but the last row and column where they stick out past its far sides
+        (filled whole, then those cleared: a long blank has many cells)."""
+        upper = numpy.full((self.ny, self.nx), self.top, numpy.float32)
+        lower = upper.copy()
         half = self.resolution / 2
-        if stock.kind == "box":  # the grid starts at the box's corner: only the far cells stick out
-            surely = (ys[:, None] + half <= stock.y_range[1]) & (xs[None, :] + half <= stock.x_range[1])
-            return numpy.ones_like(surely), surely
+        lower[self._y(numpy.arange(self.ny)) + half > stock.y_range[1], :] = NO_MATERIAL
+        lower[:, self._x(numpy.arange(self.nx)) + half > stock.x_range[1]] = NO_MATERIAL
+        return upper, lower
+
+    def _blank_band(self, stock: Stock, xs, ys):
+        """(maybe, surely) material in the cells of centres ``xs`` x ``ys`` (rows by columns)
+        of a polygon blank."""
         grid_x, grid_y = numpy.meshgrid(xs, ys)
         inside = shapely.contains_xy(stock.outline, grid_x, grid_y)
         edge = shapely.distance(stock.outline.boundary, shapely.points(grid_x, grid_y))
@@ -424,9 +434,10 @@ def _merge_runs(starts, ends, strays, tolerance: float, rise: float):
     joined = numpy.ones(count, bool)
     joined[1:] = (starts[1:] == ends[:-1]).all(axis=1)
     first, length = numpy.arange(0, count, 64), numpy.minimum(64, count - numpy.arange(0, count, 64))
+    heights = numpy.minimum(starts[:, 2], ends[:, 2]), numpy.maximum(starts[:, 2], ends[:, 2])  # each move's lowest and highest Z
     done = []
     while len(first):
-        accepted = _chords_fit(starts, ends, joined, first, length, tolerance, rise)
+        accepted = _chords_fit(starts, ends, joined, heights, first, length, tolerance, rise)
         done.append((first[accepted], length[accepted]))
         first, length = first[~accepted], length[~accepted]
         half = (length + 1) // 2
@@ -440,24 +451,23 @@ def _merge_runs(starts, ends, strays, tolerance: float, rise: float):
     last = first + length - 1
     owner = numpy.repeat(numpy.arange(len(first)), length)
     a, b = starts[first], ends[last]
-    z_values = numpy.concatenate([starts[:, 2:], ends[:, 2:]], axis=1)
-    z_low = numpy.minimum.reduceat(z_values.min(axis=1), first)
-    z_high = numpy.maximum.reduceat(z_values.max(axis=1), first)
+    z_low = numpy.minimum.reduceat(heights[0], first)
+    z_high = numpy.maximum.reduceat(heights[1], first)
     stray = distance_to_segment(ends[:, 0], ends[:, 1], a[owner, :2], b[owner, :2])
     return a, b, z_low, z_high, numpy.maximum.reduceat(stray, first), numpy.maximum.reduceat(strays, first)
 
 
-def _chords_fit(starts, ends, joined, first, length, tolerance: float, rise: float):
-    """Which groups (first move, number of moves) may become one chord."""
+def _chords_fit(starts, ends, joined, heights, first, length, tolerance: float, rise: float):
+    """Which groups (first move, number of moves) may become one chord. ``heights``: each
+    move's lowest and highest Z."""
     owner = numpy.repeat(numpy.arange(len(first)), length)
     index = numpy.arange(length.sum()) - numpy.repeat(numpy.cumsum(length) - length, length) + first[owner]
     a, b = starts[first[owner]], ends[(first + length - 1)[owner]]
     stray = distance_to_segment(ends[index, 0], ends[index, 1], a[:, :2], b[:, :2])
     broken = ~joined[index] & (index != first[owner])
-    z = numpy.concatenate([starts[index, 2:], ends[index, 2:]], axis=1)
     offsets = numpy.cumsum(length) - length
     fits = (numpy.maximum.reduceat(stray, offsets) <= tolerance) & ~numpy.logical_or.reduceat(broken, offsets)
-    fits &= numpy.maximum.reduceat(z.max(axis=1), offsets) - numpy.minimum.reduceat(z.min(axis=1), offsets) <= rise
+    fits &= numpy.maximum.reduceat(heights[1][index], offsets) - numpy.minimum.reduceat(heights[0][index], offsets) <= rise
     return fits | (length == 1)
 
 

@@ -610,18 +610,13 @@ def radius_arc_lines(draw) -> str:
 
 
 @hypothesis_settings(max_examples=400, deadline=None)
-@given(radius_arc_lines(), st.integers(min_value=1, max_value=10**6))
-def test_arcs_by_radius_lower_without_the_reader_like_the_general_lowering(text, line):
-    from ncverify.lower.sinumerik import _FAST_RADIUS_LINE, _fast_block
-
-    fast = _fast_block(text.encode("ascii"), line, None)
-    general = SinumerikLowering().lower(read_line(text, line), None)
-    assert fast is None or [fast] == general, text
-    if re.fullmatch(r"\s*(N\d+\s+)?G0?[23]\s+([XYZF]\S+\s+)*CR=[^R\s]+(\s+[XYZF]\S+)*\s*", text):
-        assert _FAST_RADIUS_LINE.fullmatch(text.encode()) and fast is not None, text  # the CAM form takes the fast path
+@given(text=radius_arc_lines(), line=st.integers(min_value=1, max_value=10**6))
+def test_arc_lines_by_radius_lower_without_the_reader_like_the_general_lowering(text, line):
+    frontend = SinumerikFrontend(SinumerikLowering())
+    assert frontend.blocks(text.encode("ascii"), line, None) == frontend.lowering.lower(read_line(text, line), None), text
 
 
-@pytest.mark.parametrize("text", ["N20 G2 X10.5 Y5 I-5 J0 F800", "G1 X1 Y2 Z-1", "G03 X0 Y3 J1.5"])
+@pytest.mark.parametrize("text", ["N20 G2 X10.5 Y5 I-5 J0 F800", "G1 X1 Y2 Z-1", "G03 X0 Y3 J1.5", "G2 X6.000 Y40.000 CR=6.000", "N30 G3 X0 Y3 CR=-1.5 F500"])
 def test_cam_motion_lines_take_the_fast_lowering(text):
     from ncverify.lower.iso import fast_motion_block
     from ncverify.lower.sinumerik import _FAST_FORM

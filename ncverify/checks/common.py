@@ -49,11 +49,15 @@ def scaled_note(state) -> str:
 class ReportsMissingContext(Rule):
     """Says once per file, where it first needed it, which context was missing."""
 
+    def __init__(self, checker):
+        super().__init__(checker)
+        self._said: set = set()  # (rule, what) said already: rules live as long as one file's check
+
     def missing(self, rule_id: str, span, what: str) -> None:
-        said = self.__dict__.setdefault("_said", set())  # rules live as long as one file's check
-        if (rule_id, what) in said:
+        key = (rule_id, what)
+        if key in self._said:
             return
-        said.add((rule_id, what))
+        self._said.add(key)
         self.report(rule_id, span, f"not checked: {what}", Status.UNKNOWN, what)
 
     def spindle_tool_radius(self, state, span, rule_id: str) -> float | None:

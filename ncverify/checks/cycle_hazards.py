@@ -5,7 +5,7 @@ from __future__ import annotations
 from .. import ir, values
 from ..cycle_models import CycleModel
 from ..interpret import modal_call
-from ..check import Rule, hazard, rule, show
+from ..check import ARCS, Rule, hazard, rule, show
 from .. import modelled
 
 _COMP_CODE = {"left": "G41", "right": "G42", "auto": "G46"}
@@ -209,6 +209,7 @@ class CycleParameterValue(Rule):
 @rule("core.lathe-arc-over-180")
 class LatheArcOver180(Rule):
     reads = modelled.AS_WRITTEN
+    segment_kinds = ARCS
     def motion_run(self, run, state):
         """Runs hold no arcs."""
 

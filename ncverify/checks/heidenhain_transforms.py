@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from .. import ir
 from ..ir import cycle_code
-from ..check import Rule, rule
+from ..check import ARCS, Rule, rule
 from .common import ReportsMissingContext
 
 # Q214 of 202/204: 1 minus reference axis, 2 minus minor axis, 3 plus reference axis, 4 plus minor axis.
@@ -21,6 +21,7 @@ def _active(state) -> dict:
 class ArcUnderAxisScaling(Rule):
     """H38: under cycle 26 a circular arc needs one factor on both axes of its plane (seed
     L7976-7977). The factor ranges are constraints on the rule's page."""
+    segment_kinds = ARCS
 
     def segment(self, segment, state):
         if segment.arc is None:

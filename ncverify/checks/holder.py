@@ -10,7 +10,7 @@ where that material surely is.
 """
 from __future__ import annotations
 
-from ..check import Rule, rule, show
+from ..check import CUTTING, Rule, rule, show
 from ..workpiece import Cutter
 
 
@@ -20,6 +20,7 @@ def _where(point) -> str:
 
 @rule("core.holder-collision")
 class HolderCollision(Rule):
+    segment_kinds = CUTTING  # the material model judges a feed move's holder
     def __init__(self, checker):
         super().__init__(checker)
         checker.material.holder_rule = self

@@ -9,7 +9,7 @@ import numpy
 import z3
 
 from .. import values
-from ..check import hazard, rule, show
+from ..check import CUTTING, hazard, rule, show
 from ..context import NO_TOOL_TABLE
 from ..diagnostics import Status
 from ..values import Condition, Sym
@@ -188,6 +188,7 @@ def _arc_extremes(direction, centre, radius, start, end, axes):
 @rule("core.tool-not-in-table", "core.spindle-over-limit", "core.feed-over-limit")
 class MachineLimits(ReportsMissingContext):
     reads = modelled.AS_WRITTEN
+    segment_kinds = CUTTING  # a rapid runs at neither the programmed feed nor a cutting speed
     def change(self, change, state):
         if change.what == "tool_change" and type(change.new) is float:
             tools = self.checker.context.tools

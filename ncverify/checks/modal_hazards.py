@@ -73,6 +73,7 @@ def _ran_before(state, key: str, span) -> bool:
 class TappingModeLeftOn(Rule):
     """G63 in force for a cut that is not a tap: one finding per G63 episode. A feed move
     along the tool axis only (Z on a mill, in G17) is taken for a tap written with G01."""
+    segment_kinds = _CUTTING
 
     def change(self, change, state):
         if change.what == "path_mode" and change.old != change.new:
@@ -311,11 +312,21 @@ class CoordinateSettingRepeated(Rule):
 # --------------------------------------------------------------------------- feed units
 
 
+# (feed mode, inch) -> (mode, lowest plausible feed, highest, unit)
+_FEED_LIMITS = {
+    ("per_revolution", False): ("per_revolution", None, 5.0, "mm/rev"),
+    ("per_revolution", True): ("per_revolution", None, 0.2, "in/rev"),
+    ("per_minute", False): ("per_minute", 1.0, None, "mm/min"),
+    ("per_minute", True): ("per_minute", 0.04, None, "in/min"),
+}
+
+
 @rule("core.feed-plausibility")
 class FeedPlausibility(Rule):
     """A feed read in the wrong mode's units: above 5 mm/rev (0.2 in/rev) in G95, or below
     1 mm/min (0.04 in/min) in G94. One finding per feed value, like core.feed-missing."""
     reads = modelled.AS_WRITTEN
+    segment_kinds = frozenset({"feed", "arc"})
 
     def change(self, change, state):
         if change.what == "feed_mode":
@@ -359,10 +370,7 @@ class FeedPlausibility(Rule):
             return None
         if self.checker.context.lathe and not state.rule_state.get("feed-mode-stated"):
             return None  # a lathe's power-on feed mode is a parameter (G95 on most): the program has not said
-        inch = state.modal.get("units") == "inch"
-        if mode == "per_revolution":
-            return (mode, None, 0.2 if inch else 5.0, "in/rev" if inch else "mm/rev")
-        return (mode, 0.04 if inch else 1.0, None, "in/min" if inch else "mm/min")
+        return _FEED_LIMITS[mode, state.modal.get("units") == "inch"]
 
     def _check(self, feed, span, state, limits):
         mode, low, high, unit = limits
@@ -399,6 +407,7 @@ class SurfaceSpeedAtCentre(Rule):
     """Lathe, G96 in force, a cut that reaches X0 (or crosses it): one finding per G96
     episode."""
     reads = frozenset()  # compares positions as the program writes them with the blank: no active state is read
+    segment_kinds = frozenset({"feed", "arc"})
 
     def change(self, change, state):
         if change.what == "spindle_mode" and change.old != change.new:

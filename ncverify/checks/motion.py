@@ -9,7 +9,7 @@ import z3
 from .. import ir, values
 from ..values import Condition
 from ..diagnostics import Status
-from ..check import Rule, hazard, rule, show
+from ..check import ARCS, Rule, hazard, rule, show
 from .. import modelled
 
 _CUTTING = frozenset({"feed", "arc", "thread"})
@@ -26,6 +26,7 @@ class FeedMissing(Rule):
     """Reported at the first cutting move of each feed value that is missing or not
     positive (one finding per mistake, not one per block)."""
     reads = modelled.AS_WRITTEN
+    segment_kinds = _CUTTING
 
     def segment(self, segment, state):
         if segment.kind not in _CUTTING or segment.kind == "thread" and not segment.cycle:
@@ -96,6 +97,7 @@ class SpindleOffCutting(Rule):
     a move that reaches Z0 touches one or the other and is reported; one that stays above
     Z0 is reported where the program itself feeds across the plane with the spindle running
     at that height or higher (it cuts there), and is ``unknown`` otherwise."""
+    segment_kinds = _CUTTING
 
     def __init__(self, checker):
         super().__init__(checker)
@@ -270,6 +272,7 @@ class CompensationAtEnd(Rule):
 @rule("core.arc-geometry")
 class ArcGeometry(Rule):
     reads = modelled.AS_WRITTEN
+    segment_kinds = ARCS
     tolerance = 0.01  # in program units, unless the dialect states its control's own (RuleContext.arc_tolerance)
 
     def _tolerance(self, state) -> float:

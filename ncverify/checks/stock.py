@@ -143,6 +143,7 @@ class _NeedsStock(Rule):
 
 @rule("core.rapid-into-stock")
 class RapidIntoStock(_NeedsStock):
+    segment_kinds = frozenset({"rapid"})
     rule_id = "core.rapid-into-stock"
     reads = modelled.GEOMETRY
 

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 from ..ir import cycle_code
 from .. import frames, values
-from ..check import hazard, rule, show
+from ..check import ARCS, hazard, rule, show
 from .common import ReportsMissingContext
 from .. import modelled
 
@@ -38,6 +38,7 @@ class ConcaveArcTighterThanTool(ReportsMissingContext):
     """With G41/G42 on, an arc whose centre lies on the tool's side must have a radius of
     at least the tool radius, or the offset path cannot follow it."""
     reads = modelled.AS_WRITTEN
+    segment_kinds = ARCS
 
     def segment(self, segment, state):
         arc = segment.arc

@@ -4,7 +4,7 @@ from __future__ import annotations
 import numpy
 
 from ..ir import cycle_code
-from ..check import Rule, rule, show
+from ..check import CUTTING, Rule, rule, show
 from ..diagnostics import Status
 from ..interpret import modal_call
 
@@ -51,6 +51,7 @@ class LengthOffsetMismatch(Rule):
 
 @rule("core.no-length-offset")
 class NoLengthOffset(Rule):
+    segment_kinds = CUTTING  # a rapid cuts nothing
     def change(self, change, state):
         if change.what == "tool_change":
             state.rule_state.pop("no-length-offset", None)

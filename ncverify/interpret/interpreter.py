@@ -34,6 +34,7 @@ from ..verdict import evaluate_constraint, hazard, judge, show
 from ..project import assumption_bounds, assumption_names, parameter_name
 
 _ARC_KINDS = {"arc_cw": "cw", "arc_ccw": "ccw"}
+_CENTRE_LETTERS = {"X": "I", "Y": "J", "Z": "K"}  # the word giving the arc centre's offset along each axis
 _SEGMENT_KIND = {"rapid": "rapid", "linear": "feed", "arc_cw": "arc", "arc_ccw": "arc", "thread": "thread"}
 _PLANES = {"xy": ("X", "Y", "Z"), "zx": ("Z", "X", "Y"), "yz": ("Y", "Z", "X")}
 
@@ -1028,16 +1029,16 @@ class Interpreter(ControlFlow):
                 return Arc(direction, (first, second, normal), None, None, None)
             return Arc(direction, (first, second, normal), None, None, None, radius, values.distance(s1, s2, e1, e2),
                        chord_sq=values.distance_sq(s1, s2, e1, e2))
-        centre_letters = {"X": "I", "Y": "J", "Z": "K"}
-        offset1 = self.value(arc_words.get(centre_letters[first], 0.0), op.span)
-        offset2 = self.value(arc_words.get(centre_letters[second], 0.0), op.span)
+        letter1, letter2 = _CENTRE_LETTERS[first], _CENTRE_LETTERS[second]
+        offset1 = self.value(arc_words.get(letter1, 0.0), op.span)
+        offset2 = self.value(arc_words.get(letter2, 0.0), op.span)
         offset1 = 0.0 if offset1 is VACANT else offset1
         offset2 = 0.0 if offset2 is VACANT else offset2
         if state.modal.get("arc_distance") == "absolute":
             c1, c2 = offset1, offset2
         else:  # SINUMERIK I=AC(..) gives one coordinate of the centre itself, read like the axis's own positions
-            c1 = _scaled(offset1, scale_first) if centre_letters[first] in op.absolute else values.add(s1, offset1)
-            c2 = _scaled(offset2, scale_second) if centre_letters[second] in op.absolute else values.add(s2, offset2)
+            c1 = _scaled(offset1, scale_first) if letter1 in op.absolute else values.add(s1, offset1)
+            c2 = _scaled(offset2, scale_second) if letter2 in op.absolute else values.add(s2, offset2)
         start_radius = values.distance(s1, s2, c1, c2)
         end_radius = values.distance(e1, e2, c1, c2)
         return Arc(direction, (first, second, normal), (c1, c2), start_radius, end_radius,

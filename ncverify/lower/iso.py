@@ -9,7 +9,7 @@ from __future__ import annotations
 import math
 import re
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy
 
@@ -453,8 +453,8 @@ def _decimal_point_message(letter: str, value: float, increment: float) -> str:
 _PLAIN_MOTION = re.compile(rb"[ \t]*+(?:[NGXYZABCF][ \t]*+[+-]?+(?>\d+\.?\d*|\.\d+)[ \t]*+)++")  # batchable: straight moves only
 # What the fast lowering takes: the plain blocks and arcs with their centre or radius words.
 _FAST_LINE = re.compile(rb"[ \t]*+(?:[NGXYZABCFIJKR][ \t]*+[+-]?+(?>\d+\.?\d*|\.\d+)[ \t]*+)++")
-_PLAIN_WORD_BYTES = re.compile(rb"([NGXYZABCFIJKR])[ \t]*([+-]?(?:\d+\.?\d*|\.\d+))")
-_LETTERS = {ord(letter): letter for letter in "NGXYZABCFIJKR"}
+_PLAIN_WORD_BYTES = re.compile(rb"(CR=|[NGXYZABCFIJKR])[ \t]*([+-]?(?:\d+\.?\d*|\.\d+))")
+_LETTERS = {letter.encode(): letter for letter in "NGXYZABCFIJKR"} | {b"CR=": "R"}  # SINUMERIK's CR= is an arc's radius word
 _NUMBER_BYTES = rb"([+-]?(?:\d+\.?\d*|\.\d+))"
 # Nearly all CAM output writes its words in this order; one match reads the whole block.
 _CANONICAL_LETTERS = ("N", "G", "X", "Y", "Z", "I", "J", "K", "R", "F")
@@ -469,13 +469,19 @@ _RETURN = re.compile(rb"(?i)M99(?![0-9.])")
 _SETUP = re.compile(rb"(?i)(?<![A-Z])(?:M0*6|G5[4-9])(?![0-9])")
 
 
+# What a word does in a plain motion line (FastMotionForm.roles).
+_WORD_LABEL, _WORD_MOTION, _WORD_FEED, _WORD_AXIS, _WORD_ARC = range(5)
+
+
 @dataclass(frozen=True, slots=True)
 class FastMotionForm:
     """What a dialect's lowering makes of a plain motion line, for :func:`lower_fast_motion`:
     its axis letters (incremental twins excluded), least input increments (0: numbers are
     mm or inch), the label an ``N`` number gives its block (ISO: the number; SINUMERIK:
     ``N<number>``, which ``GOTOF N100`` finds), which letters give an arc's centre or radius, and whether those belong to
-    the move's span, words and columns (ISO) or to its arc only (SINUMERIK)."""
+    the move's span, words and columns (ISO) or to its arc only (SINUMERIK), and the lines
+    it takes (``line``; a line in the usual word order always). ``roles``: what each letter
+    does, looked up once a word."""
 
     axis_letters: frozenset
     increment: float = 0.0
@@ -483,6 +489,14 @@ class FastMotionForm:
     number_label: Callable[[str], object] = float
     arc_letters: frozenset = frozenset("IJKR")
     arc_words_in_span: bool = True
+    line: re.Pattern = _FAST_LINE
+    roles: dict = field(init=False, repr=False, compare=False, hash=False)
+
+    def __post_init__(self):
+        roles = dict.fromkeys(self.arc_letters, _WORD_ARC)
+        roles.update(dict.fromkeys(self.axis_letters, _WORD_AXIS))
+        roles.update(N=_WORD_LABEL, G=_WORD_MOTION, F=_WORD_FEED)
+        object.__setattr__(self, "roles", roles)
 
 
 def fast_motion_block(raw: bytes, line: int, path: str | None, form: FastMotionForm) -> ir.Block | None:
@@ -490,65 +504,80 @@ def fast_motion_block(raw: bytes, line: int, path: str | None, form: FastMotionF
     canonical = _CANONICAL.fullmatch(raw)
     if canonical is not None and canonical.lastindex is None:
         canonical = None  # a blank line: no word
-    if canonical is None and not _FAST_LINE.fullmatch(raw):
+    if canonical is None and not form.line.fullmatch(raw):
         return None
     return lower_fast_motion(raw, line, path, form, canonical)
+
+
+def _plain_words(raw: bytes, canonical: re.Match | None) -> list[tuple[str, bytes, int, int]]:
+    """(letter, number, start, end) of each word of a plain line, in the order written
+    (0-based columns, the letter's to the number's end)."""
+    if canonical is not None:  # each number follows its letter directly
+        spans = canonical.regs
+        return [(_CANONICAL_LETTERS[index], text, spans[index + 1][0] - 1, spans[index + 1][1])
+                for index, text in enumerate(canonical.groups()) if text is not None]
+    return [(_LETTERS[match.group(1)], match.group(2), match.start(1), match.end(2)) for match in _PLAIN_WORD_BYTES.finditer(raw)]
 
 
 def lower_fast_motion(raw: bytes, line: int, path: str | None, form: FastMotionForm, canonical: re.Match | None = None) -> ir.Block | None:
     """The fast path: ``[N..] [G0-G3] axis words [I J K | R] [F..]`` straight to IR,
     without reader objects (centre and radius words only on an arc or a modal move, as
     the general lowering takes them). Returns None when the block needs the general
-    lowering. ``canonical``: the block's match of the usual word order, when it has one."""
-    if canonical is not None:  # each number follows its letter directly
-        words = [(letter, value, (value_start - 1, value_end)) for letter, value, (value_start, value_end)
-                 in zip(_CANONICAL_LETTERS, canonical.groups(), canonical.regs[1:]) if value is not None]
-    else:
-        words = [(_LETTERS[match.group(1)[0]], match.group(2), (match.start(1), match.end(2))) for match in _PLAIN_WORD_BYTES.finditer(raw)]
-    increment, axis_letters, arc_letters = form.increment, form.axis_letters, form.arc_letters
+    lowering. ``canonical``: the block's match of the usual word order, when it has one.
+    The words come in the order written, so the move's span runs from the first of its
+    words to the end of the last."""
+    roles, increment, arc_words_in_span = form.roles, form.increment, form.arc_words_in_span
     label = kind = move_start = feed_op = None
     numbered = False
     move_end = 0
     targets = {}
     columns = {}
     arc = {}
-    for letter, text, (start, value_end) in words:
-        if letter == "N":
-            if numbered:
+    for letter, text, start, end in _plain_words(raw, canonical):
+        role = roles.get(letter)
+        if role == _WORD_AXIS:
+            if letter in targets:
                 return None
-            numbered = True
-            label = form.number_label(text)
-        elif letter == "G":
+            if increment and b"." not in text:
+                count = float(text)
+                if 1 <= abs(count) < 1000:
+                    return None  # a decimal-point trap: the general path reports it
+                targets[letter] = ir.IncrementCount(count, "length")
+            else:
+                targets[letter] = float(text)
+            columns[letter] = (start, end)
+        elif role == _WORD_ARC:
+            if letter in arc or (increment and b"." not in text):
+                return None
+            arc[letter] = float(text)
+            if not arc_words_in_span:
+                continue
+            columns[letter] = (start, end)
+        elif role == _WORD_MOTION:
             if kind is not None:
                 return None
             kind = _FAST_MOTION.get(float(text))
             if kind is None:
                 return None
-            move_start = start if move_start is None else min(move_start, start)
-            move_end = max(move_end, value_end)
-        elif letter == "F":
+        elif role == _WORD_FEED:
             if feed_op is not None:
                 return None
             feed = ir.IncrementCount(float(text), "feed") if form.feed_increment and b"." not in text else float(text)
-            feed_op = ir.SetFeed(Span(line, start + 1, line, value_end + 1, path), feed)
-        elif letter in axis_letters and letter not in targets:
-            if increment and b"." not in text and 1 <= abs(float(text)) < 1000:
-                return None  # a decimal-point trap: the general path reports it
-            targets[letter] = ir.IncrementCount(float(text), "length") if increment and b"." not in text else float(text)
-            columns[letter] = (start, value_end)
-            if move_start is None or start < move_start:
-                move_start = start
-            move_end = max(move_end, value_end)
-        elif letter in arc_letters and letter not in arc and (b"." in text or not increment):
-            arc[letter] = float(text)
-            if form.arc_words_in_span:
-                columns[letter] = (start, value_end)
-                move_start = start if move_start is None else min(move_start, start)
-                move_end = max(move_end, value_end)
+            feed_op = ir.SetFeed(Span(line, start + 1, line, end + 1, path), feed)
+            continue
+        elif role == _WORD_LABEL and not numbered:
+            numbered = True
+            label = form.number_label(text)
+            continue
         else:
             return None
+        if move_start is None:
+            move_start = start
+        move_end = end
     if arc and kind in ("rapid", "linear"):
         return None  # centre words on a straight move: the general lowering says what they are
+    if move_start is None and arc:
+        return None  # centre words alone: the general lowering places them
     stripped = raw.strip()
     first = raw.index(stripped[:1]) if stripped else 0
     block = ir.Block(line, first + 1, first + len(stripped) + 1, [], label=label)
@@ -556,9 +585,7 @@ def lower_fast_motion(raw: bytes, line: int, path: str | None, form: FastMotionF
         block.ops.append(feed_op)
     if move_start is not None:
         span = Span(line, move_start + 1, line, move_end + 1, path)
-        block.ops.append(ir.Move(span, kind, targets, arc or None, dict(arc) if form.arc_words_in_span else {}, frozenset(), columns))
-    elif arc:
-        return None  # centre words alone: the general lowering places them
+        block.ops.append(ir.Move(span, kind, targets, arc or None, dict(arc) if arc_words_in_span else {}, frozenset(), columns))
     return block
 
 

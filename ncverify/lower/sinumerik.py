@@ -484,17 +484,12 @@ def _nested_modal_call(name: str, span: Span) -> ir.Note:
 
 _PLAIN_MOTION = re.compile(rb"[ \t]*+(?:[NGXYZF][ \t]*+[+-]?+(?>\d+\.?\d*|\.\d+)[ \t]*+)++")  # possessive: see iso._PLAIN_MOTION
 # Plain motion lines lowered without the reader, as the general lowering would (N is a block
-# number, a label only as N<number>; I/J/K are arc data only, outside the move's span; R is a parameter).
-_FAST_WORD = rb"[GXYZABCFIJK][+-]?(?:\d+\.?\d*|\.\d+)"
+# number, a label only as N<number>; I/J/K and the radius CR= are arc data only, outside the
+# move's span; R is a parameter).
+_FAST_WORD = rb"(?:[GXYZABCFIJK]|CR=)[+-]?(?:\d+\.?\d*|\.\d+)"
 _FAST_LINE = re.compile(rb"[ \t]*(?:N\d+[ \t]+)?" + _FAST_WORD + rb"(?:[ \t]+" + _FAST_WORD + rb")*[ \t]*")  # N first, words apart
-_FAST_FORM = FastMotionForm(frozenset(_AXES), number_label=lambda digits: f"N{int(digits)}", arc_letters=frozenset(_ARC_WORDS), arc_words_in_span=False)
-# An arc by its radius, ``G2 X.. Y.. CR=6 F..`` (CAM output writes half its arcs so): read as
-# the fast path reads ``R6``, CR= written over with blanks so that every column stays; the
-# radius only, no centre words, and not as the first word (the block would start later).
-_FAST_PLANE_WORD = rb"[GXYZABCF][+-]?(?:\d+\.?\d*|\.\d+)"
-_FAST_RADIUS_LINE = re.compile(rb"[ \t]*(?:N\d+[ \t]+)?" + _FAST_PLANE_WORD + rb"(?:[ \t]+" + _FAST_PLANE_WORD + rb")*[ \t]+CR=[+-]?(?:\d+\.?\d*|\.\d+)"
-                               rb"(?:[ \t]+" + _FAST_PLANE_WORD + rb")*[ \t]*")
-_FAST_RADIUS_FORM = replace(_FAST_FORM, arc_letters=frozenset("R"))
+_FAST_FORM = FastMotionForm(frozenset(_AXES), number_label=lambda digits: f"N{int(digits)}", arc_letters=frozenset((*_ARC_WORDS, "R")),
+                            arc_words_in_span=False, line=_FAST_LINE)
 _PROGRAM_HEADER = re.compile(rb"(?mi)^[ \t]*%_N_(\w+?)_(MPF|SPF)\b")
 _PROC = re.compile(rb"(?mi)^[ \t]*(?:N\d+[ \t]*)?PROC[ \t]+(\w+)")
 _PROGRAM_END = re.compile(rb"(?mi)^[^;\n]*\bM0?(?:2|30)\b(?![ \t]*=)")
@@ -502,16 +497,6 @@ _MODAL_CALL = re.compile(rb"(?mi)^[^;\n]*\bMCALL[ \t]+(\w+)[^\n]*")
 _REPEAT_SECTION = re.compile(rb"(?mi)^[^;\n]*\bREPEATB?[ \t]+[A-Z_]")
 _SUBPROGRAM_END = re.compile(rb"(?mi)^[^;\n]*\b(?:M17|RET)\b(?![ \t]*=)")
 _STRUCTURE_LINE = re.compile(r"^\s*(?:/\d?\s*)?(?:N\d+\s*)?(?:[A-Za-z_]\w*\s*:(?!=)\s*)?(IF|ELSE|ENDIF)\b(.*)$", re.IGNORECASE)
-
-
-def _fast_block(raw: bytes, line: int, path: str | None) -> ir.Block | None:
-    """A plain motion line or an arc by its radius lowered without the reader, as the
-    general lowering lowers it (tests/test_sinumerik.py); None for any other line."""
-    if _FAST_LINE.fullmatch(raw):
-        return fast_motion_block(raw, line, path, _FAST_FORM)
-    if _FAST_RADIUS_LINE.fullmatch(raw):
-        return fast_motion_block(raw.replace(b"CR=", b"  R"), line, path, _FAST_RADIUS_FORM)
-    return None
 
 
 class SinumerikFrontend:
@@ -527,8 +512,8 @@ class SinumerikFrontend:
         self._proc_cache: dict = {}
 
     def blocks(self, raw: bytes, line: int, path: str | None) -> list[ir.Block]:
-        if not self.lowering.uses_modal_call:  # with MCALL, a move also carries the call
-            block = _fast_block(raw, line, path)
+        if not self.lowering.uses_modal_call and _FAST_LINE.fullmatch(raw):  # with MCALL, a move also carries the call
+            block = fast_motion_block(raw, line, path, _FAST_FORM)
             if block is not None:
                 return [block]
         return self.lowering.lower(read_line(decode_line(raw), line), path)
