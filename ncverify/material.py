@@ -93,6 +93,7 @@ class Material:
         self._allocated = 0  # bytes of height fields made for this file's paths
         self.holder_rule = None  # the rule judging each feed move's holder and shank against the material before it
         self._run, self._run_done = None, 0
+        self._named: tuple = (None, "T?")  # the tool number last named, and its name
 
     @property
     def modelled(self) -> bool:
@@ -128,13 +129,13 @@ class Material:
             if centre is None or type(centre[0]) is not float or type(centre[1]) is not float:
                 mine.unplaced()
                 return
-            mine.arcs.append(((start, end, centre, arc.direction == "cw", _plane_indices(arc.plane)), mine.sized(cutter), _tool_name(state)))
+            mine.arcs.append(((start, end, centre, arc.direction == "cw", _plane_indices(arc.plane)), mine.sized(cutter), self._tool_name(state)))
             self._count_buffered(mine)
             return
         mine.deepest = min(mine.deepest, start[2], end[2])
         cutter = mine.sized(cutter)
         mine.recent.append((start, end, cutter))
-        mine.lines.append(([start], [end], cutter, _tool_name(state)))
+        mine.lines.append(([start], [end], cutter, self._tool_name(state)))
         self._count_buffered(mine)
 
     def _count_buffered(self, mine: _PathPiece) -> None:
@@ -197,12 +198,12 @@ class Material:
             mine.recent.append((tuple(start), tuple(end), sized))
         parts = self._holder_parts(state)
         if not parts:
-            self._buffer(mine, starts[known], ends[known], sized, _tool_name(state))
+            self._buffer(mine, starts[known], ends[known], sized, self._tool_name(state))
             return
         self._flush(mine)
         for start, end, index in zip(starts[known], ends[known], feeds[known]):  # move by move: each against what the ones before left
             self._judge_holder(mine.piece, start, end, parts, run.span(int(index)), state)
-            self._sweep(mine.piece, start[None], end[None], mine.sized(cutter), 0.0, _tool_name(state))
+            self._sweep(mine.piece, start[None], end[None], mine.sized(cutter), 0.0, self._tool_name(state))
 
     # -- questions from the rules
     def rapid(self, start, end, state, run=None, index: int | None = None) -> RapidVerdict | None:
@@ -297,6 +298,16 @@ class Material:
         if holder is None:
             holder = state.rule_state[_KEY] = _PathPiece(self._allocate(lambda: Workpiece(self.stock, self.resolution, self._memory_cap)))
         return holder
+
+    def _tool_name(self, state) -> str:
+        """"T3" for the tool in the spindle, "T?" when not known; asked on every cutting move,
+        named anew only when the number is another value object (a tool change)."""
+        number, name = self._named
+        if state.tool_in_spindle is not number:
+            number = state.tool_in_spindle
+            name = f"T{number:g}" if type(number) is float else "T?"
+            self._named = (number, name)
+        return name
 
     def _mine(self, state) -> _PathPiece | None:
         """This path's own workpiece, copied from the one it shares with the paths it forked
@@ -478,21 +489,6 @@ def _too_large(stock, cells: str, size: float, area: float, cap: int) -> str:
 def _mebibytes(size: float) -> str:
     mebibytes = size / 2**20
     return f"{mebibytes:,.0f} MiB" if mebibytes >= 10 else f"{mebibytes:.2g} MiB"
-
-
-_last_named: tuple = (None, "T?")  # the tool number last named, and its name
-
-
-def _tool_name(state) -> str:
-    """"T3" for the tool in the spindle, "T?" when not known; asked on every cutting move,
-    named anew only when the number is another value object (a tool change)."""
-    global _last_named
-    number, name = _last_named
-    if state.tool_in_spindle is not number:
-        number = state.tool_in_spindle
-        name = f"T{number:g}" if type(number) is float else "T?"
-        _last_named = (number, name)
-    return name
 
 
 @functools.lru_cache(maxsize=16)
