@@ -50,6 +50,9 @@ class Rule:
     # The kinds of machine state this rule's proofs account for (ncverify.modelled);
     # under any other that is active, its proved becomes unknown. Nothing by default.
     reads: frozenset = frozenset()
+    # Does ``motion_run`` judge arcs (kinds 2 and 3, ``run.arcs``) itself? Otherwise it gets
+    # a run's stretches of straight moves, and ``segment`` each arc between them.
+    handles_arcs: bool = False
 
     def __init__(self, checker: "Checker"):
         self.checker = checker
@@ -109,6 +112,10 @@ class Checker:
         self.rules = rules
         self._segment = _handlers(rules, "segment")
         self._motion_run = _handlers(rules, "motion_run")
+        self._arc_run = [instance.motion_run for instance in rules if _overrides(instance, "motion_run") and instance.handles_arcs]
+        self._straight_run = [instance.motion_run for instance in rules if _overrides(instance, "motion_run") and not instance.handles_arcs]
+        self._arc_segment = [instance.segment for instance in rules
+                             if _overrides(instance, "motion_run") and not instance.handles_arcs and _overrides(instance, "segment")]
         self._segment_only = [instance.segment for instance in rules if _overrides(instance, "segment") and not _overrides(instance, "motion_run")]
         self._hole = _handlers(rules, "hole") + [self._constraints_on_hole]
         self._cycle_run = _handlers(rules, "cycle_run") + [self._constraints_on_run]
@@ -150,14 +157,35 @@ class Checker:
 
     def motion_run(self, run, state) -> None:
         self.material.begin_run(run)
-        for handler in self._motion_run:
-            handler(run, state)
+        if run.arcs is None:
+            for handler in self._motion_run:
+                handler(run, state)
+        else:
+            self._pieces_of_run(run, state)
         if self._segment_only:
             for index in range(len(run)):
                 segment = run.segment(index)
                 for handler in self._segment_only:
                     handler(segment, state)
         self.material.motion_run(run, state)
+
+    def _pieces_of_run(self, run, state) -> None:
+        """A run with arcs: the rules that judge arcs in runs get it whole; the others get
+        its stretches of straight moves as runs and each arc as the block path's segment,
+        after the material has taken the moves before it."""
+        for handler in self._arc_run:
+            handler(run, state)
+        for start, stop, straight in run.pieces():
+            if straight:
+                part = run.part(start, stop)
+                for handler in self._straight_run:
+                    handler(part, state)
+            elif self._arc_segment:
+                self.material.motion_run(run, state, upto=start)
+                segment = run.segment(start)
+                run.state_at(segment, start)
+                for handler in self._arc_segment:
+                    handler(segment, state)
 
     def path_end(self, state) -> None:
         self.material.finish(state)

@@ -2,6 +2,7 @@
 must be the same as running the blocks one by one."""
 from __future__ import annotations
 
+import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
@@ -76,6 +77,83 @@ def test_arcs_and_helices_in_every_plane_give_the_same_findings_batched_or_block
     """With a stock and a sized tool the cut stock follows the arcs (their chords are cut
     in batches at each flush): a rapid after them is judged alike on both paths."""
     _assert_same_findings(_program(body, [*(_STOCK if stock else []), *header]))
+
+
+_COORDINATE = st.floats(-40, 40, allow_nan=False).map(lambda value: f"{value:.3f}")
+# A streak of CAM arcs and lines, long enough to be read as one batch: arcs by centre offsets
+# (often off the circle, for the arc-geometry rule), by radius (big enough or not), full
+# circles, helices, in any plane, absolute or incremental, metric or inch.
+_STREAK_ARC = st.tuples(
+    st.sampled_from(["G2", "G3", "G02", "G03", ""]),
+    st.lists(st.sampled_from("XYZ"), unique=True, max_size=3).flatmap(lambda axes: st.tuples(*[_COORDINATE.map(lambda n, a=a: a + n) for a in axes])),
+    st.one_of(st.lists(st.sampled_from("IJK"), unique=True, min_size=1, max_size=3).flatmap(
+        lambda letters: st.tuples(*[_COORDINATE.map(lambda n, a=a: a + n) for a in letters])),
+        st.sampled_from(["R0.5", "R5.", "R-5.", "R60.", "R-60."]).map(lambda word: (word,))),
+    st.one_of(st.none(), st.sampled_from(["F500.", "F0"])),
+).map(lambda parts: " ".join(word for word in [parts[0], *parts[1], *parts[2], parts[3]] if word))
+_STREAK_LINE = st.tuples(st.sampled_from(["G1 ", "G0 ", ""]), _CAM_LINE).map("".join)
+_MODES = st.tuples(st.sampled_from(["G17", "G18", "G19"]), st.sampled_from(["G90", "G91"]), st.sampled_from(["G21", "G20"]))
+_CONSTANT_CENTRE = ["G2 I5. J0. K0.", "G3 I-2. J1. K0.5"]  # full circles: on the circle in every plane
+_MIXED_STREAK = st.lists(st.one_of(_STREAK_ARC, _STREAK_LINE, st.sampled_from(_CONSTANT_CENTRE)), min_size=30, max_size=60)
+
+
+def _arcs_in_runs(program: str, **options) -> int:
+    """How many arcs the batched check hands the rules inside runs."""
+    from unittest import mock
+
+    from ncverify.check import Checker
+
+    counted = []
+    original = Checker.motion_run
+
+    def counting(checker, run, state):
+        counted.append(len(run.arc_indices()))
+        return original(checker, run, state)
+
+    with mock.patch.object(Checker, "motion_run", counting):
+        check_text(program, settings=Settings(**options))
+    return sum(counted)
+
+
+@settings(max_examples=120, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(streaks=st.lists(st.tuples(_MODES, _MIXED_STREAK), min_size=1, max_size=3), header=_HEADER, stock=st.booleans())
+def test_streaks_of_arcs_and_lines_give_the_same_findings_batched_or_block_by_block(streaks, header, stock):
+    body = [block for modes, streak in streaks for block in (*modes, "G0 X1. Y2. Z3.", "G1 F300.", *streak)]
+    _assert_same_findings(_program(body, [*(_STOCK if stock else []), *header]))
+
+
+_ADAPTIVE = [block for step in range(40) for block in (f"G3 X{step * 0.4:.3f} Y4. I0. J2.", f"G1 X{step * 0.4 + 0.2:.3f} Y4.",
+                                                      f"G2 X{step * 0.4 + 0.2:.3f} Y0. I0. J-2.", f"G1 X{step * 0.4 + 0.4:.3f} Y0.")]
+
+
+@pytest.mark.parametrize("modes, body", [
+    (["G17 G90 G21"], _ADAPTIVE),
+    (["G17 G90 G20"], _ADAPTIVE),
+    (["G17 G91 G21"], ["G3 X0. Y4. I0. J2.", "G1 X0.2", "G2 X0. Y-4. I0. J-2.", "G1 X0.2"] * 40),
+    (["G18 G90 G21"], [line.replace("Y", "Z").replace("J", "K") for line in _ADAPTIVE]),
+    (["G19 G90 G21"], [line.replace("Y", "Z").replace("X", "Y").replace("J", "K").replace("I", "J") for line in _ADAPTIVE]),
+    (["G17 G90 G21"], ["G2 X0.4 Y4. R2.", "G1 X0.4 Y0.", "G3 X0. Y0. Z-0.1 R0.2", "G1 Y4.5", "G2 X0.4 Y4. R0.01"] * 32),
+    (["G17 G90 G21"], ["G2 I2. J0. Z-0.5", "G1 X0.4", "G3 I-2. J0.", "G1 X0."] * 40),
+])
+def test_arcs_run_inside_batches_with_the_same_findings(modes, body):
+    """Adaptive clearing (half circles joined by short lines), incremental, in inch, in the
+    other planes, by radius (one too small for its chord) and as full circles: the arcs run
+    inside batches and the findings are the block path's."""
+    program = _program(["G0 X0. Y0. Z1.", "G1 Z-1. F800.", *modes, *body], [*_STOCK, "G43 H01 Z50.", "S1000 M03"])
+    assert _arcs_in_runs(program) >= len(body) // 4
+    _assert_same_findings(program)
+
+
+def test_arcs_that_the_arrays_do_not_model_end_the_batch_for_the_block_path():
+    """On a lathe X is a diameter, which the arrays do not scale: its arcs are left to the
+    block path (the lines between them still run in batches), with the same findings."""
+    body = ["G18", "G0 X20. Z1.", "G1 Z-1. F0.2", *[f"G2 X{20 + step % 2 * 2}. Z{-1 - step}. R5." if step % 2 else f"G1 X20. Z{-1 - step}." for step in range(60)]]
+    program = "\n".join(["O1000", "G21 G90 G54", "T0101", "S500 M03", *body, "M30"]) + "\n"
+    assert _arcs_in_runs(program, machine="lathe") == 0
+    assert _arcs_in_runs(program, machine="mill") > 0
+    batched = check_text(program, settings=Settings(machine="lathe"))
+    one_by_one = check_text(program, settings=Settings(machine="lathe", per_block_only=True))
+    assert [(d.rule, d.status, d.span, d.message) for d in batched.diagnostics] == [(d.rule, d.status, d.span, d.message) for d in one_by_one.diagnostics]
 
 
 def test_a_long_plain_program_is_run_in_batches_and_finds_the_missing_feed():

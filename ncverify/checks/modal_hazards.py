@@ -14,7 +14,7 @@ from ..diagnostics import Severity, Status
 from .. import modelled
 
 _CUTTING = frozenset({"feed", "arc", "thread"})
-_FEED = 1  # MotionRun kind code of a feed segment
+_FEED = 1  # MotionRun kind code of a feed segment; arcs' are above it
 _LENGTH_CODE = {"plus": "G43", "minus": "G44"}
 _SPINDLE_CODE = {"cw": "M03", "ccw": "M04", "off": "M05", "orient": "M19"}
 _CUTTING_MOTION = frozenset({"linear", "arc_cw", "arc_ccw", "thread"})
@@ -74,6 +74,8 @@ class TappingModeLeftOn(Rule):
     """G63 in force for a cut that is not a tap: one finding per G63 episode. A feed move
     along the tool axis only (Z on a mill, in G17) is taken for a tap written with G01."""
 
+    handles_arcs = True  # an arc cuts as a feed move does; judged by its end points, as block by block
+
     def change(self, change, state):
         if change.what == "path_mode" and change.old != change.new:
             state.rule_state.pop("tapping-mode-reported", None)
@@ -91,7 +93,7 @@ class TappingModeLeftOn(Rule):
     def motion_run(self, run, state):
         if state.modal.get("path_mode") != "tapping" or state.rule_state.get("tapping-mode-reported"):
             return
-        cutting = numpy.flatnonzero(run.kinds == _FEED)
+        cutting = numpy.flatnonzero(run.kinds >= _FEED)
         if not len(cutting):
             return
         axis = self._tool_axis(state)
@@ -141,6 +143,8 @@ class LengthOffsetMotion(Rule):
     reference return or a machine-coordinate move) it moves from the top of the travel, and
     the usual ``M06`` / ``G43 H01`` / ``G00 Z1.`` sequence is not reported."""
     reads = modelled.AS_WRITTEN
+
+    handles_arcs = True  # every move, arcs too, by its end points
 
     def change(self, change, state):
         if self.checker.context.lathe:
@@ -317,6 +321,8 @@ class FeedPlausibility(Rule):
     1 mm/min (0.04 in/min) in G94. One finding per feed value, like core.feed-missing."""
     reads = modelled.AS_WRITTEN
 
+    handles_arcs = True  # an arc cuts at the feed in force, as a straight feed move
+
     def change(self, change, state):
         if change.what == "feed_mode":
             state.rule_state["feed-mode-stated"] = True
@@ -334,7 +340,7 @@ class FeedPlausibility(Rule):
         limits = self._limits(state)
         if limits is None:
             return
-        cutting = numpy.flatnonzero(run.kinds == _FEED)
+        cutting = numpy.flatnonzero(run.kinds >= _FEED)
         if not len(cutting):
             return
         mode, low, high, _unit = limits
@@ -400,6 +406,8 @@ class SurfaceSpeedAtCentre(Rule):
     episode."""
     reads = frozenset()  # compares positions as the program writes them with the blank: no active state is read
 
+    handles_arcs = True  # an arc cuts as a feed move does; judged by its end points, as block by block
+
     def change(self, change, state):
         if change.what == "spindle_mode" and change.old != change.new:
             state.rule_state.pop("css-centre-reported", None)
@@ -418,7 +426,7 @@ class SurfaceSpeedAtCentre(Rule):
     def motion_run(self, run, state):
         if "X" not in run.axes or not self._applies(state):
             return
-        cutting = numpy.flatnonzero(run.kinds == _FEED)
+        cutting = numpy.flatnonzero(run.kinds >= _FEED)
         column = run.axes.index("X")
         start, end = run.points[cutting, column], run.points[cutting + 1, column]
         reaching = numpy.flatnonzero((end <= 0) | (start <= 0))
