@@ -144,6 +144,30 @@ def test_arcs_run_inside_batches_with_the_same_findings(modes, body):
     _assert_same_findings(program)
 
 
+@pytest.mark.parametrize("modes, body", [(["G17 G90 G21"], _ADAPTIVE), (["G17 G90 G21 G41 D1"], _ADAPTIVE[:-1] + ["G1 X0. Y0. F0"] + _ADAPTIVE)])
+def test_rules_that_do_not_judge_arcs_in_runs_get_them_one_by_one_with_the_same_findings(modes, body, monkeypatch):
+    """A rule whose run handler leaves arcs alone gets a run's straight stretches as runs
+    and each arc as the block path's segment, with the state the block path has there
+    (its feed, its motion mode): every rule taken so gives the block path's findings."""
+    from ncverify.check import rule_classes
+
+    for cls in rule_classes():
+        monkeypatch.setattr(cls, "handles_arcs", False)
+    program = _program(["G0 X0. Y0. Z1.", "G1 Z-1. F800.", *modes, *body], [*_STOCK, "G43 H01 Z50.", "S1000 M03"])
+    assert _arcs_in_runs(program) >= len(body) // 4
+    _assert_same_findings(program)
+
+
+def test_every_rule_that_reads_runs_judges_their_arcs_too():
+    """A rule whose run handler leaves arcs alone gets each arc of a run cut out as one
+    Python segment: adaptive-clearing programs (arcs between short lines) would lose the
+    batch speed."""
+    from ncverify.check import Rule
+    from ncverify.rule_registry import rule_classes
+
+    assert [cls.__name__ for cls in rule_classes() if cls.motion_run is not Rule.motion_run and not cls.handles_arcs] == []
+
+
 def test_arcs_that_the_arrays_do_not_model_end_the_batch_for_the_block_path():
     """On a lathe X is a diameter, which the arrays do not scale: its arcs are left to the
     block path (the lines between them still run in batches), with the same findings."""
