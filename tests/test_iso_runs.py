@@ -49,7 +49,7 @@ def test_every_line_of_a_run_is_lowered_alike_by_the_fast_path(lines):
             continue
         block = fast_motion_block(lines[row].encode(), row + 1, None, _FORM)
         assert block is not None, lines[row]
-        table = {chr(letter): run.table[row, column] for column, letter in enumerate(LETTERS) if not math.isnan(run.table[row, column])}
+        table = {chr(LETTERS[column]): value for column, value in enumerate(run.table[row].tolist()) if not math.isnan(value)}
         table.pop("N", None)
         table.pop("G", None)
         assert table == _words_of(block)

@@ -17,7 +17,7 @@ from .. import ir, values
 from ..cycle_models import UNKNOWN_CYCLE
 from ..dialect import DialectSetup
 from ..read.iso import ReadBlock, Statement, Word, read_line
-from ..read.iso_runs import ARC_WORDS, read_plain_run_at
+from ..read.iso_runs import read_plain_run_at
 from ..source import Span, decode_line, find_all, line_start
 from ..tables import CodeTable, code_key, iso_table
 from ..values import VACANT
@@ -602,7 +602,7 @@ class IsoFrontend:
         kinds = numpy.where(numpy.isnan(motion), -1, motion).astype(numpy.int8)
         return ir.MoveBatch(offset, offset + run.length, line, run.line_starts + offset, kinds, ("X", "Y", "Z"), table[:, 2:5],
                           pointless[:, 2:5] & bool(self.lowering.increment), table[:, 5],
-                          pointless[:, 5] & bool(self.lowering.feed_increment), run.blocks, table[:, ARC_WORDS], run.worded)
+                          pointless[:, 5] & bool(self.lowering.feed_increment), run.blocks, run.arc_words, run.worded)
 
     def programs(self, buffer) -> list[tuple[str, int]]:
         """``(name, offset of its first line)`` for every program header in the buffer.

@@ -44,13 +44,19 @@ _FIRST_CHUNK = 1 << 14  # bytes read first; CAM streaks between arcs are short
 @dataclass(slots=True)
 class PlainRun:
     """``table[line, column]``: the number of letter ``LETTERS[column]`` on each line (NaN
-    when absent); ``pointless`` marks numbers written without a decimal point."""
+    when absent), without the arc words' columns when no line has one; ``pointless``
+    marks numbers written without a decimal point."""
 
     table: numpy.ndarray
     pointless: numpy.ndarray
     line_starts: numpy.ndarray  # offsets relative to the chunk
     length: int  # bytes read
     worded: numpy.ndarray  # lines holding at least one word (the others are no block)
+
+    @property
+    def arc_words(self) -> numpy.ndarray | None:
+        """The ``I J K R`` columns, None when no line has one."""
+        return self.table[:, ARC_WORDS] if self.table.shape[1] > ARC_WORDS.start else None
 
     @property
     def blocks(self) -> int:
@@ -165,7 +171,8 @@ def read_plain_run(chunk: bytes, minimum_lines: int = 16, stop_at_small_integers
         return None
     rows = found.line_of(letters)
     columns = _COLUMN[found.codes[letters]]
-    table = numpy.full((line_count, len(LETTERS)), numpy.nan)
+    width = len(LETTERS) if (columns >= _I).any() else len(_STRAIGHT_LETTERS)  # no arc words: no room for them
+    table = numpy.full((line_count, width), numpy.nan)
     table[rows, columns] = values
     pointless = numpy.zeros(table.shape, dtype=bool)
     pointless[rows, columns] = ~has_point
