@@ -168,6 +168,17 @@ def test_every_rule_that_reads_runs_judges_their_arcs_too():
     assert [cls.__name__ for cls in rule_classes() if cls.motion_run is not Rule.motion_run and not cls.handles_arcs] == []
 
 
+@pytest.mark.parametrize("options", [{"dialect": "linuxcnc"}, {"dialect": "fagor"}, {"profile": "fanuc"}, {"profile": "haas"}])
+def test_arcs_run_inside_batches_in_every_dialect_that_reads_iso_motion(options):
+    body = [*_ADAPTIVE, *["G2 X0.4 Y4. R2.", "G1 X0.4 Y0.", "G3 X0. Y0. Z-0.1 R0.2", "G1 Y4.5", "G2 X0.4 Y4. R0.01"] * 20]
+    program = _program(["G0 X0. Y0. Z1.", "G1 Z-1. F800.", *body], [*_STOCK, "G43 H01 Z50.", "S1000 M03"])
+    assert _arcs_in_runs(program, **options) >= len(body) // 4
+    batched = check_text(program, settings=Settings(**options))
+    one_by_one = check_text(program, settings=Settings(per_block_only=True, **options))
+    assert [(d.rule, d.status, d.span, d.message) for d in batched.diagnostics] == [(d.rule, d.status, d.span, d.message) for d in one_by_one.diagnostics]
+    assert any(d.rule == "core.arc-geometry" for d in batched.diagnostics)  # the R0.01 arcs cannot reach their end points
+
+
 def test_arcs_that_the_arrays_do_not_model_end_the_batch_for_the_block_path():
     """On a lathe X is a diameter, which the arrays do not scale: its arcs are left to the
     block path (the lines between them still run in batches), with the same findings."""
