@@ -175,6 +175,8 @@ class Checker:
         after the material has taken the moves before it."""
         for handler in self._arc_run:
             handler(run, state)
+        if not self._straight_run and not self._arc_segment:
+            return  # every rule judged the arcs itself
         for start, stop, straight in run.pieces():
             if straight:
                 part = run.part(start, stop)

@@ -186,6 +186,16 @@ def test_arcs_that_the_arrays_do_not_model_end_the_batch_for_the_block_path():
     program = "\n".join(["O1000", "G21 G90 G54", "T0101", "S500 M03", *body, "M30"]) + "\n"
     assert _arcs_in_runs(program, machine="lathe") == 0
     assert _arcs_in_runs(program, machine="mill") > 0
+
+
+@pytest.mark.parametrize("frame", ["G68 X0. Y0. R30.", "G52 X5. Y-3.", "G92 X10. Y10."])
+def test_arcs_under_a_frame_are_left_to_the_block_path(frame):
+    """A rotation or a shift of the coordinates maps a run's points to the workpiece, not its
+    arcs' centres: the arcs run block by block, with the same findings."""
+    program = _program(["G0 X0. Y0. Z1.", "G1 Z-1. F800.", frame, *_ADAPTIVE], [*_STOCK, "G43 H01 Z50.", "S1000 M03"])
+    assert _arcs_in_runs(program) == 0
+    assert _arcs_in_runs(program.replace(frame, "")) > 0
+    _assert_same_findings(program)
     batched = check_text(program, settings=Settings(machine="lathe"))
     one_by_one = check_text(program, settings=Settings(machine="lathe", per_block_only=True))
     assert [(d.rule, d.status, d.span, d.message) for d in batched.diagnostics] == [(d.rule, d.status, d.span, d.message) for d in one_by_one.diagnostics]
@@ -207,3 +217,23 @@ def test_every_rule_that_reads_segments_reads_runs_too():
 
     segment_only = [cls.__name__ for cls in rule_classes() if cls.segment is not Rule.segment and cls.motion_run is Rule.motion_run]
     assert segment_only == []
+
+
+def test_the_plot_draws_the_arcs_of_a_run_as_block_by_block():
+    """The picture's tool path: a run's arcs are drawn as arcs, not as chords."""
+    import numpy
+
+    from ncverify.api import check_source
+    from ncverify.plot import ToolpathRecorder
+    from ncverify.source import ProgramSource
+
+    program = _program(["G0 X0. Y0. Z1.", "G1 Z-1. F800.", *_ADAPTIVE], ["G43 H01 Z50.", "S1000 M03"])
+    paths = []
+    for per_block_only in (False, True):
+        recorder = ToolpathRecorder()
+        check_source(ProgramSource.from_text(program, "<text>"), Settings(per_block_only=per_block_only), None, checker_class=recorder.checker_class())
+        paths.append(recorder.path())
+    (batched, batched_kinds), (one_by_one, one_by_one_kinds) = paths
+    assert numpy.array_equal(batched_kinds, one_by_one_kinds)
+    assert numpy.allclose(batched, one_by_one, equal_nan=True)
+    assert len(batched) > 10 * len(_ADAPTIVE)  # arcs drawn as many points each

@@ -328,12 +328,15 @@ class Interpreter(ControlFlow):
         """How many rows of the batch the arrays run as the block path would: all up to the
         first with centre words on a straight move, or the first arc they do not model (no
         arc words were read, a plane axis is not the batch's or is read as a diameter, the
-        start or end in the plane is unknown). ``positions[r]``: where row ``r`` starts."""
+        start or end in the plane is unknown, a frame maps program to workpiece coordinates:
+        runs are mapped as points, an arc's centre would not be). ``positions[r]``: where
+        row ``r`` starts."""
         arc = moving & (kinds >= _FIRST_ARC_KIND)
         odd = arc_written & (kinds < _FIRST_ARC_KIND)
         if arc.any():
             first, second, _normal = self.state.plane_axes
-            if run.arc_words is None or first not in run.axes or second not in run.axes or (self._x_scale() != 1.0 and "X" in (first, second)):
+            if (run.arc_words is None or first not in run.axes or second not in run.axes or (self._x_scale() != 1.0 and "X" in (first, second))
+                    or frames.program_to_workpiece(self.state) is not None):
                 odd |= arc
             else:
                 in_plane = positions[:, [run.axes.index(first), run.axes.index(second)]]
