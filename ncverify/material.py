@@ -247,13 +247,13 @@ class Material:
         if mine is None:
             return
         if any(axis not in run.axes for axis in "XYZ") or not tool_axis_problem(state) is None:
-            mine.unplaced()
+            self._not_placed(mine, run, feeds, state)
             return
         columns = [run.axes.index(axis) for axis in "XYZ"]
         starts, ends = run.points[feeds][:, columns], run.points[feeds + 1][:, columns]
         known = ~(numpy.isnan(starts).any(axis=1) | numpy.isnan(ends).any(axis=1))
         if not known.all():
-            mine.unplaced()
+            self._not_placed(mine, run, feeds[~known], state)
         if known.any():
             mine.deepest = min(mine.deepest, float(numpy.minimum(starts[known, 2], ends[known, 2]).min()))
         sized = mine.sized(cutter)
@@ -267,6 +267,17 @@ class Material:
         for start, end, index in zip(starts[known], ends[known], feeds[known]):  # move by move: each against what the ones before left
             self._judge_holder(mine.piece, start, end, parts, run.span(int(index)), state)
             self._sweep(mine.piece, start[None], end[None], mine.sized(cutter), 0.0, _tool_name(state))
+
+    @staticmethod
+    def _not_placed(mine: _PathPiece, run, moves, state) -> None:
+        """Moves of a run the model cannot place, taken as :meth:`segment` takes them: the
+        material may be gone anywhere, and with the tool along +Z their ends are kept for
+        :meth:`stayed_above`."""
+        mine.unplaced()
+        if tool_axis_problem(state) is None:
+            for index in moves.tolist():
+                segment = run.segment(index)
+                mine.symbolic.append((segment.start, segment.end))
 
     # -- questions from the rules
     def rapid(self, start, end, state, run=None, index: int | None = None) -> RapidVerdict | None:
