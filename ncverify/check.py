@@ -58,6 +58,9 @@ class Rule:
     # The kinds of segment its ``segment`` handler judges: the checker hands it no other. A
     # rule narrows it where the handler would return at once on the rest (moves are many).
     segment_kinds: frozenset = SEGMENT_KINDS
+    # Does ``motion_run`` judge arcs (kinds 2 and 3, ``run.arcs``) itself? Otherwise it gets
+    # a run's stretches of straight moves, and ``segment`` each arc between them.
+    handles_arcs: bool = False
 
     def __init__(self, checker: "Checker"):
         self.checker = checker
@@ -119,6 +122,11 @@ class Checker:
         self._segment_by_kind = {kind: [instance.segment for instance in rules if _overrides(instance, "segment") and kind in instance.segment_kinds]
                                  for kind in SEGMENT_KINDS}
         self._motion_run = _handlers(rules, "motion_run")
+        self._arc_run = [instance.motion_run for instance in rules if _overrides(instance, "motion_run") and instance.handles_arcs]
+        self._straight_run = [instance.motion_run for instance in rules if _overrides(instance, "motion_run") and not instance.handles_arcs]
+        self._arc_segment = [instance.segment for instance in rules
+                             if _overrides(instance, "motion_run") and not instance.handles_arcs and _overrides(instance, "segment")
+                             and "arc" in instance.segment_kinds]
         self._segment_only = [instance.segment for instance in rules if _overrides(instance, "segment") and not _overrides(instance, "motion_run")]
         self._hole = _handlers(rules, "hole") + [self._constraints_on_hole]
         self._cycle_run = _handlers(rules, "cycle_run") + [self._constraints_on_run]
@@ -160,14 +168,37 @@ class Checker:
 
     def motion_run(self, run, state) -> None:
         self.material.begin_run(run)
-        for handler in self._motion_run:
-            handler(run, state)
+        if run.arcs is None:
+            for handler in self._motion_run:
+                handler(run, state)
+        else:
+            self._pieces_of_run(run, state)
         if self._segment_only:
             for index in range(len(run)):
                 segment = run.segment(index)
                 for handler in self._segment_only:
                     handler(segment, state)
         self.material.motion_run(run, state)
+
+    def _pieces_of_run(self, run, state) -> None:
+        """A run with arcs: the rules that judge arcs in runs get it whole; the others get
+        its stretches of straight moves as runs and each arc as the block path's segment,
+        after the material has taken the moves before it."""
+        for handler in self._arc_run:
+            handler(run, state)
+        if not self._straight_run and not self._arc_segment:
+            return  # every rule judged the arcs itself
+        for start, stop, straight in run.pieces():
+            if straight:
+                part = run.part(start, stop)
+                for handler in self._straight_run:
+                    handler(part, state)
+            elif self._arc_segment:
+                self.material.motion_run(run, state, upto=start)
+                segment = run.segment(start)
+                run.state_at(segment, start)
+                for handler in self._arc_segment:
+                    handler(segment, state)
 
     def path_end(self, state) -> None:
         self.material.finish(state)

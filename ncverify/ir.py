@@ -598,9 +598,11 @@ class MoveBatch:
     with literal numbers. Straight-line CAM code is millions of such blocks; reading and
     running them as arrays is what makes the checker fast. ``kinds`` is -1 for "modal",
     else an index into ``KINDS``; missing words are NaN; ``scaled`` marks numbers written
-    without a decimal point (least input increments)."""
+    without a decimal point (least input increments). ``arc_words``: the ``I J K R`` of
+    each row (NaN when absent), None when the reader took no arcs; ``worded``: which rows
+    hold a word (None: all of them)."""
 
-    KINDS = ("rapid", "linear")
+    KINDS = ("rapid", "linear", "arc_cw", "arc_ccw")
 
     source_offset: int
     end_offset: int
@@ -613,10 +615,21 @@ class MoveBatch:
     feeds: object  # numpy float64 (rows,)
     feed_scaled: object  # numpy bool (rows,)
     blocks: int = 0  # rows that hold at least one word (empty lines are not blocks)
+    arc_words: object = None  # numpy float64 (rows, 4)
+    worded: object = None  # numpy bool (rows,)
 
     @property
     def rows(self) -> int:
         return len(self.kinds)
+
+    def head(self, rows: int) -> "MoveBatch":
+        """The batch's first ``rows`` rows."""
+        worded = None if self.worded is None else self.worded[:rows]
+        blocks = rows if worded is None else int(worded.sum())
+        arc_words = None if self.arc_words is None else self.arc_words[:rows]
+        end = int(self.line_offsets[rows]) if rows < self.rows else self.end_offset
+        return MoveBatch(self.source_offset, end, self.first_line, self.line_offsets[:rows], self.kinds[:rows], self.axes,
+                         self.values[:rows], self.scaled[:rows], self.feeds[:rows], self.feed_scaled[:rows], blocks, arc_words, worded)
 
 
 # --------------------------------------------------------------------------- blocks

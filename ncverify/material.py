@@ -23,6 +23,7 @@ from .context import active_edge, radius_delta
 from . import turning_stock
 from .turning_stock import Turning
 from .verdict import both, hazard
+from .trace import ARC_CW
 from .workpiece import Cutter, RapidVerdict, Workpiece
 
 _KEY = "workpiece"
@@ -163,15 +164,83 @@ class Material:
         self._run, self._run_done = run, 0
 
     def motion_run(self, run, state, upto: int | None = None) -> None:
-        """Cut the run's feed moves before ``upto`` (all of them when None) not cut yet:
-        a rapid inside the run is judged against what the run cut before it."""
+        """Cut the run's feed moves and arcs before ``upto`` (all of them when None) not cut
+        yet, in order: a rapid inside the run is judged against what the run cut before it.
+        A part of a run counts where it lies in the whole run."""
+        if run.whole is not None:
+            upto, run = run.first + (len(run) if upto is None else upto), run.whole
         if not self.modelled or run is not self._run or other_workpiece(self.checker.context, state) is not None:
             return
         stop = len(run) if upto is None else upto
-        if stop <= self._run_done:
+        done = self._run_done
+        if stop <= done:
             return
-        feeds = self._run_done + numpy.flatnonzero(run.kinds[self._run_done:stop] == _FEED)
         self._run_done = stop
+        if run.arcs is None:
+            self._cut_straight(run, done + numpy.flatnonzero(run.kinds[done:stop] == _FEED), state)
+            return
+        if not self._cut_from_arrays(run, done, stop, state):
+            self._cut_one_by_one(run, done, stop, state)
+
+    def _cut_one_by_one(self, run, done: int, stop: int, state) -> None:
+        """Moves ``done`` to ``stop`` of a run with arcs: each stretch of straight moves as
+        one, each arc as the block path cuts it (the holder rule judges it, then
+        :meth:`segment` cuts it)."""
+        arcs = (done + numpy.flatnonzero(run.kinds[done:stop] >= ARC_CW)).tolist()
+        for begin, end in zip([done] + [index + 1 for index in arcs], arcs + [stop]):
+            self._cut_straight(run, begin + numpy.flatnonzero(run.kinds[begin:end] == _FEED), state)
+            if end < stop:
+                segment = run.segment(end)
+                self.holder(segment, state)
+                self.segment(segment, state)
+
+    def _cut_from_arrays(self, run, done: int, stop: int, state) -> bool:
+        """Moves ``done`` to ``stop`` of a run with arcs, straight from the arrays, buffered
+        as the block path buffers them move by move (the same moves swept at each flush);
+        False, having done nothing, where that needs more than the arrays: the lathe's
+        model, the holder judged move by move, an arc given by its radius (whose centre is
+        not worked out), a position not known, a tool axis other than Z."""
+        if self.turning is not None or self._holder_parts(state) or tool_axis_problem(state) is not None or any(axis not in run.axes for axis in "XYZ"):
+            return False
+        cutting = done + numpy.flatnonzero(run.kinds[done:stop] >= _FEED)
+        columns = [run.axes.index(axis) for axis in "XYZ"]
+        starts, ends = run.points[cutting][:, columns], run.points[cutting + 1][:, columns]
+        straight = run.kinds[cutting] == _FEED
+        centres = run.arcs.centres[cutting[~straight]]
+        if numpy.isnan(starts).any() or numpy.isnan(ends).any() or numpy.isnan(centres).any():
+            return False
+        if not len(cutting):
+            return True
+        cutter = self._cutter(state)
+        mine = None if cutter is None else self._mine(state)
+        if mine is None:
+            return True  # a probe, or a path judged against the blank
+        sized, tool = mine.sized(cutter), self._tool_name(state)
+        if straight.any():
+            mine.deepest = min(mine.deepest, float(numpy.minimum(starts[straight, 2], ends[straight, 2]).min()))
+            for start, end in zip(starts[straight][-_RECENT:].tolist(), ends[straight][-_RECENT:].tolist()):
+                mine.recent.append((tuple(start), tuple(end), sized))
+        plane = _plane_indices(run.arcs.plane)
+        arcs = list(zip(map(tuple, starts[~straight].tolist()), map(tuple, ends[~straight].tolist()), map(tuple, centres.tolist()),
+                        (run.kinds[cutting[~straight]] == ARC_CW).tolist(), [plane] * len(centres)))
+        taken = arcs_taken = 0
+        while taken < len(cutting):
+            window = min(len(cutting) - taken, _FLUSH_AT - mine.buffered)
+            lines = straight[taken:taken + window]
+            if lines.any():
+                rows = numpy.flatnonzero(lines) + taken
+                mine.lines.append((starts[rows], ends[rows], sized, tool))
+            arc_count = window - int(numpy.count_nonzero(lines))
+            mine.arcs.extend((arc, sized, tool) for arc in arcs[arcs_taken:arcs_taken + arc_count])
+            arcs_taken += arc_count
+            mine.buffered += window
+            taken += window
+            if mine.buffered >= _FLUSH_AT:
+                self._flush(mine)
+        return True
+
+    def _cut_straight(self, run, feeds, state) -> None:
+        """Cut the run's straight feed moves ``feeds`` (indices into the run)."""
         if not len(feeds):
             return
         if self.turning is not None:
@@ -184,13 +253,13 @@ class Material:
         if mine is None:
             return
         if any(axis not in run.axes for axis in "XYZ") or not tool_axis_problem(state) is None:
-            mine.unplaced()
+            self._not_placed(mine, run, feeds, state)
             return
         columns = [run.axes.index(axis) for axis in "XYZ"]
         starts, ends = run.points[feeds][:, columns], run.points[feeds + 1][:, columns]
         known = ~(numpy.isnan(starts).any(axis=1) | numpy.isnan(ends).any(axis=1))
         if not known.all():
-            mine.unplaced()
+            self._not_placed(mine, run, feeds[~known], state)
         if known.any():
             mine.deepest = min(mine.deepest, float(numpy.minimum(starts[known, 2], ends[known, 2]).min()))
         sized = mine.sized(cutter)
@@ -204,6 +273,17 @@ class Material:
         for start, end, index in zip(starts[known], ends[known], feeds[known]):  # move by move: each against what the ones before left
             self._judge_holder(mine.piece, start, end, parts, run.span(int(index)), state)
             self._sweep(mine.piece, start[None], end[None], mine.sized(cutter), 0.0, self._tool_name(state))
+
+    @staticmethod
+    def _not_placed(mine: _PathPiece, run, moves, state) -> None:
+        """Moves of a run the model cannot place, taken as :meth:`segment` takes them: the
+        material may be gone anywhere, and with the tool along +Z their ends are kept for
+        :meth:`stayed_above`."""
+        mine.unplaced()
+        if tool_axis_problem(state) is None:
+            for index in moves.tolist():
+                segment = run.segment(index)
+                mine.symbolic.append((segment.start, segment.end))
 
     # -- questions from the rules
     def rapid(self, start, end, state, run=None, index: int | None = None) -> RapidVerdict | None:

@@ -78,6 +78,13 @@ class ToolpathRecorder:
         self.line_points.setdefault(segment.span.line, tuple(end))
 
     def add_run(self, run) -> None:
+        if run.arcs is not None:  # its straight stretches as runs, each arc drawn as one
+            for start, stop, straight in run.pieces():
+                if straight:
+                    self.add_run(run.part(start, stop))
+                else:
+                    self.add_segment(run.segment(start))
+            return
         columns = [run.axes.index(axis) if axis in run.axes else None for axis in _AXES]
         raw = np.asarray(run.points, dtype=float)
         points = np.column_stack([raw[:, c] if c is not None else np.full(len(raw), np.nan) for c in columns])

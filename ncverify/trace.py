@@ -53,11 +53,15 @@ class Segment:
 
 @dataclass(slots=True)
 class MotionRun:
-    """Many straight segments at once (a batch of plain blocks): ``points[0]`` is where the
-    run starts, ``points[k + 1]`` where segment ``k`` ends, NaN where unknown; ``kinds[k]``
-    is 0 for rapid, 1 for feed; ``feeds[k]`` the feed in force (NaN: none); ``written[k]``
-    which axes segment ``k``'s block wrote. ``span(k)`` and ``segment(k)`` build the
-    per-segment objects on demand, for reports and for rules without a run handler."""
+    """Many segments at once (a batch of plain blocks): ``points[0]`` is where the run
+    starts, ``points[k + 1]`` where segment ``k`` ends, NaN where unknown; ``kinds[k]`` is 0
+    for rapid, 1 for feed, 2 for a clockwise and 3 for a counter-clockwise arc; ``feeds[k]``
+    the feed in force (NaN: none); ``written[k]`` which axes segment ``k``'s block wrote.
+    ``arcs`` (None when there is no arc) holds the arcs' plane, centres and radius words
+    (:class:`ncverify.interpret.interpreter.BatchArcs`). ``span(k)`` and ``segment(k)``
+    build the per-segment objects on demand (an arc's with the same Arc the block path
+    makes), for reports and for rules without a run handler. A part of a run (:meth:`part`)
+    knows the whole run and where in it it starts."""
 
     axes: tuple[str, ...]
     points: object
@@ -66,9 +70,38 @@ class MotionRun:
     written: object
     span: object  # Callable[[int], Span]
     segment: object  # Callable[[int], Segment]
+    arcs: object = None
+    state_at: object = None  # Callable[[Segment, int], None]: the state as the block path has it at a segment
+    whole: "MotionRun | None" = None  # the run this one is a part of (None: it is whole)
+    first: int = 0  # where in the whole run it starts
 
     def __len__(self) -> int:
         return len(self.kinds)
+
+    def arc_indices(self) -> list[int]:
+        return (self.kinds >= ARC_CW).nonzero()[0].tolist()
+
+    def pieces(self):
+        """``(start, stop, straight)``: the run in order, cut into stretches of straight
+        segments and single arcs."""
+        start = 0
+        for index in self.arc_indices():
+            if index > start:
+                yield start, index, True
+            yield index, index + 1, False
+            start = index + 1
+        if start < len(self.kinds):
+            yield start, len(self.kinds), True
+
+    def part(self, start: int, stop: int) -> "MotionRun":
+        """Straight segments ``start`` to ``stop`` (not included) as a run of their own."""
+        whole = self.whole or self
+        first = self.first + start
+        return MotionRun(self.axes, self.points[start : stop + 1], self.kinds[start:stop], self.feeds[start:stop], self.written[start:stop],
+                         lambda index: whole.span(first + index), lambda index: whole.segment(first + index), None, None, whole, first)
+
+
+ARC_CW, ARC_CCW = 2, 3  # MotionRun kind codes of arcs
 
 
 @dataclass(slots=True)

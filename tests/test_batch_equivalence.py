@@ -2,7 +2,8 @@
 must be the same as running the blocks one by one."""
 from __future__ import annotations
 
-from hypothesis import HealthCheck, given, settings
+import pytest
+from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
 from ncverify import Settings, check_text
@@ -78,6 +79,149 @@ def test_arcs_and_helices_in_every_plane_give_the_same_findings_batched_or_block
     _assert_same_findings(_program(body, [*(_STOCK if stock else []), *header]))
 
 
+_COORDINATE = st.floats(-40, 40, allow_nan=False).map(lambda value: f"{value:.3f}")
+# A streak of CAM arcs and lines, long enough to be read as one batch: arcs by centre offsets
+# (often off the circle, for the arc-geometry rule), by radius (big enough or not), full
+# circles, helices, in any plane, absolute or incremental, metric or inch.
+_STREAK_ARC = st.tuples(
+    st.sampled_from(["G2", "G3", "G02", "G03", ""]),
+    st.lists(st.sampled_from("XYZ"), unique=True, max_size=3).flatmap(lambda axes: st.tuples(*[_COORDINATE.map(lambda n, a=a: a + n) for a in axes])),
+    st.one_of(st.lists(st.sampled_from("IJK"), unique=True, min_size=1, max_size=3).flatmap(
+        lambda letters: st.tuples(*[_COORDINATE.map(lambda n, a=a: a + n) for a in letters])),
+        st.sampled_from(["R0.5", "R5.", "R-5.", "R60.", "R-60."]).map(lambda word: (word,))),
+    st.one_of(st.none(), st.sampled_from(["F500.", "F0"])),
+).map(lambda parts: " ".join(word for word in [parts[0], *parts[1], *parts[2], parts[3]] if word))
+_STREAK_LINE = st.tuples(st.sampled_from(["G1 ", "G0 ", ""]), _CAM_LINE).map("".join)
+_MODES = st.tuples(st.sampled_from(["G17", "G18", "G19"]), st.sampled_from(["G90", "G91"]), st.sampled_from(["G21", "G20"]))
+_CONSTANT_CENTRE = ["G2 I5. J0. K0.", "G3 I-2. J1. K0.5"]  # full circles: on the circle in every plane
+_MIXED_STREAK = st.lists(st.one_of(_STREAK_ARC, _STREAK_LINE, st.sampled_from(_CONSTANT_CENTRE)), min_size=30, max_size=60)
+
+
+def _arcs_in_runs(program: str, **options) -> int:
+    """How many arcs the batched check hands the rules inside runs."""
+    from unittest import mock
+
+    from ncverify.check import Checker
+
+    counted = []
+    original = Checker.motion_run
+
+    def counting(checker, run, state):
+        counted.append(len(run.arc_indices()))
+        return original(checker, run, state)
+
+    with mock.patch.object(Checker, "motion_run", counting):
+        check_text(program, settings=Settings(**options))
+    return sum(counted)
+
+
+# Cuts the cut stock cannot place (incremental from an unknown position) at the start of a
+# batch: their unknown heights must keep a later rapid into the blank unknown, as block by block.
+_UNPLACED_CUTS_IN_A_BATCH = [   (   ('G17', 'G91', 'G21'),
+        [   'G1 Z-5.489 X-0.000 Y-24.240', 'G2 I5. J0. K0.', 'G2 X0.010 Z-34.648 Y0.000 I-0.000', 'G1 X22.779', 'G2 X0.000 R0.5',
+            'G1 X1.010 Z-25.702 Y-13.386', 'G2 I-18.964', 'G2 I5. J0. K0.', 'G0 X26.590', 'X6.411 Z-30.000 Y0.268', 'G1 X-24.349 Y0.000 Z25.538',
+            'G1 Z10.208', 'G2 I5. J0. K0.', 'G2 X0.000 I4.000 J24.570', 'G2 R0.5', 'G2 I0.000', 'G2 I5. J0. K0.', 'G1 X0.000', 'G1 X0.000',
+            'G2 X0.000 R5.', 'G3 I0.000', 'G2 Z0.000 I0.000', 'G2 I0.000', 'G2 X0.000 I0.000', 'G3 X0.000 J0.000', 'G1 X0.000', 'G2 I5. J0. K0.',
+            'G2 I0.000', 'G2 I-32.361 F0', 'G02 J0.003 I0.000']),
+    (   ('G17', 'G90', 'G21'),
+        [   'G02 Y11.235 X15.927 I0.000', 'G2 R0.5', 'G2 I0.000', 'G2 I-30.811 J0.000', 'G2 I0.000', 'G2 K-40.000 J-31.577 I0.012 F500.', 'G2 I0.000',
+            'G1 X0.000', 'G2 K0.000', 'G2 Y0.000 J0.000', 'G3 R0.5', 'G2 I5. J0. K0.', 'G0 Y-1.735 Z-14.864 X-2.266', 'G2 I5. J0. K0.',
+            'G02 X23.274 Y-0.000 I-25.045', 'G2 I5. J0. K0.', 'G03 X-0.000 Y-0.000 Z-10.804 R-60. F500.', 'G2 I5. J0. K0.',
+            'G2 Z-10.923 X4.478 Y-0.000 I31.863 K-0.000 J-14.191', 'Z-18.116 X9.846 R-60. F0', 'G3 Z0.000 R-60.', 'Y-20.170', 'G3 I-2. J1. K0.5',
+            'G3 I-2. J1. K0.5', 'G0 X0.500 Y-2.807', 'G1 X-17.908', 'G02 X0.000 I0.000', 'G1 X0.000', 'G2 I5. J0. K0.', 'G1 Y0.000 X0.000', 'G3 R5.',
+            'G2 I0.000', 'G2 I0.000 F500.', 'G2 I0.000', 'Y-19.936', 'Y-0.000 K0.000 J8.722 I0.000', 'R5.', 'G1 X7.896', 'G0 X27.349',
+            'G0 Z1.055 Y0.000 X0.900', 'G3 Y36.160 Z0.167 R-60.', 'G3 Z0.000 Y21.512 X1.858 R5. F500.', 'G1 Z-0.000 X0.000 Y11.235',
+            'G3 J0.000 I-39.000 F500.', 'G02 X-3.793 Z-0.000 I20.983 J-20.889', 'G0 X10.492', 'Y-29.514', 'G0 Z-6.388 X-27.102',
+            'G3 I-2. J1. K0.5'])]
+
+
+@settings(max_examples=120, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@example(streaks=_UNPLACED_CUTS_IN_A_BATCH, header=["S1000 M03", "G43 H01 Z50.", "F300."], stock=True)
+@given(streaks=st.lists(st.tuples(_MODES, _MIXED_STREAK), min_size=1, max_size=3), header=_HEADER, stock=st.booleans())
+def test_streaks_of_arcs_and_lines_give_the_same_findings_batched_or_block_by_block(streaks, header, stock):
+    body = [block for modes, streak in streaks for block in (*modes, "G0 X1. Y2. Z3.", "G1 F300.", *streak)]
+    _assert_same_findings(_program(body, [*(_STOCK if stock else []), *header]))
+
+
+_ADAPTIVE = [block for step in range(40) for block in (f"G3 X{step * 0.4:.3f} Y4. I0. J2.", f"G1 X{step * 0.4 + 0.2:.3f} Y4.",
+                                                      f"G2 X{step * 0.4 + 0.2:.3f} Y0. I0. J-2.", f"G1 X{step * 0.4 + 0.4:.3f} Y0.")]
+
+
+@pytest.mark.parametrize("modes, body", [
+    (["G17 G90 G21"], _ADAPTIVE),
+    (["G17 G90 G20"], _ADAPTIVE),
+    (["G17 G91 G21"], ["G3 X0. Y4. I0. J2.", "G1 X0.2", "G2 X0. Y-4. I0. J-2.", "G1 X0.2"] * 40),
+    (["G18 G90 G21"], [line.replace("Y", "Z").replace("J", "K") for line in _ADAPTIVE]),
+    (["G19 G90 G21"], [line.replace("Y", "Z").replace("X", "Y").replace("J", "K").replace("I", "J") for line in _ADAPTIVE]),
+    (["G17 G90 G21"], ["G2 X0.4 Y4. R2.", "G1 X0.4 Y0.", "G3 X0. Y0. Z-0.1 R0.2", "G1 Y4.5", "G2 X0.4 Y4. R0.01"] * 32),
+    (["G17 G90 G21"], ["G2 I2. J0. Z-0.5", "G1 X0.4", "G3 I-2. J0.", "G1 X0."] * 40),
+])
+def test_arcs_run_inside_batches_with_the_same_findings(modes, body):
+    """Adaptive clearing (half circles joined by short lines), incremental, in inch, in the
+    other planes, by radius (one too small for its chord) and as full circles: the arcs run
+    inside batches and the findings are the block path's."""
+    program = _program(["G0 X0. Y0. Z1.", "G1 Z-1. F800.", *modes, *body], [*_STOCK, "G43 H01 Z50.", "S1000 M03"])
+    assert _arcs_in_runs(program) >= len(body) // 4
+    _assert_same_findings(program)
+
+
+@pytest.mark.parametrize("modes, body", [(["G17 G90 G21"], _ADAPTIVE), (["G17 G90 G21 G41 D1"], _ADAPTIVE[:-1] + ["G1 X0. Y0. F0"] + _ADAPTIVE)])
+def test_rules_that_do_not_judge_arcs_in_runs_get_them_one_by_one_with_the_same_findings(modes, body, monkeypatch):
+    """A rule whose run handler leaves arcs alone gets a run's straight stretches as runs
+    and each arc as the block path's segment, with the state the block path has there
+    (its feed, its motion mode): every rule taken so gives the block path's findings."""
+    from ncverify.check import rule_classes
+
+    for cls in rule_classes():
+        monkeypatch.setattr(cls, "handles_arcs", False)
+    program = _program(["G0 X0. Y0. Z1.", "G1 Z-1. F800.", *modes, *body], [*_STOCK, "G43 H01 Z50.", "S1000 M03"])
+    assert _arcs_in_runs(program) >= len(body) // 4
+    _assert_same_findings(program)
+
+
+def test_every_rule_that_reads_runs_judges_their_arcs_too():
+    """A rule whose run handler leaves arcs alone gets each arc of a run cut out as one
+    Python segment: adaptive-clearing programs (arcs between short lines) would lose the
+    batch speed."""
+    from ncverify.check import Rule
+    from ncverify.rule_registry import rule_classes
+
+    assert [cls.__name__ for cls in rule_classes() if cls.motion_run is not Rule.motion_run and not cls.handles_arcs] == []
+
+
+@pytest.mark.parametrize("options", [{"dialect": "linuxcnc"}, {"dialect": "fagor"}, {"profile": "fanuc"}, {"profile": "haas"}])
+def test_arcs_run_inside_batches_in_every_dialect_that_reads_iso_motion(options):
+    body = [*_ADAPTIVE, *["G2 X0.4 Y4. R2.", "G1 X0.4 Y0.", "G3 X0. Y0. Z-0.1 R0.2", "G1 Y4.5", "G2 X0.4 Y4. R0.01"] * 20]
+    program = _program(["G0 X0. Y0. Z1.", "G1 Z-1. F800.", *body], [*_STOCK, "G43 H01 Z50.", "S1000 M03"])
+    assert _arcs_in_runs(program, **options) >= len(body) // 4
+    batched = check_text(program, settings=Settings(**options))
+    one_by_one = check_text(program, settings=Settings(per_block_only=True, **options))
+    assert [(d.rule, d.status, d.span, d.message) for d in batched.diagnostics] == [(d.rule, d.status, d.span, d.message) for d in one_by_one.diagnostics]
+    assert any(d.rule == "core.arc-geometry" for d in batched.diagnostics)  # the R0.01 arcs cannot reach their end points
+
+
+def test_arcs_that_the_arrays_do_not_model_end_the_batch_for_the_block_path():
+    """On a lathe X is a diameter, which the arrays do not scale: its arcs are left to the
+    block path (the lines between them still run in batches), with the same findings."""
+    body = ["G18", "G0 X20. Z1.", "G1 Z-1. F0.2", *[f"G2 X{20 + step % 2 * 2}. Z{-1 - step}. R5." if step % 2 else f"G1 X20. Z{-1 - step}." for step in range(60)]]
+    program = "\n".join(["O1000", "G21 G90 G54", "T0101", "S500 M03", *body, "M30"]) + "\n"
+    assert _arcs_in_runs(program, machine="lathe") == 0
+    assert _arcs_in_runs(program, machine="mill") > 0
+
+
+@pytest.mark.parametrize("frame", ["G68 X0. Y0. R30.", "G52 X5. Y-3.", "G92 X10. Y10."])
+def test_arcs_under_a_frame_are_left_to_the_block_path(frame):
+    """A rotation or a shift of the coordinates maps a run's points to the workpiece, not its
+    arcs' centres: the arcs run block by block, with the same findings."""
+    program = _program(["G0 X0. Y0. Z1.", "G1 Z-1. F800.", frame, *_ADAPTIVE], [*_STOCK, "G43 H01 Z50.", "S1000 M03"])
+    assert _arcs_in_runs(program) == 0
+    assert _arcs_in_runs(program.replace(frame, "")) > 0
+    _assert_same_findings(program)
+    batched = check_text(program, settings=Settings(machine="lathe"))
+    one_by_one = check_text(program, settings=Settings(machine="lathe", per_block_only=True))
+    assert [(d.rule, d.status, d.span, d.message) for d in batched.diagnostics] == [(d.rule, d.status, d.span, d.message) for d in one_by_one.diagnostics]
+
+
 def test_a_long_plain_program_is_run_in_batches_and_finds_the_missing_feed():
     body = [f"G1 X{i * 0.1:.3f} Y{(i % 7) * 0.5:.3f}" for i in range(2000)]
     program = "\n".join(["O1000", "G21 G90 G54", "S1000 M03", "G0 X0. Y0.", *body, "M30"]) + "\n"
@@ -94,3 +238,36 @@ def test_every_rule_that_reads_segments_reads_runs_too():
 
     segment_only = [cls.__name__ for cls in rule_classes() if cls.segment is not Rule.segment and cls.motion_run is Rule.motion_run]
     assert segment_only == []
+
+
+def test_the_plot_draws_the_arcs_of_a_run_as_block_by_block():
+    """The picture's tool path: a run's arcs are drawn as arcs, not as chords."""
+    import numpy
+
+    from ncverify.api import check_source
+    from ncverify.plot import ToolpathRecorder
+    from ncverify.source import ProgramSource
+
+    program = _program(["G0 X0. Y0. Z1.", "G1 Z-1. F800.", *_ADAPTIVE], ["G43 H01 Z50.", "S1000 M03"])
+    paths = []
+    for per_block_only in (False, True):
+        recorder = ToolpathRecorder()
+        check_source(ProgramSource.from_text(program, "<text>"), Settings(per_block_only=per_block_only), None, checker_class=recorder.checker_class())
+        paths.append(recorder.path())
+    (batched, batched_kinds), (one_by_one, one_by_one_kinds) = paths
+    assert numpy.array_equal(batched_kinds, one_by_one_kinds)
+    assert numpy.allclose(batched, one_by_one, equal_nan=True)
+    assert len(batched) > 10 * len(_ADAPTIVE)  # arcs drawn as many points each
+
+
+
+def test_the_first_feed_of_a_batch_names_a_missing_feed_limit_where_the_block_path_does():
+    """With no maximum feed the rule says so at the first move with a feed, here F0 inside
+    a batch; the batch used to say it at its fastest feed, many lines later."""
+    streak = ["Y3.142 X0.000 Z20.586", "X3.865 Z-0.333 Y18.628", "Z-0.000", "Y-19.231 X-18.437 Z0.000", "Z27.464 Y0.800",
+              "Z1.500", "Z1. F0", "Z-5.392 Y0.001", "Y0.250 X28.362 Z-4.355", "X0.000 Y20.834", "Y-0.000", "Z15.629 Y18.460",
+              "X10.667", "Z29.563 Y-0.000 X26.437", "Z-25.796", "Y0.000 X-11.569", "Z10.844 X-0.000", "Z0.000 X-0.000 Y-13.669",
+              "Y20.469", "X-470.543", "X3. F1200. N834"]
+    program = _program(["G1", "X15.947 Z-3.784 Y-26.911", *streak], ["G43 H01 Z50."])
+    assert [d.span.line for d in check_text(program).diagnostics if d.rule == "core.feed-over-limit"] == [13]
+    _assert_same_findings(program)

@@ -210,8 +210,13 @@ class CycleParameterValue(Rule):
 class LatheArcOver180(Rule):
     reads = modelled.AS_WRITTEN
     segment_kinds = ARCS
+    handles_arcs = True  # each arc given by its radius is judged as a segment on a lathe
+
     def motion_run(self, run, state):
-        """Runs hold no arcs."""
+        if run.arcs is not None and self.checker.context.lathe:
+            for index in run.arc_indices():
+                if run.arcs.radii[index] == run.arcs.radii[index]:
+                    self.segment(run.segment(index), state)
 
     def segment(self, segment, state):
         arc = segment.arc

@@ -217,6 +217,8 @@ class WorkingPlane(Rule):
     _UNMOVED = ("working-plane-unmoved",)
     _TILTED = ("working-plane-tilted",)
 
+    handles_arcs = True  # its run handler takes every segment, arcs too
+
     def change(self, change, state):
         if change.what == "m_function" and change.new == 94.0 and state.rule_state.get(self._TILTED):
             self.report("heidenhain.working-plane", change.span, "M94 (modal rotary axis display) while cycle 19 tilts the working plane: the actual and "

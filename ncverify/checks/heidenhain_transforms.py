@@ -23,6 +23,8 @@ class ArcUnderAxisScaling(Rule):
     L7976-7977). The factor ranges are constraints on the rule's page."""
     segment_kinds = ARCS
 
+    handles_arcs = True  # each arc is judged as a segment while cycle 26 scales
+
     def segment(self, segment, state):
         if segment.arc is None:
             return
@@ -37,7 +39,9 @@ class ArcUnderAxisScaling(Rule):
                         "factor on both axes of its plane (seed L7976-7977); scaled unequally it is no longer a circle")
 
     def motion_run(self, run, state):
-        """A run of plain blocks holds straight moves only: no arc to check."""
+        if run.arcs is not None and _active(state).get(26) is not None:
+            for index in run.arc_indices():
+                self.segment(run.segment(index), state)
 
 
 @rule("heidenhain.disengage-mirror")
@@ -73,6 +77,8 @@ class DisengageUnderMirror(ReportsMissingContext):
 class RotationCancelsCompensation(Rule):
     """H36: cycle 10 cancels radius compensation (seed L7904); a contour move right after
     it that does not program RL/RR (or R0) again runs with the tool centre on the contour."""
+
+    handles_arcs = True  # its run handler takes the first segment, arc or not
 
     def cycle_run(self, run, state):
         if run.cycle == "heidenhain.10" and state.comp_side in ("left", "right"):

@@ -28,9 +28,11 @@ class HolderCollision(Rule):
     def segment(self, segment, state):
         self.checker.material.holder(segment, state)
 
+    handles_arcs = True
+
     def motion_run(self, run, state):
-        """The material model judges a batch's feed moves as it cuts them, each against what
-        the moves before it left (it calls :meth:`parts` and :meth:`collides`)."""
+        """The material model judges a batch's feed moves and arcs as it cuts them, each
+        against what the moves before it left (it calls :meth:`parts` and :meth:`collides`)."""
 
     def parts(self, state) -> list[tuple[float, Cutter, str]]:
         """(height above the tip, shape, name) of each non-cutting part of the tool in the

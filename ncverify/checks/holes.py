@@ -86,6 +86,8 @@ class TappingSpindle(Rule):
 
 @rule("core.css-without-clamp")
 class SurfaceSpeedWithoutClamp(Rule):
+    handles_arcs = True  # any move, arcs too
+
     def segment(self, segment, state):
         if self._applies(state):
             self._report(segment.span, state)

@@ -28,6 +28,7 @@ class TravelLimit(ReportsMissingContext):
     whether travel and offsets are diameters too or radii (then X is halved first), and arcs
     are judged at their end points."""
     reads = modelled.GEOMETRY_AND_DIAMETER
+    handles_arcs = True  # end points in the run's arrays, each arc's extent as block by block
 
     def segment(self, segment, state):
         frame = self._frame(segment.span, state)
@@ -38,10 +39,13 @@ class TravelLimit(ReportsMissingContext):
             for point in points:
                 self._check_axis(axis, point.get(axis), limits, segment.span, state)
         if segment.arc is not None:
-            if self.checker.context.lathe:
-                self.missing("core.travel-limit", segment.span, "on a lathe, arcs are checked at their end points only, not at their extent")
-            else:
-                self._check_arc(segment, frame, state)
+            self._arc_extent(segment, frame, state)
+
+    def _arc_extent(self, segment, frame, state):
+        if self.checker.context.lathe:
+            self.missing("core.travel-limit", segment.span, "on a lathe, arcs are checked at their end points only, not at their extent")
+        else:
+            self._check_arc(segment, frame, state)
 
     def motion_run(self, run, state):
         frame = self._frame(run.span(0), state)
@@ -54,6 +58,8 @@ class TravelLimit(ReportsMissingContext):
             outside = numpy.flatnonzero(~numpy.isnan(column) & ((column < low) | (column > high)))
             for index in outside[:5]:
                 self._report(axis, float(column[index]), low, high, run.span(int(index)), None)
+        for index in run.arc_indices():
+            self._arc_extent(run.segment(index), frame, state)
 
     def _frame(self, span, state):
         """axis -> (offset from program to machine coordinates, low, high); None when the
@@ -189,6 +195,8 @@ def _arc_extremes(direction, centre, radius, start, end, axes):
 class MachineLimits(ReportsMissingContext):
     reads = modelled.AS_WRITTEN
     segment_kinds = CUTTING  # a rapid runs at neither the programmed feed nor a cutting speed
+    handles_arcs = True  # an arc cuts at the feed in force, as a straight feed move
+
     def change(self, change, state):
         if change.what == "tool_change" and type(change.new) is float:
             tools = self.checker.context.tools
@@ -202,13 +210,15 @@ class MachineLimits(ReportsMissingContext):
             self._limits(segment.span, state, state.feed)
 
     def motion_run(self, run, state):
-        cutting = numpy.flatnonzero(run.kinds == 1)
+        """As block by block: at the first cutting move of each feed value (straight feed
+        moves and arcs), each judged once per value."""
+        cutting = numpy.flatnonzero(run.kinds >= 1)
         if not len(cutting):
             return
-        feeds = run.feeds[cutting]
-        fastest = int(cutting[int(numpy.nanargmax(feeds))]) if not numpy.isnan(feeds).all() else int(cutting[0])
-        feed = run.feeds[fastest]
-        self._limits(run.span(fastest), state, None if math.isnan(feed) else float(feed))
+        _values, firsts = numpy.unique(run.feeds[cutting], return_index=True)
+        for index in cutting[numpy.sort(firsts)].tolist():
+            feed = float(run.feeds[index])
+            self._limits(run.span(index), state, None if math.isnan(feed) else feed)
 
     def _limits(self, span, state, feed):
         context = self.checker.context

@@ -14,7 +14,7 @@ from ..diagnostics import Severity, Status
 from .. import modelled
 
 _CUTTING = frozenset({"feed", "arc", "thread"})
-_FEED = 1  # MotionRun kind code of a feed segment
+_FEED = 1  # MotionRun kind code of a feed segment; arcs' are above it
 _LENGTH_CODE = {"plus": "G43", "minus": "G44"}
 _SPINDLE_CODE = {"cw": "M03", "ccw": "M04", "off": "M05", "orient": "M19"}
 _CUTTING_MOTION = frozenset({"linear", "arc_cw", "arc_ccw", "thread"})
@@ -75,6 +75,8 @@ class TappingModeLeftOn(Rule):
     along the tool axis only (Z on a mill, in G17) is taken for a tap written with G01."""
     segment_kinds = _CUTTING
 
+    handles_arcs = True  # an arc cuts as a feed move does; judged by its end points, as block by block
+
     def change(self, change, state):
         if change.what == "path_mode" and change.old != change.new:
             state.rule_state.pop("tapping-mode-reported", None)
@@ -92,7 +94,7 @@ class TappingModeLeftOn(Rule):
     def motion_run(self, run, state):
         if state.modal.get("path_mode") != "tapping" or state.rule_state.get("tapping-mode-reported"):
             return
-        cutting = numpy.flatnonzero(run.kinds == _FEED)
+        cutting = numpy.flatnonzero(run.kinds >= _FEED)
         if not len(cutting):
             return
         axis = self._tool_axis(state)
@@ -142,6 +144,8 @@ class LengthOffsetMotion(Rule):
     reference return or a machine-coordinate move) it moves from the top of the travel, and
     the usual ``M06`` / ``G43 H01`` / ``G00 Z1.`` sequence is not reported."""
     reads = modelled.AS_WRITTEN
+
+    handles_arcs = True  # every move, arcs too, by its end points
 
     def change(self, change, state):
         if self.checker.context.lathe:
@@ -328,6 +332,8 @@ class FeedPlausibility(Rule):
     reads = modelled.AS_WRITTEN
     segment_kinds = frozenset({"feed", "arc"})
 
+    handles_arcs = True  # an arc cuts at the feed in force, as a straight feed move
+
     def change(self, change, state):
         if change.what == "feed_mode":
             state.rule_state["feed-mode-stated"] = True
@@ -345,7 +351,7 @@ class FeedPlausibility(Rule):
         limits = self._limits(state)
         if limits is None:
             return
-        cutting = numpy.flatnonzero(run.kinds == _FEED)
+        cutting = numpy.flatnonzero(run.kinds >= _FEED)
         if not len(cutting):
             return
         mode, low, high, _unit = limits
@@ -409,6 +415,8 @@ class SurfaceSpeedAtCentre(Rule):
     reads = frozenset()  # compares positions as the program writes them with the blank: no active state is read
     segment_kinds = frozenset({"feed", "arc"})
 
+    handles_arcs = True  # an arc cuts as a feed move does; judged by its end points, as block by block
+
     def change(self, change, state):
         if change.what == "spindle_mode" and change.old != change.new:
             state.rule_state.pop("css-centre-reported", None)
@@ -427,7 +435,7 @@ class SurfaceSpeedAtCentre(Rule):
     def motion_run(self, run, state):
         if "X" not in run.axes or not self._applies(state):
             return
-        cutting = numpy.flatnonzero(run.kinds == _FEED)
+        cutting = numpy.flatnonzero(run.kinds >= _FEED)
         column = run.axes.index("X")
         start, end = run.points[cutting, column], run.points[cutting + 1, column]
         reaching = numpy.flatnonzero((end <= 0) | (start <= 0))

@@ -11,10 +11,11 @@ from ..values import Condition
 from ..diagnostics import Status
 from ..check import ARCS, Rule, hazard, rule, show
 from .. import modelled
+from ..trace import ARC_CW
 
 _CUTTING = frozenset({"feed", "arc", "thread"})
 
-_FEED = 1  # MotionRun kind code of a feed segment
+_FEED = 1  # MotionRun kind code of a feed segment; arcs' are above it
 
 
 def _same_feed(a, b) -> bool:
@@ -27,6 +28,7 @@ class FeedMissing(Rule):
     positive (one finding per mistake, not one per block)."""
     reads = modelled.AS_WRITTEN
     segment_kinds = _CUTTING
+    handles_arcs = True
 
     def segment(self, segment, state):
         if segment.kind not in _CUTTING or segment.kind == "thread" and not segment.cycle:
@@ -34,7 +36,7 @@ class FeedMissing(Rule):
         self._check(state.feed, segment.span, "cycle infeed" if segment.cycle else "cutting move", state)
 
     def motion_run(self, run, state):
-        cutting = numpy.flatnonzero(run.kinds == _FEED)
+        cutting = numpy.flatnonzero(run.kinds >= _FEED)  # straight feed moves and arcs
         if not len(cutting):
             return
         feeds = run.feeds[cutting]
@@ -99,6 +101,8 @@ class SpindleOffCutting(Rule):
     at that height or higher (it cuts there), and is ``unknown`` otherwise."""
     segment_kinds = _CUTTING
 
+    handles_arcs = True
+
     def __init__(self, checker):
         super().__init__(checker)
         self.machining = False  # the spindle was started, or a cycle drilled or cut, somewhere
@@ -124,8 +128,9 @@ class SpindleOffCutting(Rule):
             self._hold(segment.span, start_z, end_z, state)
 
     def motion_run(self, run, state):
+        """Arcs count as the straight moves do: by their end points, as block by block."""
         column = run.axes.index("Z") if "Z" in run.axes else None
-        feeds = numpy.flatnonzero(run.kinds == _FEED)
+        feeds = numpy.flatnonzero(run.kinds >= _FEED)
         if state.spindle in ("cw", "ccw"):
             self._cuts_of_run(run, feeds, column)
             return
@@ -221,17 +226,26 @@ class SpindleOffCutting(Rule):
 @rule("core.comp-on-arc")
 class CompensationOnArc(Rule):
     """The first in-plane move after G41/G42/G40 must be a straight line."""
+    handles_arcs = True
 
     def change(self, change, state):
         if change.what == "cutter_comp" and change.old != change.new:
             state.rule_state["comp-transition"] = (change.new, change.span)
 
     def motion_run(self, run, state):
-        """Runs hold straight moves only: the first one in the plane settles the transition."""
+        """The first move in the plane or arc settles the transition: an arc is judged as a segment."""
         if "comp-transition" not in state.rule_state:
             return
         plane = [run.axes.index(axis) for axis in state.plane_axes[:2] if axis in run.axes]
-        if plane and run.written[:, plane].any():
+        settling = run.kinds >= ARC_CW
+        if plane:
+            settling = settling | run.written[:, plane].any(axis=1)
+        first = numpy.flatnonzero(settling)[:1].tolist()
+        if not first:
+            return
+        if run.kinds[first[0]] >= ARC_CW:
+            self.segment(run.segment(first[0]), state)
+        else:
             del state.rule_state["comp-transition"]
 
     def segment(self, segment, state):
@@ -269,10 +283,16 @@ class CompensationAtEnd(Rule):
             self.report("core.comp-active-at-end", change.span, f"radius compensation ({'G41' if state.comp_side == 'left' else 'G42' if state.comp_side == 'right' else 'G46'}) is still on at the program end: the next program starts with an offset it did not ask for")
 
 
+def _radii(points, centres):
+    """The distance of each point from its centre (NaN where the centre is)."""
+    return numpy.hypot(points[:, 0] - centres[:, 0], points[:, 1] - centres[:, 1])
+
+
 @rule("core.arc-geometry")
 class ArcGeometry(Rule):
     reads = modelled.AS_WRITTEN
     segment_kinds = ARCS
+    handles_arcs = True
     tolerance = 0.01  # in program units, unless the dialect states its control's own (RuleContext.arc_tolerance)
 
     def _tolerance(self, state) -> float:
@@ -282,7 +302,18 @@ class ArcGeometry(Rule):
         return own.inch if state.modal.get("units") == "inch" else own.metric
 
     def motion_run(self, run, state):
-        """Runs hold no arcs."""
+        """Only the arcs that may be off by the tolerance are judged one by one: the others'
+        radii (computed here with numpy, within a few units in the last place of the block
+        path's) are within half of it."""
+        arcs = run.arcs
+        if arcs is None:
+            return
+        starts, ends = run.points[:-1][:, arcs.columns], run.points[1:][:, arcs.columns]
+        with numpy.errstate(invalid="ignore"):
+            by_centre = numpy.abs(_radii(starts, arcs.centres) - _radii(ends, arcs.centres)) <= 0.5 * self._tolerance(state)
+            by_radius = numpy.abs(arcs.radii) >= 0.5 * _radii(starts, ends) - 0.5e-6
+        for index in numpy.flatnonzero((run.kinds >= ARC_CW) & ~by_centre & ~by_radius).tolist():
+            self.segment(run.segment(index), state)
 
     def _symbolic(self, segment, arc, state):
         """Parametric end points: the same tests on squared distances, as polynomials."""

@@ -519,6 +519,8 @@ class ContourSectionRuns(Rule):
     with GOTOF: reached by the normal flow its blocks run as real moves (reference A section 9
     item 15, seed L8580-8590, L9424-9449)."""
 
+    handles_arcs = True  # any move, arcs too
+
     def cycle_run(self, run, state):
         for facts in _contours(run):
             if facts.section_lines is not None:

@@ -147,6 +147,8 @@ class RapidIntoStock(_NeedsStock):
     rule_id = "core.rapid-into-stock"
     reads = modelled.GEOMETRY
 
+    handles_arcs = True  # arcs are never rapids
+
     def segment(self, segment, state, run=None, index: int | None = None):
         if segment.kind != "rapid" or segment.role == "out-of-hole":
             return  # back up the hole the tool has just made: no stock there
@@ -314,6 +316,8 @@ class RapidIntoStock(_NeedsStock):
 class StockModelTooLarge(Rule):
     """The stock as cut so far did not fit the memory cap (the blank, or the copies forked
     paths need): said once, where the first move after it was judged against the blank."""
+
+    handles_arcs = True  # any move, arcs too
 
     def segment(self, segment, state):
         self._note(segment.span)

@@ -4,11 +4,14 @@ comes from the tool table (``[tools.N]`` or ``ncverify: tool``) for the tool in 
 spindle; without it each rule answers ``unknown`` once per file."""
 from __future__ import annotations
 
+import numpy
+
 from ..ir import cycle_code
 from .. import frames, values
 from ..check import ARCS, hazard, rule, show
 from .common import ReportsMissingContext
 from .. import modelled
+from ..trace import ARC_CCW, ARC_CW
 
 # Which arc direction puts the tool inside the arc, per compensation side.
 _CONCAVE = {("left", "ccw"), ("right", "cw")}
@@ -39,6 +42,7 @@ class ConcaveArcTighterThanTool(ReportsMissingContext):
     at least the tool radius, or the offset path cannot follow it."""
     reads = modelled.AS_WRITTEN
     segment_kinds = ARCS
+    handles_arcs = True
 
     def segment(self, segment, state):
         arc = segment.arc
@@ -56,7 +60,24 @@ class ConcaveArcTighterThanTool(ReportsMissingContext):
                                     "the tool cannot follow it; the control alarms or the tool gouges the wall", verdict, state)
 
     def motion_run(self, run, state):
-        """Runs hold no arcs."""
+        """The inside arcs are judged one by one, but for those whose radius (computed here
+        with numpy) is clearly the tool's or more."""
+        arcs = run.arcs
+        if arcs is None or state.comp_side not in ("left", "right"):
+            return
+        side = frames.compensation_side(state, arcs.plane)
+        inside = [kind for kind, direction in ((ARC_CW, "cw"), (ARC_CCW, "ccw")) if (side, direction) in _CONCAVE]
+        concave = numpy.flatnonzero(numpy.isin(run.kinds, inside))
+        if not len(concave):
+            return
+        self.segment(run.segment(int(concave[0])), state)  # says once what is missing, as the block path would here
+        radius = self.spindle_tool_radius(state, run.span(int(concave[0])), "core.comp-gouge")
+        if radius is None:
+            return
+        starts, centres = run.points[concave][:, arcs.columns], arcs.centres[concave]
+        arc_radii = numpy.where(numpy.isnan(arcs.radii[concave]), numpy.hypot(*(starts - centres).T), numpy.abs(arcs.radii[concave]))
+        for index in concave[1:][~(arc_radii[1:] >= radius * (1 + 1e-9) + 1e-9)].tolist():
+            self.segment(run.segment(index), state)
 
 
 @rule("core.tap-feed-pitch")

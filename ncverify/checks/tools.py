@@ -52,6 +52,8 @@ class LengthOffsetMismatch(Rule):
 @rule("core.no-length-offset")
 class NoLengthOffset(Rule):
     segment_kinds = CUTTING  # a rapid cuts nothing
+    handles_arcs = True  # an arc cuts as a straight feed move does
+
     def change(self, change, state):
         if change.what == "tool_change":
             state.rule_state.pop("no-length-offset", None)
@@ -62,7 +64,7 @@ class NoLengthOffset(Rule):
 
     def motion_run(self, run, state):
         """Runs never start with an axis parked (the interpreter runs those block by block)."""
-        cutting = numpy.flatnonzero(run.kinds == 1)
+        cutting = numpy.flatnonzero(run.kinds >= 1)  # straight feed moves and arcs
         if len(cutting) and self._applies(state):
             self._report(run.span(int(cutting[0])), state)
 

@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field, replace
-from functools import partial
+from functools import lru_cache, partial
 
 import numpy
 
@@ -251,10 +251,10 @@ class Interpreter(ControlFlow):
                 if plain_streak >= _BATCH_AFTER and is_plain(raw) and self._batch_allowed():
                     plain_streak = 0
                     run = self.frontend.plain_run(source.buffer, offset, line_number)
-                    if run is not None:
-                        self._execute_batch(run, source, path)
-                        streak_end = run.end_offset
-                        return Position(source, run.end_offset) if run.end_offset < len(source) else self._end_of_text(source)
+                    end = None if run is None else self._execute_batch(run, source, path)
+                    if end is not None:
+                        streak_end = end
+                        return Position(source, end) if end < len(source) else self._end_of_text(source)
                 blocks = self._blocks(source, offset, line_number, raw, path, cache, frontend_blocks)
                 self._line_offset = offset
                 streak_end = next_offset
@@ -287,55 +287,93 @@ class Interpreter(ControlFlow):
         """A dialect whose plain blocks also change state of its own says when a batch may skip that."""
         return self._dialect_batch_allowed is None or self._dialect_batch_allowed(state)
 
-    def _execute_batch(self, run: ir.MoveBatch, source: ProgramSource, path) -> None:
-        """Run a batch of plain blocks with arrays (the per-block path's twin)."""
+    def _execute_batch(self, run: ir.MoveBatch, source: ProgramSource, path) -> int | None:
+        """Run a batch of plain blocks with arrays (the per-block path's twin). From the first
+        row the arrays do not take as the block path would (:meth:`_batch_rows`) on, the
+        rows are left to the block path: returns where the batch ended, None when it ran none."""
         state = self.state
-        state.left_start = frozenset()  # a batch never runs from the start position (see _batch_allowed)
         axes = run.axes
         start_point = numpy.array([_as_float(state.position.get(axis)) for axis in axes])
         kinds = _forward_fill(run.kinds.astype(numpy.float64), -1, float(ir.MoveBatch.KINDS.index(state.modal["motion"])))
         scale = self.increment / 10.0 if state.modal.get("units") == "inch" else self.increment
         written = ~numpy.isnan(run.values)
         values = numpy.where(run.scaled, run.values * scale, run.values)
-        if state.modal.get("distance") == "incremental":
-            points = start_point + numpy.cumsum(numpy.nan_to_num(values), axis=0)
+        if state.modal.get("distance") == "incremental":  # added in order, from the start, as block by block
+            points = numpy.cumsum(numpy.vstack([start_point, numpy.nan_to_num(values)]), axis=0)[1:]
         else:
             points = numpy.vstack([_forward_fill(values[:, column], None, start_point[column]) for column in range(len(axes))]).T
+        arc_written = numpy.zeros(run.rows, dtype=bool) if run.arc_words is None else ~numpy.isnan(run.arc_words).all(axis=1)
+        moving_rows = written.any(axis=1) | arc_written
+        rows = self._batch_rows(run, kinds, numpy.vstack([start_point, points]), moving_rows, arc_written)
+        if rows == 0:
+            return None
+        if rows < run.rows:
+            run, kinds, written, points, moving_rows = run.head(rows), kinds[:rows], written[:rows], points[:rows], moving_rows[:rows]
+        state.left_start = frozenset()  # a batch never runs from the start position (see _batch_allowed)
         feeds = run.feeds
         if state.modal.get("feed_mode") == "per_revolution" and self.feed_increment:
             feeds = numpy.where(run.feed_scaled, feeds * self.feed_increment, feeds)
         feeds = _forward_fill(feeds, None, _as_float(state.feed))
-        moving = numpy.flatnonzero(written.any(axis=1))
+        moving = numpy.flatnonzero(moving_rows)
         self.blocks_run += run.blocks
         segment_points = numpy.vstack([start_point, points[moving]])
         segment_kinds = kinds[moving].astype(numpy.int8)
-        others = {axis: value for axis, value in state.position.items() if axis not in axes}
-        block_of = self._batch_block_reader(run, moving, source, path)
-
-        def span(index: int) -> Span:
-            block = block_of(index)
-            moves = [op for op in block.ops if isinstance(op, ir.Move)]
-            return moves[0].span if moves else block.span
-
-        def segment(index: int) -> Segment:
-            start = dict(others, **{axis: _as_value(v) for axis, v in zip(axes, segment_points[index])})
-            end = dict(others, **{axis: _as_value(v) for axis, v in zip(axes, segment_points[index + 1])})
-            kind = "rapid" if segment_kinds[index] == 0 else "feed"
-            return Segment(kind, start, end, span(index), block_of(index))
-
         if len(moving):
-            self.observer.motion_run(MotionRun(axes, segment_points, segment_kinds, feeds[moving], written[moving], span, segment), state)
-        final = points[-1]
-        state.position = dict(state.position, **{axis: _as_value(value) for axis, value in zip(axes, final)})
+            arcs = self._batch_arcs(run, moving, segment_points, segment_kinds)
+            block_of = self._batch_block_reader(run, moving, source, path)
+            others = {axis: value for axis, value in state.position.items() if axis not in axes}
+            # an arc's segment is asked for by the rules and then by the material: made once
+            segment_of = lru_cache(maxsize=1)(partial(_batch_segment, axes, segment_points, segment_kinds, arcs, others, block_of))
+            self.observer.motion_run(MotionRun(axes, segment_points, segment_kinds, feeds[moving], written[moving],
+                                               partial(_batch_span, block_of), segment_of, arcs, partial(_batch_state_at, state, segment_kinds, feeds[moving])), state)
+        state.position = dict(state.position, **{axis: _as_value(value) for axis, value in zip(axes, points[-1])})
         state.modal["motion"] = ir.MoveBatch.KINDS[int(kinds[-1])]
         if not numpy.isnan(feeds[-1]):
             state.feed = float(feeds[-1])
         state.motion_seen = state.motion_seen or bool(len(moving))
+        return run.end_offset
+
+    def _batch_rows(self, run: ir.MoveBatch, kinds, positions, moving, arc_written) -> int:
+        """How many rows of the batch the arrays run as the block path would: all up to the
+        first with centre words on a straight move, or the first arc they do not model (no
+        arc words were read, a plane axis is not the batch's or is read as a diameter, the
+        start or end in the plane is unknown, a frame maps program to workpiece coordinates:
+        runs are mapped as points, an arc's centre would not be). ``positions[r]``: where
+        row ``r`` starts."""
+        arc = moving & (kinds >= _FIRST_ARC_KIND)
+        odd = arc_written & (kinds < _FIRST_ARC_KIND)
+        if arc.any():
+            first, second, _normal = self.state.plane_axes
+            if (run.arc_words is None or first not in run.axes or second not in run.axes or (self._x_scale() != 1.0 and "X" in (first, second))
+                    or frames.program_to_workpiece(self.state) is not None):
+                odd |= arc
+            else:
+                in_plane = positions[:, [run.axes.index(first), run.axes.index(second)]]
+                unknown = numpy.isnan(in_plane).any(axis=1)
+                odd |= arc & (unknown[:-1] | unknown[1:])
+        bad = numpy.flatnonzero(odd)
+        return int(bad[0]) if bad.size else run.rows
+
+    def _batch_arcs(self, run: ir.MoveBatch, moving, points, kinds) -> BatchArcs | None:
+        """The arcs among a batch's moves (see :meth:`_arc`, whose meaning this keeps), None
+        when there are none."""
+        if not (kinds >= _FIRST_ARC_KIND).any():
+            return None
+        plane = self.state.plane_axes
+        words = run.arc_words[moving]
+        columns = [run.axes.index(plane[0]), run.axes.index(plane[1])]
+        offsets = numpy.nan_to_num(words[:, [_CENTRE_WORD[plane[0]], _CENTRE_WORD[plane[1]]]])  # an offset not written is 0
+        centres = offsets if self.state.modal.get("arc_distance") == "absolute" else points[:-1][:, columns] + offsets
+        radii = words[:, _RADIUS_WORD]
+        centres[~numpy.isnan(radii) | (kinds < _FIRST_ARC_KIND)] = numpy.nan
+        return BatchArcs(plane, columns, centres, radii)
 
     def _batch_block_reader(self, run: ir.MoveBatch, moving_rows, source: ProgramSource, path):
         """Re-reads the block of the run's ``index``-th move (its row in ``moving_rows``), for
-        a report's span (rare, so not kept)."""
+        a report's span or an arc's segment (the last few are kept: an arc's block is asked
+        for by its span and its segment, by several rules)."""
 
+        @lru_cache(maxsize=4)
         def block_of(index: int) -> ir.Block:
             row = int(moving_rows[index])
             offset = int(run.line_offsets[row])
@@ -1027,8 +1065,7 @@ class Interpreter(ControlFlow):
             radius = self.value(radius_expr, op.span)
             if radius is VACANT:
                 return Arc(direction, (first, second, normal), None, None, None)
-            return Arc(direction, (first, second, normal), None, None, None, radius, values.distance(s1, s2, e1, e2),
-                       chord_sq=values.distance_sq(s1, s2, e1, e2))
+            return arc_by_radius(direction, (first, second, normal), radius, s1, s2, e1, e2)
         letter1, letter2 = _CENTRE_LETTERS[first], _CENTRE_LETTERS[second]
         offset1 = self.value(arc_words.get(letter1, 0.0), op.span)
         offset2 = self.value(arc_words.get(letter2, 0.0), op.span)
@@ -1039,10 +1076,7 @@ class Interpreter(ControlFlow):
         else:  # SINUMERIK I=AC(..) gives one coordinate of the centre itself, read like the axis's own positions
             c1 = _scaled(offset1, scale_first) if letter1 in op.absolute else values.add(s1, offset1)
             c2 = _scaled(offset2, scale_second) if letter2 in op.absolute else values.add(s2, offset2)
-        start_radius = values.distance(s1, s2, c1, c2)
-        end_radius = values.distance(e1, e2, c1, c2)
-        return Arc(direction, (first, second, normal), (c1, c2), start_radius, end_radius,
-                   start_radius_sq=values.distance_sq(s1, s2, c1, c2), end_radius_sq=values.distance_sq(e1, e2, c1, c2))
+        return arc_by_centre(direction, (first, second, normal), c1, c2, s1, s2, e1, e2)
 
     # ------------------------------------------------------------------ cycles
 
@@ -1122,6 +1156,72 @@ def op_values(written: dict, interpreter: "Interpreter", span) -> dict:
 
 _REMEMBERED_LINES = 20_000  # lowered lines (and their text) kept for the next pass of a loop
 _COMPILED_LIMIT = 100_000  # expressions kept with their closures; past it the cache starts again
+_FIRST_ARC_KIND = ir.MoveBatch.KINDS.index("arc_cw")  # kinds from here on are arcs: cw, then ccw
+_CENTRE_WORD = {"X": 0, "Y": 1, "Z": 2}  # the columns of I, J, K in MoveBatch.arc_words
+_RADIUS_WORD = 3
+_RUN_SEGMENT_KIND = ("rapid", "feed", "arc", "arc")
+
+
+def _batch_span(block_of, index: int) -> Span:
+    """The span of a batch's ``index``-th move, as its block gives it."""
+    block = block_of(index)
+    moves = [op for op in block.ops if isinstance(op, ir.Move)]
+    return moves[0].span if moves else block.span
+
+
+def _batch_segment(axes, points, kinds, arcs, others: dict, block_of, index: int) -> Segment:
+    """The Segment the block path makes of a batch's ``index``-th move."""
+    start = dict(others, **{axis: _as_value(v) for axis, v in zip(axes, points[index].tolist())})
+    end = dict(others, **{axis: _as_value(v) for axis, v in zip(axes, points[index + 1].tolist())})
+    kind = int(kinds[index])
+    arc = arcs.arc(index, kind, start, end) if kind >= _FIRST_ARC_KIND else None
+    return Segment(_RUN_SEGMENT_KIND[kind], start, end, _batch_span(block_of, index), block_of(index), "programmed", None, arc)
+
+
+def _batch_state_at(state, kinds, feeds, segment: Segment, index: int) -> None:
+    """Put the state as the block path has it when it reports the batch's ``index``-th
+    move: at its end, in its motion mode, with its feed."""
+    state.position = segment.end
+    state.modal["motion"] = ir.MoveBatch.KINDS[int(kinds[index])]
+    feed = float(feeds[index])
+    if feed == feed:
+        state.feed = feed
+
+
+@dataclass(slots=True)
+class BatchArcs:
+    """The arcs of a batch's moves: their plane, the columns of its two axes in the batch's
+    points, and each move's centre in the plane (NaN: not an arc, or one given by its radius)
+    and radius word (NaN: none)."""
+
+    plane: tuple[str, str, str]
+    columns: list
+    centres: object  # numpy float64 (moves, 2)
+    radii: object  # numpy float64 (moves,)
+
+    def arc(self, index: int, kind: int, start: dict, end: dict) -> Arc:
+        """The Arc the block path makes of move ``index``."""
+        direction = "cw" if kind == _FIRST_ARC_KIND else "ccw"
+        first, second, _normal = self.plane
+        s1, s2, e1, e2 = start[first], start[second], end[first], end[second]
+        radius = float(self.radii[index])
+        if radius == radius:
+            return arc_by_radius(direction, self.plane, radius, s1, s2, e1, e2)
+        c1, c2 = self.centres[index].tolist()
+        return arc_by_centre(direction, self.plane, c1, c2, s1, s2, e1, e2)
+
+
+def arc_by_radius(direction: str, plane: tuple, radius, s1, s2, e1, e2) -> Arc:
+    """An arc given by its radius word, from (s1, s2) to (e1, e2) in ``plane``."""
+    return Arc(direction, plane, None, None, None, radius, values.distance(s1, s2, e1, e2), chord_sq=values.distance_sq(s1, s2, e1, e2))
+
+
+def arc_by_centre(direction: str, plane: tuple, c1, c2, s1, s2, e1, e2) -> Arc:
+    """An arc about the centre (c1, c2), from (s1, s2) to (e1, e2) in ``plane``."""
+    return Arc(direction, plane, (c1, c2), values.distance(s1, s2, c1, c2), values.distance(e1, e2, c1, c2),
+               start_radius_sq=values.distance_sq(s1, s2, c1, c2), end_radius_sq=values.distance_sq(e1, e2, c1, c2))
+
+
 _BATCH_AFTER = 8  # plain blocks in a row before the rest of the streak is read as a batch
 _WATCHED_MODAL = frozenset({"feed_mode", "spindle_mode", "path_mode"})  # groups whose codes make a Change
 

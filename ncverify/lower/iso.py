@@ -450,8 +450,8 @@ def _decimal_point_message(letter: str, value: float, increment: float) -> str:
 # Possessive and atomic: a number or a run of blanks is only ever taken whole (a shorter
 # take leaves a digit, a point or a blank where a letter must follow), so a line that fails
 # fails at once instead of retrying every split of every number.
-_PLAIN_MOTION = re.compile(rb"[ \t]*+(?:[NGXYZABCF][ \t]*+[+-]?+(?>\d+\.?\d*|\.\d+)[ \t]*+)++")  # batchable: straight moves only
-# What the fast lowering takes: the plain blocks and arcs with their centre or radius words.
+# What the fast lowering takes, and what may join a batch: the plain blocks and arcs with
+# their centre or radius words.
 _FAST_LINE = re.compile(rb"[ \t]*+(?:[NGXYZABCFIJKR][ \t]*+[+-]?+(?>\d+\.?\d*|\.\d+)[ \t]*+)++")
 _PLAIN_WORD_BYTES = re.compile(rb"(CR=|[NGXYZABCFIJKR])[ \t]*([+-]?(?:\d+\.?\d*|\.\d+))")
 _LETTERS = {letter.encode(): letter for letter in "NGXYZABCFIJKR"} | {b"CR=": "R"}  # SINUMERIK's CR= is an arc's radius word
@@ -612,15 +612,16 @@ class IsoFrontend:
         return lower_fast_motion(raw, line, path, self.fast_form, canonical)
 
     def is_plain(self, raw: bytes) -> bool:
-        """Could this line be part of a :class:`ir.MoveBatch`?"""
-        return _PLAIN_MOTION.fullmatch(raw) is not None
+        """Could this line be part of a :class:`ir.MoveBatch`? (Straight moves, and arcs
+        in the fast lowering's form.)"""
+        return _FAST_LINE.fullmatch(raw) is not None
 
     def plain_run(self, buffer, offset: int, line: int, limit: int = 1 << 20) -> ir.MoveBatch | None:
-        """The plain blocks from ``offset`` on as one :class:`ir.MoveBatch` (see
-        :mod:`ncverify.read.iso_runs`); None when the streak is short."""
+        """The plain blocks from ``offset`` on, arcs among them, as one :class:`ir.MoveBatch`
+        (see :mod:`ncverify.read.iso_runs`); None when the streak is short."""
         if self.lowering.twins or "X" not in self.lowering.axis_letters:
             return None
-        run = read_plain_run_at(buffer, offset, limit, stop_at_small_integers=bool(self.lowering.increment))
+        run = read_plain_run_at(buffer, offset, limit, stop_at_small_integers=bool(self.lowering.increment), arcs=True)
         if run is None:
             return None
         table, pointless = run.table, run.pointless
@@ -628,7 +629,7 @@ class IsoFrontend:
         kinds = numpy.where(numpy.isnan(motion), -1, motion).astype(numpy.int8)
         return ir.MoveBatch(offset, offset + run.length, line, run.line_starts + offset, kinds, ("X", "Y", "Z"), table[:, 2:5],
                           pointless[:, 2:5] & bool(self.lowering.increment), table[:, 5],
-                          pointless[:, 5] & bool(self.lowering.feed_increment), run.blocks)
+                          pointless[:, 5] & bool(self.lowering.feed_increment), run.blocks, run.arc_words, run.worded)
 
     def programs(self, buffer) -> list[tuple[str, int]]:
         """``(name, offset of its first line)`` for every program header in the buffer.

@@ -482,7 +482,7 @@ def _nested_modal_call(name: str, span: Span) -> ir.Note:
 
 # ---------------------------------------------------------------------- frontend
 
-_PLAIN_MOTION = re.compile(rb"[ \t]*+(?:[NGXYZF][ \t]*+[+-]?+(?>\d+\.?\d*|\.\d+)[ \t]*+)++")  # possessive: see iso._PLAIN_MOTION
+_PLAIN_MOTION = re.compile(rb"[ \t]*+(?:[NGXYZF][ \t]*+[+-]?+(?>\d+\.?\d*|\.\d+)[ \t]*+)++")  # possessive: see iso._FAST_LINE
 # Plain motion lines lowered without the reader, as the general lowering would (N is a block
 # number, a label only as N<number>; I/J/K and the radius CR= are arc data only, outside the
 # move's span; R is a parameter).
@@ -537,7 +537,7 @@ class SinumerikFrontend:
         kinds = numpy.where(numpy.isnan(motion), -1, motion).astype(numpy.int8)
         unscaled = numpy.zeros((len(kinds), 3), dtype=bool)
         return ir.MoveBatch(offset, offset + run.length, line, run.line_starts + offset, kinds, ("X", "Y", "Z"), table[:, 2:5],
-                          unscaled, table[:, 5], numpy.zeros(len(kinds), dtype=bool), run.blocks)
+                          unscaled, table[:, 5], numpy.zeros(len(kinds), dtype=bool), run.blocks, worded=run.worded)
 
     def programs(self, buffer) -> list[tuple[str, int]]:
         """Programs named by ``%_N_NAME_MPF/SPF`` headers; a file without one that starts

@@ -1,4 +1,5 @@
-"""Array reader for streaks of plain ISO blocks (``N G0/G1 X Y Z F``), the bulk of CAM
+"""Array reader for streaks of plain ISO blocks (``N G0/G1 X Y Z F``, and where the caller
+asks, the arcs ``G2/G3`` with centre offsets ``I J K`` or a radius ``R``), the bulk of CAM
 output. A chunk of text is classified byte by byte with a lookup table; words, numbers and
 lines are found with numpy, and numbers are parsed exactly: the digits make an integer
 mantissa below 2**53 that is divided by an exact power of ten, which IEEE division rounds
@@ -13,41 +14,61 @@ from dataclasses import dataclass
 
 import numpy
 
-LETTERS = b"NGXYZF"  # columns of the table, in this order
+LETTERS = b"NGXYZFIJKR"  # columns of the table, in this order
+ARC_WORDS = slice(6, 10)  # the columns of I, J, K and R
+_STRAIGHT_LETTERS = b"NGXYZF"
 _OTHER, _LETTER, _DIGIT, _DOT, _SIGN, _BLANK, _NEWLINE = range(7)
-_BYTE_CLASS = numpy.zeros(256, dtype=numpy.int8)
-_BYTE_CLASS[list(LETTERS)] = _LETTER
-_BYTE_CLASS[list(b"0123456789")] = _DIGIT
-_BYTE_CLASS[ord(".")] = _DOT
-_BYTE_CLASS[list(b"+-")] = _SIGN
-_BYTE_CLASS[list(b" \t\r")] = _BLANK
-_BYTE_CLASS[ord("\n")] = _NEWLINE
+
+
+def _byte_classes(letters: bytes):
+    classes = numpy.zeros(256, dtype=numpy.int8)
+    classes[list(letters)] = _LETTER
+    classes[list(b"0123456789")] = _DIGIT
+    classes[ord(".")] = _DOT
+    classes[list(b"+-")] = _SIGN
+    classes[list(b" \t\r")] = _BLANK
+    classes[ord("\n")] = _NEWLINE
+    return classes
+
+
+_BYTE_CLASS = {False: _byte_classes(_STRAIGHT_LETTERS), True: _byte_classes(LETTERS)}  # by whether arcs are read
 _COLUMN = numpy.zeros(256, dtype=numpy.int64)
 _COLUMN[list(LETTERS)] = numpy.arange(len(LETTERS))
+_G, _I, _R = (LETTERS.index(letter) for letter in b"GIR")
 _POWERS_OF_TEN = 10.0 ** numpy.arange(23)
 _MAX_DIGITS = 15  # mantissas stay below 2**53
-_MOTION_CODES = (0.0, 1.0)
+_MOTION_CODES = {False: (0.0, 1.0), True: (0.0, 1.0, 2.0, 3.0)}
 _FIRST_CHUNK = 1 << 14  # bytes read first; CAM streaks between arcs are short
 
 
 @dataclass(slots=True)
 class PlainRun:
     """``table[line, column]``: the number of letter ``LETTERS[column]`` on each line (NaN
-    when absent); ``pointless`` marks numbers written without a decimal point."""
+    when absent), without the arc words' columns when no line has one; ``pointless``
+    marks numbers written without a decimal point."""
 
     table: numpy.ndarray
     pointless: numpy.ndarray
     line_starts: numpy.ndarray  # offsets relative to the chunk
     length: int  # bytes read
-    blocks: int  # lines holding at least one word
+    worded: numpy.ndarray  # lines holding at least one word (the others are no block)
+
+    @property
+    def arc_words(self) -> numpy.ndarray | None:
+        """The ``I J K R`` columns, None when no line has one."""
+        return self.table[:, ARC_WORDS] if self.table.shape[1] > ARC_WORDS.start else None
+
+    @property
+    def blocks(self) -> int:
+        return int(numpy.count_nonzero(self.worded))
 
 
 class _Chunk:
     """The byte positions of one chunk, found once."""
 
-    def __init__(self, chunk: bytes):
+    def __init__(self, chunk: bytes, arcs: bool):
         self.codes = numpy.frombuffer(chunk, dtype=numpy.uint8)
-        self.classes = _BYTE_CLASS[self.codes]
+        self.classes = _BYTE_CLASS[arcs][self.codes]
         is_letter = self.classes == _LETTER
         is_newline = self.classes == _NEWLINE
         self.letters = numpy.flatnonzero(is_letter)
@@ -117,18 +138,19 @@ def parse_numbers(codes, digits, digit_owner, dots, dot_owner, minus_owner, coun
     return values, point != no_point
 
 
-def read_plain_run(chunk: bytes, minimum_lines: int = 16, stop_at_small_integers: bool = False) -> PlainRun | None:
+def read_plain_run(chunk: bytes, minimum_lines: int = 16, stop_at_small_integers: bool = False, arcs: bool = False) -> PlainRun | None:
     """Read the plain lines at the start of ``chunk`` (whole lines only); None when
     fewer than ``minimum_lines``. With ``stop_at_small_integers`` (a control that reads
     integers in least input increments) the run also ends before a coordinate like ``Z5``,
-    which the per-block path reports as a decimal-point trap."""
+    which the per-block path reports as a decimal-point trap. With ``arcs`` the lines may
+    also be arcs, as the per-block fast lowering takes them (see :func:`_first_odd_arc`)."""
     if len(chunk) < minimum_lines * 4:
         return None
-    found = _Chunk(chunk)
+    found = _Chunk(chunk, arcs)
     stop = found.first_bad_position()
     letters, values, has_point = found.numbers(stop)
     motion = found.codes[letters] == ord("G")
-    odd_motion = letters[motion][numpy.isin(values[motion], _MOTION_CODES, invert=True)]
+    odd_motion = letters[motion][numpy.isin(values[motion], _MOTION_CODES[arcs], invert=True)]
     if odd_motion.size:
         stop = int(odd_motion[0])
     if stop_at_small_integers:
@@ -136,6 +158,8 @@ def read_plain_run(chunk: bytes, minimum_lines: int = 16, stop_at_small_integers
         trap = letters[axis_words & ~has_point & (numpy.abs(values) >= 1) & (numpy.abs(values) < 1000)]
         if trap.size:
             stop = min(stop, int(trap[0]))
+    if arcs:
+        stop = min(stop, _first_odd_arc(found, letters, values, has_point, stop_at_small_integers))
     if stop < len(chunk):
         before = found.newlines[found.newlines < stop]
         stop = int(before[-1]) + 1 if before.size else 0
@@ -147,16 +171,38 @@ def read_plain_run(chunk: bytes, minimum_lines: int = 16, stop_at_small_integers
         return None
     rows = found.line_of(letters)
     columns = _COLUMN[found.codes[letters]]
-    table = numpy.full((line_count, len(LETTERS)), numpy.nan)
+    width = len(LETTERS) if (columns >= _I).any() else len(_STRAIGHT_LETTERS)  # no arc words: no room for them
+    table = numpy.full((line_count, width), numpy.nan)
     table[rows, columns] = values
     pointless = numpy.zeros(table.shape, dtype=bool)
     pointless[rows, columns] = ~has_point
     line_starts = numpy.concatenate(([0], newlines + 1))[:line_count]
-    blocks = int(numpy.count_nonzero(numpy.diff(rows)) + 1) if len(rows) else 0
-    return PlainRun(table, pointless, line_starts, stop, blocks)
+    worded = numpy.zeros(line_count, dtype=bool)
+    worded[rows] = True
+    return PlainRun(table, pointless, line_starts, stop, worded)
 
 
-def read_plain_run_at(buffer, offset: int, limit: int, stop_at_small_integers: bool = False) -> PlainRun | None:
+def _first_odd_arc(found: _Chunk, letters, values, has_point, small_integers_are_increments: bool) -> int:
+    """Where the first line with centre or radius words that the per-block fast lowering
+    leaves to the general one starts (the chunk's length when none): a radius with centre
+    offsets, centre words on a G0/G1 line, or (counted in increments) one without a point."""
+    lines = found.line_of(letters)
+    columns = _COLUMN[found.codes[letters]]
+    count = int(lines[-1]) + 1 if len(lines) else 0
+    arc_word = (columns >= _I) & (columns <= _R)
+    centre, radius = numpy.zeros(count, dtype=bool), numpy.zeros(count, dtype=bool)
+    centre[lines[arc_word & (columns < _R)]] = True
+    radius[lines[columns == _R]] = True
+    straight = numpy.zeros(count, dtype=bool)
+    straight[lines[(columns == _G) & (values < 2.0)]] = True
+    odd = (centre & radius) | ((centre | radius) & straight)
+    if small_integers_are_increments:
+        odd[lines[arc_word & ~has_point]] = True
+    odd_letters = letters[odd[lines]]
+    return int(odd_letters[0]) if odd_letters.size else len(found.codes)
+
+
+def read_plain_run_at(buffer, offset: int, limit: int, stop_at_small_integers: bool = False, arcs: bool = False) -> PlainRun | None:
     """The plain run from ``offset`` of ``buffer`` on (whole lines, at most ``limit``
     bytes). The chunk read starts small and grows fourfold while the run fills it: the
     arrays cost what the run is long, so a streak of ten lines between two arcs does not
@@ -167,7 +213,7 @@ def read_plain_run_at(buffer, offset: int, limit: int, stop_at_small_integers: b
         chunk = bytes(buffer[offset:end])
         if end < len(buffer):
             chunk = chunk[: chunk.rfind(b"\n") + 1]
-        run = read_plain_run(chunk, stop_at_small_integers=stop_at_small_integers)
+        run = read_plain_run(chunk, stop_at_small_integers=stop_at_small_integers, arcs=arcs)
         if run is None or run.length < len(chunk) or end >= len(buffer) or size >= limit:
             return run
         size = min(size * 4, limit)

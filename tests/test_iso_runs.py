@@ -1,0 +1,82 @@
+"""The ISO run reader with arcs: every line it takes is one the per-block fast lowering
+takes too, with the same numbers, and it stops before a line that lowering leaves to the
+general one."""
+from __future__ import annotations
+
+import math
+
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from ncverify import ir
+from ncverify.lower.iso import FastMotionForm, fast_motion_block
+from ncverify.read.iso_runs import LETTERS, read_plain_run
+
+_FORM = FastMotionForm(frozenset("XYZ"))
+_NUMBER = st.one_of(
+    st.floats(-999, 999, allow_nan=False).map(lambda value: f"{value:.4f}"),
+    st.integers(-9999, 9999).map(str),
+    st.integers(-9, 9).map(lambda value: f"{value}."),
+)
+_WORD = st.tuples(st.sampled_from("XYZIJKRF"), _NUMBER).map("".join)
+_LINE = st.tuples(
+    st.one_of(st.none(), st.sampled_from(["G0", "G1", "G2", "G3", "G02", "G03"])),
+    st.lists(_WORD, max_size=5),
+).map(lambda parts: " ".join(([parts[0]] if parts[0] else []) + parts[1]))
+
+
+def _words_of(block: ir.Block) -> dict:
+    """The letters and values the fast lowering read from a line."""
+    words = {}
+    for op in block.ops:
+        if isinstance(op, ir.SetFeed):
+            words["F"] = op.value
+        elif isinstance(op, ir.Move):
+            words.update(op.targets)
+            words.update(op.arc or {})
+    return words
+
+
+@settings(max_examples=300, deadline=None)
+@given(lines=st.lists(_LINE, min_size=1, max_size=30))
+def test_every_line_of_a_run_is_lowered_alike_by_the_fast_path(lines):
+    text = "".join(line + "\n" for line in lines).encode()
+    run = read_plain_run(text, minimum_lines=1, arcs=True)
+    taken = 0 if run is None else len(run.line_starts)
+    for row in range(taken):
+        if not run.worded[row]:
+            assert not lines[row].strip()  # a blank line: no block
+            continue
+        block = fast_motion_block(lines[row].encode(), row + 1, None, _FORM)
+        assert block is not None, lines[row]
+        table = {chr(LETTERS[column]): value for column, value in enumerate(run.table[row].tolist()) if not math.isnan(value)}
+        table.pop("N", None)
+        table.pop("G", None)
+        assert table == _words_of(block)
+    if taken < len(lines) and run is not None:
+        odd = lines[taken]
+        letters = {word[0] for word in odd.split()}
+        arc_words = letters & set("IJKR")
+        straight = odd.split()[0] in ("G0", "G1") if odd else False
+        # the run ended at a line the fast lowering leaves to the general one, or one that
+        # repeats a letter
+        assert (fast_motion_block(odd.encode(), 1, None, _FORM) is None or "R" in arc_words and arc_words - {"R"}
+                or (arc_words and straight) or len(odd.split()) != len({word[0] for word in odd.split()}))
+
+
+def test_a_radius_with_centre_offsets_ends_the_run():
+    text = b"".join([b"G1 X1. Y1.\n"] * 20 + [b"G2 X2. Y2. I1. R1.\n"] + [b"G1 X3.\n"] * 20)
+    run = read_plain_run(text, arcs=True)
+    assert len(run.line_starts) == 20
+
+
+def test_centre_words_on_a_straight_move_end_the_run():
+    text = b"".join([b"G3 X1. Y1. I0.5 J0.5\n"] * 20 + [b"G1 X2. Y2. I1.\n"])
+    run = read_plain_run(text, arcs=True)
+    assert len(run.line_starts) == 20
+
+
+def test_centre_words_without_a_point_end_the_run_where_integers_are_increments():
+    text = b"".join([b"G2 X1. Y1. I1. J0.\n"] * 20 + [b"G2 X1. Y1. I1 J0.\n"])
+    assert len(read_plain_run(text, arcs=True, stop_at_small_integers=True).line_starts) == 20
+    assert len(read_plain_run(text, arcs=True).line_starts) == 21
