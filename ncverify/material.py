@@ -198,16 +198,16 @@ class Material:
         """Moves ``done`` to ``stop`` of a run with arcs, straight from the arrays, buffered
         as the block path buffers them move by move (the same moves swept at each flush);
         False, having done nothing, where that needs more than the arrays: the lathe's
-        model, the holder judged move by move, an arc given by its radius (whose centre is
-        not worked out), a position not known, a tool axis other than Z."""
+        model, the holder judged move by move, a position not known, a tool axis other than
+        Z. An arc given by its radius (whose centre is not worked out) is cut anywhere."""
         if self.turning is not None or self._holder_parts(state) or tool_axis_problem(state) is not None or any(axis not in run.axes for axis in "XYZ"):
             return False
         cutting = done + numpy.flatnonzero(run.kinds[done:stop] >= _FEED)
         columns = [run.axes.index(axis) for axis in "XYZ"]
         starts, ends = run.points[cutting][:, columns], run.points[cutting + 1][:, columns]
-        straight = run.kinds[cutting] == _FEED
-        centres = run.arcs.centres[cutting[~straight]]
-        if numpy.isnan(starts).any() or numpy.isnan(ends).any() or numpy.isnan(centres).any():
+        by_radius = ~numpy.isnan(run.arcs.radii[cutting])
+        by_centre = (run.kinds[cutting] != _FEED) & ~by_radius
+        if numpy.isnan(starts).any() or numpy.isnan(ends).any() or numpy.isnan(run.arcs.centres[cutting[by_centre]]).any():
             return False
         if not len(cutting):
             return True
@@ -215,6 +215,11 @@ class Material:
         mine = None if cutter is None else self._mine(state)
         if mine is None:
             return True  # a probe, or a path judged against the blank
+        for _ in range(int(numpy.count_nonzero(by_radius))):  # no centre: cut anywhere, not buffered, as in segment()
+            mine.unplaced()
+        cutting, starts, ends = cutting[~by_radius], starts[~by_radius], ends[~by_radius]
+        straight = run.kinds[cutting] == _FEED
+        centres = run.arcs.centres[cutting[~straight]]
         sized, tool = mine.sized(cutter), self._tool_name(state)
         if straight.any():
             mine.deepest = min(mine.deepest, float(numpy.minimum(starts[straight, 2], ends[straight, 2]).min()))

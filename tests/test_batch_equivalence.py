@@ -271,3 +271,20 @@ def test_the_first_feed_of_a_batch_names_a_missing_feed_limit_where_the_block_pa
     program = _program(["G1", "X15.947 Z-3.784 Y-26.911", *streak], ["G43 H01 Z50."])
     assert [d.span.line for d in check_text(program).diagnostics if d.rule == "core.feed-over-limit"] == [13]
     _assert_same_findings(program)
+
+
+@pytest.mark.parametrize("dialect", ["iso", "fagor"])
+def test_arcs_by_radius_in_a_batch_leave_the_cut_stock_as_block_by_block(dialect):
+    """An arc given by its radius has no centre worked out: the cut stock takes it as a cut
+    it cannot place (material may be gone anywhere) without leaving the arrays. A rapid
+    down into the pocket afterwards, and one into the blank beside it, are judged as the
+    block path judges them: the second is unknown, as the arcs may have cut anywhere."""
+    corners = [f"G2 X{x:.1f} Y{y:.1f} R3." if step % 2 else f"G1 X{x:.1f} Y{y:.1f}"
+               for step, (x, y) in enumerate([(0.0, 10.0), (3.0, 13.0), (10.0, 13.0), (13.0, 10.0), (13.0, 0.0), (10.0, -3.0), (0.0, -3.0)] * 6)]
+    after = ["G0 Z5.", "G0 X6. Y5.", "G0 Z-0.5", "G0 Z5.", "G0 X30. Y30.", "G0 Z-2."]
+    program = _program(["G0 X0. Y0. Z1.", "G1 Z-1. F800.", *corners, *after], [*_STOCK, "G43 H01 Z50.", "S1000 M03"])
+    assert _arcs_in_runs(program, dialect=dialect) >= 12
+    batched = check_text(program, settings=Settings(dialect=dialect))
+    one_by_one = check_text(program, settings=Settings(per_block_only=True, dialect=dialect))
+    assert [(d.rule, d.status, d.span, d.message) for d in batched.diagnostics] == [(d.rule, d.status, d.span, d.message) for d in one_by_one.diagnostics]
+    assert [d.status.value for d in batched.diagnostics if d.rule == "core.rapid-into-stock" and d.span.line == len(program.splitlines()) - 1] == ["unknown"]
