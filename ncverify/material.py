@@ -150,12 +150,18 @@ class Material:
         question needs the field: a batch's moves and the same moves block by block are
         swept in the same groups, so the field (the grid merges neighbouring pieces within
         a sweep) is the same on both paths. ``starts``, ``ends``: sequences of (x, y, z)."""
-        done = 0
-        while done < len(starts):
-            take = min(len(starts) - done, _FLUSH_AT - mine.buffered)
-            mine.lines.append((starts[done:done + take], ends[done:done + take], cutter, tool))
-            mine.buffered += take
-            done += take
+        for first, stop in self._flush_groups(mine, len(starts)):
+            mine.lines.append((starts[first:stop], ends[first:stop], cutter, tool))
+
+    def _flush_groups(self, mine: _PathPiece, count: int):
+        """``count`` moves join the buffer: ``(first, stop)`` of each group the caller
+        buffers, the buffer swept after each group that fills it (see :meth:`_buffer`)."""
+        taken = 0
+        while taken < count:
+            window = min(count - taken, _FLUSH_AT - mine.buffered)
+            yield taken, taken + window
+            mine.buffered += window
+            taken += window
             if mine.buffered >= _FLUSH_AT:
                 self._flush(mine)
 
@@ -228,20 +234,15 @@ class Material:
         plane = _plane_indices(run.arcs.plane)
         arcs = list(zip(map(tuple, starts[~straight].tolist()), map(tuple, ends[~straight].tolist()), map(tuple, centres.tolist()),
                         (run.kinds[cutting[~straight]] == ARC_CW).tolist(), [plane] * len(centres)))
-        taken = arcs_taken = 0
-        while taken < len(cutting):
-            window = min(len(cutting) - taken, _FLUSH_AT - mine.buffered)
-            lines = straight[taken:taken + window]
+        arcs_taken = 0
+        for first, stop in self._flush_groups(mine, len(cutting)):
+            lines = straight[first:stop]
             if lines.any():
-                rows = numpy.flatnonzero(lines) + taken
+                rows = numpy.flatnonzero(lines) + first
                 mine.lines.append((starts[rows], ends[rows], sized, tool))
-            arc_count = window - int(numpy.count_nonzero(lines))
+            arc_count = stop - first - int(numpy.count_nonzero(lines))
             mine.arcs.extend((arc, sized, tool) for arc in arcs[arcs_taken:arcs_taken + arc_count])
             arcs_taken += arc_count
-            mine.buffered += window
-            taken += window
-            if mine.buffered >= _FLUSH_AT:
-                self._flush(mine)
         return True
 
     def _cut_straight(self, run, feeds, state) -> None:
