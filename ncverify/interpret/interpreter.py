@@ -24,6 +24,7 @@ from .cycles import ActiveCycle, CycleRunner
 from .fagor import FagorState
 from .heidenhain.state import KlartextState
 from . import compiled, modal_call
+from .arc_geometry import arc_by_centre, arc_by_radius
 from ..context import ToolTable
 from ..settings import Settings
 from ..source import ProgramSource, Span
@@ -93,6 +94,7 @@ class MachineState:
     # in program coordinates, placed there by the rules that judge where the tool comes from
     parked: frozenset = frozenset()
     left_start: frozenset = frozenset()  # axes parked until the last move: the segment it makes starts there
+    last_segment: Segment | None = None  # the last move made: a tangential arc continues it
 
     def fork(self) -> "MachineState":
         twin = MachineState(**{name: getattr(self, name) for name in self.__slots__})
@@ -327,6 +329,8 @@ class Interpreter(ControlFlow):
             self.observer.motion_run(MotionRun(axes, segment_points, segment_kinds, feeds[moving], written[moving],
                                                partial(_batch_span, block_of), segment_of, arcs, partial(_batch_state_at, state, segment_kinds, feeds[moving])), state)
         state.position = dict(state.position, **{axis: _as_value(value) for axis, value in zip(axes, points[-1])})
+        if len(moving):
+            state.last_segment = segment_of(len(moving) - 1)
         state.modal["motion"] = ir.MoveBatch.KINDS[int(kinds[-1])]
         if not numpy.isnan(feeds[-1]):
             state.feed = float(feeds[-1])
@@ -1032,13 +1036,15 @@ class Interpreter(ControlFlow):
         if kind == "thread" and op.words:
             self._change("thread", op.span, block, None, op_values(op.words, self, op.span))  # G33 Q start angle, E lead
         arc = self._arc(op, kind, start) if kind in _ARC_KINDS else None
-        self.observer.segment(Segment(_SEGMENT_KIND[kind], start, end, op.span, block, "programmed", None, arc), state)
+        segment = state.last_segment = Segment(_SEGMENT_KIND[kind], start, end, op.span, block, "programmed", None, arc)
+        self.observer.segment(segment, state)
         if modal_cycle:
             return self.cycles.modal_call(op, block)  # the MCALL cycle runs after every positioning
         return None
 
     def _emit(self, kind: str, start: dict, span, block, role: str = "programmed", cycle: str | None = None, arc: Arc | None = None) -> None:
-        self.observer.segment(Segment(kind, start, self.state.position, span, block, role, cycle, arc), self.state)
+        segment = self.state.last_segment = Segment(kind, start, self.state.position, span, block, role, cycle, arc)
+        self.observer.segment(segment, self.state)
 
     def _x_scale(self) -> float:
         """X positions to radial distances: halved where X is a diameter, by the mode in force
@@ -1209,17 +1215,6 @@ class BatchArcs:
             return arc_by_radius(direction, self.plane, radius, s1, s2, e1, e2)
         c1, c2 = self.centres[index].tolist()
         return arc_by_centre(direction, self.plane, c1, c2, s1, s2, e1, e2)
-
-
-def arc_by_radius(direction: str, plane: tuple, radius, s1, s2, e1, e2) -> Arc:
-    """An arc given by its radius word, from (s1, s2) to (e1, e2) in ``plane``."""
-    return Arc(direction, plane, None, None, None, radius, values.distance(s1, s2, e1, e2), chord_sq=values.distance_sq(s1, s2, e1, e2))
-
-
-def arc_by_centre(direction: str, plane: tuple, c1, c2, s1, s2, e1, e2) -> Arc:
-    """An arc about the centre (c1, c2), from (s1, s2) to (e1, e2) in ``plane``."""
-    return Arc(direction, plane, (c1, c2), values.distance(s1, s2, c1, c2), values.distance(e1, e2, c1, c2),
-               start_radius_sq=values.distance_sq(s1, s2, c1, c2), end_radius_sq=values.distance_sq(e1, e2, c1, c2))
 
 
 _BATCH_AFTER = 8  # plain blocks in a row before the rest of the streak is read as a batch

@@ -28,6 +28,7 @@ from . import special, transforms
 from .common import (cycle_feed as _cycle_feed, levels, numbers as _numbers, offset_surface as _offset_surface,
                      plane as _plane, put as _put)
 from .state import Definition
+from ..arc_geometry import end_heading, tangent_arc, unplaced_arc
 from ..control_flow import PathEnd
 from ..cycles import grid
 from ...trace import Arc, CycleFacts, CycleRun, Hole
@@ -154,14 +155,24 @@ def _lift_run(runner, op, block):
 
 
 def _tangent_run(runner, op, block):
-    """CT: a tangential arc whose centre follows from the previous element; its chord is
-    reported as a feed move (the arc bulges at most to the side of it)."""
+    """CT: an arc that leaves the previous contour element tangentially. Its centre follows
+    from that element's direction at its end; when the direction is not known exactly the
+    arc has no centre, and what it sweeps is unknown (never judged by its chord)."""
     params = runner.words(op.words, op.span)
     state = runner.state
+    plane = _pole_plane(state)
+    first, second, _normal = plane
+    heading = end_heading(state.last_segment, state.position, plane)
     start = state.position
     state.move_to(_targets(runner, params, op.span))
     state.motion_seen = True
-    runner.emit("feed", start, op.span, block)
+    end = state.position
+    if start.get(_normal) != end.get(_normal):
+        arc = unplaced_arc(plane)  # a tangential helix: not modelled
+    else:
+        arc = tangent_arc(plane, heading, (start.get(first), start.get(second)), (end.get(first), end.get(second)))
+    runner.emit("arc", start, op.span, block, "programmed", None, arc)
+    _put(state, fed_at=_plane_point(state))
     return None
 
 
