@@ -132,3 +132,74 @@ def test_the_heading_is_known_only_after_a_programmed_move_in_the_plane_that_end
     quarter = _segment("arc", (10.0, 0.0, 0.0), (0.0, 10.0, 0.0), Arc("ccw", XY, (0.0, 0.0), 10.0, 10.0))
     assert end_heading(quarter, quarter.end, XY) == (-10.0, -0.0)
     assert end_heading(quarter, quarter.end, ("Z", "X", "Y")) is None  # another plane
+
+
+# ----------------------------------------------------------------------- SINUMERIK CT and CIP
+
+SINUMERIK_HEAD = """
+    G17 G90 G54 T1 D1 M6
+    S1000 M3
+    G0 X0 Y0 Z5
+    G1 Z-1 F200
+"""
+SINUMERIK_TRAVEL = TRAVEL.replace("x = [-100, 15]", "x = [-25, 15]")
+
+
+def _sinumerik(contour: str, travel: str = SINUMERIK_TRAVEL):
+    program = SINUMERIK_HEAD + "".join(f"    {line}\n" for line in contour.split("\n")) + "    G90 G0 Z50\n    M30\n"
+    return check_program(program, "part.mpf", travel, dialect="sinumerik")
+
+
+def _overtravel_lines(result) -> list[int]:
+    return [d.span.line for d in findings(result, "core.travel-limit", Status.VIOLATED)]
+
+
+def _unknown_sweeps(result) -> list[int]:
+    return [d.span.line for d in findings(result, "core.travel-limit", Status.UNKNOWN) if "arc" in d.message]
+
+
+def test_sinumerik_ct_and_cip_are_read_as_path_commands_not_subprogram_calls():
+    result = _sinumerik("G1 X10 Y0\nCT X10 Y20\nG1 X0\nCIP X-20 Y20 I1=-10 J1=30")
+    assert not findings(result, "core.program-not-found")
+    assert not findings(result, "core.unsupported-code")
+    # CT from (10, 0) heading +X to (10, 20) bulges to X 20; CIP about (-10, 20) stays above X -20
+    assert _overtravel_lines(result) == [6]
+
+
+def test_sinumerik_cip_in_g91_measures_both_points_from_the_start():
+    # from (-20, 20) through (-30, 10) to (-20, 0): a half circle about (-20, 10) reaching X -30
+    result = _sinumerik("G1 X-20 Y20\nG91 CIP X0 Y-20 I1=-10 J1=-10")
+    assert _overtravel_lines(result) == [6]
+    absolute = _sinumerik("G1 X-20 Y20\nG91 CIP X0 Y-20 I1=AC(-10) J1=AC(10)")  # through (-10, 10): reaches X -10 only
+    assert _overtravel_lines(absolute) == []
+
+
+def test_sinumerik_cip_is_modal_and_needs_its_intermediate_point():
+    # the second block is a CIP too, without I1/J1: its sweep is unknown, never judged by its chord
+    result = _sinumerik("G1 X-20 Y20\nCIP X-20 Y0 I1=-10 J1=10\nX-20 Y-20")
+    assert _overtravel_lines(result) == []
+    assert _unknown_sweeps(result) == [7]
+
+
+def test_sinumerik_cip_off_the_plane_is_not_placed():
+    # the intermediate point is 5 mm above the start and end: an inclined circle, not modelled
+    result = _sinumerik("G1 X-20 Y20\nCIP X-20 Y0 I1=-30 J1=10 K1=4")
+    assert _overtravel_lines(result) == []
+    assert _unknown_sweeps(result) == [6]
+
+
+def test_cip_inside_a_cycle95_contour_is_alarm_10930():
+    from test_sinumerik import check_lathe, contour_findings
+
+    result = check_lathe("""
+        G0 X70 Z5
+        CYCLE95("ARCS", 2.5, 0.1, 0.2, 0, 0.3, 0.15, 0.1, 9)
+        M30
+        %_N_ARCS_SPF
+        G1 X20 Z0
+        X30 Z-5
+        CIP X40 Z-15 I1=38 K1=-8
+        G1 X60
+        M17
+    """)
+    assert any("10930" in message and "CIP" in message for message in contour_findings(result))

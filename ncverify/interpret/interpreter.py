@@ -24,7 +24,7 @@ from .cycles import ActiveCycle, CycleRunner
 from .fagor import FagorState
 from .heidenhain.state import KlartextState
 from . import compiled, modal_call
-from .arc_geometry import arc_by_centre, arc_by_radius
+from .arc_geometry import arc_by_centre, arc_by_radius, arc_through, end_heading, tangent_arc, unplaced_arc
 from ..context import ToolTable
 from ..settings import Settings
 from ..source import ProgramSource, Span
@@ -34,9 +34,9 @@ from ..values import VACANT, Condition, DomainError, Sym
 from ..verdict import evaluate_constraint, hazard, judge, show
 from ..project import assumption_bounds, assumption_names, parameter_name
 
-_ARC_KINDS = {"arc_cw": "cw", "arc_ccw": "ccw"}
+_ARC_KINDS = {"arc_cw": "cw", "arc_ccw": "ccw", "arc_through": None, "arc_tangent": None}  # None: the geometry gives the direction
 _CENTRE_LETTERS = {"X": "I", "Y": "J", "Z": "K"}  # the word giving the arc centre's offset along each axis
-_SEGMENT_KIND = {"rapid": "rapid", "linear": "feed", "arc_cw": "arc", "arc_ccw": "arc", "thread": "thread"}
+_SEGMENT_KIND = {"rapid": "rapid", "linear": "feed", "arc_cw": "arc", "arc_ccw": "arc", "arc_through": "arc", "arc_tangent": "arc", "thread": "thread"}
 _PLANES = {"xy": ("X", "Y", "Z"), "zx": ("Z", "X", "Y"), "yz": ("Y", "Z", "X")}
 
 
@@ -1065,7 +1065,9 @@ class Interpreter(ControlFlow):
         arc_words = op.arc or {}
         radius_expr = arc_words.get("R")
         if None in (s1, s2, e1, e2):
-            return Arc(direction, (first, second, normal), None, None, None)
+            return unplaced_arc((first, second, normal))
+        if direction is None:
+            return self._arc_from_geometry(op, kind, start, (first, second, normal), scale_first * scale_second)
         s1, s2, e1, e2 = _scaled(s1, scale_first), _scaled(s2, scale_second), _scaled(e1, scale_first), _scaled(e2, scale_second)
         if radius_expr is not None:
             radius = self.value(radius_expr, op.span)
@@ -1083,6 +1085,34 @@ class Interpreter(ControlFlow):
             c1 = _scaled(offset1, scale_first) if letter1 in op.absolute else values.add(s1, offset1)
             c2 = _scaled(offset2, scale_second) if letter2 in op.absolute else values.add(s2, offset2)
         return arc_by_centre(direction, (first, second, normal), c1, c2, s1, s2, e1, e2)
+
+    def _arc_from_geometry(self, op: ir.Move, kind: str, start: dict, plane: tuple, scale: float) -> Arc:
+        """SINUMERIK CT (tangent to the previous element) and CIP (through I1/J1/K1): an arc
+        in the plane, or one with no centre (its sweep unknown) where the model stops: a
+        helix or an inclined circle, a diameter axis, a direction or point not known."""
+        first, second, normal = plane
+        end = self.state.position
+        if scale != 1.0 or start.get(normal) != end.get(normal):
+            return unplaced_arc(plane)
+        points = (start[first], start[second]), (end[first], end[second])
+        if kind == "arc_tangent":
+            return tangent_arc(plane, end_heading(self.state.last_segment, start, plane), *points)
+        middle = [self._intermediate(op, start, axis) for axis in plane]
+        if middle[0] is None or middle[1] is None or (middle[2] is not None and middle[2] != start.get(normal)):
+            return unplaced_arc(plane)
+        return arc_through(plane, points[0], (middle[0], middle[1]), points[1])
+
+    def _intermediate(self, op: ir.Move, start: dict, axis: str):
+        """CIP's intermediate point on ``axis`` (I1= J1= K1=), absolute or from the start as
+        the end point is read (G90/G91, =AC(..)/=IC(..)); None when not written."""
+        word = _CENTRE_LETTERS[axis] + "1"
+        expr = (op.arc or {}).get(word)
+        value = None if expr is None else self.value(expr, op.span)
+        if value is None or value is VACANT:
+            return None
+        if (self.state.modal["distance"] == "incremental" and word not in op.absolute) or word in op.incremental:
+            return None if start.get(axis) is None else values.add(start[axis], value)
+        return value
 
     # ------------------------------------------------------------------ cycles
 

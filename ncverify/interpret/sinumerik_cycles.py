@@ -384,6 +384,7 @@ CYCLES = DialectCycles(shapes=_SHAPES)
 # --------------------------------------------------------------------------- CYCLE95 contour
 
 _CONTOUR_BLOCK_LIMIT = 5000
+_NOT_IN_CONTOUR = {"thread": "a thread block", "arc_through": "a CIP arc", "arc_tangent": "a CT arc"}  # alarm 10930 inside a CYCLE95 contour
 
 
 class ContourFacts:
@@ -517,8 +518,8 @@ def _walk_contour(runner, facts: ContourFacts, lines, path, plane) -> None:
                     in_plane = {axis: value for axis, value in op.targets.items() if axis in (first, second)}
                     if not in_plane:
                         continue
-                    if op.kind == "thread":
-                        facts.problems.append(("10930", "a thread block (only G0/G1/G2/G3 lines and arcs are allowed)", op.span))
+                    if op.kind in _NOT_IN_CONTOUR:
+                        facts.problems.append(("10930", f"{_NOT_IN_CONTOUR[op.kind]} (only G0/G1/G2/G3 lines and arcs are allowed)", op.span))
                     if facts.plane_blocks == 0:
                         facts.first_motion = motion
                         facts.open_start = op.span if len(in_plane) < 2 else None

@@ -36,7 +36,7 @@ from ..context import Context, Stock, Tool, tool_value_problem
 from ..cycle_models import CycleModel, load_cycle_table
 from ..dialect import DialectSetup
 from ..read.iso_runs import read_plain_run_at
-from ..read.sinumerik import Item, ReadBlock, read_line
+from ..read.sinumerik import PATH_COMMANDS, Item, ReadBlock, read_line
 from ..resources import data_dir
 from ..source import Span, decode_line
 from . import modal_call
@@ -52,6 +52,7 @@ REPEAT_TO_ENDLABEL = ir.Var("$REPEAT_TO_ENDLABEL")
 _REPEAT_STATE = {REPEAT_END.name: "", REPEAT_TO_ENDLABEL.name: 0.0}
 _AXES = ("X", "Y", "Z", "A", "B", "C", "U", "V", "W")
 _ARC_WORDS = ("I", "J", "K")
+_INTERMEDIATE_WORDS = ("I1", "J1", "K1")
 _DIRECTIONS = {"GOTOF": "forward", "GOTOB": "backward", "GOTO": "nearest", "GOTOC": "nearest"}
 def _swivel(item: Item, span: Span) -> list[ir.Op]:
     """CYCLE800 tilts the working plane (not modelled: positions are unknown while it is
@@ -304,7 +305,9 @@ class SinumerikLowering:
         for item in words:
             span = Span.on_line(read.line, item.start, item.end, path)
             name, value = item.name, item.value
-            if name == "G":
+            if name in PATH_COMMANDS:
+                motion, motion_span = PATH_COMMANDS[name], span
+            elif name == "G":
                 if type(value) is not float:
                     stages["modal"].append(ir.Unsupported(span, "a G code computed at run time", ("position",)))
                     continue
@@ -325,6 +328,12 @@ class SinumerikLowering:
             elif name in _ARC_WORDS:
                 arc[name] = value
                 if item.mode == "AC":  # I=AC(..): the centre itself, not its distance from the start
+                    absolute.add(name)
+            elif name in _INTERMEDIATE_WORDS:  # CIP's intermediate point, read like the end point
+                arc[name] = value
+                if item.mode == "IC":
+                    incremental.add(name)
+                elif item.mode == "AC":
                     absolute.add(name)
             elif name == "CR":
                 arc["R"] = value

@@ -399,8 +399,11 @@ class _BlockParser:
             return args, spans
 
     def _bare_name(self, name: str, start: int, end: int) -> None:
-        """A name alone: a known command that needs no modelling, or a subprogram call."""
-        if name in IGNORED_COMMANDS or name in MODAL_COMMANDS:
+        """A name alone: a path command of G group 1, a known command that needs no
+        modelling, or a subprogram call."""
+        if name in PATH_COMMANDS:
+            self.block.items.append(Item("word", start, end, name))
+        elif name in IGNORED_COMMANDS or name in MODAL_COMMANDS:
             self.block.items.append(Item("command", start, end, name))
         else:
             self.block.items.append(Item("call", start, end, name))
@@ -829,6 +832,9 @@ IGNORED_COMMANDS = frozenset({
 })
 # Commands that set modal state the lowering turns into IR (handled there by name).
 MODAL_COMMANDS = frozenset({"CFC"})
+# Path commands written as names, modal in G group 1 with G0-G3: CIP, an arc through the
+# intermediate point I1= J1= K1=; CT, an arc tangent to the previous path element.
+PATH_COMMANDS = {"CIP": "arc_through", "CT": "arc_tangent"}
 
 # Predefined procedures called with arguments that do not move axes or change what the
 # checks model (file access, waiting, messages, tables, protection zones).
