@@ -288,3 +288,39 @@ def test_arcs_by_radius_in_a_batch_leave_the_cut_stock_as_block_by_block(dialect
     one_by_one = check_text(program, settings=Settings(per_block_only=True, dialect=dialect))
     assert [(d.rule, d.status, d.span, d.message) for d in batched.diagnostics] == [(d.rule, d.status, d.span, d.message) for d in one_by_one.diagnostics]
     assert [d.status.value for d in batched.diagnostics if d.rule == "core.rapid-into-stock" and d.span.line == len(program.splitlines()) - 1] == ["unknown"]
+
+
+# SINUMERIK writes the radius as CR= (a bare R is a parameter) and inch/metric as G70/G71.
+_SINUMERIK_MODES = st.tuples(st.sampled_from(["G17", "G18", "G19"]), st.sampled_from(["G90", "G91"]), st.sampled_from(["G71", "G70"]))
+_SINUMERIK_STREAK = _MIXED_STREAK.map(lambda blocks: [block.replace(" R", " CR=") for block in blocks])
+
+
+def _sinumerik_program(body: list[str], stock: bool) -> str:
+    annotations = [comment.replace("(", "; ").rstrip(")") for comment in _STOCK] if stock else []
+    return "\n".join(["%_N_PART_MPF", *annotations, "G17 G90 G71 G54", "T1 D1", "M6", "S1000 M3", *body, "M30"]) + "\n"
+
+
+def _assert_same_sinumerik_findings(program: str) -> None:
+    batched = check_text(program, "part.mpf", settings=Settings(dialect="sinumerik"))
+    one_by_one = check_text(program, "part.mpf", settings=Settings(per_block_only=True, dialect="sinumerik"))
+    assert [(d.rule, d.status, d.span, d.message) for d in batched.diagnostics] == [
+        (d.rule, d.status, d.span, d.message) for d in one_by_one.diagnostics]
+    assert batched.blocks == one_by_one.blocks
+
+
+@settings(max_examples=80, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(streaks=st.lists(st.tuples(_SINUMERIK_MODES, _SINUMERIK_STREAK), min_size=1, max_size=3), stock=st.booleans())
+def test_sinumerik_streaks_of_arcs_and_lines_give_the_same_findings_batched_or_block_by_block(streaks, stock):
+    body = [block for modes, streak in streaks for block in (*modes, "G0 X1. Y2. Z3.", "G1 F300.", *streak)]
+    _assert_same_sinumerik_findings(_sinumerik_program(body, stock))
+
+
+def test_sinumerik_cam_arcs_by_centre_and_by_cr_run_inside_batches():
+    contour = ["G1 X0. Y34. Z-0.25", "G2 X6. Y40. I6. J0.", "G1 X34. Y40.", "G2 X40. Y34. CR=6.", "G1 X40. Y6.", "G2 X34. Y0. I-6. J0.",
+               "G1 X6. Y0.", "G2 X0. Y6. CR=6.", "G1 X0. Y20."]
+    program = _sinumerik_program(["G0 X-10. Y20. Z5.", "G1 Z0. F300.", "G41 G1 X0. Y20. F800.", *contour * 12], stock=True)
+    assert _arcs_in_runs(program, dialect="sinumerik") >= 40
+    _assert_same_sinumerik_findings(program)
+    # a bare R is a parameter, never a radius: the line ends the batch and the block path reads it
+    with_parameter = program.replace("G2 X40. Y34. CR=6.", "G2 X40. Y34. R6.", 1)
+    _assert_same_sinumerik_findings(with_parameter)

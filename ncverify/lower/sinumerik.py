@@ -491,7 +491,7 @@ def _nested_modal_call(name: str, span: Span) -> ir.Note:
 
 # ---------------------------------------------------------------------- frontend
 
-_PLAIN_MOTION = re.compile(rb"[ \t]*+(?:[NGXYZF][ \t]*+[+-]?+(?>\d+\.?\d*|\.\d+)[ \t]*+)++")  # possessive: see iso._FAST_LINE
+_PLAIN_MOTION = re.compile(rb"[ \t]*+(?:(?:[NGXYZFIJK]|CR=)[ \t]*+[+-]?+(?>\d+\.?\d*|\.\d+)[ \t]*+)++")  # possessive: see iso._FAST_LINE
 # Plain motion lines lowered without the reader, as the general lowering would (N is a block
 # number, a label only as N<number>; I/J/K and the radius CR= are arc data only, outside the
 # move's span; R is a parameter).
@@ -528,17 +528,18 @@ class SinumerikFrontend:
         return self.lowering.lower(read_line(decode_line(raw), line), path)
 
     def is_plain(self, raw: bytes) -> bool:
-        """Could this line be part of a :class:`ir.MoveBatch`? (``N.. G0/G1 X Y Z F`` with
-        literal numbers, as in ISO: CAM output is the same in both languages. Not while a
-        subprogram may be called modally: its moves carry the call.)"""
+        """Could this line be part of a :class:`ir.MoveBatch`? (``N.. G0-G3 X Y Z I J K
+        CR= F`` with literal numbers, as in ISO: CAM output is the same in both languages.
+        Not while a subprogram may be called modally: its moves carry the call.)"""
         return not self.lowering.uses_modal_call and _PLAIN_MOTION.fullmatch(raw) is not None
 
     def plain_run(self, buffer, offset: int, line: int, limit: int = 1 << 20):
-        """The plain blocks from ``offset`` on, read as arrays by the ISO run reader; a
-        SINUMERIK number is always in mm or inch (no least-increment scaling)."""
+        """The plain blocks from ``offset`` on, arcs among them (the radius as ``CR=``),
+        read as arrays by the ISO run reader; a SINUMERIK number is always in mm or inch (no
+        least-increment scaling)."""
         if self.lowering.uses_modal_call:
             return None
-        run = read_plain_run_at(buffer, offset, limit)
+        run = read_plain_run_at(buffer, offset, limit, arcs=True, radius_word=b"CR=")
         if run is None:
             return None
         table = run.table
@@ -546,7 +547,7 @@ class SinumerikFrontend:
         kinds = numpy.where(numpy.isnan(motion), -1, motion).astype(numpy.int8)
         unscaled = numpy.zeros((len(kinds), 3), dtype=bool)
         return ir.MoveBatch(offset, offset + run.length, line, run.line_starts + offset, kinds, ("X", "Y", "Z"), table[:, 2:5],
-                          unscaled, table[:, 5], numpy.zeros(len(kinds), dtype=bool), run.blocks, worded=run.worded)
+                          unscaled, table[:, 5], numpy.zeros(len(kinds), dtype=bool), run.blocks, run.arc_words, run.worded)
 
     def programs(self, buffer) -> list[tuple[str, int]]:
         """Programs named by ``%_N_NAME_MPF/SPF`` headers; a file without one that starts

@@ -202,18 +202,29 @@ def _first_odd_arc(found: _Chunk, letters, values, has_point, small_integers_are
     return int(odd_letters[0]) if odd_letters.size else len(found.codes)
 
 
-def read_plain_run_at(buffer, offset: int, limit: int, stop_at_small_integers: bool = False, arcs: bool = False) -> PlainRun | None:
+def read_plain_run_at(buffer, offset: int, limit: int, stop_at_small_integers: bool = False, arcs: bool = False,
+                      radius_word: bytes = b"R") -> PlainRun | None:
     """The plain run from ``offset`` of ``buffer`` on (whole lines, at most ``limit``
     bytes). The chunk read starts small and grows fourfold while the run fills it: the
     arrays cost what the run is long, so a streak of ten lines between two arcs does not
-    pay for classifying a whole ``limit`` of text."""
+    pay for classifying a whole ``limit`` of text. ``radius_word``: how the language writes
+    an arc's radius (SINUMERIK ``CR=``; there a bare R is a parameter and ends the run)."""
     size = min(_FIRST_CHUNK, limit)
     while True:
         end = min(len(buffer), offset + size)
         chunk = bytes(buffer[offset:end])
         if end < len(buffer):
             chunk = chunk[: chunk.rfind(b"\n") + 1]
+        if radius_word != b"R":
+            chunk = _radius_words_as_r(chunk, radius_word)
         run = read_plain_run(chunk, stop_at_small_integers=stop_at_small_integers, arcs=arcs)
         if run is None or run.length < len(chunk) or end >= len(buffer) or size >= limit:
             return run
         size = min(size * 4, limit)
+
+
+def _radius_words_as_r(chunk: bytes, radius_word: bytes) -> bytes:
+    """``chunk`` with each ``radius_word`` written as ``R`` at its end (blanks before it, so
+    every byte keeps its place) and every other R made a byte outside the form."""
+    padding = b" " * (len(radius_word) - 1)
+    return chunk.replace(b"R", b"?").replace(radius_word.replace(b"R", b"?"), padding + b"R")
