@@ -214,7 +214,7 @@ class CutterComp(Op):
 
 @dataclass(slots=True)
 class LengthOffset(Op):
-    mode: str  # plus, minus, off; with_tool: the tool's own length, no H register and no Z move (Fagor)
+    mode: str  # plus, minus, off; with_tool: the tool's own length (SINUMERIK: its active edge's), no H register and no Z move (Fagor, SINUMERIK D)
     register: Expr | None = None
 
 

@@ -622,3 +622,35 @@ def test_cam_motion_lines_take_the_fast_lowering(text):
     from ncverify.lower.sinumerik import _FAST_FORM
 
     assert fast_motion_block(text.encode("ascii"), 1, None, _FAST_FORM) is not None
+
+
+# --------------------------------------------------------------------------- tool length on Z travel
+
+_Z_TRAVEL = """
+[machine]
+travel = { x = [-400, 400], y = [-400, 400], z = [-300, 50] }
+work_offsets = { G54 = [0, 0, 0] }
+[tools.1]
+radius = 5.0
+length = 60
+"""
+
+
+@pytest.mark.parametrize("edge, status", [("D1", Status.VIOLATED), ("", Status.VIOLATED), ("D2", Status.UNKNOWN)])
+def test_the_z_travel_counts_the_active_edge_length_of_the_tool_in_the_spindle(edge, status):
+    """No H register on the 840D: D (or M6 alone, which makes D1 active) takes the length of
+    the tool's edge. Z5 with the 60 mm tool is machine Z 65, past the travel's 50; edge D2 is
+    not described, so its length is unknown."""
+    from conftest import check_program
+
+    program = f"""
+        G17 G90 G54 T1
+        M6
+        S1000 M3 {edge}
+        G0 X0 Y0 Z5
+        M30
+    """
+    result = check_program(program, "t.mpf", _Z_TRAVEL, dialect="sinumerik")
+    (finding,) = findings(result, "core.travel-limit")
+    assert finding.status is status
+    assert ("65" in finding.message) if status is Status.VIOLATED else ("T1 (edge D2)" in finding.message)

@@ -10,7 +10,7 @@ import z3
 
 from .. import values
 from ..check import CUTTING, hazard, rule, show
-from ..context import NO_TOOL_TABLE
+from ..context import NO_TOOL_TABLE, active_edge
 from ..diagnostics import Status
 from ..values import Condition, Sym
 from .common import UNKNOWN_DIAMETER_MODE, ReportsMissingContext, lathe_x_is_diameter
@@ -104,12 +104,16 @@ class TravelLimit(ReportsMissingContext):
         return {(True, "diameter"): 1.0, (True, "radius"): 0.5, (False, "diameter"): 2.0, (False, "radius"): 1.0}[(diameter, lathe_x)]
 
     def _with_tool_length(self, offset, state, span):
-        register = state.length_register
-        if state.length_mode == "with_tool":  # Fagor: the offset comes with the tool, not from an H register
-            register = state.tool_in_spindle
-        tool = self.checker.context.tools.numbered(register)
+        if state.length_mode == "with_tool":  # Fagor, SINUMERIK: the offset comes with the tool (and its edge D), not from an H register
+            tool = self.checker.context.tools.numbered(state.tool_in_spindle)
+            edge = active_edge(state)
+            tool = tool.edge_data(edge) if tool is not None and type(edge) is float else None
+            which = f"tool T{show(state.tool_in_spindle)}" + (f" (edge D{show(edge)})" if edge != 1.0 else "")
+        else:
+            tool = self.checker.context.tools.numbered(state.length_register)
+            which = f"the tool on H{show(state.length_register)}"
         if tool is None or tool.length is None:
-            self.missing("core.travel-limit", span, f"the length of the tool on H{show(register)} is not known (length in [tools.N]), so Z was not checked")
+            self.missing("core.travel-limit", span, f"the length of {which} is not known (length in [tools.N]), so Z was not checked")
             return None
         return values.add(offset, -tool.length if state.length_mode == "minus" else tool.length)
 

@@ -347,7 +347,7 @@ class SinumerikLowering:
                 stages["tool"].append(ir.ToolSelect(span, value))
             elif name == "D":
                 off = type(value) is float and value == 0.0
-                stages["offset"].extend([ir.LengthOffset(span, "off" if off else "plus"), ir.Assign(span, ACTIVE_EDGE, value)])
+                stages["offset"].extend([ir.LengthOffset(span, "off" if off else "with_tool"), ir.Assign(span, ACTIVE_EDGE, value)])
             elif name in ("SPOS", "SPOSA"):
                 stages["spindle"].append(ir.Spindle(span, "orient"))
             elif re.fullmatch(r"[XYZABC]\d", name) and _home_op(stages) is not None:
@@ -433,7 +433,7 @@ class SinumerikLowering:
             stages[stage].append((ir.Spindle if effect == "spindle" else ir.Coolant)(span, entry["state"]))
         elif effect == "tool_change":
             # The new tool's first cutting edge (D1) becomes active with the change (840D default).
-            stages["tool"].extend([ir.ToolChange(span), ir.LengthOffset(span, "plus"), ir.Assign(span, ACTIVE_EDGE, 1.0)])
+            stages["tool"].extend([ir.ToolChange(span), ir.LengthOffset(span, "with_tool"), ir.Assign(span, ACTIVE_EDGE, 1.0)])
 
 
 def _call_repeat(words: list[Item], calls: list[ir.Op]) -> None:
