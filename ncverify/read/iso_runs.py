@@ -39,6 +39,7 @@ _POWERS_OF_TEN = 10.0 ** numpy.arange(23)
 _MAX_DIGITS = 15  # mantissas stay below 2**53
 _MOTION_CODES = {False: (0.0, 1.0), True: (0.0, 1.0, 2.0, 3.0)}
 _FIRST_CHUNK = 1 << 14  # bytes read first; CAM streaks between arcs are short
+_MINIMUM_LINES = 16  # a shorter streak is left to the per-block path
 
 
 @dataclass(slots=True)
@@ -61,6 +62,27 @@ class PlainRun:
     @property
     def blocks(self) -> int:
         return int(numpy.count_nonzero(self.worded))
+
+    @staticmethod
+    def joined(pieces: list[PlainRun]) -> PlainRun:
+        """Runs read one after the other as one run (the arc words' columns kept when any
+        piece has them)."""
+        if len(pieces) == 1:
+            return pieces[0]
+        width = max(piece.table.shape[1] for piece in pieces)
+        starts = numpy.cumsum([0] + [piece.length for piece in pieces[:-1]])
+        return PlainRun(
+            numpy.vstack([_widened(piece.table, width, numpy.nan) for piece in pieces]),
+            numpy.vstack([_widened(piece.pointless, width, False) for piece in pieces]),
+            numpy.concatenate([piece.line_starts + start for piece, start in zip(pieces, starts)]),
+            sum(piece.length for piece in pieces),
+            numpy.concatenate([piece.worded for piece in pieces]))
+
+
+def _widened(array, width: int, fill):
+    if array.shape[1] == width:
+        return array
+    return numpy.hstack([array, numpy.full((array.shape[0], width - array.shape[1]), fill, dtype=array.dtype)])
 
 
 class _Chunk:
@@ -93,7 +115,8 @@ class _Chunk:
             bad.append(numpy.zeros(1, dtype=numpy.int64))
         expected = letters + 1
         count = min(len(number_starts), len(expected))
-        bad.append(expected[numpy.flatnonzero(number_starts[:count] != expected[:count])[:1]])
+        mismatch = numpy.flatnonzero(number_starts[:count] != expected[:count])[:1]
+        bad.append(numpy.minimum(number_starts[mismatch], expected[mismatch]))  # a letter without its number, or a number without its letter
         bad.append(expected[count : count + 1])
         bad.append(number_starts[count : count + 1])
         signs = numpy.flatnonzero(classes == _SIGN)
@@ -124,21 +147,26 @@ class _Chunk:
 def parse_numbers(codes, digits, digit_owner, dots, dot_owner, minus_owner, count: int):
     """The values of ``count`` numbers given by where their characters are: the digits and
     decimal points (in text order) with the number each belongs to, and the numbers that
-    carry a minus sign. Returns the values and whether each was written with a point."""
-    per_token = numpy.bincount(digit_owner, minlength=count)
-    first = numpy.concatenate(([0], numpy.cumsum(per_token)[:-1]))
-    rank = per_token[digit_owner] - 1 - (numpy.arange(len(digits)) - first[digit_owner])
-    mantissa = numpy.bincount(digit_owner, weights=(codes[digits] - 48) * _POWERS_OF_TEN[rank], minlength=count)
-    no_point = numpy.iinfo(numpy.int64).max
-    point = numpy.full(count, no_point)
-    point[dot_owner] = dots
-    decimals = numpy.bincount(digit_owner, weights=digits > point[digit_owner], minlength=count).astype(numpy.int64)
+    carry a minus sign. Returns the values and whether each was written with a point.
+    A number's digits are consecutive among ``digits``: its mantissa is their sum weighted
+    by powers of ten, and its decimals are its digits that follow its point."""
+    per_number = numpy.bincount(digit_owner, minlength=count)
+    ends = numpy.cumsum(per_number)  # one past each number's last digit
+    rank = ends[digit_owner] - 1 - numpy.arange(len(digits))  # digits after this one in its number
+    mantissa = numpy.zeros(count)
+    written = per_number > 0
+    if len(digits):
+        mantissa[written] = numpy.add.reduceat((codes[digits] - 48) * _POWERS_OF_TEN[rank], (ends - per_number)[written])
+    decimals = numpy.zeros(count, dtype=numpy.int64)
+    decimals[dot_owner] = ends[dot_owner] - numpy.searchsorted(digits, dots)
+    has_point = numpy.zeros(count, dtype=bool)
+    has_point[dot_owner] = True
     values = mantissa / _POWERS_OF_TEN[decimals]
     values[minus_owner] *= -1.0
-    return values, point != no_point
+    return values, has_point
 
 
-def read_plain_run(chunk: bytes, minimum_lines: int = 16, stop_at_small_integers: bool = False, arcs: bool = False) -> PlainRun | None:
+def read_plain_run(chunk: bytes, minimum_lines: int = _MINIMUM_LINES, stop_at_small_integers: bool = False, arcs: bool = False) -> PlainRun | None:
     """Read the plain lines at the start of ``chunk`` (whole lines only); None when
     fewer than ``minimum_lines``. With ``stop_at_small_integers`` (a control that reads
     integers in least input increments) the run also ends before a coordinate like ``Z5``,
@@ -202,18 +230,29 @@ def _first_odd_arc(found: _Chunk, letters, values, has_point, small_integers_are
     return int(odd_letters[0]) if odd_letters.size else len(found.codes)
 
 
-def read_plain_run_at(buffer, offset: int, limit: int, stop_at_small_integers: bool = False, arcs: bool = False) -> PlainRun | None:
+def read_plain_run_at(buffer, offset: int, limit: int, stop_at_small_integers: bool = False, arcs: bool = False,
+                      first_chunk: int = _FIRST_CHUNK) -> PlainRun | None:
     """The plain run from ``offset`` of ``buffer`` on (whole lines, at most ``limit``
-    bytes). The chunk read starts small and grows fourfold while the run fills it: the
-    arrays cost what the run is long, so a streak of ten lines between two arcs does not
-    pay for classifying a whole ``limit`` of text."""
-    size = min(_FIRST_CHUNK, limit)
+    bytes). It is read in chunks that start small and grow fourfold, each from where the
+    run so far ends, while the run fills them: the arrays cost what the run is long, so a
+    streak of ten lines between two arcs does not pay for classifying a whole ``limit`` of
+    text, and no byte is classified twice. Whether a line is plain depends on that line
+    alone, so the pieces make the run one read of all the text would make; the first chunk
+    decides whether the streak is long enough."""
+    size = min(first_chunk, limit)
+    pieces: list[PlainRun] = []
+    start = offset
     while True:
         end = min(len(buffer), offset + size)
-        chunk = bytes(buffer[offset:end])
+        chunk = bytes(buffer[start:end])
         if end < len(buffer):
             chunk = chunk[: chunk.rfind(b"\n") + 1]
-        run = read_plain_run(chunk, stop_at_small_integers=stop_at_small_integers, arcs=arcs)
-        if run is None or run.length < len(chunk) or end >= len(buffer) or size >= limit:
-            return run
+        piece = read_plain_run(chunk, minimum_lines=0 if pieces else _MINIMUM_LINES, stop_at_small_integers=stop_at_small_integers, arcs=arcs)
+        if piece is None:
+            return None
+        if piece.length:
+            pieces.append(piece)
+            start += piece.length
+        if piece.length < len(chunk) or end >= len(buffer) or size >= limit:
+            return PlainRun.joined(pieces)
         size = min(size * 4, limit)
