@@ -73,3 +73,17 @@ def test_a_program_with_free_parameters_still_gets_its_proofs(tmp_path):
     assert "z3" in outcome["imported"] and "lark" in outcome["imported"]  # #1 is an expression: the grammar reads it
     assert _statuses(outcome, "core.cycle-depth-sign") == {"proved"}
     assert _statuses(outcome, "core.cycle-r-above-initial") == {"proved"}
+
+
+def test_rule_pages_are_parsed_when_first_looked_up():
+    from ncverify.resources import data_dir
+    from ncverify.rule_pages import RuleBook, parse_rule_file
+
+    paths = sorted(data_dir("rules").glob("*/*.md"))
+    book = RuleBook(paths)
+    assert len(book) == len(paths) and "core.feed-missing" in book and "core.no-such-rule" not in book
+    assert book._parsed == {}
+    assert book["core.feed-missing"].summary == parse_rule_file(data_dir("rules") / "core" / "feed-missing.md").summary
+    assert list(book._parsed) == ["core.feed-missing"]
+    constrained = [definition.id for definition in book.constrained()]
+    assert constrained and constrained == [rule_id for rule_id in book if parse_rule_file(book._paths[rule_id]).constraints]
