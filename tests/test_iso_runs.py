@@ -104,12 +104,13 @@ def _read_from_the_start(buffer, offset: int, limit: int, first_chunk: int, **op
 
 @settings(max_examples=300, deadline=None)
 @given(lines=st.lists(st.one_of(_LINE, _LINE, _LINE, _LINE, _ANY_LINE), min_size=1, max_size=120), offset_line=st.integers(0, 5),
-       first_chunk=st.integers(40, 400), limit=st.integers(100, 6000), last_newline=st.booleans(), arcs=st.booleans(), increments=st.booleans())
-def test_a_run_read_in_pieces_is_the_run_read_in_one(lines, offset_line, first_chunk, limit, last_newline, arcs, increments):
+       first_chunk=st.integers(40, 400), largest=st.integers(0, 4), limit=st.integers(100, 6000), last_newline=st.booleans(), arcs=st.booleans(),
+       increments=st.booleans())
+def test_a_run_read_in_pieces_is_the_run_read_in_one(lines, offset_line, first_chunk, largest, limit, last_newline, arcs, increments):
     buffer = ("\n".join(lines) + ("\n" if last_newline else "")).encode()
     offset = sum(len(line) + 1 for line in lines[:offset_line]) if offset_line < len(lines) else 0
     options = {"arcs": arcs, "stop_at_small_integers": increments}
-    pieces = read_plain_run_at(buffer, offset, limit, first_chunk=first_chunk, **options)
+    pieces = read_plain_run_at(buffer, offset, limit, first_chunk=first_chunk, largest_chunk=first_chunk * 4 ** largest, **options)
     whole = _read_from_the_start(buffer, offset, limit, first_chunk, **options)
     assert (pieces is None) == (whole is None)
     if whole is not None:

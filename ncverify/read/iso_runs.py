@@ -40,6 +40,7 @@ _MAX_DIGITS = 15  # mantissas stay below 2**53
 _MOTION_CODES = {False: (0.0, 1.0), True: (0.0, 1.0, 2.0, 3.0)}
 _FIRST_CHUNK = 1 << 14  # bytes read first; CAM streaks between arcs are short
 _MINIMUM_LINES = 16  # a shorter streak is left to the per-block path
+_LARGEST_CHUNK = 1 << 18  # larger arrays are mapped afresh for every chunk (a tenth of the run's time)
 
 
 @dataclass(slots=True)
@@ -97,11 +98,17 @@ class _Chunk:
         self.newlines = numpy.flatnonzero(is_newline)
         self.digits = numpy.flatnonzero(self.classes == _DIGIT)
         self.dots = numpy.flatnonzero(self.classes == _DOT)
-        # For every byte: the index of the word (letter) it belongs to, and of its line.
-        self.owner_at = numpy.cumsum(is_letter, dtype=numpy.int32) - 1
+        self.signs = numpy.flatnonzero(self.classes == _SIGN)
+        # For every byte: how many letters are at or before it (the index of the word it
+        # belongs to, plus one), and the index of its line.
+        self.letters_up_to = numpy.cumsum(is_letter, dtype=numpy.int32)
         self.line_at = numpy.cumsum(is_newline, dtype=numpy.int32)
-        self.digit_owner = self.owner_at[self.digits]
-        self.dot_owner = self.owner_at[self.dots]
+        self.digit_owner = self.owner_of(self.digits)
+        self.dot_owner = self.owner_of(self.dots)
+
+    def owner_of(self, positions):
+        """The index of the word each position belongs to (-1 before the first letter)."""
+        return self.letters_up_to[positions] - 1
 
     def first_bad_position(self) -> int:
         """The first byte that breaks the form: a character outside it, a letter not
@@ -119,7 +126,7 @@ class _Chunk:
         bad.append(numpy.minimum(number_starts[mismatch], expected[mismatch]))  # a letter without its number, or a number without its letter
         bad.append(expected[count : count + 1])
         bad.append(number_starts[count : count + 1])
-        signs = numpy.flatnonzero(classes == _SIGN)
+        signs = self.signs
         bad.append(signs[classes[numpy.maximum(signs - 1, 0)] != _LETTER][:1])
         bad.append(self.dots[1:][self.dot_owner[1:] == self.dot_owner[:-1]][:1])
         if len(letters):
@@ -135,12 +142,13 @@ class _Chunk:
 
     def numbers(self, stop: int):
         """The number after each letter before ``stop``, and whether it has a point."""
-        letters = self.letters[self.letters < stop]
-        digits_kept = self.digits < stop
-        dots_kept = self.dots < stop
-        minus = numpy.flatnonzero(self.codes[:stop] == ord("-"))
-        values, has_point = parse_numbers(self.codes, self.digits[digits_kept], self.digit_owner[digits_kept],
-                                          self.dots[dots_kept], self.dot_owner[dots_kept], self.owner_at[minus], len(letters))
+        letters = self.letters[: numpy.searchsorted(self.letters, stop)]  # positions are in order: the kept ones lead
+        digits = numpy.searchsorted(self.digits, stop)
+        dots = numpy.searchsorted(self.dots, stop)
+        signs = self.signs[: numpy.searchsorted(self.signs, stop)]
+        minus = signs[self.codes[signs] == ord("-")]
+        values, has_point = parse_numbers(self.codes, self.digits[:digits], self.digit_owner[:digits],
+                                          self.dots[:dots], self.dot_owner[:dots], self.owner_of(minus), len(letters))
         return letters, values, has_point
 
 
@@ -152,7 +160,8 @@ def parse_numbers(codes, digits, digit_owner, dots, dot_owner, minus_owner, coun
     by powers of ten, and its decimals are its digits that follow its point."""
     per_number = numpy.bincount(digit_owner, minlength=count)
     ends = numpy.cumsum(per_number)  # one past each number's last digit
-    rank = ends[digit_owner] - 1 - numpy.arange(len(digits))  # digits after this one in its number
+    rank = (ends - 1)[digit_owner]
+    rank -= numpy.arange(len(digits))  # digits after this one in its number
     mantissa = numpy.zeros(count)
     written = per_number > 0
     if len(digits):
@@ -231,19 +240,20 @@ def _first_odd_arc(found: _Chunk, letters, values, has_point, small_integers_are
 
 
 def read_plain_run_at(buffer, offset: int, limit: int, stop_at_small_integers: bool = False, arcs: bool = False,
-                      first_chunk: int = _FIRST_CHUNK) -> PlainRun | None:
+                      first_chunk: int = _FIRST_CHUNK, largest_chunk: int = _LARGEST_CHUNK) -> PlainRun | None:
     """The plain run from ``offset`` of ``buffer`` on (whole lines, at most ``limit``
-    bytes). It is read in chunks that start small and grow fourfold, each from where the
-    run so far ends, while the run fills them: the arrays cost what the run is long, so a
-    streak of ten lines between two arcs does not pay for classifying a whole ``limit`` of
-    text, and no byte is classified twice. Whether a line is plain depends on that line
-    alone, so the pieces make the run one read of all the text would make; the first chunk
-    decides whether the streak is long enough."""
-    size = min(first_chunk, limit)
+    bytes). It is read in chunks that start small and grow fourfold up to
+    ``largest_chunk``, each from where the run so far ends, while the run fills them: the
+    arrays cost what the run is long, so a streak of ten lines between two arcs does not
+    pay for classifying a whole ``limit`` of text, no byte is classified twice, and the
+    arrays of one chunk stay small enough to be reused rather than mapped afresh. Whether
+    a line is plain depends on that line alone, so the pieces make the run one read of all
+    the text would make; the first chunk decides whether the streak is long enough."""
+    size = first_chunk
     pieces: list[PlainRun] = []
     start = offset
     while True:
-        end = min(len(buffer), offset + size)
+        end = min(len(buffer), offset + limit, start + size)
         chunk = bytes(buffer[start:end])
         if end < len(buffer):
             chunk = chunk[: chunk.rfind(b"\n") + 1]
@@ -253,6 +263,6 @@ def read_plain_run_at(buffer, offset: int, limit: int, stop_at_small_integers: b
         if piece.length:
             pieces.append(piece)
             start += piece.length
-        if piece.length < len(chunk) or end >= len(buffer) or size >= limit:
+        if piece.length < len(chunk) or end >= len(buffer) or end >= offset + limit:
             return PlainRun.joined(pieces)
-        size = min(size * 4, limit)
+        size = min(size * 4, largest_chunk) if chunk else size * 4  # no whole line in it yet: look further
