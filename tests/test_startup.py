@@ -9,6 +9,9 @@ import subprocess
 import sys
 import textwrap
 
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
 PLAIN = """\
 (ncverify: stock box X0:100 Y0:80 Z-20:0)
 G21 G90 G17 G40 G49 G80 G54
@@ -87,3 +90,14 @@ def test_rule_pages_are_parsed_when_first_looked_up():
     assert list(book._parsed) == ["core.feed-missing"]
     constrained = [definition.id for definition in book.constrained()]
     assert constrained and constrained == [rule_id for rule_id in book if parse_rule_file(book._paths[rule_id]).constraints]
+
+
+@settings(max_examples=300)
+@given(st.lists(st.sampled_from(["ncverify", "NCVERIFY", "Ncverify", "NCVerify", "NcVerify", "nCVerify", "erify", "ERIFY", "ncv", "NCV",
+                                 "Verify", "(", ":", " ", "\n", "X1."]), max_size=30).map("".join))
+def test_annotation_markers_are_found_by_their_tails_as_by_each_variant(text):
+    from ncverify.annotations import _MARKERS, _markers
+    from ncverify.source import find_all
+
+    buffer = text.encode()
+    assert _markers(buffer) == find_all(buffer, _MARKERS)
