@@ -94,6 +94,7 @@ class RuleBook(Mapping):
     def __init__(self, paths: list[Path]):
         self._paths = {f"{path.parent.name}.{path.stem}": path for path in paths}
         self._parsed: dict[str, RuleDefinition] = {}
+        self._constrained: list[RuleDefinition] | None = None
 
     def __getitem__(self, rule_id: str) -> RuleDefinition:
         definition = self._parsed.get(rule_id)
@@ -111,10 +112,12 @@ class RuleBook(Mapping):
         return len(self._paths)
 
     def constrained(self) -> list[RuleDefinition]:
-        """The definitions with parameter constraints, in id order. Only pages that name a
-        constraint at all are parsed to find them."""
-        candidates = (rule_id for rule_id, path in self._paths.items() if "constraint" in path.read_text(encoding="utf-8"))
-        return [definition for definition in map(self.__getitem__, candidates) if definition.constraints]
+        """The definitions with parameter constraints, in id order (found once: the pages
+        are the package's). Only pages that name a constraint at all are parsed."""
+        if self._constrained is None:
+            candidates = (rule_id for rule_id, path in self._paths.items() if "constraint" in path.read_text(encoding="utf-8"))
+            self._constrained = [definition for definition in map(self.__getitem__, candidates) if definition.constraints]
+        return self._constrained
 
 
 @cache
