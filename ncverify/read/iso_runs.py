@@ -91,7 +91,7 @@ class _Chunk:
 
     def __init__(self, chunk: bytes, arcs: bool):
         self.codes = numpy.frombuffer(chunk, dtype=numpy.uint8)
-        self.classes = _BYTE_CLASS[arcs][self.codes]
+        self.classes = _BYTE_CLASS[arcs].take(self.codes)  # take: twice as fast as indexing
         is_letter = self.classes == _LETTER
         is_newline = self.classes == _NEWLINE
         self.letters = numpy.flatnonzero(is_letter)
@@ -130,7 +130,7 @@ class _Chunk:
         bad.append(signs[classes[numpy.maximum(signs - 1, 0)] != _LETTER][:1])
         bad.append(self.dots[1:][self.dot_owner[1:] == self.dot_owner[:-1]][:1])
         if len(letters):
-            digit_counts = numpy.bincount(self.digit_owner[self.digit_owner >= 0], minlength=len(letters))
+            digit_counts = numpy.bincount(self.digit_owner + 1, minlength=len(letters) + 1)[1:]  # [0]: digits before any letter
             bad.append(letters[(digit_counts == 0) | (digit_counts > _MAX_DIGITS)][:1])
             keys = self.line_of(letters) * len(LETTERS) + _COLUMN[self.codes[letters]]
             bad.append(letters[numpy.bincount(keys)[keys] > 1][:1])
