@@ -14,7 +14,7 @@ from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput
 from .. import ir
 from ..resources import data_dir
 from ..source import Span
-from .iso import ReadBlock, Statement, SyntaxProblem, Word
+from .iso_blocks import ReadBlock, Statement, SyntaxProblem, Word
 
 @cache
 def _parser() -> Lark:
