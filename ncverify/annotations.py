@@ -46,7 +46,7 @@ def collect(source: ProgramSource, frontend) -> Annotations:
     found = Annotations()
     buffer = source.buffer
     seen_lines: set[int] = set()
-    for marker in find_all(buffer, _MARKERS):
+    for marker in _markers(buffer):
         line_start = buffer.rfind(b"\n", 0, marker) + 1
         if line_start in seen_lines:
             continue
@@ -62,6 +62,12 @@ def collect(source: ProgramSource, frontend) -> Annotations:
                     target = _next_block_line(source, frontend, line_start) if own_line else line
                     _read(body, span, target, found)
     return found
+
+
+def _markers(buffer) -> list[int]:
+    """Where the markers are. Each search reads the whole file: the case variants are
+    found by the two tails they end in, then told apart."""
+    return [tail - 3 for tail in find_all(buffer, (b"erify", b"ERIFY")) if tail >= 3 and bytes(buffer[tail - 3 : tail + 5]) in _MARKERS]
 
 
 def _raw_line(buffer, start: int) -> bytes:

@@ -134,7 +134,8 @@ def check_source(source: ProgramSource, settings: Settings, project: Context | N
     with values.fresh_numbering():
         _run(source, settings, detection, result, project, checker_class=checker_class)
         _confirm_witnesses(source, settings, detection, result, project)
-        _inputs_are_not_mistakes(result, _assumed_names(source, settings, detection, project))
+        if any(diagnostic.status is Status.VIOLATED and diagnostic.witness for diagnostic in result.diagnostics):  # else nothing to judge
+            _inputs_are_not_mistakes(result, _assumed_names(source, settings, detection, project))
     if detection.dialect == "iso" and settings.profile is None and not profile_evidence(source.head(), detection.machine):
         _findings_of_an_assumed_profile(result)
     _one_finding_per_unknown_code(result)

@@ -136,12 +136,12 @@ class Checker:
         # what each rule's proofs read: its class's declaration; a constraint from rules/
         # compares cycle parameters as written; a division by zero is the value's alone
         self._reads = {rule_id: cls.reads for cls in rule_classes() for rule_id in cls.ids}
-        self._reads.update({definition.id: modelled.AS_WRITTEN for definition in self.definitions.values()
-                            if definition.constraints and definition.id not in self._reads})
+        constrained = self.definitions.constrained()
+        self._reads.update({definition.id: modelled.AS_WRITTEN for definition in constrained if definition.id not in self._reads})
         self._reads.setdefault("core.arithmetic-domain", modelled.EVERY)
         self._constraints = [
             (definition, constraint)
-            for definition in self.definitions.values()
+            for definition in constrained
             for constraint in definition.constraints
             if definition.id not in settings.disabled_rules
         ]

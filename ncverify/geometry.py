@@ -14,9 +14,9 @@ import math
 import numpy
 import shapely
 import shapely.ops
-import z3
 from shapely.geometry import LineString
 
+from .solver import z3
 from . import values
 from .context import Stock
 

@@ -8,11 +8,9 @@ pipes and the process sentinels together.
 """
 from __future__ import annotations
 
-import multiprocessing
 import time
 from collections import deque
 from dataclasses import dataclass
-from multiprocessing.connection import wait
 from typing import Callable, Iterable, Iterator
 
 
@@ -27,6 +25,9 @@ def run_in_workers(function: Callable, tasks: Iterable, jobs: int, timeout: floa
     """Yield ``(index, function(task))`` for every task, in the order they finish, computed
     in ``jobs`` worker processes; a task whose worker fails yields a :class:`WorkerFailure`.
     ``function`` must be importable by name (it is sent to spawned processes)."""
+    import multiprocessing  # here: a run of one file never starts a worker, and this import costs 30 ms
+    from multiprocessing.connection import wait
+
     pending = deque(enumerate(tasks))
     context = multiprocessing.get_context("spawn")
     idle: list[_Worker] = []

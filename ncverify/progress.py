@@ -12,10 +12,12 @@ SHOW_AFTER_S = 2.0
 
 class BatchProgress:
     def __init__(self, total: int, console=None, show_after_s: float = SHOW_AFTER_S):
-        from rich.console import Console
+        if console is None and total > 1:  # one file never shows the bar: no console (rich costs 40 ms to import)
+            from rich.console import Console
 
-        self.console = console or Console(stderr=True)
-        self.enabled = self.console.is_terminal and total > 1
+            console = Console(stderr=True)
+        self.console = console
+        self.enabled = total > 1 and console.is_terminal
         self.total = total
         self.show_after_s = show_after_s
         self.started = time.monotonic()

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import ast
 import tomllib
+from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, field
 from functools import cache
 from pathlib import Path
@@ -84,14 +85,44 @@ def parse_rule_file(path: Path) -> RuleDefinition:
     )
 
 
+class RuleBook(Mapping):
+    """Every rule's definition by id (a page's id is its place: ``category-folder.stem``),
+    each page parsed when it is first looked up. A check reads the pages of the rules it
+    reports and of the rules with constraints, not all two hundred (parsing every page's
+    TOML is a tenth of a small check's time)."""
+
+    def __init__(self, paths: list[Path]):
+        self._paths = {f"{path.parent.name}.{path.stem}": path for path in paths}
+        self._parsed: dict[str, RuleDefinition] = {}
+        self._constrained: list[RuleDefinition] | None = None
+
+    def __getitem__(self, rule_id: str) -> RuleDefinition:
+        definition = self._parsed.get(rule_id)
+        if definition is None:
+            definition = self._parsed[rule_id] = parse_rule_file(self._paths[rule_id])
+        return definition
+
+    def __contains__(self, rule_id) -> bool:
+        return rule_id in self._paths
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(self._paths)
+
+    def __len__(self) -> int:
+        return len(self._paths)
+
+    def constrained(self) -> list[RuleDefinition]:
+        """The definitions with parameter constraints, in id order (found once: the pages
+        are the package's). Only pages that name a constraint at all are parsed."""
+        if self._constrained is None:
+            candidates = (rule_id for rule_id, path in self._paths.items() if "constraint" in path.read_text(encoding="utf-8"))
+            self._constrained = [definition for definition in map(self.__getitem__, candidates) if definition.constraints]
+        return self._constrained
+
+
 @cache
-def rule_definitions() -> dict[str, RuleDefinition]:
-    root = data_dir("rules")
-    definitions = {}
-    for path in sorted(root.glob("*/*.md")):
-        definition = parse_rule_file(path)
-        definitions[definition.id] = definition
-    return definitions
+def rule_definitions() -> RuleBook:
+    return RuleBook(sorted(data_dir("rules").glob("*/*.md")))
 
 
 def explain_text(rule_id: str) -> str | None:

@@ -10,6 +10,7 @@ over-approximates soundly: everything the program can do is still included. Roun
 """
 from __future__ import annotations
 
+import functools
 import itertools
 import math
 import re
@@ -17,7 +18,7 @@ from contextlib import contextmanager
 from contextvars import ContextVar
 from dataclasses import dataclass
 
-import z3
+from .solver import z3
 
 INF = math.inf
 
@@ -282,26 +283,27 @@ _FUNCTIONS = {
 # FIX(Q1 / 2), not a formula; :func:`defined` puts their exact definition in their place
 # for the solver (Z3's ToInt is the floor). Each maps a bound the way it maps a value
 # (they are monotone), which gives the interval.
-_NAMED = {name: z3.Function(name, *(z3.RealSort(),) * (arity + 1)) for name, arity in (("FIX", 1), ("FUP", 1), ("ROUND", 1), ("MIN", 2), ("MAX", 2))}
+@functools.cache
+def _named() -> dict:
+    """The Z3 function of each name (made on first use: Z3 is imported only when needed)."""
+    return {name: z3.Function(name, *(z3.RealSort(),) * (arity + 1)) for name, arity in (("FIX", 1), ("FUP", 1), ("ROUND", 1), ("MIN", 2), ("MAX", 2))}
 
 
 def _floor(term):
     return z3.ToReal(z3.ToInt(term))
 
 
+@functools.cache
 def _definitions() -> tuple:
     x, y = z3.Var(0, z3.RealSort()), z3.Var(1, z3.RealSort())
     bodies = {"FIX": z3.If(x >= 0, _floor(x), -_floor(-x)), "FUP": z3.If(x >= 0, -_floor(-x), _floor(x)),
               "ROUND": z3.If(x >= 0, _floor(x + 0.5), -_floor(0.5 - x)), "MIN": z3.If(x <= y, x, y), "MAX": z3.If(x >= y, x, y)}
-    return tuple((_NAMED[name], body) for name, body in bodies.items())
-
-
-_DEFINITIONS = _definitions()
+    return tuple((_named()[name], body) for name, body in bodies.items())
 
 
 def defined(term):
     """``term`` with every named rounding and MIN/MAX replaced by its definition."""
-    return z3.substitute_funs(term, *_DEFINITIONS)
+    return z3.substitute_funs(term, *_definitions())
 
 
 _ON_BOUNDS = {"FIX": lambda x: float(math.trunc(x)), "FUP": lambda x: float(math.ceil(x) if x >= 0 else math.floor(x)), "ROUND": _round_half_away}
@@ -309,7 +311,7 @@ _ON_BOUNDS = {"FIX": lambda x: float(math.trunc(x)), "FUP": lambda x: float(math
 
 def _rounded(name: str, argument: Sym) -> Sym:
     low, high = ((_ON_BOUNDS[name](bound) if math.isfinite(bound) else bound) for bound in (argument.low, argument.high))
-    return _sym(_NAMED[name](argument.term), low, high, argument)
+    return _sym(_named()[name](argument.term), low, high, argument)
 
 
 def extreme(name: str, a: Value, b: Value) -> Value:
@@ -318,7 +320,7 @@ def extreme(name: str, a: Value, b: Value) -> Value:
         return min(a, b) if name == "MIN" else max(a, b)
     (al, ah), (bl, bh) = interval(a), interval(b)
     pick = min if name == "MIN" else max
-    return _sym(_NAMED[name](term_of(a), term_of(b)), pick(al, bl), pick(ah, bh), a, b)
+    return _sym(_named()[name](term_of(a), term_of(b)), pick(al, bl), pick(ah, bh), a, b)
 
 
 def call(name: str, args: list[Value]) -> Value:

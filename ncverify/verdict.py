@@ -12,8 +12,8 @@ import ast
 import math
 from dataclasses import dataclass, field
 
-import z3
 
+from .solver import z3
 from . import values
 from .diagnostics import Status
 from .values import Condition, Sym

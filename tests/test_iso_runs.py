@@ -5,12 +5,14 @@ from __future__ import annotations
 
 import math
 
+import numpy
+
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from ncverify import ir
 from ncverify.lower.iso import FastMotionForm, fast_motion_block
-from ncverify.read.iso_runs import LETTERS, read_plain_run
+from ncverify.read.iso_runs import LETTERS, read_plain_run, read_plain_run_at
 
 _FORM = FastMotionForm(frozenset("XYZ"))
 _NUMBER = st.one_of(
@@ -23,6 +25,10 @@ _LINE = st.tuples(
     st.one_of(st.none(), st.sampled_from(["G0", "G1", "G2", "G3", "G02", "G03"])),
     st.lists(_WORD, max_size=5),
 ).map(lambda parts: " ".join(([parts[0]] if parts[0] else []) + parts[1]))
+# Lines no run may take: a number without its letter (alone or first), a letter without
+# its number, a sign or a point out of place, a letter twice, a comment, an M code.
+_ODD_LINE = st.sampled_from(["5", ".5", "-3", "  12.5", "7 X1.", "X", "G1 X", "X1.5.2", "X-1-2", "X1. X2.", "G1 X1. (c)", "M3", "+", "G1 Y-.5-"])
+_ANY_LINE = st.one_of(_LINE, _LINE, _LINE, _ODD_LINE, st.just(""))
 
 
 def _words_of(block: ir.Block) -> dict:
@@ -38,7 +44,7 @@ def _words_of(block: ir.Block) -> dict:
 
 
 @settings(max_examples=300, deadline=None)
-@given(lines=st.lists(_LINE, min_size=1, max_size=30))
+@given(lines=st.lists(_ANY_LINE, min_size=1, max_size=30))
 def test_every_line_of_a_run_is_lowered_alike_by_the_fast_path(lines):
     text = "".join(line + "\n" for line in lines).encode()
     run = read_plain_run(text, minimum_lines=1, arcs=True)
@@ -80,3 +86,43 @@ def test_centre_words_without_a_point_end_the_run_where_integers_are_increments(
     text = b"".join([b"G2 X1. Y1. I1. J0.\n"] * 20 + [b"G2 X1. Y1. I1 J0.\n"])
     assert len(read_plain_run(text, arcs=True, stop_at_small_integers=True).line_starts) == 20
     assert len(read_plain_run(text, arcs=True).line_starts) == 21
+
+
+def _read_from_the_start(buffer, offset: int, limit: int, first_chunk: int, **options):
+    """The run read as it was before pieces: each larger chunk read again from ``offset``."""
+    size = min(first_chunk, limit)
+    while True:
+        end = min(len(buffer), offset + size)
+        chunk = bytes(buffer[offset:end])
+        if end < len(buffer):
+            chunk = chunk[: chunk.rfind(b"\n") + 1]
+        run = read_plain_run(chunk, **options)
+        if run is None or run.length < len(chunk) or end >= len(buffer) or size >= limit:
+            return run
+        size = min(size * 4, limit)
+
+
+@settings(max_examples=300, deadline=None)
+@given(lines=st.lists(st.one_of(_LINE, _LINE, _LINE, _LINE, _ANY_LINE), min_size=1, max_size=120), offset_line=st.integers(0, 5),
+       first_chunk=st.integers(40, 400), largest=st.integers(0, 4), limit=st.integers(100, 6000), last_newline=st.booleans(), arcs=st.booleans(),
+       increments=st.booleans())
+def test_a_run_read_in_pieces_is_the_run_read_in_one(lines, offset_line, first_chunk, largest, limit, last_newline, arcs, increments):
+    buffer = ("\n".join(lines) + ("\n" if last_newline else "")).encode()
+    offset = sum(len(line) + 1 for line in lines[:offset_line]) if offset_line < len(lines) else 0
+    options = {"arcs": arcs, "stop_at_small_integers": increments}
+    pieces = read_plain_run_at(buffer, offset, limit, first_chunk=first_chunk, largest_chunk=first_chunk * 4 ** largest, **options)
+    whole = _read_from_the_start(buffer, offset, limit, first_chunk, **options)
+    assert (pieces is None) == (whole is None)
+    if whole is not None:
+        assert pieces.length == whole.length
+        assert numpy.array_equal(pieces.table, whole.table, equal_nan=True)
+        assert numpy.array_equal(pieces.pointless, whole.pointless)
+        assert numpy.array_equal(pieces.line_starts, whole.line_starts)
+        assert numpy.array_equal(pieces.worded, whole.worded)
+
+
+def test_a_number_without_its_letter_ends_the_run_before_its_line():
+    """It once joined the number of the line before (Y1. and a line "5" read as Y1.5)."""
+    text = b"G1 X1. Y1.\n" * 20 + b"5\n" + b"G1 X2. Y2.\n" * 20
+    run = read_plain_run(text)
+    assert len(run.line_starts) == 20 and run.table[19].tolist()[3] == 1.0

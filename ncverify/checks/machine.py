@@ -6,8 +6,8 @@ from __future__ import annotations
 import math
 
 import numpy
-import z3
 
+from ..solver import z3
 from .. import values
 from ..check import CUTTING, hazard, rule, show
 from ..context import NO_TOOL_TABLE, active_edge

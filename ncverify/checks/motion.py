@@ -4,8 +4,8 @@ from __future__ import annotations
 import math
 
 import numpy
-import z3
 
+from ..solver import z3
 from .. import ir, values
 from ..values import Condition
 from ..diagnostics import Status

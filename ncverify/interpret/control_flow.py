@@ -18,6 +18,7 @@ from dataclasses import dataclass
 from .. import ir, values
 from ..dialect import logical_lines
 from ..source import ProgramSource, Span
+from ..solver import z3
 from ..trace import Fault
 from ..values import VACANT, Condition
 
@@ -591,8 +592,6 @@ def _gaps(ranges: list[tuple[int, int]], size: int):
 
 
 def _condition_parameters(condition: Condition) -> set[str]:
-    import z3
-
     found = set()
     seen = set()  # a term shares its sub-terms: walked as a tree, a loop's sums take exponential time
 

@@ -39,6 +39,8 @@ _POWERS_OF_TEN = 10.0 ** numpy.arange(23)
 _MAX_DIGITS = 15  # mantissas stay below 2**53
 _MOTION_CODES = {False: (0.0, 1.0), True: (0.0, 1.0, 2.0, 3.0)}
 _FIRST_CHUNK = 1 << 14  # bytes read first; CAM streaks between arcs are short
+_MINIMUM_LINES = 16  # a shorter streak is left to the per-block path
+_LARGEST_CHUNK = 1 << 18  # larger arrays are mapped afresh for every chunk (a tenth of the run's time)
 
 
 @dataclass(slots=True)
@@ -62,24 +64,51 @@ class PlainRun:
     def blocks(self) -> int:
         return int(numpy.count_nonzero(self.worded))
 
+    @staticmethod
+    def joined(pieces: list[PlainRun]) -> PlainRun:
+        """Runs read one after the other as one run (the arc words' columns kept when any
+        piece has them)."""
+        if len(pieces) == 1:
+            return pieces[0]
+        width = max(piece.table.shape[1] for piece in pieces)
+        starts = numpy.cumsum([0] + [piece.length for piece in pieces[:-1]])
+        return PlainRun(
+            numpy.vstack([_widened(piece.table, width, numpy.nan) for piece in pieces]),
+            numpy.vstack([_widened(piece.pointless, width, False) for piece in pieces]),
+            numpy.concatenate([piece.line_starts + start for piece, start in zip(pieces, starts)]),
+            sum(piece.length for piece in pieces),
+            numpy.concatenate([piece.worded for piece in pieces]))
+
+
+def _widened(array, width: int, fill):
+    if array.shape[1] == width:
+        return array
+    return numpy.hstack([array, numpy.full((array.shape[0], width - array.shape[1]), fill, dtype=array.dtype)])
+
 
 class _Chunk:
     """The byte positions of one chunk, found once."""
 
     def __init__(self, chunk: bytes, arcs: bool):
         self.codes = numpy.frombuffer(chunk, dtype=numpy.uint8)
-        self.classes = _BYTE_CLASS[arcs][self.codes]
+        self.classes = _BYTE_CLASS[arcs].take(self.codes)  # take: twice as fast as indexing
         is_letter = self.classes == _LETTER
         is_newline = self.classes == _NEWLINE
         self.letters = numpy.flatnonzero(is_letter)
         self.newlines = numpy.flatnonzero(is_newline)
         self.digits = numpy.flatnonzero(self.classes == _DIGIT)
         self.dots = numpy.flatnonzero(self.classes == _DOT)
-        # For every byte: the index of the word (letter) it belongs to, and of its line.
-        self.owner_at = numpy.cumsum(is_letter, dtype=numpy.int32) - 1
+        self.signs = numpy.flatnonzero(self.classes == _SIGN)
+        # For every byte: how many letters are at or before it (the index of the word it
+        # belongs to, plus one), and the index of its line.
+        self.letters_up_to = numpy.cumsum(is_letter, dtype=numpy.int32)
         self.line_at = numpy.cumsum(is_newline, dtype=numpy.int32)
-        self.digit_owner = self.owner_at[self.digits]
-        self.dot_owner = self.owner_at[self.dots]
+        self.digit_owner = self.owner_of(self.digits)
+        self.dot_owner = self.owner_of(self.dots)
+
+    def owner_of(self, positions):
+        """The index of the word each position belongs to (-1 before the first letter)."""
+        return self.letters_up_to[positions] - 1
 
     def first_bad_position(self) -> int:
         """The first byte that breaks the form: a character outside it, a letter not
@@ -93,14 +122,15 @@ class _Chunk:
             bad.append(numpy.zeros(1, dtype=numpy.int64))
         expected = letters + 1
         count = min(len(number_starts), len(expected))
-        bad.append(expected[numpy.flatnonzero(number_starts[:count] != expected[:count])[:1]])
+        mismatch = numpy.flatnonzero(number_starts[:count] != expected[:count])[:1]
+        bad.append(numpy.minimum(number_starts[mismatch], expected[mismatch]))  # a letter without its number, or a number without its letter
         bad.append(expected[count : count + 1])
         bad.append(number_starts[count : count + 1])
-        signs = numpy.flatnonzero(classes == _SIGN)
+        signs = self.signs
         bad.append(signs[classes[numpy.maximum(signs - 1, 0)] != _LETTER][:1])
         bad.append(self.dots[1:][self.dot_owner[1:] == self.dot_owner[:-1]][:1])
         if len(letters):
-            digit_counts = numpy.bincount(self.digit_owner[self.digit_owner >= 0], minlength=len(letters))
+            digit_counts = numpy.bincount(self.digit_owner + 1, minlength=len(letters) + 1)[1:]  # [0]: digits before any letter
             bad.append(letters[(digit_counts == 0) | (digit_counts > _MAX_DIGITS)][:1])
             keys = self.line_of(letters) * len(LETTERS) + _COLUMN[self.codes[letters]]
             bad.append(letters[numpy.bincount(keys)[keys] > 1][:1])
@@ -112,33 +142,40 @@ class _Chunk:
 
     def numbers(self, stop: int):
         """The number after each letter before ``stop``, and whether it has a point."""
-        letters = self.letters[self.letters < stop]
-        digits_kept = self.digits < stop
-        dots_kept = self.dots < stop
-        minus = numpy.flatnonzero(self.codes[:stop] == ord("-"))
-        values, has_point = parse_numbers(self.codes, self.digits[digits_kept], self.digit_owner[digits_kept],
-                                          self.dots[dots_kept], self.dot_owner[dots_kept], self.owner_at[minus], len(letters))
+        letters = self.letters[: numpy.searchsorted(self.letters, stop)]  # positions are in order: the kept ones lead
+        digits = numpy.searchsorted(self.digits, stop)
+        dots = numpy.searchsorted(self.dots, stop)
+        signs = self.signs[: numpy.searchsorted(self.signs, stop)]
+        minus = signs[self.codes[signs] == ord("-")]
+        values, has_point = parse_numbers(self.codes, self.digits[:digits], self.digit_owner[:digits],
+                                          self.dots[:dots], self.dot_owner[:dots], self.owner_of(minus), len(letters))
         return letters, values, has_point
 
 
 def parse_numbers(codes, digits, digit_owner, dots, dot_owner, minus_owner, count: int):
     """The values of ``count`` numbers given by where their characters are: the digits and
     decimal points (in text order) with the number each belongs to, and the numbers that
-    carry a minus sign. Returns the values and whether each was written with a point."""
-    per_token = numpy.bincount(digit_owner, minlength=count)
-    first = numpy.concatenate(([0], numpy.cumsum(per_token)[:-1]))
-    rank = per_token[digit_owner] - 1 - (numpy.arange(len(digits)) - first[digit_owner])
-    mantissa = numpy.bincount(digit_owner, weights=(codes[digits] - 48) * _POWERS_OF_TEN[rank], minlength=count)
-    no_point = numpy.iinfo(numpy.int64).max
-    point = numpy.full(count, no_point)
-    point[dot_owner] = dots
-    decimals = numpy.bincount(digit_owner, weights=digits > point[digit_owner], minlength=count).astype(numpy.int64)
+    carry a minus sign. Returns the values and whether each was written with a point.
+    A number's digits are consecutive among ``digits``: its mantissa is their sum weighted
+    by powers of ten, and its decimals are its digits that follow its point."""
+    per_number = numpy.bincount(digit_owner, minlength=count)
+    ends = numpy.cumsum(per_number)  # one past each number's last digit
+    rank = (ends - 1)[digit_owner]
+    rank -= numpy.arange(len(digits))  # digits after this one in its number
+    mantissa = numpy.zeros(count)
+    written = per_number > 0
+    if len(digits):
+        mantissa[written] = numpy.add.reduceat((codes[digits] - 48) * _POWERS_OF_TEN[rank], (ends - per_number)[written])
+    decimals = numpy.zeros(count, dtype=numpy.int64)
+    decimals[dot_owner] = ends[dot_owner] - numpy.searchsorted(digits, dots)
+    has_point = numpy.zeros(count, dtype=bool)
+    has_point[dot_owner] = True
     values = mantissa / _POWERS_OF_TEN[decimals]
     values[minus_owner] *= -1.0
-    return values, point != no_point
+    return values, has_point
 
 
-def read_plain_run(chunk: bytes, minimum_lines: int = 16, stop_at_small_integers: bool = False, arcs: bool = False) -> PlainRun | None:
+def read_plain_run(chunk: bytes, minimum_lines: int = _MINIMUM_LINES, stop_at_small_integers: bool = False, arcs: bool = False) -> PlainRun | None:
     """Read the plain lines at the start of ``chunk`` (whole lines only); None when
     fewer than ``minimum_lines``. With ``stop_at_small_integers`` (a control that reads
     integers in least input increments) the run also ends before a coordinate like ``Z5``,
@@ -203,24 +240,36 @@ def _first_odd_arc(found: _Chunk, letters, values, has_point, small_integers_are
 
 
 def read_plain_run_at(buffer, offset: int, limit: int, stop_at_small_integers: bool = False, arcs: bool = False,
-                      radius_word: bytes = b"R") -> PlainRun | None:
+                      radius_word: bytes = b"R", first_chunk: int = _FIRST_CHUNK, largest_chunk: int = _LARGEST_CHUNK) -> PlainRun | None:
     """The plain run from ``offset`` of ``buffer`` on (whole lines, at most ``limit``
-    bytes). The chunk read starts small and grows fourfold while the run fills it: the
+    bytes). It is read in chunks that start small and grow fourfold up to
+    ``largest_chunk``, each from where the run so far ends, while the run fills them: the
     arrays cost what the run is long, so a streak of ten lines between two arcs does not
-    pay for classifying a whole ``limit`` of text. ``radius_word``: how the language writes
-    an arc's radius (SINUMERIK ``CR=``; there a bare R is a parameter and ends the run)."""
-    size = min(_FIRST_CHUNK, limit)
+    pay for classifying a whole ``limit`` of text, no byte is classified twice, and the
+    arrays of one chunk stay small enough to be reused rather than mapped afresh. Whether
+    a line is plain depends on that line alone, so the pieces make the run one read of all
+    the text would make; the first chunk decides whether the streak is long enough.
+    ``radius_word``: how the language writes an arc's radius (SINUMERIK ``CR=``; there a
+    bare R is a parameter and ends the run)."""
+    size = first_chunk
+    pieces: list[PlainRun] = []
+    start = offset
     while True:
-        end = min(len(buffer), offset + size)
-        chunk = bytes(buffer[offset:end])
+        end = min(len(buffer), offset + limit, start + size)
+        chunk = bytes(buffer[start:end])
         if end < len(buffer):
             chunk = chunk[: chunk.rfind(b"\n") + 1]
         if radius_word != b"R":
             chunk = _radius_words_as_r(chunk, radius_word)
-        run = read_plain_run(chunk, stop_at_small_integers=stop_at_small_integers, arcs=arcs)
-        if run is None or run.length < len(chunk) or end >= len(buffer) or size >= limit:
-            return run
-        size = min(size * 4, limit)
+        piece = read_plain_run(chunk, minimum_lines=0 if pieces else _MINIMUM_LINES, stop_at_small_integers=stop_at_small_integers, arcs=arcs)
+        if piece is None:
+            return None
+        if piece.length:
+            pieces.append(piece)
+            start += piece.length
+        if piece.length < len(chunk) or end >= len(buffer) or end >= offset + limit:
+            return PlainRun.joined(pieces)
+        size = min(size * 4, largest_chunk) if chunk else size * 4  # no whole line in it yet: look further
 
 
 def _radius_words_as_r(chunk: bytes, radius_word: bytes) -> bytes:

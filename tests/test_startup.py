@@ -1,0 +1,103 @@
+"""What a check imports: Z3 only when a program has free parameters to reason about, lark
+only when a block is more than plain words, rich only when a batch of several files may
+show its progress bar. Each check runs in a fresh interpreter, since the test process has
+imported everything already."""
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+import textwrap
+
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+PLAIN = """\
+(ncverify: stock box X0:100 Y0:80 Z-20:0)
+G21 G90 G17 G40 G49 G80 G54
+T1 M6
+G43 H1 G0 Z50.
+S3000 M3
+G0 X10. Y10.
+G0 Z5.
+G1 Z-1. F200.
+G1 X40.
+G1 Y40.
+G0 Z50.
+M30
+"""
+
+PARAMETRIC = """\
+(ncverify: stock box X0:100 Y0:80 Z-20:0) (ncverify: tool 1 radius 2 length 50)
+(ncverify: assume -15 <= #1 <= -2)
+(ncverify: assume 1 <= #2 <= 5)
+G21 G17 G40 G49 G80 G90 T1 M06
+G00 G54 X10. Y10.
+G43 H01 G00 Z50. S2000 M03
+G99 G81 X10. Y10. Z#1 R#2 F100.
+G80
+G00 Z50.
+M30
+"""
+
+_RUN = textwrap.dedent("""
+    import contextlib, io, json, sys
+    from ncverify.cli import main
+    report = io.StringIO()
+    with contextlib.redirect_stdout(report):
+        code = main(["check", "--format", "json", "--no-cache", sys.argv[1]])
+    print(json.dumps({"code": code, "report": json.loads(report.getvalue()), "imported": sorted(m for m in ("z3", "rich", "lark") if m in sys.modules)}))
+""")
+
+
+def _check_in_a_fresh_process(tmp_path, text: str) -> dict:
+    program = tmp_path / "part.nc"
+    program.write_text(text)
+    done = subprocess.run([sys.executable, "-c", _RUN, str(program)], capture_output=True, text=True, timeout=300, cwd=tmp_path)
+    assert done.returncode == 0, done.stderr
+    return json.loads(done.stdout)
+
+
+def _statuses(outcome: dict, rule: str) -> set[str]:
+    [program] = outcome["report"]["files"]
+    return {finding["status"] for finding in program["diagnostics"] if finding["rule"] == rule}
+
+
+def test_a_plain_iso_program_is_checked_without_importing_z3_lark_or_rich(tmp_path):
+    outcome = _check_in_a_fresh_process(tmp_path, PLAIN)
+    assert outcome["imported"] == []
+    assert outcome["code"] == 0
+    [program] = outcome["report"]["files"]
+    assert program["dialect"] == "iso" and outcome["report"]["summary"]["blocks"] >= 11
+
+
+def test_a_program_with_free_parameters_still_gets_its_proofs(tmp_path):
+    outcome = _check_in_a_fresh_process(tmp_path, PARAMETRIC)
+    assert "z3" in outcome["imported"] and "lark" in outcome["imported"]  # #1 is an expression: the grammar reads it
+    assert _statuses(outcome, "core.cycle-depth-sign") == {"proved"}
+    assert _statuses(outcome, "core.cycle-r-above-initial") == {"proved"}
+
+
+def test_rule_pages_are_parsed_when_first_looked_up():
+    from ncverify.resources import data_dir
+    from ncverify.rule_pages import RuleBook, parse_rule_file
+
+    paths = sorted(data_dir("rules").glob("*/*.md"))
+    book = RuleBook(paths)
+    assert len(book) == len(paths) and "core.feed-missing" in book and "core.no-such-rule" not in book
+    assert book._parsed == {}
+    assert book["core.feed-missing"].summary == parse_rule_file(data_dir("rules") / "core" / "feed-missing.md").summary
+    assert list(book._parsed) == ["core.feed-missing"]
+    constrained = [definition.id for definition in book.constrained()]
+    assert constrained and constrained == [rule_id for rule_id in book if parse_rule_file(book._paths[rule_id]).constraints]
+
+
+@settings(max_examples=300)
+@given(st.lists(st.sampled_from(["ncverify", "NCVERIFY", "Ncverify", "NCVerify", "NcVerify", "nCVerify", "erify", "ERIFY", "ncv", "NCV",
+                                 "Verify", "(", ":", " ", "\n", "X1."]), max_size=30).map("".join))
+def test_annotation_markers_are_found_by_their_tails_as_by_each_variant(text):
+    from ncverify.annotations import _MARKERS, _markers
+    from ncverify.source import find_all
+
+    buffer = text.encode()
+    assert _markers(buffer) == find_all(buffer, _MARKERS)
