@@ -49,11 +49,13 @@ def _dialects_named_in(ids: tuple[str, ...]) -> frozenset | None:
     return prefixes if prefixes <= DIALECTS.keys() else None
 
 
-def in_scope(rule_class: type, dialect: str | None) -> bool:
-    """Can the rule class judge a program of ``dialect``? A rule of another dialect waits
-    for cycles, state or words only that dialect's lowering and run time produce, so it is
-    not asked at all (not once per move and hole). With the dialect not known, every rule is."""
-    return dialect is None or rule_class.dialects is None or dialect in rule_class.dialects
+def in_scope(rule_class: type, dialect: str | None, machine: str | None = None) -> bool:
+    """Can the rule class judge a program of ``dialect`` on a ``machine`` (``mill``,
+    ``lathe``)? A rule of another dialect waits for cycles, state or words only that
+    dialect's lowering and run time produce, a lathe rule for a lathe, so it is not asked
+    at all (not once per move and hole). What is not known (None) leaves every rule in."""
+    return ((dialect is None or rule_class.dialects is None or dialect in rule_class.dialects)
+            and (machine is None or rule_class.machines is None or machine in rule_class.machines))
 
 
 def rule_classes() -> list[type]:
@@ -78,8 +80,10 @@ class Rule:
     # Does ``motion_run`` judge arcs (kinds 2 and 3, ``run.arcs``) itself? Otherwise it gets
     # a run's stretches of straight moves, and ``segment`` each arc between them.
     handles_arcs: bool = False
-    # The dialects whose programs it judges (None: every dialect); see :func:`rule`.
+    # The dialects whose programs it judges (None: every dialect; see :func:`rule`) and the
+    # machine types it judges them on (None: every type): the checker asks no other.
     dialects: frozenset | None = None
+    machines: frozenset | None = None
 
     def __init__(self, checker: "Checker"):
         self.checker = checker
@@ -135,7 +139,7 @@ class Checker:
         self.material = Material(self)
         self.call_site = lambda: None  # the interpreter's: where the checked file called into another
         self.unexplored: str | None = None  # why some path was not followed to its end (no proof covers it)
-        rules = [cls(self) for cls in rule_classes() if not set(cls.ids) <= settings.disabled_rules and in_scope(cls, context.dialect)]
+        rules = [cls(self) for cls in rule_classes() if not set(cls.ids) <= settings.disabled_rules and in_scope(cls, context.dialect, context.machine.kind)]
         self.rules = rules
         self._segment = _handlers(rules, "segment")
         self._segment_by_kind = {kind: [instance.segment for instance in rules if _overrides(instance, "segment") and kind in instance.segment_kinds]

@@ -1,7 +1,9 @@
-"""Rules are asked only about programs of the dialects they judge (``Rule.dialects``).
+"""Rules are asked only about programs of the dialects and machine types they judge
+(``Rule.dialects``, ``Rule.machines``).
 
 The checker leaves a HEIDENHAIN, SINUMERIK or Fagor rule out of an ISO program's dispatch
-lists (and so on for each dialect), which must change no finding: every corpus program
+lists (and so on for each dialect), and a lathe rule out of a mill program's, which must
+change no finding: every corpus program
 (``corpus/`` and, beside the repository, the real-world corpus) gives the same report, word
 for word, with the rules scoped and with every rule asked about every program.
 """
@@ -15,7 +17,7 @@ from ncverify import InputError, Settings, check_file
 from ncverify import check as check_module
 from ncverify.api import iter_program_files
 from ncverify.check import Checker, in_scope, rule_classes
-from ncverify.context import RuleContext
+from ncverify.context import Machine, RuleContext
 from ncverify.dialect import DIALECTS
 from test_corpus import PROGRAMS, settings_for
 
@@ -34,7 +36,7 @@ def _report(program: Path, settings: Settings) -> dict | str:
 def _same_report_scoped_and_unscoped(program: Path, settings: Settings, monkeypatch) -> None:
     scoped = _report(program, settings)
     with monkeypatch.context() as unscoped:
-        unscoped.setattr(check_module, "in_scope", lambda rule_class, dialect: True)
+        unscoped.setattr(check_module, "in_scope", lambda rule_class, dialect, machine: True)
         every_rule = _report(program, settings)
     assert scoped == every_rule, program
 
@@ -50,8 +52,9 @@ def test_real_world_program_gives_the_same_report_with_rules_scoped(program, mon
     _same_report_scoped_and_unscoped(program, Settings(), monkeypatch)
 
 
-def _rule_types(dialect: str | None) -> set[str]:
-    return {type(instance).__name__ for instance in Checker(Settings(), RuleContext(dialect=dialect)).rules}
+def _rule_types(dialect: str | None, machine: str | None = None) -> set[str]:
+    context = RuleContext(dialect=dialect, machine=Machine(kind=machine))
+    return {type(instance).__name__ for instance in Checker(Settings(), context).rules}
 
 
 def test_a_rule_is_scoped_to_the_dialect_its_ids_name():
@@ -72,3 +75,10 @@ def test_the_checker_asks_only_the_rules_of_its_dialect():
     assert "UsableLength" in klartext and not {"CycleArguments", "PocketToolFit"} & klartext
     for dialect in DIALECTS:
         assert _rule_types(dialect) < every
+
+
+def test_a_lathe_rule_is_asked_only_on_a_lathe():
+    assert "LatheArcOver180" in _rule_types("iso", "lathe")
+    assert "LatheArcOver180" in _rule_types("iso")  # machine type not known: every rule
+    assert "LatheArcOver180" not in _rule_types("iso", "mill")
+    assert "RapidIntoStock" in _rule_types("iso", "mill")

@@ -96,6 +96,7 @@ class TappingSpindle(Rule):
 
 @rule("core.css-without-clamp")
 class SurfaceSpeedWithoutClamp(Rule):
+    machines = frozenset({"lathe"})
     handles_arcs = True  # any move, arcs too
 
     def segment(self, segment, state):
