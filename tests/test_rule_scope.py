@@ -4,14 +4,18 @@
 The checker leaves a HEIDENHAIN, SINUMERIK or Fagor rule out of an ISO program's dispatch
 lists (and so on for each dialect), and a lathe rule out of a mill program's, which must
 change no finding: every corpus program
-(``corpus/`` and, beside the repository, the real-world corpus) gives the same report, word
-for word, with the rules scoped and with every rule asked about every program.
+(``corpus/`` and, beside the repository, the real-world corpus), and programs Hypothesis
+draws in every dialect (the oracle's: moves, loops, calls, drilling cycles, transforms),
+give the same report, word for word, with the rules scoped and with every rule asked about
+every program.
 """
 from __future__ import annotations
 
+import tempfile
 from pathlib import Path
 
 import pytest
+from hypothesis import HealthCheck, given, settings as hypothesis_settings, strategies as st
 
 from ncverify import InputError, Settings, check_file
 from ncverify import check as check_module
@@ -20,6 +24,7 @@ from ncverify.check import Checker, in_scope, rule_classes
 from ncverify.context import Machine, RuleContext
 from ncverify.dialect import DIALECTS
 from test_corpus import PROGRAMS, settings_for
+from tests.oracle_programs import DIALECTS as ORACLE_DIALECTS, cases, project_file, write
 
 ROOT = Path(__file__).resolve().parents[1]
 REALWORLD = ROOT.parent / "shared" / "corpus-realworld"
@@ -50,6 +55,19 @@ def test_corpus_program_gives_the_same_report_with_rules_scoped(program, monkeyp
 @pytest.mark.parametrize("program", REALWORLD_PROGRAMS, ids=lambda path: str(path.relative_to(REALWORLD)))
 def test_real_world_program_gives_the_same_report_with_rules_scoped(program, monkeypatch):
     _same_report_scoped_and_unscoped(program, Settings(), monkeypatch)
+
+
+@hypothesis_settings(max_examples=20, deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large])
+@given(dialect=st.sampled_from(ORACLE_DIALECTS), data=st.data())
+def test_a_drawn_program_gives_the_same_report_with_rules_scoped(dialect, data):
+    case = data.draw(cases(dialect))
+    written = write(dialect, case)
+    with tempfile.TemporaryDirectory() as folder, pytest.MonkeyPatch.context() as monkeypatch:
+        for name, lines in written.files.items():
+            (Path(folder) / name).write_text("\n".join(lines) + "\n")
+        (Path(folder) / "ncverify.toml").write_text(project_file(case))
+        main = Path(folder) / next(iter(written.files))
+        _same_report_scoped_and_unscoped(main, Settings(dialect=dialect), monkeypatch)
 
 
 def _rule_types(dialect: str | None, machine: str | None = None) -> set[str]:
