@@ -258,7 +258,7 @@ def _run(source: ProgramSource, settings: Settings, detection: Detection, result
     rule_context = RuleContext(
         machine=replace(context.machine, kind=dialect.machine), stock=context.stock, tools=ToolTable(context.tools),
         limits=RegisterLimits(**dialect.limits), rapid_path=settings.rapid_path, wording=wording(detection.dialect, dialect.profile),
-        arc_tolerance=dialect.arc_tolerance, lengths_by_set_up=dialect.lengths_by_set_up,
+        arc_tolerance=dialect.arc_tolerance, lengths_by_set_up=dialect.lengths_by_set_up, dialect=detection.dialect,
     )
     checker = (checker_class or Checker)(settings, rule_context, context.severity, found.suppressions)
     for note in found.notes:

@@ -13,6 +13,7 @@ from dataclasses import replace
 from . import modelled, values
 from .material import Material
 from .context import RuleContext
+from .dialect import DIALECTS
 from .diagnostics import Diagnostic, Severity, Status, Suppressed
 from .rule_pages import Constraint, RuleDefinition, RuleFileError, parse_rule_file, rule_definitions  # noqa: F401  (re-exported)
 from .source import Span
@@ -29,14 +30,32 @@ ARCS = frozenset({"arc"})
 
 
 def rule(*ids: str):
-    """Register a rule class reporting the given rule ids."""
+    """Register a rule class reporting the given rule ids. Unless the class declares its
+    ``dialects``, they are the dialect its ids are named after (``heidenhain.usable-length``
+    judges Klartext programs only); a ``core.`` rule judges every dialect."""
 
     def register(cls):
         cls.ids = ids
+        if "dialects" not in vars(cls):
+            cls.dialects = _dialects_named_in(ids)
         _RULE_CLASSES.append(cls)
         return cls
 
     return register
+
+
+def _dialects_named_in(ids: tuple[str, ...]) -> frozenset | None:
+    prefixes = frozenset(rule_id.split(".", 1)[0] for rule_id in ids)
+    return prefixes if prefixes <= DIALECTS.keys() else None
+
+
+def in_scope(rule_class: type, dialect: str | None, machine: str | None = None) -> bool:
+    """Can the rule class judge a program of ``dialect`` on a ``machine`` (``mill``,
+    ``lathe``)? A rule of another dialect waits for cycles, state or words only that
+    dialect's lowering and run time produce, a lathe rule for a lathe, so it is not asked
+    at all (not once per move and hole). What is not known (None) leaves every rule in."""
+    return ((dialect is None or rule_class.dialects is None or dialect in rule_class.dialects)
+            and (machine is None or rule_class.machines is None or machine in rule_class.machines))
 
 
 def rule_classes() -> list[type]:
@@ -61,6 +80,10 @@ class Rule:
     # Does ``motion_run`` judge arcs (kinds 2 and 3, ``run.arcs``) itself? Otherwise it gets
     # a run's stretches of straight moves, and ``segment`` each arc between them.
     handles_arcs: bool = False
+    # The dialects whose programs it judges (None: every dialect; see :func:`rule`) and the
+    # machine types it judges them on (None: every type): the checker asks no other.
+    dialects: frozenset | None = None
+    machines: frozenset | None = None
 
     def __init__(self, checker: "Checker"):
         self.checker = checker
@@ -116,7 +139,7 @@ class Checker:
         self.material = Material(self)
         self.call_site = lambda: None  # the interpreter's: where the checked file called into another
         self.unexplored: str | None = None  # why some path was not followed to its end (no proof covers it)
-        rules = [cls(self) for cls in rule_classes() if not set(cls.ids) <= settings.disabled_rules]
+        rules = [cls(self) for cls in rule_classes() if not set(cls.ids) <= settings.disabled_rules and in_scope(cls, context.dialect, context.machine.kind)]
         self.rules = rules
         self._segment = _handlers(rules, "segment")
         self._segment_by_kind = {kind: [instance.segment for instance in rules if _overrides(instance, "segment") and kind in instance.segment_kinds]
@@ -139,12 +162,13 @@ class Checker:
         constrained = self.definitions.constrained()
         self._reads.update({definition.id: modelled.AS_WRITTEN for definition in constrained if definition.id not in self._reads})
         self._reads.setdefault("core.arithmetic-domain", modelled.EVERY)
-        self._constraints = [
-            (definition, constraint)
-            for definition in constrained
-            for constraint in definition.constraints
-            if definition.id not in settings.disabled_rules
-        ]
+        self._constraints: dict[str, list] = {}  # cycle -> (definition, constraint) that judge it, in definition order
+        for definition in constrained:
+            if definition.id in settings.disabled_rules:
+                continue
+            for constraint in definition.constraints:
+                for cycle in dict.fromkeys(constraint.cycles):
+                    self._constraints.setdefault(cycle, []).append((definition, constraint))
 
     def finish(self) -> None:
         """After every path: rules that report what was never seen (missing context), and
@@ -281,6 +305,8 @@ class Checker:
 
     # -- constraints from rules/
     def _constraints_on_hole(self, hole, state) -> None:
+        if hole.cycle not in self._constraints:
+            return
         names = dict(hole.params)
         names.update(initial=hole.initial, r_point=hole.r_point, bottom=hole.bottom, up=hole.up)
         if hole.r_point is not None and hole.bottom is not None:
@@ -288,12 +314,12 @@ class Checker:
         self._apply_constraints(hole.cycle, names, hole.param_spans, hole.span, state)
 
     def _constraints_on_run(self, run, state) -> None:
+        if run.cycle not in self._constraints:
+            return
         self._apply_constraints(run.cycle, dict(run.params), run.param_spans, run.span, state)
 
     def _apply_constraints(self, cycle: str, names: dict, spans: dict, span: Span, state) -> None:
-        for definition, constraint in self._constraints:
-            if cycle not in constraint.cycles:
-                continue
+        for definition, constraint in self._constraints.get(cycle, ()):
             outcome = evaluate_constraint(constraint.tree, names)
             verdict = self.judge(outcome, state)
             if verdict is None:

@@ -330,6 +330,7 @@ class RuleContext:
     wording: Mapping[str, str] = field(default_factory=dict)
     arc_tolerance: "ArcTolerance | None" = None  # the control's own, where the dialect states it
     lengths_by_set_up: bool = False  # see DialectSetup.lengths_by_set_up
+    dialect: str | None = None  # the program's dialect: rules of other dialects are not asked (None: every rule is)
 
     @property
     def lathe(self) -> bool:

@@ -208,6 +208,7 @@ class CycleParameterValue(Rule):
 
 @rule("core.lathe-arc-over-180")
 class LatheArcOver180(Rule):
+    machines = frozenset({"lathe"})
     reads = modelled.AS_WRITTEN
     segment_kinds = ARCS
     handles_arcs = True  # each arc given by its radius is judged as a segment on a lathe

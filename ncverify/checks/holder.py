@@ -24,6 +24,7 @@ class HolderCollision(Rule):
     def __init__(self, checker):
         super().__init__(checker)
         checker.material.holder_rule = self
+        self._parts_of: dict[tuple, tuple] = {}  # a tool's sizes -> its parts
 
     def segment(self, segment, state):
         self.checker.material.holder(segment, state)
@@ -34,25 +35,35 @@ class HolderCollision(Rule):
         """The material model judges a batch's feed moves and arcs as it cuts them, each
         against what the moves before it left (it calls :meth:`parts` and :meth:`collides`)."""
 
-    def parts(self, state) -> list[tuple[float, Cutter, str]]:
+    def parts(self, state) -> tuple[tuple[float, Cutter, str], ...]:
         """(height above the tip, shape, name) of each non-cutting part of the tool in the
-        spindle that the tool table describes; none for a tool it does not."""
+        spindle that the tool table describes; none for a tool it does not. The same parts
+        each time for the same sizes: the material model asks before every feed move."""
         tool = self.checker.context.tools.in_spindle(state)
         if tool is None or not tool.radius:
-            return []
-        parts = []
-        if tool.cutting_length:
-            parts.append((tool.cutting_length, Cutter(tool.radius), f"the shank above the cutting length {tool.cutting_length:g} mm"))
-        if tool.usable_length and (not tool.cutting_length or tool.usable_length > tool.cutting_length):
-            parts.append((tool.usable_length, Cutter(tool.radius), f"the tool above its usable length {tool.usable_length:g} mm"))
-        holder_low = _holder_low(tool)
-        if tool.holder_diameter and holder_low is not None:
-            parts.append((holder_low, Cutter(tool.holder_diameter / 2.0), f"the holder (D{tool.holder_diameter:g}, from {holder_low:g} mm above the tip)"))
+            return ()
+        sizes = (tool.radius, tool.cutting_length, tool.usable_length, tool.holder_diameter, tool.length, tool.holder_length)
+        parts = self._parts_of.get(sizes)
+        if parts is None:
+            parts = self._parts_of[sizes] = _parts(tool)
         return parts
 
     def collides(self, span, start, end, part: str, point, state) -> None:
         self.report("core.holder-collision", span, f"feed move from {_where(start)} to {_where(end)} of tool T{show(state.tool_in_spindle)}: "
                     f"{part} meets material left by the cuts so far near {_where(point)}: it does not cut, and rubs or crashes there")
+
+
+def _parts(tool) -> tuple[tuple[float, Cutter, str], ...]:
+    """(height above the tip, shape, name) of each non-cutting part the tool table gives for ``tool``."""
+    parts = []
+    if tool.cutting_length:
+        parts.append((tool.cutting_length, Cutter(tool.radius), f"the shank above the cutting length {tool.cutting_length:g} mm"))
+    if tool.usable_length and (not tool.cutting_length or tool.usable_length > tool.cutting_length):
+        parts.append((tool.usable_length, Cutter(tool.radius), f"the tool above its usable length {tool.usable_length:g} mm"))
+    holder_low = _holder_low(tool)
+    if tool.holder_diameter and holder_low is not None:
+        parts.append((holder_low, Cutter(tool.holder_diameter / 2.0), f"the holder (D{tool.holder_diameter:g}, from {holder_low:g} mm above the tip)"))
+    return tuple(parts)
 
 
 def _holder_low(tool) -> float | None:

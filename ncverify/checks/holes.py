@@ -18,31 +18,41 @@ class MissingParameter(Rule):
 
 @rule("core.cycle-depth-sign", "core.cycle-zero-depth", "core.cycle-r-above-initial")
 class HoleLevels(Rule):
+    """Every hole is judged, so a message is worded only for a hazard that is not plainly
+    absent (a condition, or concrete True): the levels of a correct hole are numbers."""
     reads = modelled.AS_WRITTEN
     def hole(self, hole, state):
         bottom, r_point, initial = hole.bottom, hole.r_point, hole.initial
         if bottom is None or r_point is None or hole.model.r_incremental:
             return
-        code, axis = cycle_code(hole.cycle), hole.drill_axis
+        axis = hole.drill_axis
         span = hole.param_spans.get(axis, hole.span)
-        report = self.checker.report_verdict
+        judged = self._judged
         if hole.model.infeed == "back_bore":
-            report("core.cycle-depth-sign", span, f"{code} back boring: the top of the bore {axis}{show(bottom)} is not above the start level R{show(r_point)}; "
-                   "R must lie below the part and Z above it", self.checker.judge(hazard("<=", bottom, r_point), state), state)
+            judged("core.cycle-depth-sign", span, hazard("<=", bottom, r_point), state,
+                   lambda code: f"{code} back boring: the top of the bore {axis}{show(bottom)} is not above the start level R{show(r_point)}; "
+                   "R must lie below the part and Z above it", hole)
             return
-        report("core.cycle-zero-depth", span, f"{code}: hole bottom {axis}{show(bottom)} equals the R point: the cycle cuts nothing",
-               self.checker.judge(hazard("==", bottom, r_point), state), state)
+        judged("core.cycle-zero-depth", span, hazard("==", bottom, r_point), state,
+               lambda code: f"{code}: hole bottom {axis}{show(bottom)} equals the R point: the cycle cuts nothing", hole)
         above = ">" if hole.up > 0 else "<"  # "above" is toward the side the tool comes from
         side = "" if hole.up > 0 else f" (the tool comes from {axis}-, so above means lower {axis})"
-        report("core.cycle-depth-sign", span, f"{code}: hole bottom {axis}{show(bottom)} is above the R point {show(r_point)}{side}: "
-               "the tool would feed upward out of the part and rapid back down", self.checker.judge(hazard(above, bottom, r_point), state), state)
+        judged("core.cycle-depth-sign", span, hazard(above, bottom, r_point), state,
+               lambda code: f"{code}: hole bottom {axis}{show(bottom)} is above the R point {show(r_point)}{side}: "
+               "the tool would feed upward out of the part and rapid back down", hole)
         if initial is not None:
             verdict = self.checker.judge(hazard(above, r_point, initial), state)
-            if state.modal.get("cycle_return") == "r_point" and verdict is not None and verdict.status is not Status.PROVED:
+            if verdict is None or state.modal.get("cycle_return") == "r_point" and verdict.status is not Status.PROVED:
                 return  # under G99 the tool goes from hole to hole at R, whatever the initial level
-            report("core.cycle-r-above-initial", hole.param_spans.get("R", hole.span),
-                   f"{code}: R point {show(r_point)} is above the initial level {show(initial)}{side}: the tool moves between holes below the R plane",
-                   verdict, state)
+            self.checker.report_verdict("core.cycle-r-above-initial", hole.param_spans.get("R", hole.span),
+                                        f"{cycle_code(hole.cycle)}: R point {show(r_point)} is above the initial level {show(initial)}{side}: "
+                                        "the tool moves between holes below the R plane", verdict, state)
+
+    def _judged(self, rule_id, span, condition, state, message, hole) -> None:
+        """Report the verdict on ``condition`` with ``message(cycle code)``, the message
+        worded before the solver is asked, as every rule does."""
+        if condition is not False:
+            self.checker.report_verdict(rule_id, span, message(cycle_code(hole.cycle)), self.checker.judge(condition, state), state)
 
 
 @rule("core.peck-depth")
@@ -86,6 +96,7 @@ class TappingSpindle(Rule):
 
 @rule("core.css-without-clamp")
 class SurfaceSpeedWithoutClamp(Rule):
+    machines = frozenset({"lathe"})
     handles_arcs = True  # any move, arcs too
 
     def segment(self, segment, state):

@@ -412,6 +412,7 @@ def _same(a, b) -> bool:
 class SurfaceSpeedAtCentre(Rule):
     """Lathe, G96 in force, a cut that reaches X0 (or crosses it): one finding per G96
     episode."""
+    machines = frozenset({"lathe"})
     reads = frozenset()  # compares positions as the program writes them with the blank: no active state is read
     segment_kinds = frozenset({"feed", "arc"})
 

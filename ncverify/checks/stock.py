@@ -157,13 +157,13 @@ class RapidIntoStock(_NeedsStock):
             return
         if state.parked or state.left_start:
             segment = self._from_start_position(segment, state)
+        tool = _cylinder_tool(self, stock, state)
+        if _separated(stock, segment.start, segment.end, tool):
+            return
         start, end = _point(segment.start, stock), _point(segment.end, stock)
         what = _ROLE_WORDS.get(segment.role, "rapid move")
         if segment.cycle:
             what = f"{cycle_code(segment.cycle)} {what}"
-        tool = _cylinder_tool(self, stock, state)
-        if _separated(stock, segment.start, segment.end, tool):
-            return
         if end is None:
             unplaced = "/".join(axis for axis in "XYZ" if segment.end.get(axis) is None)
             if state.frame is frames.UNKNOWN:
