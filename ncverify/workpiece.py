@@ -32,7 +32,7 @@ import shapely
 from .context import Stock
 
 NO_MATERIAL = -numpy.inf
-_CHUNK_CELLS = 1 << 18  # cells looked at per vectorised step: bounds the scratch memory (tens of MiB)
+_CHUNK_CELLS = 1 << 16  # cells looked at per vectorised step: bounds the scratch memory (a few MiB; larger steps ran slower)
 
 
 @dataclass(frozen=True)
@@ -125,9 +125,15 @@ class Workpiece:
     def _box_blank(self, stock: Stock):
         """A box's tops: the grid starts at its corner, so material maybe on every cell and
         surely on all but the last row and column where they stick out past its far sides
-        (filled whole, then those cleared: a long blank has many cells)."""
-        upper = numpy.full((self.ny, self.nx), self.top, numpy.float32)
-        lower = upper.copy()
+        (filled whole, then those cleared: a long blank has many cells). A top at +0, the
+        usual one, is what a zeroed array holds: the system hands such an array out
+        without touching its memory, so cells no cut reaches cost neither time nor memory
+        (a CAM post's blank may be metres long)."""
+        if numpy.float32(self.top).tobytes() == bytes(4):
+            upper, lower = numpy.zeros((self.ny, self.nx), numpy.float32), numpy.zeros((self.ny, self.nx), numpy.float32)
+        else:
+            upper = numpy.full((self.ny, self.nx), self.top, numpy.float32)
+            lower = upper.copy()
         half = self.resolution / 2
         lower[self._y(numpy.arange(self.ny)) + half > stock.y_range[1], :] = NO_MATERIAL
         lower[:, self._x(numpy.arange(self.nx)) + half > stock.x_range[1]] = NO_MATERIAL

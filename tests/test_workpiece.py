@@ -649,3 +649,13 @@ def test_the_sweep_leaves_the_field_that_every_cell_measured_against_every_piece
     for starts, ends, stray in batches:
         assert piece.cut(starts, ends, cutter, stray) == _sweep_every_cell(plain, starts, ends, cutter, stray)
         assert numpy.array_equal(piece.upper, plain.upper) and numpy.array_equal(piece.lower, plain.lower)
+
+
+@pytest.mark.parametrize("top", [0.0, -0.0, 5.0])
+def test_a_box_blank_at_any_top_holds_it_on_every_cell_and_is_surely_there_but_where_cells_stick_out(top):
+    """A top at +0 is laid out as zeroed memory, any other (-0 too) filled in: the same tops."""
+    piece = Workpiece(Stock.box((0, 40.3), (0, 30.2), (top - 10, top)), 0.5)
+    assert piece.upper.tobytes() == numpy.full((61, 81), top, numpy.float32).tobytes()
+    inside = numpy.full((61, 81), top, numpy.float32)
+    inside[-1, :] = inside[:, -1] = NO_MATERIAL  # centres within half a cell of the far sides: their cells stick out
+    assert piece.lower.tobytes() == inside.tobytes()
