@@ -518,32 +518,29 @@ def _merge_runs(starts, ends, strays, tolerance: float, rise: float):
     heights = numpy.minimum(starts[:, 2], ends[:, 2]), numpy.maximum(starts[:, 2], ends[:, 2])  # each move's lowest and highest Z
     done = []
     while len(first):
-        accepted = _chords_fit(starts, ends, breaks, heights, first, length, tolerance, rise)
-        done.append((first[accepted], length[accepted]))
+        accepted, stray = _chords_fit(starts, ends, breaks, heights, first, length, tolerance, rise)
+        done.append((first[accepted], length[accepted], stray[accepted]))
         first, length = first[~accepted], length[~accepted]
         half = (length + 1) // 2
         first, length = numpy.concatenate([first, first + half]), numpy.concatenate([half, length - half])
         keep = length > 0
         first, length = first[keep], length[keep]
-    first = numpy.concatenate([group[0] for group in done])
-    length = numpy.concatenate([group[1] for group in done])
+    first, length, stray = (numpy.concatenate(column) for column in zip(*done))
     order = numpy.argsort(first, kind="stable")
-    first, length = first[order], length[order]
-    last = first + length - 1
-    owner = numpy.repeat(numpy.arange(len(first)), length)
-    a, b = starts[first], ends[last]
+    first, length, stray = first[order], length[order], stray[order]
+    a, b = starts[first], ends[first + length - 1]
     z_low = numpy.minimum.reduceat(heights[0], first)
     z_high = numpy.maximum.reduceat(heights[1], first)
-    stray = _Segments.of(a, b).distance_from_points(owner, ends)
-    return a, b, z_low, z_high, numpy.maximum.reduceat(stray, first), numpy.maximum.reduceat(strays, first)
+    return a, b, z_low, z_high, stray, numpy.maximum.reduceat(strays, first)
 
 
 def _chords_fit(starts, ends, breaks, heights, first, length, tolerance: float, rise: float):
-    """Which groups (first move, number of moves) may become one chord. ``breaks``: how
-    many moves up to each one start away from the end before them; ``heights``: each
-    move's lowest and highest Z. A group is first screened by its breaks and by the vertex
-    in its middle (a chord of a curve strays most there), then the groups that pass are
-    judged on all of their vertices: the same answers as judging all of every group."""
+    """Which groups (first move, number of moves) may become one chord, and for those the
+    most any of their vertices strays from it. ``breaks``: how many moves up to each one
+    start away from the end before them; ``heights``: each move's lowest and highest Z.
+    A group is first screened by its breaks and by the vertex in its middle (a chord of a
+    curve strays most there), then the groups that pass are judged on all of their
+    vertices: the same answers as judging all of every group."""
     last = first + length - 1
     middle = first + (length - 1) // 2
     chords = _Segments.of(starts[first], ends[last])
@@ -552,16 +549,18 @@ def _chords_fit(starts, ends, breaks, heights, first, length, tolerance: float, 
     may_fit &= chords.distance_from_points(every, ends[middle]) <= tolerance
     may_fit &= (numpy.maximum(heights[1][first], heights[1][middle]) - numpy.minimum(heights[0][first], heights[0][middle]) <= rise)
     fits = length == 1
+    strays = numpy.zeros(len(first))
+    single = numpy.flatnonzero(fits)
+    strays[single] = chords.distance_from_points(single, ends[first[single]])
     judged = numpy.flatnonzero(may_fit)
-    if not len(judged):
-        return fits
-    owner = numpy.repeat(judged, length[judged])
-    index = _ramp(length[judged]) + first[owner]
-    stray = chords.distance_from_points(owner, ends[index])
-    offsets = numpy.cumsum(length[judged]) - length[judged]
-    fits[judged] = (numpy.maximum.reduceat(stray, offsets) <= tolerance) & (
-        numpy.maximum.reduceat(heights[1][index], offsets) - numpy.minimum.reduceat(heights[0][index], offsets) <= rise)
-    return fits
+    if len(judged):
+        owner = numpy.repeat(judged, length[judged])
+        index = _ramp(length[judged]) + first[owner]
+        offsets = numpy.cumsum(length[judged]) - length[judged]
+        strays[judged] = numpy.maximum.reduceat(chords.distance_from_points(owner, ends[index]), offsets)
+        fits[judged] = (strays[judged] <= tolerance) & (
+            numpy.maximum.reduceat(heights[1][index], offsets) - numpy.minimum.reduceat(heights[0][index], offsets) <= rise)
+    return fits, strays
 
 
 _ROUND_SEGMENTS = 32  # quarter-circle segments of a buffered nose

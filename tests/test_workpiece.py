@@ -571,8 +571,9 @@ def test_the_cells_near_each_piece_are_those_every_cell_measured_finds_in_the_sa
 
 def _every_vertex_fits(starts, ends, breaks, heights, first, length, tolerance, rise):
     """Each group judged on all of its moves: joined end to start, every vertex within
-    ``tolerance`` of the chord, its heights within ``rise`` (``breaks`` is not looked at)."""
-    fits = numpy.empty(len(first), bool)
+    ``tolerance`` of the chord, its heights within ``rise`` (``breaks`` is not looked at);
+    and the most its vertices stray."""
+    fits, strays = numpy.empty(len(first), bool), numpy.empty(len(first))
     for k, (begin, count) in enumerate(zip(first.tolist(), length.tolist())):
         moves = numpy.arange(begin, begin + count)
         joined = (starts[moves[1:]] == ends[moves[:-1]]).all()
@@ -580,7 +581,8 @@ def _every_vertex_fits(starts, ends, breaks, heights, first, length, tolerance, 
                                     numpy.repeat(ends[moves[-1]:moves[-1] + 1, :2], count, axis=0))
         climb = heights[1][moves].max() - heights[0][moves].min()
         fits[k] = count == 1 or (joined and stray.max() <= tolerance and climb <= rise)
-    return fits
+        strays[k] = stray.max()
+    return fits, strays
 
 
 @st.composite
