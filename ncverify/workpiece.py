@@ -32,7 +32,7 @@ import shapely
 from .context import Stock
 
 NO_MATERIAL = -numpy.inf
-_CHUNK_CELLS = 1 << 16  # cells looked at per vectorised step: bounds the scratch memory (a few MiB; larger steps ran slower)
+_CHUNK_CELLS = 1 << 18  # cells looked at per vectorised step: bounds the scratch memory (tens of MiB); a cut's air is judged a step at a time
 
 
 @dataclass(frozen=True)
@@ -165,7 +165,7 @@ class Workpiece:
         z_low, z_high, slack = z_low - stray, z_high + stray, slack + stray
         may_cut = numpy.zeros(len(a), bool)
         first_cell, last_cell = self.nx * self.ny, -1
-        upper, lower = self.upper.reshape(-1), self.lower.reshape(-1)
+        upper, lower = self.upper.reshape(-1), self._flat_lower()
         for owner, flat, distance in self._cells_near(a, b, slack, cutter.radius + self.half_diagonal):
             stray = slack[owner]
             outer = numpy.maximum(distance - self.half_diagonal - stray, 0.0)  # nearest the cell's points can be to the true path
@@ -177,7 +177,8 @@ class Workpiece:
                 covered = inner <= cutter.radius
                 _sink(upper, flat[covered], z_high[owner[covered]] + cutter.lift(inner[covered]), up=True)
             touched_cells = flat[touched]
-            _sink(lower, touched_cells, surface_low[touched], up=False)
+            if not self.lower_emptied:
+                _sink(lower, touched_cells, surface_low[touched], up=False)
             if len(touched_cells):
                 first_cell, last_cell = min(first_cell, int(touched_cells.min())), max(last_cell, int(touched_cells.max()))
         self._clear_below_bottom(first_cell, last_cell + 1)
@@ -186,17 +187,19 @@ class Workpiece:
     def cut_anywhere(self) -> None:
         """A cut that cannot be placed: any material may be gone, none is surely gone.
         Cuts only ever lower ``lower``, so once it is emptied it stays empty: a program that
-        cuts unplaced move after move (cutter compensation) empties it once, not on every move."""
+        cuts unplaced move after move (cutter compensation) empties it once, not on every move.
+        An emptied ``lower`` is one value seen by every cell, read-only: it takes no memory
+        (a long blank's field need not be written through) and nothing lowers it further."""
         self.cuts += 1
         if not self.lower_emptied:
-            self.lower.fill(NO_MATERIAL)
+            self.lower = numpy.broadcast_to(numpy.float32(NO_MATERIAL), (self.ny, self.nx))
             self.lower_emptied = True
 
     def copy(self) -> "Workpiece":
         """An independent copy (paths that fork cut their own workpieces)."""
         twin = object.__new__(Workpiece)
         twin.__dict__.update(self.__dict__)
-        twin.upper, twin.lower = self.upper.copy(), self.lower.copy()
+        twin.upper, twin.lower = self.upper.copy(), self.lower if self.lower_emptied else self.lower.copy()
         return twin
 
     def _clear_below_bottom(self, first_cell: int, end_cell: int) -> None:
@@ -204,9 +207,15 @@ class Workpiece:
         between ``first_cell`` and ``end_cell`` of the flattened grid; ``upper`` is lowered
         only where ``lower`` is) can have gone below it: looking at the whole grid after
         every arc cost more than the cut itself on a long stock."""
-        for field in (self.upper, self.lower):
+        for field in (self.upper,) if self.lower_emptied else (self.upper, self.lower):
             cells = field.reshape(-1)[first_cell:end_cell]
             cells[cells <= self.bottom] = NO_MATERIAL
+
+    def _flat_lower(self):
+        """``lower`` as one row of all cells (an emptied one stays one shared value)."""
+        if self.lower_emptied:
+            return numpy.broadcast_to(numpy.float32(NO_MATERIAL), (self.ny * self.nx,))
+        return self.lower.reshape(-1)
 
     # Rapids ----------------------------------------------------------------------------
 
@@ -224,7 +233,7 @@ class Workpiece:
     def _rapid_path(self, start, end, cutter: Cutter) -> RapidVerdict:
         a, b, _ = self._within_slab(numpy.array([start], float), numpy.array([end], float), cutter, numpy.zeros(1))
         a, b, z_low, z_high, slack = self._split_steep(a, b, numpy.minimum(a[:, 2], b[:, 2]), numpy.maximum(a[:, 2], b[:, 2]), numpy.zeros(len(a)))
-        upper, lower = self.upper.reshape(-1), self.lower.reshape(-1)
+        upper, lower = self.upper.reshape(-1), self._flat_lower()
         clear = True
         for owner, flat, distance in self._cells_near(a, b, slack, cutter.radius + self.half_diagonal):
             cells = numpy.divmod(flat, self.nx)
