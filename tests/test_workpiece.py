@@ -661,3 +661,14 @@ def test_a_box_blank_at_any_top_holds_it_on_every_cell_and_is_surely_there_but_w
     inside = numpy.full((61, 81), top, numpy.float32)
     inside[-1, :] = inside[:, -1] = NO_MATERIAL  # centres within half a cell of the far sides: their cells stick out
     assert piece.lower.tobytes() == inside.tobytes()
+
+
+def test_a_copy_of_a_workpiece_whose_lower_bound_was_emptied_cuts_its_upper_bound_on_its_own():
+    piece = Workpiece(BLANK, 0.5)
+    piece.cut_anywhere()
+    twin = piece.copy()
+    twin.cut([[5, 15, -4]], [[35, 15, -4]], Cutter(3.0))
+    assert (piece.upper == 0.0).all() and (twin.upper[30, 20:60] == -4.0).all()
+    assert (piece.lower == NO_MATERIAL).all() and (twin.lower == NO_MATERIAL).all()
+    assert twin.rapid((10, 15, -2), (30, 15, -2), Cutter(1.0)).outcome == "clear"
+    assert piece.rapid((10, 15, -2), (30, 15, -2), Cutter(1.0)).outcome == "unsure"
