@@ -32,7 +32,7 @@ import shapely
 from .context import Stock
 
 NO_MATERIAL = -numpy.inf
-_CHUNK_CELLS = 1 << 18  # cells looked at per vectorised step: bounds the scratch memory (tens of MiB)
+_CHUNK_CELLS = 1 << 18  # cells looked at per vectorised step: bounds the scratch memory (tens of MiB); a cut's air is judged a step at a time
 
 
 @dataclass(frozen=True)
@@ -103,6 +103,7 @@ class Workpiece:
         self.half_diagonal = self.resolution * math.sqrt(0.5)
         self.upper, self.lower = self._blank(stock)
         self.lower_emptied = False  # a cut that could not be placed emptied ``lower`` (see cut_anywhere)
+        self._centres = None  # see _column_centres
 
     def _blank(self, stock: Stock):
         """Tops of the uncut blank: cells wholly inside carry material on every point, cells
@@ -124,9 +125,15 @@ class Workpiece:
     def _box_blank(self, stock: Stock):
         """A box's tops: the grid starts at its corner, so material maybe on every cell and
         surely on all but the last row and column where they stick out past its far sides
-        (filled whole, then those cleared: a long blank has many cells)."""
-        upper = numpy.full((self.ny, self.nx), self.top, numpy.float32)
-        lower = upper.copy()
+        (filled whole, then those cleared: a long blank has many cells). A top at +0, the
+        usual one, is what a zeroed array holds: the system hands such an array out
+        without touching its memory, so cells no cut reaches cost neither time nor memory
+        (a CAM post's blank may be metres long)."""
+        if numpy.float32(self.top).tobytes() == bytes(4):
+            upper, lower = numpy.zeros((self.ny, self.nx), numpy.float32), numpy.zeros((self.ny, self.nx), numpy.float32)
+        else:
+            upper = numpy.full((self.ny, self.nx), self.top, numpy.float32)
+            lower = upper.copy()
         half = self.resolution / 2
         lower[self._y(numpy.arange(self.ny)) + half > stock.y_range[1], :] = NO_MATERIAL
         lower[:, self._x(numpy.arange(self.nx)) + half > stock.x_range[1]] = NO_MATERIAL
@@ -158,35 +165,41 @@ class Workpiece:
         z_low, z_high, slack = z_low - stray, z_high + stray, slack + stray
         may_cut = numpy.zeros(len(a), bool)
         first_cell, last_cell = self.nx * self.ny, -1
-        for owner, (low, high, stray), cells, distance in self._cells_near(a, b, z_low, z_high, slack, cutter.radius + self.half_diagonal):
-            flat = cells[0] * self.nx + cells[1]
+        upper, lower = self.upper.reshape(-1), self._flat_lower()
+        for owner, flat, distance in self._cells_near(a, b, slack, cutter.radius + self.half_diagonal):
+            stray = slack[owner]
             outer = numpy.maximum(distance - self.half_diagonal - stray, 0.0)  # nearest the cell's points can be to the true path
             touched = outer <= cutter.radius
-            surface_low = low + cutter.lowest_lift(outer)
-            may_cut[owner[touched & (self.upper.reshape(-1)[flat] > surface_low)]] = True
-            inner = distance + self.half_diagonal + stray  # farthest they can be
-            covered = inner <= cutter.radius
-            _sink(self.upper, flat[covered], high[covered] + cutter.lift(inner[covered]), up=True)
-            _sink(self.lower, flat[touched], surface_low[touched], up=False)
-            if touched.any():
-                first_cell, last_cell = min(first_cell, int(flat[touched].min())), max(last_cell, int(flat[touched].max()))
+            surface_low = z_low[owner] + cutter.lowest_lift(outer)
+            may_cut[owner[touched & (upper[flat] > surface_low)]] = True
+            if cutter.radius >= self.half_diagonal:  # else no cell lies wholly under the tool
+                inner = distance + self.half_diagonal + stray  # farthest they can be
+                covered = inner <= cutter.radius
+                _sink(upper, flat[covered], z_high[owner[covered]] + cutter.lift(inner[covered]), up=True)
+            touched_cells = flat[touched]
+            if not self.lower_emptied:
+                _sink(lower, touched_cells, surface_low[touched], up=False)
+            if len(touched_cells):
+                first_cell, last_cell = min(first_cell, int(touched_cells.min())), max(last_cell, int(touched_cells.max()))
         self._clear_below_bottom(first_cell, last_cell + 1)
         return float(numpy.linalg.norm(b - a, axis=1)[~may_cut].sum())
 
     def cut_anywhere(self) -> None:
         """A cut that cannot be placed: any material may be gone, none is surely gone.
         Cuts only ever lower ``lower``, so once it is emptied it stays empty: a program that
-        cuts unplaced move after move (cutter compensation) empties it once, not on every move."""
+        cuts unplaced move after move (cutter compensation) empties it once, not on every move.
+        An emptied ``lower`` is one value seen by every cell, read-only: it takes no memory
+        (a long blank's field need not be written through) and nothing lowers it further."""
         self.cuts += 1
         if not self.lower_emptied:
-            self.lower.fill(NO_MATERIAL)
+            self.lower = numpy.broadcast_to(numpy.float32(NO_MATERIAL), (self.ny, self.nx))
             self.lower_emptied = True
 
     def copy(self) -> "Workpiece":
         """An independent copy (paths that fork cut their own workpieces)."""
         twin = object.__new__(Workpiece)
         twin.__dict__.update(self.__dict__)
-        twin.upper, twin.lower = self.upper.copy(), self.lower.copy()
+        twin.upper, twin.lower = self.upper.copy(), self.lower if self.lower_emptied else self.lower.copy()
         return twin
 
     def _clear_below_bottom(self, first_cell: int, end_cell: int) -> None:
@@ -194,9 +207,15 @@ class Workpiece:
         between ``first_cell`` and ``end_cell`` of the flattened grid; ``upper`` is lowered
         only where ``lower`` is) can have gone below it: looking at the whole grid after
         every arc cost more than the cut itself on a long stock."""
-        for field in (self.upper, self.lower):
+        for field in (self.upper,) if self.lower_emptied else (self.upper, self.lower):
             cells = field.reshape(-1)[first_cell:end_cell]
             cells[cells <= self.bottom] = NO_MATERIAL
+
+    def _flat_lower(self):
+        """``lower`` as one row of all cells (an emptied one stays one shared value)."""
+        if self.lower_emptied:
+            return numpy.broadcast_to(numpy.float32(NO_MATERIAL), (self.ny * self.nx,))
+        return self.lower.reshape(-1)
 
     # Rapids ----------------------------------------------------------------------------
 
@@ -213,20 +232,23 @@ class Workpiece:
 
     def _rapid_path(self, start, end, cutter: Cutter) -> RapidVerdict:
         a, b, _ = self._within_slab(numpy.array([start], float), numpy.array([end], float), cutter, numpy.zeros(1))
-        pieces = self._split_steep(a, b, numpy.minimum(a[:, 2], b[:, 2]), numpy.maximum(a[:, 2], b[:, 2]), numpy.zeros(len(a)))
+        a, b, z_low, z_high, slack = self._split_steep(a, b, numpy.minimum(a[:, 2], b[:, 2]), numpy.maximum(a[:, 2], b[:, 2]), numpy.zeros(len(a)))
+        upper, lower = self.upper.reshape(-1), self._flat_lower()
         clear = True
-        for owner, (z_low, z_high, _), cells, distance in self._cells_near(*pieces, cutter.radius + self.half_diagonal):
-            nearest = self._square_distance(cells, pieces[0][owner], pieces[1][owner])  # a point of the (closed) cell this close to the piece
-            surface_high = z_high + cutter.lift(nearest)
-            hit = (nearest <= cutter.radius) & (self.lower[cells] > surface_high)
+        for owner, flat, distance in self._cells_near(a, b, slack, cutter.radius + self.half_diagonal):
+            cells = numpy.divmod(flat, self.nx)
+            nearest = self._square_distance(cells, a[owner], b[owner])  # a point of the (closed) cell this close to the piece
+            surface_high = z_high[owner] + cutter.lift(nearest)
+            hit = (nearest <= cutter.radius) & (lower[flat] > surface_high)
             if hit.any():
                 first = int(numpy.flatnonzero(hit)[0])
-                on_path = _nearest_on_segment(self._x(cells[1][first]), self._y(cells[0][first]), pieces[0][owner[first:first + 1], :2], pieces[1][owner[first:first + 1], :2])
-                level = min(float(self.lower[cells][first]), float(z_high[first]))
+                piece = owner[first:first + 1]
+                on_path = _nearest_on_segment(self._x(cells[1][first]), self._y(cells[0][first]), a[piece, :2], b[piece, :2])
+                level = min(float(lower[flat[first]]), float(z_high[piece[0]]))
                 return RapidVerdict("hits", (float(on_path[0][0]), float(on_path[1][0]), level))
             outer = numpy.maximum(distance - self.half_diagonal, 0.0)
             reach = outer <= cutter.radius
-            clear &= not bool((self.upper[cells][reach] > (z_low + cutter.lowest_lift(outer))[reach]).any())
+            clear &= not bool((upper[flat][reach] > (z_low[owner] + cutter.lowest_lift(outer))[reach]).any())
         return RapidVerdict("clear" if clear else "unsure")
 
     # Shared machinery ------------------------------------------------------------------
@@ -268,24 +290,57 @@ class Workpiece:
         high = numpy.where(split, numpy.maximum(start[:, 2], end[:, 2]), z_high[move])
         return start, end, low, high, *(values[move] for values in per_piece)
 
-    def _cells_near(self, a, b, z_low, z_high, slack, reach: float):
-        """For chunks of pieces a-b: (piece, (z_low, z_high, slack), (rows, columns), distance)
-        of every cell whose centre lies within ``reach + slack`` of a piece's XY path, one
-        entry per (piece, cell)."""
+    def _cells_near(self, a, b, slack, reach: float):
+        """For chunks of pieces a-b: (piece, flat cell index, distance) of every cell whose
+        centre lies within ``reach + slack`` of a piece's XY path, one entry per (piece,
+        cell), a piece's cells row by row. Only the part of each row of a piece's bounding
+        box that can be that near is measured (:meth:`_row_spans`); the distance is worked
+        out as :func:`distance_to_segment` does, with each piece's and row's terms computed
+        once instead of once per cell."""
         reach = reach + slack
         column_low, column_high = self._index_range(numpy.minimum(a[:, 0], b[:, 0]) - reach, numpy.maximum(a[:, 0], b[:, 0]) + reach, self.x_low, self.nx)
         row_low, row_high = self._index_range(numpy.minimum(a[:, 1], b[:, 1]) - reach, numpy.maximum(a[:, 1], b[:, 1]) + reach, self.y_low, self.ny)
-        widths = column_high - column_low
-        sizes = widths * (row_high - row_low)
-        for chunk in _chunks(sizes):
-            owner = numpy.repeat(chunk, sizes[chunk])
-            local = numpy.arange(len(owner)) - numpy.repeat(numpy.cumsum(sizes[chunk]) - sizes[chunk], sizes[chunk])
-            rows = row_low[owner] + local // widths[owner]
-            columns = column_low[owner] + local % widths[owner]
-            distance = distance_to_segment(self._x(columns), self._y(rows), a[owner, :2], b[owner, :2])
+        size = numpy.maximum(numpy.abs(a[:, :2]).max(axis=1), numpy.abs(b[:, :2]).max(axis=1))
+        heights = numpy.where(numpy.isfinite(size), row_high - row_low, 0)  # a piece running off to infinity is no distance from any cell
+        segments = _Segments.of(a, b)
+        rounding = self.resolution * 1e-3 + 1e-14 * size
+        for chunk in _chunks((column_high - column_low) * heights):
+            piece = numpy.repeat(chunk, heights[chunk])  # one entry per (piece, row)
+            row = row_low[piece] + _ramp(heights[chunk])
+            y = self._y(row)
+            first, stop = self._row_spans(segments, reach[piece] + rounding[piece], piece, y, column_low[piece], column_high[piece])
+            widths = stop - first
+            owner = numpy.repeat(piece, widths)
+            column = _ramp(widths) + numpy.repeat(first, widths)
+            across = numpy.repeat((y - segments.ay[piece]) * segments.dy[piece], widths)
+            distance = segments.distance(owner, self._column_centres()[column], numpy.repeat(y, widths), across)
             near = distance <= reach[owner]
-            owner, rows, columns, distance = owner[near], rows[near], columns[near], distance[near]
-            yield owner, (z_low[owner], z_high[owner], slack[owner]), (rows, columns), distance
+            flat = numpy.repeat(row * self.nx, widths) + column
+            yield owner[near], flat[near], distance[near]
+
+    def _row_spans(self, segments: "_Segments", reach, piece, y, column_low, column_high):
+        """(first, stop) columns of each (piece, row) entry whose cell centres may lie within
+        ``reach`` (one an entry) of the piece: the piece clipped to the band of rows within
+        reach, its X extent widened by the reach, within the piece's bounding box
+        (``column_low``, ``column_high``). The caller widens ``reach`` by more than the
+        rounding of these steps and of the distances measured after them, which grows with
+        the coordinates' size: the spans then hold every cell the whole box would give."""
+        ax, ay, dx, dy = segments.ax[piece], segments.ay[piece], segments.dx[piece], segments.dy[piece]
+        sloped = dy != 0.0
+        with numpy.errstate(divide="ignore"):
+            enter, leave = (numpy.where(sloped, (y + side * reach - ay) / numpy.where(sloped, dy, 1.0), bound) for side, bound in ((-1.0, 0.0), (1.0, 1.0)))
+        t0 = numpy.clip(numpy.minimum(enter, leave), 0.0, 1.0)
+        t1 = numpy.clip(numpy.maximum(enter, leave), 0.0, 1.0)
+        x0, x1 = ax + t0 * dx, ax + t1 * dx
+        first, stop = self._index_range(numpy.minimum(x0, x1) - reach, numpy.maximum(x0, x1) + reach, self.x_low, self.nx)
+        first, stop = numpy.maximum(first, column_low), numpy.minimum(stop, column_high)
+        return first, numpy.maximum(stop, first)
+
+    def _column_centres(self):
+        """X of every column's centre (as :meth:`_x` gives it), made once per workpiece."""
+        if self._centres is None:
+            self._centres = self._x(numpy.arange(self.nx))
+        return self._centres
 
     def _square_distance(self, cells, a, b):
         """How far the (closed) square of each cell is from the point of its piece a-b
@@ -397,6 +452,41 @@ def _chunks(sizes):
         yield numpy.arange(start, len(sizes))
 
 
+def _ramp(counts):
+    """0, 1, .. counts[0] - 1, 0, 1, .. counts[1] - 1, ..: each entry's place in its group."""
+    return numpy.arange(int(counts.sum())) - numpy.repeat(numpy.cumsum(counts) - counts, counts)
+
+
+@dataclass(frozen=True)
+class _Segments:
+    """XY segments a-b (row-wise) as the terms :func:`_nearest_on_segment` computes from
+    them, worked out once per segment."""
+
+    ax: numpy.ndarray
+    ay: numpy.ndarray
+    dx: numpy.ndarray
+    dy: numpy.ndarray
+    divisor: numpy.ndarray  # the squared length, or infinity for a point (its nearest point is a)
+
+    @classmethod
+    def of(cls, a, b):
+        dx, dy = b[:, 0] - a[:, 0], b[:, 1] - a[:, 1]
+        length_sq = dx * dx + dy * dy
+        return cls(a[:, 0], a[:, 1], dx, dy, numpy.where(length_sq > 0, length_sq, numpy.inf))
+
+    def distance_from_points(self, owner, points):
+        """:meth:`distance` of the XY of ``points`` (rows) from segments ``owner``."""
+        px, py = points[:, 0], points[:, 1]
+        return self.distance(owner, px, py, (py - self.ay[owner]) * self.dy[owner])
+
+    def distance(self, owner, px, py, across):
+        """Distance of points (px, py) from segments ``owner``, bit for bit as
+        :func:`distance_to_segment` gives it; ``across``: (py - ay) * dy of each."""
+        ax, ay, dx, dy = self.ax[owner], self.ay[owner], self.dx[owner], self.dy[owner]
+        t = numpy.clip(((px - ax) * dx + across) / self.divisor[owner], 0.0, 1.0)
+        return numpy.hypot(px - (ax + t * dx), py - (ay + t * dy))
+
+
 def _nearest_on_segment(px, py, a, b):
     """The points of the XY segments a-b (row-wise) nearest to the points (px, py)."""
     dx, dy = b[:, 0] - a[:, 0], b[:, 1] - a[:, 1]
@@ -431,44 +521,55 @@ def _merge_runs(starts, ends, strays, tolerance: float, rise: float):
     the tool radius where it claims material is surely gone and adds where it may be, and
     the largest of its moves' own ``strays`` (how far the true path leaves a move)."""
     count = len(starts)
-    joined = numpy.ones(count, bool)
-    joined[1:] = (starts[1:] == ends[:-1]).all(axis=1)
+    breaks = numpy.zeros(count, numpy.int64)  # how many moves up to each one start away from the end before them
+    breaks[1:] = numpy.cumsum((starts[1:] != ends[:-1]).any(axis=1))
     first, length = numpy.arange(0, count, 64), numpy.minimum(64, count - numpy.arange(0, count, 64))
     heights = numpy.minimum(starts[:, 2], ends[:, 2]), numpy.maximum(starts[:, 2], ends[:, 2])  # each move's lowest and highest Z
     done = []
     while len(first):
-        accepted = _chords_fit(starts, ends, joined, heights, first, length, tolerance, rise)
-        done.append((first[accepted], length[accepted]))
+        accepted, stray = _chords_fit(starts, ends, breaks, heights, first, length, tolerance, rise)
+        done.append((first[accepted], length[accepted], stray[accepted]))
         first, length = first[~accepted], length[~accepted]
         half = (length + 1) // 2
         first, length = numpy.concatenate([first, first + half]), numpy.concatenate([half, length - half])
         keep = length > 0
         first, length = first[keep], length[keep]
-    first = numpy.concatenate([group[0] for group in done])
-    length = numpy.concatenate([group[1] for group in done])
+    first, length, stray = (numpy.concatenate(column) for column in zip(*done))
     order = numpy.argsort(first, kind="stable")
-    first, length = first[order], length[order]
-    last = first + length - 1
-    owner = numpy.repeat(numpy.arange(len(first)), length)
-    a, b = starts[first], ends[last]
+    first, length, stray = first[order], length[order], stray[order]
+    a, b = starts[first], ends[first + length - 1]
     z_low = numpy.minimum.reduceat(heights[0], first)
     z_high = numpy.maximum.reduceat(heights[1], first)
-    stray = distance_to_segment(ends[:, 0], ends[:, 1], a[owner, :2], b[owner, :2])
-    return a, b, z_low, z_high, numpy.maximum.reduceat(stray, first), numpy.maximum.reduceat(strays, first)
+    return a, b, z_low, z_high, stray, numpy.maximum.reduceat(strays, first)
 
 
-def _chords_fit(starts, ends, joined, heights, first, length, tolerance: float, rise: float):
-    """Which groups (first move, number of moves) may become one chord. ``heights``: each
-    move's lowest and highest Z."""
-    owner = numpy.repeat(numpy.arange(len(first)), length)
-    index = numpy.arange(length.sum()) - numpy.repeat(numpy.cumsum(length) - length, length) + first[owner]
-    a, b = starts[first[owner]], ends[(first + length - 1)[owner]]
-    stray = distance_to_segment(ends[index, 0], ends[index, 1], a[:, :2], b[:, :2])
-    broken = ~joined[index] & (index != first[owner])
-    offsets = numpy.cumsum(length) - length
-    fits = (numpy.maximum.reduceat(stray, offsets) <= tolerance) & ~numpy.logical_or.reduceat(broken, offsets)
-    fits &= numpy.maximum.reduceat(heights[1][index], offsets) - numpy.minimum.reduceat(heights[0][index], offsets) <= rise
-    return fits | (length == 1)
+def _chords_fit(starts, ends, breaks, heights, first, length, tolerance: float, rise: float):
+    """Which groups (first move, number of moves) may become one chord, and for those the
+    most any of their vertices strays from it. ``breaks``: how many moves up to each one
+    start away from the end before them; ``heights``: each move's lowest and highest Z.
+    A group is first screened by its breaks and by the vertex in its middle (a chord of a
+    curve strays most there), then the groups that pass are judged on all of their
+    vertices: the same answers as judging all of every group."""
+    last = first + length - 1
+    middle = first + (length - 1) // 2
+    chords = _Segments.of(starts[first], ends[last])
+    every = numpy.arange(len(first))
+    may_fit = (length > 1) & (breaks[last] == breaks[first])
+    may_fit &= chords.distance_from_points(every, ends[middle]) <= tolerance
+    may_fit &= (numpy.maximum(heights[1][first], heights[1][middle]) - numpy.minimum(heights[0][first], heights[0][middle]) <= rise)
+    fits = length == 1
+    strays = numpy.zeros(len(first))
+    single = numpy.flatnonzero(fits)
+    strays[single] = chords.distance_from_points(single, ends[first[single]])
+    judged = numpy.flatnonzero(may_fit)
+    if len(judged):
+        owner = numpy.repeat(judged, length[judged])
+        index = _ramp(length[judged]) + first[owner]
+        offsets = numpy.cumsum(length[judged]) - length[judged]
+        strays[judged] = numpy.maximum.reduceat(chords.distance_from_points(owner, ends[index]), offsets)
+        fits[judged] = (strays[judged] <= tolerance) & (
+            numpy.maximum.reduceat(heights[1][index], offsets) - numpy.minimum.reduceat(heights[0][index], offsets) <= rise)
+    return fits, strays
 
 
 _ROUND_SEGMENTS = 32  # quarter-circle segments of a buffered nose

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
+from unittest.mock import patch
 
 import numpy
 import pytest
@@ -11,7 +12,7 @@ import shapely
 from hypothesis import assume, given, settings, strategies as st
 
 from ncverify.context import Stock
-from ncverify.workpiece import NO_MATERIAL, Cutter, ModelTooLarge, Workpiece
+from ncverify.workpiece import NO_MATERIAL, Cutter, ModelTooLarge, Workpiece, distance_to_segment
 
 BLANK = Stock.box((0, 40), (0, 30), (-10, 0))
 
@@ -506,3 +507,168 @@ def test_a_checked_file_leaves_no_checker_and_no_workpiece_behind():
     for _ in range(3):
         check_file(program, Settings())
     assert alive() == before
+
+
+# The sweep's fast paths against brute force -------------------------------------------------
+# The sweep measures only the cells of each row of a piece's box that can be near it, and
+# screens chord groups before judging them whole; these tests hold both to the plain
+# computation: every cell of the grid measured against every piece, every group judged on
+# every vertex. Equal means bit for bit: the same cells, distances and heights.
+
+_GRIDS = st.sampled_from([(BLANK, 0.5), (BLANK, 1.0), (Stock.box((-3.3, 7.1), (2.2, 9.0), (-5, 0)), 0.37)])
+_NEAR = st.floats(-12, 50, allow_nan=False)
+_COORDINATE = st.one_of(_NEAR, _NEAR, _NEAR, st.floats(-3e6, 3e6), st.sampled_from([0.0, 0.25, 0.5, 2e6, -1.5e6, 3e15, -1e17, 1e308, math.inf, -math.inf]))
+
+
+@st.composite
+def _pieces(draw):
+    """XY pieces: anywhere, along a row or a column, level or nearly, of no length, far away."""
+    a = (draw(_COORDINATE), draw(_COORDINATE))
+    form = draw(st.sampled_from(["any", "row", "column", "level", "shallow", "point"]))
+    b = (draw(_COORDINATE), draw(_COORDINATE))
+    if form == "row":
+        b = (b[0], a[1])
+    elif form == "shallow":
+        b = (b[0], a[1] + draw(st.floats(-3, 3)))
+    elif form == "column":
+        b = (a[0], b[1])
+    elif form == "level":
+        b = (b[0], a[1] + draw(st.floats(-1e-9, 1e-9)))
+    elif form == "point":
+        b = a
+    return a, b
+
+
+def _every_cell_near(piece, a, b, slack, reach):
+    """(piece, flat cell, distance) of every cell, piece by piece in row-major order,
+    measured by the plain distance to each segment."""
+    rows, columns = numpy.divmod(numpy.arange(piece.nx * piece.ny), piece.nx)
+    found = []
+    for k in range(len(a)):
+        distance = distance_to_segment(piece._x(columns), piece._y(rows), numpy.repeat(a[k:k + 1, :2], len(rows), axis=0),
+                                       numpy.repeat(b[k:k + 1, :2], len(rows), axis=0))
+        near = numpy.flatnonzero(distance <= reach + slack[k])
+        found.append((numpy.full(len(near), k), near, distance[near]))
+    return [numpy.concatenate(column) for column in zip(*found)]
+
+
+@settings(max_examples=150, deadline=None)
+@given(_GRIDS, st.lists(_pieces(), min_size=1, max_size=6), st.floats(0, 6), st.lists(st.floats(0, 2), min_size=6, max_size=6),
+       st.sampled_from([1 << 18, 7, 40]))
+def test_the_cells_near_each_piece_are_those_every_cell_measured_finds_in_the_same_order(grid, segments, reach, slacks, chunk):
+    from ncverify import workpiece
+
+    piece = Workpiece(*grid)
+    a = numpy.array([[*start, 0.0] for start, _ in segments])
+    b = numpy.array([[*end, 0.0] for _, end in segments])
+    slack = numpy.array(slacks[:len(a)])
+    with patch.object(workpiece, "_CHUNK_CELLS", chunk), numpy.errstate(all="ignore"):  # small chunks: pieces spread over many
+        found = [numpy.concatenate(column) for column in zip(*piece._cells_near(a, b, slack, reach))]
+        expected = _every_cell_near(piece, a, b, slack, reach)
+    for got, wanted in zip(found, expected):
+        assert numpy.array_equal(got, wanted)
+
+
+def _every_vertex_fits(starts, ends, breaks, heights, first, length, tolerance, rise):
+    """Each group judged on all of its moves: joined end to start, every vertex within
+    ``tolerance`` of the chord, its heights within ``rise`` (``breaks`` is not looked at);
+    and the most its vertices stray."""
+    fits, strays = numpy.empty(len(first), bool), numpy.empty(len(first))
+    for k, (begin, count) in enumerate(zip(first.tolist(), length.tolist())):
+        moves = numpy.arange(begin, begin + count)
+        joined = (starts[moves[1:]] == ends[moves[:-1]]).all()
+        stray = distance_to_segment(ends[moves, 0], ends[moves, 1], numpy.repeat(starts[begin:begin + 1, :2], count, axis=0),
+                                    numpy.repeat(ends[moves[-1]:moves[-1] + 1, :2], count, axis=0))
+        climb = heights[1][moves].max() - heights[0][moves].min()
+        fits[k] = count == 1 or (joined and stray.max() <= tolerance and climb <= rise)
+        strays[k] = stray.max()
+    return fits, strays
+
+
+@st.composite
+def _paths(draw):
+    """Connected runs of short moves, bent, stepped in Z, now and then broken."""
+    count = draw(st.integers(1, 300))
+    turn, step = draw(st.floats(0, 0.6)), draw(st.floats(0.01, 1.0))
+    angles = numpy.cumsum(numpy.full(count, turn)) + draw(st.floats(0, 6.3))
+    points = numpy.zeros((count + 1, 3))
+    points[1:, 0], points[1:, 1] = numpy.cumsum(step * numpy.cos(angles)), numpy.cumsum(step * numpy.sin(angles))
+    points[1:, 2] = numpy.cumsum(numpy.where(numpy.arange(count) % draw(st.integers(1, 80)) == 0, -draw(st.floats(0, 0.8)), 0.0))
+    starts, ends = points[:-1].copy(), points[1:].copy()
+    for broken in draw(st.lists(st.integers(1, max(1, count - 1)), max_size=3)):
+        if broken < count:
+            starts[broken, 0] += 0.1
+    return starts, ends
+
+
+@settings(max_examples=100, deadline=None)
+@given(_paths(), st.sampled_from([0.125, 0.0125, 0.25]))
+def test_screened_chord_groups_merge_the_moves_as_judging_every_vertex_does(path, tolerance):
+    from ncverify import workpiece
+
+    starts, ends = path
+    strays = numpy.linspace(0.0, 0.01, len(starts))
+    merged = workpiece._merge_runs(starts, ends, strays, tolerance, 0.5)
+    with patch.object(workpiece, "_chords_fit", _every_vertex_fits):
+        plain = workpiece._merge_runs(starts, ends, strays, tolerance, 0.5)
+    for got, wanted in zip(merged, plain):
+        assert numpy.array_equal(got, wanted)
+
+
+def _sweep_every_cell(piece, starts, ends, cutter, stray):
+    """The sweep written plainly: each piece against every cell of the grid (the same
+    pieces, bounds and rounding as the model's own)."""
+    from ncverify.workpiece import _merge_runs, _sink
+
+    starts, ends, strays = piece._within_slab(starts, ends, cutter, numpy.broadcast_to(numpy.asarray(stray, float), len(starts)))
+    a, b, z_low, z_high, slack, stray = piece._split_steep(*_merge_runs(starts, ends, strays, piece.resolution / 4.0, piece.resolution))
+    z_low, z_high, slack = z_low - stray, z_high + stray, slack + stray
+    may_cut = numpy.zeros(len(a), bool)
+    owner, flat, distance = _every_cell_near(piece, a, b, slack, cutter.radius + piece.half_diagonal)
+    outer = numpy.maximum(distance - piece.half_diagonal - slack[owner], 0.0)
+    touched = outer <= cutter.radius
+    surface_low = z_low[owner] + cutter.lowest_lift(outer)
+    may_cut[owner[touched & (piece.upper.reshape(-1)[flat] > surface_low)]] = True
+    inner = distance + piece.half_diagonal + slack[owner]
+    covered = inner <= cutter.radius
+    _sink(piece.upper, flat[covered], z_high[owner][covered] + cutter.lift(inner[covered]), up=True)
+    _sink(piece.lower, flat[touched], surface_low[touched], up=False)
+    for field in (piece.upper, piece.lower):
+        field[field <= piece.bottom] = NO_MATERIAL
+    return float(numpy.linalg.norm(b - a, axis=1)[~may_cut].sum())
+
+
+_SWEPT = st.one_of(cutters, st.sampled_from([Cutter(0.0), Cutter(0.2), Cutter(0.3, corner=0.3)]))
+
+
+@settings(max_examples=60, deadline=None)
+@given(_SWEPT, st.lists(st.tuples(points, points), min_size=1, max_size=3), _paths(), st.floats(0, 0.05))
+def test_the_sweep_leaves_the_field_that_every_cell_measured_against_every_piece_leaves(cutter, moves, path, stray):
+    piece, plain = Workpiece(BLANK, 0.5), Workpiece(BLANK, 0.5)
+    starts, ends = path
+    batches = [(numpy.array([start]), numpy.array([end]), 0.0) for start, end in moves]
+    batches.append((starts * [2.0, 2.0, 1.0] + [20.0, 15.0, 1.0], ends * [2.0, 2.0, 1.0] + [20.0, 15.0, 1.0], stray))
+    for starts, ends, stray in batches:
+        assert piece.cut(starts, ends, cutter, stray) == _sweep_every_cell(plain, starts, ends, cutter, stray)
+        assert numpy.array_equal(piece.upper, plain.upper) and numpy.array_equal(piece.lower, plain.lower)
+
+
+@pytest.mark.parametrize("top", [0.0, -0.0, 5.0])
+def test_a_box_blank_at_any_top_holds_it_on_every_cell_and_is_surely_there_but_where_cells_stick_out(top):
+    """A top at +0 is laid out as zeroed memory, any other (-0 too) filled in: the same tops."""
+    piece = Workpiece(Stock.box((0, 40.3), (0, 30.2), (top - 10, top)), 0.5)
+    assert piece.upper.tobytes() == numpy.full((61, 81), top, numpy.float32).tobytes()
+    inside = numpy.full((61, 81), top, numpy.float32)
+    inside[-1, :] = inside[:, -1] = NO_MATERIAL  # centres within half a cell of the far sides: their cells stick out
+    assert piece.lower.tobytes() == inside.tobytes()
+
+
+def test_a_copy_of_a_workpiece_whose_lower_bound_was_emptied_cuts_its_upper_bound_on_its_own():
+    piece = Workpiece(BLANK, 0.5)
+    piece.cut_anywhere()
+    twin = piece.copy()
+    twin.cut([[5, 15, -4]], [[35, 15, -4]], Cutter(3.0))
+    assert (piece.upper == 0.0).all() and (twin.upper[30, 20:60] == -4.0).all()
+    assert (piece.lower == NO_MATERIAL).all() and (twin.lower == NO_MATERIAL).all()
+    assert twin.rapid((10, 15, -2), (30, 15, -2), Cutter(1.0)).outcome == "clear"
+    assert piece.rapid((10, 15, -2), (30, 15, -2), Cutter(1.0)).outcome == "unsure"
