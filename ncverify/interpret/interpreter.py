@@ -167,7 +167,7 @@ class Interpreter(ControlFlow):
         self.cycles = CycleRunner(self)
         self.programs: dict[int, dict[str, int]] = {}
         self.line_cache: dict[tuple[int, int], list[ir.Block]] = {}
-        self.line_text: dict[tuple[int, int], tuple] = {}  # (source, offset) -> the logical_lines item there
+        self.line_text: dict[tuple[int, int], list] = {}  # (source, offset) -> the line there (_read_lines), with its blocks once lowered
         self._seen: dict[int, object] = {}  # id -> expression evaluated before (kept, so that the id stays its own)
         self._closures: dict[int, object] = {}  # id -> compiled closure of an expression or assignment in _seen
         self._local_names: dict[str, bool] = {}  # variable name -> is it local (frontend.variable_scope)
@@ -240,25 +240,28 @@ class Interpreter(ControlFlow):
         first_block, first_op = position.block_index, position.op_index
         cache = self._should_cache()
         frontend_blocks = self.frontend.blocks
-        is_plain = self.frontend.is_plain
         path = self._path_name(source)
         self._line_source = source
         streak_end = position.offset
         plain_streak = 0
         try:
-            lines = self._remembered_lines(source, position.offset) if cache else logical_lines(source, position.offset, self.frontend)
-            for line_number, offset, next_offset, raw in lines:
-                if plain_streak >= _BATCH_AFTER and is_plain(raw) and self._batch_allowed():
+            lines = self._remembered_lines(source, position.offset) if cache else self._read_lines(source, position.offset)
+            for line in lines:
+                line_number, offset, next_offset, raw, plain, blocks = line
+                if plain_streak >= _BATCH_AFTER and plain and self._batch_allowed():
                     plain_streak = 0
                     run = self.frontend.plain_run(source.buffer, offset, line_number)
                     end = None if run is None else self._execute_batch(run, source, path)
                     if end is not None:
                         streak_end = end
                         return Position(source, end) if end < len(source) else self._end_of_text(source)
-                blocks = self._blocks(source, offset, line_number, raw, path, cache, frontend_blocks)
+                if blocks is None:
+                    blocks = self._blocks(source, offset, line_number, raw, path, cache, frontend_blocks)
+                    if cache:
+                        line[5] = blocks
                 self._line_offset = offset
                 streak_end = next_offset
-                plain_streak = plain_streak + 1 if len(blocks) == 1 and is_plain(raw) else 0
+                plain_streak = plain_streak + 1 if plain and len(blocks) == 1 else 0
                 for block_index in range(first_block, len(blocks)):
                     self._block_index = block_index
                     transfer = self._execute_block(blocks[block_index], first_op)
@@ -389,16 +392,24 @@ class Interpreter(ControlFlow):
         body is read and lowered once, not on every pass."""
         return bool(self.state.loops) or len(self.state.call_stack) > 1 or bool(self.state.jump_counts)
 
+    def _read_lines(self, source: ProgramSource, offset: int):
+        """The lines of :func:`logical_lines` from ``offset`` as :meth:`_run_from` takes them:
+        ``[line number, offset, next offset, text, is it plain, None]`` (blocks not lowered yet)."""
+        is_plain = self.frontend.is_plain
+        for line_number, start, next_offset, raw in logical_lines(source, offset, self.frontend):
+            yield [line_number, start, next_offset, raw, is_plain(raw), None]
+
     def _remembered_lines(self, source: ProgramSource, offset: int):
-        """:func:`logical_lines` from ``offset``, each line read from the text once and then
-        remembered, so that a loop's next pass does not read its body again."""
+        """:meth:`_read_lines` from ``offset``, each line read from the text once and then
+        remembered with its blocks once lowered, so that a loop's next pass neither reads nor
+        lowers its body again."""
         remembered, text_id = self.line_text, id(source)
         reader, reader_at = None, -1
         while True:
             line = remembered.get((text_id, offset))
             if line is None:
                 if reader_at != offset:
-                    reader = logical_lines(source, offset, self.frontend)
+                    reader = self._read_lines(source, offset)
                 line = next(reader, None)
                 if line is None:
                     return
