@@ -91,6 +91,7 @@ class ControlFlow:
                         f"more than {self.settings.max_paths} paths: this branch was not explored both ways", "unknown",
                         "path budget exhausted (max_paths)")
             raise PathEnd
+        self._hand_on_gathered()  # the moves before the branch belong to both paths: judged once, before the copy
         twin = self.state.fork()
         twin.path_condition.append(values.negate(condition))
         self._forks.append((twin, resume_false()))

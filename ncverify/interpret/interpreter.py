@@ -202,6 +202,11 @@ class Interpreter(ControlFlow):
         }
         for kind, run in (modal_call.HANDLERS | getattr(runtime, "OPERATIONS", {})).items():
             self._handlers[kind] = partial(run, self.cycles)
+        self._gathered: list[tuple[Segment, float, tuple]] = []  # moves not yet handed on (_gather): segment, feed, axes written
+        self._gathered_from = None  # the motion mode before the first of them
+        self._run_observer = observer  # where the gathered moves go
+        if hasattr(observer, "motion_run") and not settings.per_block_only:
+            self.observer = GatheringObserver(observer, self._hand_on_gathered)
 
     # ------------------------------------------------------------------ running
 
@@ -224,6 +229,7 @@ class Interpreter(ControlFlow):
                 self._run_path(position)
             except PathEnd:
                 pass
+            self._hand_on_gathered()
             path_end = getattr(self.observer, "path_end", None)  # observers that keep per-path models (the cut stock) close them here
             if path_end is not None:
                 path_end(self.state)
@@ -452,9 +458,13 @@ class Interpreter(ControlFlow):
         self._block = block
         ops = block.ops
         handlers = self._handlers
+        gathered = self._gathered
         for op_index in range(first_op, len(ops)):
             self._op_index = op_index
-            transfer = handlers[type(ops[op_index])](ops[op_index], block)
+            op = ops[op_index]
+            if gathered and not _keeps_moves_gathered(op):
+                self._hand_on_gathered()
+            transfer = handlers[type(op)](op, block)
             if transfer is not None:
                 return transfer
         return None
@@ -1010,6 +1020,7 @@ class Interpreter(ControlFlow):
     def _move(self, op: ir.Move, block):
         state = self.state
         kind = op.kind
+        motion_before = state.modal.get("motion")
         modal_cycle = state.cycle is not None and state.cycle.model.called_after_motion  # SINUMERIK MCALL
         if kind is not None:
             if state.cycle is not None and state.cycle.model.motion_codes_keep_cycle:
@@ -1029,9 +1040,11 @@ class Interpreter(ControlFlow):
         start = state.position
         end = dict(start)
         incremental = state.modal["distance"] == "incremental"
+        all_written = True
         for axis, expr in op.targets.items():
             value = expr if type(expr) is float else self.value(expr, op.span)
             if value is VACANT:
+                all_written = False
                 continue  # a vacant variable makes the address absent (Fanuc)
             if (incremental and axis not in op.absolute) or axis in op.incremental:
                 current = start.get(axis)
@@ -1043,10 +1056,75 @@ class Interpreter(ControlFlow):
         if kind == "thread" and op.words:
             self._change("thread", op.span, block, None, op_values(op.words, self, op.span))  # G33 Q start angle, E lead
         arc = self._arc(op, kind, start) if kind in _ARC_KINDS else None
-        self.observer.segment(Segment(_SEGMENT_KIND[kind], start, end, op.span, block, "programmed", None, arc), state)
+        segment = Segment(_SEGMENT_KIND[kind], start, end, op.span, block, "programmed", None, arc)
+        if not (all_written and not modal_cycle and self._gather(segment, op, motion_before)):
+            self.observer.segment(segment, state)
         if modal_cycle:
             return self.cycles.modal_call(op, block)  # the MCALL cycle runs after every positioning
         return None
+
+    def _gather(self, segment: Segment, op: ir.Move, motion_before) -> bool:
+        """Keep a programmed move the block path makes, to hand it on with the moves next to
+        it as one run (:meth:`_hand_on_gathered`), as a batch is: False when the run cannot
+        carry it exactly (then it goes on alone). A run carries moves of concrete values,
+        not from the start position, with no cycle, frame or coordinate shift in force, all
+        over the same axes, each straight or an arc whose centre or radius is known in a
+        plane of those axes (X not a diameter); its rapids, feeds and arcs are judged as a
+        batch's. Every other event, and every operation but moves, assignments, jumps and
+        loop bookkeeping, hands the run on first (:class:`GatheringObserver`,
+        :func:`_keeps_moves_gathered`); so does a fork and the path's end."""
+        state = self.state
+        if type(self.observer) is not GatheringObserver or state.cycle is not None or state.frame is not None or state.parked or state.left_start:
+            return False
+        feed = state.feed
+        if not (feed is None or type(feed) is float) or segment.kind not in _RUN_KIND:
+            return False
+        start, end, arc = segment.start, segment.end, segment.arc
+        axes = tuple(end)
+        if axes != tuple(start) or not all(type(value) is float or value is None for value in end.values()) or not all(
+                type(value) is float or value is None for value in start.values()):
+            return False
+        if arc is None:
+            if op.arc:
+                return False  # centre words on a straight move: a batch leaves it to the block path
+        elif not (arc.plane[0] in axes and arc.plane[1] in axes and (self._x_scale() == 1.0 or "X" not in arc.plane[:2])
+                  and (type(arc.radius_word) is float if arc.centre is None else all(type(value) is float for value in arc.centre))):
+            return False
+        gathered = self._gathered
+        if gathered and tuple(gathered[0][0].end) != axes:
+            self._hand_on_gathered()
+        if not gathered:
+            self._gathered_from = motion_before
+        gathered.append((segment, math.nan if feed is None else feed, tuple(op.targets)))
+        if len(gathered) >= _GATHERED_MOVES:
+            self._hand_on_gathered()
+        return True
+
+    def _hand_on_gathered(self) -> None:
+        """Hand the gathered moves (:meth:`_gather`) to the observer as one MotionRun, with
+        the state as a batch has it: at the run's start, in the motion mode before it; then
+        put back the state as it is now."""
+        gathered = self._gathered
+        if not gathered:
+            return
+        moves = gathered[:]
+        gathered.clear()
+        state = self.state
+        segments = [segment for segment, _feed, _written in moves]
+        axes = tuple(segments[0].start)
+        points = numpy.array([[_as_float(segments[0].start[axis]) for axis in axes]]
+                             + [[_as_float(segment.end[axis]) for axis in axes] for segment in segments], dtype=numpy.float64)
+        kinds = numpy.array([_RUN_KIND[segment.kind] + (segment.arc is not None and segment.arc.direction == "ccw") for segment in segments], dtype=numpy.int8)
+        feeds = numpy.array([feed for _segment, feed, _written in moves], dtype=numpy.float64)
+        written = numpy.array([[axis in axes_written for axis in axes] for _segment, _feed, axes_written in moves], dtype=bool)
+        arcs = _gathered_arcs(segments, axes, kinds)
+        now = state.position, state.modal.get("motion")
+        state.position, state.modal["motion"] = segments[0].start, self._gathered_from
+        try:
+            self._run_observer.motion_run(MotionRun(axes, points, kinds, feeds, written, lambda index: segments[index].span, segments.__getitem__,
+                                                     arcs, partial(_batch_state_at, state, kinds, feeds)), state)
+        finally:
+            state.position, state.modal["motion"] = now
 
     def _emit(self, kind: str, start: dict, span, block, role: str = "programmed", cycle: str | None = None, arc: Arc | None = None) -> None:
         self.observer.segment(Segment(kind, start, self.state.position, span, block, role, cycle, arc), self.state)
@@ -1171,6 +1249,53 @@ _FIRST_ARC_KIND = ir.MoveBatch.KINDS.index("arc_cw")  # kinds from here on are a
 _CENTRE_WORD = {"X": 0, "Y": 1, "Z": 2}  # the columns of I, J, K in MoveBatch.arc_words
 _RADIUS_WORD = 3
 _RUN_SEGMENT_KIND = ("rapid", "feed", "arc", "arc")
+
+
+_GATHERED_MOVES = 4096  # moves gathered into one run at most (memory stays flat in program length)
+_RUN_KIND = {"rapid": 0, "feed": 1, "arc": _FIRST_ARC_KIND}  # a segment's kind in a MotionRun (+1: a counter-clockwise arc)
+_BETWEEN_GATHERED = frozenset({ir.Move, ir.Assign, ir.Jump, ir.LoopStart, ir.LoopEnd})
+
+
+def _keeps_moves_gathered(op) -> bool:
+    """May ``op`` run while moves are gathered (:meth:`Interpreter._gather`)? A move decides
+    for itself; assignments, jumps and loop bookkeeping change no state a rule reads, except
+    an assignment to the active cutting edge."""
+    kind = type(op)
+    return kind in _BETWEEN_GATHERED and not (kind is ir.Assign and op.target.name == ir.ACTIVE_EDGE)
+
+
+def _gathered_arcs(segments: list, axes: tuple, kinds) -> BatchArcs | None:
+    """The arcs among gathered moves as a batch holds them: their plane, its axes' columns,
+    each arc's centre (NaN: none, or given by its radius) and radius word (NaN: none)."""
+    arcs = [segment.arc for segment in segments]
+    plane = next((arc.plane for arc in arcs if arc is not None), None)
+    if plane is None:
+        return None
+    centres = numpy.array([arc.centre if arc is not None and arc.centre is not None else (math.nan, math.nan) for arc in arcs], dtype=numpy.float64)
+    radii = numpy.array([arc.radius_word if arc is not None and arc.centre is None else math.nan for arc in arcs], dtype=numpy.float64)
+    return BatchArcs(plane, [axes.index(plane[0]), axes.index(plane[1])], centres, radii)
+
+
+class GatheringObserver:
+    """Stands between the interpreter and its observer while moves may be gathered
+    (:meth:`Interpreter._gather`): every event first hands the gathered moves on
+    (``hand_on``), so the observer sees them in the order they happened."""
+
+    def __init__(self, observer, hand_on):
+        self.inner = observer
+        self._hand_on = hand_on
+
+    def __getattr__(self, name):
+        attribute = getattr(self.inner, name)
+        if not callable(attribute):
+            return attribute
+        hand_on = self._hand_on
+
+        def after_gathered(*arguments, **keywords):
+            hand_on()
+            return attribute(*arguments, **keywords)
+
+        return after_gathered
 
 
 def _batch_span(block_of, index: int) -> Span:
