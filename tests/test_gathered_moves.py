@@ -128,6 +128,25 @@ def test_klartext_label_repeats_give_the_same_findings_gathered_or_one_by_one(bo
     _assert_same(program, "t.h")
 
 
+# ------------------------------------------------------------------ straight-line code into the stock
+
+_POCKET_MOVE = st.tuples(st.sampled_from(["G0", "G1", "G00", "G01", "", "G2", "G3"]), st.integers(0, 100), st.integers(0, 60), st.integers(-6, 3),
+                         st.sampled_from(["", " F600.", " F0"])).map(
+    lambda p: f"{p[0]} X{p[1]}. Y{p[2]}. Z{p[3]}.{' R30.' if p[0] in ('G2', 'G3') else ''}{p[4]}".strip())
+
+
+@settings(max_examples=100, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(moves=st.lists(st.one_of(_POCKET_MOVE, _POCKET_MOVE, _POCKET_MOVE, st.sampled_from(["M05", "M03", "G91", "G90", "Z2.", "X50."])),
+                      min_size=3, max_size=14), first=st.sampled_from(["G43 H01 Z50.", "G43 H01 X0 Y0 Z50.", "G0 Y5. X5."]))
+def test_cuts_and_rapids_in_the_stock_give_the_same_findings_gathered_or_one_by_one(moves, first):
+    """Cuts, then rapids through what they left (the cut stock), with the axes first set in
+    any order (a run's columns are X, Y, Z whatever the order the position was set in)."""
+    program = "\n".join(["O1", "(ncverify: stock box X0:100 Y0:60 Z-20:0)", "(ncverify: tool 1 radius 5 length 60 type endmill)",
+                         "G21 G90 G17 G40 G49 G80 G54", "T1 M06", first, "S6000 M03", "G00 X35. Y20.", "Z2.", "G01 Z-5. F150.", *moves,
+                         "G00 Z50.", "M30"]) + "\n"
+    _assert_same(program, "t.nc")
+
+
 # ------------------------------------------------------------------ the gathering itself
 
 _LOOP = "\n".join(["G21 G90 G17 G54", "T1 M6", "G43 H1", "S1000 M3", "G0 X0 Y0 Z5", "G1 Z-1 F500", "#<i> = 0", "o100 while [#<i> LT 50]",

@@ -462,9 +462,10 @@ class Interpreter(ControlFlow):
         for op_index in range(first_op, len(ops)):
             self._op_index = op_index
             op = ops[op_index]
-            if gathered and not _keeps_moves_gathered(op):
-                self._hand_on_gathered()
-            transfer = handlers[type(op)](op, block)
+            kind = type(op)
+            if gathered and (kind not in _BETWEEN_GATHERED or kind is ir.Assign and op.target.name == ir.ACTIVE_EDGE):
+                self._hand_on_gathered()  # assignments, jumps and loop bookkeeping change no state a rule reads, but the active edge does
+            transfer = handlers[kind](op, block)
             if transfer is not None:
                 return transfer
         return None
@@ -637,7 +638,8 @@ class Interpreter(ControlFlow):
     def value(self, expr, span=None):
         """An expression's value where a number is needed (a word, a parameter of a
         cycle): comparisons count 1 or 0; VACANT passes through."""
-        return self._as_number(self.evaluate(expr, span))
+        result = self.evaluate(expr, span)
+        return result if type(result) is float else self._as_number(result)
 
     def _arithmetic_operand(self, value, expr, span):
         if value is VACANT:
@@ -1066,13 +1068,13 @@ class Interpreter(ControlFlow):
     def _gather(self, segment: Segment, op: ir.Move, motion_before) -> bool:
         """Keep a programmed move the block path makes, to hand it on with the moves next to
         it as one run (:meth:`_hand_on_gathered`), as a batch is: False when the run cannot
-        carry it exactly (then it goes on alone). A run carries moves of concrete values,
-        not from the start position, with no cycle, frame or coordinate shift in force, all
-        over the same axes, each straight or an arc whose centre or radius is known in a
-        plane of those axes (X not a diameter); its rapids, feeds and arcs are judged as a
-        batch's. Every other event, and every operation but moves, assignments, jumps and
+        carry it exactly (then it goes on alone). A run carries moves of concrete values
+        along X, Y and Z (the other axes stand still, as in a batch), not from the start
+        position, with no cycle, frame or coordinate shift in force, each straight or an
+        arc whose centre or radius is known (X not a diameter); its rapids, feeds and arcs
+        are judged as a batch's. Every other event, and every operation but moves, assignments, jumps and
         loop bookkeeping, hands the run on first (:class:`GatheringObserver`,
-        :func:`_keeps_moves_gathered`); so does a fork and the path's end."""
+        :meth:`_execute_block`); so does a fork and the path's end."""
         state = self.state
         if type(self.observer) is not GatheringObserver or state.cycle is not None or state.frame is not None or state.parked or state.left_start:
             return False
@@ -1080,19 +1082,15 @@ class Interpreter(ControlFlow):
         if not (feed is None or type(feed) is float) or segment.kind not in _RUN_KIND:
             return False
         start, end, arc = segment.start, segment.end, segment.arc
-        axes = tuple(end)
-        if axes != tuple(start) or not all(type(value) is float or value is None for value in end.values()) or not all(
-                type(value) is float or value is None for value in start.values()):
+        gathered = self._gathered
+        if not _RUN_AXES.issuperset(op.targets) or not _numbers(end) or not (gathered and start is gathered[-1][0].end or _numbers(start)):
             return False
         if arc is None:
             if op.arc:
                 return False  # centre words on a straight move: a batch leaves it to the block path
-        elif not (arc.plane[0] in axes and arc.plane[1] in axes and (self._x_scale() == 1.0 or "X" not in arc.plane[:2])
+        elif not ((self._x_scale() == 1.0 or "X" not in arc.plane[:2])
                   and (type(arc.radius_word) is float if arc.centre is None else all(type(value) is float for value in arc.centre))):
             return False
-        gathered = self._gathered
-        if gathered and tuple(gathered[0][0].end) != axes:
-            self._hand_on_gathered()
         if not gathered:
             self._gathered_from = motion_before
         gathered.append((segment, math.nan if feed is None else feed, tuple(op.targets)))
@@ -1111,9 +1109,9 @@ class Interpreter(ControlFlow):
         gathered.clear()
         state = self.state
         segments = [segment for segment, _feed, _written in moves]
-        axes = tuple(segments[0].start)
-        points = numpy.array([[_as_float(segments[0].start[axis]) for axis in axes]]
-                             + [[_as_float(segment.end[axis]) for axis in axes] for segment in segments], dtype=numpy.float64)
+        axes = _RUN_AXES_IN_ORDER
+        points = numpy.array([[_as_float(segments[0].start.get(axis)) for axis in axes]]
+                             + [[_as_float(segment.end.get(axis)) for axis in axes] for segment in segments], dtype=numpy.float64)
         kinds = numpy.array([_RUN_KIND[segment.kind] + (segment.arc is not None and segment.arc.direction == "ccw") for segment in segments], dtype=numpy.int8)
         feeds = numpy.array([feed for _segment, feed, _written in moves], dtype=numpy.float64)
         written = numpy.array([[axis in axes_written for axis in axes] for _segment, _feed, axes_written in moves], dtype=bool)
@@ -1253,15 +1251,17 @@ _RUN_SEGMENT_KIND = ("rapid", "feed", "arc", "arc")
 
 _GATHERED_MOVES = 4096  # moves gathered into one run at most (memory stays flat in program length)
 _RUN_KIND = {"rapid": 0, "feed": 1, "arc": _FIRST_ARC_KIND}  # a segment's kind in a MotionRun (+1: a counter-clockwise arc)
-_BETWEEN_GATHERED = frozenset({ir.Move, ir.Assign, ir.Jump, ir.LoopStart, ir.LoopEnd})
+_RUN_AXES_IN_ORDER = ("X", "Y", "Z")  # the columns of a run's points, as every batch has them
+_RUN_AXES = frozenset(_RUN_AXES_IN_ORDER)
+_BETWEEN_GATHERED = frozenset({ir.Move, ir.Assign, ir.Jump, ir.LoopStart, ir.LoopEnd})  # operations moves stay gathered across
 
 
-def _keeps_moves_gathered(op) -> bool:
-    """May ``op`` run while moves are gathered (:meth:`Interpreter._gather`)? A move decides
-    for itself; assignments, jumps and loop bookkeeping change no state a rule reads, except
-    an assignment to the active cutting edge."""
-    kind = type(op)
-    return kind in _BETWEEN_GATHERED and not (kind is ir.Assign and op.target.name == ir.ACTIVE_EDGE)
+def _numbers(position: dict) -> bool:
+    """Is every coordinate of ``position`` a number or unknown (None), none symbolic?"""
+    for value in position.values():
+        if type(value) is not float and value is not None:
+            return False
+    return True
 
 
 def _gathered_arcs(segments: list, axes: tuple, kinds) -> BatchArcs | None:
