@@ -116,14 +116,20 @@ def test_sinumerik_loops_give_the_same_findings_gathered_or_one_by_one(body, pas
 
 _KLARTEXT_BODY_LINE = st.sampled_from(["L IX+2 IY+1 R0 F500", "L X+5 Y+5 Z-1", "L IZ-0.5 FMAX", "CC X+0 Y+0", "C X+5 Y+0 DR-",
                                        "CR X+0 Y+5 R+5 DR+", "L X+Q1 Y+Q2", "FN 1: Q2 = Q2 + 1", "L X+Q2 RL F300", "L X+0 R0",
-                                       "M5", "M3", "CYCL DEF 7.0 DATUM SHIFT", "CYCL DEF 7.1 X+1"])
+                                       "M5", "M3", "CYCL DEF 7.0 DATUM SHIFT", "CYCL DEF 7.1 X+1", "L X+4 Y+4 R0 FMAX M99",
+                                       "L X+8 Y+4 R0 FMAX M89", "L X+8 FMAX", "L IY+3 F200", "CYCL DEF 200 DRILLING Q200=+2 Q201=-5 Q206=+150 "
+                                       "Q202=+5 Q210=+0 Q203=+0 Q204=+15 Q211=+0"])
 
 
-@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
-@given(body=st.lists(_KLARTEXT_BODY_LINE, min_size=1, max_size=6), repeats=st.integers(0, 6))
-def test_klartext_label_repeats_give_the_same_findings_gathered_or_one_by_one(body, repeats):
+@settings(max_examples=80, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(body=st.lists(_KLARTEXT_BODY_LINE, min_size=1, max_size=8), repeats=st.integers(0, 6), cycle=st.booleans())
+def test_klartext_label_repeats_give_the_same_findings_gathered_or_one_by_one(body, repeats, cycle):
+    """Positioning lines keep the moves gathered unless an M89 cycle waits on positions or a
+    cycle's end needs the next positioning checked."""
+    drilling = ["CYCL DEF 200 DRILLING Q200=+2 Q201=-5 Q206=+150 Q202=+5 Q210=+0 Q203=+0 Q204=+15 Q211=+0", "L X+1 Y+1 R0 FMAX M99"]
     lines = ["BEGIN PGM T MM", "BLK FORM 0.1 Z X-40 Y-40 Z-10", "BLK FORM 0.2 X+40 Y+40 Z+0", "TOOL CALL 1 Z S1000", "L Z+50 R0 FMAX M3",
-             "FN 0: Q1 = 3", "FN 0: Q2 = 0", "LBL 1", *body, "CALL LBL 1 REP " + str(repeats), "L Z+50 R0 FMAX", "M30", "END PGM T MM"]
+             *(drilling if cycle else []), "FN 0: Q1 = 3", "FN 0: Q2 = 0", "LBL 1", *body, "CALL LBL 1 REP " + str(repeats),
+             "L Z+50 R0 FMAX", "M30", "END PGM T MM"]
     program = "\n".join(f"{number} {line}" for number, line in enumerate(lines)) + "\n"
     _assert_same(program, "t.h")
 
@@ -166,6 +172,14 @@ def test_a_move_to_a_free_parameter_is_handed_on_alone():
                          "WHILE [#1 LT 50] DO1", "G1 X#1 Y#500", "#1 = #1 + 1", "END1", "M30"]) + "\n"
     assert sum(_runs_handed_on(program, "t.nc")) < 5
     assert sum(_runs_handed_on(program.replace("Y#500", "Y1."), "t.nc")) > 50
+
+
+def test_klartext_positioning_lines_keep_the_moves_gathered():
+    """A Klartext line's positioning step changes nothing a rule reads while no cycle waits
+    on it: the lines' moves reach the rules together."""
+    lines = ["BEGIN PGM T MM", "TOOL CALL 1 Z S1000", "L Z+50 R0 FMAX M3", "L X+0 Y+0 R0 F500", *[f"L X+{n} Y+{n % 3}" for n in range(1, 21)], "M30", "END PGM T MM"]
+    program = "\n".join(f"{number} {line}" for number, line in enumerate(lines)) + "\n"
+    assert max(_runs_handed_on(program, "t.h")) >= 19
 
 
 def test_gathered_runs_stay_short_in_a_long_loop():

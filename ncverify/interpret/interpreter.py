@@ -205,6 +205,7 @@ class Interpreter(ControlFlow):
         self._gathered: list[tuple[Segment, float, tuple]] = []  # moves not yet handed on (_gather): segment, feed, axes written
         self._gathered_from = None  # the motion mode before the first of them
         self._run_observer = observer  # where the gathered moves go
+        self._inert_between_moves = getattr(runtime, "INERT_BETWEEN_MOVES", {})  # dialect operation -> when it leaves the moves gathered
         if hasattr(observer, "motion_run") and not settings.per_block_only:
             self.observer = GatheringObserver(observer, self._hand_on_gathered)
 
@@ -463,8 +464,8 @@ class Interpreter(ControlFlow):
             self._op_index = op_index
             op = ops[op_index]
             kind = type(op)
-            if gathered and (kind not in _BETWEEN_GATHERED or kind is ir.Assign and op.target.name == ir.ACTIVE_EDGE):
-                self._hand_on_gathered()  # assignments, jumps and loop bookkeeping change no state a rule reads, but the active edge does
+            if gathered and not self._keeps_moves_gathered(op, kind):
+                self._hand_on_gathered()
             transfer = handlers[kind](op, block)
             if transfer is not None:
                 return transfer
@@ -1072,9 +1073,9 @@ class Interpreter(ControlFlow):
         along X, Y and Z (the other axes stand still, as in a batch), not from the start
         position, with no cycle, frame or coordinate shift in force, each straight or an
         arc whose centre or radius is known (X not a diameter); its rapids, feeds and arcs
-        are judged as a batch's. Every other event, and every operation but moves, assignments, jumps and
-        loop bookkeeping, hands the run on first (:class:`GatheringObserver`,
-        :meth:`_execute_block`); so does a fork and the path's end."""
+        are judged as a batch's. Every other event, and every operation but moves,
+        assignments, jumps and loop bookkeeping, hands the run on first
+        (:class:`GatheringObserver`, :meth:`_execute_block`); so do a fork and the path's end."""
         state = self.state
         if type(self.observer) is not GatheringObserver or state.cycle is not None or state.frame is not None or state.parked or state.left_start:
             return False
@@ -1098,6 +1099,15 @@ class Interpreter(ControlFlow):
             self._hand_on_gathered()
         return True
 
+    def _keeps_moves_gathered(self, op, kind) -> bool:
+        """May ``op`` run while moves are gathered? Moves decide for themselves (:meth:`_gather`);
+        assignments, jumps and loop bookkeeping change no state a rule reads, except an
+        assignment to the active cutting edge; a dialect's operation when its runtime says so."""
+        if kind in _BETWEEN_GATHERED:
+            return kind is not ir.Assign or op.target.name != ir.ACTIVE_EDGE
+        inert = self._inert_between_moves.get(kind)
+        return inert is not None and inert(self.state)
+
     def _hand_on_gathered(self) -> None:
         """Hand the gathered moves (:meth:`_gather`) to the observer as one MotionRun, with
         the state as a batch has it: at the run's start, in the motion mode before it; then
@@ -1115,7 +1125,7 @@ class Interpreter(ControlFlow):
         kinds = numpy.array([_RUN_KIND[segment.kind] + (segment.arc is not None and segment.arc.direction == "ccw") for segment in segments], dtype=numpy.int8)
         feeds = numpy.array([feed for _segment, feed, _written in moves], dtype=numpy.float64)
         written = numpy.array([[axis in axes_written for axis in axes] for _segment, _feed, axes_written in moves], dtype=bool)
-        arcs = _gathered_arcs(segments, axes, kinds)
+        arcs = _gathered_arcs(segments, axes)
         now = state.position, state.modal.get("motion")
         state.position, state.modal["motion"] = segments[0].start, self._gathered_from
         try:
@@ -1264,7 +1274,7 @@ def _numbers(position: dict) -> bool:
     return True
 
 
-def _gathered_arcs(segments: list, axes: tuple, kinds) -> BatchArcs | None:
+def _gathered_arcs(segments: list, axes: tuple) -> BatchArcs | None:
     """The arcs among gathered moves as a batch holds them: their plane, its axes' columns,
     each arc's centre (NaN: none, or given by its radius) and radius word (NaN: none)."""
     arcs = [segment.arc for segment in segments]
