@@ -1080,8 +1080,8 @@ class Interpreter(ControlFlow):
         if type(self.observer) is not GatheringObserver or state.cycle is not None or state.frame is not None or state.parked or state.left_start:
             return False
         feed = state.feed
-        if not (feed is None or type(feed) is float) or segment.kind not in _RUN_KIND:
-            return False
+        if not (feed is None or type(feed) is float) or segment.kind not in _RUN_KIND or segment.span.path is not None:
+            return False  # a move of a called file goes alone, as before: the toolpath picture leaves those segments out
         start, end, arc = segment.start, segment.end, segment.arc
         gathered = self._gathered
         if not _RUN_AXES.issuperset(op.targets) or not _numbers(end) or not (gathered and start is gathered[-1][0].end or _numbers(start)):
@@ -1109,28 +1109,26 @@ class Interpreter(ControlFlow):
         return inert is not None and inert(self.state)
 
     def _hand_on_gathered(self) -> None:
-        """Hand the gathered moves (:meth:`_gather`) to the observer as one MotionRun, with
-        the state as a batch has it: at the run's start, in the motion mode before it; then
-        put back the state as it is now."""
+        """Hand the gathered moves (:meth:`_gather`) to the observer: as one MotionRun, with
+        the state as a batch has it (at the run's start, in the motion mode before it), or,
+        when they are too few to make a run pay, one by one, with the state as the block path
+        has it at each; then put back the state as it is now."""
         gathered = self._gathered
         if not gathered:
             return
         moves = gathered[:]
         gathered.clear()
         state = self.state
-        segments = [segment for segment, _feed, _written in moves]
-        axes = _RUN_AXES_IN_ORDER
-        points = numpy.array([[_as_float(segments[0].start.get(axis)) for axis in axes]]
-                             + [[_as_float(segment.end.get(axis)) for axis in axes] for segment in segments], dtype=numpy.float64)
-        kinds = numpy.array([_RUN_KIND[segment.kind] + (segment.arc is not None and segment.arc.direction == "ccw") for segment in segments], dtype=numpy.int8)
-        feeds = numpy.array([feed for _segment, feed, _written in moves], dtype=numpy.float64)
-        written = numpy.array([[axis in axes_written for axis in axes] for _segment, _feed, axes_written in moves], dtype=bool)
-        arcs = _gathered_arcs(segments, axes)
         now = state.position, state.modal.get("motion")
-        state.position, state.modal["motion"] = segments[0].start, self._gathered_from
         try:
-            self._run_observer.motion_run(MotionRun(axes, points, kinds, feeds, written, lambda index: segments[index].span, segments.__getitem__,
-                                                     arcs, partial(_batch_state_at, state, kinds, feeds)), state)
+            if len(moves) < _SHORTEST_RUN:
+                for segment, _feed, _written in moves:
+                    state.position, state.modal["motion"] = segment.end, _modal_motion(segment)
+                    self._run_observer.segment(segment, state)
+            else:
+                run = _gathered_run(moves, state)
+                state.position, state.modal["motion"] = moves[0][0].start, self._gathered_from
+                self._run_observer.motion_run(run, state)
         finally:
             state.position, state.modal["motion"] = now
 
@@ -1260,6 +1258,7 @@ _RUN_SEGMENT_KIND = ("rapid", "feed", "arc", "arc")
 
 
 _GATHERED_MOVES = 4096  # moves gathered into one run at most (memory stays flat in program length)
+_SHORTEST_RUN = 32  # fewer gathered moves go on one by one: the rules' work per run outweighs their work per move
 _RUN_KIND = {"rapid": 0, "feed": 1, "arc": _FIRST_ARC_KIND}  # a segment's kind in a MotionRun (+1: a counter-clockwise arc)
 _RUN_AXES_IN_ORDER = ("X", "Y", "Z")  # the columns of a run's points, as every batch has them
 _RUN_AXES = frozenset(_RUN_AXES_IN_ORDER)
@@ -1272,6 +1271,27 @@ def _numbers(position: dict) -> bool:
         if type(value) is not float and value is not None:
             return False
     return True
+
+
+def _gathered_run(moves: list, state) -> MotionRun:
+    """The MotionRun of gathered moves ``(segment, feed, axes written)``: the batch's form,
+    with the block path's own segments and spans."""
+    segments = [segment for segment, _feed, _written in moves]
+    axes = _RUN_AXES_IN_ORDER
+    points = numpy.array([[_as_float(segments[0].start.get(axis)) for axis in axes]]
+                         + [[_as_float(segment.end.get(axis)) for axis in axes] for segment in segments], dtype=numpy.float64)
+    kinds = numpy.array([_RUN_KIND[segment.kind] + (segment.arc is not None and segment.arc.direction == "ccw") for segment in segments], dtype=numpy.int8)
+    feeds = numpy.array([feed for _segment, feed, _written in moves], dtype=numpy.float64)
+    written = numpy.array([[axis in axes_written for axis in axes] for _segment, _feed, axes_written in moves], dtype=bool)
+    return MotionRun(axes, points, kinds, feeds, written, lambda index: segments[index].span, segments.__getitem__,
+                     _gathered_arcs(segments, axes), partial(_batch_state_at, state, kinds, feeds))
+
+
+def _modal_motion(segment: Segment) -> str:
+    """The motion mode in force at a gathered move: the one it ran in."""
+    if segment.arc is not None:
+        return "arc_cw" if segment.arc.direction == "cw" else "arc_ccw"
+    return "rapid" if segment.kind == "rapid" else "linear"
 
 
 def _gathered_arcs(segments: list, axes: tuple) -> BatchArcs | None:
