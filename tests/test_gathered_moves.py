@@ -67,7 +67,7 @@ _LINUXCNC_BODY_LINE = st.one_of(
 
 
 @settings(max_examples=120, deadline=None, suppress_health_check=[HealthCheck.too_slow])
-@given(body=st.lists(_LINUXCNC_BODY_LINE, min_size=1, max_size=8), passes=st.integers(0, 12),
+@given(body=st.lists(_LINUXCNC_BODY_LINE, min_size=1, max_size=8), passes=st.integers(0, 40),
        after=st.lists(_LINUXCNC_BODY_LINE, max_size=4), stock=st.booleans(), loop_bound=st.sampled_from([5, 1000]))
 def test_linuxcnc_loops_give_the_same_findings_gathered_or_one_by_one(body, passes, after, stock, loop_bound):
     program = "\n".join([*(_STOCK if stock else []), "G21 G90 G17 G54", "T1 M6", "G43 H1", "S1000 M3", "G0 X0 Y0 Z5", "F500.",
@@ -143,13 +143,15 @@ _POCKET_MOVE = st.tuples(st.sampled_from(["G0", "G1", "G00", "G01", "", "G2", "G
 
 @settings(max_examples=100, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(moves=st.lists(st.one_of(_POCKET_MOVE, _POCKET_MOVE, _POCKET_MOVE, st.sampled_from(["M05", "M03", "G91", "G90", "Z2.", "X50."])),
-                      min_size=3, max_size=14), first=st.sampled_from(["G43 H01 Z50.", "G43 H01 X0 Y0 Z50.", "G0 Y5. X5."]))
-def test_cuts_and_rapids_in_the_stock_give_the_same_findings_gathered_or_one_by_one(moves, first):
+                      min_size=3, max_size=14), first=st.sampled_from(["G43 H01 Z50.", "G43 H01 X0 Y0 Z50.", "G0 Y5. X5."]),
+       passes=st.integers(1, 6))
+def test_cuts_and_rapids_in_the_stock_give_the_same_findings_gathered_or_one_by_one(moves, first, passes):
     """Cuts, then rapids through what they left (the cut stock), with the axes first set in
-    any order (a run's columns are X, Y, Z whatever the order the position was set in)."""
+    any order (a run's columns are X, Y, Z whatever the order the position was set in), as
+    short runs (one by one) and, repeated by a loop, long ones."""
     program = "\n".join(["O1", "(ncverify: stock box X0:100 Y0:60 Z-20:0)", "(ncverify: tool 1 radius 5 length 60 type endmill)",
-                         "G21 G90 G17 G40 G49 G80 G54", "T1 M06", first, "S6000 M03", "G00 X35. Y20.", "Z2.", "G01 Z-5. F150.", *moves,
-                         "G00 Z50.", "M30"]) + "\n"
+                         "G21 G90 G17 G40 G49 G80 G54", "T1 M06", first, "S6000 M03", "G00 X35. Y20.", "Z2.", "G01 Z-5. F150.", "#1 = 0",
+                         f"WHILE [#1 LT {passes}] DO1", *moves, "#1 = #1 + 1", "END1", "G00 Z50.", "M30"]) + "\n"
     _assert_same(program, "t.nc")
 
 
@@ -177,9 +179,10 @@ def test_a_move_to_a_free_parameter_is_handed_on_alone():
 def test_klartext_positioning_lines_keep_the_moves_gathered():
     """A Klartext line's positioning step changes nothing a rule reads while no cycle waits
     on it: the lines' moves reach the rules together."""
-    lines = ["BEGIN PGM T MM", "TOOL CALL 1 Z S1000", "L Z+50 R0 FMAX M3", "L X+0 Y+0 R0 F500", *[f"L X+{n} Y+{n % 3}" for n in range(1, 21)], "M30", "END PGM T MM"]
+    lines = ["BEGIN PGM T MM", "TOOL CALL 1 Z S1000", "L Z+50 R0 FMAX M3", "L X+0 Y+0 R0 F500",
+             *[line for n in range(1, 41) for line in (f"FN 0: Q1 = {n}", f"L X+Q1 Y+{n % 3}")], "M30", "END PGM T MM"]  # no batch reads them
     program = "\n".join(f"{number} {line}" for number, line in enumerate(lines)) + "\n"
-    assert max(_runs_handed_on(program, "t.h")) >= 19
+    assert _runs_handed_on(program, "t.h") == [41]  # from the line with F500 on
 
 
 def test_gathered_runs_stay_short_in_a_long_loop():
