@@ -1315,6 +1315,10 @@ class GatheringObserver:
         self.inner = observer
         self._hand_on = hand_on
 
+    def segment(self, segment, state) -> None:
+        self._hand_on()
+        self.inner.segment(segment, state)
+
     def __getattr__(self, name):
         attribute = getattr(self.inner, name)
         if not callable(attribute):
@@ -1325,6 +1329,7 @@ class GatheringObserver:
             hand_on()
             return attribute(*arguments, **keywords)
 
+        setattr(self, name, after_gathered)  # made once per kind of event
         return after_gathered
 
 
