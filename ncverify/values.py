@@ -350,6 +350,13 @@ def call(name: str, args: list[Value]) -> Value:
     return fresh(name, low, high)
 
 
+def number_function(name: str):
+    """What :func:`call` computes for one plain number given to the one-argument function
+    ``name`` (it may raise :class:`DomainError` or an overflow), or None for the others."""
+    entry = _FUNCTIONS.get(name)
+    return None if entry is None else entry[0]
+
+
 def known_functions() -> set[str]:
     return set(_FUNCTIONS) | {"ABS", "ATAN2", "MIN", "MAX"}
 

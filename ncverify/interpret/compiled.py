@@ -89,6 +89,9 @@ def _sign(interpreter, expr: ir.Unary):
 def _function(interpreter, expr: ir.Func):
     arguments = [(compile_expression(interpreter, arg), arg) for arg in expr.args]
     convert = interpreter._arithmetic_operand
+    on_number = values.number_function(expr.name) if len(arguments) == 1 else None
+    if on_number is not None:
+        return _one_argument(interpreter, expr, arguments[0], on_number)
 
     def run(span):
         known = []
@@ -96,6 +99,24 @@ def _function(interpreter, expr: ir.Func):
             value = argument(span)
             known.append(value if type(value) is float else convert(value, written, span))
         return interpreter.function_value(expr, known, span)
+
+    return run
+
+
+def _one_argument(interpreter, expr: ir.Func, argument, on_number):
+    """SIN, FIX ... of a plain float computed here; any other argument, a domain error or
+    an overflow goes to the general step, which reports it."""
+    run_argument, written = argument
+    convert, general = interpreter._arithmetic_operand, interpreter.function_value
+
+    def run(span):
+        value = run_argument(span)
+        if type(value) is not float:
+            return general(expr, [convert(value, written, span)], span)
+        try:
+            return float(on_number(value))
+        except ArithmeticError:  # values.DomainError, OverflowError
+            return general(expr, [value], span)
 
     return run
 

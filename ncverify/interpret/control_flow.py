@@ -92,6 +92,7 @@ class ControlFlow:
                         f"more than {self.settings.max_paths} paths: this branch was not explored both ways", "unknown",
                         "path budget exhausted (max_paths)")
             raise PathEnd
+        self._hand_on_gathered()  # the moves before the branch belong to both paths: judged once, before the copy
         twin = self.state.fork()
         twin.path_condition.append(values.negate(condition))
         self._forks.append((twin, resume_false()))
@@ -114,22 +115,24 @@ class ControlFlow:
             condition = self.condition(op.condition, op.span)
             if not self._decide(condition, op.span, self._next_position):
                 return None
-        target = self.evaluate(op.target, op.span)
+        target = op.target if type(op.target) is str else self.evaluate(op.target, op.span)  # a label as written is its own value
         if type(target) not in (float, str):
             self._unsupported_here(op.span, "a jump whose target depends on a free parameter")
             raise PathEnd
         if op.optional and not self.label_exists(target):
             return None  # GOTOC: no alarm, the next block runs
         position = self.find_label(target, op.span, direction=op.direction, branch=True)
-        self._count_jump(position, op.span, f"the jump to {self.frontend.describe_label(target)}")
+        self._count_jump(position, op.span, lambda: f"the jump to {self.frontend.describe_label(target)}")
         return position
 
-    def _count_jump(self, position: Position, span, what: str) -> None:
+    def _count_jump(self, position: Position, span, what) -> None:
+        """Count one more jump to ``position``: past the loop bound the path stops, with a
+        finding naming the jump by ``what()`` (worked out only then)."""
         key = (id(position.source), position.offset, position.block_index)
         counts = self.state.jump_counts
-        counts[key] = counts.get(key, 0) + 1
-        if counts[key] > self.settings.loop_bound:
-            self._fault("core.loop-bound", span, f"{what} was taken {self.settings.loop_bound:,} times without the loop ending; the rest of this path is not analysed",
+        count = counts[key] = counts.get(key, 0) + 1
+        if count > self.settings.loop_bound:
+            self._fault("core.loop-bound", span, f"{what()} was taken {self.settings.loop_bound:,} times without the loop ending; the rest of this path is not analysed",
                         "unknown", f"loop bound {self.settings.loop_bound} reached")
             raise PathEnd
 
@@ -447,7 +450,7 @@ class ControlFlow:
             self._program_end(op.span, block, "m99")
         if frame.repeats_left > 0:
             frame.repeats_left -= 1
-            self._count_jump(Position(frame.source, frame.start), op.span, f"the repeat of {frame.program}")
+            self._count_jump(Position(frame.source, frame.start), op.span, lambda: f"the repeat of {frame.program}")
             return Position(frame.source, frame.start)
         state.call_stack.pop()
         if frame.local_variables is not None:

@@ -169,7 +169,7 @@ class Interpreter(ControlFlow):
         self.cycles = CycleRunner(self)
         self.programs: dict[int, dict[str, int]] = {}
         self.line_cache: dict[tuple[int, int], list[ir.Block]] = {}
-        self.line_text: dict[tuple[int, int], tuple] = {}  # (source, offset) -> the logical_lines item there
+        self.line_text: dict[tuple[int, int], list] = {}  # (source, offset) -> the line there (_read_lines), with its blocks once lowered
         self._seen: dict[int, object] = {}  # id -> expression evaluated before (kept, so that the id stays its own)
         self._closures: dict[int, object] = {}  # id -> compiled closure of an expression or assignment in _seen
         self._local_names: dict[str, bool] = {}  # variable name -> is it local (frontend.variable_scope)
@@ -204,6 +204,12 @@ class Interpreter(ControlFlow):
         }
         for kind, run in (modal_call.HANDLERS | getattr(runtime, "OPERATIONS", {})).items():
             self._handlers[kind] = partial(run, self.cycles)
+        self._gathered: list[tuple[Segment, float, tuple]] = []  # moves not yet handed on (_gather): segment, feed, axes written
+        self._gathered_from = None  # the motion mode before the first of them
+        self._run_observer = observer  # where the gathered moves go
+        self._inert_between_moves = getattr(runtime, "INERT_BETWEEN_MOVES", {})  # dialect operation -> when it leaves the moves gathered
+        if hasattr(observer, "motion_run") and not settings.per_block_only:
+            self.observer = GatheringObserver(observer, self._hand_on_gathered)
 
     # ------------------------------------------------------------------ running
 
@@ -226,6 +232,7 @@ class Interpreter(ControlFlow):
                 self._run_path(position)
             except PathEnd:
                 pass
+            self._hand_on_gathered()
             path_end = getattr(self.observer, "path_end", None)  # observers that keep per-path models (the cut stock) close them here
             if path_end is not None:
                 path_end(self.state)
@@ -242,25 +249,28 @@ class Interpreter(ControlFlow):
         first_block, first_op = position.block_index, position.op_index
         cache = self._should_cache()
         frontend_blocks = self.frontend.blocks
-        is_plain = self.frontend.is_plain
         path = self._path_name(source)
         self._line_source = source
         streak_end = position.offset
         plain_streak = 0
         try:
-            lines = self._remembered_lines(source, position.offset) if cache else logical_lines(source, position.offset, self.frontend)
-            for line_number, offset, next_offset, raw in lines:
-                if plain_streak >= _BATCH_AFTER and is_plain(raw) and self._batch_allowed():
+            lines = self._remembered_lines(source, position.offset) if cache else self._read_lines(source, position.offset)
+            for line in lines:
+                line_number, offset, next_offset, raw, plain, blocks = line
+                if plain_streak >= _BATCH_AFTER and plain and self._batch_allowed():
                     plain_streak = 0
                     run = self.frontend.plain_run(source.buffer, offset, line_number)
                     end = None if run is None else self._execute_batch(run, source, path)
                     if end is not None:
                         streak_end = end
                         return Position(source, end) if end < len(source) else self._end_of_text(source)
-                blocks = self._blocks(source, offset, line_number, raw, path, cache, frontend_blocks)
+                if blocks is None:
+                    blocks = self._blocks(source, offset, line_number, raw, path, cache, frontend_blocks)
+                    if cache:
+                        line[5] = blocks
                 self._line_offset = offset
                 streak_end = next_offset
-                plain_streak = plain_streak + 1 if len(blocks) == 1 and is_plain(raw) else 0
+                plain_streak = plain_streak + 1 if plain and len(blocks) == 1 else 0
                 for block_index in range(first_block, len(blocks)):
                     self._block_index = block_index
                     transfer = self._execute_block(blocks[block_index], first_op)
@@ -393,16 +403,24 @@ class Interpreter(ControlFlow):
         body is read and lowered once, not on every pass."""
         return bool(self.state.loops) or len(self.state.call_stack) > 1 or bool(self.state.jump_counts)
 
+    def _read_lines(self, source: ProgramSource, offset: int):
+        """The lines of :func:`logical_lines` from ``offset`` as :meth:`_run_from` takes them:
+        ``[line number, offset, next offset, text, is it plain, None]`` (blocks not lowered yet)."""
+        is_plain = self.frontend.is_plain
+        for line_number, start, next_offset, raw in logical_lines(source, offset, self.frontend):
+            yield [line_number, start, next_offset, raw, is_plain(raw), None]
+
     def _remembered_lines(self, source: ProgramSource, offset: int):
-        """:func:`logical_lines` from ``offset``, each line read from the text once and then
-        remembered, so that a loop's next pass does not read its body again."""
+        """:meth:`_read_lines` from ``offset``, each line read from the text once and then
+        remembered with its blocks once lowered, so that a loop's next pass neither reads nor
+        lowers its body again."""
         remembered, text_id = self.line_text, id(source)
         reader, reader_at = None, -1
         while True:
             line = remembered.get((text_id, offset))
             if line is None:
                 if reader_at != offset:
-                    reader = logical_lines(source, offset, self.frontend)
+                    reader = self._read_lines(source, offset)
                 line = next(reader, None)
                 if line is None:
                     return
@@ -445,9 +463,14 @@ class Interpreter(ControlFlow):
         self._block = block
         ops = block.ops
         handlers = self._handlers
+        gathered = self._gathered
         for op_index in range(first_op, len(ops)):
             self._op_index = op_index
-            transfer = handlers[type(ops[op_index])](ops[op_index], block)
+            op = ops[op_index]
+            kind = type(op)
+            if gathered and not self._keeps_moves_gathered(op, kind):
+                self._hand_on_gathered()
+            transfer = handlers[kind](op, block)
             if transfer is not None:
                 return transfer
         return None
@@ -620,7 +643,8 @@ class Interpreter(ControlFlow):
     def value(self, expr, span=None):
         """An expression's value where a number is needed (a word, a parameter of a
         cycle): comparisons count 1 or 0; VACANT passes through."""
-        return self._as_number(self.evaluate(expr, span))
+        result = self.evaluate(expr, span)
+        return result if type(result) is float else self._as_number(result)
 
     def _arithmetic_operand(self, value, expr, span):
         if value is VACANT:
@@ -1003,6 +1027,7 @@ class Interpreter(ControlFlow):
     def _move(self, op: ir.Move, block):
         state = self.state
         kind = op.kind
+        motion_before = state.modal.get("motion")
         modal_cycle = state.cycle is not None and state.cycle.model.called_after_motion  # SINUMERIK MCALL
         if kind is not None:
             if state.cycle is not None and state.cycle.model.motion_codes_keep_cycle:
@@ -1022,9 +1047,11 @@ class Interpreter(ControlFlow):
         start = state.position
         end = dict(start)
         incremental = state.modal["distance"] == "incremental"
+        all_written = True
         for axis, expr in op.targets.items():
             value = expr if type(expr) is float else self.value(expr, op.span)
             if value is VACANT:
+                all_written = False
                 continue  # a vacant variable makes the address absent (Fanuc)
             if (incremental and axis not in op.absolute) or axis in op.incremental:
                 current = start.get(axis)
@@ -1037,10 +1064,77 @@ class Interpreter(ControlFlow):
             self._change("thread", op.span, block, None, op_values(op.words, self, op.span))  # G33 Q start angle, E lead
         arc = self._arc(op, kind, start) if kind in _ARC_KINDS else None
         segment = state.last_segment = Segment(_SEGMENT_KIND[kind], start, end, op.span, block, "programmed", None, arc)
-        self.observer.segment(segment, state)
+        if not (all_written and not modal_cycle and self._gather(segment, op, motion_before)):
+            self.observer.segment(segment, state)
         if modal_cycle:
             return self.cycles.modal_call(op, block)  # the MCALL cycle runs after every positioning
         return None
+
+    def _gather(self, segment: Segment, op: ir.Move, motion_before) -> bool:
+        """Keep a programmed move the block path makes, to hand it on with the moves next to
+        it as one run (:meth:`_hand_on_gathered`), as a batch is: False when the run cannot
+        carry it exactly (then it goes on alone). A run carries moves of concrete values
+        along X, Y and Z (the other axes stand still, as in a batch), not from the start
+        position, with no cycle, frame or coordinate shift in force, each straight or an
+        arc whose centre or radius is known (X not a diameter); its rapids, feeds and arcs
+        are judged as a batch's. Every other event, and every operation but moves,
+        assignments, jumps and loop bookkeeping, hands the run on first
+        (:class:`GatheringObserver`, :meth:`_execute_block`); so do a fork and the path's end."""
+        state = self.state
+        if type(self.observer) is not GatheringObserver or state.cycle is not None or state.frame is not None or state.parked or state.left_start:
+            return False
+        feed = state.feed
+        if not (feed is None or type(feed) is float) or segment.kind not in _RUN_KIND or segment.span.path is not None:
+            return False  # a move of a called file goes alone, as before: the toolpath picture leaves those segments out
+        start, end, arc = segment.start, segment.end, segment.arc
+        gathered = self._gathered
+        if not _RUN_AXES.issuperset(op.targets) or not _numbers(end) or not (gathered and start is gathered[-1][0].end or _numbers(start)):
+            return False
+        if arc is None:
+            if op.arc:
+                return False  # centre words on a straight move: a batch leaves it to the block path
+        elif not ((self._x_scale() == 1.0 or "X" not in arc.plane[:2])
+                  and (type(arc.radius_word) is float if arc.centre is None else all(type(value) is float for value in arc.centre))):
+            return False
+        if not gathered:
+            self._gathered_from = motion_before
+        gathered.append((segment, math.nan if feed is None else feed, tuple(op.targets)))
+        if len(gathered) >= _GATHERED_MOVES:
+            self._hand_on_gathered()
+        return True
+
+    def _keeps_moves_gathered(self, op, kind) -> bool:
+        """May ``op`` run while moves are gathered? Moves decide for themselves (:meth:`_gather`);
+        assignments, jumps and loop bookkeeping change no state a rule reads, except an
+        assignment to the active cutting edge; a dialect's operation when its runtime says so."""
+        if kind in _BETWEEN_GATHERED:
+            return kind is not ir.Assign or op.target.name != ir.ACTIVE_EDGE
+        inert = self._inert_between_moves.get(kind)
+        return inert is not None and inert(self.state)
+
+    def _hand_on_gathered(self) -> None:
+        """Hand the gathered moves (:meth:`_gather`) to the observer: as one MotionRun, with
+        the state as a batch has it (at the run's start, in the motion mode before it), or,
+        when they are too few to make a run pay, one by one, with the state as the block path
+        has it at each; then put back the state as it is now."""
+        gathered = self._gathered
+        if not gathered:
+            return
+        moves = gathered[:]
+        gathered.clear()
+        state = self.state
+        now = state.position, state.modal.get("motion")
+        try:
+            if len(moves) < _SHORTEST_RUN:
+                for segment, _feed, _written in moves:
+                    state.position, state.modal["motion"] = segment.end, _modal_motion(segment)
+                    self._run_observer.segment(segment, state)
+            else:
+                run = _gathered_run(moves, state)
+                state.position, state.modal["motion"] = moves[0][0].start, self._gathered_from
+                self._run_observer.motion_run(run, state)
+        finally:
+            state.position, state.modal["motion"] = now
 
     def _emit(self, kind: str, start: dict, span, block, role: str = "programmed", cycle: str | None = None, arc: Arc | None = None) -> None:
         segment = self.state.last_segment = Segment(kind, start, self.state.position, span, block, role, cycle, arc)
@@ -1196,6 +1290,82 @@ _FIRST_ARC_KIND = ir.MoveBatch.KINDS.index("arc_cw")  # kinds from here on are a
 _CENTRE_WORD = {"X": 0, "Y": 1, "Z": 2}  # the columns of I, J, K in MoveBatch.arc_words
 _RADIUS_WORD = 3
 _RUN_SEGMENT_KIND = ("rapid", "feed", "arc", "arc")
+
+
+_GATHERED_MOVES = 4096  # moves gathered into one run at most (memory stays flat in program length)
+_SHORTEST_RUN = 32  # fewer gathered moves go on one by one: the rules' work per run outweighs their work per move
+_RUN_KIND = {"rapid": 0, "feed": 1, "arc": _FIRST_ARC_KIND}  # a segment's kind in a MotionRun (+1: a counter-clockwise arc)
+_RUN_AXES_IN_ORDER = ("X", "Y", "Z")  # the columns of a run's points, as every batch has them
+_RUN_AXES = frozenset(_RUN_AXES_IN_ORDER)
+_BETWEEN_GATHERED = frozenset({ir.Move, ir.Assign, ir.Jump, ir.LoopStart, ir.LoopEnd})  # operations moves stay gathered across
+
+
+def _numbers(position: dict) -> bool:
+    """Is every coordinate of ``position`` a number or unknown (None), none symbolic?"""
+    for value in position.values():
+        if type(value) is not float and value is not None:
+            return False
+    return True
+
+
+def _gathered_run(moves: list, state) -> MotionRun:
+    """The MotionRun of gathered moves ``(segment, feed, axes written)``: the batch's form,
+    with the block path's own segments and spans."""
+    segments = [segment for segment, _feed, _written in moves]
+    axes = _RUN_AXES_IN_ORDER
+    points = numpy.array([[_as_float(segments[0].start.get(axis)) for axis in axes]]
+                         + [[_as_float(segment.end.get(axis)) for axis in axes] for segment in segments], dtype=numpy.float64)
+    kinds = numpy.array([_RUN_KIND[segment.kind] + (segment.arc is not None and segment.arc.direction == "ccw") for segment in segments], dtype=numpy.int8)
+    feeds = numpy.array([feed for _segment, feed, _written in moves], dtype=numpy.float64)
+    written = numpy.array([[axis in axes_written for axis in axes] for _segment, _feed, axes_written in moves], dtype=bool)
+    return MotionRun(axes, points, kinds, feeds, written, lambda index: segments[index].span, segments.__getitem__,
+                     _gathered_arcs(segments, axes), partial(_batch_state_at, state, kinds, feeds))
+
+
+def _modal_motion(segment: Segment) -> str:
+    """The motion mode in force at a gathered move: the one it ran in."""
+    if segment.arc is not None:
+        return "arc_cw" if segment.arc.direction == "cw" else "arc_ccw"
+    return "rapid" if segment.kind == "rapid" else "linear"
+
+
+def _gathered_arcs(segments: list, axes: tuple) -> BatchArcs | None:
+    """The arcs among gathered moves as a batch holds them: their plane, its axes' columns,
+    each arc's centre (NaN: none, or given by its radius) and radius word (NaN: none)."""
+    arcs = [segment.arc for segment in segments]
+    plane = next((arc.plane for arc in arcs if arc is not None), None)
+    if plane is None:
+        return None
+    centres = numpy.array([arc.centre if arc is not None and arc.centre is not None else (math.nan, math.nan) for arc in arcs], dtype=numpy.float64)
+    radii = numpy.array([arc.radius_word if arc is not None and arc.centre is None else math.nan for arc in arcs], dtype=numpy.float64)
+    return BatchArcs(plane, [axes.index(plane[0]), axes.index(plane[1])], centres, radii)
+
+
+class GatheringObserver:
+    """Stands between the interpreter and its observer while moves may be gathered
+    (:meth:`Interpreter._gather`): every event first hands the gathered moves on
+    (``hand_on``), so the observer sees them in the order they happened."""
+
+    def __init__(self, observer, hand_on):
+        self.inner = observer
+        self._hand_on = hand_on
+
+    def segment(self, segment, state) -> None:
+        self._hand_on()
+        self.inner.segment(segment, state)
+
+    def __getattr__(self, name):
+        attribute = getattr(self.inner, name)
+        if not callable(attribute):
+            return attribute
+        hand_on = self._hand_on
+
+        def after_gathered(*arguments, **keywords):
+            hand_on()
+            return attribute(*arguments, **keywords)
+
+        setattr(self, name, after_gathered)  # made once per kind of event
+        return after_gathered
 
 
 def _batch_span(block_of, index: int) -> Span:

@@ -149,7 +149,7 @@ class Runtime:
 
     def count_jump(self, target, span, what: str) -> None:
         """Count one more jump back to ``target``: past the loop bound the path stops."""
-        self._interp._count_jump(target, span, what)
+        self._interp._count_jump(target, span, lambda: what)
 
     @property
     def frontend(self):

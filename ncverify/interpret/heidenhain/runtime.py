@@ -1072,6 +1072,9 @@ OPERATIONS = {
     ir.Lift: _lift_run, ir.PositioningBlock: _positioned_run, ir.Retract: _retract_run, ir.ToolFeed: _tool_feed_run, ir.ToolDelta: _tool_delta_run, ir.LabelCall: _label_call_run,
     ir.MFunction: special.m_function_run, ir.CycleDefine: _define_run, **dict.fromkeys(_STATEMENTS, _statement_run),
 }
+# Operations that change no state a rule reads while the predicate holds: moves gathered into
+# a run (Interpreter._gather) stay gathered across them.
+INERT_BETWEEN_MOVES = {ir.PositioningBlock: positioning_is_inert}
 _SPECIAL_FAMILIES = {"engrave": special.engrave, "face232": special.face_milling,
                      "thread_cut": special.thread_cutting, "machine_moving": special.machine_moving,
                      "pgm_call": special.program_call}
