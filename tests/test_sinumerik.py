@@ -626,14 +626,10 @@ def test_cam_motion_lines_take_the_fast_lowering(text):
 
 # --------------------------------------------------------------------------- tool length on Z travel
 
-_Z_TRAVEL = """
-[machine]
-travel = { x = [-400, 400], y = [-400, 400], z = [-300, 50] }
-work_offsets = { G54 = [0, 0, 0] }
-[tools.1]
-radius = 5.0
-length = 60
-"""
+def _z_travel() -> str:
+    from test_tangent_arcs import TRAVEL
+
+    return TRAVEL.replace("z = [-300, 300]", "z = [-300, 50]")
 
 
 @pytest.mark.parametrize("edge, status", [("D1", Status.VIOLATED), ("", Status.VIOLATED), ("D2", Status.UNKNOWN)])
@@ -650,7 +646,7 @@ def test_the_z_travel_counts_the_active_edge_length_of_the_tool_in_the_spindle(e
         G0 X0 Y0 Z5
         M30
     """
-    result = check_program(program, "t.mpf", _Z_TRAVEL, dialect="sinumerik")
+    result = check_program(program, "t.mpf", _z_travel(), dialect="sinumerik")
     (finding,) = findings(result, "core.travel-limit")
     assert finding.status is status
     assert ("65" in finding.message) if status is Status.VIOLATED else ("T1 (edge D2)" in finding.message)

@@ -12,6 +12,8 @@ import textwrap
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from test_verdicts import DRILL_PROVED as PARAMETRIC  # free parameters #1, #2: proofs need the solver
+
 PLAIN = """\
 (ncverify: stock box X0:100 Y0:80 Z-20:0)
 G21 G90 G17 G40 G49 G80 G54
@@ -27,18 +29,6 @@ G0 Z50.
 M30
 """
 
-PARAMETRIC = """\
-(ncverify: stock box X0:100 Y0:80 Z-20:0) (ncverify: tool 1 radius 2 length 50)
-(ncverify: assume -15 <= #1 <= -2)
-(ncverify: assume 1 <= #2 <= 5)
-G21 G17 G40 G49 G80 G90 T1 M06
-G00 G54 X10. Y10.
-G43 H01 G00 Z50. S2000 M03
-G99 G81 X10. Y10. Z#1 R#2 F100.
-G80
-G00 Z50.
-M30
-"""
 
 _RUN = textwrap.dedent("""
     import contextlib, io, json, sys
