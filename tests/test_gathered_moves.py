@@ -190,3 +190,82 @@ def test_gathered_runs_stay_short_in_a_long_loop():
     program = _LOOP.replace("LT 50", "LT 3000")
     lengths = _runs_handed_on(program, "t.ngc", dialect="linuxcnc", loop_bound=10_000)
     assert sum(lengths) >= 6000 and max(lengths) <= 4096
+
+
+# ------------------------------------------------------------------ Klartext contours: lines, CC, C, CR, CT under compensation
+
+_KLARTEXT_NUMBER = st.integers(-30, 30).map(lambda v: f"{v:+d}")
+_KLARTEXT_POINT = st.tuples(st.sampled_from(["X", "IX"]), _KLARTEXT_NUMBER, st.sampled_from(["Y", "IY"]), _KLARTEXT_NUMBER).map(
+    lambda p: f"{p[0]}{p[1]} {p[2]}{p[3]}")
+_KLARTEXT_DEPTH = st.sampled_from(["", "", " Z-1", " Z-2", " IZ-0.5", " Z+Q5"])  # Q5: read from the machine (symbolic)
+_KLARTEXT_TAIL = st.sampled_from(["", "", "", " RL", " RR", " R0", " F200", " FMAX", " RR F800", " M3"])
+_KLARTEXT_CONTOUR_LINE = st.one_of(
+    st.tuples(_KLARTEXT_POINT, _KLARTEXT_DEPTH, _KLARTEXT_TAIL).map(lambda p: f"L {p[0]}{p[1]}{p[2]}"),
+    st.tuples(_KLARTEXT_POINT, _KLARTEXT_DEPTH, st.sampled_from(["DR-", "DR+"]), _KLARTEXT_TAIL).map(lambda p: f"C {p[0]}{p[1]} {p[2]}{p[3]}"),
+    st.tuples(_KLARTEXT_POINT, st.sampled_from(["R+6", "R-6", "R+40", "R+0.5"]), st.sampled_from(["DR-", "DR+"]), _KLARTEXT_TAIL).map(
+        lambda p: f"CR {p[0]} {p[1]} {p[2]}{p[3]}"),
+    st.tuples(_KLARTEXT_POINT, _KLARTEXT_DEPTH, _KLARTEXT_TAIL).map(lambda p: f"CT {p[0]}{p[1]}{p[2]}"),
+    _KLARTEXT_POINT.map(lambda p: f"CC {p}"),
+    st.sampled_from(["CC", "CC Y+0 Z+0", "C Y+5 Z-1 DR+", "CC X+Q5 Y+0", "C X+Q5 Y+3 DR-", "CT X+Q1 Y+Q2", "L X+Q5 Y+0",
+                     "CP IPA+90 DR+", "LP PR+10 PA+45", "RND R2", "FN 1: Q1 = Q1 + 1", "FN 0: Q2 = Q1 * 2",
+                     "FN 12: IF +Q1 LT +Q5 GOTO LBL 3", "FN 9: IF +Q1 EQU +5 GOTO LBL 3", "L X+4 Y+4 R0 FMAX M99",
+                     "L X+8 Y+4 R0 FMAX M89", "CYCL DEF 7.0 DATUM SHIFT", "CYCL DEF 7.1 X+1", "M5", "TOOL CALL 1 Y S1000",
+                     "CYCL DEF 200 DRILLING Q200=+2 Q201=-5 Q206=+150 Q202=+5 Q210=+0 Q203=+0 Q204=+15 Q211=+0"]),
+)
+
+
+def _klartext_contour_program(contour: list, passes: int, repeats: int, stock: bool) -> str:
+    """The contour written ``passes`` times over in a label section, run once more per repeat."""
+    lines = ["BEGIN PGM T MM", *(["BLK FORM 0.1 Z X-40 Y-40 Z-10", "BLK FORM 0.2 X+40 Y+40 Z+0"] if stock else []),
+             "TOOL CALL 1 Z S1000", "L Z+50 R0 FMAX M3", "FN 0: Q1 = 3", "FN 0: Q2 = 0", "FN 18: SYSREAD Q5 = ID20 NR1",
+             "L X+0 Y+0 R0 FMAX", "L Z+2 R0 FMAX", "L Z-1 F300", "LBL 1", *contour * passes, "CALL LBL 1 REP " + str(repeats), "LBL 3",
+             "L Z+50 R0 FMAX", "M30", "END PGM T MM"]
+    return "\n".join(f"{number} {line}" for number, line in enumerate(lines)) + "\n"
+
+
+@settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(contour=st.lists(_KLARTEXT_CONTOUR_LINE, min_size=1, max_size=12), passes=st.integers(1, 8), repeats=st.integers(0, 3),
+       stock=st.booleans())
+def test_klartext_contours_with_arcs_give_the_same_findings_gathered_or_one_by_one(contour, passes, repeats, stock):
+    """Arcs about CC (C), by radius (CR) and tangential (CT) join the gathered lines, and CC
+    keeps them gathered: with the compensation on or off, M89/M99 cycles, FN jumps (free
+    ones fork), coordinates from a parameter read from the machine, a frame, a plane change,
+    arcs in another plane than the run's, the cut stock: the same as one by one."""
+    _assert_same(_klartext_contour_program(contour, passes, repeats, stock), "t.h")
+
+
+def test_a_compensated_klartext_contour_reaches_the_rules_as_runs():
+    """A CAM post's contour under RR, lines between arcs about CC, by radius and tangential,
+    is handed on in long runs; with an arc about a pole read from the machine, that arc
+    goes alone and the moves around it still as runs."""
+    passes = [line for depth in range(1, 9) for line in (
+        f"L X+0 Y+34 Z-{depth}", "CC X+6 Y+34", "C X+6 Y+40 DR-", "L X+34 Y+40", "CR X+40 Y+34 R+6 DR-", "L X+40 Y+6",
+        "CT X+34 Y+0", "L X+6 Y+0", "CC X+6 Y+6", "C X+0 Y+6 DR-")]
+    lines = ["BEGIN PGM T MM", "BLK FORM 0.1 Z X-20 Y-20 Z-20", "BLK FORM 0.2 X+60 Y+60 Z+0", "TOOL CALL 1 Z S8000", "L Z+50 R0 FMAX M3",
+             "FN 18: SYSREAD Q5 = ID20 NR1", "L X-10 Y+20 R0 FMAX", "L Z+0 R0 F300", "L X+0 Y+20 RR F800", *passes, "L Z+50 R0 FMAX",
+             "M30", "END PGM T MM"]
+    program = "\n".join(f"{number} {line}" for number, line in enumerate(lines)) + "\n"
+    assert _runs_handed_on(program, "t.h") == [8 * 8 + 1]  # the moves from RR on, not counting CC
+    symbolic = _runs_handed_on(program.replace("CC X+6 Y+6", "CC X+Q5 Y+6", 1), "t.h")
+    assert symbolic[0] == 8 * 8 + 1 - 9  # the 8 moves before it went one by one (a replay of a witness may follow, Q5 pinned)
+    _assert_same(program, "t.h")
+
+
+def test_klartext_arcs_in_two_planes_never_share_a_run():
+    """A run holds one plane for its arcs: an arc about a CC given in Y and Z (a YZ arc)
+    among arcs in XY goes alone, and the arcs of every run handed on lie in its plane."""
+    corner = ["L X+0 Y+5", "CC X+0 Y+0", "C X+5 Y+0 DR-", "CR X+0 Y+5 R+5 DR+"]
+    contour = [*corner * 12, "CC Y+0 Z+0", "C Y+5 Z-1 DR+", *corner * 12]
+    program = _klartext_contour_program(contour, 1, 0, True)
+    mixed = []
+    original = Checker.motion_run
+
+    def planes_checked(checker, run, state):
+        mixed.extend(index for index in run.arc_indices() if run.segment(index).arc.plane != run.arcs.plane)
+        return original(checker, run, state)
+
+    with mock.patch.object(Checker, "motion_run", planes_checked):
+        check_text(program, "t.h", Settings())
+    lengths = _runs_handed_on(program, "t.h")
+    assert not mixed and lengths == [37, 36]  # the YZ arc goes alone
+    _assert_same(program, "t.h")

@@ -204,8 +204,9 @@ class Interpreter(ControlFlow):
         }
         for kind, run in (modal_call.HANDLERS | getattr(runtime, "OPERATIONS", {})).items():
             self._handlers[kind] = partial(run, self.cycles)
-        self._gathered: list[tuple[Segment, float, tuple]] = []  # moves not yet handed on (_gather): segment, feed, axes written
+        self._gathered: list[tuple[Segment, float, tuple, str]] = []  # moves not yet handed on (_gather): segment, feed, axes written, motion mode
         self._gathered_from = None  # the motion mode before the first of them
+        self._gathered_plane = None  # the plane of the arcs among them (None: no arc)
         self._run_observer = observer  # where the gathered moves go
         self._inert_between_moves = getattr(runtime, "INERT_BETWEEN_MOVES", {})  # dialect operation -> when it leaves the moves gathered
         if hasattr(observer, "motion_run") and not settings.per_block_only:
@@ -1072,14 +1073,24 @@ class Interpreter(ControlFlow):
 
     def _gather(self, segment: Segment, op: ir.Move, motion_before) -> bool:
         """Keep a programmed move the block path makes, to hand it on with the moves next to
-        it as one run (:meth:`_hand_on_gathered`), as a batch is: False when the run cannot
-        carry it exactly (then it goes on alone). A run carries moves of concrete values
-        along X, Y and Z (the other axes stand still, as in a batch), not from the start
-        position, with no cycle, frame or coordinate shift in force, each straight or an
-        arc whose centre or radius is known (X not a diameter); its rapids, feeds and arcs
-        are judged as a batch's. Every other event, and every operation but moves,
-        assignments, jumps and loop bookkeeping, hands the run on first
-        (:class:`GatheringObserver`, :meth:`_execute_block`); so do a fork and the path's end."""
+        it as one run (:meth:`_gather_segment`): False when the run cannot carry it exactly
+        (then it goes on alone), as for a straight move with centre words, which a batch
+        leaves to the block path."""
+        if segment.arc is None and op.arc:
+            return False
+        return self._gather_segment(segment, op.targets, motion_before)
+
+    def _gather_segment(self, segment: Segment, written, motion_before) -> bool:
+        """Keep a programmed move (``written``: the axes its block wrote), to hand it on with
+        the moves next to it as one run (:meth:`_hand_on_gathered`), as a batch is: False when
+        the run cannot carry it exactly (then it goes on alone). A run carries moves of
+        concrete values along X, Y and Z (the other axes stand still, as in a batch), not from
+        the start position, with no cycle, frame or coordinate shift in force, each straight
+        or an arc whose centre or radius is known (X not a diameter), its arcs all in one
+        plane; its rapids, feeds and arcs are judged as a batch's. Every other event, and
+        every operation but moves, assignments, jumps and loop bookkeeping, hands the run on
+        first (:class:`GatheringObserver`, :meth:`_execute_block`); so do a fork and the
+        path's end."""
         state = self.state
         if type(self.observer) is not GatheringObserver or state.cycle is not None or state.frame is not None or state.parked or state.left_start:
             return False
@@ -1088,17 +1099,18 @@ class Interpreter(ControlFlow):
             return False  # a move of a called file goes alone, as before: the toolpath picture leaves those segments out
         start, end, arc = segment.start, segment.end, segment.arc
         gathered = self._gathered
-        if not _RUN_AXES.issuperset(op.targets) or not _numbers(end) or not (gathered and start is gathered[-1][0].end or _numbers(start)):
+        if not _RUN_AXES.issuperset(written) or not _numbers(end) or not (gathered and start is gathered[-1][0].end or _numbers(start)):
             return False
-        if arc is None:
-            if op.arc:
-                return False  # centre words on a straight move: a batch leaves it to the block path
-        elif not ((self._x_scale() == 1.0 or "X" not in arc.plane[:2])
-                  and (type(arc.radius_word) is float if arc.centre is None else all(type(value) is float for value in arc.centre))):
-            return False
+        if arc is not None:
+            if not ((self._x_scale() == 1.0 or "X" not in arc.plane[:2])
+                    and (type(arc.radius_word) is float if arc.centre is None else all(type(value) is float for value in arc.centre))):
+                return False
+            if self._gathered_plane is not None and arc.plane != self._gathered_plane:
+                return False  # a run's arcs share one plane (Klartext CC names the plane of the arcs about it)
+            self._gathered_plane = arc.plane
         if not gathered:
             self._gathered_from = motion_before
-        gathered.append((segment, math.nan if feed is None else feed, tuple(op.targets)))
+        gathered.append((segment, math.nan if feed is None else feed, tuple(written), state.modal.get("motion")))
         if len(gathered) >= _GATHERED_MOVES:
             self._hand_on_gathered()
         return True
@@ -1122,12 +1134,13 @@ class Interpreter(ControlFlow):
             return
         moves = gathered[:]
         gathered.clear()
+        self._gathered_plane = None
         state = self.state
         now = state.position, state.modal.get("motion")
         try:
             if len(moves) < _SHORTEST_RUN:
-                for segment, _feed, _written in moves:
-                    state.position, state.modal["motion"] = segment.end, _modal_motion(segment)
+                for segment, _feed, _written, motion in moves:
+                    state.position, state.modal["motion"] = segment.end, motion
                     self._run_observer.segment(segment, state)
             else:
                 run = _gathered_run(moves, state)
@@ -1136,9 +1149,15 @@ class Interpreter(ControlFlow):
         finally:
             state.position, state.modal["motion"] = now
 
-    def _emit(self, kind: str, start: dict, span, block, role: str = "programmed", cycle: str | None = None, arc: Arc | None = None) -> None:
-        segment = self.state.last_segment = Segment(kind, start, self.state.position, span, block, role, cycle, arc)
-        self.observer.segment(segment, self.state)
+    def _emit(self, kind: str, start: dict, span, block, role: str = "programmed", cycle: str | None = None, arc: Arc | None = None,
+              written=None) -> None:
+        """Report the move from ``start`` to the current position. A dialect's programmed
+        contour element that leaves the motion mode alone (``written``: the axes its block
+        wrote; None for any other move) may join the gathered moves (:meth:`_gather_segment`)."""
+        state = self.state
+        segment = state.last_segment = Segment(kind, start, state.position, span, block, role, cycle, arc)
+        if written is None or not self._gather_segment(segment, written, state.modal.get("motion")):
+            self.observer.segment(segment, state)
 
     def _x_scale(self) -> float:
         """X positions to radial distances: halved where X is a diameter, by the mode in force
@@ -1309,24 +1328,18 @@ def _numbers(position: dict) -> bool:
 
 
 def _gathered_run(moves: list, state) -> MotionRun:
-    """The MotionRun of gathered moves ``(segment, feed, axes written)``: the batch's form,
+    """The MotionRun of gathered moves ``(segment, feed, axes written, motion mode)``: the batch's form,
     with the block path's own segments and spans."""
-    segments = [segment for segment, _feed, _written in moves]
+    segments = [segment for segment, _feed, _written, _motion in moves]
     axes = _RUN_AXES_IN_ORDER
     points = numpy.array([[_as_float(segments[0].start.get(axis)) for axis in axes]]
                          + [[_as_float(segment.end.get(axis)) for axis in axes] for segment in segments], dtype=numpy.float64)
     kinds = numpy.array([_RUN_KIND[segment.kind] + (segment.arc is not None and segment.arc.direction == "ccw") for segment in segments], dtype=numpy.int8)
-    feeds = numpy.array([feed for _segment, feed, _written in moves], dtype=numpy.float64)
-    written = numpy.array([[axis in axes_written for axis in axes] for _segment, _feed, axes_written in moves], dtype=bool)
+    feeds = numpy.array([feed for _segment, feed, _written, _motion in moves], dtype=numpy.float64)
+    written = numpy.array([[axis in axes_written for axis in axes] for _segment, _feed, axes_written, _motion in moves], dtype=bool)
+    motions = [motion for _segment, _feed, _written, motion in moves]
     return MotionRun(axes, points, kinds, feeds, written, lambda index: segments[index].span, segments.__getitem__,
-                     _gathered_arcs(segments, axes), partial(_batch_state_at, state, kinds, feeds))
-
-
-def _modal_motion(segment: Segment) -> str:
-    """The motion mode in force at a gathered move: the one it ran in."""
-    if segment.arc is not None:
-        return "arc_cw" if segment.arc.direction == "cw" else "arc_ccw"
-    return "rapid" if segment.kind == "rapid" else "linear"
+                     _gathered_arcs(segments, axes), partial(_batch_state_at, state, kinds, feeds, motions=motions))
 
 
 def _gathered_arcs(segments: list, axes: tuple) -> BatchArcs | None:
@@ -1384,11 +1397,12 @@ def _batch_segment(axes, points, kinds, arcs, others: dict, block_of, index: int
     return Segment(_RUN_SEGMENT_KIND[kind], start, end, _batch_span(block_of, index), block_of(index), "programmed", None, arc)
 
 
-def _batch_state_at(state, kinds, feeds, segment: Segment, index: int) -> None:
+def _batch_state_at(state, kinds, feeds, segment: Segment, index: int, motions: list | None = None) -> None:
     """Put the state as the block path has it when it reports the batch's ``index``-th
-    move: at its end, in its motion mode, with its feed."""
+    move: at its end, in its motion mode (``motions``: the mode each move left in force,
+    where that is not its kind: a Klartext arc leaves the mode alone), with its feed."""
     state.position = segment.end
-    state.modal["motion"] = ir.MoveBatch.KINDS[int(kinds[index])]
+    state.modal["motion"] = ir.MoveBatch.KINDS[int(kinds[index])] if motions is None else motions[index]
     feed = float(feeds[index])
     if feed == feed:
         state.feed = feed

@@ -59,10 +59,13 @@ class Runtime:
         """A feed move to ``targets`` (see :meth:`move_to`)."""
         self.move_to(targets, span, block, role, cycle, "feed")
 
-    def emit(self, kind: str, start: dict, span, block, role: str = "programmed", cycle: str | None = None, arc=None) -> None:
+    def emit(self, kind: str, start: dict, span, block, role: str = "programmed", cycle: str | None = None, arc=None, written=None) -> None:
         """Report the move from ``start`` to the current position (an arc with its
-        :class:`~ncverify.trace.Arc`) to every motion rule."""
-        self._interp._emit(kind, start, span, block, role, cycle, arc)
+        :class:`~ncverify.trace.Arc`) to every motion rule. ``written``, the axes the block
+        wrote, marks a programmed contour element that leaves the motion mode alone and
+        changes no other state a rule reads: it may reach the rules with the moves next to
+        it, as one run."""
+        self._interp._emit(kind, start, span, block, role, cycle, arc, written)
 
     # ------------------------------------------------------------------ what the rules see
 

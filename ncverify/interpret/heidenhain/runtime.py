@@ -28,7 +28,7 @@ from . import special, transforms
 from .common import (cycle_feed as _cycle_feed, levels, numbers as _numbers, offset_surface as _offset_surface,
                      plane as _plane, put as _put)
 from .state import Definition
-from ..arc_geometry import end_heading, tangent_arc, unplaced_arc
+from ..arc_geometry import arc_by_centre, end_heading, tangent_arc, unplaced_arc
 from ..control_flow import PathEnd
 from ..cycles import grid
 from ...trace import Arc, CycleFacts, CycleRun, Hole
@@ -123,9 +123,8 @@ def _emit_arc(runner, op, block, targets, centre, plane, direction) -> None:
     if None in (s1, s2, e1, e2, c1, c2):
         arc = Arc(direction, plane, None, None, None)
     else:
-        arc = Arc(direction, plane, (c1, c2), values.distance(s1, s2, c1, c2), values.distance(e1, e2, c1, c2),
-                  start_radius_sq=values.distance_sq(s1, s2, c1, c2), end_radius_sq=values.distance_sq(e1, e2, c1, c2))
-    runner.emit("arc", start, op.span, block, "programmed", None, arc)
+        arc = arc_by_centre(direction, plane, c1, c2, s1, s2, e1, e2)
+    runner.emit("arc", start, op.span, block, "programmed", None, arc, targets.keys())
     _put(state, fed_at=_plane_point(state))
 
 
@@ -164,14 +163,15 @@ def _tangent_run(runner, op, block):
     first, second, _normal = plane
     heading = end_heading(state.last_segment, state.position, plane)
     start = state.position
-    state.move_to(_targets(runner, params, op.span))
+    targets = _targets(runner, params, op.span)
+    state.move_to(targets)
     state.motion_seen = True
     end = state.position
     if start.get(_normal) != end.get(_normal):
         arc = unplaced_arc(plane)  # a tangential helix: not modelled
     else:
         arc = tangent_arc(plane, heading, (start.get(first), start.get(second)), (end.get(first), end.get(second)))
-    runner.emit("arc", start, op.span, block, "programmed", None, arc)
+    runner.emit("arc", start, op.span, block, "programmed", None, arc, targets.keys())
     _put(state, fed_at=_plane_point(state))
     return None
 
@@ -1074,7 +1074,9 @@ OPERATIONS = {
 }
 # Operations that change no state a rule reads while the predicate holds: moves gathered into
 # a run (Interpreter._gather) stay gathered across them.
-INERT_BETWEEN_MOVES = {ir.PositioningBlock: positioning_is_inert}
+# CC changes only the pole, which no rule reads; the arcs C and CT report their move as one
+# that may join the run (Runtime.emit with the axes written), or hand the run on first.
+INERT_BETWEEN_MOVES = {ir.PositioningBlock: positioning_is_inert, **dict.fromkeys((ir.Pole, ir.PoleArc, ir.TangentArc), lambda _state: True)}
 _SPECIAL_FAMILIES = {"engrave": special.engrave, "face232": special.face_milling,
                      "thread_cut": special.thread_cutting, "machine_moving": special.machine_moving,
                      "pgm_call": special.program_call}
