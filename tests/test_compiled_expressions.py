@@ -12,7 +12,7 @@ from ncverify.context import Context
 from ncverify.detect import Detection
 from ncverify.dialect import setup_for
 from ncverify.interpret import Interpreter
-from ncverify.interpret.compiled import compile_assignment, compile_expression
+from ncverify.interpret.compiled import _straight, compile_assignment, compile_expression
 from ncverify.interpret.control_flow import PathEnd
 from ncverify.source import ProgramSource, Span
 from ncverify.values import VACANT, Condition, Sym
@@ -127,6 +127,48 @@ def test_named_parameters_of_linuxcnc_read_the_same_compiled(expr, contents):
         general = outcome(machine.evaluate_tree, candidate, recorder)
         run = compile_expression(machine, candidate)
         assert outcome(lambda e, span: run(span), candidate, recorder) == general
+
+
+STRAIGHT_OPERATORS = ["+", "-", "*", "/", "MOD", "**", "EQ", "NE", "GT", "GE", "LT", "LE"]
+ONE_ARGUMENT = [name for name in FUNCTIONS if values.number_function(name) is not None]
+STRAIGHT = st.recursive(st.one_of(NUMBERS, VARIABLES), lambda children: st.one_of(
+    st.builds(ir.Binary, st.sampled_from(STRAIGHT_OPERATORS), children, children),
+    st.builds(ir.Unary, st.just("-"), children),
+    st.builds(lambda name, arg: ir.Func(name, (arg,)), st.sampled_from(ONE_ARGUMENT), children)), max_leaves=10)
+LOOP_BODY = [ir.Binary("EQ", ir.Binary("LT", ir.Var("#1"), 12500.0), 0.0), ir.Binary("*", ir.Binary("MOD", ir.Var("#1"), 200.0), 0.5),
+             ir.Binary("*", ir.Func("FIX", (ir.Binary("/", ir.Var("#1"), 200.0),)), 0.5), ir.Binary("+", ir.Var("#100"), 1.0),
+             ir.Binary("-", ir.Unary("-", 1.0), ir.Binary("*", 0.2, ir.Func("SIN", (ir.Binary("*", ir.Var("#101"), 3.6),))))]
+
+
+@settings(max_examples=400, deadline=None)
+@given(expr=STRAIGHT, contents=st.dictionaries(st.sampled_from(LOCALS + GLOBALS), st.one_of(NUMBERS, CONTENTS), max_size=6))
+@example(expr=ir.Binary("NE", ir.Binary("GT", ir.Var("#1"), 0.0), ir.Binary("LE", 1.0, ir.Var("#100"))), contents={"#1": 2.0, "#100": 0.5})
+@example(expr=ir.Binary("+", ir.Var("#1"), 1.0), contents={"#1": math.inf})
+def test_straight_line_code_gives_what_the_general_evaluation_gives(expr, contents):
+    """Arithmetic, comparisons (also of comparisons' outcomes), signs and one-argument
+    functions on numbers, infinite and nan ones included, and on every other content: the
+    straight-line code's value, or the general evaluation's when it hands over."""
+    machine, recorder = interpreter(contents)
+    general = outcome(machine.evaluate_tree, expr, recorder)
+    run = _straight(machine, expr, lambda span: machine.evaluate_tree(expr, span))
+    if run is not None:
+        assert outcome(lambda e, span: run(span), expr, recorder) == general
+
+
+def test_a_loop_body_of_plain_numbers_runs_as_straight_line_code_without_handing_over():
+    machine, recorder = interpreter({"#1": 417.0, "#100": 3.0, "#101": -2.5})
+    for expr in LOOP_BODY:
+        handed_over = []
+        run = _straight(machine, expr, handed_over.append)
+        assert run is not None and outcome(lambda e, span: run(span), expr, recorder) == outcome(machine.evaluate_tree, expr, recorder)
+        assert handed_over == [] and recorder.reported == []
+
+
+def test_a_variable_not_holding_a_number_hands_the_whole_evaluation_over():
+    machine, recorder = interpreter({"#1": VACANT, "#100": values.parameter("P1", -5.0, 5.0)})
+    for expr in LOOP_BODY:
+        handed_over = []
+        assert _straight(machine, expr, handed_over.append)(SPAN) is None and handed_over == [SPAN]
 
 
 def tables(machine: Interpreter) -> tuple[dict, dict]:

@@ -18,6 +18,7 @@ parameter).
 from __future__ import annotations
 
 import operator
+from functools import lru_cache
 
 from .. import ir, values
 
@@ -27,7 +28,14 @@ _ABSENT = object()  # not in a variable table
 
 
 def compile_expression(interpreter, expr):
-    """A closure ``run(span)`` that evaluates ``expr`` as ``interpreter.evaluate_tree`` does."""
+    """A closure ``run(span)`` that evaluates ``expr`` as ``interpreter.evaluate_tree`` does:
+    the tree of closures (:func:`_closure`), run first as straight-line code where it can be
+    (:func:`_straight`)."""
+    general = _closure(interpreter, expr)
+    return _straight(interpreter, expr, general) or general
+
+
+def _closure(interpreter, expr):
     kind = type(expr)
     if kind is float and expr - expr == 0.0:
         return lambda span: expr
@@ -77,7 +85,7 @@ def _variable(interpreter, var: ir.Var):
 
 
 def _sign(interpreter, expr: ir.Unary):
-    operand = compile_expression(interpreter, expr.operand)
+    operand = _closure(interpreter, expr.operand)
 
     def run(span):
         value = operand(span)
@@ -87,7 +95,7 @@ def _sign(interpreter, expr: ir.Unary):
 
 
 def _function(interpreter, expr: ir.Func):
-    arguments = [(compile_expression(interpreter, arg), arg) for arg in expr.args]
+    arguments = [(_closure(interpreter, arg), arg) for arg in expr.args]
     convert = interpreter._arithmetic_operand
     on_number = values.number_function(expr.name) if len(arguments) == 1 else None
     if on_number is not None:
@@ -125,7 +133,7 @@ def _binary(interpreter, expr: ir.Binary):
     """Plain floats are added, subtracted, multiplied, divided by a non-zero number and
     compared here; everything else (and every result past the float range) goes to
     :meth:`~ncverify.interpret.Interpreter.combined`."""
-    left, right = compile_expression(interpreter, expr.left), compile_expression(interpreter, expr.right)
+    left, right = _closure(interpreter, expr.left), _closure(interpreter, expr.right)
     combined = interpreter.combined
     op = expr.op
     inline = _INLINE.get(op)
@@ -153,11 +161,16 @@ def _arithmetic(operation):
 
 
 def _comparison(test):
+    """A node comparing floats; a decided comparison's outcome (True, False) counts 1 or 0,
+    as the general step counts it (a negated condition is ``[c] EQ 0``)."""
     def build(expr, left, right, combined):
         def run(span):
             a, b = left(span), right(span)
-            if type(a) is float and type(b) is float:
-                return test(a, b)
+            if type(b) is float:
+                if type(a) is float:
+                    return test(a, b)
+                if type(a) is bool:
+                    return test(1.0 if a else 0.0, b)
             return combined(expr, a, b, span)
         return run
     return build
@@ -167,3 +180,121 @@ _INLINE = {"+": _arithmetic(operator.add), "-": _arithmetic(operator.sub), "*": 
            "/": _arithmetic(operator.truediv), "MOD": _arithmetic(values.modulo), "**": _arithmetic(values.power),
            "EQ": _comparison(operator.eq), "NE": _comparison(operator.ne), "GT": _comparison(operator.gt),
            "GE": _comparison(operator.ge), "LT": _comparison(operator.lt), "LE": _comparison(operator.le)}
+
+
+# ---------------------------------------------------------------------------- straight-line code
+
+def _straight(interpreter, expr, general):
+    """``expr`` as one generated function (a loop body's arithmetic costs one call, not one
+    per node) where it is made of finite numbers, named variables, signs, the arithmetic and
+    comparisons the closures compute inline and the one-argument functions: it reads every
+    variable first and computes on floats, and hands the whole evaluation to ``general``
+    (the tree of closures) as soon as a variable holds anything but a float, an operation
+    fails or a result leaves the float range. Reading a variable that is set changes
+    nothing, so the general evaluation, started again, reports what it would have reported
+    alone. None for any other tree, and for a bare leaf (nothing to gain)."""
+    if type(expr) not in (ir.Unary, ir.Binary, ir.Func):
+        return None
+    code = _StraightCode(interpreter)
+    result = code.node(expr)
+    if result is None or code.size > _STRAIGHT_NODES:
+        return None
+    text = code.text(result[0])
+    return _factory(text)(interpreter, general, _ABSENT, tuple(code.constants), tuple(code.names), tuple(code.functions))
+
+
+_STRAIGHT_NODES = 48  # larger trees stay closures (generated code is compiled once per shape)
+_STRAIGHT_ARITHMETIC = {"+": "{} + {}", "-": "{} - {}", "*": "{} * {}", "/": "{} / {}"}
+_STRAIGHT_CALLED = {"MOD": values.modulo, "**": values.power}
+_STRAIGHT_COMPARISON = {"EQ": "==", "NE": "!=", "GT": ">", "GE": ">=", "LT": "<", "LE": "<="}
+
+
+class _StraightCode:
+    """The lines of one straight-line function: variable reads, then steps on floats."""
+
+    def __init__(self, interpreter):
+        self.interpreter = interpreter
+        self.reads, self.steps, self.checked = [], [], []
+        self.constants, self.names, self.functions = [], [], []
+        self.size = 0
+
+    def node(self, expr) -> tuple[str, bool] | None:
+        """The Python operand computing ``expr`` and whether it is a comparison's outcome
+        (a bool), or None when ``expr`` is not straight-line arithmetic."""
+        self.size += 1
+        kind = type(expr)
+        if kind is float:
+            if expr - expr != 0.0:
+                return None
+            self.constants.append(expr)
+            return f"c{len(self.constants) - 1}", False
+        if kind is ir.Var:
+            return self._read(expr)
+        if kind is ir.Unary:
+            operand = self.node(expr.operand)
+            return None if operand is None or operand[1] else self._step(f"-{operand[0]}", checked=False)
+        if kind is ir.Binary:
+            return self._binary(expr)
+        if kind is ir.Func and len(expr.args) == 1 and values.number_function(expr.name) is not None:
+            argument = self.node(expr.args[0])
+            if argument is None or argument[1]:
+                return None
+            return self._step(f"float({self._function(values.number_function(expr.name))}({argument[0]}))")
+        return None
+
+    def _read(self, var: ir.Var):
+        if not isinstance(var.name, str):
+            return None
+        self.names.append(var.name)
+        table = "local" if self.interpreter.is_local(var.name) else "global_"
+        name = f"v{len(self.reads)}"
+        self.reads.append(f"{name} = {table}.get(n{len(self.names) - 1}, ABSENT)\n        if type({name}) is not float:\n            return general(span)")
+        return name, False
+
+    def _binary(self, expr: ir.Binary):
+        left, right = self.node(expr.left), self.node(expr.right)
+        if left is None or right is None:
+            return None
+        op = expr.op
+        if op in _STRAIGHT_COMPARISON:
+            operands = [f"(1.0 if {text} else 0.0)" if outcome else text for text, outcome in (left, right)]
+            return self._step(f"{operands[0]} {_STRAIGHT_COMPARISON[op]} {operands[1]}", checked=False, outcome=True)
+        if left[1] or right[1]:
+            return None  # a comparison's outcome in arithmetic: the general step converts it
+        if op in _STRAIGHT_ARITHMETIC:
+            return self._step(_STRAIGHT_ARITHMETIC[op].format(left[0], right[0]))
+        if op in _STRAIGHT_CALLED:
+            return self._step(f"{self._function(_STRAIGHT_CALLED[op])}({left[0]}, {right[0]})")
+        return None
+
+    def _function(self, function) -> str:
+        self.functions.append(function)
+        return f"f{len(self.functions) - 1}"
+
+    def _step(self, computed: str, checked: bool = True, outcome: bool = False):
+        name = f"t{len(self.steps)}"
+        self.steps.append(f"{name} = {computed}")
+        if checked:
+            self.checked.append(name)
+        return name, outcome
+
+    def text(self, result: str) -> str:
+        """The source of a factory ``make(interpreter, general, ABSENT, c, n, f)`` of the function."""
+        unpack = "".join(f"    {', '.join(f'{letter}{index}' for index in range(count))}, = {letter}\n"
+                         for letter, count in (("c", len(self.constants)), ("n", len(self.names)), ("f", len(self.functions))) if count)
+        reads = "".join(f"        {read}\n" for read in self.reads)
+        steps = "".join(f"            {step}\n" for step in self.steps)
+        checks = f"        if {' or '.join(f'{name} - {name} != 0.0' for name in self.checked)}:\n            return general(span)\n" if self.checked else ""
+        return ("def make(interpreter, general, ABSENT, c, n, f):\n" + unpack
+                + "    def run(span):\n        state = interpreter.state\n"
+                + "        local, global_ = state.local_variables, state.global_variables\n" + reads
+                + f"        try:\n{steps}        except ArithmeticError:\n            return general(span)\n"
+                + checks + f"        return {result}\n    return run\n")
+
+
+@lru_cache(maxsize=512)
+def _factory(text: str):
+    """The factory defined by ``text`` (one per shape of tree: a loop's expressions share a few)."""
+    namespace = {}
+    exec(compile(text, "<straight-line expression>", "exec"), namespace)  # noqa: S102 - text generated above from a fixed grammar
+    return namespace["make"]

@@ -469,7 +469,7 @@ class Interpreter(ControlFlow):
             self._op_index = op_index
             op = ops[op_index]
             kind = type(op)
-            if gathered and not self._keeps_moves_gathered(op, kind):
+            if gathered and kind not in _ALWAYS_BETWEEN_GATHERED and not self._keeps_moves_gathered(op, kind):
                 self._hand_on_gathered()
             transfer = handlers[kind](op, block)
             if transfer is not None:
@@ -1317,6 +1317,7 @@ _RUN_KIND = {"rapid": 0, "feed": 1, "arc": _FIRST_ARC_KIND}  # a segment's kind 
 _RUN_AXES_IN_ORDER = ("X", "Y", "Z")  # the columns of a run's points, as every batch has them
 _RUN_AXES = frozenset(_RUN_AXES_IN_ORDER)
 _BETWEEN_GATHERED = frozenset({ir.Move, ir.Assign, ir.Jump, ir.LoopStart, ir.LoopEnd})  # operations moves stay gathered across
+_ALWAYS_BETWEEN_GATHERED = frozenset({ir.Move, ir.Jump, ir.LoopStart, ir.LoopEnd})  # ... whatever they are: not asked (_keeps_moves_gathered)
 
 
 def _numbers(position: dict) -> bool:
