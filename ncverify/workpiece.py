@@ -316,8 +316,7 @@ class Workpiece:
             widths = stop - first
             owner = numpy.repeat(piece, widths)
             column = _ramp(widths) + numpy.repeat(first, widths)
-            across = numpy.repeat((y - segments.ay[piece]) * segments.dy[piece], widths)
-            distance = segments.distance(owner, self._column_centres()[column], numpy.repeat(y, widths), across)
+            distance = segments.distance_on_rows(piece, widths, self._column_centres()[column], y, (y - segments.ay[piece]) * segments.dy[piece])
             near = distance <= reach[owner]
             flat = numpy.repeat(row * self.nx, widths) + column
             yield owner[near], flat[near], distance[near]
@@ -505,9 +504,26 @@ class _Segments:
     def distance(self, owner, px, py, across):
         """Distance of points (px, py) from segments ``owner``, bit for bit as
         :func:`distance_to_segment` gives it; ``across``: (py - ay) * dy of each."""
-        ax, ay, dx, dy = self.ax[owner], self.ay[owner], self.dx[owner], self.dy[owner]
-        t = numpy.clip(((px - ax) * dx + across) / self.divisor[owner], 0.0, 1.0)
-        return numpy.hypot(px - (ax + t * dx), py - (ay + t * dy))
+        return self.distance_on_rows(owner, None, px, py, across)
+
+    def distance_on_rows(self, piece, widths, px, py, across):
+        """:meth:`distance` of runs of points: ``widths[k]`` consecutive points from segment
+        ``piece[k]``, which share their ``py`` and ``across`` (one a run; ``widths`` None:
+        runs of one). The segments' terms are repeated along each run, and the arithmetic
+        done in place: this is the inner loop of the sweep, one entry per cell near a piece."""
+        def spread(values):
+            return values if widths is None else numpy.repeat(values, widths)
+        ax, ay, dx, dy, divisor = (spread(terms[piece]) for terms in (self.ax, self.ay, self.dx, self.dy, self.divisor))
+        t = px - ax
+        t *= dx
+        t += spread(across)
+        t /= divisor
+        numpy.clip(t, 0.0, 1.0, out=t)
+        dx *= t
+        dx += ax
+        dy *= t
+        dy += ay
+        return numpy.hypot(numpy.subtract(px, dx, out=dx), numpy.subtract(spread(py), dy, out=dy), out=t)
 
 
 def _nearest_on_segment(px, py, a, b):
