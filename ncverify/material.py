@@ -37,6 +37,7 @@ _FLAT = {"endmill", "facemill", "slot", "reamer", "boring", "threadmill", "tap"}
 _NOT_CUTTING = {"probe"}
 AUTO_RESOLUTION = (0.05, 1.0)  # bounds of the resolution chosen from the smallest tool
 _FIELD_BYTES_PER_CELL = 8  # two float32 bounds
+_ARC_WIDTHS = (3, 3, 2, 1, 3)  # columns of a buffered arc's fields: start, end, centre, clockwise, plane axes (see _flush)
 
 
 class _PathPiece:
@@ -130,7 +131,7 @@ class Material:
             if centre is None or type(centre[0]) is not float or type(centre[1]) is not float:
                 mine.unplaced()
                 return
-            mine.arcs.append(((start, end, centre, arc.direction == "cw", _plane_indices(arc.plane)), mine.sized(cutter), self._tool_name(state)))
+            mine.arcs.append((([start], [end], [centre], [arc.direction == "cw"], [_plane_indices(arc.plane)]), mine.sized(cutter), self._tool_name(state)))
             self._count_buffered(mine)
             return
         mine.deepest = min(mine.deepest, start[2], end[2])
@@ -231,9 +232,8 @@ class Material:
             mine.deepest = min(mine.deepest, float(numpy.minimum(starts[straight, 2], ends[straight, 2]).min()))
             for start, end in zip(starts[straight][-_RECENT:].tolist(), ends[straight][-_RECENT:].tolist()):
                 mine.recent.append((tuple(start), tuple(end), sized))
-        plane = _plane_indices(run.arcs.plane)
-        arcs = list(zip(map(tuple, starts[~straight].tolist()), map(tuple, ends[~straight].tolist()), map(tuple, centres.tolist()),
-                        (run.kinds[cutting[~straight]] == ARC_CW).tolist(), [plane] * len(centres)))
+        arcs = (starts[~straight], ends[~straight], centres, run.kinds[cutting[~straight]] == ARC_CW,
+                numpy.tile(_plane_indices(run.arcs.plane), (len(centres), 1)))
         arcs_taken = 0
         for first, stop in self._flush_groups(mine, len(cutting)):
             lines = straight[first:stop]
@@ -241,7 +241,8 @@ class Material:
                 rows = numpy.flatnonzero(lines) + first
                 mine.lines.append((starts[rows], ends[rows], sized, tool))
             arc_count = stop - first - int(numpy.count_nonzero(lines))
-            mine.arcs.extend((arc, sized, tool) for arc in arcs[arcs_taken:arcs_taken + arc_count])
+            if arc_count:
+                mine.arcs.append((tuple(field[arcs_taken:arcs_taken + arc_count] for field in arcs), sized, tool))
             arcs_taken += arc_count
         return True
 
@@ -449,9 +450,9 @@ class Material:
             group = list(group)
             starts, ends = (_stacked(line[end] for line in group) for end in (0, 1))
             self._sweep(mine.piece, starts, ends, cutter, 0.0, tool)
-        for (cutter, tool), group in groupby(mine.arcs, key=lambda arc: arc[1:]):  # many arcs' chords in one sweep
-            arcs = [arc[0] for arc in group]
-            starts, ends, sagitta, _ = workpiece.arc_chords(*[[arc[field] for arc in arcs] for field in range(5)],
+        for (cutter, tool), group in groupby(mine.arcs, key=lambda arcs: arcs[1:]):  # many arcs' chords in one sweep
+            fields = [arcs[0] for arcs in group]
+            starts, ends, sagitta, _ = workpiece.arc_chords(*(_stacked((arcs[field] for arcs in fields), width) for field, width in enumerate(_ARC_WIDTHS)),
                                                            tolerance=self.resolution / 8.0)
             mine.deepest = min(mine.deepest, float((numpy.minimum(starts[:, 2], ends[:, 2]) - sagitta).min()))
             self._sweep(mine.piece, starts, ends, cutter, sagitta, tool)
@@ -583,20 +584,20 @@ def _plane_indices(plane: tuple[str, str, str]) -> tuple[int, int, int]:
     return tuple("XYZ".index(axis) for axis in plane)
 
 
-def _stacked(pieces) -> numpy.ndarray:
-    """The buffered points as one (n, 3) array: a batch buffers arrays, a single move a list
-    of one (x, y, z); the lists are joined in Python and made one array, not one each."""
+def _stacked(pieces, width: int = 3) -> numpy.ndarray:
+    """The buffered rows as one (n, ``width``) array: a batch buffers arrays, a single move a
+    list of one row; the lists are joined in Python and made one array, not one each."""
     arrays, loose = [], []
     for piece in pieces:
         if isinstance(piece, numpy.ndarray):
             if loose:
-                arrays.append(numpy.array(loose, dtype=float))
+                arrays.append(numpy.array(loose, dtype=float).reshape(-1, width))
                 loose = []
-            arrays.append(numpy.reshape(piece, (-1, 3)))
+            arrays.append(numpy.reshape(piece, (-1, width)))
         else:
             loose.extend(piece)
     if loose:
-        arrays.append(numpy.array(loose, dtype=float))
+        arrays.append(numpy.array(loose, dtype=float).reshape(-1, width))
     return numpy.concatenate(arrays)
 
 

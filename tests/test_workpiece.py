@@ -3,6 +3,8 @@ against an independent brute-force sweep and exact volumes; rapids are judged fr
 from __future__ import annotations
 
 import math
+import platform
+import resource
 from pathlib import Path
 from unittest.mock import patch
 
@@ -672,3 +674,17 @@ def test_a_copy_of_a_workpiece_whose_lower_bound_was_emptied_cuts_its_upper_boun
     assert (piece.lower == NO_MATERIAL).all() and (twin.lower == NO_MATERIAL).all()
     assert twin.rapid((10, 15, -2), (30, 15, -2), Cutter(1.0)).outcome == "clear"
     assert piece.rapid((10, 15, -2), (30, 15, -2), Cutter(1.0)).outcome == "unsure"
+
+
+@pytest.mark.skipif(platform.libc_ver()[0] != "glibc", reason="the allocator's settings are glibc's")
+def test_sweeping_a_large_batch_again_reuses_its_scratch_memory_instead_of_paging_it_in_anew():
+    """Left to glibc's defaults, each repeat of this sweep faulted about 18,000 pages in
+    (its scratch arrays handed back to the system and mapped again); kept, a few hundred."""
+    piece = Workpiece(Stock.box((0, 100), (0, 2000), (-20, 0)), 0.5)
+    turns = numpy.linspace(0.0, 400 * math.pi, 40001)
+    path = numpy.column_stack([50 + 40 * numpy.cos(turns), 1000 + 900 * numpy.sin(turns / 200), numpy.full(len(turns), -1.0)])
+    piece.cut(path[:-1], path[1:], Cutter(3.0))
+    before = resource.getrusage(resource.RUSAGE_SELF).ru_minflt
+    for _ in range(5):
+        piece.cut(path[:-1], path[1:], Cutter(3.0))
+    assert resource.getrusage(resource.RUSAGE_SELF).ru_minflt - before < 10_000
