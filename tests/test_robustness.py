@@ -602,3 +602,22 @@ def test_a_fagor_pattern_with_a_computed_count_is_unknown_not_a_crash(tmp_path):
     result = check_file(program, Settings())
     assert result.skipped is None
     assert [d.status.value for d in result.diagnostics if d.rule == "core.unsupported-code"] == ["unknown"]
+
+
+_HUGE = "9" * 400  # read as infinity: beyond the number format of every control
+
+
+@pytest.mark.parametrize("name, program", [
+    ("cylinder.h", f"0 BEGIN PGM P MM\n1 BLK FORM CYLINDER Z R25 L100\n2 TOOL CALL 1 Z S2000\n3 L X+40 Y+0 Z+50 R0 FMAX M3\n"
+                   f"4 L Z-5 R0 FMAX\n5 L X+35 Y+{_HUGE} R0 FMAX\n6 L X+0 Y+40 R0 FMAX\n7 END PGM P MM\n"),
+    ("arc.nc", f"(ncverify: stock box X0:100 Y0:80 Z-20:0)\n(ncverify: tool 1 radius 3 length 50)\nG21 G90 G17 G54\nT1 M6\n"
+               f"G43 H1 Z50.\nG0 X10. Y10.\nG1 Z-1. F100\nG2 X20. Y10. I{_HUGE} J0.\nM30\n"),
+    ("radius.nc", f"(ncverify: stock box X0:100 Y0:80 Z-20:0)\nG21 G90 G17 G54\nT1 M6\nG0 X10. Y10. Z1.\nG1 Z-1. F100\nG2 X20. Y10. R{_HUGE}\nM30\n"),
+])
+def test_a_number_of_hundreds_of_digits_is_a_syntax_finding_not_a_crash(name, program):
+    """Read as infinity, such a coordinate reached the stock geometry (a GEOS exception, found
+    by the fuzzing run) or the cut stock (negative array sizes): the control rejects the block."""
+    result = check_text(program, name, Settings())
+    assert result.skipped is None
+    [finding] = [d for d in result.diagnostics if d.rule == "core.syntax"]
+    assert finding.status.value == "violated" and "number range" in finding.message and finding.span.line in (5, 8, 6)
