@@ -203,3 +203,31 @@ def test_cip_inside_a_cycle95_contour_is_alarm_10930():
         M17
     """)
     assert any("10930" in message and "CIP" in message for message in contour_findings(result))
+
+
+def _arcs_by_line(program: str, project: str, **settings) -> dict:
+    """The arc of each segment the rules are handed, by line (every move on its own)."""
+    from unittest import mock
+
+    from ncverify.check import Checker
+
+    arcs = {}
+    original = Checker.segment
+
+    def recording(checker, segment, state):
+        arcs[segment.span.line] = segment.arc
+        return original(checker, segment, state)
+
+    with mock.patch.object(Checker, "segment", recording):
+        check_program(program, "part.mpf", project, per_block_only=True, **settings)
+    return arcs
+
+
+def test_sinumerik_ct_on_a_lathe_is_not_placed():
+    """On a lathe the element before may have been read in diameters (DIAMON) and the CT in
+    radii: its direction is not taken, the arc has no centre. On a mill the same path has one."""
+    body = "    G1 X10 Z0\n    G1 X10 Z-10\n    CT X12 Z-20\n    M30\n"
+    program = SINUMERIK_HEAD.replace("G17", "G18 DIAMOF") + body
+    lathe = SINUMERIK_TRAVEL.replace("[machine]", '[machine]\ntype = "lathe"\nlathe_x = "radius"')
+    assert _arcs_by_line(program, lathe, dialect="sinumerik", machine="lathe")[7].centre is None
+    assert _arcs_by_line(SINUMERIK_HEAD.replace("G17", "G18") + body, SINUMERIK_TRAVEL, dialect="sinumerik")[7].centre == (-10.0, 36.0)

@@ -1225,6 +1225,8 @@ class Interpreter(ControlFlow):
             return unplaced_arc(plane)
         points = (start[first], start[second]), (end[first], end[second])
         if kind == "arc_tangent":
+            if self.machine == "lathe":  # the element before may have been read in diameters (DIAMON)
+                return unplaced_arc(plane)
             return tangent_arc(plane, end_heading(self.state.last_segment, start, plane), *points)
         middle = [self._intermediate(op, start, axis) for axis in plane]
         if middle[0] is None or middle[1] is None or (middle[2] is not None and middle[2] != start.get(normal)):
