@@ -614,10 +614,12 @@ _HUGE = "9" * 400  # read as infinity: beyond the number format of every control
                f"G43 H1 Z50.\nG0 X10. Y10.\nG1 Z-1. F100\nG2 X20. Y10. I{_HUGE} J0.\nM30\n"),
     ("radius.nc", f"(ncverify: stock box X0:100 Y0:80 Z-20:0)\nG21 G90 G17 G54\nT1 M6\nG0 X10. Y10. Z1.\nG1 Z-1. F100\nG2 X20. Y10. R{_HUGE}\nM30\n"),
 ])
-def test_a_number_of_hundreds_of_digits_is_a_syntax_finding_not_a_crash(name, program):
+def test_a_number_of_hundreds_of_digits_is_a_finding_at_its_block_not_a_crash(name, program):
     """Read as infinity, such a coordinate reached the stock geometry (a GEOS exception, found
-    by the fuzzing run) or the cut stock (negative array sizes): the control rejects the block."""
+    by the fuzzing run) or the cut stock (negative array sizes): it is a number beyond the
+    control's range, as when the expression evaluator meets it, whether written with a point
+    or counted in least increments."""
     result = check_text(program, name, Settings())
     assert result.skipped is None
-    [finding] = [d for d in result.diagnostics if d.rule == "core.syntax"]
-    assert finding.status.value == "violated" and "number range" in finding.message and finding.span.line in (5, 8, 6)
+    [finding] = [d for d in result.diagnostics if d.rule == "core.arithmetic-domain"]
+    assert finding.status.value == "violated" and "beyond the control's range" in finding.message and finding.span.line in (5, 8, 6)

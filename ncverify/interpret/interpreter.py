@@ -522,12 +522,12 @@ class Interpreter(ControlFlow):
         """:meth:`evaluate` by walking the tree: the general evaluation every value, vacant,
         text and symbolic, goes through, and the one compiled closures fall back to."""
         kind = type(expr)
+        if kind is ir.IncrementCount:  # an integer counted in least increments: its value in mm or inch
+            expr, kind = self._scale_increment(expr), float
         if kind is float:
             if expr - expr != 0.0:  # inf or nan: a number no control holds
                 self._domain_error("a number beyond the control's range", span)
             return expr
-        if kind is ir.IncrementCount:
-            return self._scale_increment(expr)
         if kind is int:
             return float(expr)
         if kind is str:
@@ -1050,9 +1050,7 @@ class Interpreter(ControlFlow):
         incremental = state.modal["distance"] == "incremental"
         all_written = True
         for axis, expr in op.targets.items():
-            value = expr if type(expr) is float else self.value(expr, op.span)
-            if type(value) is float and value - value != 0.0:
-                self._beyond_number_range(op.span)
+            value = expr if type(expr) is float and expr - expr == 0.0 else self.value(expr, op.span)  # inf, nan: evaluate's fault
             if value is VACANT:
                 all_written = False
                 continue  # a vacant variable makes the address absent (Fanuc)
@@ -1157,23 +1155,9 @@ class Interpreter(ControlFlow):
         contour element that leaves the motion mode alone (``written``: the axes its block
         wrote; None for any other move) may join the gathered moves (:meth:`_gather_segment`)."""
         state = self.state
-        for value in state.position.values():
-            self._within_number_range(value, span)
         segment = state.last_segment = Segment(kind, start, state.position, span, block, role, cycle, arc)
         if written is None or not self._gather_segment(segment, written, state.modal.get("motion")):
             self.observer.segment(segment, state)
-
-    def _within_number_range(self, value, span):
-        """``value``, unless it is a number past the float range (see :meth:`_beyond_number_range`)."""
-        if type(value) is float and value - value != 0.0:
-            self._beyond_number_range(span)
-        return value
-
-    def _beyond_number_range(self, span) -> None:
-        """A position no number format of a control holds (a literal of hundreds of digits,
-        read as infinity): the block is refused, and nothing after it is followed."""
-        self._fault("core.syntax", span or self._block.span, "a number beyond the control's number range (too many digits): the control rejects the block")
-        raise PathEnd
 
     def _x_scale(self) -> float:
         """X positions to radial distances: halved where X is a diameter, by the mode in force
@@ -1199,13 +1183,13 @@ class Interpreter(ControlFlow):
             return self._arc_from_geometry(op, kind, start, (first, second, normal), scale_first * scale_second)
         s1, s2, e1, e2 = _scaled(s1, scale_first), _scaled(s2, scale_second), _scaled(e1, scale_first), _scaled(e2, scale_second)
         if radius_expr is not None:
-            radius = self._within_number_range(self.value(radius_expr, op.span), op.span)
+            radius = self.value(radius_expr, op.span)
             if radius is VACANT:
                 return Arc(direction, (first, second, normal), None, None, None)
             return arc_by_radius(direction, (first, second, normal), radius, s1, s2, e1, e2)
         letter1, letter2 = _CENTRE_LETTERS[first], _CENTRE_LETTERS[second]
-        offset1 = self._within_number_range(self.value(arc_words.get(letter1, 0.0), op.span), op.span)
-        offset2 = self._within_number_range(self.value(arc_words.get(letter2, 0.0), op.span), op.span)
+        offset1 = self.value(arc_words.get(letter1, 0.0), op.span)
+        offset2 = self.value(arc_words.get(letter2, 0.0), op.span)
         offset1 = 0.0 if offset1 is VACANT else offset1
         offset2 = 0.0 if offset2 is VACANT else offset2
         if state.modal.get("arc_distance") == "absolute":
