@@ -87,9 +87,10 @@ def arc_by_centre(direction: str, plane: tuple, c1, c2, s1, s2, e1, e2) -> Arc:
                start_radius_sq=values.distance_sq(s1, s2, c1, c2), end_radius_sq=values.distance_sq(e1, e2, c1, c2))
 
 
-def unplaced_arc(plane: tuple) -> Arc:
-    """An arc whose centre is not known: the rules answer ``unknown`` for what it sweeps."""
-    return Arc("ccw", plane, None, None, None)
+def unplaced_arc(plane: tuple, direction: str = "ccw") -> Arc:
+    """An arc whose centre is not known: the rules answer ``unknown`` for what it sweeps
+    (``direction``: as written, where the program wrote one; no rule reads it without a centre)."""
+    return Arc(direction, plane, None, None, None)
 
 
 def _about(plane: tuple, direction: str, centre: tuple, start: tuple, end: tuple) -> Arc:

@@ -1178,14 +1178,14 @@ class Interpreter(ControlFlow):
         arc_words = op.arc or {}
         radius_expr = arc_words.get("R")
         if None in (s1, s2, e1, e2):
-            return unplaced_arc((first, second, normal))
+            return unplaced_arc((first, second, normal), direction or "ccw")
         if direction is None:
             return self._arc_from_geometry(op, kind, start, (first, second, normal), scale_first * scale_second)
         s1, s2, e1, e2 = _scaled(s1, scale_first), _scaled(s2, scale_second), _scaled(e1, scale_first), _scaled(e2, scale_second)
         if radius_expr is not None:
             radius = self.value(radius_expr, op.span)
             if radius is VACANT:
-                return Arc(direction, (first, second, normal), None, None, None)
+                return unplaced_arc((first, second, normal), direction)
             return arc_by_radius(direction, (first, second, normal), radius, s1, s2, e1, e2)
         letter1, letter2 = _CENTRE_LETTERS[first], _CENTRE_LETTERS[second]
         offset1 = self.value(arc_words.get(letter1, 0.0), op.span)

@@ -31,7 +31,7 @@ from .state import Definition
 from ..arc_geometry import arc_by_centre, end_heading, tangent_arc, unplaced_arc
 from ..control_flow import PathEnd
 from ..cycles import grid
-from ...trace import Arc, CycleFacts, CycleRun, Hole
+from ...trace import CycleFacts, CycleRun, Hole
 
 _PLANES = {"xy": ("X", "Y", "Z"), "yz": ("Y", "Z", "X"), "zx": ("Z", "X", "Y")}
 # DEF-active cycles (seed L666-688): they act when defined and are never called. 12 and 238
@@ -121,7 +121,7 @@ def _emit_arc(runner, op, block, targets, centre, plane, direction) -> None:
     s1, s2, e1, e2 = start.get(first), start.get(second), state.position.get(first), state.position.get(second)
     c1, c2 = centre
     if None in (s1, s2, e1, e2, c1, c2):
-        arc = Arc(direction, plane, None, None, None)
+        arc = unplaced_arc(plane, direction)
     else:
         arc = arc_by_centre(direction, plane, c1, c2, s1, s2, e1, e2)
     runner.emit("arc", start, op.span, block, "programmed", None, arc, targets.keys())
