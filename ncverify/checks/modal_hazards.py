@@ -9,11 +9,10 @@ import math
 import numpy
 
 from .. import ir, values
-from ..check import Rule, hazard, rule, show
+from ..check import CUTTING, Rule, hazard, rule, show
 from ..diagnostics import Severity, Status
 from .. import modelled
 
-_CUTTING = frozenset({"feed", "arc", "thread"})
 _FEED = 1  # MotionRun kind code of a feed segment; arcs' are above it
 _LENGTH_CODE = {"plus": "G43", "minus": "G44"}
 _SPINDLE_CODE = {"cw": "M03", "ccw": "M04", "off": "M05", "orient": "M19"}
@@ -73,7 +72,7 @@ def _ran_before(state, key: str, span) -> bool:
 class TappingModeLeftOn(Rule):
     """G63 in force for a cut that is not a tap: one finding per G63 episode. A feed move
     along the tool axis only (Z on a mill, in G17) is taken for a tap written with G01."""
-    segment_kinds = _CUTTING
+    segment_kinds = CUTTING
 
     handles_arcs = True  # an arc cuts as a feed move does; judged by its end points, as block by block
 
@@ -82,7 +81,7 @@ class TappingModeLeftOn(Rule):
             state.rule_state.pop("tapping-mode-reported", None)
 
     def segment(self, segment, state):
-        if segment.kind not in _CUTTING or state.modal.get("path_mode") != "tapping" or state.rule_state.get("tapping-mode-reported"):
+        if segment.kind not in CUTTING or state.modal.get("path_mode") != "tapping" or state.rule_state.get("tapping-mode-reported"):
             return
         if segment.cycle is not None and state.cycle is not None and state.cycle.model.tapping:
             return

@@ -9,11 +9,10 @@ from ..solver import z3
 from .. import ir, values
 from ..values import Condition
 from ..diagnostics import Status
-from ..check import ARCS, Rule, hazard, rule, show
+from ..check import ARCS, CUTTING, Rule, hazard, rule, show
 from .. import modelled
 from ..trace import ARC_CW
 
-_CUTTING = frozenset({"feed", "arc", "thread"})
 
 _FEED = 1  # MotionRun kind code of a feed segment; arcs' are above it
 
@@ -27,11 +26,11 @@ class FeedMissing(Rule):
     """Reported at the first cutting move of each feed value that is missing or not
     positive (one finding per mistake, not one per block)."""
     reads = modelled.AS_WRITTEN
-    segment_kinds = _CUTTING
+    segment_kinds = CUTTING
     handles_arcs = True
 
     def segment(self, segment, state):
-        if segment.kind not in _CUTTING or segment.kind == "thread" and not segment.cycle:
+        if segment.kind not in CUTTING or segment.kind == "thread" and not segment.cycle:
             return  # a thread (G33) follows the spindle: its lead is the feed, no F is read
         self._check(state.feed, segment.span, "cycle infeed" if segment.cycle else "cutting move", state)
 
@@ -99,7 +98,7 @@ class SpindleOffCutting(Rule):
     a move that reaches Z0 touches one or the other and is reported; one that stays above
     Z0 is reported where the program itself feeds across the plane with the spindle running
     at that height or higher (it cuts there), and is ``unknown`` otherwise."""
-    segment_kinds = _CUTTING
+    segment_kinds = CUTTING
 
     handles_arcs = True
 
@@ -116,7 +115,7 @@ class SpindleOffCutting(Rule):
         self.machining = True
 
     def segment(self, segment, state):
-        if segment.kind not in _CUTTING or segment.role == "contour":
+        if segment.kind not in CUTTING or segment.role == "contour":
             return
         start_z, end_z = segment.start.get("Z"), segment.end.get("Z")
         if state.spindle in ("cw", "ccw"):
