@@ -288,7 +288,7 @@ class _StraightCode:
         return ("def make(interpreter, general, ABSENT, c, n, f):\n" + unpack
                 + "    def run(span):\n        state = interpreter.state\n"
                 + "        local, global_ = state.local_variables, state.global_variables\n" + reads
-                + f"        try:\n{steps}        except ArithmeticError:\n            return general(span)\n"
+                + f"        try:\n{steps}        except (ArithmeticError, ValueError):\n            return general(span)\n"
                 + checks + f"        return {result}\n    return run\n")
 
 
