@@ -73,6 +73,9 @@ class Cutter:
         return self.lift(distance) if self.known else numpy.zeros_like(numpy.asarray(distance, float))
 
 
+_MEASURED_REACH = 1e9  # mm from the origin within which a path's distance to a cell is exact to far below a cell
+
+
 @dataclass(frozen=True)
 class RapidVerdict:
     """``clear``, ``hits`` (with a point in the material) or ``unsure`` (within the grid's error)."""
@@ -235,6 +238,8 @@ class Workpiece:
         return at_end if at_end.outcome == "hits" else verdict
 
     def _rapid_path(self, start, end, cutter: Cutter) -> RapidVerdict:
+        if not all(abs(value) <= _MEASURED_REACH for value in (start[0], start[1], end[0], end[1])):
+            return RapidVerdict("unsure")  # so far out, rounding places the path's nearest points many mm off
         a, b, _ = self._within_slab(numpy.array([start], float), numpy.array([end], float), cutter, numpy.zeros(1))
         a, b, z_low, z_high, slack = self._split_steep(a, b, numpy.minimum(a[:, 2], b[:, 2]), numpy.maximum(a[:, 2], b[:, 2]), numpy.zeros(len(a)))
         upper, lower = self.upper.reshape(-1), self._flat_lower()
