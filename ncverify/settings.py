@@ -26,6 +26,7 @@ class Settings:
     fail_on_unknown: bool = False
     disabled_rules: frozenset[str] = field(default_factory=frozenset)
     per_block_only: bool = False  # tests: run plain blocks one by one, to compare with batches
+    loop_runner: bool = True  # tests: False runs every loop pass block by block (interpret/loop_runner.py)
     solver_timeout_s: float = 5.0  # per Z3 query
     file_timeout_s: float = 600.0  # wall clock for one file's analysis (ncverify.watchdog)
     file_memory_bytes: int = 8 << 30  # memory for one file's analysis

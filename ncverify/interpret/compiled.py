@@ -195,12 +195,12 @@ def _straight(interpreter, expr, general):
     alone. None for any other tree, and for a bare leaf (nothing to gain)."""
     if type(expr) not in (ir.Unary, ir.Binary, ir.Func):
         return None
-    code = _StraightCode(interpreter)
+    code = StraightCode(interpreter)
     result = code.node(expr)
     if result is None or code.size > _STRAIGHT_NODES:
         return None
     text = code.text(result[0])
-    return _factory(text)(interpreter, general, _ABSENT, tuple(code.constants), tuple(code.names), tuple(code.functions))
+    return factory(text)(interpreter, general, _ABSENT, tuple(code.constants), tuple(code.names), tuple(code.functions))
 
 
 _STRAIGHT_NODES = 48  # larger trees stay closures (generated code is compiled once per shape)
@@ -209,8 +209,9 @@ _STRAIGHT_CALLED = {"MOD": values.modulo, "**": values.power}
 _STRAIGHT_COMPARISON = {"EQ": "==", "NE": "!=", "GT": ">", "GE": ">=", "LT": "<", "LE": "<="}
 
 
-class _StraightCode:
-    """The lines of one straight-line function: variable reads, then steps on floats."""
+class StraightCode:
+    """The lines of one straight-line function: variable reads, then steps on floats (also
+    the steps of a whole loop pass, :mod:`.loop_runner`)."""
 
     def __init__(self, interpreter):
         self.interpreter = interpreter
@@ -293,7 +294,7 @@ class _StraightCode:
 
 
 @lru_cache(maxsize=512)
-def _factory(text: str):
+def factory(text: str):
     """The factory defined by ``text`` (one per shape of tree: a loop's expressions share a few)."""
     namespace = {}
     exec(compile(text, "<straight-line expression>", "exec"), namespace)  # noqa: S102 - text generated above from a fixed grammar

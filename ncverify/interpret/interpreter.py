@@ -23,7 +23,7 @@ from .control_flow import ControlFlow, CallFrame, LoopFrame, PathEnd, Position
 from .cycles import ActiveCycle, CycleRunner
 from .fagor import FagorState
 from .heidenhain.state import KlartextState
-from . import compiled, modal_call
+from . import compiled, loop_runner, modal_call
 from .arc_geometry import arc_by_centre, arc_by_radius, arc_through, end_heading, tangent_arc, unplaced_arc
 from ..context import ToolTable
 from ..settings import Settings
@@ -211,6 +211,7 @@ class Interpreter(ControlFlow):
         self._inert_between_moves = getattr(runtime, "INERT_BETWEEN_MOVES", {})  # dialect operation -> when it leaves the moves gathered
         if hasattr(observer, "motion_run") and not settings.per_block_only:
             self.observer = GatheringObserver(observer, self._hand_on_gathered)
+        self._loop_runners = loop_runner.LoopRunners(self) if settings.loop_runner and not settings.per_block_only else None
 
     # ------------------------------------------------------------------ running
 
@@ -240,7 +241,10 @@ class Interpreter(ControlFlow):
         self._sweep_unvisited()
 
     def _run_path(self, position: Position) -> None:
+        loops = self._loop_runners
         while True:
+            if loops is not None:
+                loops.run(position)  # at a loop's head: the straight passes that follow, compiled
             position = self._run_from(position)
 
     def _run_from(self, position: Position) -> Position:

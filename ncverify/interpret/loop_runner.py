@@ -1,0 +1,368 @@
+"""Loop passes run by one generated function each, not block by block.
+
+A loop whose pass runs straight through (assignments of plain numbers to named variables,
+straight moves whose words are expressions, tests that must come out one way, and the jump
+or loop end back to the head) is compiled, once a pass has run on the block path and left
+its lines lowered, into one function (:class:`_PassCode`) that runs pass after pass. For
+each pass it first reads the variables the pass reads and computes every value, test and
+count on floats, changing nothing; only when all of them are what the straight pass needs
+does it carry the pass out, in the order of its operations: variables written, moves made
+and gathered (or handed to the observer) as :meth:`~ncverify.interpret.Interpreter._move`
+makes them, blocks counted, the jump or the loop's pass counted against the loop bound.
+Anything else (a value that is not a float, a failed operation or a result past the float
+range, a test that would branch, the loop bound, the analysis budget, the loop's end) stops
+the runner before that pass, which the block path then runs from the loop head and reports
+as it always does. The runner works on the IR: it serves every dialect's loops that lower
+to a head and a transfer back to it (LinuxCNC O-word loops, Fanuc WHILE/DO/END and GOTO,
+SINUMERIK WHILE, Fagor $WHILE, Klartext FN jumps) where their passes fit.
+"""
+from __future__ import annotations
+
+import math
+
+from .. import ir
+from ..trace import Segment
+from .compiled import StraightCode, factory
+
+_MOST_LINES = 64  # lines of a pass at most
+_MOST_NODES = 400  # expression nodes of a pass at most
+_ATTEMPTS = 4  # builds tried at a head (its lines may not all be lowered yet) before it is given up
+_IDLE = 16  # calls in a row that ran no pass before a head is given up
+_HEADS = 10_000  # heads remembered; past it the table starts again
+_SEGMENT_KINDS = {"rapid": "rapid", "linear": "feed"}  # the motion modes a pass may move in, and the segments they make
+_RUN_AXES = frozenset("XYZ")
+_GIVEN_UP = _ATTEMPTS + 1
+
+
+class LoopRunners:
+    """The compiled loops of one interpreter, by head position. :meth:`run` is called
+    wherever control lands (the interpreter's ``_run_path``): at a loop's head it runs as many
+    whole passes as its compiled pass can take."""
+
+    def __init__(self, interpreter):
+        from .interpreter import _BATCH_AFTER, _GATHERED_MOVES, GatheringObserver, _numbers  # this module is imported by it
+
+        self.interpreter = interpreter
+        self.batch_after, self.most_gathered, self.gathering, self.numbers = _BATCH_AFTER, _GATHERED_MOVES, GatheringObserver, _numbers
+        self._heads: dict[tuple, object] = {}  # head -> _Loop, or the builds tried there so far
+
+    def run(self, head) -> None:
+        key = (id(head.source), head.offset, head.block_index, head.op_index)
+        entry = self._heads.get(key, 0)
+        if type(entry) is int:
+            if entry == 0 or entry >= _GIVEN_UP:  # the first arrival: the pass has not run yet
+                if entry == 0:
+                    if len(self._heads) >= _HEADS:
+                        self._heads.clear()
+                    self._heads[key] = 1
+                return
+            entry = _build(self, head)
+            if type(entry) is int:
+                self._heads[key] = _GIVEN_UP if entry == _NEVER else self._heads[key] + 1
+                return
+            self._heads[key] = entry
+        if not entry.run(head):
+            self._heads[key] = _GIVEN_UP
+
+
+_NEVER, _AGAIN = 0, 1  # why no loop was built: never at this head, or not yet
+
+
+def _build(runners: LoopRunners, head):
+    """The straight pass from ``head`` back to it, as a :class:`_Loop`; ``_NEVER`` where the
+    pass holds an operation the runner does not carry out or does not come back to ``head``
+    on its own, ``_AGAIN`` where its lines are not all lowered yet."""
+    interpreter = runners.interpreter
+    if interpreter.settings.record_values:
+        return _NEVER
+    remembered, text_id = interpreter.line_text, id(head.source)
+    offset, first_block, first_op = head.offset, head.block_index, head.op_index
+    steps, lines, plain_streak = [], [], 0
+    while len(lines) < _MOST_LINES:
+        line = remembered.get((text_id, offset))
+        if line is None or line[5] is None:
+            return _AGAIN
+        if lines and plain_streak >= runners.batch_after and line[4]:
+            return _NEVER  # the block path would read the rest of the streak as a batch
+        lines.append(line)
+        blocks = line[5]
+        plain_streak = plain_streak + 1 if line[4] and len(blocks) == 1 else 0
+        for block_index in range(first_block, len(blocks)):
+            block = blocks[block_index]
+            if block.notes or block.tape_mark or (block.program_start and first_op == 0):
+                return _NEVER
+            steps.append(("block",))
+            for op in block.ops[first_op:]:
+                step = _step(interpreter, head, op, block, line[1], len(steps) == 1)
+                if step is None:
+                    return _NEVER
+                steps.append(step)
+                if step[0] in ("jump", "loop_end"):
+                    return _Loop(runners, head, steps, lines)
+            first_op = 0
+        first_block = 0
+        offset = line[2]
+    return _NEVER
+
+
+def _step(interpreter, head, op, block, line_offset: int, first: bool):
+    """What ``op`` does in a straight pass, or None when the runner does not carry it out:
+    ``("assign", value, op)``, ``("move", op, block)``, ``("test", condition, outcome the pass
+    needs)``, ``("loop_start", condition, op)`` (the head's own test only), and the transfer back
+    to ``head`` that ends the pass, ``("jump", condition or None, op, line offset)`` or
+    ``("loop_end", None, op)``."""
+    kind = type(op)
+    if kind is ir.Assign:
+        target = op.target
+        if not isinstance(target.name, str) or target.name == ir.ACTIVE_EDGE:
+            return None
+        return "assign", op.value, op
+    if kind is ir.Move:
+        if op.kind not in (None, "rapid", "linear") or op.arc or "NR" in op.words:
+            return None
+        return "move", op, block
+    if kind is ir.LoopStart:
+        return ("loop_start", op.condition, op) if first else None
+    if kind is ir.LoopEnd:
+        return "loop_end", None, op
+    if kind is ir.Jump:
+        if op.optional:
+            return None
+        if _lands_at(_landing(interpreter, op, head.source, line_offset), head):
+            return "jump", op.condition, op, line_offset
+        return None if op.condition is None else ("test", op.condition, False)  # not taken on a straight pass: where it goes is not asked
+    return None
+
+
+def _landing(interpreter, op: ir.Jump, source, line_offset: int):
+    """Where the jump ``op`` (on the line of ``source`` at ``line_offset``) lands, as found
+    before without a finding (:meth:`~ncverify.interpret.Interpreter.find_label` keeps those);
+    None if not known. Its label is written, or read from the machine state as the block path
+    reads it (Fagor's flow statements: the label of the partner line in the running program,
+    which no pass changes)."""
+    target = op.target
+    if type(target) is ir.MachineValue:
+        target = target.read(interpreter.state)
+    if not (type(target) is str or (type(target) is float and target - target == 0.0)):
+        return None
+    frame = interpreter.state.call_stack[-1]
+    current = line_offset if frame.source is source else -1
+    return interpreter.landing_cache.get((id(frame.source), frame.program, target, current, op.direction, True))
+
+
+def _lands_at(position, head) -> bool:
+    return (position is not None and position.source is head.source and position.offset == head.offset
+            and position.block_index == head.block_index and position.op_index == head.op_index)
+
+
+class _Loop:
+    """A loop's straight pass from its head: ``steps`` (see :func:`_step`, and ``("block",)``
+    where each block starts) over ``lines`` (the remembered lines, which must still be the
+    ones the block path would run), compiled per motion mode, distance mode and gathering."""
+
+    def __init__(self, runners: LoopRunners, head, steps: list, lines: list):
+        self.runners = runners
+        self.steps = steps
+        self.lines = [((id(head.source), line[1]), line) for line in lines]
+        self.transfer = steps[-1]
+        self.passes_end = lines[-1][2]  # the block path's _run_from ends its visited streak here
+        self.codes: dict[tuple, object] = {}
+        self.idle = 0
+
+    def run(self, head) -> bool:
+        """Run whole passes from ``head`` while they are straight; False once this loop is
+        not worth trying again (its lines were read again, or it ran no pass too often)."""
+        runners = self.runners
+        interpreter = runners.interpreter
+        state = interpreter.state
+        remembered = interpreter.line_text
+        if any(remembered.get(key) is not line for key, line in self.lines):
+            return False
+        if (state.cycle is not None or state.parked or state.left_start or not interpreter._should_cache()
+                or not runners.numbers(state.position)):
+            return self._idle()
+        motion = state.modal.get("motion")
+        motions = self._motions(motion)
+        if motions is None:
+            return self._idle()
+        feed = state.feed
+        gathering = (type(interpreter.observer) is runners.gathering and state.frame is None and (feed is None or type(feed) is float))
+        count_key = loop_frame = None
+        _kind, _condition, op, *rest = self.transfer
+        if self.transfer[0] == "jump":
+            landing = _landing(interpreter, op, head.source, rest[0])
+            if not _lands_at(landing, head):
+                return self._idle()
+            count_key = (id(landing.source), landing.offset, landing.block_index)
+        else:
+            loop_frame = next((frame for frame in reversed(state.loops) if frame.loop_id == op.loop_id), None)
+            if loop_frame is None or not _lands_at(loop_frame.head, head):
+                return self._idle()
+        first = self.steps[1]
+        if first[0] == "loop_start" and not any(loop.loop_id == first[2].loop_id and loop.head == head for loop in state.loops):
+            return self._idle()
+        shape = (motion, gathering, state.modal.get("distance") == "incremental")
+        code = self.codes.get(shape)
+        if code is None:
+            code = self.codes[shape] = _PassCode(interpreter, self.steps, motions, *shape[1:], runners.most_gathered).function()
+        if code is False:
+            return False
+        passes = code(interpreter, state, state.local_variables, state.global_variables, interpreter._gathered,
+                      math.nan if feed is None else feed, state.jump_counts, count_key, loop_frame, interpreter.settings.loop_bound,
+                      interpreter.block_budget, interpreter._hand_on_gathered, interpreter.observer)
+        if not passes:
+            return self._idle()
+        self.idle = 0
+        visited = interpreter.visited
+        last = visited[-1] if visited else None
+        if last is None or last[0] is not head.source or last[1] != head.offset or last[2] != self.passes_end:
+            visited.append((head.source, head.offset, self.passes_end))  # as each pass's _run_from leaves it
+        return True
+
+    def _idle(self) -> bool:
+        self.idle += 1
+        return self.idle < _IDLE
+
+    def _motions(self, motion) -> list | None:
+        """The motion mode before and after each move of a pass that starts in ``motion``;
+        None unless every move is straight and the pass ends in the mode it started in."""
+        modes, now = [], motion
+        for step in self.steps:
+            if step[0] == "move":
+                after = step[1].kind or now
+                if after not in _SEGMENT_KINDS:
+                    return None
+                modes.append((now, after))
+                now = after
+        return modes if now == motion else None
+
+
+class _PassCode(StraightCode):
+    """The generated function of a loop's pass (see the module's docstring):
+    ``run(interpreter, state, local, global_, gathered, feed, counts, count_key, loop_frame,
+    bound, budget, hand_on, observer)`` runs passes while they are straight and returns how
+    many it ran. Names and values of the program are passed in, not written into the code,
+    so that loops of one shape share it."""
+
+    def __init__(self, interpreter, steps: list, motions: list, gathering: bool, incremental: bool, most_gathered: int):
+        super().__init__(interpreter)
+        self.objects: list = []
+        self.current: dict[str, str] = {}  # variable -> the operand holding its value at this point of the pass
+        self.tests, self.effects, self.limit = [], [], []
+        self.built = self._pass(steps, iter(motions), gathering, incremental, most_gathered)
+
+    def function(self):
+        """The generated function, or False when the pass has an expression that is not
+        straight-line arithmetic or a value that is a comparison's outcome."""
+        if not self.built:
+            return False
+        return factory(self.text_of_pass())(_ABSENT, Segment, tuple(self.constants), tuple(self.names), tuple(self.functions), tuple(self.objects))
+
+    def _object(self, value) -> str:
+        self.objects.append(value)
+        return f"k{len(self.objects) - 1}"
+
+    def _read(self, var: ir.Var):
+        if not isinstance(var.name, str):
+            return None
+        known = self.current.get(var.name)
+        if known is not None:
+            return known, False
+        self.names.append(var.name)
+        table = "local" if self.interpreter.is_local(var.name) else "global_"
+        name = self.current[var.name] = f"v{len(self.reads)}"
+        self.reads.append(f"{name} = {table}.get(n{len(self.names) - 1}, ABSENT)\nif type({name}) is not float:\n    break")
+        return name, False
+
+    def _number(self, expr) -> str | None:
+        """The operand of a value the pass uses as a number (a comparison's outcome is not)."""
+        operand = self.node(expr)
+        return None if operand is None or operand[1] else operand[0]
+
+    def _pass(self, steps, motions, gathering: bool, incremental: bool, most_gathered: int) -> bool:
+        pending = 0  # blocks begun since the block count was last brought up to date
+        for step in steps:
+            kind = step[0]
+            if kind == "block":
+                pending += 1
+            elif kind == "assign":
+                value = self._number(step[1])
+                if value is None:
+                    return False
+                name = step[2].target.name
+                table = "local" if self.interpreter.is_local(name) else "global_"
+                self.effects.append(f"{table}[{self._object(name)}] = {value}")
+                self.current[name] = value
+            elif kind == "move":
+                if pending:
+                    self.effects.append(f"interpreter.blocks_run += {pending}")
+                    pending = 0
+                if not self._move(step[1], step[2], next(motions), gathering, incremental, most_gathered):
+                    return False
+            elif kind in ("test", "loop_start", "jump") and step[1] is not None:
+                condition = self.node(step[1])
+                if condition is None:
+                    return False
+                needed = step[2] if kind == "test" else True
+                self.tests.append(f"if {'not ' if needed else ''}{condition[0]}:\n    break")
+        if self.size > _MOST_NODES:
+            return False
+        if steps[-1][0] == "jump":
+            self.limit = ["count = counts.get(count_key, 0) + 1", "if count > bound:\n    break"]
+            self.effects.append("counts[count_key] = count")
+        else:
+            self.limit = ["iterations = loop_frame.iterations + 1", "if iterations >= bound:\n    break"]
+            self.effects.append("loop_frame.iterations = iterations")
+        self.limit.append(f"if interpreter.blocks_run + {sum(1 for step in steps if step[0] == 'block')} > budget:\n    break")
+        if pending:
+            self.effects.append(f"interpreter.blocks_run += {pending}")
+        return True
+
+    def _move(self, op: ir.Move, block, motion: tuple, gathering: bool, incremental: bool, most_gathered: int) -> bool:
+        """The effects of a straight move, as :meth:`~ncverify.interpret.Interpreter._move` and
+        :meth:`~ncverify.interpret.Interpreter._gather_segment` have them."""
+        before, after = motion
+        effects = self.effects
+        if op.kind is not None:
+            effects.append(f"modal['motion'] = {self._object(after)}")
+        if not op.targets:
+            return True
+        effects.append("end = dict(position)")
+        for axis, expr in op.targets.items():
+            value = self._number(expr)
+            if value is None:
+                return False
+            if (incremental and axis not in op.absolute) or axis in op.incremental:
+                effects.append(f"now = position.get({self._object(axis)})\nend[{self._object(axis)}] = None if now is None else now + {value}")
+            else:
+                effects.append(f"end[{self._object(axis)}] = {value}")
+        effects += ["state.position = end", "state.motion_seen = True",
+                    f"segment = state.last_segment = Segment({self._object(_SEGMENT_KINDS[after])}, position, end, {self._object(op.span)}, "
+                    f"{self._object(block)}, 'programmed', None, None)", "position = end"]
+        if gathering and op.span.path is None and _RUN_AXES.issuperset(op.targets):
+            effects += [f"if not gathered:\n    interpreter._gathered_from = {self._object(before)}",
+                        f"gathered.append((segment, feed, {self._object(tuple(op.targets))}, {self._object(after)}))",
+                        f"if len(gathered) >= {most_gathered}:\n    hand_on()"]
+        else:
+            effects.append("observer.segment(segment, state)")
+        return True
+
+    def text_of_pass(self) -> str:
+        """The source of ``make(ABSENT, Segment, c, n, f, k)``, which returns the pass runner."""
+        unpack = "".join(f"    {', '.join(f'{letter}{index}' for index in range(count))}, = {letter}\n"
+                         for letter, count in (("c", len(self.constants)), ("n", len(self.names)), ("f", len(self.functions)),
+                                               ("k", len(self.objects))) if count)
+        checks = [f"if {' or '.join(f'{name} - {name} != 0.0' for name in self.checked)}:\n    break"] if self.checked else []
+        body = [*self.reads, "try:\n" + _indented(self.steps or ["pass"], 1) + "except (ArithmeticError, ValueError):\n    break",
+                *checks, *self.tests, *self.limit, *self.effects, "passes += 1"]
+        return ("def make(ABSENT, Segment, c, n, f, k):\n" + unpack
+                + "    def run(interpreter, state, local, global_, gathered, feed, counts, count_key, loop_frame, bound, budget, hand_on, observer):\n"
+                + "        modal, position, passes = state.modal, state.position, 0\n        while True:\n"
+                + _indented(body, 3) + "        return passes\n    return run\n")
+
+
+def _indented(lines: list[str], depth: int) -> str:
+    return "".join("    " * depth + row + "\n" for line in lines for row in line.split("\n"))
+
+
+_ABSENT = object()  # not in a variable table
