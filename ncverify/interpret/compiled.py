@@ -17,6 +17,7 @@ parameter).
 """
 from __future__ import annotations
 
+import math
 import operator
 from functools import lru_cache
 
@@ -205,7 +206,11 @@ def _straight(interpreter, expr, general):
 
 _STRAIGHT_NODES = 48  # larger trees stay closures (generated code is compiled once per shape)
 _STRAIGHT_ARITHMETIC = {"+": "{} + {}", "-": "{} - {}", "*": "{} * {}", "/": "{} / {}"}
-_STRAIGHT_CALLED = {"MOD": values.modulo, "**": values.power}
+_STRAIGHT_CALLED = {"MOD": math.fmod, "**": values.power}  # fmod raises on a zero divisor, as values.modulo does: the general step reports it
+# One-argument functions written out where that gives values.call's result bit for bit on
+# every float (math.radians is x * pi / 180; FIX truncates) and fails where it fails.
+_STRAIGHT_FUNCTIONS = {"SIN": ("{}({} * %r)" % (math.pi / 180), math.sin), "COS": ("{}({} * %r)" % (math.pi / 180), math.cos),
+                       "FIX": ("float({}({}))", math.trunc)}
 _STRAIGHT_COMPARISON = {"EQ": "==", "NE": "!=", "GT": ">", "GE": ">=", "LT": "<", "LE": "<="}
 
 
@@ -240,7 +245,8 @@ class StraightCode:
             argument = self.node(expr.args[0])
             if argument is None or argument[1]:
                 return None
-            return self._step(f"float({self._function(values.number_function(expr.name))}({argument[0]}))")
+            template, function = _STRAIGHT_FUNCTIONS.get(expr.name, ("float({}({}))", values.number_function(expr.name)))
+            return self._step(template.format(self._function(function), argument[0]))
         return None
 
     def _read(self, var: ir.Var):

@@ -1337,14 +1337,14 @@ def _numbers(position: dict) -> bool:
 def _gathered_run(moves: list, state) -> MotionRun:
     """The MotionRun of gathered moves ``(segment, feed, axes written, motion mode)``: the batch's form,
     with the block path's own segments and spans."""
-    segments = [segment for segment, _feed, _written, _motion in moves]
-    axes = _RUN_AXES_IN_ORDER
-    points = numpy.array([[_as_float(segments[0].start.get(axis)) for axis in axes]]
-                         + [[_as_float(segment.end.get(axis)) for axis in axes] for segment in segments], dtype=numpy.float64)
+    segments, feeds, axes_written, motions = zip(*moves)
+    axes = x, y, z = _RUN_AXES_IN_ORDER
+    ends = [segments[0].start, *(segment.end for segment in segments)]
+    points = numpy.array([(end.get(x), end.get(y), end.get(z)) for end in ends], dtype=numpy.float64)  # an unknown coordinate (None) is NaN
     kinds = numpy.array([_RUN_KIND[segment.kind] + (segment.arc is not None and segment.arc.direction == "ccw") for segment in segments], dtype=numpy.int8)
-    feeds = numpy.array([feed for _segment, feed, _written, _motion in moves], dtype=numpy.float64)
-    written = numpy.array([[axis in axes_written for axis in axes] for _segment, _feed, axes_written, _motion in moves], dtype=bool)
-    motions = [motion for _segment, _feed, _written, motion in moves]
+    feeds = numpy.array(feeds, dtype=numpy.float64)
+    columns = {written: [axis in written for axis in axes] for written in set(axes_written)}  # a loop's moves write the same few axes
+    written = numpy.array([columns[written] for written in axes_written], dtype=bool)
     return MotionRun(axes, points, kinds, feeds, written, lambda index: segments[index].span, segments.__getitem__,
                      _gathered_arcs(segments, axes), partial(_batch_state_at, state, kinds, feeds, motions=motions))
 

@@ -280,12 +280,9 @@ class _PassCode(StraightCode):
         return None if operand is None or operand[1] else operand[0]
 
     def _pass(self, steps, motions, gathering: bool, incremental: bool, most_gathered: int) -> bool:
-        pending = 0  # blocks begun since the block count was last brought up to date
         for step in steps:
             kind = step[0]
-            if kind == "block":
-                pending += 1
-            elif kind == "assign":
+            if kind == "assign":
                 value = self._number(step[1])
                 if value is None:
                     return False
@@ -294,9 +291,6 @@ class _PassCode(StraightCode):
                 self.effects.append(f"{table}[{self._object(name)}] = {value}")
                 self.current[name] = value
             elif kind == "move":
-                if pending:
-                    self.effects.append(f"interpreter.blocks_run += {pending}")
-                    pending = 0
                 if not self._move(step[1], step[2], next(motions), gathering, incremental, most_gathered):
                     return False
             elif kind in ("test", "loop_start", "jump") and step[1] is not None:
@@ -313,9 +307,8 @@ class _PassCode(StraightCode):
         else:
             self.limit = ["iterations = loop_frame.iterations + 1", "if iterations >= bound:\n    break"]
             self.effects.append("loop_frame.iterations = iterations")
-        self.limit.append(f"if interpreter.blocks_run + {sum(1 for step in steps if step[0] == 'block')} > budget:\n    break")
-        if pending:
-            self.effects.append(f"interpreter.blocks_run += {pending}")
+        self.limit.append(f"blocks = interpreter.blocks_run + {sum(1 for step in steps if step[0] == 'block')}\nif blocks > budget:\n    break")
+        self.effects.insert(0, "interpreter.blocks_run = blocks")  # no observer reads it: counted once a pass
         return True
 
     def _move(self, op: ir.Move, block, motion: tuple, gathering: bool, incremental: bool, most_gathered: int) -> bool:
@@ -327,16 +320,16 @@ class _PassCode(StraightCode):
             effects.append(f"modal['motion'] = {self._object(after)}")
         if not op.targets:
             return True
-        effects.append("end = dict(position)")
+        written = []
         for axis, expr in op.targets.items():
             value = self._number(expr)
             if value is None:
                 return False
             if (incremental and axis not in op.absolute) or axis in op.incremental:
-                effects.append(f"now = position.get({self._object(axis)})\nend[{self._object(axis)}] = None if now is None else now + {value}")
-            else:
-                effects.append(f"end[{self._object(axis)}] = {value}")
-        effects += ["state.position = end", "state.motion_seen = True",
+                effects.append(f"now{len(written)} = position.get({self._object(axis)})")
+                value = f"None if now{len(written)} is None else now{len(written)} + {value}"
+            written.append(f"{self._object(axis)}: {value}")
+        effects += [f"end = {{**position, {', '.join(written)}}}", "state.position = end", "state.motion_seen = True",
                     f"segment = state.last_segment = Segment({self._object(_SEGMENT_KINDS[after])}, position, end, {self._object(op.span)}, "
                     f"{self._object(block)}, 'programmed', None, None)", "position = end"]
         if gathering and op.span.path is None and _RUN_AXES.issuperset(op.targets):
@@ -352,7 +345,8 @@ class _PassCode(StraightCode):
         unpack = "".join(f"    {', '.join(f'{letter}{index}' for index in range(count))}, = {letter}\n"
                          for letter, count in (("c", len(self.constants)), ("n", len(self.names)), ("f", len(self.functions)),
                                                ("k", len(self.objects))) if count)
-        checks = [f"if {' or '.join(f'{name} - {name} != 0.0' for name in self.checked)}:\n    break"] if self.checked else []
+        # one sum of the results: it is infinite or NaN if any of them is (or, past the float range, when none is: then the block path takes the pass)
+        checks = [f"checked = {' + '.join(self.checked)}\nif checked - checked != 0.0:\n    break"] if self.checked else []
         body = [*self.reads, "try:\n" + _indented(self.steps or ["pass"], 1) + "except (ArithmeticError, ValueError):\n    break",
                 *checks, *self.tests, *self.limit, *self.effects, "passes += 1"]
         return ("def make(ABSENT, Segment, c, n, f, k):\n" + unpack
