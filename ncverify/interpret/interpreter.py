@@ -211,7 +211,10 @@ class Interpreter(ControlFlow):
         self._inert_between_moves = getattr(runtime, "INERT_BETWEEN_MOVES", {})  # dialect operation -> when it leaves the moves gathered
         if hasattr(observer, "motion_run") and not settings.per_block_only:
             self.observer = GatheringObserver(observer, self._hand_on_gathered)
-        self._loop_runners = loop_runner.LoopRunners(self) if settings.loop_runner and not settings.per_block_only else None
+        self._loop_runners = None
+        if settings.loop_runner and not settings.per_block_only:
+            self._loop_runners = loop_runner.LoopRunners(self, gathering=GatheringObserver, most_gathered=_GATHERED_MOVES, batch_after=_BATCH_AFTER,
+                                                         numbers=_numbers)
 
     # ------------------------------------------------------------------ running
 

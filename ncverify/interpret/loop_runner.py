@@ -37,13 +37,13 @@ _GIVEN_UP = _ATTEMPTS + 1
 class LoopRunners:
     """The compiled loops of one interpreter, by head position. :meth:`run` is called
     wherever control lands (the interpreter's ``_run_path``): at a loop's head it runs as many
-    whole passes as its compiled pass can take."""
+    whole passes as its compiled pass can take. The interpreter tells how it gathers moves:
+    the type of its gathering observer, the most moves it gathers, the plain lines in a row
+    after which it reads a batch, and its test that a position holds numbers."""
 
-    def __init__(self, interpreter):
-        from .interpreter import _BATCH_AFTER, _GATHERED_MOVES, GatheringObserver, _numbers  # this module is imported by it
-
+    def __init__(self, interpreter, *, gathering: type, most_gathered: int, batch_after: int, numbers):
         self.interpreter = interpreter
-        self.batch_after, self.most_gathered, self.gathering, self.numbers = _BATCH_AFTER, _GATHERED_MOVES, GatheringObserver, _numbers
+        self.gathering, self.most_gathered, self.batch_after, self.numbers = gathering, most_gathered, batch_after, numbers
         self._heads: dict[tuple, object] = {}  # head -> _Loop, or the builds tried there so far
 
     def run(self, head) -> None:
