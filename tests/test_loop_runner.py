@@ -80,16 +80,22 @@ _LINUXCNC_BODY_LINE = st.one_of(
 )
 
 
+# set before the loop: incremental distances, a coordinate shift or offset (the moves reach the
+# rules through the workpiece frame, one by one), a parked axis, a modal cycle, a motion mode
+_LINUXCNC_BEFORE = st.sampled_from(["", "", "G91", "G92 X1 Y1", "G52 X2", "G28", "G81 X0 Y0 Z-1 R1", "G0", "G2 X1 Y0 R5", "G18", "G20",
+                                    "F[#<a> - 1]"])
+
+
 @settings(max_examples=250, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(body=st.lists(_LINUXCNC_BODY_LINE, min_size=1, max_size=8), passes=st.integers(0, 40), form=st.sampled_from(["while", "do"]),
-       after=st.lists(_LINUXCNC_BODY_LINE, max_size=3), stock=st.booleans(), loop_bound=st.sampled_from([3, 7, 1000]))
-def test_linuxcnc_loops_report_the_same_with_the_runner_or_pass_by_pass(body, passes, form, after, stock, loop_bound):
+       before=_LINUXCNC_BEFORE, after=st.lists(_LINUXCNC_BODY_LINE, max_size=3), stock=st.booleans(), loop_bound=st.sampled_from([3, 7, 1000]))
+def test_linuxcnc_loops_report_the_same_with_the_runner_or_pass_by_pass(body, passes, form, before, after, stock, loop_bound):
     """Assignments of MOD, FIX, SIN ..., divisions by zero, vacant reads, values past the float
     range, moves in any mode and axes, tests, branches that hand the pass back, the loop bound."""
     loop = ([f"o100 while [#<i> LT {passes}]", *body, "#<i> = [#<i> + 1]", "o100 endwhile"] if form == "while"
             else ["o100 do", *body, "#<i> = [#<i> + 1]", f"o100 while [#<i> LT {passes}]"])
     program = "\n".join([*(_STOCK if stock else []), "G21 G90 G17 G54", "T1 M6", "G43 H1", "S1000 M3", "G0 X0 Y0 Z5", "F500.",
-                         "#<i> = 0", "#<a> = 1", "#<b> = 2", "#<_g> = 3", *loop, *after, "G0 Z50", "M2"]) + "\n"
+                         "#<i> = 0", "#<a> = 1", "#<b> = 2", "#<_g> = 3", before, *loop, *after, "G0 Z50", "M2"]) + "\n"
     _assert_same(program, "t.ngc", dialect="linuxcnc", loop_bound=loop_bound)
 
 
@@ -146,18 +152,19 @@ def test_fanuc_loops_report_the_same_with_the_runner_or_pass_by_pass(body, passe
 
 _SINUMERIK_BODY_LINE = st.sampled_from(["G1 X=R1 Y=R2", "G0 Z=R1", "G1 X=R1*2 Y=R2-3 Z=-1", "X=SIN(R1*10) Y=R2/R3", "R2=R2+1.5",
                                         "R2=R2*R1", "R3=R3-1", "R2=SQRT(R3)", "F500", "G91", "G90", "M5", "G1 X=R4", "G2 X=R1 Y=R2 CR=5",
-                                        "TRANS X1", "IF R1==2 GOTOF END_L", "END_L:"])
+                                        "TRANS X1", "IF R1==2 GOTOF END_L", "END_L:", "G1 X=IC(R2) Y=AC(R1)", "G0 X=AC(R1+1) Z=IC(-1)"])
 
 
 @settings(max_examples=100, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(body=st.lists(_SINUMERIK_BODY_LINE, min_size=1, max_size=6), passes=st.integers(0, 30), stock=st.booleans(),
-       form=st.sampled_from(["while", "repeat", "for"]), loop_bound=st.sampled_from([5, 1000]))
-def test_sinumerik_loops_report_the_same_with_the_runner_or_pass_by_pass(body, passes, stock, form, loop_bound):
+       form=st.sampled_from(["while", "repeat", "for"]), before=st.sampled_from(["", "G91", "TRANS X2", "ROT Z30", "DIAMON"]),
+       loop_bound=st.sampled_from([5, 1000]))
+def test_sinumerik_loops_report_the_same_with_the_runner_or_pass_by_pass(body, passes, stock, form, before, loop_bound):
     loop = {"while": [f"WHILE R1<{passes}", *body, "R1=R1+1", "ENDWHILE"],
             "repeat": ["REPEAT", *body, "R1=R1+1", f"UNTIL R1>={passes}"],
             "for": [f"FOR R5=1 TO {passes}", *body, "R1=R1+1", "ENDFOR"]}[form]
     program = "\n".join([*(_STOCK if stock else []), "G17 G90 G71 G54", "T1 D1", "M6", "S1000 M3", "G0 X0 Y0 Z5", "F300", "R1=0", "R2=0",
-                         "R3=2", *loop, "G0 Z50", "M30"]) + "\n"
+                         "R3=2", before, *loop, "G0 Z50", "M30"]) + "\n"
     _assert_same(program, "t.mpf", dialect="sinumerik", loop_bound=loop_bound)
 
 
