@@ -309,22 +309,22 @@ class Workpiece:
         reach = reach + slack
         column_low, column_high = self._index_range(numpy.minimum(a[:, 0], b[:, 0]) - reach, numpy.maximum(a[:, 0], b[:, 0]) + reach, self.x_low, self.nx)
         row_low, row_high = self._index_range(numpy.minimum(a[:, 1], b[:, 1]) - reach, numpy.maximum(a[:, 1], b[:, 1]) + reach, self.y_low, self.ny)
-        size = numpy.maximum(numpy.abs(a[:, :2]).max(axis=1), numpy.abs(b[:, :2]).max(axis=1))
+        size = numpy.maximum(numpy.maximum(numpy.abs(a[:, 0]), numpy.abs(a[:, 1])), numpy.maximum(numpy.abs(b[:, 0]), numpy.abs(b[:, 1])))
         heights = numpy.where(numpy.isfinite(size), row_high - row_low, 0)  # a piece running off to infinity is no distance from any cell
         segments = _Segments.of(a, b)
         rounding = self.resolution * 1e-3 + 1e-14 * size
+        centres = self._column_centres()
         for chunk in _chunks((column_high - column_low) * heights):
             piece = numpy.repeat(chunk, heights[chunk])  # one entry per (piece, row)
             row = row_low[piece] + _ramp(heights[chunk])
             y = self._y(row)
             first, stop = self._row_spans(segments, reach[piece] + rounding[piece], piece, y, column_low[piece], column_high[piece])
             widths = stop - first
-            owner = numpy.repeat(piece, widths)
-            column = _ramp(widths) + numpy.repeat(first, widths)
-            distance = segments.distance_on_rows(piece, widths, self._column_centres()[column], y, (y - segments.ay[piece]) * segments.dy[piece])
-            near = distance <= reach[owner]
-            flat = numpy.repeat(row * self.nx, widths) + column
-            yield owner[near], flat[near], distance[near]
+            entry = numpy.repeat(numpy.arange(len(piece)), widths)  # each measured cell's (piece, row)
+            column = numpy.arange(len(entry)) + (first - numpy.cumsum(widths) + widths)[entry]
+            cells, distance = segments.near_on_rows(piece, entry, centres[column], y, (y - segments.ay[piece]) * segments.dy[piece], reach[piece])
+            entry = entry[cells]
+            yield piece[entry], row[entry] * self.nx + column[cells], distance
 
     def _row_spans(self, segments: "_Segments", reach, piece, y, column_low, column_high):
         """(first, stop) columns of each (piece, row) entry whose cell centres may lie within
@@ -497,38 +497,54 @@ class _Segments:
 
     @classmethod
     def of(cls, a, b):
-        dx, dy = b[:, 0] - a[:, 0], b[:, 1] - a[:, 1]
-        length_sq = dx * dx + dy * dy
-        return cls(a[:, 0], a[:, 1], dx, dy, numpy.where(length_sq > 0, length_sq, numpy.inf))
+        return cls.between(a[:, 0], a[:, 1], b[:, 0], b[:, 1])
 
-    def distance_from_points(self, owner, points):
-        """:meth:`distance` of the XY of ``points`` (rows) from segments ``owner``."""
-        px, py = points[:, 0], points[:, 1]
+    @classmethod
+    def between(cls, ax, ay, bx, by):
+        dx, dy = bx - ax, by - ay
+        length_sq = dx * dx + dy * dy
+        return cls(ax, ay, dx, dy, numpy.where(length_sq > 0, length_sq, numpy.inf))
+
+    def distance_from(self, owner, px, py):
+        """:meth:`distance` of points (px, py) from segments ``owner``."""
         return self.distance(owner, px, py, (py - self.ay[owner]) * self.dy[owner])
 
     def distance(self, owner, px, py, across):
         """Distance of points (px, py) from segments ``owner``, bit for bit as
         :func:`distance_to_segment` gives it; ``across``: (py - ay) * dy of each."""
-        return self.distance_on_rows(owner, None, px, py, across)
+        return numpy.hypot(*self._offsets(owner, px, py, across))
 
-    def distance_on_rows(self, piece, widths, px, py, across):
-        """:meth:`distance` of runs of points: ``widths[k]`` consecutive points from segment
-        ``piece[k]``, which share their ``py`` and ``across`` (one a run; ``widths`` None:
-        runs of one). The segments' terms are repeated along each run, and the arithmetic
-        done in place: this is the inner loop of the sweep, one entry per cell near a piece."""
-        def spread(values):
-            return values if widths is None else numpy.repeat(values, widths)
-        ax, ay, dx, dy, divisor = (spread(terms[piece]) for terms in (self.ax, self.ay, self.dx, self.dy, self.divisor))
+    def near_on_rows(self, piece, entry, px, py, across, reach):
+        """Which points lie within ``reach`` of their segments, and their :meth:`distance`:
+        (indices, distances). Point ``k`` is measured from segment ``piece[entry[k]]`` and
+        shares ``py``, ``across`` and ``reach`` with the other points of its ``entry`` (a
+        run of cells along a row): the inner loop of the sweep. The exact distance (whose
+        ``hypot`` costs more than the rest) is found only where the squared offsets, which
+        are within a few units in the last place of its square, leave it in doubt."""
+        qx, qy = self._offsets(piece[entry], px, py[entry], across[entry])
+        square = numpy.multiply(qx, qx)
+        square += numpy.multiply(qy, qy, out=px)
+        bound = reach * reach
+        bound *= 1.0 + 1e-12
+        maybe = numpy.flatnonzero(~(square > bound[entry]))  # NaN kept: measured as the plain distance is
+        distance = numpy.hypot(qx[maybe], qy[maybe])
+        near = distance <= reach[entry[maybe]]
+        return maybe[near], distance[near]
+
+    def _offsets(self, owner, px, py, across):
+        """(x, y) from the points (px, py) to their nearest points on segments ``owner``,
+        computed in place as :func:`_nearest_on_segment` does (``px`` is kept)."""
+        ax, ay, dx, dy, divisor = (terms[owner] for terms in (self.ax, self.ay, self.dx, self.dy, self.divisor))
         t = px - ax
         t *= dx
-        t += spread(across)
+        t += across
         t /= divisor
         numpy.clip(t, 0.0, 1.0, out=t)
         dx *= t
         dx += ax
         dy *= t
         dy += ay
-        return numpy.hypot(numpy.subtract(px, dx, out=dx), numpy.subtract(spread(py), dy, out=dy), out=t)
+        return numpy.subtract(px, dx, out=dx), numpy.subtract(py, dy, out=dy)
 
 
 def _nearest_on_segment(px, py, a, b):
@@ -557,62 +573,143 @@ def _sink(field, flat, heights, up: bool) -> None:
     numpy.minimum.at(field.reshape(-1), flat, stored)
 
 
+_GROUP = 64  # moves in the largest group merged into one chord
+_TREE_AT_ONCE = 4096  # moves up to which every group of the merge is judged in one step
+
+
+@dataclass(frozen=True)
+class _Path:
+    """Moves as :func:`_merge_runs` judges them: the XY of their starts and ends, each
+    one's lowest and highest Z, and ``breaks``: how many moves up to each one start away
+    from the end before them."""
+
+    x0: numpy.ndarray
+    y0: numpy.ndarray
+    x1: numpy.ndarray
+    y1: numpy.ndarray
+    low: numpy.ndarray
+    high: numpy.ndarray
+    breaks: numpy.ndarray
+
+    @classmethod
+    def of(cls, starts, ends):
+        breaks = numpy.zeros(len(starts), numpy.int64)
+        apart = starts[1:, 0] != ends[:-1, 0]
+        apart |= starts[1:, 1] != ends[:-1, 1]
+        apart |= starts[1:, 2] != ends[:-1, 2]
+        numpy.cumsum(apart, out=breaks[1:])
+        return cls(starts[:, 0], starts[:, 1], ends[:, 0], ends[:, 1], numpy.minimum(starts[:, 2], ends[:, 2]), numpy.maximum(starts[:, 2], ends[:, 2]), breaks)
+
+
 def _merge_runs(starts, ends, strays, tolerance: float, rise: float):
     """Consecutive moves of a connected path merged into chords where no vertex strays more
     than ``tolerance`` from the chord in XY and the heights stay within ``rise``: CAM output
     is thousands of tiny moves, and their tool discs overlap almost wholly. Each chord
     carries its heights' range and its actual stray (``slack``), which the sweep takes off
     the tool radius where it claims material is surely gone and adds where it may be, and
-    the largest of its moves' own ``strays`` (how far the true path leaves a move)."""
+    the largest of its moves' own ``strays`` (how far the true path leaves a move).
+
+    The groups tried are those of a fixed tree: the moves in groups of 64, each split in
+    halves (the first half the larger) where it does not fit, down to single moves. Level
+    by level, only the halves of groups that failed are judged; a short path (where the
+    steps would cost more than the groups a step spares) has all of its groups judged at
+    once, each move going to the largest group over it that fits: the same groups."""
+    path = _Path.of(starts, ends)
     count = len(starts)
-    breaks = numpy.zeros(count, numpy.int64)  # how many moves up to each one start away from the end before them
-    breaks[1:] = numpy.cumsum((starts[1:] != ends[:-1]).any(axis=1))
-    first, length = numpy.arange(0, count, 64), numpy.minimum(64, count - numpy.arange(0, count, 64))
-    heights = numpy.minimum(starts[:, 2], ends[:, 2]), numpy.maximum(starts[:, 2], ends[:, 2])  # each move's lowest and highest Z
-    done = []
+    first = numpy.arange(0, count, _GROUP)
+    length = numpy.minimum(_GROUP, count - first)
+    if count <= _TREE_AT_ONCE:
+        first, length, stray = _fitting_groups(path, first, length, tolerance, rise)
+    else:
+        done = []
+        while len(first):
+            fits, stray = _chords_fit(path, first, length, tolerance, rise)
+            done.append((first[fits], length[fits], stray[fits]))
+            first, length = _halves(first[~fits], length[~fits])
+        first, length, stray = (numpy.concatenate(column) for column in zip(*done))
+        order = numpy.argsort(first)
+        first, length, stray = first[order], length[order], stray[order]
+    z_low = numpy.minimum.reduceat(path.low, first)
+    z_high = numpy.maximum.reduceat(path.high, first)
+    return starts.take(first, axis=0), ends.take(first + length - 1, axis=0), z_low, z_high, stray, numpy.maximum.reduceat(strays, first)
+
+
+def _halves(first, length):
+    """The two halves of each group of more than one move (the first half the larger)."""
+    split = length > 1
+    first, length = first[split], length[split]
+    half = (length + 1) // 2
+    return numpy.concatenate((first, first + half)), numpy.concatenate((half, length - half))
+
+
+def _fitting_groups(path: _Path, first, length, tolerance: float, rise: float):
+    """(first, length, stray) of the groups :func:`_merge_runs` keeps of the groups
+    ``first``/``length`` and all of their halves, judged at once, in the order of their
+    first moves: a group is kept where it fits and no group over it does."""
+    trees = [_halving_tree(int(size)) for size in length.tolist()]
+    every_first = numpy.concatenate([top + tree[0] for top, tree in zip(first.tolist(), trees)])
+    every_length = numpy.concatenate([tree[1] for tree in trees])  # a group's halves follow it, and sort after it (below)
+    fits, strays = every_length == 1, numpy.zeros(len(every_first))  # a single move always fits: its stray is found if it is kept
+    groups = numpy.flatnonzero(~fits)
+    fits[groups], strays[groups] = _chords_fit(path, every_first[groups], every_length[groups], tolerance, rise)
+    fitting = numpy.flatnonzero(fits)
+    fitting = fitting[numpy.argsort(every_first[fitting] * (_GROUP + 1) + _GROUP - every_length[fitting])]  # by first move, larger first
+    first, length, stray = every_first[fitting], every_length[fitting], strays[fitting]
+    covered = numpy.maximum.accumulate(first + length)  # groups nest or are apart: one inside a fitting group starts before its end
+    kept = numpy.ones(len(first), bool)
+    kept[1:] = first[1:] >= covered[:-1]
+    first, length, stray = first[kept], length[kept], stray[kept]
+    single = numpy.flatnonzero(length == 1)
+    stray[single] = _single_strays(path, first[single])
+    return first, length, stray
+
+
+@functools.lru_cache(maxsize=_GROUP)
+def _halving_tree(size: int):
+    """(first move, length) of every group of the merge's tree over ``size`` moves (at most
+    a group of 64, so the cache holds at most 64 of these small arrays), from 0."""
+    first, length = numpy.zeros(1, numpy.int64), numpy.array([size])
+    levels = [(first, length)]
     while len(first):
-        accepted, stray = _chords_fit(starts, ends, breaks, heights, first, length, tolerance, rise)
-        done.append((first[accepted], length[accepted], stray[accepted]))
-        first, length = first[~accepted], length[~accepted]
-        half = (length + 1) // 2
-        first, length = numpy.concatenate([first, first + half]), numpy.concatenate([half, length - half])
-        keep = length > 0
-        first, length = first[keep], length[keep]
-    first, length, stray = (numpy.concatenate(column) for column in zip(*done))
-    order = numpy.argsort(first, kind="stable")
-    first, length, stray = first[order], length[order], stray[order]
-    a, b = starts[first], ends[first + length - 1]
-    z_low = numpy.minimum.reduceat(heights[0], first)
-    z_high = numpy.maximum.reduceat(heights[1], first)
-    return a, b, z_low, z_high, stray, numpy.maximum.reduceat(strays, first)
+        first, length = _halves(first, length)
+        levels.append((first, length))
+    tree = tuple(numpy.concatenate([level[column] for level in levels]) for column in (0, 1))
+    for column in tree:
+        column.flags.writeable = False
+    return tree
 
 
-def _chords_fit(starts, ends, breaks, heights, first, length, tolerance: float, rise: float):
-    """Which groups (first move, number of moves) may become one chord, and for those the
-    most any of their vertices strays from it. ``breaks``: how many moves up to each one
-    start away from the end before them; ``heights``: each move's lowest and highest Z.
-    A group is first screened by its breaks and by the vertex in its middle (a chord of a
-    curve strays most there), then the groups that pass are judged on all of their
-    vertices: the same answers as judging all of every group."""
+def _single_strays(path: _Path, moves):
+    """How far each of ``moves`` strays from its own chord: rounding, no more."""
+    x1, y1 = path.x1[moves], path.y1[moves]
+    return _Segments.between(path.x0[moves], path.y0[moves], x1, y1).distance_from(numpy.arange(len(moves)), x1, y1)
+
+
+def _chords_fit(path: _Path, first, length, tolerance: float, rise: float):
+    """Which groups (first move, number of moves) of ``path`` may become one chord, and for
+    those the most any of their vertices strays from it (0 for a group that cannot: broken,
+    or failing its screen). A group is first screened by its breaks and by the vertex in
+    its middle (a chord of a curve strays most there), then the groups that pass are judged
+    on all of their vertices: the same answers as judging all of every group."""
     last = first + length - 1
-    middle = first + (length - 1) // 2
-    chords = _Segments.of(starts[first], ends[last])
-    every = numpy.arange(len(first))
-    may_fit = (length > 1) & (breaks[last] == breaks[first])
-    may_fit &= chords.distance_from_points(every, ends[middle]) <= tolerance
-    may_fit &= (numpy.maximum(heights[1][first], heights[1][middle]) - numpy.minimum(heights[0][first], heights[0][middle]) <= rise)
     fits = length == 1
     strays = numpy.zeros(len(first))
-    single = numpy.flatnonzero(fits)
-    strays[single] = chords.distance_from_points(single, ends[first[single]])
+    strays[fits] = _single_strays(path, first[fits])
+    joined = numpy.flatnonzero(~fits & (path.breaks[last] == path.breaks[first]))
+    first, last, length = first[joined], last[joined], length[joined]
+    middle = first + (length - 1) // 2
+    chords = _Segments.between(path.x0[first], path.y0[first], path.x1[last], path.y1[last])
+    may_fit = chords.distance_from(numpy.arange(len(first)), path.x1[middle], path.y1[middle]) <= tolerance
+    may_fit &= numpy.maximum(path.high[first], path.high[middle]) - numpy.minimum(path.low[first], path.low[middle]) <= rise
     judged = numpy.flatnonzero(may_fit)
     if len(judged):
         owner = numpy.repeat(judged, length[judged])
         index = _ramp(length[judged]) + first[owner]
         offsets = numpy.cumsum(length[judged]) - length[judged]
-        strays[judged] = numpy.maximum.reduceat(chords.distance_from_points(owner, ends[index]), offsets)
-        fits[judged] = (strays[judged] <= tolerance) & (
-            numpy.maximum.reduceat(heights[1][index], offsets) - numpy.minimum.reduceat(heights[0][index], offsets) <= rise)
+        stray = numpy.maximum.reduceat(chords.distance_from(owner, path.x1[index], path.y1[index]), offsets)
+        strays[joined[judged]] = stray
+        fits[joined[judged]] = (stray <= tolerance) & (
+            numpy.maximum.reduceat(path.high[index], offsets) - numpy.minimum.reduceat(path.low[index], offsets) <= rise)
     return fits, strays
 
 

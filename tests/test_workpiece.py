@@ -574,25 +574,38 @@ def test_the_cells_near_each_piece_are_those_every_cell_measured_finds_in_the_sa
         assert numpy.array_equal(got, wanted)
 
 
-def _every_vertex_fits(starts, ends, breaks, heights, first, length, tolerance, rise):
-    """Each group judged on all of its moves: joined end to start, every vertex within
-    ``tolerance`` of the chord, its heights within ``rise`` (``breaks`` is not looked at);
-    and the most its vertices stray."""
-    fits, strays = numpy.empty(len(first), bool), numpy.empty(len(first))
-    for k, (begin, count) in enumerate(zip(first.tolist(), length.tolist())):
+def _plain_merge(starts, ends, strays, tolerance, rise):
+    """The merge as its rule says, group by group: groups of 64 moves, each kept whole when
+    its moves join end to start, every vertex lies within ``tolerance`` of its chord and its
+    heights within ``rise``, else split in halves (the first the larger) and those judged."""
+    kept = []
+
+    def judge(begin, count):
         moves = numpy.arange(begin, begin + count)
         joined = (starts[moves[1:]] == ends[moves[:-1]]).all()
         stray = distance_to_segment(ends[moves, 0], ends[moves, 1], numpy.repeat(starts[begin:begin + 1, :2], count, axis=0),
-                                    numpy.repeat(ends[moves[-1]:moves[-1] + 1, :2], count, axis=0))
-        climb = heights[1][moves].max() - heights[0][moves].min()
-        fits[k] = count == 1 or (joined and stray.max() <= tolerance and climb <= rise)
-        strays[k] = stray.max()
-    return fits, strays
+                                    numpy.repeat(ends[moves[-1]:moves[-1] + 1, :2], count, axis=0)).max()
+        climb = numpy.maximum(starts[moves, 2], ends[moves, 2]).max() - numpy.minimum(starts[moves, 2], ends[moves, 2]).min()
+        if count == 1 or (joined and stray <= tolerance and climb <= rise):
+            kept.append((begin, count, stray))
+        else:
+            half = (count + 1) // 2
+            judge(begin, half)
+            judge(begin + half, count - half)
+
+    for begin in range(0, len(starts), 64):
+        judge(begin, min(64, len(starts) - begin))
+    first, length, stray = (numpy.array(column) for column in zip(*kept))
+    last = first + length - 1
+    groups = [numpy.arange(begin, end + 1) for begin, end in zip(first, last)]
+    z_low = numpy.array([numpy.minimum(starts[moves, 2], ends[moves, 2]).min() for moves in groups])
+    z_high = numpy.array([numpy.maximum(starts[moves, 2], ends[moves, 2]).max() for moves in groups])
+    return starts[first], ends[last], z_low, z_high, stray, numpy.array([strays[moves].max() for moves in groups])
 
 
 @st.composite
 def _paths(draw):
-    """Connected runs of short moves, bent, stepped in Z, now and then broken."""
+    """Connected runs of short moves, bent, stepped in Z, now and then broken or standing still."""
     count = draw(st.integers(1, 300))
     turn, step = draw(st.floats(0, 0.6)), draw(st.floats(0.01, 1.0))
     angles = numpy.cumsum(numpy.full(count, turn)) + draw(st.floats(0, 6.3))
@@ -603,20 +616,22 @@ def _paths(draw):
     for broken in draw(st.lists(st.integers(1, max(1, count - 1)), max_size=3)):
         if broken < count:
             starts[broken, 0] += 0.1
-    return starts, ends
+    standing = draw(st.lists(st.integers(0, count - 1), max_size=8))  # moves of no length (a move split at the slab's faces leaves them)
+    return numpy.insert(starts, standing, starts[standing], axis=0), numpy.insert(ends, standing, starts[standing], axis=0)
 
 
-@settings(max_examples=100, deadline=None)
-@given(_paths(), st.sampled_from([0.125, 0.0125, 0.25]))
-def test_screened_chord_groups_merge_the_moves_as_judging_every_vertex_does(path, tolerance):
+@settings(max_examples=150, deadline=None)
+@given(_paths(), st.sampled_from([0.125, 0.0125, 0.25]), st.sampled_from([0, 4096]))
+def test_the_merge_keeps_the_groups_that_judging_group_by_group_keeps(path, tolerance, at_once):
+    """Judged level by level (``at_once`` 0) or every group at once, with the groups screened
+    before they are judged whole: the same chords as judging each group on every vertex."""
     from ncverify import workpiece
 
     starts, ends = path
     strays = numpy.linspace(0.0, 0.01, len(starts))
-    merged = workpiece._merge_runs(starts, ends, strays, tolerance, 0.5)
-    with patch.object(workpiece, "_chords_fit", _every_vertex_fits):
-        plain = workpiece._merge_runs(starts, ends, strays, tolerance, 0.5)
-    for got, wanted in zip(merged, plain):
+    with patch.object(workpiece, "_TREE_AT_ONCE", at_once):
+        merged = workpiece._merge_runs(starts, ends, strays, tolerance, 0.5)
+    for got, wanted in zip(merged, _plain_merge(starts, ends, strays, tolerance, 0.5)):
         assert numpy.array_equal(got, wanted)
 
 
