@@ -322,7 +322,7 @@ class Workpiece:
             widths = stop - first
             entry = numpy.repeat(numpy.arange(len(piece)), widths)  # each measured cell's (piece, row)
             column = numpy.arange(len(entry)) + (first - numpy.cumsum(widths) + widths)[entry]
-            cells, distance = segments.near_on_rows(piece, entry, centres[column], y, (y - segments.ay[piece]) * segments.dy[piece], reach[piece])
+            cells, distance = segments.near_on_rows(piece, entry, centres.take(column), y, (y - segments.ay[piece]) * segments.dy[piece], reach[piece])
             entry = entry[cells]
             yield piece[entry], row[entry] * self.nx + column[cells], distance
 
@@ -521,20 +521,20 @@ class _Segments:
         run of cells along a row): the inner loop of the sweep. The exact distance (whose
         ``hypot`` costs more than the rest) is found only where the squared offsets, which
         are within a few units in the last place of its square, leave it in doubt."""
-        qx, qy = self._offsets(piece[entry], px, py[entry], across[entry])
+        qx, qy = self._offsets(piece.take(entry), px, py.take(entry), across.take(entry))
         square = numpy.multiply(qx, qx)
         square += numpy.multiply(qy, qy, out=px)
         bound = reach * reach
         bound *= 1.0 + 1e-12
-        maybe = numpy.flatnonzero(~(square > bound[entry]))  # NaN kept: measured as the plain distance is
-        distance = numpy.hypot(qx[maybe], qy[maybe])
-        near = distance <= reach[entry[maybe]]
+        maybe = numpy.flatnonzero(~(square > bound.take(entry)))  # NaN kept: measured as the plain distance is
+        distance = numpy.hypot(qx.take(maybe), qy.take(maybe))
+        near = distance <= reach.take(entry.take(maybe))
         return maybe[near], distance[near]
 
     def _offsets(self, owner, px, py, across):
         """(x, y) from the points (px, py) to their nearest points on segments ``owner``,
         computed in place as :func:`_nearest_on_segment` does (``px`` is kept)."""
-        ax, ay, dx, dy, divisor = (terms[owner] for terms in (self.ax, self.ay, self.dx, self.dy, self.divisor))
+        ax, ay, dx, dy, divisor = (terms.take(owner) for terms in (self.ax, self.ay, self.dx, self.dy, self.divisor))
         t = px - ax
         t *= dx
         t += across
@@ -849,14 +849,16 @@ def arc_chords(starts, ends, centres, clockwise, planes, tolerance: float = 0.01
     owner = numpy.repeat(arcs, counts + 1)  # each arc's points, its end included
     fraction = (numpy.arange(len(owner)) - numpy.repeat(numpy.cumsum(counts + 1) - (counts + 1), counts + 1)) / counts[owner]
     angles = begin[owner] + numpy.where(clockwise[owner], -1.0, 1.0) * sweep[owner] * fraction
-    rows = numpy.arange(len(owner))
     points = numpy.empty((len(owner), 3))
-    points[rows, first[owner]] = centres[owner, 0] + radius[owner] * numpy.cos(angles)
-    points[rows, second[owner]] = centres[owner, 1] + radius[owner] * numpy.sin(angles)
-    points[rows, normal[owner]] = starts[owner, normal[owner]] + (ends[owner, normal[owner]] - starts[owner, normal[owner]]) * fraction
+    cells, row = points.reshape(-1), numpy.arange(0, 3 * len(owner), 3)  # each point's (x, y, z) in one flat array: an axis a point is a cell
+    cells[row + first[owner]] = centres[owner, 0] + radius[owner] * numpy.cos(angles)
+    cells[row + second[owner]] = centres[owner, 1] + radius[owner] * numpy.sin(angles)
+    normal_start = starts.reshape(-1)[3 * owner + normal[owner]]
+    cells[row + normal[owner]] = normal_start + (ends.reshape(-1)[3 * owner + normal[owner]] - normal_start) * fraction
     last = numpy.cumsum(counts + 1) - 1
     points[last] = ends
     sagitta = radius * (1 - numpy.cos(sweep / counts / 2))
     chord = numpy.ones(len(owner), bool)
     chord[last] = False  # a chord runs from each point but an arc's last to the next
-    return points[chord], points[numpy.flatnonzero(chord) + 1], sagitta[owner[chord]], owner[chord]
+    begins = numpy.flatnonzero(chord)
+    return points.take(begins, axis=0), points.take(begins + 1, axis=0), sagitta[owner[chord]], owner[chord]
