@@ -574,7 +574,7 @@ def _sink(field, flat, heights, up: bool) -> None:
 
 
 _GROUP = 64  # moves in the largest group merged into one chord
-_TREE_AT_ONCE = 4096  # moves up to which every group of the merge is judged in one step
+_TREE_AT_ONCE = 1024  # moves in the groups left up to which they and every group below them are judged in one step
 
 
 @dataclass(frozen=True)
@@ -611,27 +611,46 @@ def _merge_runs(starts, ends, strays, tolerance: float, rise: float):
 
     The groups tried are those of a fixed tree: the moves in groups of 64, each split in
     halves (the first half the larger) where it does not fit, down to single moves. Level
-    by level, only the halves of groups that failed are judged; a short path (where the
-    steps would cost more than the groups a step spares) has all of its groups judged at
-    once, each move going to the largest group over it that fits: the same groups."""
+    by level, only the halves of groups that failed are judged; once the groups left hold
+    few moves (where the steps would cost more than the groups a step spares), they and
+    every group below them are judged at once, each move going to the largest group over
+    it that fits: the same groups."""
     path = _Path.of(starts, ends)
     count = len(starts)
     first = numpy.arange(0, count, _GROUP)
     length = numpy.minimum(_GROUP, count - first)
-    if count <= _TREE_AT_ONCE:
-        first, length, stray = _fitting_groups(path, first, length, tolerance, rise)
-    else:
-        done = []
-        while len(first):
-            fits, stray = _chords_fit(path, first, length, tolerance, rise)
-            done.append((first[fits], length[fits], stray[fits]))
-            first, length = _halves(first[~fits], length[~fits])
-        first, length, stray = (numpy.concatenate(column) for column in zip(*done))
-        order = numpy.argsort(first)
-        first, length, stray = first[order], length[order], stray[order]
-    z_low = numpy.minimum.reduceat(path.low, first)
-    z_high = numpy.maximum.reduceat(path.high, first)
-    return starts.take(first, axis=0), ends.take(first + length - 1, axis=0), z_low, z_high, stray, numpy.maximum.reduceat(strays, first)
+    done = []
+    while len(first):
+        if int(length.sum()) <= _TREE_AT_ONCE:
+            done.append(_fitting_groups(path, first, length, tolerance, rise))
+            break
+        fits, stray = _chords_fit(path, first, length, tolerance, rise)
+        done.append((first[fits], length[fits], stray[fits]))
+        first, length = _halves(first[~fits], length[~fits])
+    first, length, stray = (numpy.concatenate(column) for column in zip(*done))
+    order = numpy.argsort(first)
+    first, length, stray = first[order], length[order], stray[order]
+    group = _group_of(first, count)
+    z_low, z_high = _reduce_groups(numpy.minimum, path.low, first, group), _reduce_groups(numpy.maximum, path.high, first, group)
+    return starts.take(first, axis=0), ends.take(first + length - 1, axis=0), z_low, z_high, stray, _reduce_groups(numpy.maximum, strays, first, group)
+
+
+def _group_of(first, count: int):
+    """The group of each of ``count`` items cut into consecutive groups at ``first`` (from 0)."""
+    starts = numpy.zeros(count, numpy.intp)
+    starts[first[1:]] = 1
+    return numpy.cumsum(starts, out=starts)
+
+
+def _reduce_groups(ufunc, values, first, group):
+    """``ufunc.reduceat(values, first)`` for consecutive groups from ``first`` (from 0, none
+    empty; ``group``: each value's, see :func:`_group_of`): the same values, the same
+    steps in the same order (each group's first value met once more, which changes
+    nothing), by ``ufunc.at``, which costs several times less than reduceat where most
+    groups are a few values long."""
+    reduced = values.take(first)
+    ufunc.at(reduced, group, values)
+    return reduced
 
 
 def _halves(first, length):
@@ -703,13 +722,14 @@ def _chords_fit(path: _Path, first, length, tolerance: float, rise: float):
     may_fit &= numpy.maximum(path.high[first], path.high[middle]) - numpy.minimum(path.low[first], path.low[middle]) <= rise
     judged = numpy.flatnonzero(may_fit)
     if len(judged):
-        owner = numpy.repeat(judged, length[judged])
+        group = numpy.repeat(numpy.arange(len(judged)), length[judged])
+        owner = judged.take(group)
         index = _ramp(length[judged]) + first[owner]
         offsets = numpy.cumsum(length[judged]) - length[judged]
-        stray = numpy.maximum.reduceat(chords.distance_from(owner, path.x1[index], path.y1[index]), offsets)
+        stray = _reduce_groups(numpy.maximum, chords.distance_from(owner, path.x1[index], path.y1[index]), offsets, group)
         strays[joined[judged]] = stray
         fits[joined[judged]] = (stray <= tolerance) & (
-            numpy.maximum.reduceat(path.high[index], offsets) - numpy.minimum.reduceat(path.low[index], offsets) <= rise)
+            _reduce_groups(numpy.maximum, path.high[index], offsets, group) - _reduce_groups(numpy.minimum, path.low[index], offsets, group) <= rise)
     return fits, strays
 
 

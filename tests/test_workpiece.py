@@ -621,9 +621,10 @@ def _paths(draw):
 
 
 @settings(max_examples=150, deadline=None)
-@given(_paths(), st.sampled_from([0.125, 0.0125, 0.25]), st.sampled_from([0, 4096]))
+@given(_paths(), st.sampled_from([0.125, 0.0125, 0.25]), st.sampled_from([0, 100, 4096]))
 def test_the_merge_keeps_the_groups_that_judging_group_by_group_keeps(path, tolerance, at_once):
-    """Judged level by level (``at_once`` 0) or every group at once, with the groups screened
+    """Judged level by level (``at_once`` 0), every group at once, or the levels until the groups
+    left hold at most ``at_once`` moves and then all of those at once, with the groups screened
     before they are judged whole: the same chords as judging each group on every vertex."""
     from ncverify import workpiece
 
