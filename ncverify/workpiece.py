@@ -507,11 +507,13 @@ class _Segments:
 
     def distance_from(self, owner, px, py):
         """:meth:`distance` of points (px, py) from segments ``owner``."""
-        return self.distance(owner, px, py, (py - self.ay[owner]) * self.dy[owner])
+        ay, dy = (self.ay, self.dy) if owner is None else (self.ay[owner], self.dy[owner])
+        return self.distance(owner, px, py, (py - ay) * dy)
 
     def distance(self, owner, px, py, across):
-        """Distance of points (px, py) from segments ``owner``, bit for bit as
-        :func:`distance_to_segment` gives it; ``across``: (py - ay) * dy of each."""
+        """Distance of points (px, py) from segments ``owner`` (None: point ``k`` from
+        segment ``k``), bit for bit as :func:`distance_to_segment` gives it; ``across``:
+        (py - ay) * dy of each."""
         return numpy.hypot(*self._offsets(owner, px, py, across))
 
     def near_on_rows(self, piece, entry, px, py, across, reach):
@@ -534,7 +536,10 @@ class _Segments:
     def _offsets(self, owner, px, py, across):
         """(x, y) from the points (px, py) to their nearest points on segments ``owner``,
         computed in place as :func:`_nearest_on_segment` does (``px`` is kept)."""
-        ax, ay, dx, dy, divisor = (terms.take(owner) for terms in (self.ax, self.ay, self.dx, self.dy, self.divisor))
+        if owner is None:
+            ax, ay, dx, dy, divisor = self.ax, self.ay, self.dx.copy(), self.dy.copy(), self.divisor
+        else:
+            ax, ay, dx, dy, divisor = (terms.take(owner) for terms in (self.ax, self.ay, self.dx, self.dy, self.divisor))
         t = px - ax
         t *= dx
         t += across
@@ -701,7 +706,7 @@ def _halving_tree(size: int):
 def _single_strays(path: _Path, moves):
     """How far each of ``moves`` strays from its own chord: rounding, no more."""
     x1, y1 = path.x1[moves], path.y1[moves]
-    return _Segments.between(path.x0[moves], path.y0[moves], x1, y1).distance_from(numpy.arange(len(moves)), x1, y1)
+    return _Segments.between(path.x0[moves], path.y0[moves], x1, y1).distance_from(None, x1, y1)
 
 
 def _chords_fit(path: _Path, first, length, tolerance: float, rise: float):
@@ -718,7 +723,7 @@ def _chords_fit(path: _Path, first, length, tolerance: float, rise: float):
     first, last, length = first[joined], last[joined], length[joined]
     middle = first + (length - 1) // 2
     chords = _Segments.between(path.x0[first], path.y0[first], path.x1[last], path.y1[last])
-    may_fit = chords.distance_from(numpy.arange(len(first)), path.x1[middle], path.y1[middle]) <= tolerance
+    may_fit = chords.distance_from(None, path.x1[middle], path.y1[middle]) <= tolerance
     may_fit &= numpy.maximum(path.high[first], path.high[middle]) - numpy.minimum(path.low[first], path.low[middle]) <= rise
     judged = numpy.flatnonzero(may_fit)
     if len(judged):
