@@ -278,9 +278,11 @@ class Workpiece:
         with numpy.errstate(divide="ignore", invalid="ignore"):
             crossings = [numpy.where(rise != 0.0, (level - starts[:, 2]) / rise, 0.0) for level in (low, high)]
         ts = numpy.sort(numpy.clip(numpy.stack([numpy.zeros(len(starts)), *crossings, numpy.ones(len(starts))], axis=1), 0.0, 1.0), axis=1)
-        points = starts[:, None, :] + ts[:, :, None] * (ends - starts)[:, None, :]
-        points[:, :, 2] = numpy.clip(points[:, :, 2], low, high)
-        return points[:, :-1].reshape(-1, 3), points[:, 1:].reshape(-1, 3), numpy.repeat(strays, ts.shape[1] - 1)
+        steps = ts.shape[1]  # each axis of the points worked out in one flat array: broadcasting over (moves, points, axes) ran loops three long
+        axes = [numpy.repeat(starts[:, axis], steps) + ts.reshape(-1) * numpy.repeat(ends[:, axis] - starts[:, axis], steps) for axis in range(3)]
+        numpy.clip(axes[2], low, high, out=axes[2])
+        points = numpy.stack(axes, axis=-1).reshape(len(starts), steps, 3)
+        return points[:, :-1].reshape(-1, 3), points[:, 1:].reshape(-1, 3), numpy.repeat(strays, steps - 1)
 
     def _split_steep(self, a, b, z_low, z_high, *per_piece):
         """Pieces split so that none climbs or falls more than one cell. Only single moves

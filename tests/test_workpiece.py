@@ -674,6 +674,60 @@ def test_the_sweep_leaves_the_field_that_every_cell_measured_against_every_piece
         assert numpy.array_equal(piece.upper, plain.upper) and numpy.array_equal(piece.lower, plain.lower)
 
 
+_HEIGHT = st.one_of(st.floats(-12, 3), st.sampled_from([0.5, -10.5, 0.0, -10.0, 1e6, -1e6]))  # the slab's faces among them
+
+
+@settings(max_examples=100, deadline=None)
+@given(st.lists(st.tuples(_COORDINATE, _COORDINATE, _HEIGHT, _COORDINATE, _COORDINATE, _HEIGHT), min_size=1, max_size=6))
+def test_moves_leaving_the_slab_are_cut_at_its_faces_as_the_plain_formula_cuts_them(moves):
+    """Rapids and plunges into and through the blank, ramps out of it, far away in XY: each
+    move is cut into three at the slab's faces (some of no length) where any move of the
+    batch leaves the slab, every point ``start + t * (end - start)`` with its Z kept on
+    the slab, exactly as that formula gives it move by move."""
+    piece = Workpiece(BLANK, 0.5)
+    rows = numpy.array(moves)
+    starts, ends, strays = rows[:, :3], rows[:, 3:], numpy.linspace(0.0, 0.1, len(rows))
+    with numpy.errstate(all="ignore"):
+        got = piece._within_slab(starts, ends, Cutter(1.0), strays)
+        low, high = piece.bottom - 0.0 - piece.resolution, piece.top + piece.resolution
+        if min(starts[:, 2].min(), ends[:, 2].min()) >= low and max(starts[:, 2].max(), ends[:, 2].max()) <= high:
+            wanted = starts, ends, strays
+        else:
+            pieces = []
+            for start, end in zip(starts, ends):
+                rise = end[2] - start[2]
+                faces = [(level - start[2]) / rise if rise != 0.0 else 0.0 for level in (low, high)]
+                points = [start + t * (end - start) for t in numpy.sort(numpy.clip([0.0, *faces, 1.0], 0.0, 1.0))]
+                for point in points:
+                    point[2] = min(max(point[2], low), high)
+                pieces.extend(zip(points[:-1], points[1:]))
+            wanted = numpy.array([a for a, _ in pieces]), numpy.array([b for _, b in pieces]), numpy.repeat(strays, 3)
+    for got_part, wanted_part in zip(got, wanted):
+        assert numpy.array_equal(got_part, wanted_part, equal_nan=True)
+
+
+@settings(max_examples=40, deadline=None)
+@given(_SWEPT, st.lists(_ARC, min_size=1, max_size=6), st.floats(-3, 1))
+def test_arcs_and_helices_swept_as_chords_leave_the_field_every_cell_measured_leaves(cutter, arcs, depth):
+    """Arcs of every plane, full circles and helices (some starting above the blank, some
+    reaching below it), their chords swept at once with each chord's sagitta as its stray:
+    the same field and air as measuring every cell against every chord."""
+    from ncverify import workpiece
+
+    piece, plain = Workpiece(BLANK, 0.5), Workpiece(BLANK, 0.5)
+    centre = numpy.array([20.0, 15.0, depth])
+    starts, ends = numpy.tile(centre, (len(arcs), 1)), numpy.tile(centre, (len(arcs), 1))
+    for k, (radius, begin, finish, _, rise, (first, second, normal)) in enumerate(arcs):
+        starts[k, [first, second]] += [radius * math.cos(begin), radius * math.sin(begin)]
+        ends[k, [first, second]] += [radius * math.cos(finish), radius * math.sin(finish)]
+        ends[k, normal] += rise
+    planes = [arc[5] for arc in arcs]
+    chords = workpiece.arc_chords(starts, ends, [centre[list(plane[:2])] for plane in planes], [arc[3] for arc in arcs], planes, tolerance=0.0625)
+    with patch.object(workpiece, "_CHUNK_CELLS", 1 << 40), numpy.errstate(all="ignore"):  # one step, as the plain sweep judges the air
+        assert piece.cut(chords[0], chords[1], cutter, chords[2]) == _sweep_every_cell(plain, chords[0], chords[1], cutter, chords[2])
+    assert numpy.array_equal(piece.upper, plain.upper) and numpy.array_equal(piece.lower, plain.lower)
+
+
 @pytest.mark.parametrize("top", [0.0, -0.0, 5.0])
 def test_a_box_blank_at_any_top_holds_it_on_every_cell_and_is_surely_there_but_where_cells_stick_out(top):
     """A top at +0 is laid out as zeroed memory, any other (-0 too) filled in: the same tops."""
