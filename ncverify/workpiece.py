@@ -361,8 +361,8 @@ class Workpiece:
         return numpy.hypot(numpy.maximum(numpy.abs(qx - px) - half, 0.0), numpy.maximum(numpy.abs(qy - py) - half, 0.0))
 
     def _index_range(self, low, high, origin: float, count: int):
-        first = numpy.clip(numpy.floor((low - origin) / self.resolution), 0, count).astype(numpy.int64)
-        last = numpy.clip(numpy.ceil((high - origin) / self.resolution), 0, count).astype(numpy.int64)
+        first = numpy.minimum(numpy.maximum(numpy.floor((low - origin) / self.resolution), 0), count).astype(numpy.int64)
+        last = numpy.minimum(numpy.maximum(numpy.ceil((high - origin) / self.resolution), 0), count).astype(numpy.int64)
         return first, last
 
     def _x(self, column):
@@ -470,6 +470,9 @@ def _keep_scratch_memory() -> None:
 
 def _chunks(sizes):
     """Index arrays of consecutive pieces whose cell windows add up to about _CHUNK_CELLS."""
+    if len(sizes) and sizes.min() >= 0 and sizes.sum() <= _CHUNK_CELLS:  # one step (what the search below finds then)
+        yield numpy.arange(len(sizes))
+        return
     ends = numpy.searchsorted(numpy.cumsum(sizes), numpy.arange(_CHUNK_CELLS, int(sizes.sum()) + _CHUNK_CELLS, _CHUNK_CELLS), side="right")
     start = 0
     for end in numpy.unique(numpy.maximum(ends, 1)):
