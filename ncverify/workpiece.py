@@ -627,6 +627,17 @@ def _merge_runs(starts, ends, strays, tolerance: float, rise: float):
     it that fits: the same groups."""
     path = _Path.of(starts, ends)
     count = len(starts)
+    if path.breaks[-1] == count - 1:  # no move starts where the one before it ended: each is a chord of its own
+        return starts, ends, path.low, path.high, _single_strays(path, numpy.arange(count)), strays
+    first, length, stray = _kept_groups(path, tolerance, rise)
+    group = _group_of(first, count)
+    z_low, z_high = _reduce_groups(numpy.minimum, path.low, first, group), _reduce_groups(numpy.maximum, path.high, first, group)
+    return starts.take(first, axis=0), ends.take(first + length - 1, axis=0), z_low, z_high, stray, _reduce_groups(numpy.maximum, strays, first, group)
+
+
+def _kept_groups(path: _Path, tolerance: float, rise: float):
+    """(first, length, stray) of the groups :func:`_merge_runs` keeps, in order."""
+    count = len(path.breaks)
     first = numpy.arange(0, count, _GROUP)
     length = numpy.minimum(_GROUP, count - first)
     done = []
@@ -639,10 +650,7 @@ def _merge_runs(starts, ends, strays, tolerance: float, rise: float):
         first, length = _halves(first[~fits], length[~fits])
     first, length, stray = (numpy.concatenate(column) for column in zip(*done))
     order = numpy.argsort(first)
-    first, length, stray = first[order], length[order], stray[order]
-    group = _group_of(first, count)
-    z_low, z_high = _reduce_groups(numpy.minimum, path.low, first, group), _reduce_groups(numpy.maximum, path.high, first, group)
-    return starts.take(first, axis=0), ends.take(first + length - 1, axis=0), z_low, z_high, stray, _reduce_groups(numpy.maximum, strays, first, group)
+    return first[order], length[order], stray[order]
 
 
 def _group_of(first, count: int):

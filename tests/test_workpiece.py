@@ -605,7 +605,8 @@ def _plain_merge(starts, ends, strays, tolerance, rise):
 
 @st.composite
 def _paths(draw):
-    """Connected runs of short moves, bent, stepped in Z, now and then broken or standing still."""
+    """Connected runs of short moves, bent, stepped in Z, now and then broken or standing still,
+    or all apart."""
     count = draw(st.integers(1, 300))
     turn, step = draw(st.floats(0, 0.6)), draw(st.floats(0.01, 1.0))
     angles = numpy.cumsum(numpy.full(count, turn)) + draw(st.floats(0, 6.3))
@@ -616,6 +617,8 @@ def _paths(draw):
     for broken in draw(st.lists(st.integers(1, max(1, count - 1)), max_size=3)):
         if broken < count:
             starts[broken, 0] += 0.1
+    if draw(st.integers(0, 4)) == 0:  # every move apart from the one before (lines buffered between arcs, a cycle's plunges)
+        starts[1:, 1] += 0.05
     standing = draw(st.lists(st.integers(0, count - 1), max_size=8))  # moves of no length (a move split at the slab's faces leaves them)
     return numpy.insert(starts, standing, starts[standing], axis=0), numpy.insert(ends, standing, starts[standing], axis=0)
 
