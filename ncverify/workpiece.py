@@ -278,9 +278,11 @@ class Workpiece:
         with numpy.errstate(divide="ignore", invalid="ignore"):
             crossings = [numpy.where(rise != 0.0, (level - starts[:, 2]) / rise, 0.0) for level in (low, high)]
         ts = numpy.sort(numpy.clip(numpy.stack([numpy.zeros(len(starts)), *crossings, numpy.ones(len(starts))], axis=1), 0.0, 1.0), axis=1)
-        points = starts[:, None, :] + ts[:, :, None] * (ends - starts)[:, None, :]
-        points[:, :, 2] = numpy.clip(points[:, :, 2], low, high)
-        return points[:, :-1].reshape(-1, 3), points[:, 1:].reshape(-1, 3), numpy.repeat(strays, ts.shape[1] - 1)
+        steps = ts.shape[1]  # each axis of the points worked out in one flat array: broadcasting over (moves, points, axes) ran loops three long
+        axes = [numpy.repeat(starts[:, axis], steps) + ts.reshape(-1) * numpy.repeat(ends[:, axis] - starts[:, axis], steps) for axis in range(3)]
+        numpy.clip(axes[2], low, high, out=axes[2])
+        points = numpy.stack(axes, axis=-1).reshape(len(starts), steps, 3)
+        return points[:, :-1].reshape(-1, 3), points[:, 1:].reshape(-1, 3), numpy.repeat(strays, steps - 1)
 
     def _split_steep(self, a, b, z_low, z_high, *per_piece):
         """Pieces split so that none climbs or falls more than one cell. Only single moves
@@ -309,22 +311,22 @@ class Workpiece:
         reach = reach + slack
         column_low, column_high = self._index_range(numpy.minimum(a[:, 0], b[:, 0]) - reach, numpy.maximum(a[:, 0], b[:, 0]) + reach, self.x_low, self.nx)
         row_low, row_high = self._index_range(numpy.minimum(a[:, 1], b[:, 1]) - reach, numpy.maximum(a[:, 1], b[:, 1]) + reach, self.y_low, self.ny)
-        size = numpy.maximum(numpy.abs(a[:, :2]).max(axis=1), numpy.abs(b[:, :2]).max(axis=1))
+        size = numpy.maximum(numpy.maximum(numpy.abs(a[:, 0]), numpy.abs(a[:, 1])), numpy.maximum(numpy.abs(b[:, 0]), numpy.abs(b[:, 1])))
         heights = numpy.where(numpy.isfinite(size), row_high - row_low, 0)  # a piece running off to infinity is no distance from any cell
         segments = _Segments.of(a, b)
         rounding = self.resolution * 1e-3 + 1e-14 * size
+        centres = self._column_centres()
         for chunk in _chunks((column_high - column_low) * heights):
             piece = numpy.repeat(chunk, heights[chunk])  # one entry per (piece, row)
             row = row_low[piece] + _ramp(heights[chunk])
             y = self._y(row)
             first, stop = self._row_spans(segments, reach[piece] + rounding[piece], piece, y, column_low[piece], column_high[piece])
             widths = stop - first
-            owner = numpy.repeat(piece, widths)
-            column = _ramp(widths) + numpy.repeat(first, widths)
-            distance = segments.distance_on_rows(piece, widths, self._column_centres()[column], y, (y - segments.ay[piece]) * segments.dy[piece])
-            near = distance <= reach[owner]
-            flat = numpy.repeat(row * self.nx, widths) + column
-            yield owner[near], flat[near], distance[near]
+            entry = numpy.repeat(numpy.arange(len(piece)), widths)  # each measured cell's (piece, row)
+            column = numpy.arange(len(entry)) + (first - numpy.cumsum(widths) + widths)[entry]
+            cells, distance = segments.near_on_rows(piece, entry, centres.take(column), y, (y - segments.ay[piece]) * segments.dy[piece], reach[piece])
+            entry = entry[cells]
+            yield piece[entry], row[entry] * self.nx + column[cells], distance
 
     def _row_spans(self, segments: "_Segments", reach, piece, y, column_low, column_high):
         """(first, stop) columns of each (piece, row) entry whose cell centres may lie within
@@ -359,8 +361,8 @@ class Workpiece:
         return numpy.hypot(numpy.maximum(numpy.abs(qx - px) - half, 0.0), numpy.maximum(numpy.abs(qy - py) - half, 0.0))
 
     def _index_range(self, low, high, origin: float, count: int):
-        first = numpy.clip(numpy.floor((low - origin) / self.resolution), 0, count).astype(numpy.int64)
-        last = numpy.clip(numpy.ceil((high - origin) / self.resolution), 0, count).astype(numpy.int64)
+        first = numpy.minimum(numpy.maximum(numpy.floor((low - origin) / self.resolution), 0), count).astype(numpy.int64)
+        last = numpy.minimum(numpy.maximum(numpy.ceil((high - origin) / self.resolution), 0), count).astype(numpy.int64)
         return first, last
 
     def _x(self, column):
@@ -468,6 +470,9 @@ def _keep_scratch_memory() -> None:
 
 def _chunks(sizes):
     """Index arrays of consecutive pieces whose cell windows add up to about _CHUNK_CELLS."""
+    if len(sizes) and sizes.min() >= 0 and sizes.sum() <= _CHUNK_CELLS:  # one step (what the search below finds then)
+        yield numpy.arange(len(sizes))
+        return
     ends = numpy.searchsorted(numpy.cumsum(sizes), numpy.arange(_CHUNK_CELLS, int(sizes.sum()) + _CHUNK_CELLS, _CHUNK_CELLS), side="right")
     start = 0
     for end in numpy.unique(numpy.maximum(ends, 1)):
@@ -497,38 +502,59 @@ class _Segments:
 
     @classmethod
     def of(cls, a, b):
-        dx, dy = b[:, 0] - a[:, 0], b[:, 1] - a[:, 1]
-        length_sq = dx * dx + dy * dy
-        return cls(a[:, 0], a[:, 1], dx, dy, numpy.where(length_sq > 0, length_sq, numpy.inf))
+        return cls.between(a[:, 0], a[:, 1], b[:, 0], b[:, 1])
 
-    def distance_from_points(self, owner, points):
-        """:meth:`distance` of the XY of ``points`` (rows) from segments ``owner``."""
-        px, py = points[:, 0], points[:, 1]
-        return self.distance(owner, px, py, (py - self.ay[owner]) * self.dy[owner])
+    @classmethod
+    def between(cls, ax, ay, bx, by):
+        dx, dy = bx - ax, by - ay
+        length_sq = dx * dx + dy * dy
+        return cls(ax, ay, dx, dy, numpy.where(length_sq > 0, length_sq, numpy.inf))
+
+    def distance_from(self, owner, px, py):
+        """:meth:`distance` of points (px, py) from segments ``owner``."""
+        ay, dy = (self.ay, self.dy) if owner is None else (self.ay[owner], self.dy[owner])
+        return self.distance(owner, px, py, (py - ay) * dy)
 
     def distance(self, owner, px, py, across):
-        """Distance of points (px, py) from segments ``owner``, bit for bit as
-        :func:`distance_to_segment` gives it; ``across``: (py - ay) * dy of each."""
-        return self.distance_on_rows(owner, None, px, py, across)
+        """Distance of points (px, py) from segments ``owner`` (None: point ``k`` from
+        segment ``k``), bit for bit as :func:`distance_to_segment` gives it; ``across``:
+        (py - ay) * dy of each."""
+        return numpy.hypot(*self._offsets(owner, px, py, across))
 
-    def distance_on_rows(self, piece, widths, px, py, across):
-        """:meth:`distance` of runs of points: ``widths[k]`` consecutive points from segment
-        ``piece[k]``, which share their ``py`` and ``across`` (one a run; ``widths`` None:
-        runs of one). The segments' terms are repeated along each run, and the arithmetic
-        done in place: this is the inner loop of the sweep, one entry per cell near a piece."""
-        def spread(values):
-            return values if widths is None else numpy.repeat(values, widths)
-        ax, ay, dx, dy, divisor = (spread(terms[piece]) for terms in (self.ax, self.ay, self.dx, self.dy, self.divisor))
+    def near_on_rows(self, piece, entry, px, py, across, reach):
+        """Which points lie within ``reach`` of their segments, and their :meth:`distance`:
+        (indices, distances). Point ``k`` is measured from segment ``piece[entry[k]]`` and
+        shares ``py``, ``across`` and ``reach`` with the other points of its ``entry`` (a
+        run of cells along a row): the inner loop of the sweep. The exact distance (whose
+        ``hypot`` costs more than the rest) is found only where the squared offsets, which
+        are within a few units in the last place of its square, leave it in doubt."""
+        qx, qy = self._offsets(piece.take(entry), px, py.take(entry), across.take(entry))
+        square = numpy.multiply(qx, qx)
+        square += numpy.multiply(qy, qy, out=px)
+        bound = reach * reach
+        bound *= 1.0 + 1e-12
+        maybe = numpy.flatnonzero(~(square > bound.take(entry)))  # NaN kept: measured as the plain distance is
+        distance = numpy.hypot(qx.take(maybe), qy.take(maybe))
+        near = distance <= reach.take(entry.take(maybe))
+        return maybe[near], distance[near]
+
+    def _offsets(self, owner, px, py, across):
+        """(x, y) from the points (px, py) to their nearest points on segments ``owner``,
+        computed in place as :func:`_nearest_on_segment` does (``px`` is kept)."""
+        if owner is None:
+            ax, ay, dx, dy, divisor = self.ax, self.ay, self.dx.copy(), self.dy.copy(), self.divisor
+        else:
+            ax, ay, dx, dy, divisor = (terms.take(owner) for terms in (self.ax, self.ay, self.dx, self.dy, self.divisor))
         t = px - ax
         t *= dx
-        t += spread(across)
+        t += across
         t /= divisor
         numpy.clip(t, 0.0, 1.0, out=t)
         dx *= t
         dx += ax
         dy *= t
         dy += ay
-        return numpy.hypot(numpy.subtract(px, dx, out=dx), numpy.subtract(spread(py), dy, out=dy), out=t)
+        return numpy.subtract(px, dx, out=dx), numpy.subtract(py, dy, out=dy)
 
 
 def _nearest_on_segment(px, py, a, b):
@@ -557,62 +583,171 @@ def _sink(field, flat, heights, up: bool) -> None:
     numpy.minimum.at(field.reshape(-1), flat, stored)
 
 
+_GROUP = 64  # moves in the largest group merged into one chord
+_TREE_AT_ONCE = 1024  # moves in the groups left up to which they and every group below them are judged in one step
+
+
+@dataclass(frozen=True)
+class _Path:
+    """Moves as :func:`_merge_runs` judges them: the XY of their starts and ends, each
+    one's lowest and highest Z, and ``breaks``: how many moves up to each one start away
+    from the end before them."""
+
+    x0: numpy.ndarray
+    y0: numpy.ndarray
+    x1: numpy.ndarray
+    y1: numpy.ndarray
+    low: numpy.ndarray
+    high: numpy.ndarray
+    breaks: numpy.ndarray
+
+    @classmethod
+    def of(cls, starts, ends):
+        breaks = numpy.zeros(len(starts), numpy.int64)
+        apart = starts[1:, 0] != ends[:-1, 0]
+        apart |= starts[1:, 1] != ends[:-1, 1]
+        apart |= starts[1:, 2] != ends[:-1, 2]
+        numpy.cumsum(apart, out=breaks[1:])
+        return cls(starts[:, 0], starts[:, 1], ends[:, 0], ends[:, 1], numpy.minimum(starts[:, 2], ends[:, 2]), numpy.maximum(starts[:, 2], ends[:, 2]), breaks)
+
+
 def _merge_runs(starts, ends, strays, tolerance: float, rise: float):
     """Consecutive moves of a connected path merged into chords where no vertex strays more
     than ``tolerance`` from the chord in XY and the heights stay within ``rise``: CAM output
     is thousands of tiny moves, and their tool discs overlap almost wholly. Each chord
     carries its heights' range and its actual stray (``slack``), which the sweep takes off
     the tool radius where it claims material is surely gone and adds where it may be, and
-    the largest of its moves' own ``strays`` (how far the true path leaves a move)."""
+    the largest of its moves' own ``strays`` (how far the true path leaves a move).
+
+    The groups tried are those of a fixed tree: the moves in groups of 64, each split in
+    halves (the first half the larger) where it does not fit, down to single moves. Level
+    by level, only the halves of groups that failed are judged; once the groups left hold
+    few moves (where the steps would cost more than the groups a step spares), they and
+    every group below them are judged at once, each move going to the largest group over
+    it that fits: the same groups."""
+    path = _Path.of(starts, ends)
     count = len(starts)
-    breaks = numpy.zeros(count, numpy.int64)  # how many moves up to each one start away from the end before them
-    breaks[1:] = numpy.cumsum((starts[1:] != ends[:-1]).any(axis=1))
-    first, length = numpy.arange(0, count, 64), numpy.minimum(64, count - numpy.arange(0, count, 64))
-    heights = numpy.minimum(starts[:, 2], ends[:, 2]), numpy.maximum(starts[:, 2], ends[:, 2])  # each move's lowest and highest Z
+    if path.breaks[-1] == count - 1:  # no move starts where the one before it ended: each is a chord of its own
+        return starts, ends, path.low, path.high, _single_strays(path, numpy.arange(count)), strays
+    first, length, stray = _kept_groups(path, tolerance, rise)
+    group = _group_of(first, count)
+    z_low, z_high = _reduce_groups(numpy.minimum, path.low, first, group), _reduce_groups(numpy.maximum, path.high, first, group)
+    return starts.take(first, axis=0), ends.take(first + length - 1, axis=0), z_low, z_high, stray, _reduce_groups(numpy.maximum, strays, first, group)
+
+
+def _kept_groups(path: _Path, tolerance: float, rise: float):
+    """(first, length, stray) of the groups :func:`_merge_runs` keeps, in order."""
+    count = len(path.breaks)
+    first = numpy.arange(0, count, _GROUP)
+    length = numpy.minimum(_GROUP, count - first)
     done = []
     while len(first):
-        accepted, stray = _chords_fit(starts, ends, breaks, heights, first, length, tolerance, rise)
-        done.append((first[accepted], length[accepted], stray[accepted]))
-        first, length = first[~accepted], length[~accepted]
-        half = (length + 1) // 2
-        first, length = numpy.concatenate([first, first + half]), numpy.concatenate([half, length - half])
-        keep = length > 0
-        first, length = first[keep], length[keep]
+        if int(length.sum()) <= _TREE_AT_ONCE:
+            done.append(_fitting_groups(path, first, length, tolerance, rise))
+            break
+        fits, stray = _chords_fit(path, first, length, tolerance, rise)
+        done.append((first[fits], length[fits], stray[fits]))
+        first, length = _halves(first[~fits], length[~fits])
     first, length, stray = (numpy.concatenate(column) for column in zip(*done))
-    order = numpy.argsort(first, kind="stable")
-    first, length, stray = first[order], length[order], stray[order]
-    a, b = starts[first], ends[first + length - 1]
-    z_low = numpy.minimum.reduceat(heights[0], first)
-    z_high = numpy.maximum.reduceat(heights[1], first)
-    return a, b, z_low, z_high, stray, numpy.maximum.reduceat(strays, first)
+    order = numpy.argsort(first)
+    return first[order], length[order], stray[order]
 
 
-def _chords_fit(starts, ends, breaks, heights, first, length, tolerance: float, rise: float):
-    """Which groups (first move, number of moves) may become one chord, and for those the
-    most any of their vertices strays from it. ``breaks``: how many moves up to each one
-    start away from the end before them; ``heights``: each move's lowest and highest Z.
-    A group is first screened by its breaks and by the vertex in its middle (a chord of a
-    curve strays most there), then the groups that pass are judged on all of their
-    vertices: the same answers as judging all of every group."""
+def _group_of(first, count: int):
+    """The group of each of ``count`` items cut into consecutive groups at ``first`` (from 0)."""
+    starts = numpy.zeros(count, numpy.intp)
+    starts[first[1:]] = 1
+    return numpy.cumsum(starts, out=starts)
+
+
+def _reduce_groups(ufunc, values, first, group):
+    """``ufunc.reduceat(values, first)`` for consecutive groups from ``first`` (from 0, none
+    empty; ``group``: each value's, see :func:`_group_of`): the same values, the same
+    steps in the same order (each group's first value met once more, which changes
+    nothing), by ``ufunc.at``, which costs several times less than reduceat where most
+    groups are a few values long."""
+    reduced = values.take(first)
+    ufunc.at(reduced, group, values)
+    return reduced
+
+
+def _halves(first, length):
+    """The two halves of each group of more than one move (the first half the larger)."""
+    split = length > 1
+    first, length = first[split], length[split]
+    half = (length + 1) // 2
+    return numpy.concatenate((first, first + half)), numpy.concatenate((half, length - half))
+
+
+def _fitting_groups(path: _Path, first, length, tolerance: float, rise: float):
+    """(first, length, stray) of the groups :func:`_merge_runs` keeps of the groups
+    ``first``/``length`` and all of their halves, judged at once, in the order of their
+    first moves: a group is kept where it fits and no group over it does."""
+    trees = [_halving_tree(int(size)) for size in length.tolist()]
+    every_first = numpy.concatenate([top + tree[0] for top, tree in zip(first.tolist(), trees)])
+    every_length = numpy.concatenate([tree[1] for tree in trees])  # a group's halves follow it, and sort after it (below)
+    fits, strays = every_length == 1, numpy.zeros(len(every_first))  # a single move always fits: its stray is found if it is kept
+    groups = numpy.flatnonzero(~fits)
+    fits[groups], strays[groups] = _chords_fit(path, every_first[groups], every_length[groups], tolerance, rise)
+    fitting = numpy.flatnonzero(fits)
+    fitting = fitting[numpy.argsort(every_first[fitting] * (_GROUP + 1) + _GROUP - every_length[fitting])]  # by first move, larger first
+    first, length, stray = every_first[fitting], every_length[fitting], strays[fitting]
+    covered = numpy.maximum.accumulate(first + length)  # groups nest or are apart: one inside a fitting group starts before its end
+    kept = numpy.ones(len(first), bool)
+    kept[1:] = first[1:] >= covered[:-1]
+    first, length, stray = first[kept], length[kept], stray[kept]
+    single = numpy.flatnonzero(length == 1)
+    stray[single] = _single_strays(path, first[single])
+    return first, length, stray
+
+
+@functools.lru_cache(maxsize=_GROUP)
+def _halving_tree(size: int):
+    """(first move, length) of every group of the merge's tree over ``size`` moves (at most
+    a group of 64, so the cache holds at most 64 of these small arrays), from 0."""
+    first, length = numpy.zeros(1, numpy.int64), numpy.array([size])
+    levels = [(first, length)]
+    while len(first):
+        first, length = _halves(first, length)
+        levels.append((first, length))
+    tree = tuple(numpy.concatenate([level[column] for level in levels]) for column in (0, 1))
+    for column in tree:
+        column.flags.writeable = False
+    return tree
+
+
+def _single_strays(path: _Path, moves):
+    """How far each of ``moves`` strays from its own chord: rounding, no more."""
+    x1, y1 = path.x1[moves], path.y1[moves]
+    return _Segments.between(path.x0[moves], path.y0[moves], x1, y1).distance_from(None, x1, y1)
+
+
+def _chords_fit(path: _Path, first, length, tolerance: float, rise: float):
+    """Which groups (first move, number of moves) of ``path`` may become one chord, and for
+    those the most any of their vertices strays from it (0 for a group that cannot: broken,
+    or failing its screen). A group is first screened by its breaks and by the vertex in
+    its middle (a chord of a curve strays most there), then the groups that pass are judged
+    on all of their vertices: the same answers as judging all of every group."""
     last = first + length - 1
-    middle = first + (length - 1) // 2
-    chords = _Segments.of(starts[first], ends[last])
-    every = numpy.arange(len(first))
-    may_fit = (length > 1) & (breaks[last] == breaks[first])
-    may_fit &= chords.distance_from_points(every, ends[middle]) <= tolerance
-    may_fit &= (numpy.maximum(heights[1][first], heights[1][middle]) - numpy.minimum(heights[0][first], heights[0][middle]) <= rise)
     fits = length == 1
     strays = numpy.zeros(len(first))
-    single = numpy.flatnonzero(fits)
-    strays[single] = chords.distance_from_points(single, ends[first[single]])
+    strays[fits] = _single_strays(path, first[fits])
+    joined = numpy.flatnonzero(~fits & (path.breaks[last] == path.breaks[first]))
+    first, last, length = first[joined], last[joined], length[joined]
+    middle = first + (length - 1) // 2
+    chords = _Segments.between(path.x0[first], path.y0[first], path.x1[last], path.y1[last])
+    may_fit = chords.distance_from(None, path.x1[middle], path.y1[middle]) <= tolerance
+    may_fit &= numpy.maximum(path.high[first], path.high[middle]) - numpy.minimum(path.low[first], path.low[middle]) <= rise
     judged = numpy.flatnonzero(may_fit)
     if len(judged):
-        owner = numpy.repeat(judged, length[judged])
+        group = numpy.repeat(numpy.arange(len(judged)), length[judged])
+        owner = judged.take(group)
         index = _ramp(length[judged]) + first[owner]
         offsets = numpy.cumsum(length[judged]) - length[judged]
-        strays[judged] = numpy.maximum.reduceat(chords.distance_from_points(owner, ends[index]), offsets)
-        fits[judged] = (strays[judged] <= tolerance) & (
-            numpy.maximum.reduceat(heights[1][index], offsets) - numpy.minimum.reduceat(heights[0][index], offsets) <= rise)
+        stray = _reduce_groups(numpy.maximum, chords.distance_from(owner, path.x1[index], path.y1[index]), offsets, group)
+        strays[joined[judged]] = stray
+        fits[joined[judged]] = (stray <= tolerance) & (
+            _reduce_groups(numpy.maximum, path.high[index], offsets, group) - _reduce_groups(numpy.minimum, path.low[index], offsets, group) <= rise)
     return fits, strays
 
 
@@ -752,14 +887,16 @@ def arc_chords(starts, ends, centres, clockwise, planes, tolerance: float = 0.01
     owner = numpy.repeat(arcs, counts + 1)  # each arc's points, its end included
     fraction = (numpy.arange(len(owner)) - numpy.repeat(numpy.cumsum(counts + 1) - (counts + 1), counts + 1)) / counts[owner]
     angles = begin[owner] + numpy.where(clockwise[owner], -1.0, 1.0) * sweep[owner] * fraction
-    rows = numpy.arange(len(owner))
     points = numpy.empty((len(owner), 3))
-    points[rows, first[owner]] = centres[owner, 0] + radius[owner] * numpy.cos(angles)
-    points[rows, second[owner]] = centres[owner, 1] + radius[owner] * numpy.sin(angles)
-    points[rows, normal[owner]] = starts[owner, normal[owner]] + (ends[owner, normal[owner]] - starts[owner, normal[owner]]) * fraction
+    cells, row = points.reshape(-1), numpy.arange(0, 3 * len(owner), 3)  # each point's (x, y, z) in one flat array: an axis a point is a cell
+    cells[row + first[owner]] = centres[owner, 0] + radius[owner] * numpy.cos(angles)
+    cells[row + second[owner]] = centres[owner, 1] + radius[owner] * numpy.sin(angles)
+    normal_start = starts.reshape(-1)[3 * owner + normal[owner]]
+    cells[row + normal[owner]] = normal_start + (ends.reshape(-1)[3 * owner + normal[owner]] - normal_start) * fraction
     last = numpy.cumsum(counts + 1) - 1
     points[last] = ends
     sagitta = radius * (1 - numpy.cos(sweep / counts / 2))
     chord = numpy.ones(len(owner), bool)
     chord[last] = False  # a chord runs from each point but an arc's last to the next
-    return points[chord], points[numpy.flatnonzero(chord) + 1], sagitta[owner[chord]], owner[chord]
+    begins = numpy.flatnonzero(chord)
+    return points.take(begins, axis=0), points.take(begins + 1, axis=0), sagitta[owner[chord]], owner[chord]

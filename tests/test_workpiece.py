@@ -574,25 +574,39 @@ def test_the_cells_near_each_piece_are_those_every_cell_measured_finds_in_the_sa
         assert numpy.array_equal(got, wanted)
 
 
-def _every_vertex_fits(starts, ends, breaks, heights, first, length, tolerance, rise):
-    """Each group judged on all of its moves: joined end to start, every vertex within
-    ``tolerance`` of the chord, its heights within ``rise`` (``breaks`` is not looked at);
-    and the most its vertices stray."""
-    fits, strays = numpy.empty(len(first), bool), numpy.empty(len(first))
-    for k, (begin, count) in enumerate(zip(first.tolist(), length.tolist())):
+def _plain_merge(starts, ends, strays, tolerance, rise):
+    """The merge as its rule says, group by group: groups of 64 moves, each kept whole when
+    its moves join end to start, every vertex lies within ``tolerance`` of its chord and its
+    heights within ``rise``, else split in halves (the first the larger) and those judged."""
+    kept = []
+
+    def judge(begin, count):
         moves = numpy.arange(begin, begin + count)
         joined = (starts[moves[1:]] == ends[moves[:-1]]).all()
         stray = distance_to_segment(ends[moves, 0], ends[moves, 1], numpy.repeat(starts[begin:begin + 1, :2], count, axis=0),
-                                    numpy.repeat(ends[moves[-1]:moves[-1] + 1, :2], count, axis=0))
-        climb = heights[1][moves].max() - heights[0][moves].min()
-        fits[k] = count == 1 or (joined and stray.max() <= tolerance and climb <= rise)
-        strays[k] = stray.max()
-    return fits, strays
+                                    numpy.repeat(ends[moves[-1]:moves[-1] + 1, :2], count, axis=0)).max()
+        climb = numpy.maximum(starts[moves, 2], ends[moves, 2]).max() - numpy.minimum(starts[moves, 2], ends[moves, 2]).min()
+        if count == 1 or (joined and stray <= tolerance and climb <= rise):
+            kept.append((begin, count, stray))
+        else:
+            half = (count + 1) // 2
+            judge(begin, half)
+            judge(begin + half, count - half)
+
+    for begin in range(0, len(starts), 64):
+        judge(begin, min(64, len(starts) - begin))
+    first, length, stray = (numpy.array(column) for column in zip(*kept))
+    last = first + length - 1
+    groups = [numpy.arange(begin, end + 1) for begin, end in zip(first, last)]
+    z_low = numpy.array([numpy.minimum(starts[moves, 2], ends[moves, 2]).min() for moves in groups])
+    z_high = numpy.array([numpy.maximum(starts[moves, 2], ends[moves, 2]).max() for moves in groups])
+    return starts[first], ends[last], z_low, z_high, stray, numpy.array([strays[moves].max() for moves in groups])
 
 
 @st.composite
 def _paths(draw):
-    """Connected runs of short moves, bent, stepped in Z, now and then broken."""
+    """Connected runs of short moves, bent, stepped in Z, now and then broken or standing still,
+    or all apart."""
     count = draw(st.integers(1, 300))
     turn, step = draw(st.floats(0, 0.6)), draw(st.floats(0.01, 1.0))
     angles = numpy.cumsum(numpy.full(count, turn)) + draw(st.floats(0, 6.3))
@@ -603,20 +617,25 @@ def _paths(draw):
     for broken in draw(st.lists(st.integers(1, max(1, count - 1)), max_size=3)):
         if broken < count:
             starts[broken, 0] += 0.1
-    return starts, ends
+    if draw(st.integers(0, 4)) == 0:  # every move apart from the one before (lines buffered between arcs, a cycle's plunges)
+        starts[1:, 1] += 0.05
+    standing = draw(st.lists(st.integers(0, count - 1), max_size=8))  # moves of no length (a move split at the slab's faces leaves them)
+    return numpy.insert(starts, standing, starts[standing], axis=0), numpy.insert(ends, standing, starts[standing], axis=0)
 
 
-@settings(max_examples=100, deadline=None)
-@given(_paths(), st.sampled_from([0.125, 0.0125, 0.25]))
-def test_screened_chord_groups_merge_the_moves_as_judging_every_vertex_does(path, tolerance):
+@settings(max_examples=150, deadline=None)
+@given(_paths(), st.sampled_from([0.125, 0.0125, 0.25]), st.sampled_from([0, 100, 4096]))
+def test_the_merge_keeps_the_groups_that_judging_group_by_group_keeps(path, tolerance, at_once):
+    """Judged level by level (``at_once`` 0), every group at once, or the levels until the groups
+    left hold at most ``at_once`` moves and then all of those at once, with the groups screened
+    before they are judged whole: the same chords as judging each group on every vertex."""
     from ncverify import workpiece
 
     starts, ends = path
     strays = numpy.linspace(0.0, 0.01, len(starts))
-    merged = workpiece._merge_runs(starts, ends, strays, tolerance, 0.5)
-    with patch.object(workpiece, "_chords_fit", _every_vertex_fits):
-        plain = workpiece._merge_runs(starts, ends, strays, tolerance, 0.5)
-    for got, wanted in zip(merged, plain):
+    with patch.object(workpiece, "_TREE_AT_ONCE", at_once):
+        merged = workpiece._merge_runs(starts, ends, strays, tolerance, 0.5)
+    for got, wanted in zip(merged, _plain_merge(starts, ends, strays, tolerance, 0.5)):
         assert numpy.array_equal(got, wanted)
 
 
@@ -656,6 +675,60 @@ def test_the_sweep_leaves_the_field_that_every_cell_measured_against_every_piece
     for starts, ends, stray in batches:
         assert piece.cut(starts, ends, cutter, stray) == _sweep_every_cell(plain, starts, ends, cutter, stray)
         assert numpy.array_equal(piece.upper, plain.upper) and numpy.array_equal(piece.lower, plain.lower)
+
+
+_HEIGHT = st.one_of(st.floats(-12, 3), st.sampled_from([0.5, -10.5, 0.0, -10.0, 1e6, -1e6]))  # the slab's faces among them
+
+
+@settings(max_examples=100, deadline=None)
+@given(st.lists(st.tuples(_COORDINATE, _COORDINATE, _HEIGHT, _COORDINATE, _COORDINATE, _HEIGHT), min_size=1, max_size=6))
+def test_moves_leaving_the_slab_are_cut_at_its_faces_as_the_plain_formula_cuts_them(moves):
+    """Rapids and plunges into and through the blank, ramps out of it, far away in XY: each
+    move is cut into three at the slab's faces (some of no length) where any move of the
+    batch leaves the slab, every point ``start + t * (end - start)`` with its Z kept on
+    the slab, exactly as that formula gives it move by move."""
+    piece = Workpiece(BLANK, 0.5)
+    rows = numpy.array(moves)
+    starts, ends, strays = rows[:, :3], rows[:, 3:], numpy.linspace(0.0, 0.1, len(rows))
+    with numpy.errstate(all="ignore"):
+        got = piece._within_slab(starts, ends, Cutter(1.0), strays)
+        low, high = piece.bottom - 0.0 - piece.resolution, piece.top + piece.resolution
+        if min(starts[:, 2].min(), ends[:, 2].min()) >= low and max(starts[:, 2].max(), ends[:, 2].max()) <= high:
+            wanted = starts, ends, strays
+        else:
+            pieces = []
+            for start, end in zip(starts, ends):
+                rise = end[2] - start[2]
+                faces = [(level - start[2]) / rise if rise != 0.0 else 0.0 for level in (low, high)]
+                points = [start + t * (end - start) for t in numpy.sort(numpy.clip([0.0, *faces, 1.0], 0.0, 1.0))]
+                for point in points:
+                    point[2] = min(max(point[2], low), high)
+                pieces.extend(zip(points[:-1], points[1:]))
+            wanted = numpy.array([a for a, _ in pieces]), numpy.array([b for _, b in pieces]), numpy.repeat(strays, 3)
+    for got_part, wanted_part in zip(got, wanted):
+        assert numpy.array_equal(got_part, wanted_part, equal_nan=True)
+
+
+@settings(max_examples=40, deadline=None)
+@given(_SWEPT, st.lists(_ARC, min_size=1, max_size=6), st.floats(-3, 1))
+def test_arcs_and_helices_swept_as_chords_leave_the_field_every_cell_measured_leaves(cutter, arcs, depth):
+    """Arcs of every plane, full circles and helices (some starting above the blank, some
+    reaching below it), their chords swept at once with each chord's sagitta as its stray:
+    the same field and air as measuring every cell against every chord."""
+    from ncverify import workpiece
+
+    piece, plain = Workpiece(BLANK, 0.5), Workpiece(BLANK, 0.5)
+    centre = numpy.array([20.0, 15.0, depth])
+    starts, ends = numpy.tile(centre, (len(arcs), 1)), numpy.tile(centre, (len(arcs), 1))
+    for k, (radius, begin, finish, _, rise, (first, second, normal)) in enumerate(arcs):
+        starts[k, [first, second]] += [radius * math.cos(begin), radius * math.sin(begin)]
+        ends[k, [first, second]] += [radius * math.cos(finish), radius * math.sin(finish)]
+        ends[k, normal] += rise
+    planes = [arc[5] for arc in arcs]
+    chords = workpiece.arc_chords(starts, ends, [centre[list(plane[:2])] for plane in planes], [arc[3] for arc in arcs], planes, tolerance=0.0625)
+    with patch.object(workpiece, "_CHUNK_CELLS", 1 << 40), numpy.errstate(all="ignore"):  # one step, as the plain sweep judges the air
+        assert piece.cut(chords[0], chords[1], cutter, chords[2]) == _sweep_every_cell(plain, chords[0], chords[1], cutter, chords[2])
+    assert numpy.array_equal(piece.upper, plain.upper) and numpy.array_equal(piece.lower, plain.lower)
 
 
 @pytest.mark.parametrize("top", [0.0, -0.0, 5.0])
