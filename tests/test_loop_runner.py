@@ -12,6 +12,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from ncverify import Settings, check_text
+from ncverify.check import Checker
 from ncverify.interpret import loop_runner
 from ncverify.report import render_json
 
@@ -19,8 +20,40 @@ _STOCK = ["(ncverify: stock box X-40:40 Y-40:40 Z-10:0)", "(ncverify: tool 1 rad
 
 
 def _report(program: str, path: str, **options) -> tuple:
-    result = check_text(program, path, Settings(**options))
-    return render_json([result], []), result.blocks, result.paths
+    """The JSON report, the counts of blocks and paths, and every move, run, change and
+    fault the checker was handed, with the state it saw each in."""
+    events = []
+
+    def value(value):  # a symbolic value by its bounds: printing its term costs more than the check
+        return repr(value) if type(value) is float or value is None else (type(value).__name__, getattr(value, "low", None), getattr(value, "high", None))
+
+    def values(table: dict) -> list:
+        return sorted((name, value(held)) for name, held in table.items())
+
+    def seen(state) -> tuple:
+        return (values(state.position), state.modal.get("motion"), value(state.feed), values(state.local_variables),
+                values(state.global_variables), sorted((key[1:], count) for key, count in state.jump_counts.items()),
+                [(loop.loop_id, loop.iterations) for loop in state.loops])
+
+    def recording(name, record):
+        original = getattr(Checker, name)
+
+        def handler(checker, *arguments):
+            events.append((name, record(*arguments)))
+            return original(checker, *arguments)
+
+        return mock.patch.object(Checker, name, handler)
+
+    def run_record(run, state):
+        spans = [run.span(index) for index in range(len(run))]
+        return run.points.tobytes(), run.kinds.tobytes(), run.feeds.tobytes(), run.written.tobytes(), spans, seen(state)
+
+    with (recording("segment", lambda segment, state: (values(segment.start), values(segment.end), segment.kind, segment.span, seen(state))),
+          recording("motion_run", run_record),
+          recording("change", lambda change, state: (change.what, change.span, value(change.old), value(change.new), seen(state))),
+          recording("fault", lambda fault: (fault.rule, fault.span, fault.message, fault.status))):
+        result = check_text(program, path, Settings(**options))
+    return render_json([result], []), result.blocks, result.paths, events
 
 
 def _assert_same(program: str, path: str, **options) -> None:
