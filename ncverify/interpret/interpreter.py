@@ -210,7 +210,7 @@ class Interpreter(ControlFlow):
         self._run_observer = observer  # where the gathered moves go
         self._inert_between_moves = getattr(runtime, "INERT_BETWEEN_MOVES", {})  # dialect operation -> when it leaves the moves gathered
         if hasattr(observer, "motion_run") and not settings.per_block_only:
-            self.observer = GatheringObserver(observer, self._hand_on_gathered)
+            self.observer = GatheringObserver(observer, self._hand_on_gathered, self._gathered)
 
     # ------------------------------------------------------------------ running
 
@@ -258,9 +258,9 @@ class Interpreter(ControlFlow):
             lines = self._remembered_lines(source, position.offset) if cache else self._read_lines(source, position.offset)
             for line in lines:
                 line_number, offset, next_offset, raw, plain, blocks = line
-                if plain_streak >= _BATCH_AFTER and plain and self._batch_allowed():
-                    plain_streak = 0
-                    run = self.frontend.plain_run(source.buffer, offset, line_number)
+                if plain_streak >= _BATCH_AFTER and plain:
+                    plain_streak = 0  # not allowed here (a hole cycle's positions): asked again after as many plain lines, not at the next
+                    run = self.frontend.plain_run(source.buffer, offset, line_number) if self._batch_allowed() else None
                     end = None if run is None else self._execute_batch(run, source, path)
                     if end is not None:
                         streak_end = end
@@ -1362,22 +1362,25 @@ class GatheringObserver:
     (:meth:`Interpreter._gather`): every event first hands the gathered moves on
     (``hand_on``), so the observer sees them in the order they happened."""
 
-    def __init__(self, observer, hand_on):
+    def __init__(self, observer, hand_on, gathered: list):
         self.inner = observer
         self._hand_on = hand_on
+        self._gathered = gathered  # the moves hand_on hands on (mostly none: then no call is made)
 
     def segment(self, segment, state) -> None:
-        self._hand_on()
+        if self._gathered:
+            self._hand_on()
         self.inner.segment(segment, state)
 
     def __getattr__(self, name):
         attribute = getattr(self.inner, name)
         if not callable(attribute):
             return attribute
-        hand_on = self._hand_on
+        hand_on, gathered = self._hand_on, self._gathered
 
         def after_gathered(*arguments, **keywords):
-            hand_on()
+            if gathered:
+                hand_on()
             return attribute(*arguments, **keywords)
 
         setattr(self, name, after_gathered)  # made once per kind of event
