@@ -51,12 +51,13 @@ def _separated(stock, start: dict, end: dict, tool=None) -> bool:
     straight move, or a dog-leg within their box, cannot enter it."""
     box = geometry.stock_box(stock) or (None, None, stock.z_range)
     radius, length = tool or (0.0, 0.0)
-    margins = ((radius, radius), (radius, radius), (math.inf if length is None else length, 0.0))
-    for axis, limits, (below, above) in zip("XYZ", box, margins):
-        if limits is None:
-            continue
+    below_bottom = math.inf if length is None else length
+    for axis, limits, below, above in (("X", box[0], radius, radius), ("Y", box[1], radius, radius), ("Z", box[2], below_bottom, 0.0)):
         a, b = start.get(axis), end.get(axis)
-        if type(a) is float and type(b) is float and (min(a, b) >= limits[1] + above or max(a, b) <= limits[0] - below):
+        if limits is None or type(a) is not float or type(b) is not float:
+            continue
+        low, high = b if b < a else a, b if b > a else a  # min(a, b) and max(a, b) without the calls (asked on every rapid)
+        if low >= limits[1] + above or high <= limits[0] - below:
             return True
     return False
 
