@@ -1118,7 +1118,11 @@ class Interpreter(ControlFlow):
     def _keeps_moves_gathered(self, op, kind) -> bool:
         """May ``op`` run while moves are gathered? Moves decide for themselves (:meth:`_gather`);
         assignments, jumps and loop bookkeeping change no state a rule reads, except an
-        assignment to the active cutting edge; a dialect's operation when its runtime says so."""
+        assignment to the active cutting edge; a feed word changes only the feed, which each
+        gathered move keeps as its own (a move at a feed that is not a number is not
+        gathered); a dialect's operation when its runtime says so."""
+        if kind is ir.SetFeed:
+            return True
         if kind in _BETWEEN_GATHERED:
             return kind is not ir.Assign or op.target.name != ir.ACTIVE_EDGE
         inert = self._inert_between_moves.get(kind)
@@ -1128,7 +1132,8 @@ class Interpreter(ControlFlow):
         """Hand the gathered moves (:meth:`_gather`) to the observer: as one MotionRun, with
         the state as a batch has it (at the run's start, in the motion mode before it), or,
         when they are too few to make a run pay, one by one, with the state as the block path
-        has it at each; then put back the state as it is now."""
+        has it at each (its feed too: feed words keep moves gathered); then put back the state
+        as it is now."""
         gathered = self._gathered
         if not gathered:
             return
@@ -1136,18 +1141,18 @@ class Interpreter(ControlFlow):
         gathered.clear()
         self._gathered_plane = None
         state = self.state
-        now = state.position, state.modal.get("motion")
+        now = state.position, state.modal.get("motion"), state.feed
         try:
             if len(moves) < _SHORTEST_RUN:
-                for segment, _feed, _written, motion in moves:
-                    state.position, state.modal["motion"] = segment.end, motion
+                for segment, feed, _written, motion in moves:
+                    state.position, state.modal["motion"], state.feed = segment.end, motion, _as_value(feed)
                     self._run_observer.segment(segment, state)
             else:
                 run = _gathered_run(moves, state)
-                state.position, state.modal["motion"] = moves[0][0].start, self._gathered_from
+                state.position, state.modal["motion"], state.feed = moves[0][0].start, self._gathered_from, _as_value(moves[0][1])
                 self._run_observer.motion_run(run, state)
         finally:
-            state.position, state.modal["motion"] = now
+            state.position, state.modal["motion"], state.feed = now
 
     def _emit(self, kind: str, start: dict, span, block, role: str = "programmed", cycle: str | None = None, arc: Arc | None = None,
               written=None) -> None:
