@@ -324,3 +324,41 @@ def test_sinumerik_cam_arcs_by_centre_and_by_cr_run_inside_batches():
     # a bare R is a parameter, never a radius: the line ends the batch and the block path reads it
     with_parameter = program.replace("G2 X40. Y34. CR=6.", "G2 X40. Y34. R6.", 1)
     _assert_same_sinumerik_findings(with_parameter)
+
+
+# ------------------------------------------------------------------ a CAM post's shapes around batches
+
+_HOLE_XY = st.tuples(st.floats(-10, 50, allow_nan=False), st.floats(-10, 50, allow_nan=False)).map(lambda xy: f"X{xy[0]:.3f} Y{xy[1]:.3f}")
+_CYCLE_WORDS = st.tuples(
+    st.sampled_from(["G81", "G82", "G83", "G73", "G85", "G86", "G89"]),
+    st.sampled_from(["Z-5.", "Z2.", "Z-1.5"]),
+    st.sampled_from(["R1.", "R-1.", "R5.", ""]),  # below the top of the stock, above it, none
+    st.sampled_from(["", "Q1.", "Q-1.", "Q0."]),
+    st.sampled_from(["", "P100", "P0.5"]),
+    st.sampled_from(["", "K2", "K0"]),
+    st.sampled_from(["F150.", ""]),
+).map(lambda words: " ".join(word for word in words if word))
+# A hole pattern as posts write it: the cycle with the first position, the other positions
+# alone on their lines (more than a batch's eight plain lines), absolute or incremental.
+_HOLES = st.tuples(
+    st.sampled_from(["G98", "G99"]), st.sampled_from(["G90", "G91"]), _CYCLE_WORDS, st.lists(_HOLE_XY, min_size=0, max_size=40),
+    st.sampled_from(["G80", "G80 G0 Z15.", "G0 X0. Y0.", ""]),
+).map(lambda parts: [f"{parts[0]} {parts[1]} {parts[2]} {parts[3][0] if parts[3] else ''}".strip(), *parts[3][1:], parts[4], "G90"])
+_CONTOUR = st.tuples(st.sampled_from(["G41 D1", "G42 D1", "G41 D2"]), _STREAK, st.sampled_from(["G40 G1 X-10. Y20.", "G40"])).map(
+    lambda parts: [f"{parts[0]} G1 X0. Y20. F800.", *parts[1], parts[2]])
+_POST_LINES = st.sampled_from(["T1 M6", "T2 M6", "S8000 M3", "S3000", "M5", "G43 H1", "G43 H2", "M8", "M9", "F300.", "(PROFILE)",
+                               "G0 Z15.", "G0 Z5.", "G1 Z-1. F300.", "G0 X-10. Y20.", "G98", "G99"])
+_POST_BODY = st.lists(st.one_of(_HOLES, _CONTOUR, st.lists(_POST_LINES, min_size=1, max_size=4)), min_size=3, max_size=10).map(
+    lambda parts: [line for part in parts for line in part])
+_POST_TOOLS = ["(ncverify: tool 1 radius 3 length 50 type endmill)", "(ncverify: tool 2 radius 1.5 length 40 type drill)"]
+
+
+@settings(max_examples=80, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(body=_POST_BODY, tools=st.booleans())
+def test_hole_patterns_contours_and_tool_changes_give_the_same_findings_batched_or_block_by_block(body, tools):
+    """A CAM post's program: hole cycles (R, Z, Q, P and K words, G98/G99, incremental
+    positions) whose position lines are plain but never a batch, compensated contours
+    that are, tool changes, spindle, feed and comment lines between them."""
+    head = ["(ncverify: stock box X-20:60 Y-20:60 Z-20:0)", *(_POST_TOOLS if tools else []), "G21 G90 G94 G17 G40 G49 G80 G54", "T1 M6", "S8000 M3", "G0 X-10. Y20. Z15."]
+    program = "\n".join(["O1000", *head, *body, "G0 Z50.", "M30"]) + "\n"
+    _assert_same_findings(program)

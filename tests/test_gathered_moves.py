@@ -176,6 +176,16 @@ def test_a_move_to_a_free_parameter_is_handed_on_alone():
     assert sum(_runs_handed_on(program.replace("Y#500", "Y1."), "t.nc")) > 50
 
 
+def test_feed_words_keep_the_moves_gathered():
+    """A feed word between the moves, or on each move's line, changes only the feed, which
+    every gathered move carries: the loop's moves still reach the rules as runs, and what
+    they find is what the moves one by one find (a feed of zero among them)."""
+    program = "\n".join(["O1000", "G21 G90 G17 G54", "T1 M06", "G43 H01 Z50.", "S1000 M03", "G0 X0 Y0", "G1 Z-1. F300.", "#1 = 0",
+                         "WHILE [#1 LT 50] DO1", "G1 X#1 Y1. F[200 + #1]", "F0", "G1 Y2.", "F500.", "#1 = #1 + 1", "END1", "M30"]) + "\n"
+    assert sum(_runs_handed_on(program, "t.nc")) >= 100
+    _assert_same(program, "t.nc")
+
+
 def test_klartext_positioning_lines_keep_the_moves_gathered():
     """A Klartext line's positioning step changes nothing a rule reads while no cycle waits
     on it: the lines' moves reach the rules together."""

@@ -51,12 +51,13 @@ def _separated(stock, start: dict, end: dict, tool=None) -> bool:
     straight move, or a dog-leg within their box, cannot enter it."""
     box = geometry.stock_box(stock) or (None, None, stock.z_range)
     radius, length = tool or (0.0, 0.0)
-    margins = ((radius, radius), (radius, radius), (math.inf if length is None else length, 0.0))
-    for axis, limits, (below, above) in zip("XYZ", box, margins):
-        if limits is None:
-            continue
+    below_bottom = math.inf if length is None else length
+    for axis, limits, below, above in (("X", box[0], radius, radius), ("Y", box[1], radius, radius), ("Z", box[2], below_bottom, 0.0)):
         a, b = start.get(axis), end.get(axis)
-        if type(a) is float and type(b) is float and (min(a, b) >= limits[1] + above or max(a, b) <= limits[0] - below):
+        if limits is None or type(a) is not float or type(b) is not float:
+            continue
+        low, high = b if b < a else a, b if b > a else a  # min(a, b) and max(a, b) without the calls (asked on every rapid)
+        if low >= limits[1] + above or high <= limits[0] - below:
             return True
     return False
 
@@ -72,12 +73,12 @@ def _cylinder_tool(rule_instance, stock, state):
     polygon, the tool table gives the radius and the tool stands along +Z of the
     workpiece; None otherwise (the tool is then only its axis, and no proof is given from
     that)."""
-    if stock.kind == "cylinder" or tool_axis_problem(state) is not None:
-        return None
     tool = rule_instance.checker.context.tools.in_spindle(state)
+    if tool is None or stock.kind == "cylinder" or tool_axis_problem(state) is not None:
+        return None  # no tool known first: the cheapest answer, asked on every rapid
     delta = radius_delta(state)
     edge = active_edge(state)
-    if tool is not None and edge != 1.0:
+    if edge != 1.0:
         tool = tool.edges.get(int(edge)) if type(edge) is float else None
     if tool is None or tool.radius is None or type(delta) is not float:
         return None
@@ -367,7 +368,9 @@ class ClearanceBelowStock(_NeedsStock):
             verdict = self.checker.judge(both(over_stock, inside), state)
             if axis == "Z" and hole.up > 0:
                 verdict = self._against_cuts(verdict, hole.position, level, state)
-            if verdict is not None and verdict.status is Status.VIOLATED:
+            if verdict is None:
+                continue  # plainly clear: nothing to word (every hole of a pattern is judged)
+            if verdict.status is Status.VIOLATED:
                 state.rule_state[key] = True
             self.checker.report_verdict(self.rule_id, span, f"{code}: the {name} {axis}{show(level)} is {where}: "
                                         f"the cycle rapids into the material there", verdict, state)

@@ -193,18 +193,16 @@ class CycleRunner(Runtime):
 
     def make_hole(self, cycle, span, block, targets: dict, repeat: float = 1.0) -> None:
         interp = self._interp
-        state = self.state
+        state = interp.state
         model = cycle.model
-        axis = self.drill_axis(model)
+        axis = model.drill_axis or state.plane_axes[2]  # drill_axis()
         data = state.cycle_data
         incremental = state.modal.get("distance") == "incremental"
         initial = cycle.initial
         r_point, bottom, *beyond = self._levels(model, axis, data, initial, incremental)
         reference, entry = (*beyond, None, None)[:2]
-        required = [letter for letter, spec in model.params.items() if spec.required]
-        missing = tuple(letter for letter in required if letter not in data and not _has_twin(letter, data, interp.twins))
-        if model.r_incremental:
-            missing = tuple(letter for letter in missing if letter != "R")
+        missing = tuple(letter for letter, spec in model.params.items()
+                        if spec.required and letter not in data and not _has_twin(letter, data, interp.twins) and not (model.r_incremental and letter == "R"))
         hole_position = dict(state.position)
         hole_position.update(targets)
         hole = Hole(cycle.cycle, model, span, block, axis, hole_position, initial, r_point, bottom, dict(data), dict(cycle.param_spans), missing, cycle.definition, repeat, cycle.up)

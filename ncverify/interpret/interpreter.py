@@ -210,7 +210,7 @@ class Interpreter(ControlFlow):
         self._run_observer = observer  # where the gathered moves go
         self._inert_between_moves = getattr(runtime, "INERT_BETWEEN_MOVES", {})  # dialect operation -> when it leaves the moves gathered
         if hasattr(observer, "motion_run") and not settings.per_block_only:
-            self.observer = GatheringObserver(observer, self._hand_on_gathered)
+            self.observer = GatheringObserver(observer, self._hand_on_gathered, self._gathered)
         self._loop_runners = None
         if settings.loop_runner and not settings.per_block_only:
             self._loop_runners = loop_runner.LoopRunners(self, gathering=GatheringObserver, most_gathered=_GATHERED_MOVES, batch_after=_BATCH_AFTER,
@@ -265,9 +265,9 @@ class Interpreter(ControlFlow):
             lines = self._remembered_lines(source, position.offset) if cache else self._read_lines(source, position.offset)
             for line in lines:
                 line_number, offset, next_offset, raw, plain, blocks = line
-                if plain_streak >= _BATCH_AFTER and plain and self._batch_allowed():
-                    plain_streak = 0
-                    run = self.frontend.plain_run(source.buffer, offset, line_number)
+                if plain_streak >= _BATCH_AFTER and plain:
+                    plain_streak = 0  # not allowed here (a hole cycle's positions): asked again after as many plain lines, not at the next
+                    run = self.frontend.plain_run(source.buffer, offset, line_number) if self._batch_allowed() else None
                     end = None if run is None else self._execute_batch(run, source, path)
                     if end is not None:
                         streak_end = end
@@ -1125,7 +1125,11 @@ class Interpreter(ControlFlow):
     def _keeps_moves_gathered(self, op, kind) -> bool:
         """May ``op`` run while moves are gathered? Moves decide for themselves (:meth:`_gather`);
         assignments, jumps and loop bookkeeping change no state a rule reads, except an
-        assignment to the active cutting edge; a dialect's operation when its runtime says so."""
+        assignment to the active cutting edge; a feed word changes only the feed, which each
+        gathered move keeps as its own (a move at a feed that is not a number is not
+        gathered); a dialect's operation when its runtime says so."""
+        if kind is ir.SetFeed:
+            return True
         if kind in _BETWEEN_GATHERED:
             return kind is not ir.Assign or op.target.name != ir.ACTIVE_EDGE
         inert = self._inert_between_moves.get(kind)
@@ -1135,7 +1139,8 @@ class Interpreter(ControlFlow):
         """Hand the gathered moves (:meth:`_gather`) to the observer: as one MotionRun, with
         the state as a batch has it (at the run's start, in the motion mode before it), or,
         when they are too few to make a run pay, one by one, with the state as the block path
-        has it at each; then put back the state as it is now."""
+        has it at each (its feed too: feed words keep moves gathered); then put back the state
+        as it is now."""
         gathered = self._gathered
         if not gathered:
             return
@@ -1143,18 +1148,18 @@ class Interpreter(ControlFlow):
         gathered.clear()
         self._gathered_plane = None
         state = self.state
-        now = state.position, state.modal.get("motion")
+        now = state.position, state.modal.get("motion"), state.feed
         try:
             if len(moves) < _SHORTEST_RUN:
-                for segment, _feed, _written, motion in moves:
-                    state.position, state.modal["motion"] = segment.end, motion
+                for segment, feed, _written, motion in moves:
+                    state.position, state.modal["motion"], state.feed = segment.end, motion, _as_value(feed)
                     self._run_observer.segment(segment, state)
             else:
                 run = _gathered_run(moves, state)
-                state.position, state.modal["motion"] = moves[0][0].start, self._gathered_from
+                state.position, state.modal["motion"], state.feed = moves[0][0].start, self._gathered_from, _as_value(moves[0][1])
                 self._run_observer.motion_run(run, state)
         finally:
-            state.position, state.modal["motion"] = now
+            state.position, state.modal["motion"], state.feed = now
 
     def _emit(self, kind: str, start: dict, span, block, role: str = "programmed", cycle: str | None = None, arc: Arc | None = None,
               written=None) -> None:
@@ -1369,22 +1374,25 @@ class GatheringObserver:
     (:meth:`Interpreter._gather`): every event first hands the gathered moves on
     (``hand_on``), so the observer sees them in the order they happened."""
 
-    def __init__(self, observer, hand_on):
+    def __init__(self, observer, hand_on, gathered: list):
         self.inner = observer
         self._hand_on = hand_on
+        self._gathered = gathered  # the moves hand_on hands on (mostly none: then no call is made)
 
     def segment(self, segment, state) -> None:
-        self._hand_on()
+        if self._gathered:
+            self._hand_on()
         self.inner.segment(segment, state)
 
     def __getattr__(self, name):
         attribute = getattr(self.inner, name)
         if not callable(attribute):
             return attribute
-        hand_on = self._hand_on
+        hand_on, gathered = self._hand_on, self._gathered
 
         def after_gathered(*arguments, **keywords):
-            hand_on()
+            if gathered:
+                hand_on()
             return attribute(*arguments, **keywords)
 
         setattr(self, name, after_gathered)  # made once per kind of event
