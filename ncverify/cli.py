@@ -15,21 +15,27 @@ import re
 import sys
 from pathlib import Path
 
-from . import __version__, rule_registry
-from .api import FileResult, InputError, check_source, iter_program_files, project_for
-from .check import RuleFileError, rule_definitions
-from .rule_pages import explain_text
-from .project import ConfigError
-from .diagnostics import Severity, Status
-from .dialect import DIALECTS, MACHINES
-from .batch import FileOutcome, default_jobs, local_dispatch, run_batch
-from .cluster import ClusterError
-from .progress import BatchProgress
-from .report import render_json, render_text, summary
-from .sarif import render_gitlab, render_sarif
-from .settings import Settings
-from .source import ProgramSource
-from .watchdog import Budget, is_not_checked, memory_cap, run_within_budget
+# Before numpy loads: OpenBLAS starts a thread per core that spins idle for a while at load
+# time, which cost about as much CPU time as the whole import of numpy. The checks make no
+# matrix products large enough to gain from threads (and each file is one process's work).
+# A value the user set is kept.
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+
+from . import __version__, rule_registry  # noqa: E402
+from .api import FileResult, InputError, check_source, iter_program_files, project_for  # noqa: E402
+from .check import RuleFileError, rule_definitions  # noqa: E402
+from .rule_pages import explain_text  # noqa: E402
+from .project import ConfigError  # noqa: E402
+from .diagnostics import Severity, Status  # noqa: E402
+from .dialect import DIALECTS, MACHINES  # noqa: E402
+from .batch import FileOutcome, default_jobs, local_dispatch, run_batch  # noqa: E402
+from .cluster import ClusterError  # noqa: E402
+from .progress import BatchProgress  # noqa: E402
+from .report import render_json, render_text, summary  # noqa: E402
+from .sarif import render_gitlab, render_sarif  # noqa: E402
+from .settings import Settings  # noqa: E402
+from .source import ProgramSource  # noqa: E402
+from .watchdog import Budget, is_not_checked, memory_cap, run_within_budget  # noqa: E402
 
 EXIT_OK, EXIT_FINDINGS, EXIT_USAGE = 0, 1, 2
 
