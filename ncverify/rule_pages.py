@@ -14,7 +14,7 @@ from functools import cache
 from pathlib import Path
 
 from .diagnostics import CATEGORIES, Severity
-from .resources import data_dir
+from .resources import data_dir, parse_table
 
 
 @dataclass(frozen=True)
@@ -66,7 +66,7 @@ def parse_rule_file(path: Path) -> RuleDefinition:
         raise RuleFileError(f"{path}: a rule file starts with a +++ TOML front matter block")
     try:
         _, front, page = text.split("+++", 2)
-        meta = tomllib.loads(front)
+        meta = parse_table(front)
     except (ValueError, tomllib.TOMLDecodeError) as error:
         raise RuleFileError(f"{path}: {error}") from error
     expected = f"{path.parent.name}.{path.stem}"
