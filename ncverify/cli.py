@@ -32,7 +32,6 @@ from .batch import FileOutcome, default_jobs, local_dispatch, run_batch  # noqa:
 from .cluster import ClusterError  # noqa: E402
 from .progress import BatchProgress  # noqa: E402
 from .report import render_json, render_text, summary  # noqa: E402
-from .sarif import render_gitlab, render_sarif  # noqa: E402
 from .settings import Settings  # noqa: E402
 from .source import ProgramSource  # noqa: E402
 from .watchdog import Budget, is_not_checked, memory_cap, run_within_budget  # noqa: E402
@@ -376,8 +375,12 @@ def _write(arguments, results, errors, texts) -> None:
     if arguments.format == "json":
         rendered = render_json(results, errors)
     elif arguments.format == "sarif":
+        from .sarif import render_sarif
+
         rendered = render_sarif(results, errors, include_proved=arguments.sarif_proved, category=arguments.sarif_category)
     elif arguments.format == "gitlab":
+        from .sarif import render_gitlab
+
         rendered = render_gitlab(results)
     else:
         rendered = render_text(results, errors, texts, show_proved=arguments.show_proved)

@@ -16,7 +16,6 @@ import json
 import os
 import sys
 import tempfile
-import tomllib
 from functools import cache
 from pathlib import Path
 
@@ -57,6 +56,8 @@ def parse_table(text: str) -> dict:
     entry = parsed_tables_folder() / f"{key}.json"
     table = _cached_table(entry, key)
     if table is None:
+        import tomllib  # here: with every table in the cache the parser is not loaded
+
         table = tomllib.loads(text)
         _store_table(entry, key, table)
     return table
