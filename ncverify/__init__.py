@@ -12,6 +12,10 @@ The pipeline is one module per stage: :mod:`ncverify.read` (text to blocks, per 
 """
 __version__ = "0.1.0"
 
+from . import classcode as _classcode  # noqa: E402
+
+_classcode.install()  # before any module of the package defines its dataclasses
+
 __all__ = ["FileResult", "InputError", "Settings", "check_file", "check_text", "__version__"]
 
 _API = {"FileResult": "api", "InputError": "api", "check_file": "api", "check_text": "api", "Settings": "settings"}
