@@ -16,6 +16,7 @@ import functools
 import hashlib
 import json
 import os
+import tempfile
 from pathlib import Path
 
 from . import __version__
@@ -77,8 +78,6 @@ class ResultCache:
     def store(self, key: str, result: FileResult, log: ReadLog) -> None:
         entry = {"key": key, "files": {}, "lookups": log.lookups, "folders": log.folders, "explicit": log.explicit,
                  "result": result_to_dict(result)}
-        import tempfile  # here: a run that stores nothing does not load it (and shutil)
-
         try:
             entry["files"] = {path: _file_hash(Path(path)) for path in sorted(log.files)}
             target = self._path(key)

@@ -19,6 +19,7 @@ import hashlib
 import marshal
 import os
 import sys
+import tempfile
 from pathlib import Path
 from types import CodeType
 
@@ -86,8 +87,6 @@ def _write() -> None:
     """The modules whose classes this process made are stored with just those classes'
     code (every class of a module is made when it is imported), so the entries of a
     class since edited do not pile up; other modules' entries are kept as read."""
-    import tempfile  # here: loading it (and shutil) costs more than most runs' writing
-
     try:
         target = _file()
         target.parent.mkdir(parents=True, exist_ok=True)

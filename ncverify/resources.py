@@ -15,6 +15,7 @@ import hashlib
 import json
 import os
 import sys
+import tempfile
 from functools import cache
 from pathlib import Path
 
@@ -76,8 +77,6 @@ def _store_table(entry: Path, key: str, table: dict) -> None:
     """Written to a temporary file and renamed into place, so that a reader (another
     process) sees a whole entry or none. A table JSON cannot hold exactly (a TOML date) is
     not kept."""
-    import tempfile  # here: loading it (and shutil) costs more than most runs' writing
-
     try:
         text = json.dumps({"key": key, "table": table}, ensure_ascii=False)
         entry.parent.mkdir(parents=True, exist_ok=True)
