@@ -8,11 +8,13 @@ past its time or memory budget): never 1, so a crash does not read as findings.
 from __future__ import annotations
 
 import argparse
+import atexit
 import json
 import math
 import os
 import re
 import sys
+import threading
 from pathlib import Path
 
 # Before numpy loads: OpenBLAS starts a thread per core that spins idle for a while at load
@@ -158,6 +160,25 @@ def _stock_resolution(text: str) -> float | None:
     if not 0.0 <= value < float("inf"):
         raise argparse.ArgumentTypeError("must be 0 or 'off' (the blank), a cell size in mm, or 'auto'")
     return value
+
+
+def run() -> None:
+    """The ``ncverify`` command: :func:`main`, then the process ends without tearing the
+    interpreter down. Freeing every module and object one by one took about 35 ms of CPU
+    time, a seventh of checking a small file, and shows nowhere outside the process. The
+    output is flushed and the exit handlers run first (as the usual exit runs them: the
+    worker processes' clean-up, the class-code cache); an error, a thread still running
+    or output that cannot be flushed takes the usual exit."""
+    code = main()
+    try:
+        sys.stdout.flush()
+        sys.stderr.flush()
+    except OSError:
+        sys.exit(code)
+    if threading.active_count() > 1:
+        sys.exit(code)
+    atexit._run_exitfuncs()
+    os._exit(code)
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -497,4 +518,4 @@ def _list_rules(where: bool = False) -> int:
 
 
 if __name__ == "__main__":
-    raise SystemExit(main())
+    run()

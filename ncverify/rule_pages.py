@@ -114,7 +114,8 @@ class RuleBook(Mapping):
         """The definitions with parameter constraints, in id order (found once: the pages
         are the package's). Only pages that name a constraint at all are parsed."""
         if self._constrained is None:
-            candidates = (rule_id for rule_id, path in self._paths.items() if "constraint" in path.read_text(encoding="utf-8"))
+            # bytes: a third of the time of decoding each page, and UTF-8 holds an ASCII word only as itself
+            candidates = (rule_id for rule_id, path in self._paths.items() if b"constraint" in path.read_bytes())
             self._constrained = [definition for definition in map(self.__getitem__, candidates) if definition.constraints]
         return self._constrained
 

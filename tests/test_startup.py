@@ -116,3 +116,25 @@ def test_annotation_markers_are_found_by_their_tails_as_by_each_variant(text):
 
     buffer = text.encode()
     assert _markers(buffer) == find_all(buffer, _MARKERS)
+
+
+def _command(tmp_path, *arguments: str) -> subprocess.CompletedProcess:
+    env = dict(os.environ, XDG_CACHE_HOME=str(tmp_path / "cache"))
+    return subprocess.run([sys.executable, "-m", "ncverify.cli", *arguments], capture_output=True, text=True, timeout=300, cwd=tmp_path, env=env)
+
+
+def test_the_command_ends_with_its_output_exit_code_and_exit_handlers(tmp_path, capsys):
+    """The command leaves without tearing the interpreter down: its report, exit code and
+    the exit handlers' work (the class-code cache written) are those of the usual exit."""
+    from ncverify.cli import main
+
+    program = tmp_path / "part.nc"
+    program.write_text(PLAIN.replace("F200.", ""))  # a feed move without a feed: exit code 1
+    done = _command(tmp_path, "check", "--format", "json", "--no-cache", str(program))
+    assert main(["check", "--format", "json", "--no-cache", str(program)]) == done.returncode == 1
+    assert done.stdout == capsys.readouterr().out
+    assert list((tmp_path / "cache" / "ncverify" / "classes").glob("*.marshal"))
+    report = tmp_path / "report.json"
+    done = _command(tmp_path, "check", "--format", "json", "--no-cache", "--output", str(report), str(program))
+    assert done.returncode == 1 and json.loads(report.read_text(encoding="utf-8"))["files"][0]["path"] == str(program)
+    assert _command(tmp_path, "check", str(tmp_path / "missing.nc")).returncode == 2
