@@ -1,6 +1,6 @@
 """What a check imports: Z3 only when a program has free parameters to reason about, lark
 only when a block is more than plain words, rich only when a batch of several files may
-show its progress bar; and no idle BLAS threads. Each check runs in a fresh interpreter,
+show its progress bar; never numpy's masked arrays; and no idle BLAS threads. Each check runs in a fresh interpreter,
 since the test process has imported everything already."""
 from __future__ import annotations
 
@@ -37,7 +37,7 @@ _RUN = textwrap.dedent("""
     report = io.StringIO()
     with contextlib.redirect_stdout(report):
         code = main(["check", "--format", "json", "--no-cache", sys.argv[1]])
-    print(json.dumps({"code": code, "report": json.loads(report.getvalue()), "imported": sorted(m for m in ("z3", "rich", "lark") if m in sys.modules),
+    print(json.dumps({"code": code, "report": json.loads(report.getvalue()), "imported": sorted(m for m in ("z3", "rich", "lark", "numpy.ma") if m in sys.modules),
                       "threads": len(os.listdir("/proc/self/task")) if os.path.isdir("/proc/self/task") else None,
                       "blas_threads": os.environ.get("OPENBLAS_NUM_THREADS")}))
 """)
@@ -57,7 +57,7 @@ def _statuses(outcome: dict, rule: str) -> set[str]:
     return {finding["status"] for finding in program["diagnostics"] if finding["rule"] == rule}
 
 
-def test_a_plain_iso_program_is_checked_without_importing_z3_lark_or_rich(tmp_path):
+def test_a_plain_iso_program_is_checked_without_importing_z3_lark_rich_or_masked_arrays(tmp_path):
     outcome = _check_in_a_fresh_process(tmp_path, PLAIN)
     assert outcome["imported"] == []
     assert outcome["code"] == 0
