@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import argparse
 import atexit
+import gc
 import json
 import math
 import os
@@ -17,11 +18,15 @@ import sys
 import threading
 from pathlib import Path
 
-# Before numpy loads: OpenBLAS starts a thread per core that spins idle for a while at load
-# time, which cost about as much CPU time as the whole import of numpy. The checks make no
-# matrix products large enough to gain from threads (and each file is one process's work).
-# A value the user set is kept.
+# Set before the checker's modules load. OpenBLAS starts a thread per core when numpy loads,
+# each spinning idle for a while: as much CPU time as the import itself, and the checks make
+# no matrix product large enough to gain from threads (a value the user set is kept). The
+# cycle collector would scan the objects of some 300 modules again and again while they load
+# and in every full collection after, though they live as long as the process: it pauses
+# while they load, and they are then frozen (left out of later collections).
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+_COLLECTING = gc.isenabled()
+gc.disable()
 
 from . import __version__, rule_registry  # noqa: E402
 from .api import FileResult, InputError, check_source, iter_program_files, project_for  # noqa: E402
@@ -37,6 +42,10 @@ from .report import render_json, render_text, summary  # noqa: E402
 from .settings import Settings  # noqa: E402
 from .source import ProgramSource  # noqa: E402
 from .watchdog import Budget, is_not_checked, memory_cap, run_within_budget  # noqa: E402
+
+gc.freeze()
+if _COLLECTING:
+    gc.enable()
 
 EXIT_OK, EXIT_FINDINGS, EXIT_USAGE = 0, 1, 2
 

@@ -74,6 +74,16 @@ def test_the_command_line_starts_no_idle_blas_threads(tmp_path):
         assert outcome["threads"] == 1
 
 
+def test_the_command_line_modules_are_frozen_and_the_collector_left_as_it_was():
+    """The cycle collector pauses while the checker's modules load and they are frozen,
+    out of later collections; a collector the process had turned off stays off."""
+    script = ("import gc, sys; gc.disable() if sys.argv[1] == 'off' else None; import ncverify.cli; "
+              "print(gc.isenabled(), gc.get_freeze_count() > 10000)")
+    for state, expected in (("on", ["True", "True"]), ("off", ["False", "True"])):
+        done = subprocess.run([sys.executable, "-c", script, state], capture_output=True, text=True, timeout=300, check=True)
+        assert done.stdout.split() == expected
+
+
 def test_a_thread_count_the_user_set_is_kept(tmp_path):
     assert _check_in_a_fresh_process(tmp_path, PLAIN, OPENBLAS_NUM_THREADS="2")["blas_threads"] == "2"
 
