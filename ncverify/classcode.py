@@ -10,7 +10,8 @@ keeps modules), and runs exactly as ``exec`` would run the text (same file name,
 inherited ``__future__`` flags). Only the methods of classes in ncverify's own modules are
 kept; any other class is compiled as before. A missing, unreadable or broken file, or an
 entry of any other type, is compiled anew; after a process compiled anything, the file is
-written at exit, through a temporary file renamed into place.
+written at exit, through a temporary file renamed into place (unless Python was asked not
+to write bytecode, ``-B``).
 """
 from __future__ import annotations
 
@@ -55,7 +56,7 @@ def _code(module: str, source: str) -> CodeType:
     code = _stored.get(module, {}).get(key)
     if code is None:
         code = compile(source, "<string>", "exec", dont_inherit=True)
-        if not _missed:
+        if not _missed and not sys.dont_write_bytecode:  # -B / PYTHONDONTWRITEBYTECODE: read, as .pyc files are, never write
             import atexit
 
             _missed = True

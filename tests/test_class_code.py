@@ -53,8 +53,9 @@ _RUN = textwrap.dedent("""
 """)
 
 
-def _run(tmp_path, mode: str = "cached") -> dict:
-    env = dict(os.environ, XDG_CACHE_HOME=str(tmp_path / "cache"), PYTHONHASHSEED="0")  # the same set orders in every run
+def _run(tmp_path, mode: str = "cached", **environment: str) -> dict:
+    env = {name: value for name, value in os.environ.items() if name != "PYTHONDONTWRITEBYTECODE"}
+    env |= {"XDG_CACHE_HOME": str(tmp_path / "cache"), "PYTHONHASHSEED": "0"} | environment  # the same set orders in every run
     done = subprocess.run([sys.executable, "-c", _RUN, mode], capture_output=True, text=True, timeout=300, cwd=tmp_path, env=env)
     assert done.returncode == 0, done.stderr
     return json.loads(done.stdout)
@@ -97,3 +98,10 @@ def test_entries_of_code_no_class_uses_any_more_are_dropped(tmp_path):
     path.write_bytes(marshal.dumps(stored))
     assert _run(tmp_path)["compiled"] == 1
     assert set(marshal.loads(path.read_bytes())["ncverify.ir"]) == set(used)
+
+
+def test_asked_not_to_write_bytecode_it_reads_the_cache_and_never_writes_it(tmp_path):
+    cold = _run(tmp_path, PYTHONDONTWRITEBYTECODE="1")
+    assert cold["compiled"] > 300 and not (tmp_path / "cache" / "ncverify" / "classes").exists()
+    _run(tmp_path)
+    assert _run(tmp_path, PYTHONDONTWRITEBYTECODE="1")["compiled"] == 0

@@ -129,7 +129,7 @@ def test_annotation_markers_are_found_by_their_tails_as_by_each_variant(text):
 
 
 def _command(tmp_path, *arguments: str) -> subprocess.CompletedProcess:
-    env = dict(os.environ, XDG_CACHE_HOME=str(tmp_path / "cache"))
+    env = {name: value for name, value in os.environ.items() if name != "PYTHONDONTWRITEBYTECODE"} | {"XDG_CACHE_HOME": str(tmp_path / "cache")}
     return subprocess.run([sys.executable, "-m", "ncverify.cli", *arguments], capture_output=True, text=True, timeout=300, cwd=tmp_path, env=env)
 
 
