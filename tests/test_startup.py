@@ -1,7 +1,8 @@
 """What a check imports: Z3 only when a program has free parameters to reason about, lark
 only when a block is more than plain words, rich only when a batch of several files may
-show its progress bar; never numpy's masked arrays; and no idle BLAS threads. Each check runs in a fresh interpreter,
-since the test process has imported everything already."""
+show its progress bar, the SARIF writer only for SARIF; never numpy's masked arrays; and
+no idle BLAS threads. Each check runs in a fresh interpreter, since the test process has
+imported everything already."""
 from __future__ import annotations
 
 import json
@@ -37,7 +38,7 @@ _RUN = textwrap.dedent("""
     report = io.StringIO()
     with contextlib.redirect_stdout(report):
         code = main(["check", "--format", "json", "--no-cache", sys.argv[1]])
-    print(json.dumps({"code": code, "report": json.loads(report.getvalue()), "imported": sorted(m for m in ("z3", "rich", "lark", "numpy.ma") if m in sys.modules),
+    print(json.dumps({"code": code, "report": json.loads(report.getvalue()), "imported": sorted(m for m in ("z3", "rich", "lark", "numpy.ma", "ncverify.sarif") if m in sys.modules),
                       "threads": len(os.listdir("/proc/self/task")) if os.path.isdir("/proc/self/task") else None,
                       "blas_threads": os.environ.get("OPENBLAS_NUM_THREADS")}))
 """)
