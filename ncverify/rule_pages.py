@@ -18,6 +18,8 @@ from .resources import data_dir, parse_table
 
 @dataclass(frozen=True)
 class Constraint:
+    """A condition on a cycle's parameters as written, from a rule page."""
+
     cycles: tuple[str, ...]
     when: str
     message: str
@@ -31,6 +33,8 @@ class Constraint:
 
 @dataclass(frozen=True)
 class RuleDefinition:
+    """A rule as its page in ``rules/`` defines it."""
+
     id: str
     category: str
     severity: Severity
