@@ -36,6 +36,8 @@ _NAME = re.compile(r"[a-z][a-z0-9-]*(?:\.[a-z0-9-]+)?$")
 
 @dataclass
 class Annotations:
+    """What a program's ``ncverify:`` comments say."""
+
     context: Context = field(default_factory=Context)
     suppressions: dict[int, set[str]] = field(default_factory=dict)  # line -> rule ids / categories
     notes: list[ir.Note] = field(default_factory=list)  # malformed annotations

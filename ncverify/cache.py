@@ -25,7 +25,7 @@ from .dependencies import ReadLog
 from .diagnostics import Diagnostic, Severity, Status, Suppressed
 from .library import SubprogramLibrary
 from .project import find_project_file
-from .resources import data_dir
+from .resources import data_dir, user_cache_folder
 from .settings import Settings
 from .source import Span
 
@@ -34,9 +34,7 @@ _NOT_KEYED = {"cache_dir"}  # where results are kept does not change them
 
 
 def default_folder() -> Path:
-    import platformdirs
-
-    return Path(platformdirs.user_cache_dir("ncverify", appauthor=False))
+    return user_cache_folder()
 
 
 def folder_for(program: Path, settings: Settings) -> Path:

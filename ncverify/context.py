@@ -128,6 +128,8 @@ def _ordered(pair) -> tuple[float, float]:
 
 @dataclass
 class Tool:
+    """A tool as the project file or an annotation describes it."""
+
     number: int | None
     name: str | None = None
     type: str | None = None
@@ -216,6 +218,8 @@ class ToolTable(Mapping[int, Tool]):
 
 @dataclass
 class Machine:
+    """What the project file says of the machine."""
+
     kind: str | None = None  # mill / lathe
     travel: dict[str, tuple[float, float]] = field(default_factory=dict)  # machine coordinates
     work_offsets: dict[str, tuple[float, ...]] = field(default_factory=dict)  # "G54" -> (x, y, z)
@@ -262,6 +266,8 @@ class Assumption:
 
 @dataclass
 class Context:
+    """What a check may assume beyond the program: the project file and the annotations."""
+
     stock: Stock | None = None
     tools: dict[int, Tool] = field(default_factory=dict)
     machine: Machine = field(default_factory=Machine)

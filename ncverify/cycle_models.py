@@ -9,11 +9,10 @@ Code reads a model's facts as attributes; a cycle the tables do not have is
 """
 from __future__ import annotations
 
-import tomllib
 from dataclasses import dataclass, field, fields
 from functools import cache
 
-from .resources import data_dir
+from .resources import data_dir, read_table
 
 
 @dataclass(frozen=True)
@@ -116,8 +115,7 @@ def read_cycle_table(dialect: str) -> dict[str, dict]:
     against :class:`CycleModel` and its parameters against :class:`ParameterSpec` (for a
     dialect that overlays one table on another before typing them)."""
     path = data_dir("dialects") / dialect / "cycles.toml"
-    with path.open("rb") as handle:
-        models = tomllib.load(handle)["cycle"]
+    models = read_table(path)["cycle"]
     for cycle, model in models.items():
         check_cycle_model(f"dialects/{dialect}/cycles.toml", cycle, model)
     return models

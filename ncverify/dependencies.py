@@ -15,6 +15,8 @@ from pathlib import Path
 
 @dataclass
 class ReadLog:
+    """What one check read besides the program (see the module)."""
+
     files: set[str] = field(default_factory=set)  # absolute paths read
     lookups: dict[str, list[str]] = field(default_factory=dict)  # subprogram name -> the absolute paths of the files holding it
     folders: list[str] = field(default_factory=list)  # the subprogram search folders used, in order

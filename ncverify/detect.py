@@ -150,6 +150,8 @@ _MILL = [
 
 @dataclass(frozen=True)
 class Detection:
+    """The dialect a text is read as, how sure that is, and why."""
+
     dialect: str | None  # None: not a CNC program
     confidence: float
     reason: str = ""

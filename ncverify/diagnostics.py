@@ -50,6 +50,8 @@ CATEGORIES = frozenset(
 
 @dataclass(slots=True)
 class Diagnostic:
+    """A finding: a rule's verdict at a place, with its message."""
+
     rule: str
     category: str
     severity: Severity
@@ -88,6 +90,8 @@ class Diagnostic:
 
 @dataclass(slots=True)
 class Suppressed:
+    """A finding an ``ignore`` annotation left out of the report."""
+
     rule: str
     line: int
     by: str

@@ -54,12 +54,11 @@ interpreter as ``DialectSetup.runtime``. The lowering never imports it. Its opti
 from __future__ import annotations
 
 import importlib
-import tomllib
 from dataclasses import dataclass, field
 from functools import cache
 
 from .context import Context
-from .resources import data_dir
+from .resources import data_dir, read_table
 
 
 @dataclass(frozen=True)
@@ -85,8 +84,7 @@ class DialectInfo:
 
 @cache  # the command line asks for them each time it builds its parser
 def _profile_names(dialect: str, table: str) -> tuple[str, ...]:
-    with (data_dir("dialects") / dialect / table).open("rb") as handle:
-        return tuple(sorted(tomllib.load(handle)))
+    return tuple(sorted(read_table(data_dir("dialects") / dialect / table)))
 
 
 DIALECTS: dict[str, DialectInfo] = {info.id: info for info in (

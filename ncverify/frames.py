@@ -35,6 +35,8 @@ _IDENTITY_ROWS = ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0))
 
 @dataclass(frozen=True, slots=True)
 class Frame:
+    """A coordinate transformation: ``linear`` rows, then ``offset``."""
+
     linear: tuple = _IDENTITY_ROWS
     offset: tuple = (0.0, 0.0, 0.0)
 

@@ -122,12 +122,16 @@ ACTIVE_EDGE = "$P_TOOL"
 
 @dataclass(frozen=True, slots=True)
 class Unary:
+    """A sign applied to an operand."""
+
     op: str  # "-" or "+"
     operand: "Expr"
 
 
 @dataclass(frozen=True, slots=True)
 class Binary:
+    """An arithmetic, logical or comparison operation on two operands."""
+
     op: str  # + - * / MOD AND OR XOR EQ NE GT GE LT LE
     left: "Expr"
     right: "Expr"
@@ -135,6 +139,8 @@ class Binary:
 
 @dataclass(frozen=True, slots=True)
 class Func:
+    """A function of the dialect applied to its arguments."""
+
     name: str  # SIN COS TAN ASIN ACOS ATAN ATAN2 SQRT ABS ROUND FIX FUP LN EXP ...
     args: tuple["Expr", ...]
     span: Span | None = None
@@ -169,17 +175,23 @@ Expr = Union[float, str, Var, Unary, Binary, Func, IncrementCount, MachineValue]
 
 @dataclass(slots=True)
 class Op:
+    """An operation a block commands; ``span`` is where its words are written."""
+
     span: Span
 
 
 @dataclass(slots=True)
 class SetModal(Op):
+    """A modal group takes a new value."""
+
     group: str  # plane, units, distance, feed_mode, path_mode, cycle_return, spindle_mode, arc_distance
     value: str
 
 
 @dataclass(slots=True)
 class Move(Op):
+    """Motion to ``targets`` (see the table above for ``kind``, ``arc`` and ``words``)."""
+
     kind: str | None  # rapid, linear, arc_cw, arc_ccw, thread; None = modal motion
     targets: dict[str, Expr]
     arc: dict[str, Expr] | None = None  # I/J/K centre offsets or {"R": radius}
@@ -201,12 +213,16 @@ class Move(Op):
 
 @dataclass(slots=True)
 class Dwell(Op):
+    """A pause, in seconds or in spindle revolutions."""
+
     seconds: Expr | None
     revolutions: Expr | None = None
 
 
 @dataclass(slots=True)
 class CutterComp(Op):
+    """Tool radius compensation to one side, automatic or off."""
+
     side: str  # left, right, auto, off
     register: Expr | None = None
     only_if_changed: bool = False  # writing the side already in force does nothing (Klartext R0/RL/RR)
@@ -214,17 +230,23 @@ class CutterComp(Op):
 
 @dataclass(slots=True)
 class LengthOffset(Op):
+    """Tool length compensation on (plus or minus) or off."""
+
     mode: str  # plus, minus, off; with_tool: the tool's own length (SINUMERIK: its active edge's), no H register and no Z move (Fagor, SINUMERIK D)
     register: Expr | None = None
 
 
 @dataclass(slots=True)
 class WorkOffset(Op):
+    """A work coordinate system is selected."""
+
     name: str  # "G54", "G54.1 P3", "G55" ...
 
 
 @dataclass(slots=True)
 class CoordinateShift(Op):
+    """A shift of the coordinate system, made without motion."""
+
     kind: str  # set_position (G92), local (G52), data (G10)
     values: dict[str, Expr]
     words: dict[str, Expr] = field(default_factory=dict)
@@ -232,6 +254,8 @@ class CoordinateShift(Op):
 
 @dataclass(slots=True)
 class SetFrame(Op):
+    """A programmable coordinate transformation (see the table above)."""
+
     component: str  # translation, rotation, scale, mirror, reset, unknown, swivel, swivel_off
     additive: bool = False
     values: dict[str, Expr] = field(default_factory=dict)
@@ -241,6 +265,8 @@ class SetFrame(Op):
 
 @dataclass(slots=True)
 class ReferenceReturn(Op):
+    """A return to a machine reference point, through ``via``."""
+
     which: str  # "home" (G28), "secondary" (G30), "from_reference" (G29), "check" (G27)
     via: dict[str, Expr]
     words: dict[str, Expr] = field(default_factory=dict)
@@ -249,50 +275,66 @@ class ReferenceReturn(Op):
 
 @dataclass(slots=True)
 class MachineMove(Op):
+    """A move in machine coordinates, for this block only."""
+
     targets: dict[str, Expr]
     zero_is_reference: bool = True  # machine zero is the reference point (ISO G53, SINUMERIK G53/SUPA), not HEIDENHAIN M91/M92
 
 
 @dataclass(slots=True)
 class Home(Op):
+    """Axes go to the machine reference point with no intermediate point."""
+
     axes: tuple[str, ...] = ()  # empty: every axis
 
 
 @dataclass(slots=True)
 class SetFeed(Op):
+    """A feed rate word."""
+
     value: Expr
 
 
 @dataclass(slots=True)
 class SetSpindleSpeed(Op):
+    """A spindle speed word, or a limit on the speed (``clamp``)."""
+
     value: Expr
     clamp: bool = False
 
 
 @dataclass(slots=True)
 class Spindle(Op):
+    """The spindle starts, stops or orients."""
+
     state: str  # cw, ccw, off, orient
     apart: bool = False  # the change is reported without the block's moves (Klartext: M3/M4 act before them, M5 after)
 
 
 @dataclass(slots=True)
 class Coolant(Op):
+    """Coolant on in one of its forms, or off."""
+
     state: str  # flood, mist, through, off
 
 
 @dataclass(slots=True)
 class ToolSelect(Op):
+    """A tool number is selected; it goes into the spindle at the next tool change."""
+
     number: Expr
     offset: Expr | None = None  # lathe Tttoo: the offset register selected with the tool
 
 
 @dataclass(slots=True)
 class ToolChange(Op):
-    pass
+    """The selected tool goes into the spindle."""
 
 
 @dataclass(slots=True)
 class CycleDefine(Op):
+    """A modal canned cycle becomes active with its parameters."""
+
     cycle: str  # a cycle model id, e.g. "iso.G81"
     params: dict[str, Expr]
     param_spans: dict[str, Span] = field(default_factory=dict)
@@ -301,11 +343,15 @@ class CycleDefine(Op):
 
 @dataclass(slots=True)
 class CycleCancel(Op):
+    """The modal canned cycle ends."""
+
     plane_change_to: str | None = None  # Fagor G17-G19: the cycle ends only if this plane is a new one
 
 
 @dataclass(slots=True)
 class CycleCall(Op):
+    """A cycle that runs once, now, with its parameters."""
+
     cycle: str
     params: dict[str, Expr]
     param_spans: dict[str, Span] = field(default_factory=dict)
@@ -313,12 +359,16 @@ class CycleCall(Op):
 
 @dataclass(slots=True)
 class Assign(Op):
+    """A variable is given a value."""
+
     target: Var
     value: Expr
 
 
 @dataclass(slots=True)
 class Jump(Op):
+    """The program goes on at a label or sequence number, if ``condition`` holds."""
+
     target: Expr  # a sequence number / label
     condition: Expr | None = None
     direction: str | None = None  # forward / backward / nearest: search only that way (SINUMERIK GOTOF/GOTOB/GOTO)
@@ -327,23 +377,31 @@ class Jump(Op):
 
 @dataclass(slots=True)
 class LoopStart(Op):
+    """The head of a loop: its body runs while ``condition`` holds."""
+
     loop_id: int
     condition: Expr
 
 
 @dataclass(slots=True)
 class LoopEnd(Op):
+    """The end of a loop's body: back to the head of the same ``loop_id``."""
+
     loop_id: int
 
 
 @dataclass(slots=True)
 class Conditional(Op):
+    """Operations that run only when ``condition`` holds."""
+
     condition: Expr
     then: list[Op]
 
 
 @dataclass(slots=True)
 class Call(Op):
+    """A call of a subprogram or macro, repeated ``repeat`` times, with its arguments."""
+
     kind: str  # subprogram (M98), local (M97: by sequence number), macro (G65)
     program: Expr
     repeat: Expr = 1.0
@@ -366,7 +424,7 @@ class ModalCallOn(Op):
 
 @dataclass(slots=True)
 class ModalCallOff(Op):
-    pass
+    """The modal call ends."""
 
 
 @dataclass(slots=True)
@@ -389,18 +447,24 @@ class NoteInsideModalCall(Op):
 
 @dataclass(slots=True)
 class Return(Op):
+    """The end of a subprogram: back to the caller (or to a label of it)."""
+
     to_label: Expr | None = None
     local_only: bool = False  # ends a call by label (Klartext LBL 0); outside one it does nothing
 
 
 @dataclass(slots=True)
 class Stop(Op):
+    """A program stop, an optional stop or the program's end."""
+
     kind: str  # stop (M00), optional (M01), end (M02/M30)
     resets: tuple = ()  # the states a program end puts back, where the control does that ("cycle", "cutter_comp")
 
 
 @dataclass(slots=True)
 class Alarm(Op):
+    """The program raises an alarm on purpose."""
+
     number: Expr
     message: str
     statement: str = "macro alarm #3000={number}"  # how the program raised it, for messages
@@ -408,69 +472,91 @@ class Alarm(Op):
 
 @dataclass(slots=True)
 class ProgramEnd(Op):
-    pass
+    """The end of a program file: the main program ends, a called one returns."""
 
 
 @dataclass(slots=True)
 class LabelCall(Op):
+    """A call of a label: repeats a section before it, else runs it as a subprogram."""
+
     label: Expr
     repeat: Expr = 0.0  # the section runs this many more times
 
 
 @dataclass(slots=True)
 class ToolLength(Op):
+    """The control applies the tool's length by itself (a Klartext tool call)."""
+
     on: bool
     tool: Expr | None = None
 
 
 @dataclass(slots=True)
 class ToolFeed(Op):
+    """The feed a tool call gives (what FAUTO reads)."""
+
     feed: Expr
 
 
 @dataclass(slots=True)
 class ToolDelta(Op):
+    """The oversize a tool call adds to the tool table's radius."""
+
     radius: Expr
 
 
 @dataclass(slots=True)
 class Approach(Op):
-    pass
+    """A contour approach or departure; its move follows as an operation of its own."""
 
 
 @dataclass(slots=True)
 class Pole(Op):
+    """The pole of polar coordinates and of arcs about it."""
+
     words: dict[str, Expr]  # "X" / "IX": absolute / incremental; none: the pole is where the tool is
 
 
 @dataclass(slots=True)
 class PoleArc(Op):
+    """An arc about the pole to an end point."""
+
     words: dict[str, Expr]  # end point words, and DR: +1 counterclockwise, -1 clockwise, 0 not written
 
 
 @dataclass(slots=True)
 class TangentArc(Op):
+    """An arc tangent to the element before it."""
+
     words: dict[str, Expr]
 
 
 @dataclass(slots=True)
 class PolarMove(Op):
+    """A move to a point given by radius and angle about the pole."""
+
     kind: str  # rapid, linear, arc
     words: dict[str, Expr]  # PR / IPR radius, PA / IPA angle, DR, tool-axis words
 
 
 @dataclass(slots=True)
 class Lift(Op):
+    """A rapid along the tool axis alone."""
+
     words: dict[str, Expr]
 
 
 @dataclass(slots=True)
 class Retract(Op):
+    """A retraction along the tool axis by an amount, or to the travel limit."""
+
     amount: Expr  # a length, or "MAX" / "FMAX": to the travel limit
 
 
 @dataclass(slots=True)
 class MFunction(Op):
+    """An M function that changes nothing the machine model holds but that rules watch."""
+
     number: float
 
 
@@ -588,6 +674,8 @@ class Deferred(Op):
 
 @dataclass(slots=True)
 class Unsupported(Op):
+    """A construct that reads fine but is not modelled: checks that depend on it answer ``unknown``."""
+
     what: str
     affects: tuple[str, ...] = ()  # state the construct may change: "position", "offsets"...
 

@@ -43,6 +43,8 @@ _CHORD_SLACK = 1.0 / math.cos(_ARC_STEP / 2.0) - 1.0
 
 @dataclass(frozen=True)
 class Fit:
+    """Whether a tool fits a pocket, and why not when it does not."""
+
     fits: bool
     largest_radius: float  # the largest tool radius that fits (0 when none does)
     unreached: list[tuple[float, float]] = field(default_factory=list)  # corners the tool cannot reach

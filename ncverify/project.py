@@ -6,7 +6,6 @@ from __future__ import annotations
 import ast
 import math
 import re
-import tomllib
 from pathlib import Path
 
 from .context import TOOL_KEYS, TOOL_RANGES, Assumption, canonical_tool_type, Context, Machine, Stock, Tool, tool_value_problem
@@ -55,6 +54,8 @@ def load_project(path: Path) -> Context:
 
 def load_project_text(text: str, path: Path) -> Context:
     """A project file's text (``path`` names it in errors and anchors relative folders)."""
+    import tomllib  # here: a check without a project file does not load the parser
+
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as error:

@@ -8,6 +8,8 @@ from pathlib import Path
 
 @dataclass(frozen=True)
 class Settings:
+    """How a check runs: the command line's options and the project file's settings."""
+
     dialect: str | None = None  # None: detect from the text
     profile: str | None = None  # ISO profile; None: detect, else mitsubishi-e60
     machine: str | None = None  # "mill" / "lathe"; None: detect, else mill

@@ -2,12 +2,11 @@
 from __future__ import annotations
 
 import math
-import tomllib
 from dataclasses import dataclass
 from functools import cache
 
 from .cycle_models import load_cycle_table
-from .resources import data_dir
+from .resources import data_dir, read_table
 
 
 @dataclass(frozen=True)
@@ -39,8 +38,7 @@ def code_key(number: float) -> str:
 
 
 def _load(family: str, name: str) -> dict:
-    with (data_dir("dialects") / family / name).open("rb") as handle:
-        return tomllib.load(handle)
+    return read_table(data_dir("dialects") / family / name)
 
 
 @cache

@@ -29,6 +29,8 @@ class DomainError(ArithmeticError):
 
 @dataclass(frozen=True, slots=True)
 class Sym:
+    """A symbolic value: a solver term and the interval it is known to lie in."""
+
     term: z3.ArithRef
     low: float = -INF
     high: float = INF

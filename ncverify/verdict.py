@@ -23,6 +23,8 @@ from .values import Condition, Sym
 
 @dataclass(frozen=True)
 class Verdict:
+    """Whether a hazard occurs, with a witness when it does."""
+
     status: Status
     witness: dict[str, float] = field(default_factory=dict)
     reason: str | None = None

@@ -29,6 +29,8 @@ INTERNAL_ERROR = "internal error"
 
 @dataclass(frozen=True)
 class Budget:
+    """The time and memory one file's analysis may take."""
+
     seconds: float = Settings.file_timeout_s  # wall clock per file
     memory_bytes: int = Settings.file_memory_bytes  # data memory of the process while it checks the file
 

@@ -7,10 +7,9 @@ message when the dialect has none.
 """
 from __future__ import annotations
 
-import tomllib
 from functools import cache
 
-from .resources import data_dir
+from .resources import data_dir, parse_table
 
 
 @cache
@@ -18,7 +17,7 @@ def wording(dialect: str, profile: str | None = None) -> dict[str, str]:
     path = data_dir("dialects") / dialect / "wording.toml"
     if not path.is_file():
         return {}
-    table = tomllib.loads(path.read_text(encoding="utf-8"))
+    table = parse_table(path.read_text(encoding="utf-8"))
     words = {key: value for key, value in table.items() if isinstance(value, str)}
     words.update(table.get("profile", {}).get(profile or "", {}))
     return words

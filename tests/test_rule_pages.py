@@ -44,5 +44,12 @@ def test_page_has_every_section(definition):
         assert definition.section(title), f"{definition.id}: missing section '{title}'"
 
 
+@pytest.mark.parametrize("definition", [d for d in DEFINITIONS if d.constraints], ids=lambda d: d.id)
+def test_every_constraint_condition_parses(definition):
+    """Conditions are parsed when a check first evaluates them; every one must parse."""
+    for constraint in definition.constraints:
+        assert constraint.tree.body is not None
+
+
 def test_every_page_has_an_implementation_and_every_implementation_a_page():
     assert set(implementations()) == set(rule_definitions())

@@ -22,7 +22,6 @@ from __future__ import annotations
 
 import math
 import re
-import tomllib
 from functools import cache
 
 from .. import ir
@@ -31,7 +30,7 @@ from ..cycle_models import read_cycle_table, typed_cycle_table
 from ..dialect import DialectSetup
 from ..read.iso import ReadBlock, Statement, Word
 from ..read.linuxcnc import POLAR, OWord, read_line
-from ..resources import data_dir
+from ..resources import data_dir, read_table
 from ..source import Span, decode_line, line_start
 from ..tables import CodeTable
 from ..values import VACANT
@@ -53,12 +52,10 @@ _ARC_TOLERANCE = ArcTolerance(metric=0.0283, inch=0.00283, relative=0.001)
 def linuxcnc_table(machine: str = "mill") -> CodeTable:
     """LinuxCNC's codes; the cycles are the ISO family's hole models with LinuxCNC's levels."""
     folder = data_dir("dialects")
-    with (folder / "linuxcnc" / "mill.toml").open("rb") as handle:
-        mill = tomllib.load(handle)
+    mill = read_table(folder / "linuxcnc" / "mill.toml")
     g, m, words, power_on = dict(mill["g"]), dict(mill["m"]), dict(mill["words"]), dict(mill["power_on"])
     if machine == "lathe":
-        with (folder / "linuxcnc" / "lathe.toml").open("rb") as handle:
-            lathe = tomllib.load(handle)
+        lathe = read_table(folder / "linuxcnc" / "lathe.toml")
         g.update(lathe.get("g", {}))
         words.update(lathe.get("words", {}))
         power_on.update(lathe.get("power_on", {}))

@@ -25,7 +25,6 @@ from __future__ import annotations
 
 import math
 import re
-import tomllib
 from dataclasses import replace
 from functools import cache
 
@@ -37,7 +36,7 @@ from ..cycle_models import CycleModel, load_cycle_table
 from ..dialect import DialectSetup
 from ..read.iso_runs import read_plain_run_at
 from ..read.sinumerik import PATH_COMMANDS, Item, ReadBlock, read_line
-from ..resources import data_dir
+from ..resources import data_dir, read_table
 from ..source import Span, decode_line
 from . import modal_call
 from .iso import FastMotionForm, fast_motion_block
@@ -103,9 +102,7 @@ class StructureMark:
 @cache
 def tables() -> dict:
     folder = data_dir("dialects") / "sinumerik"
-    with (folder / "codes.toml").open("rb") as handle:
-        codes = tomllib.load(handle)
-    return {"codes": codes, "cycles": load_cycle_table("sinumerik")}
+    return {"codes": read_table(folder / "codes.toml"), "cycles": load_cycle_table("sinumerik")}
 
 
 def _code_key(value: float) -> str:

@@ -3,11 +3,10 @@ cycle parameters (hover), and the names of positional cycle arguments (inlay hin
 from __future__ import annotations
 
 import re
-import tomllib
 from dataclasses import dataclass
 from functools import cache
 
-from ..resources import data_dir
+from ..resources import data_dir, read_table
 from ..tables import code_key, iso_table
 
 _UNITS = {"length": "mm (inch under inch input)", "feed": "mm/min", "time": "s", "angle": "degrees", "count": "a count", "code": "a code"}
@@ -18,8 +17,7 @@ _SINUMERIK_MEANINGS = {"move": "motion", "modal": "modal setting", "comp": "radi
 
 @cache
 def _table(family: str, name: str) -> dict:
-    with (data_dir("dialects") / family / name).open("rb") as handle:
-        return tomllib.load(handle)
+    return read_table(data_dir("dialects") / family / name)
 
 
 @dataclass(frozen=True)
