@@ -343,6 +343,8 @@ def call(name: str, args: list[Value]) -> Value:
             return float(implementation(argument))
         except OverflowError as error:
             raise DomainError(f"{name} of {argument:g} overflows") from error
+        except ValueError as error:  # an infinite or NaN argument (SIN, FIX, ...)
+            raise DomainError(f"{name} of {argument:g} has no value") from error
     if name == "SQRT":
         _check(argument.high >= 0, f"SQRT of a negative number (at most {argument.high:g})")
     if name == "LN":

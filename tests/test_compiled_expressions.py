@@ -204,6 +204,16 @@ def test_the_fast_path_stops_where_the_general_one_does():
     assert "division by zero" in messages[0] and "overflows" in messages[1] and "SQRT of a negative number (-4)" in messages[3]
 
 
+def test_a_function_of_an_infinite_or_nan_number_is_a_domain_fault_on_both_paths():
+    """SIN of infinity and FIX of NaN have no value: a finding at the block, not a crash."""
+    machine, recorder = interpreter({"#100": math.inf, "#101": math.nan})
+    for expr in (ir.Func("SIN", (ir.Var("#100"),)), ir.Func("FIX", (ir.Var("#101"),))):
+        assert outcome(machine.evaluate_tree, expr, recorder)[0] == "path ends"
+        assert outcome(lambda e, span: compile_expression(machine, e)(span), expr, recorder)[0] == "path ends"
+    assert [entry[1] for entry in recorder.reported] == ["core.arithmetic-domain"] * 4
+    assert "SIN of inf has no value" in recorder.reported[0][3]
+
+
 def test_text_in_a_logical_operation_or_ordered_against_vacant_is_not_followed():
     """Either way the outcome is unknown (a condition on a fresh value), never a crash."""
     machine, recorder = interpreter({"#100": "TEXT"})

@@ -124,7 +124,7 @@ def _one_argument(interpreter, expr: ir.Func, argument, on_number):
             return general(expr, [convert(value, written, span)], span)
         try:
             return float(on_number(value))
-        except ArithmeticError:  # values.DomainError, OverflowError
+        except (ArithmeticError, ValueError):  # values.DomainError, OverflowError; an infinite or NaN argument
             return general(expr, [value], span)
 
     return run
