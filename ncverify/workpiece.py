@@ -316,9 +316,12 @@ class Workpiece:
         segments = _Segments.of(a, b)
         rounding = self.resolution * 1e-3 + 1e-14 * size
         centres = self._column_centres()
+        first_row, stop_row = self._centre_range(numpy.minimum(a[:, 1], b[:, 1]) - (reach + rounding), numpy.maximum(a[:, 1], b[:, 1]) + (reach + rounding),
+                                                 self.y_low, self.ny)
+        rows = numpy.where(numpy.isfinite(size), numpy.maximum(stop_row - first_row, 0), 0)  # the rows of the box whose centres can be near
         for chunk in _chunks((column_high - column_low) * heights):
-            piece = numpy.repeat(chunk, heights[chunk])  # one entry per (piece, row)
-            row = row_low[piece] + _ramp(heights[chunk])
+            piece = numpy.repeat(chunk, rows[chunk])  # one entry per (piece, row)
+            row = first_row[piece] + _ramp(rows[chunk])
             y = self._y(row)
             first, stop = self._row_spans(segments, reach[piece] + rounding[piece], piece, y, column_low[piece], column_high[piece])
             widths = stop - first
@@ -342,7 +345,7 @@ class Workpiece:
         t0 = numpy.clip(numpy.minimum(enter, leave), 0.0, 1.0)
         t1 = numpy.clip(numpy.maximum(enter, leave), 0.0, 1.0)
         x0, x1 = ax + t0 * dx, ax + t1 * dx
-        first, stop = self._index_range(numpy.minimum(x0, x1) - reach, numpy.maximum(x0, x1) + reach, self.x_low, self.nx)
+        first, stop = self._centre_range(numpy.minimum(x0, x1) - reach, numpy.maximum(x0, x1) + reach, self.x_low, self.nx)
         first, stop = numpy.maximum(first, column_low), numpy.minimum(stop, column_high)
         return first, numpy.maximum(stop, first)
 
@@ -364,6 +367,14 @@ class Workpiece:
         first = numpy.minimum(numpy.maximum(numpy.floor((low - origin) / self.resolution), 0), count).astype(numpy.int64)
         last = numpy.minimum(numpy.maximum(numpy.ceil((high - origin) / self.resolution), 0), count).astype(numpy.int64)
         return first, last
+
+    def _centre_range(self, low, high, origin: float, count: int):
+        """(first, stop) of the cells whose centres lie between ``low`` and ``high`` (less than
+        :meth:`_index_range`, which takes every cell that reaches into them: half a cell
+        fewer at each end on the mean)."""
+        first = numpy.minimum(numpy.maximum(numpy.ceil((low - origin) / self.resolution - 0.5), 0), count).astype(numpy.int64)
+        stop = numpy.minimum(numpy.maximum(numpy.floor((high - origin) / self.resolution - 0.5) + 1, 0), count).astype(numpy.int64)
+        return first, stop
 
     def _x(self, column):
         return self.x_low + (column + 0.5) * self.resolution
