@@ -319,17 +319,30 @@ class Workpiece:
         first_row, stop_row = self._centre_range(numpy.minimum(a[:, 1], b[:, 1]) - (reach + rounding), numpy.maximum(a[:, 1], b[:, 1]) + (reach + rounding),
                                                  self.y_low, self.ny)
         rows = numpy.where(numpy.isfinite(size), numpy.maximum(stop_row - first_row, 0), 0)  # the rows of the box whose centres can be near
+        keys = numpy.column_stack((a[:, :2], b[:, :2], slack))
+        repeated = numpy.zeros(len(a), bool)  # the same XY path and slack as the piece before it: a plunge's steps, met at the same cells
+        repeated[1:] = (keys[1:] == keys[:-1]).all(axis=1)
         for chunk in _chunks((column_high - column_low) * heights):
-            piece = numpy.repeat(chunk, rows[chunk])  # one entry per (piece, row)
-            row = first_row[piece] + _ramp(rows[chunk])
-            y = self._y(row)
-            first, stop = self._row_spans(segments, reach[piece] + rounding[piece], piece, y, column_low[piece], column_high[piece])
-            widths = stop - first
-            entry = numpy.repeat(numpy.arange(len(piece)), widths)  # each measured cell's (piece, row)
-            column = numpy.arange(len(entry)) + (first - numpy.cumsum(widths) + widths)[entry]
-            cells, distance = segments.near_on_rows(piece, entry, centres.take(column), y, (y - segments.ay[piece]) * segments.dy[piece], reach[piece])
-            entry = entry[cells]
-            yield piece[entry], row[entry] * self.nx + column[cells], distance
+            again = repeated[chunk]
+            again[0] = False
+            if again.any():  # each distinct piece measured once, its cells handed to its repeats
+                owner, flat, distance = self._near_in_chunk(chunk[~again], segments, rows, first_row, reach, rounding, column_low, column_high, centres)
+                yield _repeated_entries(chunk, numpy.cumsum(~again) - 1, numpy.searchsorted(chunk[~again], owner), flat, distance)
+            else:
+                yield self._near_in_chunk(chunk, segments, rows, first_row, reach, rounding, column_low, column_high, centres)
+
+    def _near_in_chunk(self, chunk, segments: "_Segments", rows, first_row, reach, rounding, column_low, column_high, centres):
+        """(piece, flat cell, distance) of the cells near the pieces ``chunk`` (see :meth:`_cells_near`)."""
+        piece = numpy.repeat(chunk, rows[chunk])  # one entry per (piece, row)
+        row = first_row[piece] + _ramp(rows[chunk])
+        y = self._y(row)
+        first, stop = self._row_spans(segments, reach[piece] + rounding[piece], piece, y, column_low[piece], column_high[piece])
+        widths = stop - first
+        entry = numpy.repeat(numpy.arange(len(piece)), widths)  # each measured cell's (piece, row)
+        column = numpy.arange(len(entry)) + (first - numpy.cumsum(widths) + widths)[entry]
+        cells, distance = segments.near_on_rows(piece, entry, centres.take(column), y, (y - segments.ay[piece]) * segments.dy[piece], reach[piece])
+        entry = entry[cells]
+        return piece[entry], row[entry] * self.nx + column[cells], distance
 
     def _row_spans(self, segments: "_Segments", reach, piece, y, column_low, column_high):
         """(first, stop) columns of each (piece, row) entry whose cell centres may lie within
@@ -493,6 +506,18 @@ def _chunks(sizes):
             start = end
     if start < len(sizes):
         yield numpy.arange(start, len(sizes))
+
+
+def _repeated_entries(chunk, lead, measured, flat, distance):
+    """(piece, flat cell, distance) of every piece of ``chunk`` where each repeats the cells
+    of its ``lead`` (index among the distinct pieces), whose entries are ``flat``/``distance``
+    with ``measured`` the distinct piece of each: a piece's entries in the order its lead's
+    came, piece after piece, as measuring each would give them."""
+    counts = numpy.bincount(measured, minlength=int(lead[-1]) + 1)
+    firsts = numpy.cumsum(counts) - counts
+    each = counts.take(lead)
+    taken = numpy.repeat(firsts.take(lead), each) + _ramp(each)
+    return numpy.repeat(chunk, each), flat.take(taken), distance.take(taken)
 
 
 def _ramp(counts):

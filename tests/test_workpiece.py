@@ -773,3 +773,42 @@ def test_a_rapid_from_past_the_measured_reach_is_unsure(far):
     piece = Workpiece(Stock.box((0, 40), (5, 30), (-10, 0)), 0.5)
     assert piece.rapid((5.0, far, -2.0), (5.0, 9.0, -2.0), Cutter(1.0)).outcome == "unsure"
     assert piece.rapid((5.0, -1e6, -2.0), (5.0, 9.0, -2.0), Cutter(1.0)).outcome == "hits"
+
+
+_PLUNGE_AT = st.one_of(st.floats(-3, 43), st.sampled_from([0.0, 40.0, 30.0, 0.25, -0.5, 39.75]), st.floats(-3e6, 3e6), st.sampled_from([2e6, -1e9]))
+_DEPTH = st.one_of(st.floats(-12, 3), st.sampled_from([1.0, 0.0, -10.0, -10.5, -5.0, 1e6, -1e6]))
+
+
+@st.composite
+def _plunges(draw):
+    """Drilling-cycle moves: vertical plunges (down, up, of no length) at holes inside the
+    blank, on its edges and far away, into it, through it or above it; now and then a hole
+    made twice, a peck continuing where the last one ended, or a move that is not vertical."""
+    moves = []
+    for _ in range(draw(st.integers(1, 24))):
+        x, y = draw(_PLUNGE_AT), draw(_PLUNGE_AT)
+        if moves and draw(st.integers(0, 5)) == 0:
+            x, y = moves[-1][0][:2]  # the same hole again
+        start = (x, y, draw(_DEPTH))
+        if moves and draw(st.integers(0, 5)) == 0:
+            start = moves[-1][1]  # a peck going on from where the one before ended
+        end = (start[0], start[1], draw(_DEPTH))
+        if draw(st.integers(0, 15)) == 0:
+            end = (end[0] + draw(st.floats(-2, 2)), end[1], end[2])
+        moves.append((start, end))
+    return numpy.array([start for start, _ in moves], float), numpy.array([end for _, end in moves], float)
+
+
+@settings(max_examples=150, deadline=None)
+@given(_SWEPT, _plunges(), st.sampled_from([0.0, 0.0, 0.02]), st.sampled_from([(BLANK, 0.5), (Stock.box((-3.3, 7.1), (2.2, 9.0), (-5, 0)), 0.37)]))
+def test_plunges_leave_the_field_and_air_that_every_cell_measured_against_every_piece_leaves(cutter, plunges, stray, grid):
+    """Hole cycles cut batches of vertical moves: each plunge is split at the slab's faces
+    and into steps of a cell's height, every step over the same cells. Flat, ball, bull-nose,
+    pointed and unknown cutters, the tool's axis alone: the same field and air, bit for bit,
+    as measuring every cell of the grid against every step, before and after other cuts."""
+    piece, plain = Workpiece(*grid), Workpiece(*grid)
+    starts, ends = plunges
+    with numpy.errstate(all="ignore"):
+        for batch in (slice(None), slice(None, None, -1)):  # the second time over what the first cut
+            assert piece.cut(starts[batch], ends[batch], cutter, stray) == _sweep_every_cell(plain, starts[batch], ends[batch], cutter, stray)
+            assert piece.upper.tobytes() == plain.upper.tobytes() and piece.lower.tobytes() == plain.lower.tobytes()
