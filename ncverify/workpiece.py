@@ -338,9 +338,9 @@ class Workpiece:
         y = self._y(row)
         first, stop = self._row_spans(segments, reach[piece] + rounding[piece], piece, y, column_low[piece], column_high[piece])
         widths = stop - first
-        entry = numpy.repeat(numpy.arange(len(piece)), widths)  # each measured cell's (piece, row)
-        column = numpy.arange(len(entry)) + (first - numpy.cumsum(widths) + widths)[entry]
-        cells, distance = segments.near_on_rows(piece, entry, centres.take(column), y, (y - segments.ay[piece]) * segments.dy[piece], reach[piece])
+        entry = numpy.arange(len(piece)).repeat(widths)  # each measured cell's (piece, row)
+        column = numpy.arange(len(entry)) + (first - numpy.cumsum(widths) + widths).repeat(widths)
+        cells, distance = segments.near_on_rows(piece, entry, widths, centres.take(column), y, (y - segments.ay[piece]) * segments.dy[piece], reach[piece])
         entry = entry[cells]
         return piece[entry], row[entry] * self.nx + column[cells], distance
 
@@ -557,19 +557,23 @@ class _Segments:
         (py - ay) * dy of each."""
         return numpy.hypot(*self._offsets(owner, px, py, across))
 
-    def near_on_rows(self, piece, entry, px, py, across, reach):
+    def near_on_rows(self, piece, entry, widths, px, py, across, reach):
         """Which points lie within ``reach`` of their segments, and their :meth:`distance`:
         (indices, distances). Point ``k`` is measured from segment ``piece[entry[k]]`` and
         shares ``py``, ``across`` and ``reach`` with the other points of its ``entry`` (a
-        run of cells along a row): the inner loop of the sweep. The exact distance (whose
-        ``hypot`` costs more than the rest) is found only where the squared offsets, which
-        are within a few units in the last place of its square, leave it in doubt."""
-        qx, qy = self._offsets(piece.take(entry), px, py.take(entry), across.take(entry))
+        run of cells along a row; ``entry`` runs through the entries in order, ``widths[j]``
+        points each, so that an entry's terms are spread over its points by ``repeat``,
+        cheaper than gathering them point by point): the inner loop of the sweep. The exact
+        distance (whose ``hypot`` costs more than the rest) is found only where the squared
+        offsets, which are within a few units in the last place of its square, leave it in
+        doubt."""
+        terms = [values.take(piece).repeat(widths) for values in (self.ax, self.ay, self.dx, self.dy, self.divisor)]
+        qx, qy = _offsets(*terms, px, py.repeat(widths), across.repeat(widths))
         square = numpy.multiply(qx, qx)
         square += numpy.multiply(qy, qy, out=px)
         bound = reach * reach
         bound *= 1.0 + 1e-12
-        maybe = numpy.flatnonzero(~(square > bound.take(entry)))  # NaN kept: measured as the plain distance is
+        maybe = numpy.flatnonzero(~(square > bound.repeat(widths)))  # NaN kept: measured as the plain distance is
         distance = numpy.hypot(qx.take(maybe), qy.take(maybe))
         near = distance <= reach.take(entry.take(maybe))
         return maybe[near], distance[near]
@@ -578,19 +582,23 @@ class _Segments:
         """(x, y) from the points (px, py) to their nearest points on segments ``owner``,
         computed in place as :func:`_nearest_on_segment` does (``px`` is kept)."""
         if owner is None:
-            ax, ay, dx, dy, divisor = self.ax, self.ay, self.dx.copy(), self.dy.copy(), self.divisor
-        else:
-            ax, ay, dx, dy, divisor = (terms.take(owner) for terms in (self.ax, self.ay, self.dx, self.dy, self.divisor))
-        t = px - ax
-        t *= dx
-        t += across
-        t /= divisor
-        numpy.clip(t, 0.0, 1.0, out=t)
-        dx *= t
-        dx += ax
-        dy *= t
-        dy += ay
-        return numpy.subtract(px, dx, out=dx), numpy.subtract(py, dy, out=dy)
+            return _offsets(self.ax, self.ay, self.dx.copy(), self.dy.copy(), self.divisor, px, py, across)
+        return _offsets(*(terms.take(owner) for terms in (self.ax, self.ay, self.dx, self.dy, self.divisor)), px, py, across)
+
+
+def _offsets(ax, ay, dx, dy, divisor, px, py, across):
+    """:meth:`_Segments._offsets` on the terms of each point's segment (``dx`` and ``dy``
+    are overwritten)."""
+    t = px - ax
+    t *= dx
+    t += across
+    t /= divisor
+    numpy.clip(t, 0.0, 1.0, out=t)
+    dx *= t
+    dx += ax
+    dy *= t
+    dy += ay
+    return numpy.subtract(px, dx, out=dx), numpy.subtract(py, dy, out=dy)
 
 
 def _nearest_on_segment(px, py, a, b):
