@@ -812,3 +812,19 @@ def test_plunges_leave_the_field_and_air_that_every_cell_measured_against_every_
         for batch in (slice(None), slice(None, None, -1)):  # the second time over what the first cut
             assert piece.cut(starts[batch], ends[batch], cutter, stray) == _sweep_every_cell(plain, starts[batch], ends[batch], cutter, stray)
             assert piece.upper.tobytes() == plain.upper.tobytes() and piece.lower.tobytes() == plain.lower.tobytes()
+
+
+@settings(max_examples=100, deadline=None)
+@given(_plunges(), st.sampled_from([0.5, 0.37, 2.0]))
+def test_plunges_cut_at_the_slab_s_faces_merge_as_judging_group_by_group_merges_them(plunges, resolution):
+    """A batch of plunges laid on the slab's faces: three connected pieces a plunge, some of
+    no length, most too steep to join; the merge keeps the groups the plain rule keeps."""
+    from ncverify.workpiece import _merge_runs
+
+    piece = Workpiece(BLANK, resolution)
+    with numpy.errstate(all="ignore"):
+        starts, ends, strays = piece._within_slab(*plunges, Cutter(1.0), numpy.zeros(len(plunges[0])))
+        assume(numpy.isfinite(starts).all() and numpy.isfinite(ends).all())
+        merged = _merge_runs(starts, ends, strays, resolution / 4.0, resolution)
+    for got, wanted in zip(merged, _plain_merge(starts, ends, strays, resolution / 4.0, resolution)):
+        assert numpy.array_equal(got, wanted)
