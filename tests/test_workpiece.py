@@ -558,15 +558,18 @@ def _every_cell_near(piece, a, b, slack, reach):
 
 
 @settings(max_examples=150, deadline=None)
-@given(_GRIDS, st.lists(_pieces(), min_size=1, max_size=6), st.floats(0, 6), st.lists(st.floats(0, 2), min_size=6, max_size=6),
+@given(_GRIDS, st.lists(st.tuples(_pieces(), st.floats(0, 2), st.integers(1, 3)), min_size=1, max_size=6), st.floats(0, 6),
        st.sampled_from([1 << 18, 7, 40]))
-def test_the_cells_near_each_piece_are_those_every_cell_measured_finds_in_the_same_order(grid, segments, reach, slacks, chunk):
+def test_the_cells_near_each_piece_are_those_every_cell_measured_finds_in_the_same_order(grid, drawn, reach, chunk):
+    """Pieces anywhere, some repeated (a plunge's steps: measured once, their cells handed on),
+    in chunks of every size: every cell measured against every piece finds the same."""
     from ncverify import workpiece
 
     piece = Workpiece(*grid)
-    a = numpy.array([[*start, 0.0] for start, _ in segments])
-    b = numpy.array([[*end, 0.0] for _, end in segments])
-    slack = numpy.array(slacks[:len(a)])
+    repeated = [(segment, slack) for segment, slack, times in drawn for _ in range(times)]
+    a = numpy.array([[*start, 0.0] for (start, _), _ in repeated])
+    b = numpy.array([[*end, 0.0] for (_, end), _ in repeated])
+    slack = numpy.array([slack for _, slack in repeated])
     with patch.object(workpiece, "_CHUNK_CELLS", chunk), numpy.errstate(all="ignore"):  # small chunks: pieces spread over many
         found = [numpy.concatenate(column) for column in zip(*piece._cells_near(a, b, slack, reach))]
         expected = _every_cell_near(piece, a, b, slack, reach)
