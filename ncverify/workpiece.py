@@ -279,10 +279,10 @@ class Workpiece:
             crossings = [numpy.where(rise != 0.0, (level - starts[:, 2]) / rise, 0.0) for level in (low, high)]
         ts = numpy.sort(numpy.clip(numpy.stack([numpy.zeros(len(starts)), *crossings, numpy.ones(len(starts))], axis=1), 0.0, 1.0), axis=1)
         steps = ts.shape[1]  # each axis of the points worked out in one flat array: broadcasting over (moves, points, axes) ran loops three long
-        axes = [numpy.repeat(starts[:, axis], steps) + ts.reshape(-1) * numpy.repeat(ends[:, axis] - starts[:, axis], steps) for axis in range(3)]
-        numpy.clip(axes[2], low, high, out=axes[2])
+        axes = [starts[:, axis].repeat(steps) + ts.reshape(-1) * (ends[:, axis] - starts[:, axis]).repeat(steps) for axis in range(3)]
+        axes[2].clip(low, high, out=axes[2])
         points = numpy.stack(axes, axis=-1).reshape(len(starts), steps, 3)
-        return points[:, :-1].reshape(-1, 3), points[:, 1:].reshape(-1, 3), numpy.repeat(strays, steps - 1)
+        return points[:, :-1].reshape(-1, 3), points[:, 1:].reshape(-1, 3), strays.repeat(steps - 1)
 
     def _split_steep(self, a, b, z_low, z_high, *per_piece):
         """Pieces split so that none climbs or falls more than one cell. Only single moves
@@ -291,8 +291,8 @@ class Workpiece:
         counts = numpy.maximum(1, numpy.ceil((z_high - z_low) / self.resolution)).astype(numpy.int64)
         if (counts == 1).all():
             return a, b, z_low, z_high, *per_piece
-        move = numpy.repeat(numpy.arange(len(a)), counts)
-        step = numpy.arange(counts.sum()) - numpy.repeat(numpy.cumsum(counts) - counts, counts)
+        move = numpy.arange(len(a)).repeat(counts)
+        step = _ramp(counts)
         t0, t1 = (step / counts[move])[:, None], ((step + 1) / counts[move])[:, None]
         delta = b[move] - a[move]
         start, end = a[move] + t0 * delta, a[move] + t1 * delta
@@ -319,17 +319,30 @@ class Workpiece:
         first_row, stop_row = self._centre_range(numpy.minimum(a[:, 1], b[:, 1]) - (reach + rounding), numpy.maximum(a[:, 1], b[:, 1]) + (reach + rounding),
                                                  self.y_low, self.ny)
         rows = numpy.where(numpy.isfinite(size), numpy.maximum(stop_row - first_row, 0), 0)  # the rows of the box whose centres can be near
+        keys = numpy.column_stack((a[:, :2], b[:, :2], slack))
+        repeated = numpy.zeros(len(a), bool)  # the same XY path and slack as the piece before it: a plunge's steps, met at the same cells
+        repeated[1:] = (keys[1:] == keys[:-1]).all(axis=1)
         for chunk in _chunks((column_high - column_low) * heights):
-            piece = numpy.repeat(chunk, rows[chunk])  # one entry per (piece, row)
-            row = first_row[piece] + _ramp(rows[chunk])
-            y = self._y(row)
-            first, stop = self._row_spans(segments, reach[piece] + rounding[piece], piece, y, column_low[piece], column_high[piece])
-            widths = stop - first
-            entry = numpy.repeat(numpy.arange(len(piece)), widths)  # each measured cell's (piece, row)
-            column = numpy.arange(len(entry)) + (first - numpy.cumsum(widths) + widths)[entry]
-            cells, distance = segments.near_on_rows(piece, entry, centres.take(column), y, (y - segments.ay[piece]) * segments.dy[piece], reach[piece])
-            entry = entry[cells]
-            yield piece[entry], row[entry] * self.nx + column[cells], distance
+            again = repeated[chunk]
+            again[0] = False
+            if again.any():  # each distinct piece measured once, its cells handed to its repeats
+                owner, flat, distance = self._near_in_chunk(chunk[~again], segments, rows, first_row, reach, rounding, column_low, column_high, centres)
+                yield _repeated_entries(chunk, (~again).cumsum() - 1, numpy.searchsorted(chunk[~again], owner), flat, distance)
+            else:
+                yield self._near_in_chunk(chunk, segments, rows, first_row, reach, rounding, column_low, column_high, centres)
+
+    def _near_in_chunk(self, chunk, segments: "_Segments", rows, first_row, reach, rounding, column_low, column_high, centres):
+        """(piece, flat cell, distance) of the cells near the pieces ``chunk`` (see :meth:`_cells_near`)."""
+        piece = chunk.repeat(rows[chunk])  # one entry per (piece, row)
+        row = first_row[piece] + _ramp(rows[chunk])
+        y = self._y(row)
+        first, stop = self._row_spans(segments, reach[piece] + rounding[piece], piece, y, column_low[piece], column_high[piece])
+        widths = stop - first
+        entry = numpy.arange(len(piece)).repeat(widths)  # each measured cell's (piece, row)
+        column = numpy.arange(len(entry)) + (first - widths.cumsum() + widths).repeat(widths)
+        cells, distance = segments.near_on_rows(piece, entry, widths, centres.take(column), y, (y - segments.ay[piece]) * segments.dy[piece], reach[piece])
+        entry = entry[cells]
+        return piece[entry], row[entry] * self.nx + column[cells], distance
 
     def _row_spans(self, segments: "_Segments", reach, piece, y, column_low, column_high):
         """(first, stop) columns of each (piece, row) entry whose cell centres may lie within
@@ -342,8 +355,8 @@ class Workpiece:
         sloped = dy != 0.0
         with numpy.errstate(divide="ignore"):
             enter, leave = (numpy.where(sloped, (y + side * reach - ay) / numpy.where(sloped, dy, 1.0), bound) for side, bound in ((-1.0, 0.0), (1.0, 1.0)))
-        t0 = numpy.clip(numpy.minimum(enter, leave), 0.0, 1.0)
-        t1 = numpy.clip(numpy.maximum(enter, leave), 0.0, 1.0)
+        t0 = numpy.minimum(enter, leave).clip(0.0, 1.0)
+        t1 = numpy.maximum(enter, leave).clip(0.0, 1.0)
         x0, x1 = ax + t0 * dx, ax + t1 * dx
         first, stop = self._centre_range(numpy.minimum(x0, x1) - reach, numpy.maximum(x0, x1) + reach, self.x_low, self.nx)
         first, stop = numpy.maximum(first, column_low), numpy.minimum(stop, column_high)
@@ -495,9 +508,21 @@ def _chunks(sizes):
         yield numpy.arange(start, len(sizes))
 
 
+def _repeated_entries(chunk, lead, measured, flat, distance):
+    """(piece, flat cell, distance) of every piece of ``chunk`` where each repeats the cells
+    of its ``lead`` (index among the distinct pieces), whose entries are ``flat``/``distance``
+    with ``measured`` the distinct piece of each: a piece's entries in the order its lead's
+    came, piece after piece, as measuring each would give them."""
+    counts = numpy.bincount(measured, minlength=int(lead[-1]) + 1)
+    firsts = counts.cumsum() - counts
+    each = counts.take(lead)
+    taken = firsts.take(lead).repeat(each) + _ramp(each)
+    return chunk.repeat(each), flat.take(taken), distance.take(taken)
+
+
 def _ramp(counts):
     """0, 1, .. counts[0] - 1, 0, 1, .. counts[1] - 1, ..: each entry's place in its group."""
-    return numpy.arange(int(counts.sum())) - numpy.repeat(numpy.cumsum(counts) - counts, counts)
+    return numpy.arange(int(counts.sum())) - (counts.cumsum() - counts).repeat(counts)
 
 
 @dataclass(frozen=True)
@@ -532,19 +557,23 @@ class _Segments:
         (py - ay) * dy of each."""
         return numpy.hypot(*self._offsets(owner, px, py, across))
 
-    def near_on_rows(self, piece, entry, px, py, across, reach):
+    def near_on_rows(self, piece, entry, widths, px, py, across, reach):
         """Which points lie within ``reach`` of their segments, and their :meth:`distance`:
         (indices, distances). Point ``k`` is measured from segment ``piece[entry[k]]`` and
         shares ``py``, ``across`` and ``reach`` with the other points of its ``entry`` (a
-        run of cells along a row): the inner loop of the sweep. The exact distance (whose
-        ``hypot`` costs more than the rest) is found only where the squared offsets, which
-        are within a few units in the last place of its square, leave it in doubt."""
-        qx, qy = self._offsets(piece.take(entry), px, py.take(entry), across.take(entry))
+        run of cells along a row; ``entry`` runs through the entries in order, ``widths[j]``
+        points each, so that an entry's terms are spread over its points by ``repeat``,
+        cheaper than gathering them point by point): the inner loop of the sweep. The exact
+        distance (whose ``hypot`` costs more than the rest) is found only where the squared
+        offsets, which are within a few units in the last place of its square, leave it in
+        doubt."""
+        terms = [values.take(piece).repeat(widths) for values in (self.ax, self.ay, self.dx, self.dy, self.divisor)]
+        qx, qy = _offsets(*terms, px, py.repeat(widths), across.repeat(widths))
         square = numpy.multiply(qx, qx)
         square += numpy.multiply(qy, qy, out=px)
         bound = reach * reach
         bound *= 1.0 + 1e-12
-        maybe = numpy.flatnonzero(~(square > bound.take(entry)))  # NaN kept: measured as the plain distance is
+        maybe = (~(square > bound.repeat(widths))).nonzero()[0]  # NaN kept: measured as the plain distance is
         distance = numpy.hypot(qx.take(maybe), qy.take(maybe))
         near = distance <= reach.take(entry.take(maybe))
         return maybe[near], distance[near]
@@ -553,19 +582,23 @@ class _Segments:
         """(x, y) from the points (px, py) to their nearest points on segments ``owner``,
         computed in place as :func:`_nearest_on_segment` does (``px`` is kept)."""
         if owner is None:
-            ax, ay, dx, dy, divisor = self.ax, self.ay, self.dx.copy(), self.dy.copy(), self.divisor
-        else:
-            ax, ay, dx, dy, divisor = (terms.take(owner) for terms in (self.ax, self.ay, self.dx, self.dy, self.divisor))
-        t = px - ax
-        t *= dx
-        t += across
-        t /= divisor
-        numpy.clip(t, 0.0, 1.0, out=t)
-        dx *= t
-        dx += ax
-        dy *= t
-        dy += ay
-        return numpy.subtract(px, dx, out=dx), numpy.subtract(py, dy, out=dy)
+            return _offsets(self.ax, self.ay, self.dx.copy(), self.dy.copy(), self.divisor, px, py, across)
+        return _offsets(*(terms.take(owner) for terms in (self.ax, self.ay, self.dx, self.dy, self.divisor)), px, py, across)
+
+
+def _offsets(ax, ay, dx, dy, divisor, px, py, across):
+    """:meth:`_Segments._offsets` on the terms of each point's segment (``dx`` and ``dy``
+    are overwritten)."""
+    t = px - ax
+    t *= dx
+    t += across
+    t /= divisor
+    t.clip(0.0, 1.0, out=t)
+    dx *= t
+    dx += ax
+    dy *= t
+    dy += ay
+    return numpy.subtract(px, dx, out=dx), numpy.subtract(py, dy, out=dy)
 
 
 def _nearest_on_segment(px, py, a, b):
@@ -590,7 +623,7 @@ def _sink(field, flat, heights, up: bool) -> None:
         return
     stored = heights.astype(numpy.float32)
     rounded_wrong = stored < heights if up else stored > heights
-    stored[rounded_wrong] = numpy.nextafter(stored[rounded_wrong], numpy.float32(numpy.inf if up else -numpy.inf))
+    numpy.nextafter(stored, numpy.float32(numpy.inf if up else -numpy.inf), out=stored, where=rounded_wrong)  # in place: no gather and scatter of the wrong ones
     numpy.minimum.at(field.reshape(-1), flat, stored)
 
 
@@ -618,7 +651,7 @@ class _Path:
         apart = starts[1:, 0] != ends[:-1, 0]
         apart |= starts[1:, 1] != ends[:-1, 1]
         apart |= starts[1:, 2] != ends[:-1, 2]
-        numpy.cumsum(apart, out=breaks[1:])
+        apart.cumsum(out=breaks[1:])
         return cls(starts[:, 0], starts[:, 1], ends[:, 0], ends[:, 1], numpy.minimum(starts[:, 2], ends[:, 2]), numpy.maximum(starts[:, 2], ends[:, 2]), breaks)
 
 
@@ -638,12 +671,23 @@ def _merge_runs(starts, ends, strays, tolerance: float, rise: float):
     it that fits: the same groups."""
     path = _Path.of(starts, ends)
     count = len(starts)
-    if path.breaks[-1] == count - 1:  # no move starts where the one before it ended: each is a chord of its own
+    if _none_join(path, rise):  # each move is a chord of its own (a drilling cycle's plunges, moves between arcs)
         return starts, ends, path.low, path.high, _single_strays(path, numpy.arange(count)), strays
     first, length, stray = _kept_groups(path, tolerance, rise)
     group = _group_of(first, count)
     z_low, z_high = _reduce_groups(numpy.minimum, path.low, first, group), _reduce_groups(numpy.maximum, path.high, first, group)
     return starts.take(first, axis=0), ends.take(first + length - 1, axis=0), z_low, z_high, stray, _reduce_groups(numpy.maximum, strays, first, group)
+
+
+def _none_join(path: _Path, rise: float) -> bool:
+    """No two moves side by side in a group of the merge's tree start one where the other
+    ends with their heights together within ``rise``. Every group of more than one move
+    that fits holds such a pair, so then no such group fits, and the tree keeps every move
+    alone."""
+    joined = path.breaks[1:] == path.breaks[:-1]
+    joined[_GROUP - 1::_GROUP] = False  # the last move of a group of 64 and the first of the next share no group
+    joined &= numpy.maximum(path.high[1:], path.high[:-1]) - numpy.minimum(path.low[1:], path.low[:-1]) <= rise
+    return not joined.any()
 
 
 def _kept_groups(path: _Path, tolerance: float, rise: float):
@@ -668,7 +712,7 @@ def _group_of(first, count: int):
     """The group of each of ``count`` items cut into consecutive groups at ``first`` (from 0)."""
     starts = numpy.zeros(count, numpy.intp)
     starts[first[1:]] = 1
-    return numpy.cumsum(starts, out=starts)
+    return starts.cumsum(out=starts)
 
 
 def _reduce_groups(ufunc, values, first, group):
@@ -698,16 +742,16 @@ def _fitting_groups(path: _Path, first, length, tolerance: float, rise: float):
     every_first = numpy.concatenate([top + tree[0] for top, tree in zip(first.tolist(), trees)])
     every_length = numpy.concatenate([tree[1] for tree in trees])  # a group's halves follow it, and sort after it (below)
     fits, strays = every_length == 1, numpy.zeros(len(every_first))  # a single move always fits: its stray is found if it is kept
-    groups = numpy.flatnonzero(~fits)
+    groups = (~fits).nonzero()[0]
     fits[groups], strays[groups] = _chords_fit(path, every_first[groups], every_length[groups], tolerance, rise)
-    fitting = numpy.flatnonzero(fits)
+    fitting = fits.nonzero()[0]
     fitting = fitting[numpy.argsort(every_first[fitting] * (_GROUP + 1) + _GROUP - every_length[fitting])]  # by first move, larger first
     first, length, stray = every_first[fitting], every_length[fitting], strays[fitting]
     covered = numpy.maximum.accumulate(first + length)  # groups nest or are apart: one inside a fitting group starts before its end
     kept = numpy.ones(len(first), bool)
     kept[1:] = first[1:] >= covered[:-1]
     first, length, stray = first[kept], length[kept], stray[kept]
-    single = numpy.flatnonzero(length == 1)
+    single = (length == 1).nonzero()[0]
     stray[single] = _single_strays(path, first[single])
     return first, length, stray
 
@@ -743,18 +787,18 @@ def _chords_fit(path: _Path, first, length, tolerance: float, rise: float):
     fits = length == 1
     strays = numpy.zeros(len(first))
     strays[fits] = _single_strays(path, first[fits])
-    joined = numpy.flatnonzero(~fits & (path.breaks[last] == path.breaks[first]))
+    joined = (~fits & (path.breaks[last] == path.breaks[first])).nonzero()[0]
     first, last, length = first[joined], last[joined], length[joined]
     middle = first + (length - 1) // 2
     chords = _Segments.between(path.x0[first], path.y0[first], path.x1[last], path.y1[last])
     may_fit = chords.distance_from(None, path.x1[middle], path.y1[middle]) <= tolerance
     may_fit &= numpy.maximum(path.high[first], path.high[middle]) - numpy.minimum(path.low[first], path.low[middle]) <= rise
-    judged = numpy.flatnonzero(may_fit)
+    judged = may_fit.nonzero()[0]
     if len(judged):
-        group = numpy.repeat(numpy.arange(len(judged)), length[judged])
+        group = numpy.arange(len(judged)).repeat(length[judged])
         owner = judged.take(group)
         index = _ramp(length[judged]) + first[owner]
-        offsets = numpy.cumsum(length[judged]) - length[judged]
+        offsets = length[judged].cumsum() - length[judged]
         stray = _reduce_groups(numpy.maximum, chords.distance_from(owner, path.x1[index], path.y1[index]), offsets, group)
         strays[joined[judged]] = stray
         fits[joined[judged]] = (stray <= tolerance) & (

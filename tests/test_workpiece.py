@@ -558,15 +558,18 @@ def _every_cell_near(piece, a, b, slack, reach):
 
 
 @settings(max_examples=150, deadline=None)
-@given(_GRIDS, st.lists(_pieces(), min_size=1, max_size=6), st.floats(0, 6), st.lists(st.floats(0, 2), min_size=6, max_size=6),
+@given(_GRIDS, st.lists(st.tuples(_pieces(), st.floats(0, 2), st.integers(1, 3)), min_size=1, max_size=6), st.floats(0, 6),
        st.sampled_from([1 << 18, 7, 40]))
-def test_the_cells_near_each_piece_are_those_every_cell_measured_finds_in_the_same_order(grid, segments, reach, slacks, chunk):
+def test_the_cells_near_each_piece_are_those_every_cell_measured_finds_in_the_same_order(grid, drawn, reach, chunk):
+    """Pieces anywhere, some repeated (a plunge's steps: measured once, their cells handed on),
+    in chunks of every size: every cell measured against every piece finds the same."""
     from ncverify import workpiece
 
     piece = Workpiece(*grid)
-    a = numpy.array([[*start, 0.0] for start, _ in segments])
-    b = numpy.array([[*end, 0.0] for _, end in segments])
-    slack = numpy.array(slacks[:len(a)])
+    repeated = [(segment, slack) for segment, slack, times in drawn for _ in range(times)]
+    a = numpy.array([[*start, 0.0] for (start, _), _ in repeated])
+    b = numpy.array([[*end, 0.0] for (_, end), _ in repeated])
+    slack = numpy.array([slack for _, slack in repeated])
     with patch.object(workpiece, "_CHUNK_CELLS", chunk), numpy.errstate(all="ignore"):  # small chunks: pieces spread over many
         found = [numpy.concatenate(column) for column in zip(*piece._cells_near(a, b, slack, reach))]
         expected = _every_cell_near(piece, a, b, slack, reach)
@@ -773,3 +776,58 @@ def test_a_rapid_from_past_the_measured_reach_is_unsure(far):
     piece = Workpiece(Stock.box((0, 40), (5, 30), (-10, 0)), 0.5)
     assert piece.rapid((5.0, far, -2.0), (5.0, 9.0, -2.0), Cutter(1.0)).outcome == "unsure"
     assert piece.rapid((5.0, -1e6, -2.0), (5.0, 9.0, -2.0), Cutter(1.0)).outcome == "hits"
+
+
+_PLUNGE_AT = st.one_of(st.floats(-3, 43), st.sampled_from([0.0, 40.0, 30.0, 0.25, -0.5, 39.75]), st.floats(-3e6, 3e6), st.sampled_from([2e6, -1e9]))
+_DEPTH = st.one_of(st.floats(-12, 3), st.sampled_from([1.0, 0.0, -10.0, -10.5, -5.0, 1e6, -1e6]))
+
+
+@st.composite
+def _plunges(draw):
+    """Drilling-cycle moves: vertical plunges (down, up, of no length) at holes inside the
+    blank, on its edges and far away, into it, through it or above it; now and then a hole
+    made twice, a peck continuing where the last one ended, or a move that is not vertical."""
+    moves = []
+    for _ in range(draw(st.integers(1, 24))):
+        x, y = draw(_PLUNGE_AT), draw(_PLUNGE_AT)
+        if moves and draw(st.integers(0, 5)) == 0:
+            x, y = moves[-1][0][:2]  # the same hole again
+        start = (x, y, draw(_DEPTH))
+        if moves and draw(st.integers(0, 5)) == 0:
+            start = moves[-1][1]  # a peck going on from where the one before ended
+        end = (start[0], start[1], draw(_DEPTH))
+        if draw(st.integers(0, 15)) == 0:
+            end = (end[0] + draw(st.floats(-2, 2)), end[1], end[2])
+        moves.append((start, end))
+    return numpy.array([start for start, _ in moves], float), numpy.array([end for _, end in moves], float)
+
+
+@settings(max_examples=150, deadline=None)
+@given(_SWEPT, _plunges(), st.sampled_from([0.0, 0.0, 0.02]), st.sampled_from([(BLANK, 0.5), (Stock.box((-3.3, 7.1), (2.2, 9.0), (-5, 0)), 0.37)]))
+def test_plunges_leave_the_field_and_air_that_every_cell_measured_against_every_piece_leaves(cutter, plunges, stray, grid):
+    """Hole cycles cut batches of vertical moves: each plunge is split at the slab's faces
+    and into steps of a cell's height, every step over the same cells. Flat, ball, bull-nose,
+    pointed and unknown cutters, the tool's axis alone: the same field and air, bit for bit,
+    as measuring every cell of the grid against every step, before and after other cuts."""
+    piece, plain = Workpiece(*grid), Workpiece(*grid)
+    starts, ends = plunges
+    with numpy.errstate(all="ignore"):
+        for batch in (slice(None), slice(None, None, -1)):  # the second time over what the first cut
+            assert piece.cut(starts[batch], ends[batch], cutter, stray) == _sweep_every_cell(plain, starts[batch], ends[batch], cutter, stray)
+            assert piece.upper.tobytes() == plain.upper.tobytes() and piece.lower.tobytes() == plain.lower.tobytes()
+
+
+@settings(max_examples=100, deadline=None)
+@given(_plunges(), st.sampled_from([0.5, 0.37, 2.0]))
+def test_plunges_cut_at_the_slab_s_faces_merge_as_judging_group_by_group_merges_them(plunges, resolution):
+    """A batch of plunges laid on the slab's faces: three connected pieces a plunge, some of
+    no length, most too steep to join; the merge keeps the groups the plain rule keeps."""
+    from ncverify.workpiece import _merge_runs
+
+    piece = Workpiece(BLANK, resolution)
+    with numpy.errstate(all="ignore"):
+        starts, ends, strays = piece._within_slab(*plunges, Cutter(1.0), numpy.zeros(len(plunges[0])))
+        assume(numpy.isfinite(starts).all() and numpy.isfinite(ends).all())
+        merged = _merge_runs(starts, ends, strays, resolution / 4.0, resolution)
+    for got, wanted in zip(merged, _plain_merge(starts, ends, strays, resolution / 4.0, resolution)):
+        assert numpy.array_equal(got, wanted)
