@@ -148,16 +148,20 @@ class _Chunk:
         signs = self.signs[: numpy.searchsorted(self.signs, stop)]
         minus = signs[self.codes[signs] == ord("-")]
         values, has_point = parse_numbers(self.codes, self.digits[:digits], self.digit_owner[:digits],
-                                          self.dots[:dots], self.dot_owner[:dots], self.owner_of(minus), len(letters))
+                                          self.dots[:dots], self.dot_owner[:dots], self.owner_of(minus), len(letters), digits_follow_point=True)
         return letters, values, has_point
 
 
-def parse_numbers(codes, digits, digit_owner, dots, dot_owner, minus_owner, count: int):
+def parse_numbers(codes, digits, digit_owner, dots, dot_owner, minus_owner, count: int, digits_follow_point: bool = False):
     """The values of ``count`` numbers given by where their characters are: the digits and
     decimal points (in text order) with the number each belongs to, and the numbers that
     carry a minus sign. Returns the values and whether each was written with a point.
     A number's digits are consecutive among ``digits``: its mantissa is their sum weighted
-    by powers of ten, and its decimals are its digits that follow its point."""
+    by powers of ten, and its decimals are its digits that follow its point. With
+    ``digits_follow_point`` (ISO words: only digits come after a point) they are the bytes
+    from the point to the number's last digit, found without searching for the point among
+    the digits (a third of the time of this function); a number without that form is on a
+    line the caller does not take."""
     per_number = numpy.bincount(digit_owner, minlength=count)
     ends = numpy.cumsum(per_number)  # one past each number's last digit
     rank = (ends - 1)[digit_owner]
@@ -167,7 +171,11 @@ def parse_numbers(codes, digits, digit_owner, dots, dot_owner, minus_owner, coun
     if len(digits):
         mantissa[written] = numpy.add.reduceat((codes[digits] - 48) * _POWERS_OF_TEN[rank], (ends - per_number)[written])
     decimals = numpy.zeros(count, dtype=numpy.int64)
-    decimals[dot_owner] = ends[dot_owner] - numpy.searchsorted(digits, dots)
+    if digits_follow_point:
+        last_digit = digits[numpy.maximum(ends[dot_owner] - 1, 0)] if len(digits) else dots
+        decimals[dot_owner] = numpy.maximum(last_digit - dots, 0)
+    else:
+        decimals[dot_owner] = ends[dot_owner] - numpy.searchsorted(digits, dots)
     has_point = numpy.zeros(count, dtype=bool)
     has_point[dot_owner] = True
     values = mantissa / _POWERS_OF_TEN[decimals]
@@ -209,10 +217,11 @@ def read_plain_run(chunk: bytes, minimum_lines: int = _MINIMUM_LINES, stop_at_sm
     rows = found.line_of(letters)
     columns = _COLUMN[found.codes[letters]]
     width = len(LETTERS) if (columns >= _I).any() else len(_STRAIGHT_LETTERS)  # no arc words: no room for them
+    cells = rows * width + columns  # flat indices: a third of the time of indexing by (rows, columns)
     table = numpy.full((line_count, width), numpy.nan)
-    table[rows, columns] = values
+    table.ravel()[cells] = values
     pointless = numpy.zeros(table.shape, dtype=bool)
-    pointless[rows, columns] = ~has_point
+    pointless.ravel()[cells] = ~has_point
     line_starts = numpy.concatenate(([0], newlines + 1))[:line_count]
     worded = numpy.zeros(line_count, dtype=bool)
     worded[rows] = True
