@@ -100,11 +100,15 @@ class _Chunk:
         self.dots = numpy.flatnonzero(self.classes == _DOT)
         self.signs = numpy.flatnonzero(self.classes == _SIGN)
         # For every byte: how many letters are at or before it (the index of the word it
-        # belongs to, plus one), and the index of its line.
+        # belongs to, plus one).
         self.letters_up_to = numpy.cumsum(is_letter, dtype=numpy.int32)
-        self.line_at = numpy.cumsum(is_newline, dtype=numpy.int32)
         self.digit_owner = self.owner_of(self.digits)
         self.dot_owner = self.owner_of(self.dots)
+        # the line and the table column of every letter (the words of a line are counted
+        # at its newline: cheaper than numbering the lines of every byte)
+        words_per_line = numpy.diff(self.letters_up_to[self.newlines], prepend=0, append=len(self.letters))
+        self.letter_lines = numpy.repeat(numpy.arange(len(words_per_line), dtype=numpy.int32), words_per_line)
+        self.letter_columns = _COLUMN.take(self.codes[self.letters])
 
     def owner_of(self, positions):
         """The index of the word each position belongs to (-1 before the first letter)."""
@@ -132,13 +136,10 @@ class _Chunk:
         if len(letters):
             digit_counts = numpy.bincount(self.digit_owner + 1, minlength=len(letters) + 1)[1:]  # [0]: digits before any letter
             bad.append(letters[(digit_counts == 0) | (digit_counts > _MAX_DIGITS)][:1])
-            keys = self.line_of(letters) * len(LETTERS) + _COLUMN[self.codes[letters]]
+            keys = self.letter_lines * len(LETTERS) + self.letter_columns
             bad.append(letters[numpy.bincount(keys)[keys] > 1][:1])
         found = [int(position[0]) for position in bad if len(position)]
         return min(found) if found else len(self.codes)
-
-    def line_of(self, positions):
-        return self.line_at[positions]
 
     def numbers(self, stop: int):
         """The number after each letter before ``stop``, and whether it has a point."""
@@ -214,8 +215,7 @@ def read_plain_run(chunk: bytes, minimum_lines: int = _MINIMUM_LINES, stop_at_sm
     line_count = len(newlines) + (0 if stop == 0 or chunk[stop - 1 : stop] == b"\n" else 1)
     if line_count < minimum_lines:
         return None
-    rows = found.line_of(letters)
-    columns = _COLUMN[found.codes[letters]]
+    rows, columns = found.letter_lines[: len(letters)], found.letter_columns[: len(letters)]  # the kept letters lead
     width = len(LETTERS) if (columns >= _I).any() else len(_STRAIGHT_LETTERS)  # no arc words: no room for them
     cells = rows * width + columns  # flat indices: a third of the time of indexing by (rows, columns)
     table = numpy.full((line_count, width), numpy.nan)
@@ -232,8 +232,7 @@ def _first_odd_arc(found: _Chunk, letters, values, has_point, small_integers_are
     """Where the first line with centre or radius words that the per-block fast lowering
     leaves to the general one starts (the chunk's length when none): a radius with centre
     offsets, centre words on a G0/G1 line, or (counted in increments) one without a point."""
-    lines = found.line_of(letters)
-    columns = _COLUMN[found.codes[letters]]
+    lines, columns = found.letter_lines[: len(letters)], found.letter_columns[: len(letters)]  # the letters read lead
     count = int(lines[-1]) + 1 if len(lines) else 0
     arc_word = (columns >= _I) & (columns <= _R)
     centre, radius = numpy.zeros(count, dtype=bool), numpy.zeros(count, dtype=bool)
