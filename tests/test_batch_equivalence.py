@@ -379,3 +379,16 @@ def test_rapids_straight_up_out_of_the_cut_pass_in_a_run_as_block_by_block():
     _assert_same_findings(program)
     crashes = [d.span.line for d in check_text(program).diagnostics if d.rule == "core.rapid-into-stock" and d.status.value == "violated"]
     assert len(crashes) >= 3 and crashes[-1] == len(program.splitlines()) - 1  # rapids down into the blank beside the cuts, and the last one
+
+
+@given(rows=st.lists(st.lists(st.booleans(), min_size=4, max_size=4), max_size=40), columns=st.integers(1, 4))
+def test_any_in_row_is_numpys_any_along_rows(rows, columns):
+    """The column-by-column reduction the batch and the run handlers use."""
+    import numpy
+
+    from ncverify.trace import any_in_row
+
+    mask = numpy.array(rows, dtype=bool).reshape(len(rows), 4)[:, :columns]
+    found = any_in_row(mask)
+    assert found.dtype == bool and numpy.array_equal(found, mask.any(axis=1))
+    assert not numpy.shares_memory(found, mask)
