@@ -362,3 +362,33 @@ def test_hole_patterns_contours_and_tool_changes_give_the_same_findings_batched_
     head = ["(ncverify: stock box X-20:60 Y-20:60 Z-20:0)", *(_POST_TOOLS if tools else []), "G21 G90 G94 G17 G40 G49 G80 G54", "T1 M6", "S8000 M3", "G0 X-10. Y20. Z15."]
     program = "\n".join(["O1000", *head, *body, "G0 Z50.", "M30"]) + "\n"
     _assert_same_findings(program)
+
+
+def test_rapids_straight_up_out_of_the_cut_pass_in_a_run_as_block_by_block():
+    """A run's rapids that enter the blank are judged one by one, except those straight up
+    the tool's axis from where it stands (a retract), which the run passes as the block
+    path's retract test does. A rapid straight down, one up with a sideways step, and one
+    down beside the cut are still judged (and the last is a crash)."""
+    rows = []
+    for row in range(12):
+        y = row * 6.0 - 36.0
+        rows += [f"G1 X0. Y{y:.1f} Z-1.", f"G1 X20. Y{y:.1f}", f"G2 X20. Y{y + 4:.1f} I0. J2.", "G0 Z5.", f"G0 X0. Y{y + 6:.1f}",
+                 "G0 Z1.", "G0 Z-0.5" if row % 3 == 0 else "G0 Z2.", "G0 X1. Z6." if row % 4 == 0 else "G0 Z6."]
+    program = _program(["G0 X0. Y0. Z1.", "G1 Z-1. F800.", *rows, "G0 X30. Y-30. Z5.", "G0 Z-5."], [*_STOCK, "G43 H01 Z50.", "S1000 M03"])
+    assert _arcs_in_runs(program) >= 10
+    _assert_same_findings(program)
+    crashes = [d.span.line for d in check_text(program).diagnostics if d.rule == "core.rapid-into-stock" and d.status.value == "violated"]
+    assert len(crashes) >= 3 and crashes[-1] == len(program.splitlines()) - 1  # rapids down into the blank beside the cuts, and the last one
+
+
+@given(rows=st.lists(st.lists(st.booleans(), min_size=4, max_size=4), max_size=40), columns=st.integers(1, 4))
+def test_any_in_row_is_numpys_any_along_rows(rows, columns):
+    """The column-by-column reduction the batch and the run handlers use."""
+    import numpy
+
+    from ncverify.trace import any_in_row
+
+    mask = numpy.array(rows, dtype=bool).reshape(len(rows), 4)[:, :columns]
+    found = any_in_row(mask)
+    assert found.dtype == bool and numpy.array_equal(found, mask.any(axis=1))
+    assert not numpy.shares_memory(found, mask)

@@ -12,6 +12,7 @@ from .. import ir, values
 from ..check import CUTTING, Rule, hazard, rule, show
 from ..diagnostics import Severity, Status
 from .. import modelled
+from ..trace import any_in_row
 
 _FEED = 1  # MotionRun kind code of a feed segment; arcs' are above it
 _LENGTH_CODE = {"plus": "G43", "minus": "G44"}
@@ -102,7 +103,7 @@ class TappingModeLeftOn(Rule):
             return
         start, end = run.points[cutting][:, others], run.points[cutting + 1][:, others]
         moved = ((end - start) != 0) & ~(numpy.isnan(start) & numpy.isnan(end))
-        across = numpy.flatnonzero(moved.any(axis=1))
+        across = numpy.flatnonzero(any_in_row(moved))
         if len(across):
             self._report(run.span(int(cutting[across[0]])), state)
 

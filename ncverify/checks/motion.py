@@ -11,7 +11,7 @@ from ..values import Condition
 from ..diagnostics import Status
 from ..check import ARCS, CUTTING, Rule, hazard, rule, show
 from .. import modelled
-from ..trace import ARC_CW
+from ..trace import ARC_CW, any_in_row
 
 
 _FEED = 1  # MotionRun kind code of a feed segment; arcs' are above it
@@ -147,7 +147,7 @@ class SpindleOffCutting(Rule):
         plane = [run.axes.index(axis) for axis in ("X", "Y") if axis in run.axes]
         if column is None or not plane or not len(feeds):
             return
-        moved = (run.points[feeds + 1][:, plane] != run.points[feeds][:, plane]).any(axis=1)
+        moved = any_in_row(run.points[feeds + 1][:, plane] != run.points[feeds][:, plane])
         heights = run.points[feeds + 1, column][moved]
         heights = heights[~numpy.isnan(heights)]
         if len(heights):

@@ -104,6 +104,14 @@ def _same(a, b) -> bool:
     return a is b or (type(a) is float and type(b) is float and a == b)
 
 
+def _straight_up(points, rapids):
+    """Which of the run's ``rapids`` (indices of moves through known ``points``, X Y Z) go
+    straight up from where the tool stands: what :meth:`RapidIntoStock._retracts` lets pass
+    on concrete values."""
+    start, end = points[rapids], points[rapids + 1]
+    return (start[:, 0] == end[:, 0]) & (start[:, 1] == end[:, 1]) & (end[:, 2] >= start[:, 2])
+
+
 def _where(point) -> str:
     return " ".join(f"{axis}{show(value)}" for axis, value in zip("XYZ", point))
 
@@ -274,8 +282,10 @@ class RapidIntoStock(_NeedsStock):
         known = ~(numpy.isnan(starts).any(axis=1) | numpy.isnan(ends).any(axis=1))
         for index in rapids[~known]:
             self.segment(run.segment(int(index)), state, run, int(index))
-        hits = rapids[known][geometry.enters_many(stock, starts[known], ends[known])]
-        for index in hits[: self.checker.settings.max_findings_per_rule]:
+        hits = rapids[known][geometry.enters_many(stock, starts[known], ends[known])][: self.checker.settings.max_findings_per_rule]
+        if self.checker.material.milled and tool_axis_problem(state) is None and run.axes == ("X", "Y", "Z"):
+            hits = hits[~_straight_up(run.points, hits)]  # what _retracts passes, without making their segments
+        for index in hits:
             self.segment(run.segment(int(index)), state, run, int(index))
 
     def _from_unknown(self, stock, end, span, what, state, tool):

@@ -28,7 +28,7 @@ from .arc_geometry import arc_by_centre, arc_by_radius, arc_through, end_heading
 from ..context import ToolTable
 from ..settings import Settings
 from ..source import ProgramSource, Span
-from ..trace import Arc, Change, Fault, MotionRun, Segment
+from ..trace import Arc, Change, Fault, MotionRun, Segment, any_in_row
 from ..dialect import logical_lines
 from ..values import VACANT, Condition, DomainError, Sym
 from ..verdict import evaluate_constraint, hazard, judge, show
@@ -322,8 +322,8 @@ class Interpreter(ControlFlow):
             points = numpy.cumsum(numpy.vstack([start_point, numpy.nan_to_num(values)]), axis=0)[1:]
         else:
             points = numpy.vstack([_forward_fill(values[:, column], None, start_point[column]) for column in range(len(axes))]).T
-        arc_written = numpy.zeros(run.rows, dtype=bool) if run.arc_words is None else ~numpy.isnan(run.arc_words).all(axis=1)
-        moving_rows = written.any(axis=1) | arc_written
+        arc_written = numpy.zeros(run.rows, dtype=bool) if run.arc_words is None else any_in_row(~numpy.isnan(run.arc_words))
+        moving_rows = any_in_row(written) | arc_written
         rows = self._batch_rows(run, kinds, numpy.vstack([start_point, points]), moving_rows, arc_written)
         if rows == 0:
             return None
@@ -371,7 +371,7 @@ class Interpreter(ControlFlow):
                 odd |= arc
             else:
                 in_plane = positions[:, [run.axes.index(first), run.axes.index(second)]]
-                unknown = numpy.isnan(in_plane).any(axis=1)
+                unknown = any_in_row(numpy.isnan(in_plane))
                 odd |= arc & (unknown[:-1] | unknown[1:])
         bad = numpy.flatnonzero(odd)
         return int(bad[0]) if bad.size else run.rows
