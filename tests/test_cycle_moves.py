@@ -1,11 +1,13 @@
 """The moves a hole cycle makes, as the rules receive them: each segment with the state the
-checker sees when it arrives (position, parked axes, axes that leave the start position)."""
+checker sees when it arrives (position, parked axes, axes that leave the start position);
+and the levels of its holes against the stock, plain numbers and free parameters."""
 from __future__ import annotations
 
 from unittest import mock
 
 from ncverify import Settings, check_text
 from ncverify.check import Checker
+from ncverify.diagnostics import Status
 
 
 def _cycle_segments(program: str, path: str = "t.nc") -> list[tuple]:
@@ -45,3 +47,17 @@ def test_a_cycle_from_a_reference_return_leaves_the_parked_axis_where_it_first_m
         ("feed", "infeed", _xyz(7.0, 7.0, 3.0), _xyz(7.0, 7.0, -8.0), [], [], True),
         ("rapid", "out-of-hole", _xyz(7.0, 7.0, -8.0), _xyz(7.0, 7.0, 3.0), [], [], True),
     ]
+
+
+def test_hole_levels_in_the_stock_are_judged_as_numbers_and_as_free_parameters():
+    program = "\n".join(["(ncverify: stock box X0:50 Y0:50 Z-20:0)", "G21 G90 G17 G54", "T1 M6", "G43 H1", "S1000 M3", "G0 X10. Y10. Z20.",
+                         "G98 G81 X10. Y10. Z-5. R#500 F100.", "X20.", "G80",  # R from a free parameter: it may lie in the stock
+                         "G98 G81 X30. Y30. Z-5. R2. F100.", "G80",  # above the stock: nothing to say
+                         "#501 = 5.", "G98 G81 X30. Y30. Z-5. R[#501 - 8] F100.", "G80", "M30"]) + "\n"
+    found = [(d.span.line, d.status, d.message, d.witness) for d in check_text(program, "t.nc", Settings()).diagnostics
+             if d.rule == "core.clearance-below-stock"]
+    assert [(line, status, message) for line, status, message, _witness in found] == [
+        (7, Status.UNKNOWN, "G81: the R point Z#500 is below the top of the stock Z0: the cycle rapids into the material there"),
+        (13, Status.VIOLATED, "G81: the R point Z-3 is below the top of the stock Z0: the cycle rapids into the material there"),
+    ]
+    assert found[0][3]["#500"] < 0.0 and found[1][3] == {}
