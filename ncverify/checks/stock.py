@@ -366,15 +366,15 @@ class ClearanceBelowStock(_NeedsStock):
         over_stock = self._over_stock(stock, hole.position) if axis == "Z" else _across(ranges, axis, hole.position)
         if over_stock is False:
             return
-        code = cycle_code(hole.cycle)
         low, high = ranges["XYZ".index(axis)]
         face = high if hole.up > 0 else low
-        where = f"below the top of the stock Z{face:g}" if axis == "Z" and hole.up > 0 else f"past the stock's face {axis}{face:g} on the side the tool comes from"
         for level, name, span in ((hole.r_point, "R point", hole.param_spans.get("R", hole.span)), (hole.initial, "initial level", hole.definition or hole.span)):
             key = ("clearance violated", hole.definition, name)
             if level is None or key in state.rule_state:
                 continue  # each hole is judged until one shows the violation: holes differ in position
             inside = hazard("<", level, face - geometry.EPSILON) if hole.up > 0 else hazard(">", level, face + geometry.EPSILON)
+            if inside is False:
+                continue  # a level of plain numbers outside the stock: plainly clear (asked at every hole)
             verdict = self.checker.judge(both(over_stock, inside), state)
             if axis == "Z" and hole.up > 0:
                 verdict = self._against_cuts(verdict, hole.position, level, state)
@@ -382,7 +382,8 @@ class ClearanceBelowStock(_NeedsStock):
                 continue  # plainly clear: nothing to word (every hole of a pattern is judged)
             if verdict.status is Status.VIOLATED:
                 state.rule_state[key] = True
-            self.checker.report_verdict(self.rule_id, span, f"{code}: the {name} {axis}{show(level)} is {where}: "
+            where = f"below the top of the stock Z{face:g}" if axis == "Z" and hole.up > 0 else f"past the stock's face {axis}{face:g} on the side the tool comes from"
+            self.checker.report_verdict(self.rule_id, span, f"{cycle_code(hole.cycle)}: the {name} {axis}{show(level)} is {where}: "
                                         f"the cycle rapids into the material there", verdict, state)
 
     def _against_cuts(self, verdict, position: dict, level, state):

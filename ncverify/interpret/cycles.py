@@ -145,7 +145,7 @@ class CycleRunner(Runtime):
         if model.shape == "box":
             return self._box(op, block)
         axis = self.drill_axis(model)
-        data = self.words(_counts_unscaled(op.words, model), op.span)
+        data = self.words(_counts_unscaled(op.words, model), op.span) if op.words else {}  # mostly a new position alone
         positioning = dict(op.targets)
         if axis in positioning and not model.axis_word_moves:  # Fagor: the tool-axis word moves, then the cycle runs
             bottom_expr = positioning.pop(axis)

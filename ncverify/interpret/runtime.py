@@ -14,6 +14,7 @@ from __future__ import annotations
 
 from .. import ir
 from ..cycle_models import UNKNOWN_CYCLE, CycleModel
+from ..trace import Segment
 from ..values import VACANT
 
 
@@ -47,10 +48,20 @@ class Runtime:
         interpreter = self._interp
         state = interpreter.state
         start = state.position
-        changes = {axis: value for axis, value in targets.items() if value is not None and start.get(axis) is not value}
-        if changes:
-            state.move_to(changes)
-            interpreter._emit(kind, start, span, block, role, cycle)  # what emit() does, one call less (a hole makes five moves)
+        end = None
+        for axis, value in targets.items():
+            if value is not None and start.get(axis) is not value:
+                if end is None:
+                    end = dict(start)
+                end[axis] = value
+        if end is None:
+            return
+        # what MachineState.move_to and emit() do, three calls less (a hole makes five moves)
+        state.position = end
+        if state.parked or state.left_start:
+            state.leave_start([axis for axis, value in targets.items() if value is not None and start.get(axis) is not value])
+        segment = state.last_segment = Segment(kind, start, end, span, block, role, cycle)
+        interpreter.observer.segment(segment, state)
 
     def rapid_to(self, targets: dict, span, block, role: str, cycle: str | None) -> None:
         """A rapid traverse to ``targets`` (see :meth:`move_to`)."""
