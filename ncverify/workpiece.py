@@ -353,7 +353,9 @@ class Workpiece:
         the coordinates' size: the spans then hold every cell the whole box would give."""
         ax, ay, dx, dy = segments.ax[piece], segments.ay[piece], segments.dx[piece], segments.dy[piece]
         sloped = dy != 0.0
-        with numpy.errstate(divide="ignore"):
+        # a piece all but level (dy far below the reach) gives quotients past the float range:
+        # their infinity clips to the piece's end, as the limit of a level piece would
+        with numpy.errstate(divide="ignore", over="ignore"):
             enter, leave = (numpy.where(sloped, (y + side * reach - ay) / numpy.where(sloped, dy, 1.0), bound) for side, bound in ((-1.0, 0.0), (1.0, 1.0)))
         t0 = numpy.minimum(enter, leave).clip(0.0, 1.0)
         t1 = numpy.maximum(enter, leave).clip(0.0, 1.0)
