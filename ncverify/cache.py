@@ -15,8 +15,6 @@ import dataclasses
 import functools
 import hashlib
 import json
-import os
-import tempfile
 from pathlib import Path
 
 from . import __version__
@@ -25,7 +23,7 @@ from .dependencies import ReadLog
 from .diagnostics import Diagnostic, Severity, Status, Suppressed
 from .library import SubprogramLibrary
 from .project import find_project_file
-from .resources import data_dir, user_cache_folder
+from .resources import data_dir, user_cache_folder, write_whole
 from .settings import Settings
 from .source import Span
 
@@ -80,14 +78,9 @@ class ResultCache:
                  "result": result_to_dict(result)}
         try:
             entry["files"] = {path: _file_hash(Path(path)) for path in sorted(log.files)}
-            target = self._path(key)
-            target.parent.mkdir(parents=True, exist_ok=True)
-            handle, temporary = tempfile.mkstemp(dir=target.parent, prefix=".tmp-", suffix=".json")
-            with os.fdopen(handle, "w", encoding="utf-8") as stream:
-                json.dump(entry, stream)  # ASCII escapes: a file name that is not UTF-8 (surrogates) stays storable
-            os.replace(temporary, target)
         except OSError:
-            pass  # a cache that cannot be written only costs time
+            return  # a file it read is gone: not kept (checked again next time)
+        write_whole(self._path(key), json.dumps(entry).encode("ascii"))  # ASCII escapes: a file name that is not UTF-8 (surrogates) stays storable
 
     def _path(self, key: str) -> Path:
         return self.folder / key[:2] / f"{key}.json"

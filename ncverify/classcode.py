@@ -18,9 +18,7 @@ from __future__ import annotations
 import builtins
 import hashlib
 import marshal
-import os
 import sys
-import tempfile
 from pathlib import Path
 from types import CodeType
 
@@ -88,16 +86,10 @@ def _write() -> None:
     """The modules whose classes this process made are stored with just those classes'
     code (every class of a module is made when it is imported), so the entries of a
     class since edited do not pile up; other modules' entries are kept as read."""
+    from .resources import write_whole
+
     try:
-        target = _file()
-        target.parent.mkdir(parents=True, exist_ok=True)
-        handle, temporary = tempfile.mkstemp(dir=target.parent, prefix=".tmp-")
-        try:
-            with os.fdopen(handle, "wb") as stream:
-                stream.write(marshal.dumps((_stored or {}) | _used))
-            os.replace(temporary, target)
-        except OSError:
-            os.unlink(temporary)
-            raise
-    except (OSError, ValueError):
-        pass
+        data = marshal.dumps((_stored or {}) | _used)
+    except ValueError:
+        return
+    write_whole(_file(), data)

@@ -74,19 +74,29 @@ def _cached_table(entry: Path, key: str) -> dict | None:
 
 
 def _store_table(entry: Path, key: str, table: dict) -> None:
-    """Written to a temporary file and renamed into place, so that a reader (another
-    process) sees a whole entry or none. A table JSON cannot hold exactly (a TOML date) is
-    not kept."""
+    """A table JSON cannot hold exactly (a TOML date) is not kept."""
     try:
         text = json.dumps({"key": key, "table": table}, ensure_ascii=False)
-        entry.parent.mkdir(parents=True, exist_ok=True)
-        handle, temporary = tempfile.mkstemp(dir=entry.parent, prefix=".tmp-", suffix=".json")
+    except (TypeError, ValueError):
+        return
+    write_whole(entry, text.encode("utf-8"))
+
+
+def write_whole(target: Path, data: bytes) -> None:
+    """``data`` written to a temporary file beside ``target`` and renamed onto it, so that
+    another process reads a whole file or none. A folder that cannot be written is no
+    error: the caches that use this only lose time."""
+    try:
+        target.parent.mkdir(parents=True, exist_ok=True)
+        handle, temporary = tempfile.mkstemp(dir=target.parent, prefix=".tmp-", suffix=target.suffix)
+    except OSError:
+        return
+    try:
+        with os.fdopen(handle, "wb") as stream:
+            stream.write(data)
+        os.replace(temporary, target)
+    except OSError:
         try:
-            with os.fdopen(handle, "w", encoding="utf-8") as stream:
-                stream.write(text)
-            os.replace(temporary, entry)
-        except OSError:
             os.unlink(temporary)
-            raise
-    except (OSError, TypeError, ValueError):
-        pass
+        except OSError:
+            pass

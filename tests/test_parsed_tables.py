@@ -85,3 +85,18 @@ def test_a_file_is_read_as_tomllib_load_reads_it(folder, tmp_path):
     path.write_bytes(b'a = """x\r\ny"""\r\n')  # CRLF kept, as tomllib.load keeps it
     with path.open("rb") as handle:
         assert read_table(path) == tomllib.load(handle)
+
+
+def test_a_whole_file_replaces_the_old_one_and_a_place_that_cannot_take_it_leaves_nothing_behind(tmp_path):
+    """The writer shared by the result, table and class-code caches: renamed into place,
+    and where that fails (a folder in the way, a file where the folder should be) no error
+    and no temporary file."""
+    target = tmp_path / "entry.json"
+    target.write_bytes(b"old")
+    resources.write_whole(target, b"new")
+    assert target.read_bytes() == b"new"
+    blocked = tmp_path / "blocked.json"
+    blocked.mkdir()
+    resources.write_whole(blocked, b"data")
+    resources.write_whole(target / "under-a-file.json", b"data")
+    assert sorted(path.name for path in tmp_path.iterdir()) == ["blocked.json", "entry.json"] and blocked.is_dir()
