@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from functools import cache
 
-from .resources import data_dir, parse_table
+from .resources import data_dir, read_table
 
 
 @cache
@@ -17,7 +17,7 @@ def wording(dialect: str, profile: str | None = None) -> dict[str, str]:
     path = data_dir("dialects") / dialect / "wording.toml"
     if not path.is_file():
         return {}
-    table = parse_table(path.read_text(encoding="utf-8"))
+    table = read_table(path)
     words = {key: value for key, value in table.items() if isinstance(value, str)}
     words.update(table.get("profile", {}).get(profile or "", {}))
     return words
