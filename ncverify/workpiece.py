@@ -282,7 +282,11 @@ class Workpiece:
         axes = [starts[:, axis].repeat(steps) + ts.reshape(-1) * (ends[:, axis] - starts[:, axis]).repeat(steps) for axis in range(3)]
         axes[2].clip(low, high, out=axes[2])
         points = numpy.stack(axes, axis=-1).reshape(len(starts), steps, 3)
-        return points[:, :-1].reshape(-1, 3), points[:, 1:].reshape(-1, 3), strays.repeat(steps - 1)
+        # A face the move does not cross clips to one of its ends and leaves a piece of no
+        # length there: dropped, or a batch with one ramp from above the blank (a helix's
+        # entry) would hand the merge and the sweep three pieces for every move.
+        kept = ~(ts[:, 1:] <= ts[:, :-1])
+        return points[:, :-1][kept], points[:, 1:][kept], strays.repeat(kept.sum(axis=1))
 
     def _split_steep(self, a, b, z_low, z_high, *per_piece):
         """Pieces split so that none climbs or falls more than one cell. Only single moves

@@ -687,9 +687,10 @@ _HEIGHT = st.one_of(st.floats(-12, 3), st.sampled_from([0.5, -10.5, 0.0, -10.0, 
 @given(st.lists(st.tuples(_COORDINATE, _COORDINATE, _HEIGHT, _COORDINATE, _COORDINATE, _HEIGHT), min_size=1, max_size=6))
 def test_moves_leaving_the_slab_are_cut_at_its_faces_as_the_plain_formula_cuts_them(moves):
     """Rapids and plunges into and through the blank, ramps out of it, far away in XY: each
-    move is cut into three at the slab's faces (some of no length) where any move of the
-    batch leaves the slab, every point ``start + t * (end - start)`` with its Z kept on
-    the slab, exactly as that formula gives it move by move."""
+    move is cut at the slab's faces it crosses where any move of the batch leaves the slab
+    (no piece of no length in ``t`` is left where a face clips to an end), every point
+    ``start + t * (end - start)`` with its Z kept on the slab, exactly as that formula gives
+    it move by move."""
     piece = Workpiece(BLANK, 0.5)
     rows = numpy.array(moves)
     starts, ends, strays = rows[:, :3], rows[:, 3:], numpy.linspace(0.0, 0.1, len(rows))
@@ -699,15 +700,19 @@ def test_moves_leaving_the_slab_are_cut_at_its_faces_as_the_plain_formula_cuts_t
         if min(starts[:, 2].min(), ends[:, 2].min()) >= low and max(starts[:, 2].max(), ends[:, 2].max()) <= high:
             wanted = starts, ends, strays
         else:
-            pieces = []
-            for start, end in zip(starts, ends):
+            pieces, piece_strays = [], []
+            for start, end, stray in zip(starts, ends, strays):
                 rise = end[2] - start[2]
                 faces = [(level - start[2]) / rise if rise != 0.0 else 0.0 for level in (low, high)]
-                points = [start + t * (end - start) for t in numpy.sort(numpy.clip([0.0, *faces, 1.0], 0.0, 1.0))]
+                ts = numpy.sort(numpy.clip([0.0, *faces, 1.0], 0.0, 1.0))
+                points = [start + t * (end - start) for t in ts]
                 for point in points:
                     point[2] = min(max(point[2], low), high)
-                pieces.extend(zip(points[:-1], points[1:]))
-            wanted = numpy.array([a for a, _ in pieces]), numpy.array([b for _, b in pieces]), numpy.repeat(strays, 3)
+                for t0, t1, a, b in zip(ts[:-1], ts[1:], points[:-1], points[1:]):
+                    if not t1 <= t0:
+                        pieces.append((a, b))
+                        piece_strays.append(stray)
+            wanted = numpy.array([a for a, _ in pieces]), numpy.array([b for _, b in pieces]), numpy.array(piece_strays)
     for got_part, wanted_part in zip(got, wanted):
         assert numpy.array_equal(got_part, wanted_part, equal_nan=True)
 
@@ -820,8 +825,8 @@ def test_plunges_leave_the_field_and_air_that_every_cell_measured_against_every_
 @settings(max_examples=100, deadline=None)
 @given(_plunges(), st.sampled_from([0.5, 0.37, 2.0]))
 def test_plunges_cut_at_the_slab_s_faces_merge_as_judging_group_by_group_merges_them(plunges, resolution):
-    """A batch of plunges laid on the slab's faces: three connected pieces a plunge, some of
-    no length, most too steep to join; the merge keeps the groups the plain rule keeps."""
+    """A batch of plunges laid on the slab's faces: up to three connected pieces a plunge,
+    most too steep to join; the merge keeps the groups the plain rule keeps."""
     from ncverify.workpiece import _merge_runs
 
     piece = Workpiece(BLANK, resolution)
