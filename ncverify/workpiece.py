@@ -271,22 +271,20 @@ class Workpiece:
         a move) go with the pieces."""
         low = self.bottom - float(cutter.lift(numpy.array(cutter.radius))) - self.resolution
         high = self.top + self.resolution
-        heights = numpy.concatenate((starts[:, 2], ends[:, 2]))
-        if heights.min() >= low and heights.max() <= high:
+        leaving = ~((numpy.minimum(starts[:, 2], ends[:, 2]) >= low) & (numpy.maximum(starts[:, 2], ends[:, 2]) <= high))
+        if not leaving.any():
             return starts, ends, strays
-        rise = ends[:, 2] - starts[:, 2]
-        with numpy.errstate(divide="ignore", invalid="ignore"):
-            crossings = [numpy.where(rise != 0.0, (level - starts[:, 2]) / rise, 0.0) for level in (low, high)]
-        ts = numpy.sort(numpy.clip(numpy.stack([numpy.zeros(len(starts)), *crossings, numpy.ones(len(starts))], axis=1), 0.0, 1.0), axis=1)
-        steps = ts.shape[1]  # each axis of the points worked out in one flat array: broadcasting over (moves, points, axes) ran loops three long
-        axes = [starts[:, axis].repeat(steps) + ts.reshape(-1) * (ends[:, axis] - starts[:, axis]).repeat(steps) for axis in range(3)]
-        axes[2].clip(low, high, out=axes[2])
-        points = numpy.stack(axes, axis=-1).reshape(len(starts), steps, 3)
-        # A face the move does not cross clips to one of its ends and leaves a piece of no
-        # length there: dropped, or a batch with one ramp from above the blank (a helix's
-        # entry) would hand the merge and the sweep three pieces for every move.
-        kept = ~(ts[:, 1:] <= ts[:, :-1])
-        return points[:, :-1][kept], points[:, 1:][kept], strays.repeat(kept.sum(axis=1))
+        # only the moves that leave the slab are cut (a batch of arcs with a helical entry
+        # from above the blank has one such move among thousands); the rest stay as given
+        laid_starts, laid_ends, pieces = _laid_on_slab(starts[leaving], ends[leaving], low, high)
+        counts = numpy.ones(len(starts), numpy.int64)
+        counts[leaving] = pieces
+        first = counts.cumsum() - counts
+        staying, laid = first[~leaving], first[leaving].repeat(pieces) + _ramp(pieces)
+        cut_starts, cut_ends = numpy.empty((int(counts.sum()), 3)), numpy.empty((int(counts.sum()), 3))
+        for cut, given, laid_part in ((cut_starts, starts, laid_starts), (cut_ends, ends, laid_ends)):
+            cut[staying], cut[laid] = given[~leaving], laid_part
+        return cut_starts, cut_ends, strays.repeat(counts)
 
     def _split_steep(self, a, b, z_low, z_high, *per_piece):
         """Pieces split so that none climbs or falls more than one cell. Only single moves
@@ -529,6 +527,23 @@ def _repeated_entries(chunk, lead, measured, flat, distance):
 def _ramp(counts):
     """0, 1, .. counts[0] - 1, 0, 1, .. counts[1] - 1, ..: each entry's place in its group."""
     return numpy.arange(int(counts.sum())) - (counts.cumsum() - counts).repeat(counts)
+
+
+def _laid_on_slab(starts, ends, low: float, high: float):
+    """Moves cut where they cross the heights ``low`` and ``high``, each point
+    ``start + t * (end - start)`` with its Z clipped between them: (piece starts, piece
+    ends, pieces a move). A height a move does not cross clips to one of its ends; the piece
+    of no length it would leave there is not kept."""
+    rise = ends[:, 2] - starts[:, 2]
+    with numpy.errstate(divide="ignore", invalid="ignore"):
+        crossings = [numpy.where(rise != 0.0, (level - starts[:, 2]) / rise, 0.0) for level in (low, high)]
+    ts = numpy.sort(numpy.clip(numpy.stack([numpy.zeros(len(starts)), *crossings, numpy.ones(len(starts))], axis=1), 0.0, 1.0), axis=1)
+    steps = ts.shape[1]  # each axis of the points worked out in one flat array: broadcasting over (moves, points, axes) ran loops three long
+    axes = [starts[:, axis].repeat(steps) + ts.reshape(-1) * (ends[:, axis] - starts[:, axis]).repeat(steps) for axis in range(3)]
+    axes[2].clip(low, high, out=axes[2])
+    points = numpy.stack(axes, axis=-1).reshape(len(starts), steps, 3)
+    kept = ~(ts[:, 1:] <= ts[:, :-1])
+    return points[:, :-1][kept], points[:, 1:][kept], kept.sum(axis=1)
 
 
 @dataclass(frozen=True)

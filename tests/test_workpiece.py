@@ -687,32 +687,33 @@ _HEIGHT = st.one_of(st.floats(-12, 3), st.sampled_from([0.5, -10.5, 0.0, -10.0, 
 @given(st.lists(st.tuples(_COORDINATE, _COORDINATE, _HEIGHT, _COORDINATE, _COORDINATE, _HEIGHT), min_size=1, max_size=6))
 def test_moves_leaving_the_slab_are_cut_at_its_faces_as_the_plain_formula_cuts_them(moves):
     """Rapids and plunges into and through the blank, ramps out of it, far away in XY: each
-    move is cut at the slab's faces it crosses where any move of the batch leaves the slab
-    (no piece of no length in ``t`` is left where a face clips to an end), every point
-    ``start + t * (end - start)`` with its Z kept on the slab, exactly as that formula gives
-    it move by move."""
+    move that leaves the slab is cut at the faces it crosses (no piece of no length in
+    ``t`` is left where a face clips to an end), every point ``start + t * (end - start)``
+    with its Z kept on the slab, exactly as that formula gives it move by move; a move
+    within the slab stays as given."""
     piece = Workpiece(BLANK, 0.5)
     rows = numpy.array(moves)
     starts, ends, strays = rows[:, :3], rows[:, 3:], numpy.linspace(0.0, 0.1, len(rows))
     with numpy.errstate(all="ignore"):
         got = piece._within_slab(starts, ends, Cutter(1.0), strays)
         low, high = piece.bottom - 0.0 - piece.resolution, piece.top + piece.resolution
-        if min(starts[:, 2].min(), ends[:, 2].min()) >= low and max(starts[:, 2].max(), ends[:, 2].max()) <= high:
-            wanted = starts, ends, strays
-        else:
-            pieces, piece_strays = [], []
-            for start, end, stray in zip(starts, ends, strays):
-                rise = end[2] - start[2]
-                faces = [(level - start[2]) / rise if rise != 0.0 else 0.0 for level in (low, high)]
-                ts = numpy.sort(numpy.clip([0.0, *faces, 1.0], 0.0, 1.0))
-                points = [start + t * (end - start) for t in ts]
-                for point in points:
-                    point[2] = min(max(point[2], low), high)
-                for t0, t1, a, b in zip(ts[:-1], ts[1:], points[:-1], points[1:]):
-                    if not t1 <= t0:
-                        pieces.append((a, b))
-                        piece_strays.append(stray)
-            wanted = numpy.array([a for a, _ in pieces]), numpy.array([b for _, b in pieces]), numpy.array(piece_strays)
+        pieces, piece_strays = [], []
+        for start, end, stray in zip(starts, ends, strays):
+            if low <= min(start[2], end[2]) and max(start[2], end[2]) <= high:
+                pieces.append((start, end))
+                piece_strays.append(stray)
+                continue
+            rise = end[2] - start[2]
+            faces = [(level - start[2]) / rise if rise != 0.0 else 0.0 for level in (low, high)]
+            ts = numpy.sort(numpy.clip([0.0, *faces, 1.0], 0.0, 1.0))
+            points = [start + t * (end - start) for t in ts]
+            for point in points:
+                point[2] = min(max(point[2], low), high)
+            for t0, t1, a, b in zip(ts[:-1], ts[1:], points[:-1], points[1:]):
+                if not t1 <= t0:
+                    pieces.append((a, b))
+                    piece_strays.append(stray)
+        wanted = numpy.array([a for a, _ in pieces]), numpy.array([b for _, b in pieces]), numpy.array(piece_strays)
     for got_part, wanted_part in zip(got, wanted):
         assert numpy.array_equal(got_part, wanted_part, equal_nan=True)
 
