@@ -57,9 +57,8 @@ class Cutter:
         (numpy arrays; meaningful up to ``radius``). It never falls as the distance grows,
         which the bounds rely on. For an unknown shape: the highest it can be."""
         distance = numpy.minimum(distance, self.radius)
-        if not self.known:
-            ball = self.radius - numpy.sqrt(numpy.maximum(self.radius ** 2 - distance ** 2, 0.0))
-            return numpy.maximum(ball, distance)
+        if not self.known:  # the 90-degree cone's: a ball's end never lies above it (r - sqrt(r² - d²) <= d for d <= r)
+            return distance
         if self.point_angle:
             return distance / math.tan(math.radians(self.point_angle) / 2.0)
         if self.corner > 0.0:
@@ -342,7 +341,7 @@ class Workpiece:
         widths = stop - first
         entry = numpy.arange(len(piece)).repeat(widths)  # each measured cell's (piece, row)
         column = numpy.arange(len(entry)) + (first - widths.cumsum() + widths).repeat(widths)
-        cells, distance = segments.near_on_rows(piece, entry, widths, centres.take(column), y, (y - segments.ay[piece]) * segments.dy[piece], reach[piece])
+        cells, distance = segments.near_on_rows(piece, widths, centres.take(column), y, (y - segments.ay[piece]) * segments.dy[piece], reach[piece])
         entry = entry[cells]
         return piece[entry], row[entry] * self.nx + column[cells], distance
 
@@ -576,28 +575,21 @@ class _Segments:
         """Distance of points (px, py) from segments ``owner`` (None: point ``k`` from
         segment ``k``), bit for bit as :func:`distance_to_segment` gives it; ``across``:
         (py - ay) * dy of each."""
-        return numpy.hypot(*self._offsets(owner, px, py, across))
+        return _length(*self._offsets(owner, px, py, across))
 
-    def near_on_rows(self, piece, entry, widths, px, py, across, reach):
+    def near_on_rows(self, piece, widths, px, py, across, reach):
         """Which points lie within ``reach`` of their segments, and their :meth:`distance`:
-        (indices, distances). Point ``k`` is measured from segment ``piece[entry[k]]`` and
-        shares ``py``, ``across`` and ``reach`` with the other points of its ``entry`` (a
-        run of cells along a row; ``entry`` runs through the entries in order, ``widths[j]``
-        points each, so that an entry's terms are spread over its points by ``repeat``,
-        cheaper than gathering them point by point): the inner loop of the sweep. The exact
-        distance (whose ``hypot`` costs more than the rest) is found only where the squared
-        offsets, which are within a few units in the last place of its square, leave it in
-        doubt."""
+        (indices, distances). The points come in runs (the cells of a row), ``widths[j]``
+        points measured from segment ``piece[j]`` that share ``py[j]``, ``across[j]`` and
+        ``reach[j]``, so that a run's terms are spread over its points by ``repeat``, cheaper
+        than gathering them point by point: the inner loop of the sweep, worked in place."""
         terms = [values.take(piece).repeat(widths) for values in (self.ax, self.ay, self.dx, self.dy, self.divisor)]
         qx, qy = _offsets(*terms, px, py.repeat(widths), across.repeat(widths))
-        square = numpy.multiply(qx, qx)
-        square += numpy.multiply(qy, qy, out=px)
-        bound = reach * reach
-        bound *= 1.0 + 1e-12
-        maybe = (~(square > bound.repeat(widths))).nonzero()[0]  # NaN kept: measured as the plain distance is
-        distance = numpy.hypot(qx.take(maybe), qy.take(maybe))
-        near = distance <= reach.take(entry.take(maybe))
-        return maybe[near], distance[near]
+        distance = numpy.multiply(qx, qx)
+        distance += numpy.multiply(qy, qy, out=px)
+        numpy.sqrt(distance, out=distance)  # as _length works it out
+        near = (distance <= reach.repeat(widths)).nonzero()[0]
+        return near, distance.take(near)
 
     def _offsets(self, owner, px, py, across):
         """(x, y) from the points (px, py) to their nearest points on segments ``owner``,
@@ -634,7 +626,15 @@ def _nearest_on_segment(px, py, a, b):
 def distance_to_segment(px, py, a, b):
     """Distance of points (px, py) from the XY segments a-b (row-wise)."""
     qx, qy = _nearest_on_segment(px, py, a, b)
-    return numpy.hypot(px - qx, py - qy)
+    return _length(px - qx, py - qy)
+
+
+def _length(x, y):
+    """sqrt(x*x + y*y): the distance every part of the sweep measures, the same bits
+    everywhere. Not numpy.hypot, which costs several times more for its care of values past
+    1e154, whose squares overflow to infinity here: a cell that far from a path is beyond
+    any tool's reach either way."""
+    return numpy.sqrt(x * x + y * y)
 
 
 def _sink(field, flat, heights, up: bool) -> None:
