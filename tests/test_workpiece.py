@@ -837,3 +837,27 @@ def test_plunges_cut_at_the_slab_s_faces_merge_as_judging_group_by_group_merges_
         merged = _merge_runs(starts, ends, strays, resolution / 4.0, resolution)
     for got, wanted in zip(merged, _plain_merge(starts, ends, strays, resolution / 4.0, resolution)):
         assert numpy.array_equal(got, wanted)
+
+
+_STORED_HEIGHT = st.one_of(
+    st.floats(allow_nan=True, allow_infinity=True),
+    st.floats(-1e-40, 1e-40),  # below float32's smallest normal: rounding to zero and subnormals
+    st.sampled_from([0.0, -0.0, 3.4028235e38, -3.4028235e38, 3.5e38, -3.5e38, 1e-46, -1e-46]),  # around float32's ends
+)
+
+
+@settings(max_examples=300, deadline=None)
+@given(st.lists(_STORED_HEIGHT, min_size=1, max_size=40), st.booleans())
+def test_heights_are_stored_rounded_outwards_as_nextafter_rounds_them(heights, up):
+    """The bounds are stored as float32 rounded away from the material they bound: the bit
+    step gives what numpy.nextafter gives towards the infinity on the rounding's wrong side,
+    signed zeros, subnormals, values past float32's range, infinities and NaN included."""
+    from ncverify.workpiece import _float32_outwards
+
+    values = numpy.array(heights, float)
+    with numpy.errstate(all="ignore"):
+        wanted = values.astype(numpy.float32)
+        wrong = wanted < values if up else wanted > values
+        wanted[wrong] = numpy.nextafter(wanted[wrong], numpy.float32(numpy.inf if up else -numpy.inf))
+        got = _float32_outwards(values, up)
+    assert got.tobytes() == wanted.tobytes()
