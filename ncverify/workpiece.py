@@ -278,11 +278,9 @@ class Workpiece:
         laid_starts, laid_ends, pieces = _laid_on_slab(starts[leaving], ends[leaving], low, high)
         counts = numpy.ones(len(starts), numpy.int64)
         counts[leaving] = pieces
-        first = counts.cumsum() - counts
-        staying, laid = first[~leaving], first[leaving].repeat(pieces) + _ramp(pieces)
-        cut_starts, cut_ends = numpy.empty((int(counts.sum()), 3)), numpy.empty((int(counts.sum()), 3))
-        for cut, given, laid_part in ((cut_starts, starts, laid_starts), (cut_ends, ends, laid_ends)):
-            cut[staying], cut[laid] = given[~leaving], laid_part
+        laid = (counts.cumsum() - counts)[leaving].repeat(pieces) + _ramp(pieces)
+        cut_starts, cut_ends = starts.repeat(counts, axis=0), ends.repeat(counts, axis=0)  # a copy of the rest, in one pass
+        cut_starts[laid], cut_ends[laid] = laid_starts, laid_ends
         return cut_starts, cut_ends, strays.repeat(counts)
 
     def _split_steep(self, a, b, z_low, z_high, *per_piece):
@@ -320,9 +318,7 @@ class Workpiece:
         first_row, stop_row = self._centre_range(numpy.minimum(a[:, 1], b[:, 1]) - (reach + rounding), numpy.maximum(a[:, 1], b[:, 1]) + (reach + rounding),
                                                  self.y_low, self.ny)
         rows = numpy.where(numpy.isfinite(size), numpy.maximum(stop_row - first_row, 0), 0)  # the rows of the box whose centres can be near
-        keys = numpy.column_stack((a[:, :2], b[:, :2], slack))
-        repeated = numpy.zeros(len(a), bool)  # the same XY path and slack as the piece before it: a plunge's steps, met at the same cells
-        repeated[1:] = (keys[1:] == keys[:-1]).all(axis=1)
+        repeated = _same_as_before(a, b, slack)
         for chunk in _chunks((column_high - column_low) * heights):
             again = repeated[chunk]
             again[0] = False
@@ -509,6 +505,18 @@ def _chunks(sizes):
             start = end
     if start < len(sizes):
         yield numpy.arange(start, len(sizes))
+
+
+def _same_as_before(a, b, slack):
+    """Which pieces a-b have the same XY path and slack as the piece before them (a plunge's
+    steps, met at the same cells): compared on the start's X, then on the rest only where
+    that matches (few pieces do, outside a plunge)."""
+    repeated = numpy.zeros(len(a), bool)
+    candidates = (a[1:, 0] == a[:-1, 0]).nonzero()[0] + 1
+    for values in (a[:, 1], b[:, 0], b[:, 1], slack):
+        candidates = candidates[values[candidates] == values[candidates - 1]]
+    repeated[candidates] = True
+    return repeated
 
 
 def _repeated_entries(chunk, lead, measured, flat, distance):
@@ -740,7 +748,7 @@ def _kept_groups(path: _Path, tolerance: float, rise: float):
         done.append((first[fits], length[fits], stray[fits]))
         first, length = _halves(first[~fits], length[~fits])
     first, length, stray = (numpy.concatenate(column) for column in zip(*done))
-    order = numpy.argsort(first)
+    order = numpy.argsort(first, kind="stable")  # no two groups start alike; timsort merges the levels' sorted runs
     return first[order], length[order], stray[order]
 
 
