@@ -71,6 +71,11 @@ class Cutter:
         """The lowest the tool's lower surface can be: its shape, or a flat end when unknown."""
         return self.lift(distance) if self.known else numpy.zeros_like(numpy.asarray(distance, float))
 
+    @property
+    def lowest_is_flat(self) -> bool:
+        """Is :meth:`lowest_lift` zero at every distance (a flat end, or a shape not known)?"""
+        return not self.known or (not self.point_angle and self.corner <= 0.0)
+
 
 _MEASURED_REACH = 1e9  # mm from the origin within which a path's distance to a cell is exact to far below a cell
 
@@ -172,19 +177,27 @@ class Workpiece:
         may_cut = numpy.zeros(len(a), bool)
         first_cell, last_cell = self.nx * self.ny, -1
         upper, lower = self.upper.reshape(-1), self._flat_lower()
+        # a flat lowest surface sinks ``lower`` to the piece's own low: stored once a piece
+        # (+ 0.0 stores a low of -0.0 as the sum with the lift's zero does elsewhere)
+        stored_lows = _float32_outwards(z_low + 0.0, up=False) if cutter.lowest_is_flat else None
         for owner, flat, distance in self._cells_near(a, b, slack, cutter.radius + self.half_diagonal):
-            stray = slack[owner]
+            stray = slack.take(owner)
             outer = numpy.maximum(distance - self.half_diagonal - stray, 0.0)  # nearest the cell's points can be to the true path
             touched = outer <= cutter.radius
-            surface_low = z_low[owner] + cutter.lowest_lift(outer)
-            may_cut[owner[touched & (upper[flat] > surface_low)]] = True
+            surface_low = z_low.take(owner)
+            if stored_lows is None:
+                surface_low += cutter.lowest_lift(outer)
+            may_cut[owner[touched & (upper.take(flat) > surface_low)]] = True
             if cutter.radius >= self.half_diagonal:  # else no cell lies wholly under the tool
                 inner = distance + self.half_diagonal + stray  # farthest they can be
                 covered = inner <= cutter.radius
                 _sink(upper, flat[covered], z_high[owner[covered]] + cutter.lift(inner[covered]), up=True)
             touched_cells = flat[touched]
             if not self.lower_emptied:
-                _sink(lower, touched_cells, surface_low[touched], up=False)
+                if stored_lows is None:
+                    _sink(lower, touched_cells, surface_low[touched], up=False)
+                else:
+                    numpy.minimum.at(lower, touched_cells, stored_lows.take(owner[touched]))
             if len(touched_cells):
                 first_cell, last_cell = min(first_cell, int(touched_cells.min())), max(last_cell, int(touched_cells.max()))
         self._clear_below_bottom(first_cell, last_cell + 1)
