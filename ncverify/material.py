@@ -455,13 +455,13 @@ class Material:
             starts, ends, sagitta, _ = workpiece.arc_chords(*(_stacked((arcs[field] for arcs in fields), width) for field, width in enumerate(_ARC_WIDTHS)),
                                                            tolerance=self.resolution / 8.0)
             mine.deepest = min(mine.deepest, float((numpy.minimum(starts[:, 2], ends[:, 2]) - sagitta).min()))
-            self._sweep(mine.piece, starts, ends, cutter, sagitta, tool)
+            self._sweep(mine.piece, starts, ends, cutter, sagitta, tool, joined=False)
         mine.lines, mine.arcs, mine.buffered = [], [], 0
 
-    def _sweep(self, piece: Workpiece, starts, ends, cutter: Cutter, stray, tool: str) -> None:
+    def _sweep(self, piece: Workpiece, starts, ends, cutter: Cutter, stray, tool: str, joined: bool = True) -> None:
         if not len(starts):
             return
-        air = piece.cut(starts, ends, cutter, stray)
+        air = piece.cut(starts, ends, cutter, stray, joined)
         totals = self.air.setdefault(tool, [0.0, 0.0])
         totals[0] += float(numpy.linalg.norm(ends - starts, axis=1).sum())
         totals[1] += air

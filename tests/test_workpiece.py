@@ -642,13 +642,14 @@ def test_the_merge_keeps_the_groups_that_judging_group_by_group_keeps(path, tole
         assert numpy.array_equal(got, wanted)
 
 
-def _sweep_every_cell(piece, starts, ends, cutter, stray):
+def _sweep_every_cell(piece, starts, ends, cutter, stray, joined=True):
     """The sweep written plainly: each piece against every cell of the grid (the same
     pieces, bounds and rounding as the model's own)."""
-    from ncverify.workpiece import _merge_runs, _sink
+    from ncverify.workpiece import _each_alone, _merge_runs, _sink
 
     starts, ends, strays = piece._within_slab(starts, ends, cutter, numpy.broadcast_to(numpy.asarray(stray, float), len(starts)))
-    a, b, z_low, z_high, slack, stray = piece._split_steep(*_merge_runs(starts, ends, strays, piece.resolution / 4.0, piece.resolution))
+    pieces = _merge_runs(starts, ends, strays, piece.resolution / 4.0, piece.resolution) if joined else _each_alone(starts, ends, strays)
+    a, b, z_low, z_high, slack, stray = piece._split_steep(*pieces)
     z_low, z_high, slack = z_low - stray, z_high + stray, slack + stray
     may_cut = numpy.zeros(len(a), bool)
     owner, flat, distance = _every_cell_near(piece, a, b, slack, cutter.radius + piece.half_diagonal)
@@ -719,11 +720,12 @@ def test_moves_leaving_the_slab_are_cut_at_its_faces_as_the_plain_formula_cuts_t
 
 
 @settings(max_examples=40, deadline=None)
-@given(_SWEPT, st.lists(_ARC, min_size=1, max_size=6), st.floats(-3, 1))
-def test_arcs_and_helices_swept_as_chords_leave_the_field_every_cell_measured_leaves(cutter, arcs, depth):
+@given(_SWEPT, st.lists(_ARC, min_size=1, max_size=6), st.floats(-3, 1), st.booleans())
+def test_arcs_and_helices_swept_as_chords_leave_the_field_every_cell_measured_leaves(cutter, arcs, depth, joined):
     """Arcs of every plane, full circles and helices (some starting above the blank, some
-    reaching below it), their chords swept at once with each chord's sagitta as its stray:
-    the same field and air as measuring every cell against every chord."""
+    reaching below it), their chords swept at once with each chord's sagitta as its stray,
+    merged where they join or each alone (as the model sweeps arcs): the same field and air
+    as measuring every cell against every chord."""
     from ncverify import workpiece
 
     piece, plain = Workpiece(BLANK, 0.5), Workpiece(BLANK, 0.5)
@@ -736,7 +738,7 @@ def test_arcs_and_helices_swept_as_chords_leave_the_field_every_cell_measured_le
     planes = [arc[5] for arc in arcs]
     chords = workpiece.arc_chords(starts, ends, [centre[list(plane[:2])] for plane in planes], [arc[3] for arc in arcs], planes, tolerance=0.0625)
     with patch.object(workpiece, "_CHUNK_CELLS", 1 << 40), numpy.errstate(all="ignore"):  # one step, as the plain sweep judges the air
-        assert piece.cut(chords[0], chords[1], cutter, chords[2]) == _sweep_every_cell(plain, chords[0], chords[1], cutter, chords[2])
+        assert piece.cut(chords[0], chords[1], cutter, chords[2], joined) == _sweep_every_cell(plain, chords[0], chords[1], cutter, chords[2], joined)
     assert numpy.array_equal(piece.upper, plain.upper) and numpy.array_equal(piece.lower, plain.lower)
 
 
