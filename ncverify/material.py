@@ -463,7 +463,7 @@ class Material:
             return
         air = piece.cut(starts, ends, cutter, stray, joined)
         totals = self.air.setdefault(tool, [0.0, 0.0])
-        totals[0] += float(numpy.linalg.norm(ends - starts, axis=1).sum())
+        totals[0] += workpiece.total_length(starts, ends)
         totals[1] += air
 
     @staticmethod

@@ -205,7 +205,8 @@ class Workpiece:
             if len(touched_cells):
                 first_cell, last_cell = min(first_cell, int(touched_cells.min())), max(last_cell, int(touched_cells.max()))
         self._clear_below_bottom(first_cell, last_cell + 1)
-        return float(numpy.linalg.norm(b - a, axis=1)[~may_cut].sum())
+        air = ~may_cut
+        return total_length(a[air], b[air])
 
     def cut_anywhere(self) -> None:
         """A cut that cannot be placed: any material may be gone, none is surely gone.
@@ -353,10 +354,10 @@ class Workpiece:
         first, stop = self._row_spans(segments, reach[piece] + rounding[piece], piece, y, column_low[piece], column_high[piece])
         widths = stop - first
         entry = numpy.arange(len(piece)).repeat(widths)  # each measured cell's (piece, row)
-        column = numpy.arange(len(entry)) + (first - widths.cumsum() + widths).repeat(widths)
-        cells, distance = segments.near_on_rows(piece, widths, centres.take(column), y, (y - segments.ay[piece]) * segments.dy[piece], reach[piece])
-        entry = entry[cells]
-        return piece[entry], row[entry] * self.nx + column[cells], distance
+        column = numpy.arange(len(entry)) + (first - widths.cumsum() + widths).take(entry)
+        cells, distance = segments.near_on_rows(piece, entry, centres.take(column), y, (y - segments.ay[piece]) * segments.dy[piece], reach[piece])
+        entry = entry.take(cells)
+        return piece.take(entry), row.take(entry) * self.nx + column.take(cells), distance
 
     def _row_spans(self, segments: "_Segments", reach, piece, y, column_low, column_high):
         """(first, stop) columns of each (piece, row) entry whose cell centres may lie within
@@ -602,18 +603,20 @@ class _Segments:
         (py - ay) * dy of each."""
         return _length(*self._offsets(owner, px, py, across))
 
-    def near_on_rows(self, piece, widths, px, py, across, reach):
+    def near_on_rows(self, piece, entry, px, py, across, reach):
         """Which points lie within ``reach`` of their segments, and their :meth:`distance`:
-        (indices, distances). The points come in runs (the cells of a row), ``widths[j]``
-        points measured from segment ``piece[j]`` that share ``py[j]``, ``across[j]`` and
-        ``reach[j]``, so that a run's terms are spread over its points by ``repeat``, cheaper
-        than gathering them point by point: the inner loop of the sweep, worked in place."""
-        terms = [values.take(piece).repeat(widths) for values in (self.ax, self.ay, self.dx, self.dy, self.divisor)]
-        qx, qy = _offsets(*terms, px, py.repeat(widths), across.repeat(widths))
+        (indices, distances). The points come in runs (the cells of a row): point ``k`` is
+        measured from segment ``piece[entry[k]]`` and shares ``py``, ``across`` and ``reach``
+        with the other points of its run ``entry[k]``: the inner loop of the sweep, worked in
+        place. Each term is gathered point by point through one index (spreading a run's
+        terms by ``repeat`` cost twice as much)."""
+        owner = piece.take(entry)
+        terms = [values.take(owner) for values in (self.ax, self.ay, self.dx, self.dy, self.divisor)]
+        qx, qy = _offsets(*terms, px, py.take(entry), across.take(entry))
         distance = numpy.multiply(qx, qx)
         distance += numpy.multiply(qy, qy, out=px)
         numpy.sqrt(distance, out=distance)  # as _length works it out
-        near = (distance <= reach.repeat(widths)).nonzero()[0]
+        near = (distance <= reach.take(entry)).nonzero()[0]
         return near, distance.take(near)
 
     def _offsets(self, owner, px, py, across):
@@ -652,6 +655,17 @@ def distance_to_segment(px, py, a, b):
     """Distance of points (px, py) from the XY segments a-b (row-wise)."""
     qx, qy = _nearest_on_segment(px, py, a, b)
     return _length(px - qx, py - qy)
+
+
+def total_length(starts, ends) -> float:
+    """The summed length of the moves ``starts``-``ends`` (rows of x, y, z), bit for bit
+    as numpy.linalg.norm along the rows gives it (the squares added in the same order),
+    without its cost on rows three wide (several times more)."""
+    delta = ends - starts
+    squares = delta[:, 0] * delta[:, 0]
+    squares += delta[:, 1] * delta[:, 1]
+    squares += delta[:, 2] * delta[:, 2]
+    return float(numpy.sqrt(squares, out=squares).sum())
 
 
 def _length(x, y):

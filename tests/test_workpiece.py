@@ -863,3 +863,18 @@ def test_heights_are_stored_rounded_outwards_as_nextafter_rounds_them(heights, u
         wanted[wrong] = numpy.nextafter(wanted[wrong], numpy.float32(numpy.inf if up else -numpy.inf))
         got = _float32_outwards(values, up)
     assert got.tobytes() == wanted.tobytes()
+
+
+_MOVE_ROW = st.tuples(*[st.floats(-1e6, 1e6)] * 6)
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.lists(_MOVE_ROW, max_size=30))
+def test_the_summed_length_of_moves_is_numpy_s_norm_summed_bit_for_bit(rows):
+    """The air and path lengths in the report are summed from the moves' lengths: the same
+    bits as numpy.linalg.norm along the rows, summed."""
+    from ncverify.workpiece import total_length
+
+    moves = numpy.array(rows, float).reshape(-1, 6)
+    starts, ends = moves[:, :3], moves[:, 3:]
+    assert total_length(starts, ends) == float(numpy.linalg.norm(ends - starts, axis=1).sum())
