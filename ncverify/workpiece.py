@@ -1023,12 +1023,17 @@ def arc_chords(starts, ends, centres, clockwise, planes, tolerance: float = 0.01
     owner = numpy.repeat(arcs, counts + 1)  # each arc's points, its end included
     fraction = (numpy.arange(len(owner)) - numpy.repeat(numpy.cumsum(counts + 1) - (counts + 1), counts + 1)) / counts[owner]
     angles = begin[owner] + numpy.where(clockwise[owner], -1.0, 1.0) * sweep[owner] * fraction
-    points = numpy.empty((len(owner), 3))
-    cells, row = points.reshape(-1), numpy.arange(0, 3 * len(owner), 3)  # each point's (x, y, z) in one flat array: an axis a point is a cell
-    cells[row + first[owner]] = centres[owner, 0] + radius[owner] * numpy.cos(angles)
-    cells[row + second[owner]] = centres[owner, 1] + radius[owner] * numpy.sin(angles)
     normal_start = starts.reshape(-1)[3 * owner + normal[owner]]
-    cells[row + normal[owner]] = normal_start + (ends.reshape(-1)[3 * owner + normal[owner]] - normal_start) * fraction
+    along = (centres[owner, 0] + radius[owner] * numpy.cos(angles), centres[owner, 1] + radius[owner] * numpy.sin(angles),
+             normal_start + (ends.reshape(-1)[3 * owner + normal[owner]] - normal_start) * fraction)  # each point on the plane's axes
+    points = numpy.empty((len(owner), 3))
+    if (planes == planes[0]).all():  # one plane (the usual batch): its axes are columns
+        for axis, values in zip(planes[0].tolist(), along):
+            points[:, axis] = values
+    else:
+        cells, row = points.reshape(-1), numpy.arange(0, 3 * len(owner), 3)  # each point's (x, y, z) in one flat array: an axis a point is a cell
+        for axes, values in zip((first, second, normal), along):
+            cells[row + axes[owner]] = values
     last = numpy.cumsum(counts + 1) - 1
     points[last] = ends
     sagitta = radius * (1 - numpy.cos(sweep / counts / 2))
