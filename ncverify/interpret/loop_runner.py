@@ -9,6 +9,11 @@ count on floats, changing nothing; only when all of them are what the straight p
 does it carry the pass out, in the order of its operations: variables written, moves made
 and gathered (or handed to the observer) as :meth:`~ncverify.interpret.Interpreter._move`
 makes them, blocks counted, the jump or the loop's pass counted against the loop bound.
+Only the first pass reads the variable tables (each later one takes the values the one
+before wrote: no rule writes a variable); the counts of blocks and passes are kept in
+locals and written back wherever the state can be seen (a move handed on alone, the
+gathered moves handed on, the runner's end). A gathered move is kept as numbers, its
+Segment and position made only when asked for (:class:`_GatheredMove`).
 Anything else (a value that is not a float, a failed operation or a result past the float
 range, a test that would branch, the loop bound, the analysis budget, the loop's end) stops
 the runner before that pass, which the block path then runs from the loop head and reports
@@ -254,7 +259,12 @@ class _PassCode(StraightCode):
         super().__init__(interpreter)
         self.objects: list = list(_RUN_AXES_IN_ORDER)  # k0, k1, k2: the axes of p0, p1, p2
         self.current: dict[str, str] = {}  # variable -> the operand holding its value at this point of the pass
-        self.tests, self.effects, self.limit, self.finish = [], [], [], []
+        self.tests, self.effects, self.finish = [], [], []
+        self.read: dict[str, str] = {}  # variable -> the operand holding its value at the pass's start
+        # the pass counter against the loop bound and the blocks run: kept in locals, written
+        # back wherever the state is seen (a move handed on, gathered moves handed on, the end)
+        counter = "count" if steps[-1][0] == "jump" else "iterations"
+        self.store = [f"interpreter.blocks_run = blocks\n{'counts[count_key] = count' if counter == 'count' else 'loop_frame.iterations = iterations'}"]
         moves = [step[1] for step in steps if step[0] == "move" and step[1].targets]
         self.gathered = [gathering and op.span.path is None and _RUN_AXES.issuperset(op.targets) for op in moves]
         self.axes = [axis for axis in _RUN_AXES_IN_ORDER if any(axis in op.targets for op in moves)]  # X, Y, Z as the pass moves them
@@ -291,8 +301,8 @@ class _PassCode(StraightCode):
             return known, False
         self.names.append(var.name)
         table = "local" if self.interpreter.is_local(var.name) else "global_"
-        name = self.current[var.name] = f"v{len(self.reads)}"
-        self.reads.append(f"{name} = {table}.get(n{len(self.names) - 1}, ABSENT)\nif type({name}) is not float:\n    break")
+        name = self.current[var.name] = self.read[var.name] = f"v{len(self.reads)}"
+        self.reads.append(f"{name} = {table}.get(n{len(self.names) - 1}, ABSENT)\nif type({name}) is not float:\n    return 0")
         return name, False
 
     def _number(self, expr) -> str | None:
@@ -322,14 +332,12 @@ class _PassCode(StraightCode):
                 self.tests.append(f"if {'not ' if needed else ''}{condition[0]}:\n    break")
         if self.size > _MOST_NODES:
             return False
-        if steps[-1][0] == "jump":
-            self.limit = ["count = counts.get(count_key, 0) + 1", "if count > bound:\n    break"]
-            self.effects.append("counts[count_key] = count")
-        else:
-            self.limit = ["iterations = loop_frame.iterations + 1", "if iterations >= bound:\n    break"]
-            self.effects.append("loop_frame.iterations = iterations")
-        self.limit.append(f"blocks = interpreter.blocks_run + {sum(1 for step in steps if step[0] == 'block')}\nif blocks > budget:\n    break")
-        self.effects.insert(0, "interpreter.blocks_run = blocks")  # no observer reads it: counted once a pass
+        blocks = sum(1 for step in steps if step[0] == "block")
+        counter = "count" if steps[-1][0] == "jump" else "iterations"
+        self.limit = [f"if {counter} + 1 {'>' if counter == 'count' else '>='} bound:\n    break", f"if blocks + {blocks} > budget:\n    break"]
+        self.effects.insert(0, f"blocks += {blocks}")
+        # the next pass reads what this one wrote (no rule writes a variable): only the first reads the tables
+        self.effects += [f"{counter} += 1", *(f"{read} = {self.current[name]}" for name, read in self.read.items() if self.current[name] != read)]
         return True
 
     def _move(self, op: ir.Move, block, motion: tuple, incremental: bool) -> bool:
@@ -365,7 +373,7 @@ class _PassCode(StraightCode):
             effects += [f"p{_RUN_AXES_IN_ORDER.index(axis)} = {value}" for axis, value in targets.items()]
             effects += [f"gathered.append((p0, p1, p2, feed, {runners.run_kinds[_SEGMENT_KINDS[after]]}, {runners.written_bits(tuple(op.targets))}, "
                         f"{self._object(after)}, {move}, base))",  # the layout of interpreter._GATHERED_FIELDS
-                        f"if len(gathered) >= {runners.most_gathered}:\n    state.motion_seen = True\n    hand_on()"]
+                        f"if len(gathered) >= {runners.most_gathered}:\n    state.motion_seen = True\n" + _indented(self.store, 1) + "    hand_on()"]
             return True
         effects.append(f"start = {'base' if self._clean(index) else self._position()}")
         ends = []
@@ -376,7 +384,7 @@ class _PassCode(StraightCode):
             ends.append(f"{self._object(axis)}: {value}")
         effects += [f"base = state.position = {{**start, {', '.join(ends)}}}", "state.motion_seen = True",
                     f"segment = Segment({self._object(_SEGMENT_KINDS[after])}, start, base, {self._object(op.span)}, {self._object(block)}, 'programmed', None, None)",
-                    "observer.segment(segment, state)"]
+                    *self.store, "observer.segment(segment, state)"]
         if last:
             self.finish = ["state.position = base", "state.last_segment = segment"]
         return True
@@ -394,14 +402,14 @@ class _PassCode(StraightCode):
                                                ("k", len(self.objects))) if count)
         # one sum of the results: it is infinite or NaN if any of them is (or, past the float range, when none is: then the block path takes the pass)
         checks = [f"checked = {' + '.join(self.checked)}\nif checked - checked != 0.0:\n    break"] if self.checked else []
-        finish = [*self.finish, "state.motion_seen = True"] if self.finish else []
-        body = [*self.reads, "try:\n" + _indented(self.steps or ["pass"], 1) + "except (ArithmeticError, ValueError):\n    break",
+        finish = [*self.store, *self.finish, *(["state.motion_seen = True"] if self.finish else [])]
+        start = [*self.reads, "count = counts.get(count_key, 0)" if "count" in self.store[0] else "iterations = loop_frame.iterations",
+                 "modal, base, passes, blocks = state.modal, state.position, 0, interpreter.blocks_run", "p0, p1, p2 = base.get(k0), base.get(k1), base.get(k2)"]
+        body = ["try:\n" + _indented(self.steps or ["pass"], 1) + "except (ArithmeticError, ValueError):\n    break",
                 *checks, *self.tests, *self.limit, *self.effects, "passes += 1"]
         return ("def make(ABSENT, Segment, c, n, f, k):\n" + unpack
                 + "    def run(interpreter, state, local, global_, gathered, feed, counts, count_key, loop_frame, bound, budget, hand_on, observer):\n"
-                + "        modal, base, passes = state.modal, state.position, 0\n"
-                + "        p0, p1, p2 = base.get(k0), base.get(k1), base.get(k2)\n        while True:\n"
-                + _indented(body, 3) + (_indented(["if passes:", *(f"    {line}" for line in finish)], 2) if finish else "")
+                + _indented(start, 2) + "        while True:\n" + _indented(body, 3) + "        if passes:\n" + _indented(finish, 3)
                 + "        return passes\n    return run\n")
 
 
