@@ -15,6 +15,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field, replace
 from functools import lru_cache, partial
+from operator import itemgetter
 
 import numpy
 
@@ -1390,7 +1391,8 @@ def _gathered_run(moves: list, start: dict, plane, state) -> MotionRun:
     """The MotionRun of gathered moves (``start``: where the first starts; ``plane``: their
     arcs' plane, None without arcs): the batch's form, with the block path's segments and
     spans, made when asked for."""
-    x, y, z, feeds, kinds, written, motions, sources, _bases = zip(*moves)
+    # column by column: zip(*moves) makes an iterator of each move, which costs more
+    x, y, z, feeds, kinds, written, motions, sources = (list(map(itemgetter(field), moves)) for field in range(_BASE))
     axes = _RUN_AXES_IN_ORDER
     points = numpy.empty((len(moves) + 1, len(axes)), dtype=numpy.float64)
     points[0] = [start.get(axis) for axis in axes]  # an unknown coordinate (None) is NaN
