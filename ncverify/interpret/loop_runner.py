@@ -259,12 +259,12 @@ class _PassCode(StraightCode):
         super().__init__(interpreter)
         self.objects: list = list(_RUN_AXES_IN_ORDER)  # k0, k1, k2: the axes of p0, p1, p2
         self.current: dict[str, str] = {}  # variable -> the operand holding its value at this point of the pass
-        self.tests, self.effects, self.finish = [], [], []
+        self.tests, self.limit, self.effects, self.finish = [], [], [], []
         self.read: dict[str, str] = {}  # variable -> the operand holding its value at the pass's start
         # the pass counter against the loop bound and the blocks run: kept in locals, written
         # back wherever the state is seen (a move handed on, gathered moves handed on, the end)
-        counter = "count" if steps[-1][0] == "jump" else "iterations"
-        self.store = [f"interpreter.blocks_run = blocks\n{'counts[count_key] = count' if counter == 'count' else 'loop_frame.iterations = iterations'}"]
+        self.counter = "count" if steps[-1][0] == "jump" else "iterations"
+        self.store = [f"interpreter.blocks_run = blocks\n{'counts[count_key] = count' if self.counter == 'count' else 'loop_frame.iterations = iterations'}"]
         moves = [step[1] for step in steps if step[0] == "move" and step[1].targets]
         self.gathered = [gathering and op.span.path is None and _RUN_AXES.issuperset(op.targets) for op in moves]
         self.axes = [axis for axis in _RUN_AXES_IN_ORDER if any(axis in op.targets for op in moves)]  # X, Y, Z as the pass moves them
@@ -282,12 +282,13 @@ class _PassCode(StraightCode):
     def _position(self, values: str = "p") -> str:
         """The position dict as the block path has it at this point of the pass: the stretch's
         base with the pass's X, Y, Z from the operands ``values``0..2 (the runner starts only
-        where the position already holds every axis the pass moves, so no key is added and
-        their order is the block path's)."""
+        where the position already holds every one of X, Y, Z the pass moves, so no key is
+        added and their order is the block path's)."""
         axes = ", ".join(f"{self._object(axis)}: {values}{_RUN_AXES_IN_ORDER.index(axis)}" for axis in self.axes)
         return f"{{**base, {axes}}}" if axes else "base"
 
     def _object(self, value) -> str:
+        """The name of ``value`` in the generated code (the axes X, Y, Z are always k0..k2)."""
         if type(value) is str and value in _RUN_AXES_IN_ORDER:
             return f"k{_RUN_AXES_IN_ORDER.index(value)}"
         self.objects.append(value)
@@ -333,7 +334,7 @@ class _PassCode(StraightCode):
         if self.size > _MOST_NODES:
             return False
         blocks = sum(1 for step in steps if step[0] == "block")
-        counter = "count" if steps[-1][0] == "jump" else "iterations"
+        counter = self.counter
         self.limit = [f"if {counter} + 1 {'>' if counter == 'count' else '>='} bound:\n    break", f"if blocks + {blocks} > budget:\n    break"]
         self.effects.insert(0, f"blocks += {blocks}")
         # the next pass reads what this one wrote (no rule writes a variable): only the first reads the tables
@@ -403,7 +404,7 @@ class _PassCode(StraightCode):
         # one sum of the results: it is infinite or NaN if any of them is (or, past the float range, when none is: then the block path takes the pass)
         checks = [f"checked = {' + '.join(self.checked)}\nif checked - checked != 0.0:\n    break"] if self.checked else []
         finish = [*self.store, *self.finish, *(["state.motion_seen = True"] if self.finish else [])]
-        start = [*self.reads, "count = counts.get(count_key, 0)" if "count" in self.store[0] else "iterations = loop_frame.iterations",
+        start = [*self.reads, "count = counts.get(count_key, 0)" if self.counter == "count" else "iterations = loop_frame.iterations",
                  "modal, base, passes, blocks = state.modal, state.position, 0, interpreter.blocks_run", "p0, p1, p2 = base.get(k0), base.get(k1), base.get(k2)"]
         body = ["try:\n" + _indented(self.steps or ["pass"], 1) + "except (ArithmeticError, ValueError):\n    break",
                 *checks, *self.tests, *self.limit, *self.effects, "passes += 1"]
@@ -432,7 +433,7 @@ class _GatheredMove:
         self.axes = [(axis, _RUN_AXES_IN_ORDER.index(axis)) for axis in axes]  # the pass's X, Y, Z and their fields
 
     def position(self, move: tuple) -> dict:
-        """Where ``move`` (a gathered move of this pass's move) ends, as the block path has it."""
+        """Where ``move`` (gathered by this move of the pass) ends, as the block path has it."""
         return {**move[-1], **{axis: move[column] for axis, column in self.axes}}
 
     def segment(self, start: dict, end: dict) -> Segment:
