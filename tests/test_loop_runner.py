@@ -21,7 +21,9 @@ _STOCK = ["(ncverify: stock box X-40:40 Y-40:40 Z-10:0)", "(ncverify: tool 1 rad
 
 def _report(program: str, path: str, **options) -> tuple:
     """The JSON report, the counts of blocks and paths, and every move, run, change and
-    fault the checker was handed, with the state it saw each in."""
+    fault the checker was handed, with the state it saw each in; of a run also each of its
+    segments as the rules may ask for it, and at each path's end the last segment (which a
+    tangential arc continues), positions with their axes in order."""
     events = []
 
     def value(value):  # a symbolic value by its bounds: printing its term costs more than the check
@@ -29,6 +31,14 @@ def _report(program: str, path: str, **options) -> tuple:
 
     def values(table: dict) -> list:
         return sorted((name, value(held)) for name, held in table.items())
+
+    def in_order(table: dict) -> list:
+        return [(name, value(held)) for name, held in table.items()]
+
+    def made(segment) -> tuple:
+        arc = segment.arc and (segment.arc.direction, segment.arc.plane, [value(held) for held in segment.arc.centre or ()],
+                               value(segment.arc.radius_word))
+        return in_order(segment.start), in_order(segment.end), segment.kind, segment.span, segment.block.span, segment.role, segment.cycle, arc
 
     def seen(state) -> tuple:
         return (values(state.position), state.modal.get("motion"), value(state.feed), values(state.local_variables),
@@ -46,12 +56,17 @@ def _report(program: str, path: str, **options) -> tuple:
 
     def run_record(run, state):
         spans = [run.span(index) for index in range(len(run))]
-        return run.points.tobytes(), run.kinds.tobytes(), run.feeds.tobytes(), run.written.tobytes(), spans, seen(state)
+        segments = [made(run.segment(index)) for index in reversed(range(len(run)))]  # in any order: each is made on its own
+        return run.points.tobytes(), run.kinds.tobytes(), run.feeds.tobytes(), run.written.tobytes(), spans, segments, seen(state)
+
+    def path_end(state):
+        return in_order(state.position), None if state.last_segment is None else made(state.last_segment), state.motion_seen, seen(state)
 
     with (recording("segment", lambda segment, state: (values(segment.start), values(segment.end), segment.kind, segment.span, seen(state))),
           recording("motion_run", run_record),
           recording("change", lambda change, state: (change.what, change.span, value(change.old), value(change.new), seen(state))),
-          recording("fault", lambda fault: (fault.rule, fault.span, fault.message, fault.status))):
+          recording("fault", lambda fault: (fault.rule, fault.span, fault.message, fault.status)),
+          recording("path_end", path_end)):
         result = check_text(program, path, Settings(**options))
     return render_json([result], []), result.blocks, result.paths, events
 
@@ -101,6 +116,9 @@ _EXPRESSION = _expression(_LEAF)
 _AXES = st.lists(st.sampled_from("XYZA"), unique=True, min_size=1, max_size=3)
 _LINUXCNC_MOVE = st.tuples(st.sampled_from(["G0", "G1", "", "", "G91 G1"]), _AXES.flatmap(
     lambda axes: st.tuples(*[_EXPRESSION.map(lambda e, a=a: f"{a}[{e}]") for a in axes]))).map(lambda p: " ".join([p[0], *p[1]]).strip())
+_STRAIGHT_MOVE = st.tuples(st.sampled_from(["G0", "G1", ""]), _AXES.flatmap(lambda axes: st.tuples(*[st.tuples(
+    st.sampled_from(["#<i>", "#<a>", "#<_g>"]), st.sampled_from("+-*"), st.integers(-3, 3)).map(lambda p, a=a: f"{a}[{p[0]} {p[1]} {p[2]}]")
+    for a in axes]))).map(lambda p: " ".join([p[0], *p[1]]).strip())  # a move the runner takes
 _LINUXCNC_ASSIGNMENT = st.tuples(st.sampled_from(_NAMES[1:4] + ["#5"]), _EXPRESSION).map(lambda p: f"{p[0]} = {p[1]}")
 _LINUXCNC_PLAIN = st.one_of(_LINUXCNC_MOVE, _LINUXCNC_MOVE, _LINUXCNC_ASSIGNMENT, _LINUXCNC_ASSIGNMENT)
 _LINUXCNC_BODY_LINE = st.one_of(
@@ -130,6 +148,23 @@ def test_linuxcnc_loops_report_the_same_with_the_runner_or_pass_by_pass(body, pa
     program = "\n".join([*(_STOCK if stock else []), "G21 G90 G17 G54", "T1 M6", "G43 H1", "S1000 M3", "G0 X0 Y0 Z5", "F500.",
                          "#<i> = 0", "#<a> = 1", "#<b> = 2", "#<_g> = 3", before, *loop, *after, "G0 Z50", "M2"]) + "\n"
     _assert_same(program, "t.ngc", dialect="linuxcnc", loop_bound=loop_bound)
+
+
+@settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(body=st.lists(st.one_of(_STRAIGHT_MOVE, _STRAIGHT_MOVE, _STRAIGHT_MOVE, _LINUXCNC_BODY_LINE), min_size=1, max_size=6), passes=st.integers(0, 40),
+       before=_LINUXCNC_BEFORE, sizes=st.sampled_from([(3, 1), (7, 3), (16, 32), (5, 5)]), stock=st.booleans(),
+       start=st.sampled_from(["G0 X0 Y0 Z5", "G0 Z5", ""]))
+def test_gathered_moves_handed_on_within_a_pass_report_the_same(body, passes, before, sizes, stock, start):
+    """With runs of a few moves (the most gathered, the fewest handed on as a run), the
+    runner's passes hand their moves on between two moves of a pass, and the moves it
+    gathered are made into segments and positions for the rules (run by run or one by one)
+    as the block path made them, also where the loop starts with axes not yet moved."""
+    program = "\n".join([*(_STOCK if stock else []), "G21 G90 G17 G54", "T1 M6", "G43 H1", "S1000 M3", start, "F500.", "#<i> = 0",
+                         "#<a> = 1", "#<b> = 2", "#<_g> = 3", before, f"o100 while [#<i> LT {passes}]", *body, "#<i> = [#<i> + 1]",
+                         "o100 endwhile", "G0 Z50", "M2"]) + "\n"
+    most, fewest = sizes
+    with mock.patch("ncverify.interpret.interpreter._GATHERED_MOVES", most), mock.patch("ncverify.interpret.interpreter._SHORTEST_RUN", fewest):
+        _assert_same(program, "t.ngc", dialect="linuxcnc")
 
 
 @settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])
@@ -263,3 +298,16 @@ def test_a_pass_that_reads_a_free_parameter_goes_pass_by_pass():
                            "o200 if [[#<i> MOD 20] NE 10]", "G1 X#<i>", "o200 endif", "#<i> = [#<i> + 1]", "o100 endwhile", "M2"]) + "\n"
     assert 50 <= _passes_run(branching, "t.ngc") < 58
     _assert_same(branching, "t.ngc")
+
+
+def test_a_pass_that_moves_an_axis_for_the_first_time_on_its_path_goes_pass_by_pass():
+    """Two paths share the loop's compiled pass; on the second one the pass's X move is
+    skipped in the first passes, so X is not in the position yet when the pass first moves
+    it: the block path runs that pass (which adds X where the block path adds it), the
+    runner the ones after it."""
+    for order in (("#2 = 0", "#2 = 3"), ("#2 = 3", "#2 = 0")):
+        program = "\n".join(["O1000", "G21 G90 G17 G54", "T1 M06", "G43 H01 Z50.", "S1000 M03", "F300.", order[0], "IF [#500 GT 0] GOTO 5",
+                             order[1], "N5", "#1 = 0", "N10 G1 Y#1", "IF [#1 LT #2] GOTO 20", "G1 X[#1 * 2]", "N20 #1 = #1 + 1",
+                             "IF [#1 LT 30] GOTO 10", "G0 Z50.", "M30"]) + "\n"
+        assert _passes_run(program, "t.nc") >= 50
+        _assert_same(program, "t.nc")

@@ -15,6 +15,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field, replace
 from functools import lru_cache, partial
+from operator import itemgetter
 
 import numpy
 
@@ -204,8 +205,9 @@ class Interpreter(ControlFlow):
         }
         for kind, run in (modal_call.HANDLERS | getattr(runtime, "OPERATIONS", {})).items():
             self._handlers[kind] = partial(run, self.cycles)
-        self._gathered: list[tuple[Segment, float, tuple, str]] = []  # moves not yet handed on (_gather): segment, feed, axes written, motion mode
+        self._gathered: list[tuple] = []  # moves not yet handed on (_gather), each as _GATHERED_FIELDS lays it out
         self._gathered_from = None  # the motion mode before the first of them
+        self._gathered_start: dict = {}  # the position before the first of them
         self._gathered_plane = None  # the plane of the arcs among them (None: no arc)
         self._run_observer = observer  # where the gathered moves go
         self._inert_between_moves = getattr(runtime, "INERT_BETWEEN_MOVES", {})  # dialect operation -> when it leaves the moves gathered
@@ -214,7 +216,7 @@ class Interpreter(ControlFlow):
         self._loop_runners = None
         if settings.loop_runner and not settings.per_block_only:
             self._loop_runners = loop_runner.LoopRunners(self, gathering=GatheringObserver, most_gathered=_GATHERED_MOVES, batch_after=_BATCH_AFTER,
-                                                         numbers=_numbers)
+                                                         numbers=_numbers, run_kinds=_RUN_KIND, written_bits=_written_bits)
 
     # ------------------------------------------------------------------ running
 
@@ -1106,7 +1108,7 @@ class Interpreter(ControlFlow):
             return False  # a move of a called file goes alone, as before: the toolpath picture leaves those segments out
         start, end, arc = segment.start, segment.end, segment.arc
         gathered = self._gathered
-        if not _RUN_AXES.issuperset(written) or not _numbers(end) or not (gathered and start is gathered[-1][0].end or _numbers(start)):
+        if not _RUN_AXES.issuperset(written) or not _numbers(end) or not (gathered and start is _made_end(gathered[-1]) or _numbers(start)):
             return False
         if arc is not None:
             if not ((self._x_scale() == 1.0 or "X" not in arc.plane[:2])
@@ -1116,8 +1118,10 @@ class Interpreter(ControlFlow):
                 return False  # a run's arcs share one plane (Klartext CC names the plane of the arcs about it)
             self._gathered_plane = arc.plane
         if not gathered:
-            self._gathered_from = motion_before
-        gathered.append((segment, math.nan if feed is None else feed, tuple(written), state.modal.get("motion")))
+            self._gathered_from, self._gathered_start = motion_before, start
+        kind = _RUN_KIND[segment.kind] + (arc is not None and arc.direction == "ccw")
+        gathered.append((end.get("X"), end.get("Y"), end.get("Z"), math.nan if feed is None else feed, kind, _written_bits(tuple(written)),
+                         state.modal.get("motion"), segment, None))
         if len(gathered) >= _GATHERED_MOVES:
             self._hand_on_gathered()
         return True
@@ -1146,17 +1150,18 @@ class Interpreter(ControlFlow):
             return
         moves = gathered[:]
         gathered.clear()
-        self._gathered_plane = None
-        state = self.state
+        plane, self._gathered_plane = self._gathered_plane, None
+        state, start = self.state, self._gathered_start
         now = state.position, state.modal.get("motion"), state.feed
         try:
             if len(moves) < _SHORTEST_RUN:
-                for segment, feed, _written, motion in moves:
-                    state.position, state.modal["motion"], state.feed = segment.end, motion, _as_value(feed)
+                for index, move in enumerate(moves):
+                    segment = _gathered_segment(moves, start, index)
+                    state.position, state.modal["motion"], state.feed = segment.end, move[_MOTION], _as_value(move[_FEED])
                     self._run_observer.segment(segment, state)
             else:
-                run = _gathered_run(moves, state)
-                state.position, state.modal["motion"], state.feed = moves[0][0].start, self._gathered_from, _as_value(moves[0][1])
+                run = _gathered_run(moves, start, plane, state)
+                state.position, state.modal["motion"], state.feed = start, self._gathered_from, _as_value(moves[0][_FEED])
                 self._run_observer.motion_run(run, state)
         finally:
             state.position, state.modal["motion"], state.feed = now
@@ -1342,28 +1347,69 @@ def _numbers(position: dict) -> bool:
     return True
 
 
-def _gathered_run(moves: list, state) -> MotionRun:
-    """The MotionRun of gathered moves ``(segment, feed, axes written, motion mode)``: the batch's form,
-    with the block path's own segments and spans."""
-    segments, feeds, axes_written, motions = zip(*moves)
-    axes = x, y, z = _RUN_AXES_IN_ORDER
-    ends = [segments[0].start, *(segment.end for segment in segments)]
-    points = numpy.array([(end.get(x), end.get(y), end.get(z)) for end in ends], dtype=numpy.float64)  # an unknown coordinate (None) is NaN
-    kinds = numpy.array([_RUN_KIND[segment.kind] + (segment.arc is not None and segment.arc.direction == "ccw") for segment in segments], dtype=numpy.int8)
+# A gathered move (Interpreter._gather_segment, and the loop runner's generated passes) is one
+# tuple: where it ends on X, Y and Z (None: unknown), its feed (NaN: none), its kind in a
+# MotionRun, which of X, Y, Z its block wrote (bits 1, 2, 4), the motion mode it left in
+# force, its source and its base. The source is the block path's Segment (base None) or, for a
+# loop pass's move, an object that makes the Segment when it is asked for (``position(move)``,
+# its end; ``segment(start, end)``; ``span``): base is then the position the runner started
+# from (or its last move handed on alone), shared by all the moves of that stretch.
+_GATHERED_FIELDS = ("x", "y", "z", "feed", "kind", "written", "motion", "source", "base")
+_FEED, _MOTION, _SOURCE, _BASE = (_GATHERED_FIELDS.index(name) for name in ("feed", "motion", "source", "base"))
+
+
+_WRITTEN_BITS = numpy.array([1, 2, 4], dtype=numpy.uint8)  # X, Y, Z in a gathered move's axes written
+
+
+@lru_cache(maxsize=16)
+def _written_bits(written: tuple) -> int:
+    """The axes ``written`` (all among X, Y, Z) as a gathered move holds them."""
+    return sum(int(bit) for axis, bit in zip(_RUN_AXES_IN_ORDER, _WRITTEN_BITS) if axis in written)
+
+
+def _made_end(move: tuple) -> dict | None:
+    """The end position of a gathered move's Segment where the block path made one."""
+    source = move[_SOURCE]
+    return source.end if type(source) is Segment else None
+
+
+def _gathered_segment(moves: list, start: dict, index: int) -> Segment:
+    """The Segment of the ``index``-th of gathered ``moves`` (``start``: where the first
+    starts), as the block path makes it: a loop pass's move starts where the move before it
+    in the same stretch ends, or, first in its stretch, at the stretch's base."""
+    move = moves[index]
+    source, base = move[_SOURCE], move[_BASE]
+    if type(source) is Segment:
+        return source
+    if index:
+        before = moves[index - 1]
+        start = before[_SOURCE].position(before) if before[_BASE] is base else base
+    return source.segment(start, source.position(move))
+
+
+def _gathered_run(moves: list, start: dict, plane, state) -> MotionRun:
+    """The MotionRun of gathered moves (``start``: where the first starts; ``plane``: their
+    arcs' plane, None without arcs): the batch's form, with the block path's segments and
+    spans, made when asked for."""
+    # column by column: zip(*moves) makes an iterator of each move, which costs more
+    x, y, z, feeds, kinds, written, motions, sources = (list(map(itemgetter(field), moves)) for field in range(_BASE))
+    axes = _RUN_AXES_IN_ORDER
+    points = numpy.empty((len(moves) + 1, len(axes)), dtype=numpy.float64)
+    points[0] = [start.get(axis) for axis in axes]  # an unknown coordinate (None) is NaN
+    points[1:, 0], points[1:, 1], points[1:, 2] = x, y, z
+    kinds = numpy.array(kinds, dtype=numpy.int8)
     feeds = numpy.array(feeds, dtype=numpy.float64)
-    columns = {written: [axis in written for axis in axes] for written in set(axes_written)}  # a loop's moves write the same few axes
-    written = numpy.array([columns[written] for written in axes_written], dtype=bool)
-    return MotionRun(axes, points, kinds, feeds, written, lambda index: segments[index].span, segments.__getitem__,
-                     _gathered_arcs(segments, axes), partial(_batch_state_at, state, kinds, feeds, motions=motions))
+    segment_of = lru_cache(maxsize=1)(partial(_gathered_segment, moves, start))  # asked for by the rules, then by the material
+    written = numpy.array(written, dtype=numpy.uint8)[:, None] & _WRITTEN_BITS != 0
+    return MotionRun(axes, points, kinds, feeds, written, lambda index: sources[index].span, segment_of,
+                     None if plane is None else _gathered_arcs(sources, plane, axes), partial(_batch_state_at, state, kinds, feeds, motions=motions))
 
 
-def _gathered_arcs(segments: list, axes: tuple) -> BatchArcs | None:
-    """The arcs among gathered moves as a batch holds them: their plane, its axes' columns,
-    each arc's centre (NaN: none, or given by its radius) and radius word (NaN: none)."""
-    arcs = [segment.arc for segment in segments]
-    plane = next((arc.plane for arc in arcs if arc is not None), None)
-    if plane is None:
-        return None
+def _gathered_arcs(sources: tuple, plane: tuple, axes: tuple) -> BatchArcs:
+    """The arcs among gathered moves (all in ``plane``; only the block path's Segments
+    have any) as a batch holds them: their plane, its axes' columns, each arc's centre
+    (NaN: none, or given by its radius) and radius word (NaN: none)."""
+    arcs = [source.arc if type(source) is Segment else None for source in sources]
     centres = numpy.array([arc.centre if arc is not None and arc.centre is not None else (math.nan, math.nan) for arc in arcs], dtype=numpy.float64)
     radii = numpy.array([arc.radius_word if arc is not None and arc.centre is None else math.nan for arc in arcs], dtype=numpy.float64)
     return BatchArcs(plane, [axes.index(plane[0]), axes.index(plane[1])], centres, radii)

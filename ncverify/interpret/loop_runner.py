@@ -9,6 +9,11 @@ count on floats, changing nothing; only when all of them are what the straight p
 does it carry the pass out, in the order of its operations: variables written, moves made
 and gathered (or handed to the observer) as :meth:`~ncverify.interpret.Interpreter._move`
 makes them, blocks counted, the jump or the loop's pass counted against the loop bound.
+Only the first pass reads the variable tables (each later one takes the values the one
+before wrote: no rule writes a variable); the counts of blocks and passes are kept in
+locals and written back wherever the state can be seen (a move handed on alone, the
+gathered moves handed on, the runner's end). A gathered move is kept as numbers, its
+Segment and position made only when asked for (:class:`_GatheredMove`).
 Anything else (a value that is not a float, a failed operation or a result past the float
 range, a test that would branch, the loop bound, the analysis budget, the loop's end) stops
 the runner before that pass, which the block path then runs from the loop head and reports
@@ -30,7 +35,8 @@ _ATTEMPTS = 4  # builds tried at a head (its lines may not all be lowered yet) b
 _IDLE = 16  # calls in a row that ran no pass before a head is given up
 _HEADS = 10_000  # heads remembered; past it the table starts again
 _SEGMENT_KINDS = {"rapid": "rapid", "linear": "feed"}  # the motion modes a pass may move in, and the segments they make
-_RUN_AXES = frozenset("XYZ")
+_RUN_AXES_IN_ORDER = ("X", "Y", "Z")  # a MotionRun's columns, and a gathered move's first fields
+_RUN_AXES = frozenset(_RUN_AXES_IN_ORDER)
 _GIVEN_UP = _ATTEMPTS + 1
 
 
@@ -39,11 +45,14 @@ class LoopRunners:
     wherever control lands (the interpreter's ``_run_path``): at a loop's head it runs as many
     whole passes as its compiled pass can take. The interpreter tells how it gathers moves:
     the type of its gathering observer, the most moves it gathers, the plain lines in a row
-    after which it reads a batch, and its test that a position holds numbers."""
+    after which it reads a batch, its test that a position holds numbers, and how a gathered
+    move holds its kind of segment (``run_kinds``) and the axes its block wrote
+    (``written_bits``)."""
 
-    def __init__(self, interpreter, *, gathering: type, most_gathered: int, batch_after: int, numbers):
+    def __init__(self, interpreter, *, gathering: type, most_gathered: int, batch_after: int, numbers, run_kinds: dict, written_bits):
         self.interpreter = interpreter
         self.gathering, self.most_gathered, self.batch_after, self.numbers = gathering, most_gathered, batch_after, numbers
+        self.run_kinds, self.written_bits = run_kinds, written_bits
         self._heads: dict[tuple, object] = {}  # head -> _Loop, or the builds tried there so far
 
     def run(self, head) -> None:
@@ -166,6 +175,7 @@ class _Loop:
         self.lines = [((id(head.source), line[1]), line) for line in lines]
         self.transfer = steps[-1]
         self.passes_end = lines[-1][2]  # the block path's _run_from ends its visited streak here
+        self.axes = {axis for step in steps if step[0] == "move" for axis in step[1].targets if axis in _RUN_AXES}  # (see _PassCode._position)
         self.codes: dict[tuple, object] = {}
         self.idle = 0
 
@@ -178,9 +188,10 @@ class _Loop:
         remembered = interpreter.line_text
         if any(remembered.get(key) is not line for key, line in self.lines):
             return False
+        position = state.position
         if (state.cycle is not None or state.parked or state.left_start or not interpreter._should_cache()
-                or not runners.numbers(state.position)):
-            return self._idle()
+                or not runners.numbers(position) or not all(axis in position for axis in self.axes)):
+            return self._idle()  # the pass that first moves X, Y or Z adds it to the position: the block path runs that one
         motion = state.modal.get("motion")
         motions = self._motions(motion)
         if motions is None:
@@ -204,7 +215,7 @@ class _Loop:
         shape = (motion, gathering, state.modal.get("distance") == "incremental")
         code = self.codes.get(shape)
         if code is None:
-            code = self.codes[shape] = _PassCode(interpreter, self.steps, motions, *shape[1:], runners.most_gathered).function()
+            code = self.codes[shape] = _PassCode(interpreter, self.steps, motions, *shape[1:], runners).function()
         if code is False:
             return False
         passes = code(interpreter, state, state.local_variables, state.global_variables, interpreter._gathered,
@@ -244,12 +255,22 @@ class _PassCode(StraightCode):
     many it ran. Names and values of the program are passed in, not written into the code,
     so that loops of one shape share it."""
 
-    def __init__(self, interpreter, steps: list, motions: list, gathering: bool, incremental: bool, most_gathered: int):
+    def __init__(self, interpreter, steps: list, motions: list, gathering: bool, incremental: bool, runners: LoopRunners):
         super().__init__(interpreter)
-        self.objects: list = []
+        self.objects: list = list(_RUN_AXES_IN_ORDER)  # k0, k1, k2: the axes of p0, p1, p2
         self.current: dict[str, str] = {}  # variable -> the operand holding its value at this point of the pass
-        self.tests, self.effects, self.limit = [], [], []
-        self.built = self._pass(steps, iter(motions), gathering, incremental, most_gathered)
+        self.tests, self.limit, self.effects, self.finish = [], [], [], []
+        self.read: dict[str, str] = {}  # variable -> the operand holding its value at the pass's start
+        # the pass counter against the loop bound and the blocks run: kept in locals, written
+        # back wherever the state is seen (a move handed on, gathered moves handed on, the end)
+        self.counter = "count" if steps[-1][0] == "jump" else "iterations"
+        self.store = [f"interpreter.blocks_run = blocks\n{'counts[count_key] = count' if self.counter == 'count' else 'loop_frame.iterations = iterations'}"]
+        moves = [step[1] for step in steps if step[0] == "move" and step[1].targets]
+        self.gathered = [gathering and op.span.path is None and _RUN_AXES.issuperset(op.targets) for op in moves]
+        self.axes = [axis for axis in _RUN_AXES_IN_ORDER if any(axis in op.targets for op in moves)]  # X, Y, Z as the pass moves them
+        self.moves_made = 0
+        self.runners = runners
+        self.built = self._pass(steps, iter(motions), incremental)
 
     def function(self):
         """The generated function, or False when the pass has an expression that is not
@@ -258,7 +279,18 @@ class _PassCode(StraightCode):
             return False
         return factory(self.text_of_pass())(_ABSENT, Segment, tuple(self.constants), tuple(self.names), tuple(self.functions), tuple(self.objects))
 
+    def _position(self, values: str = "p") -> str:
+        """The position dict as the block path has it at this point of the pass: the stretch's
+        base with the pass's X, Y, Z from the operands ``values``0..2 (the runner starts only
+        where the position already holds every one of X, Y, Z the pass moves, so no key is
+        added and their order is the block path's)."""
+        axes = ", ".join(f"{self._object(axis)}: {values}{_RUN_AXES_IN_ORDER.index(axis)}" for axis in self.axes)
+        return f"{{**base, {axes}}}" if axes else "base"
+
     def _object(self, value) -> str:
+        """The name of ``value`` in the generated code (the axes X, Y, Z are always k0..k2)."""
+        if type(value) is str and value in _RUN_AXES_IN_ORDER:
+            return f"k{_RUN_AXES_IN_ORDER.index(value)}"
         self.objects.append(value)
         return f"k{len(self.objects) - 1}"
 
@@ -270,8 +302,8 @@ class _PassCode(StraightCode):
             return known, False
         self.names.append(var.name)
         table = "local" if self.interpreter.is_local(var.name) else "global_"
-        name = self.current[var.name] = f"v{len(self.reads)}"
-        self.reads.append(f"{name} = {table}.get(n{len(self.names) - 1}, ABSENT)\nif type({name}) is not float:\n    break")
+        name = self.current[var.name] = self.read[var.name] = f"v{len(self.reads)}"
+        self.reads.append(f"{name} = {table}.get(n{len(self.names) - 1}, ABSENT)\nif type({name}) is not float:\n    return 0")
         return name, False
 
     def _number(self, expr) -> str | None:
@@ -279,7 +311,7 @@ class _PassCode(StraightCode):
         operand = self.node(expr)
         return None if operand is None or operand[1] else operand[0]
 
-    def _pass(self, steps, motions, gathering: bool, incremental: bool, most_gathered: int) -> bool:
+    def _pass(self, steps, motions, incremental: bool) -> bool:
         for step in steps:
             kind = step[0]
             if kind == "assign":
@@ -291,7 +323,7 @@ class _PassCode(StraightCode):
                 self.effects.append(f"{table}[{self._object(name)}] = {value}")
                 self.current[name] = value
             elif kind == "move":
-                if not self._move(step[1], step[2], next(motions), gathering, incremental, most_gathered):
+                if not self._move(step[1], step[2], next(motions), incremental):
                     return False
             elif kind in ("test", "loop_start", "jump") and step[1] is not None:
                 condition = self.node(step[1])
@@ -301,44 +333,68 @@ class _PassCode(StraightCode):
                 self.tests.append(f"if {'not ' if needed else ''}{condition[0]}:\n    break")
         if self.size > _MOST_NODES:
             return False
-        if steps[-1][0] == "jump":
-            self.limit = ["count = counts.get(count_key, 0) + 1", "if count > bound:\n    break"]
-            self.effects.append("counts[count_key] = count")
-        else:
-            self.limit = ["iterations = loop_frame.iterations + 1", "if iterations >= bound:\n    break"]
-            self.effects.append("loop_frame.iterations = iterations")
-        self.limit.append(f"blocks = interpreter.blocks_run + {sum(1 for step in steps if step[0] == 'block')}\nif blocks > budget:\n    break")
-        self.effects.insert(0, "interpreter.blocks_run = blocks")  # no observer reads it: counted once a pass
+        blocks = sum(1 for step in steps if step[0] == "block")
+        counter = self.counter
+        self.limit = [f"if {counter} + 1 {'>' if counter == 'count' else '>='} bound:\n    break", f"if blocks + {blocks} > budget:\n    break"]
+        self.effects.insert(0, f"blocks += {blocks}")
+        # the next pass reads what this one wrote (no rule writes a variable): only the first reads the tables
+        self.effects += [f"{counter} += 1", *(f"{read} = {self.current[name]}" for name, read in self.read.items() if self.current[name] != read)]
         return True
 
-    def _move(self, op: ir.Move, block, motion: tuple, gathering: bool, incremental: bool, most_gathered: int) -> bool:
+    def _move(self, op: ir.Move, block, motion: tuple, incremental: bool) -> bool:
         """The effects of a straight move, as :meth:`~ncverify.interpret.Interpreter._move` and
-        :meth:`~ncverify.interpret.Interpreter._gather_segment` have them."""
+        :meth:`~ncverify.interpret.Interpreter._gather_segment` have them, on the pass's X, Y, Z
+        (``p0``..``p2``) and ``base``, the position dict of the stretch. A gathered move keeps
+        its end as numbers (its Segment and position are made when asked for); a move handed
+        on alone is made as the block path makes it, and its end becomes the base."""
         before, after = motion
         effects = self.effects
-        if op.kind is not None:
+        if op.kind is not None and after != before:  # the same mode again changes nothing
             effects.append(f"modal['motion'] = {self._object(after)}")
         if not op.targets:
             return True
-        written = []
+        index, self.moves_made = self.moves_made, self.moves_made + 1
+        gathered, last = self.gathered[index], self.moves_made == len(self.gathered)
+        targets = {}
         for axis, expr in op.targets.items():
             value = self._number(expr)
             if value is None:
                 return False
             if (incremental and axis not in op.absolute) or axis in op.incremental:
-                effects.append(f"now{len(written)} = position.get({self._object(axis)})")
-                value = f"None if now{len(written)} is None else now{len(written)} + {value}"
-            written.append(f"{self._object(axis)}: {value}")
-        effects += [f"end = {{**position, {', '.join(written)}}}", "state.position = end", "state.motion_seen = True",
-                    f"segment = state.last_segment = Segment({self._object(_SEGMENT_KINDS[after])}, position, end, {self._object(op.span)}, "
-                    f"{self._object(block)}, 'programmed', None, None)", "position = end"]
-        if gathering and op.span.path is None and _RUN_AXES.issuperset(op.targets):
-            effects += [f"if not gathered:\n    interpreter._gathered_from = {self._object(before)}",
-                        f"gathered.append((segment, feed, {self._object(tuple(op.targets))}, {self._object(after)}))",
-                        f"if len(gathered) >= {most_gathered}:\n    hand_on()"]
-        else:
-            effects.append("observer.segment(segment, state)")
+                now = f"p{_RUN_AXES_IN_ORDER.index(axis)}" if axis in _RUN_AXES else f"start.get({self._object(axis)})"
+                value = f"None if {now} is None else {now} + {value}"
+            targets[axis] = value
+        if gathered:
+            runners, move = self.runners, self._object(_GatheredMove(_SEGMENT_KINDS[after], op.span, block, self.axes))
+            effects.append(f"if not gathered:\n    interpreter._gathered_from = {self._object(before)}\n"
+                           f"    interpreter._gathered_start = {self._position()}")
+            if last:
+                effects.append("b0, b1, b2 = p0, p1, p2")
+                self.finish = [f"state.position = {self._position()}", f"state.last_segment = {move}.segment({self._position('b')}, state.position)"]
+            effects += [f"p{_RUN_AXES_IN_ORDER.index(axis)} = {value}" for axis, value in targets.items()]
+            effects += [f"gathered.append((p0, p1, p2, feed, {runners.run_kinds[_SEGMENT_KINDS[after]]}, {runners.written_bits(tuple(op.targets))}, "
+                        f"{self._object(after)}, {move}, base))",  # the layout of interpreter._GATHERED_FIELDS
+                        f"if len(gathered) >= {runners.most_gathered}:\n    state.motion_seen = True\n" + _indented(self.store, 1) + "    hand_on()"]
+            return True
+        effects.append(f"start = {'base' if self._clean(index) else self._position()}")
+        ends = []
+        for axis, value in targets.items():
+            if axis in _RUN_AXES:
+                effects.append(f"p{_RUN_AXES_IN_ORDER.index(axis)} = {value}")
+                value = f"p{_RUN_AXES_IN_ORDER.index(axis)}"
+            ends.append(f"{self._object(axis)}: {value}")
+        effects += [f"base = state.position = {{**start, {', '.join(ends)}}}", "state.motion_seen = True",
+                    f"segment = Segment({self._object(_SEGMENT_KINDS[after])}, start, base, {self._object(op.span)}, {self._object(block)}, 'programmed', None, None)",
+                    *self.store, "observer.segment(segment, state)"]
+        if last:
+            self.finish = ["state.position = base", "state.last_segment = segment"]
         return True
+
+    def _clean(self, index: int) -> bool:
+        """Is the position before the pass's ``index``-th move (one handed on alone) the base:
+        was the move before it (the pass's last, for its first) handed on alone too? (At the
+        runner's start the position is the base anyway.)"""
+        return not self.gathered[(index - 1) % len(self.gathered)]
 
     def text_of_pass(self) -> str:
         """The source of ``make(ABSENT, Segment, c, n, f, k)``, which returns the pass runner."""
@@ -347,12 +403,15 @@ class _PassCode(StraightCode):
                                                ("k", len(self.objects))) if count)
         # one sum of the results: it is infinite or NaN if any of them is (or, past the float range, when none is: then the block path takes the pass)
         checks = [f"checked = {' + '.join(self.checked)}\nif checked - checked != 0.0:\n    break"] if self.checked else []
-        body = [*self.reads, "try:\n" + _indented(self.steps or ["pass"], 1) + "except (ArithmeticError, ValueError):\n    break",
+        finish = [*self.store, *self.finish, *(["state.motion_seen = True"] if self.finish else [])]
+        start = [*self.reads, "count = counts.get(count_key, 0)" if self.counter == "count" else "iterations = loop_frame.iterations",
+                 "modal, base, passes, blocks = state.modal, state.position, 0, interpreter.blocks_run", "p0, p1, p2 = base.get(k0), base.get(k1), base.get(k2)"]
+        body = ["try:\n" + _indented(self.steps or ["pass"], 1) + "except (ArithmeticError, ValueError):\n    break",
                 *checks, *self.tests, *self.limit, *self.effects, "passes += 1"]
         return ("def make(ABSENT, Segment, c, n, f, k):\n" + unpack
                 + "    def run(interpreter, state, local, global_, gathered, feed, counts, count_key, loop_frame, bound, budget, hand_on, observer):\n"
-                + "        modal, position, passes = state.modal, state.position, 0\n        while True:\n"
-                + _indented(body, 3) + "        return passes\n    return run\n")
+                + _indented(start, 2) + "        while True:\n" + _indented(body, 3) + "        if passes:\n" + _indented(finish, 3)
+                + "        return passes\n    return run\n")
 
 
 def _indented(lines: list[str], depth: int) -> str:
@@ -360,3 +419,22 @@ def _indented(lines: list[str], depth: int) -> str:
 
 
 _ABSENT = object()  # not in a variable table
+
+
+class _GatheredMove:
+    """A move of a compiled pass among the interpreter's gathered moves (their layout:
+    ``interpreter._GATHERED_FIELDS``): its Segment and end position are made only when
+    asked for, from the numbers the pass gathered and the stretch's base."""
+
+    __slots__ = ("kind", "span", "block", "axes")
+
+    def __init__(self, kind: str, span, block, axes: list):
+        self.kind, self.span, self.block = kind, span, block
+        self.axes = [(axis, _RUN_AXES_IN_ORDER.index(axis)) for axis in axes]  # the pass's X, Y, Z and their fields
+
+    def position(self, move: tuple) -> dict:
+        """Where ``move`` (gathered by this move of the pass) ends, as the block path has it."""
+        return {**move[-1], **{axis: move[column] for axis, column in self.axes}}
+
+    def segment(self, start: dict, end: dict) -> Segment:
+        return Segment(self.kind, start, end, self.span, self.block, "programmed", None, None)
