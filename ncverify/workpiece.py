@@ -349,13 +349,13 @@ class Workpiece:
     def _near_in_chunk(self, chunk, segments: "_Segments", rows, first_row, reach, rounding, column_low, column_high, centres):
         """(piece, flat cell, distance) of the cells near the pieces ``chunk`` (see :meth:`_cells_near`)."""
         piece = chunk.repeat(rows[chunk])  # one entry per (piece, row)
-        row = first_row[piece] + _ramp(rows[chunk])
+        row = first_row.take(piece) + _ramp(rows[chunk])
         y = self._y(row)
-        first, stop = self._row_spans(segments, reach[piece] + rounding[piece], piece, y, column_low[piece], column_high[piece])
+        first, stop = self._row_spans(segments, reach.take(piece) + rounding.take(piece), piece, y, column_low.take(piece), column_high.take(piece))
         widths = stop - first
         entry = numpy.arange(len(piece)).repeat(widths)  # each measured cell's (piece, row)
         column = numpy.arange(len(entry)) + (first - widths.cumsum() + widths).take(entry)
-        cells, distance = segments.near_on_rows(piece, entry, centres.take(column), y, (y - segments.ay[piece]) * segments.dy[piece], reach[piece])
+        cells, distance = segments.near_on_rows(piece, entry, centres.take(column), y, (y - segments.ay.take(piece)) * segments.dy.take(piece), reach.take(piece))
         entry = entry.take(cells)
         return piece.take(entry), row.take(entry) * self.nx + column.take(cells), distance
 
@@ -366,7 +366,7 @@ class Workpiece:
         (``column_low``, ``column_high``). The caller widens ``reach`` by more than the
         rounding of these steps and of the distances measured after them, which grows with
         the coordinates' size: the spans then hold every cell the whole box would give."""
-        ax, ay, dx, dy = segments.ax[piece], segments.ay[piece], segments.dx[piece], segments.dy[piece]
+        ax, ay, dx, dy = (terms.take(piece) for terms in (segments.ax, segments.ay, segments.dx, segments.dy))
         sloped = dy != 0.0
         # a piece all but level (dy far below the reach) gives quotients past the float range:
         # their infinity clips to the piece's end, as the limit of a level piece would
@@ -394,17 +394,25 @@ class Workpiece:
         return numpy.hypot(numpy.maximum(numpy.abs(qx - px) - half, 0.0), numpy.maximum(numpy.abs(qy - py) - half, 0.0))
 
     def _index_range(self, low, high, origin: float, count: int):
-        first = numpy.minimum(numpy.maximum(numpy.floor((low - origin) / self.resolution), 0), count).astype(numpy.int64)
-        last = numpy.minimum(numpy.maximum(numpy.ceil((high - origin) / self.resolution), 0), count).astype(numpy.int64)
-        return first, last
+        first, last = self._cells(low, origin), self._cells(high, origin)
+        return _clipped(numpy.floor(first, out=first), count), _clipped(numpy.ceil(last, out=last), count)
 
     def _centre_range(self, low, high, origin: float, count: int):
         """(first, stop) of the cells whose centres lie between ``low`` and ``high`` (less than
         :meth:`_index_range`, which takes every cell that reaches into them: half a cell
         fewer at each end on the mean)."""
-        first = numpy.minimum(numpy.maximum(numpy.ceil((low - origin) / self.resolution - 0.5), 0), count).astype(numpy.int64)
-        stop = numpy.minimum(numpy.maximum(numpy.floor((high - origin) / self.resolution - 0.5) + 1, 0), count).astype(numpy.int64)
-        return first, stop
+        first, stop = self._cells(low, origin), self._cells(high, origin)
+        first -= 0.5
+        stop -= 0.5
+        numpy.floor(stop, out=stop)
+        stop += 1
+        return _clipped(numpy.ceil(first, out=first), count), _clipped(stop, count)
+
+    def _cells(self, positions, origin: float):
+        """How many cells ``positions`` lie from ``origin`` along an axis (a new array, as floats)."""
+        cells = positions - origin
+        cells /= self.resolution
+        return cells
 
     def _x(self, column):
         return self.x_low + (column + 0.5) * self.resolution
@@ -507,6 +515,11 @@ def _keep_scratch_memory() -> None:
     trim_threshold, mmap_threshold = -1, -3  # glibc's parameter numbers (malloc.h)
     mallopt(mmap_threshold, _SCRATCH_BYTES // 4)
     mallopt(trim_threshold, _SCRATCH_BYTES)
+
+
+def _clipped(cells, count: int):
+    """Cell numbers (floats, overwritten) kept between 0 and ``count``, as integers."""
+    return cells.clip(0, count, out=cells).astype(numpy.int64)
 
 
 def _chunks(sizes):
