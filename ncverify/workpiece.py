@@ -175,7 +175,7 @@ class Workpiece:
         self.cuts += 1
         strays = numpy.broadcast_to(numpy.asarray(stray, float), len(starts))
         starts, ends, strays = self._within_slab(starts, ends, cutter, strays)
-        pieces = _merge_runs(starts, ends, strays, self.resolution / 4.0, self.resolution) if joined else _each_alone(starts, ends, strays)
+        pieces = _merge_runs(starts, ends, strays, self.resolution / 4.0, self.resolution) if joined else _as_given(starts, ends, strays)
         a, b, z_low, z_high, slack, stray = self._split_steep(*pieces)
         z_low, z_high, slack = z_low - stray, z_high + stray, slack + stray
         may_cut = numpy.zeros(len(a), bool)
@@ -760,17 +760,18 @@ def _merge_runs(starts, ends, strays, tolerance: float, rise: float):
     path = _Path.of(starts, ends)
     count = len(starts)
     if _none_join(path, rise):  # each move is a chord of its own (a drilling cycle's plunges, moves between arcs)
-        return _each_alone(starts, ends, strays, path)
+        return starts, ends, path.low, path.high, _single_strays(path, numpy.arange(count)), strays
     first, length, stray = _kept_groups(path, tolerance, rise)
     group = _group_of(first, count)
     z_low, z_high = _reduce_groups(numpy.minimum, path.low, first, group), _reduce_groups(numpy.maximum, path.high, first, group)
     return starts.take(first, axis=0), ends.take(first + length - 1, axis=0), z_low, z_high, stray, _reduce_groups(numpy.maximum, strays, first, group)
 
 
-def _each_alone(starts, ends, strays, path: _Path | None = None):
-    """The moves as :func:`_merge_runs` gives them where each is a chord of its own."""
-    path = path or _Path.of(starts, ends)
-    return starts, ends, path.low, path.high, _single_strays(path, numpy.arange(len(starts))), strays
+def _as_given(starts, ends, strays):
+    """The moves in the form :func:`_merge_runs` gives, each a chord of its own: a move is
+    its own chord, which it leaves nowhere (the merge's singles measure the rounding of that
+    distance, to judge them alike with its groups)."""
+    return starts, ends, numpy.minimum(starts[:, 2], ends[:, 2]), numpy.maximum(starts[:, 2], ends[:, 2]), numpy.zeros(len(starts)), strays
 
 
 def _none_join(path: _Path, rise: float) -> bool:

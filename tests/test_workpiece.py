@@ -645,10 +645,10 @@ def test_the_merge_keeps_the_groups_that_judging_group_by_group_keeps(path, tole
 def _sweep_every_cell(piece, starts, ends, cutter, stray, joined=True):
     """The sweep written plainly: each piece against every cell of the grid (the same
     pieces, bounds and rounding as the model's own)."""
-    from ncverify.workpiece import _each_alone, _merge_runs, _sink
+    from ncverify.workpiece import _as_given, _merge_runs, _sink
 
     starts, ends, strays = piece._within_slab(starts, ends, cutter, numpy.broadcast_to(numpy.asarray(stray, float), len(starts)))
-    pieces = _merge_runs(starts, ends, strays, piece.resolution / 4.0, piece.resolution) if joined else _each_alone(starts, ends, strays)
+    pieces = _merge_runs(starts, ends, strays, piece.resolution / 4.0, piece.resolution) if joined else _as_given(starts, ends, strays)
     a, b, z_low, z_high, slack, stray = piece._split_steep(*pieces)
     z_low, z_high, slack = z_low - stray, z_high + stray, slack + stray
     may_cut = numpy.zeros(len(a), bool)
