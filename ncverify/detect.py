@@ -9,6 +9,7 @@ Python source) are recognised so that a directory walk can skip them with a note
 """
 from __future__ import annotations
 
+import functools
 import itertools
 import re
 from dataclasses import dataclass
@@ -96,7 +97,9 @@ class _Head:
     none of whose needles occurs in that copy cannot match, so it is not run: upper-casing
     ASCII keeps every character in its place, and text that a pattern's literal matches
     (with or without IGNORECASE) reads as that literal in upper case. Text outside ASCII
-    (whose case rules are wider) runs every pattern."""
+    (whose case rules are wider) runs every pattern as written. On the upper-case copy a
+    pattern that ignores case runs in its upper-case form (:func:`_upper_form`), which
+    finds the same matches at the same places several times faster."""
 
     __slots__ = ("text", "upper")
 
@@ -111,10 +114,42 @@ class _Head:
         """How often ``pattern`` matches, counted up to 3 (more weighs no more)."""
         if not self.may_match(needles):
             return 0
-        return sum(1 for _ in itertools.islice(re.finditer(pattern, self.text), 3))
+        return sum(1 for _ in itertools.islice(self._finditer(pattern), 3))
 
     def search(self, pattern: str, needles: str) -> bool:
-        return self.may_match(needles) and re.search(pattern, self.text) is not None
+        return self.may_match(needles) and next(self._finditer(pattern), None) is not None
+
+    def _finditer(self, pattern: str):
+        if self.upper is not None and _IGNORES_CASE.match(pattern):
+            return _upper_form(pattern).finditer(self.upper)
+        return re.finditer(pattern, self.text)
+
+
+_IGNORES_CASE = re.compile(r"\(\?[a-zA-Z]*i[a-zA-Z]*\)")
+# an opening word boundary before a letter or a class of letters, or a look-behind without
+# groups or alternatives; then what it is moved behind: a letter and the letters and digits
+# after it, or a class, none of it repeated
+_LEADING_BOUNDARY = re.compile(r"(?:(\\b)(?=[A-Z]|\[[A-Z]+\])|\(\?<!((?:[^()|\\]|\\.)+)\))([A-Z][A-Z0-9]*|\[(?:[^\]\\]|\\.)+\])(?![?*+{])")
+
+
+@functools.cache
+def _upper_form(pattern: str) -> re.Pattern:
+    """The case-ignoring ``pattern`` as it runs on upper-cased ASCII text: without
+    IGNORECASE, each letter outside an escape in upper case, and a leading word boundary
+    or look-behind moved behind the literal text or class that follows it (``\\bM6[2-8]``
+    -> ``M6(?<!\\wM6)[2-8]``, ``(?<![A-Z])[GM]\\d`` -> ``[GM](?<![A-Z][GM])\\d``). On
+    upper-case text the matches are the same; what changes is that a pattern opening with
+    literal text lets the regex engine jump from one occurrence of that text to the next,
+    where a case-ignoring one, or one opening with an assertion, tries a match at every
+    character."""
+    flags = _IGNORES_CASE.match(pattern)
+    body = re.sub(r"\\.|[a-z]", lambda piece: piece.group(0) if piece.group(0).startswith("\\") else piece.group(0).upper(), pattern[flags.end():])
+    opening = _LEADING_BOUNDARY.match(body)
+    if opening is not None:
+        boundary, behind, first = opening.groups()
+        behind = r"\w" if boundary else behind
+        body = f"{first}(?<!{behind}{first}){body[opening.end():]}"
+    return re.compile(f"(?{flags.group(0)[2:-1].replace('i', '')}){body}" if flags.group(0) != "(?i)" else body)
 
 
 def lookalike(head: str) -> tuple[str, list[str]] | None:
@@ -235,8 +270,10 @@ def _iso_profile(head: _Head, machine: str | None) -> str:
     return "mitsubishi-e60"
 
 
-_INTEGER_LENGTH = re.compile(r"(?<![A-Z#\[])[XYZUWIJKR][ \t]*-?(\d+)(?![\d.])")
-_POINT_LENGTH = re.compile(r"(?<![A-Z#\[])[XYZUWIJKR][ \t]*-?\d*\.\d*")
+# an axis or centre word not preceded by a letter, # or [ (the look-behind follows the letter,
+# so that the search jumps from one such letter to the next)
+_INTEGER_LENGTH = re.compile(r"[XYZUWIJKR](?<![A-Z#\[][XYZUWIJKR])[ \t]*-?(\d+)(?![\d.])")
+_POINT_LENGTH = re.compile(r"[XYZUWIJKR](?<![A-Z#\[][XYZUWIJKR])[ \t]*-?\d*\.\d*")
 
 
 def integers_look_whole(head: str) -> bool:
@@ -247,9 +284,9 @@ def integers_look_whole(head: str) -> bool:
     ``Z5`` among decimal values is a forgotten point (rule ``core.decimal-point``)."""
     code = re.sub(r"\([^)]*\)", "", head.upper())
     integers = [len(match.group(1)) for match in _INTEGER_LENGTH.finditer(code)]
-    points = sum(1 for _ in _POINT_LENGTH.finditer(code))
     if not integers:
         return False
+    points = sum(1 for _ in _POINT_LENGTH.finditer(code))
     mostly_small = sum(1 for digits in integers if digits <= 3) >= 0.8 * len(integers)
     return mostly_small and (points == 0 or len(integers) >= 0.25 * (len(integers) + points))
 
