@@ -101,14 +101,21 @@ class _Head:
     pattern that ignores case runs in its upper-case form (:func:`_upper_form`), which
     finds the same matches at the same places several times faster."""
 
-    __slots__ = ("text", "upper")
+    __slots__ = ("text", "upper", "_present")
 
     def __init__(self, text: str, skip_by_needles: bool = True):
         self.text = text
         self.upper = text.upper() if skip_by_needles and text.isascii() else None
+        self._present: dict[str, bool] = {}  # needle -> found in the copy (patterns share needles)
 
     def may_match(self, needles: str) -> bool:
-        return self.upper is None or any(needle in self.upper for needle in needles.split("|"))
+        return self.upper is None or any(map(self._holds, needles.split("|")))
+
+    def _holds(self, needle: str) -> bool:
+        found = self._present.get(needle)
+        if found is None:
+            found = self._present[needle] = needle in self.upper
+        return found
 
     def count(self, pattern: str, needles: str) -> int:
         """How often ``pattern`` matches, counted up to 3 (more weighs no more)."""

@@ -250,7 +250,9 @@ def _first_odd_line(table, pointless, small_integers_are_increments: bool, arcs:
     radius with centre offsets, centre or radius words on a G0/G1 line, or (counted in
     increments) one without a point."""
     motion = table[:, _G]
-    odd = ~numpy.isnan(motion) & numpy.isin(motion, _MOTION_CODES[arcs], invert=True)
+    odd = ~numpy.isnan(motion)
+    for code in _MOTION_CODES[arcs]:  # cheaper than numpy.isin, which sorts
+        odd &= motion != code
     if small_integers_are_increments:
         magnitude = numpy.abs(table[:, _X : _F])
         odd |= any_in_row(pointless[:, _X : _F] & (magnitude >= 1) & (magnitude < 1000))
