@@ -132,29 +132,23 @@ class _Chunk:
         return count + (0 if stop == 0 or self.codes[stop - 1] == _NEWLINE_BYTE else 1)
 
     def first_bad_position(self) -> int:
-        """The first byte that breaks the form: a character outside it, a letter not
-        followed directly by its number, a sign inside a number, a number with two points,
-        no digit or too many digits, or one letter twice in a line."""
+        """The first byte that breaks the form of a word: a character outside it, a letter
+        not followed directly by its number, a number not directly after a letter, a sign
+        inside a number, a number with two points, no digit or too many digits. (A letter
+        twice in a line is found on the table, see :func:`_first_odd_line`.)"""
         classes, letters = self.classes, self.letters
-        bad = [numpy.flatnonzero(classes == _OTHER)[:1]]
         numeric = (classes >= _DIGIT) & (classes <= _SIGN)
-        number_starts = numpy.flatnonzero(numeric[1:] & ~numeric[:-1]) + 1
-        if numeric[:1].any():
-            bad.append(numpy.zeros(1, dtype=numpy.int64))
-        expected = letters + 1
-        count = min(len(number_starts), len(expected))
-        mismatch = numpy.flatnonzero(number_starts[:count] != expected[:count])[:1]
-        bad.append(numpy.minimum(number_starts[mismatch], expected[mismatch]))  # a letter without its number, or a number without its letter
-        bad.append(expected[count : count + 1])
-        bad.append(number_starts[count : count + 1])
+        bad = [_first_true(classes == _OTHER),
+               _first_true(numeric[:1]),
+               _first_true(numeric[1:] & ~(numeric[:-1] | (classes[:-1] == _LETTER))) + 1]  # after a blank or a line end
+        follows = classes.take(letters + 1, mode="clip")  # the last byte a letter: clipped onto itself, no number
+        bad.append(letters[(follows < _DIGIT) | (follows > _SIGN)][:1])
         signs = self.signs
         bad.append(signs[classes[numpy.maximum(signs - 1, 0)] != _LETTER][:1])
         bad.append(self.dots[1:][self.dot_owner[1:] == self.dot_owner[:-1]][:1])
         if len(letters):
             digit_counts = self.digit_counts[1:]
             bad.append(letters[(digit_counts == 0) | (digit_counts > _MAX_DIGITS)][:1])
-            keys = self.letter_lines * len(LETTERS) + self.letter_columns
-            bad.append(letters[numpy.bincount(keys)[keys] > 1][:1])
         found = [int(position[0]) for position in bad if len(position)]
         return min(found) if found else len(self.codes)
 
@@ -171,6 +165,13 @@ class _Chunk:
         values, has_point = parse_numbers(self.codes, self.digits[:digits], self.digit_owner[:digits], self.dots[:dots], self.dot_owner[:dots],
                                           self.owner_of(minus), len(letters), digits_follow_point=True, per_number=per_number)
         return letters, values, has_point
+
+
+def _first_true(mask):
+    """The index of the first true entry of a boolean array, as an array of one, or none
+    (``argmax`` stops at it, where ``flatnonzero`` reads to the end)."""
+    first = int(mask.argmax()) if len(mask) else 0
+    return numpy.arange(first, first + 1) if len(mask) and mask[first] else numpy.zeros(0, dtype=numpy.int64)
 
 
 def parse_numbers(codes, digits, digit_owner, dots, dot_owner, minus_owner, count: int, digits_follow_point: bool = False, per_number=None):
@@ -233,7 +234,7 @@ def read_plain_run(chunk: bytes, minimum_lines: int = _MINIMUM_LINES, stop_at_sm
     pointless = numpy.zeros(width * line_count, dtype=bool)
     pointless[cells] = ~has_point
     pointless = pointless.reshape(width, line_count).T
-    odd = _first_odd_line(table, pointless, stop_at_small_integers, arcs)
+    odd = _first_odd_line(table, pointless, found.words_per_line[:line_count], stop_at_small_integers, arcs)
     if odd < line_count:
         if odd < minimum_lines:
             return None
@@ -243,16 +244,18 @@ def read_plain_run(chunk: bytes, minimum_lines: int = _MINIMUM_LINES, stop_at_sm
     return PlainRun(table, pointless, line_starts, stop, found.words_per_line[:line_count] > 0)
 
 
-def _first_odd_line(table, pointless, small_integers_are_increments: bool, arcs: bool) -> int:
+def _first_odd_line(table, pointless, words, small_integers_are_increments: bool, arcs: bool) -> int:
     """The first line whose words the per-block fast lowering leaves to the general one
-    (the table's length when none): a motion code other than G0/G1 (and G2/G3 with
-    ``arcs``); counted in increments, a coordinate without a point from 1 to 999; a
-    radius with centre offsets, centre or radius words on a G0/G1 line, or (counted in
-    increments) one without a point."""
+    (the table's length when none): one letter twice (fewer cells filled than ``words``, the
+    line's letters); a motion code other than G0/G1 (and G2/G3 with ``arcs``); counted in
+    increments, a coordinate without a point from 1 to 999; a radius with centre offsets,
+    centre or radius words on a G0/G1 line, or (counted in increments) one without a point."""
+    odd = numpy.count_nonzero(~numpy.isnan(table), axis=1) < words  # a number is never NaN
     motion = table[:, _G]
-    odd = ~numpy.isnan(motion)
+    odd_motion = ~numpy.isnan(motion)
     for code in _MOTION_CODES[arcs]:  # cheaper than numpy.isin, which sorts
-        odd &= motion != code
+        odd_motion &= motion != code
+    odd |= odd_motion
     if small_integers_are_increments:
         magnitude = numpy.abs(table[:, _X : _F])
         odd |= any_in_row(pointless[:, _X : _F] & (magnitude >= 1) & (magnitude < 1000))
