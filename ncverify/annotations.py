@@ -26,12 +26,14 @@ from .source import ProgramSource, Span, find_all
 _MARKERS = (b"ncverify", b"NCVERIFY", b"Ncverify", b"NCVerify", b"NcVerify")  # byte searches; case variants people write
 _NUMBER = r"[+-]?(?:\d+\.?\d*|\.\d+)"
 _RANGE = rf"({_NUMBER})\s*:\s*({_NUMBER})"
-_BOX = re.compile(rf"(?i)box\s+X\s*{_RANGE}\s+Y\s*{_RANGE}\s+Z\s*{_RANGE}\s*$")
-_CYLINDER = re.compile(rf"(?i)cylinder\s+D\s*({_NUMBER})\s+Z\s*{_RANGE}\s*$")
-_POLYGON = re.compile(rf"(?i)polygon\s+(.*?)\s+Z\s*{_RANGE}\s*$")
-_POINT = re.compile(rf"(?i)^\s*X\s*({_NUMBER})\s+Y\s*({_NUMBER})\s*$")
-_TOOL = re.compile(rf'(?i)tool\s+(?:(\d+)|"([^"]+)")\s+radius\s+({_NUMBER})((?:\s+[A-Za-z-]+\s+\S+)*)\s*$')
-_NAME = re.compile(r"[a-z][a-z0-9-]*(?:\.[a-z0-9-]+)?$")
+# pattern texts, compiled (and kept by ``re``) when an annotation first needs them: most
+# programs have none or one kind, and compiling all at start-up cost 2 ms of every process
+_BOX = rf"(?i)box\s+X\s*{_RANGE}\s+Y\s*{_RANGE}\s+Z\s*{_RANGE}\s*$"
+_CYLINDER = rf"(?i)cylinder\s+D\s*({_NUMBER})\s+Z\s*{_RANGE}\s*$"
+_POLYGON = rf"(?i)polygon\s+(.*?)\s+Z\s*{_RANGE}\s*$"
+_POINT = rf"(?i)^\s*X\s*({_NUMBER})\s+Y\s*({_NUMBER})\s*$"
+_TOOL = rf'(?i)tool\s+(?:(\d+)|"([^"]+)")\s+radius\s+({_NUMBER})((?:\s+[A-Za-z-]+\s+\S+)*)\s*$'
+_NAME = r"[a-z][a-z0-9-]*(?:\.[a-z0-9-]+)?$"
 
 
 @dataclass
@@ -100,7 +102,7 @@ def _read(body: str, span: Span, target_line: int, found: Annotations) -> None:
             found.context.assumptions.append(Assumption(rest.strip(), tree, "annotation", span))
         elif keyword == "ignore":
             names = [name.strip().lower() for name in rest.split(",")]
-            if not names or not all(_NAME.match(name) for name in names):
+            if not names or not all(re.match(_NAME, name) for name in names):
                 raise ValueError("ignore takes rule ids or categories separated by commas")
             found.suppressions.setdefault(target_line, set()).update(names)
         else:
@@ -111,16 +113,16 @@ def _read(body: str, span: Span, target_line: int, found: Annotations) -> None:
 
 
 def _stock(text: str, span: Span) -> Stock:
-    if match := _BOX.match(text):
+    if match := re.match(_BOX, text):
         numbers = [float(value) for value in match.groups()]
         return Stock.box(numbers[0:2], numbers[2:4], numbers[4:6], "annotation", span)
-    if match := _CYLINDER.match(text):
+    if match := re.match(_CYLINDER, text):
         diameter, low, high = (float(value) for value in match.groups())
         return Stock.cylinder(diameter, (low, high), "annotation", span)
-    if match := _POLYGON.match(text):
+    if match := re.match(_POLYGON, text):
         points = []
         for part in match.group(1).split(","):
-            point = _POINT.match(part)
+            point = re.match(_POINT, part)
             if not point:
                 raise ValueError(f"a polygon point is written X<x> Y<y>, not {part.strip()!r}")
             points.append((float(point.group(1)), float(point.group(2))))
@@ -131,7 +133,7 @@ def _stock(text: str, span: Span) -> Stock:
 
 
 def _tool(text: str, span: Span) -> Tool:
-    match = _TOOL.match(text)
+    match = re.match(_TOOL, text)
     if not match:
         raise ValueError('tool is: tool <number or "name"> radius <r> [key value ...]')
     number, name, radius, extra = match.groups()
