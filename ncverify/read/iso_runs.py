@@ -75,9 +75,9 @@ class PlainRun:
             return pieces[0]
         width = max(piece.table.shape[1] for piece in pieces)
         starts = numpy.cumsum([0] + [piece.length for piece in pieces[:-1]])
-        return PlainRun(
-            numpy.vstack([_widened(piece.table, width, numpy.nan) for piece in pieces]),
-            numpy.vstack([_widened(piece.pointless, width, False) for piece in pieces]),
+        return PlainRun(  # stacked column by column, as each piece's table is laid out
+            numpy.hstack([_widened(piece.table, width, numpy.nan).T for piece in pieces]).T,
+            numpy.hstack([_widened(piece.pointless, width, False).T for piece in pieces]).T,
             numpy.concatenate([piece.line_starts + start for piece, start in zip(pieces, starts)]),
             sum(piece.length for piece in pieces),
             numpy.concatenate([piece.worded for piece in pieces]))
