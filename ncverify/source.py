@@ -12,6 +12,8 @@ import re
 from pathlib import Path
 from typing import NamedTuple
 
+import numpy
+
 from .dependencies import note_file
 
 
@@ -86,12 +88,19 @@ def line_start(buffer, offset: int) -> int:
 
 
 def _count_newlines(buffer, start: int, end: int) -> int:
+    """Line ends between the offsets, counted on the buffer in place (a slice of an mmap
+    is a copy: faulting its fresh pages in cost six times the count), in pieces whose
+    scratch arrays the allocator keeps."""
+    codes = numpy.frombuffer(buffer, dtype=numpy.uint8)
     count = 0
     while start < end:
-        stop = min(start + (1 << 22), end)
-        count += bytes(buffer[start:stop]).count(b"\n")
+        stop = min(start + (1 << 18), end)
+        count += int(numpy.count_nonzero(codes[start:stop] == _NEWLINE))
         start = stop
     return count
+
+
+_NEWLINE = ord("\n")
 
 
 class ProgramSource:

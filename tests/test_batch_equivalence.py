@@ -392,3 +392,18 @@ def test_any_in_row_is_numpys_any_along_rows(rows, columns):
     found = any_in_row(mask)
     assert found.dtype == bool and numpy.array_equal(found, mask.any(axis=1))
     assert not numpy.shares_memory(found, mask)
+
+
+_HEIGHT = st.integers(1, 9).map(lambda z: f"{z}.")
+# low moves across the plane and lifts along Z alone: a lift before a move across is no cut
+# at its height, the end of the move across is
+_RAMP = st.lists(st.one_of(st.tuples(st.integers(0, 3), st.integers(0, 1), st.integers(1, 4)).map(lambda move: "X{}. Y{}. Z{}.".format(*move)),
+                           _HEIGHT.map(lambda z: f"Z{z}")), min_size=40, max_size=60)
+
+
+@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(start=_HEIGHT, ramp=_RAMP, lift=_HEIGHT)
+def test_the_highest_cut_of_a_batch_is_the_block_paths(start, ramp, lift):
+    """Without a stock a feed move above Z0 with the spindle stopped is judged against the
+    highest end of a spindle-on feed move across the plane: a batch's is its moves' ends."""
+    _assert_same_findings(_program(["G0 X0. Y0.", "S1000 M03", f"G1 Z{start} F100.", *ramp, "M05", f"G0 Z{lift}", f"G1 X9. Z{lift}"], []))

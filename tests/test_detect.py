@@ -4,7 +4,10 @@ from __future__ import annotations
 import textwrap
 
 import pytest
+from hypothesis import given, settings as hypothesis_settings
+from hypothesis import strategies as st
 
+from ncverify import detect as detect_module
 from ncverify.detect import detect
 
 SHORT_SINUMERIK = {
@@ -99,3 +102,12 @@ def test_a_sinumerik_subprogram_in_lower_case_is_not_taken_for_python():
 def test_python_source_is_still_not_a_program():
     detection = detect(PYTHON, suffix=".spf")
     assert detection.dialect is None and "Python" in detection.reason
+
+
+@hypothesis_settings(max_examples=300)
+@given(st.binary(min_size=1, max_size=300).filter(lambda sample: b"\x00" not in sample))
+def test_control_bytes_are_counted_as_one_by_one(sample):
+    """Text is binary when over 5% of its bytes are control bytes other than tab, line
+    ends, form feed and the DOS end mark (counted by deleting every other byte)."""
+    control = sum(1 for byte in sample if byte < 32 and byte not in (9, 10, 12, 13, 26))
+    assert detect_module._looks_binary(sample) == (control / len(sample) > 0.05)

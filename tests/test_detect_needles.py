@@ -86,3 +86,58 @@ def test_only_three_matches_of_a_pattern_count():
     assert _Head(many).count(r"(?im)(?<![A-Z])[GM]\d+", "G|M") == 3
     assert _Head(many).count(r"(?im)\bM98\s*P", "M98") == 0
     assert len(re.findall(r"(?im)(?<![A-Z])[GM]\d+", many)) == 50
+
+
+_CASELESS = [pattern for pattern, _ in _patterns() if detection._IGNORES_CASE.match(pattern)]
+
+
+def _same_matches_in_upper_form(text: str) -> None:
+    upper = text.upper()
+    for pattern in _CASELESS:
+        expected = [match.span() for match in re.finditer(pattern, text)]
+        assert [match.span() for match in detection._upper_form(pattern).finditer(upper)] == expected, (pattern, text)
+
+
+@settings(max_examples=400, suppress_health_check=[HealthCheck.too_slow])
+@given(_TEXT)
+@example("g1x1. m6 t0101 G17 xg17 (print, a) V.A.B #<x> IF[1] Millmaster")
+def test_a_caseless_pattern_in_its_upper_case_form_matches_alike(text):
+    """Every pattern that ignores case finds, in its upper-case form on the upper-cased
+    text, the same matches at the same places as itself on the text."""
+    _same_matches_in_upper_form(text)
+
+
+@pytest.mark.parametrize("folder", _CORPORA, ids=["corpus", "corpus-realworld"])
+def test_caseless_patterns_match_corpus_heads_alike_in_upper_case_form(folder):
+    if not folder.is_dir():
+        pytest.skip(f"{folder} is not here")
+    for path in sorted(folder.rglob("*")):
+        head = path.read_bytes()[:65536].decode("utf-8", errors="replace") if path.is_file() else ""
+        if head.isascii():
+            _same_matches_in_upper_form(head)
+
+
+_WORDS_AS_WRITTEN_BEFORE = {detection._INTEGER_LENGTH: r"(?<![A-Z#\[])[XYZUWIJKR][ \t]*-?(\d+)(?![\d.])",
+                            detection._POINT_LENGTH: r"(?<![A-Z#\[])[XYZUWIJKR][ \t]*-?\d*\.\d*"}
+
+
+@settings(max_examples=300, suppress_health_check=[HealthCheck.too_slow])
+@given(_TEXT)
+@example("X5 [X5 #X5 AX5 X-12 Y.5 1X5")
+def test_the_word_patterns_with_the_letter_first_match_as_before(text):
+    """Whether integers mean whole units is read with the look-behind after the letter."""
+    code = text.upper()
+    for pattern, before in _WORDS_AS_WRITTEN_BEFORE.items():
+        assert [(match.span(), match.groups()) for match in pattern.finditer(code)] == [
+            (match.span(), match.groups()) for match in re.finditer(before, code)]
+
+
+def test_the_upper_case_form_opens_with_the_letter():
+    """The leading boundary or look-behind is moved behind the literal text that follows
+    it (what makes the form fast); a boundary before anything but letters stays where it is."""
+    assert detection._upper_form(r"(?im)\bM(?:30|0?2)").pattern == r"(?m)M(?<!\wM)(?:30|0?2)"
+    assert detection._upper_form(r"(?im)\bm6[2-8]").pattern == r"(?m)M6(?<!\wM6)[2-8]"
+    assert detection._upper_form(r"(?im)(?<![A-Z])[gm]\d+").pattern == r"(?m)[GM](?<![A-Z][GM])\d+"
+    assert detection._upper_form(r"(?i)\b[(#]x").pattern == r"\b[(#]X"
+    assert detection._upper_form(r"(?i)\bG10?1").pattern == r"G1(?<!\wG1)0?1"
+    assert detection._upper_form(r"(?i)\bG?1").pattern == r"\bG?1"

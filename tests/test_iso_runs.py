@@ -126,3 +126,23 @@ def test_a_number_without_its_letter_ends_the_run_before_its_line():
     text = b"G1 X1. Y1.\n" * 20 + b"5\n" + b"G1 X2. Y2.\n" * 20
     run = read_plain_run(text)
     assert len(run.line_starts) == 20 and run.table[19].tolist()[3] == 1.0
+
+
+@settings(max_examples=200, deadline=None)
+@given(numbers=st.lists(st.tuples(st.integers(0, 10**15 - 1), st.integers(0, 14), st.booleans()), min_size=16, max_size=60))
+def test_numbers_of_up_to_fifteen_digits_read_as_float_reads_them(numbers):
+    """Each mantissa is the difference of two running totals of whole numbers: exact."""
+    texts = []
+    for mantissa, decimals, negative in numbers:
+        digits = str(mantissa).rjust(decimals + 1, "0")
+        texts.append(("-" if negative else "") + (digits[: len(digits) - decimals] + "." + digits[len(digits) - decimals :] if decimals else digits + "."))
+    run = read_plain_run("".join(f"G1 X{text}\n" for text in texts).encode())
+    assert run.table[:, LETTERS.index(b"X")].tolist() == [float(text) for text in texts]
+
+
+def test_running_totals_past_two_to_the_63_still_give_each_number():
+    """Ten thousand fifteen-digit numbers add up to more than an int64 holds."""
+    run = read_plain_run(b"G1 X999999999999.999 Y-99999999999999.9\n" * 10_000)
+    assert len(run.line_starts) == 10_000
+    assert set(run.table[:, LETTERS.index(b"X")].tolist()) == {999999999999.999}
+    assert set(run.table[:, LETTERS.index(b"Y")].tolist()) == {-99999999999999.9}

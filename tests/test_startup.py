@@ -120,12 +120,15 @@ def test_rule_pages_are_parsed_when_first_looked_up():
 
 @settings(max_examples=300)
 @given(st.lists(st.sampled_from(["ncverify", "NCVERIFY", "Ncverify", "NCVerify", "NcVerify", "nCVerify", "erify", "ERIFY", "ncv", "NCV",
-                                 "Verify", "(", ":", " ", "\n", "X1."]), max_size=30).map("".join))
-def test_annotation_markers_are_found_by_their_tails_as_by_each_variant(text):
+                                 "Verify", "(", ":", " ", "\n", "X1.", "V", "v", "ve", "VE", "V1.", "e"]), max_size=30).map("".join),
+       st.sampled_from([0, (1 << 18) - 9, (1 << 18) - 5, (1 << 18) - 1]))
+def test_annotation_markers_are_found_by_their_vs_as_by_each_variant(text, padding):
+    """The markers are found by the V each has as its third byte (the file read in pieces
+    of 256 KiB: the padding puts a marker across the seam between two)."""
     from ncverify.annotations import _MARKERS, _markers
     from ncverify.source import find_all
 
-    buffer = text.encode()
+    buffer = b"x" * padding + text.encode()
     assert _markers(buffer) == find_all(buffer, _MARKERS)
 
 

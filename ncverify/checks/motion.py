@@ -147,8 +147,9 @@ class SpindleOffCutting(Rule):
         plane = [run.axes.index(axis) for axis in ("X", "Y") if axis in run.axes]
         if column is None or not plane or not len(feeds):
             return
-        moved = any_in_row(run.points[feeds + 1][:, plane] != run.points[feeds][:, plane])
-        heights = run.points[feeds + 1, column][moved]
+        in_plane = run.points[:, plane]
+        moved = any_in_row(in_plane[1:] != in_plane[:-1])[feeds]  # every move's, then the feed moves': no gathers of whole rows
+        heights = run.points[1:, column][feeds][moved]
         heights = heights[~numpy.isnan(heights)]
         if len(heights):
             self._cut_at(float(heights.max()))

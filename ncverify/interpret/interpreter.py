@@ -319,7 +319,7 @@ class Interpreter(ControlFlow):
         kinds = _forward_fill(run.kinds.astype(numpy.float64), -1, float(ir.MoveBatch.KINDS.index(state.modal["motion"])))
         scale = self.increment / 10.0 if state.modal.get("units") == "inch" else self.increment
         written = ~numpy.isnan(run.values)
-        values = numpy.where(run.scaled, run.values * scale, run.values)
+        values = numpy.where(run.scaled, run.values * scale, run.values) if run.scaled.any() else run.values
         if state.modal.get("distance") == "incremental":  # added in order, from the start, as block by block
             points = numpy.cumsum(numpy.vstack([start_point, numpy.nan_to_num(values)]), axis=0)[1:]
         else:
@@ -337,17 +337,19 @@ class Interpreter(ControlFlow):
             feeds = numpy.where(run.feed_scaled, feeds * self.feed_increment, feeds)
         feeds = _forward_fill(feeds, None, _as_float(state.feed))
         moving = numpy.flatnonzero(moving_rows)
+        chosen = slice(None) if len(moving) == len(moving_rows) else moving  # every row moves, as a rule: no copies
         self.blocks_run += run.blocks
-        segment_points = numpy.vstack([start_point, points[moving]])
-        segment_kinds = kinds[moving].astype(numpy.int8)
+        segment_points = numpy.vstack([start_point, points[chosen]])
+        segment_kinds = kinds[chosen].astype(numpy.int8)
         if len(moving):
-            arcs = self._batch_arcs(run, moving, segment_points, segment_kinds)
+            arcs = self._batch_arcs(run, chosen, segment_points, segment_kinds)
             block_of = self._batch_block_reader(run, moving, source, path)
             others = {axis: value for axis, value in state.position.items() if axis not in axes}
             # an arc's segment is asked for by the rules and then by the material: made once
             segment_of = lru_cache(maxsize=1)(partial(_batch_segment, axes, segment_points, segment_kinds, arcs, others, block_of))
-            self.observer.motion_run(MotionRun(axes, segment_points, segment_kinds, feeds[moving], written[moving],
-                                               partial(_batch_span, block_of), segment_of, arcs, partial(_batch_state_at, state, segment_kinds, feeds[moving])), state)
+            moving_feeds = feeds[chosen]
+            self.observer.motion_run(MotionRun(axes, segment_points, segment_kinds, moving_feeds, written[chosen],
+                                               partial(_batch_span, block_of), segment_of, arcs, partial(_batch_state_at, state, segment_kinds, moving_feeds)), state)
         state.position = dict(state.position, **{axis: _as_value(value) for axis, value in zip(axes, points[-1])})
         if len(moving):
             state.last_segment = segment_of(len(moving) - 1)
@@ -379,8 +381,8 @@ class Interpreter(ControlFlow):
         return int(bad[0]) if bad.size else run.rows
 
     def _batch_arcs(self, run: ir.MoveBatch, moving, points, kinds) -> BatchArcs | None:
-        """The arcs among a batch's moves (see :meth:`_arc`, whose meaning this keeps), None
-        when there are none."""
+        """The arcs among a batch's moves (``moving``: their rows, or a slice of them; see
+        :meth:`_arc`, whose meaning this keeps), None when there are none."""
         if not (kinds >= _FIRST_ARC_KIND).any():
             return None
         plane = self.state.plane_axes
@@ -389,7 +391,7 @@ class Interpreter(ControlFlow):
         offsets = numpy.nan_to_num(words[:, [_CENTRE_WORD[plane[0]], _CENTRE_WORD[plane[1]]]])  # an offset not written is 0
         centres = offsets if self.state.modal.get("arc_distance") == "absolute" else points[:-1][:, columns] + offsets
         radii = words[:, _RADIUS_WORD]
-        centres[~numpy.isnan(radii) | (kinds < _FIRST_ARC_KIND)] = numpy.nan
+        centres = numpy.where((~numpy.isnan(radii) | (kinds < _FIRST_ARC_KIND))[:, None], numpy.nan, centres)  # four times a masked assignment's speed
         return BatchArcs(plane, columns, centres, radii)
 
     def _batch_block_reader(self, run: ir.MoveBatch, moving_rows, source: ProgramSource, path):

@@ -14,10 +14,13 @@ from dataclasses import dataclass
 
 import numpy
 
+from ..trace import any_in_row
+
 LETTERS = b"NGXYZFIJKR"  # columns of the table, in this order
 ARC_WORDS = slice(6, 10)  # the columns of I, J, K and R
 _STRAIGHT_LETTERS = b"NGXYZF"
 _OTHER, _LETTER, _DIGIT, _DOT, _SIGN, _BLANK, _NEWLINE = range(7)
+_NEWLINE_BYTE = ord("\n")
 
 
 def _byte_classes(letters: bytes):
@@ -34,9 +37,10 @@ def _byte_classes(letters: bytes):
 _BYTE_CLASS = {False: _byte_classes(_STRAIGHT_LETTERS), True: _byte_classes(LETTERS)}  # by whether arcs are read
 _COLUMN = numpy.zeros(256, dtype=numpy.int64)
 _COLUMN[list(LETTERS)] = numpy.arange(len(LETTERS))
-_G, _I, _R = (LETTERS.index(letter) for letter in b"GIR")
+_G, _X, _F, _I, _R = (LETTERS.index(letter) for letter in b"GXFIR")
 _POWERS_OF_TEN = 10.0 ** numpy.arange(23)
 _MAX_DIGITS = 15  # mantissas stay below 2**53
+_INTEGER_POWERS_OF_TEN = 10 ** numpy.arange(_MAX_DIGITS, dtype=numpy.int64)
 _MOTION_CODES = {False: (0.0, 1.0), True: (0.0, 1.0, 2.0, 3.0)}
 _FIRST_CHUNK = 1 << 14  # bytes read first; CAM streaks between arcs are short
 _MINIMUM_LINES = 16  # a shorter streak is left to the per-block path
@@ -72,9 +76,9 @@ class PlainRun:
             return pieces[0]
         width = max(piece.table.shape[1] for piece in pieces)
         starts = numpy.cumsum([0] + [piece.length for piece in pieces[:-1]])
-        return PlainRun(
-            numpy.vstack([_widened(piece.table, width, numpy.nan) for piece in pieces]),
-            numpy.vstack([_widened(piece.pointless, width, False) for piece in pieces]),
+        return PlainRun(  # stacked column by column, as each piece's table is laid out
+            numpy.hstack([_widened(piece.table, width, numpy.nan).T for piece in pieces]).T,
+            numpy.hstack([_widened(piece.pointless, width, False).T for piece in pieces]).T,
             numpy.concatenate([piece.line_starts + start for piece, start in zip(pieces, starts)]),
             sum(piece.length for piece in pieces),
             numpy.concatenate([piece.worded for piece in pieces]))
@@ -104,40 +108,48 @@ class _Chunk:
         self.letters_up_to = numpy.cumsum(is_letter, dtype=numpy.int32)
         self.digit_owner = self.owner_of(self.digits)
         self.dot_owner = self.owner_of(self.dots)
+        # digits after each letter, up to the next letter ([0]: before the first one)
+        self.digit_counts = numpy.bincount(self.digit_owner + 1, minlength=len(self.letters) + 1)
         # the line and the table column of every letter (the words of a line are counted
         # at its newline: cheaper than numbering the lines of every byte)
-        words_per_line = numpy.diff(self.letters_up_to[self.newlines], prepend=0, append=len(self.letters))
-        self.letter_lines = numpy.repeat(numpy.arange(len(words_per_line), dtype=numpy.int32), words_per_line)
-        self.letter_columns = _COLUMN.take(self.codes[self.letters])
+        self.words_per_line = numpy.diff(self.letters_up_to.take(self.newlines), prepend=0, append=len(self.letters))
+        self.letter_lines = numpy.repeat(numpy.arange(len(self.words_per_line), dtype=numpy.int32), self.words_per_line)
+        self.letter_columns = _COLUMN.take(self.codes.take(self.letters))
 
     def owner_of(self, positions):
         """The index of the word each position belongs to (-1 before the first letter)."""
-        return self.letters_up_to[positions] - 1
+        return self.letters_up_to.take(positions) - 1
+
+    def line_start_at(self, position: int) -> int:
+        """The start of the line that holds ``position`` (the chunk's length stays itself)."""
+        if position >= len(self.codes):
+            return len(self.codes)
+        before = self.newlines[: numpy.searchsorted(self.newlines, position)]
+        return int(before[-1]) + 1 if before.size else 0
+
+    def lines_before(self, stop: int) -> int:
+        """How many lines start before ``stop`` (a line start or the chunk's length)."""
+        count = int(numpy.searchsorted(self.newlines, stop))
+        return count + (0 if stop == 0 or self.codes[stop - 1] == _NEWLINE_BYTE else 1)
 
     def first_bad_position(self) -> int:
-        """The first byte that breaks the form: a character outside it, a letter not
-        followed directly by its number, a sign inside a number, a number with two points,
-        no digit or too many digits, or one letter twice in a line."""
+        """The first byte that breaks the form of a word: a character outside it, a letter
+        not followed directly by its number, a number not directly after a letter, a sign
+        inside a number, a number with two points, no digit or too many digits. (A letter
+        twice in a line is found on the table, see :func:`_first_odd_line`.)"""
         classes, letters = self.classes, self.letters
-        bad = [numpy.flatnonzero(classes == _OTHER)[:1]]
         numeric = (classes >= _DIGIT) & (classes <= _SIGN)
-        number_starts = numpy.flatnonzero(numeric[1:] & ~numeric[:-1]) + 1
-        if numeric[:1].any():
-            bad.append(numpy.zeros(1, dtype=numpy.int64))
-        expected = letters + 1
-        count = min(len(number_starts), len(expected))
-        mismatch = numpy.flatnonzero(number_starts[:count] != expected[:count])[:1]
-        bad.append(numpy.minimum(number_starts[mismatch], expected[mismatch]))  # a letter without its number, or a number without its letter
-        bad.append(expected[count : count + 1])
-        bad.append(number_starts[count : count + 1])
+        bad = [_first_true(classes == _OTHER),
+               _first_true(numeric[:1]),
+               _first_true(numeric[1:] & ~(numeric[:-1] | (classes[:-1] == _LETTER))) + 1]  # after a blank or a line end
+        follows = classes.take(letters + 1, mode="clip")  # the last byte a letter: clipped onto itself, no number
+        bad.append(letters[(follows < _DIGIT) | (follows > _SIGN)][:1])
         signs = self.signs
         bad.append(signs[classes[numpy.maximum(signs - 1, 0)] != _LETTER][:1])
         bad.append(self.dots[1:][self.dot_owner[1:] == self.dot_owner[:-1]][:1])
         if len(letters):
-            digit_counts = numpy.bincount(self.digit_owner + 1, minlength=len(letters) + 1)[1:]  # [0]: digits before any letter
+            digit_counts = self.digit_counts[1:]
             bad.append(letters[(digit_counts == 0) | (digit_counts > _MAX_DIGITS)][:1])
-            keys = self.letter_lines * len(LETTERS) + self.letter_columns
-            bad.append(letters[numpy.bincount(keys)[keys] > 1][:1])
         found = [int(position[0]) for position in bad if len(position)]
         return min(found) if found else len(self.codes)
 
@@ -147,13 +159,23 @@ class _Chunk:
         digits = numpy.searchsorted(self.digits, stop)
         dots = numpy.searchsorted(self.dots, stop)
         signs = self.signs[: numpy.searchsorted(self.signs, stop)]
-        minus = signs[self.codes[signs] == ord("-")]
-        values, has_point = parse_numbers(self.codes, self.digits[:digits], self.digit_owner[:digits],
-                                          self.dots[:dots], self.dot_owner[:dots], self.owner_of(minus), len(letters), digits_follow_point=True)
+        minus = signs[self.codes.take(signs) == ord("-")]
+        per_number = self.digit_counts[1 : len(letters) + 1].copy()
+        if len(per_number):  # digits past stop that the last word owns (a number without its letter on the next line)
+            per_number[-1] -= int(per_number.sum()) - digits
+        values, has_point = parse_numbers(self.codes, self.digits[:digits], self.digit_owner[:digits], self.dots[:dots], self.dot_owner[:dots],
+                                          self.owner_of(minus), len(letters), digits_follow_point=True, per_number=per_number)
         return letters, values, has_point
 
 
-def parse_numbers(codes, digits, digit_owner, dots, dot_owner, minus_owner, count: int, digits_follow_point: bool = False):
+def _first_true(mask):
+    """The index of the first true entry of a boolean array, as an array of one, or none
+    (``argmax`` stops at it, where ``flatnonzero`` reads to the end)."""
+    first = int(mask.argmax()) if len(mask) else 0
+    return numpy.arange(first, first + 1) if len(mask) and mask[first] else numpy.zeros(0, dtype=numpy.int64)
+
+
+def parse_numbers(codes, digits, digit_owner, dots, dot_owner, minus_owner, count: int, digits_follow_point: bool = False, per_number=None):
     """The values of ``count`` numbers given by where their characters are: the digits and
     decimal points (in text order) with the number each belongs to, and the numbers that
     carry a minus sign. Returns the values and whether each was written with a point.
@@ -162,18 +184,27 @@ def parse_numbers(codes, digits, digit_owner, dots, dot_owner, minus_owner, coun
     ``digits_follow_point`` (ISO words: only digits come after a point) they are the bytes
     from the point to the number's last digit, found without searching for the point among
     the digits (a third of the time of this function); a number without that form is on a
-    line the caller does not take."""
-    per_number = numpy.bincount(digit_owner, minlength=count)
+    line the caller does not take. ``per_number``: each number's count of digits, when
+    the caller has it."""
+    if per_number is None:
+        per_number = numpy.bincount(digit_owner, minlength=count)
     ends = numpy.cumsum(per_number)  # one past each number's last digit
-    rank = (ends - 1)[digit_owner]
+    rank = (ends - 1).take(digit_owner)
     rank -= numpy.arange(len(digits))  # digits after this one in its number
-    mantissa = numpy.zeros(count)
-    written = per_number > 0
-    if len(digits):
-        mantissa[written] = numpy.add.reduceat((codes[digits] - 48) * _POWERS_OF_TEN[rank], (ends - per_number)[written])
+    if len(digits) and per_number.max() <= _MAX_DIGITS:
+        # in integers, as a running total: a mantissa is the difference of two totals, exact
+        # even where the total wraps past 2**63 (it is below 2**53); numpy's reduceat, which
+        # sums number by number, took three times as long
+        totals = numpy.concatenate(([0], numpy.cumsum((codes.take(digits) - 48) * _INTEGER_POWERS_OF_TEN.take(rank))))
+        mantissa = (totals.take(ends) - totals.take(ends - per_number)).astype(numpy.float64)
+    else:
+        mantissa = numpy.zeros(count)
+        written = per_number > 0
+        if len(digits):
+            mantissa[written] = numpy.add.reduceat((codes.take(digits) - 48) * _POWERS_OF_TEN.take(rank), (ends - per_number)[written])
     decimals = numpy.zeros(count, dtype=numpy.int64)
     if digits_follow_point:
-        last_digit = digits[numpy.maximum(ends[dot_owner] - 1, 0)] if len(digits) else dots
+        last_digit = digits.take(numpy.maximum(ends.take(dot_owner) - 1, 0)) if len(digits) else dots
         decimals[dot_owner] = numpy.maximum(last_digit - dots, 0)
     else:
         decimals[dot_owner] = ends[dot_owner] - numpy.searchsorted(digits, dots)
@@ -189,62 +220,61 @@ def read_plain_run(chunk: bytes, minimum_lines: int = _MINIMUM_LINES, stop_at_sm
     fewer than ``minimum_lines``. With ``stop_at_small_integers`` (a control that reads
     integers in least input increments) the run also ends before a coordinate like ``Z5``,
     which the per-block path reports as a decimal-point trap. With ``arcs`` the lines may
-    also be arcs, as the per-block fast lowering takes them (see :func:`_first_odd_arc`)."""
+    also be arcs, as the per-block fast lowering takes them (see :func:`_first_odd_line`).
+    The lines up to the first byte out of form are put in the table, which then tells
+    the first line whose words do not go together."""
     if len(chunk) < minimum_lines * 4:
         return None
     found = _Chunk(chunk, arcs)
-    stop = found.first_bad_position()
+    stop = found.line_start_at(found.first_bad_position())
     letters, values, has_point = found.numbers(stop)
-    motion = found.codes[letters] == ord("G")
-    odd_motion = letters[motion][numpy.isin(values[motion], _MOTION_CODES[arcs], invert=True)]
-    if odd_motion.size:
-        stop = int(odd_motion[0])
-    if stop_at_small_integers:
-        axis_words = (found.codes[letters] >= ord("X")) & (found.codes[letters] <= ord("Z"))
-        trap = letters[axis_words & ~has_point & (numpy.abs(values) >= 1) & (numpy.abs(values) < 1000)]
-        if trap.size:
-            stop = min(stop, int(trap[0]))
-    if arcs:
-        stop = min(stop, _first_odd_arc(found, letters, values, has_point, stop_at_small_integers))
-    if stop < len(chunk):
-        before = found.newlines[found.newlines < stop]
-        stop = int(before[-1]) + 1 if before.size else 0
-    kept = letters < stop
-    letters, values, has_point = letters[kept], values[kept], has_point[kept]
-    newlines = found.newlines[found.newlines < stop]
-    line_count = len(newlines) + (0 if stop == 0 or chunk[stop - 1 : stop] == b"\n" else 1)
+    line_count = found.lines_before(stop)
     if line_count < minimum_lines:
         return None
     rows, columns = found.letter_lines[: len(letters)], found.letter_columns[: len(letters)]  # the kept letters lead
     width = len(LETTERS) if (columns >= _I).any() else len(_STRAIGHT_LETTERS)  # no arc words: no room for them
-    cells = rows * width + columns  # flat indices: a third of the time of indexing by (rows, columns)
-    table = numpy.full((line_count, width), numpy.nan)
-    table.ravel()[cells] = values
-    pointless = numpy.zeros(table.shape, dtype=bool)
-    pointless.ravel()[cells] = ~has_point
-    line_starts = numpy.concatenate(([0], newlines + 1))[:line_count]
-    worded = numpy.zeros(line_count, dtype=bool)
-    worded[rows] = True
-    return PlainRun(table, pointless, line_starts, stop, worded)
+    # column by column in memory (a column's words, such as one axis, are read together);
+    # flat indices: a third of the time of indexing by (rows, columns)
+    cells = columns * line_count + rows
+    table = numpy.full(width * line_count, numpy.nan)
+    table[cells] = values
+    table = table.reshape(width, line_count).T
+    pointless = numpy.zeros(width * line_count, dtype=bool)
+    pointless[cells] = ~has_point
+    pointless = pointless.reshape(width, line_count).T
+    odd = _first_odd_line(table, pointless, found.words_per_line[:line_count], stop_at_small_integers, arcs)
+    if odd < line_count:
+        if odd < minimum_lines:
+            return None
+        line_count, stop = odd, int(found.newlines[odd - 1]) + 1 if odd else 0
+        table, pointless = table[:odd], pointless[:odd]
+    line_starts = numpy.concatenate(([0], found.newlines[: line_count - 1] + 1)) if line_count else numpy.zeros(0, dtype=numpy.int64)
+    return PlainRun(table, pointless, line_starts, stop, found.words_per_line[:line_count] > 0)
 
 
-def _first_odd_arc(found: _Chunk, letters, values, has_point, small_integers_are_increments: bool) -> int:
-    """Where the first line with centre or radius words that the per-block fast lowering
-    leaves to the general one starts (the chunk's length when none): a radius with centre
-    offsets, centre words on a G0/G1 line, or (counted in increments) one without a point."""
-    lines, columns = found.letter_lines[: len(letters)], found.letter_columns[: len(letters)]  # the letters read lead
-    count = int(lines[-1]) + 1 if len(lines) else 0
-    arc_word = (columns >= _I) & (columns <= _R)
-    centre, radius = numpy.zeros(count, dtype=bool), numpy.zeros(count, dtype=bool)
-    centre[lines[arc_word & (columns < _R)]] = True
-    radius[lines[columns == _R]] = True
-    straight = numpy.zeros(count, dtype=bool)
-    straight[lines[(columns == _G) & (values < 2.0)]] = True
-    odd = (centre & radius) | ((centre | radius) & straight)
+def _first_odd_line(table, pointless, words, small_integers_are_increments: bool, arcs: bool) -> int:
+    """The first line whose words the per-block fast lowering leaves to the general one
+    (the table's length when none): one letter twice (fewer cells filled than ``words``, the
+    line's letters); a motion code other than G0/G1 (and G2/G3 with ``arcs``); counted in
+    increments, a coordinate without a point from 1 to 999; a radius with centre offsets,
+    centre or radius words on a G0/G1 line, or (counted in increments) one without a point."""
+    odd = numpy.count_nonzero(~numpy.isnan(table), axis=1) < words  # a number is never NaN
+    motion = table[:, _G]
+    odd_motion = ~numpy.isnan(motion)
+    for code in _MOTION_CODES[arcs]:  # cheaper than numpy.isin, which sorts
+        odd_motion &= motion != code
+    odd |= odd_motion
     if small_integers_are_increments:
-        odd[lines[arc_word & ~has_point]] = True
-    odd_letters = letters[odd[lines]]
-    return int(odd_letters[0]) if odd_letters.size else len(found.codes)
+        magnitude = numpy.abs(table[:, _X : _F])
+        odd |= any_in_row(pointless[:, _X : _F] & (magnitude >= 1) & (magnitude < 1000))
+    if table.shape[1] > _I:
+        arc_words = ~numpy.isnan(table[:, _I:])
+        centre, radius = any_in_row(arc_words[:, : _R - _I]), arc_words[:, _R - _I]
+        odd |= (centre & radius) | ((centre | radius) & (motion < 2.0))
+        if small_integers_are_increments:
+            odd |= any_in_row(arc_words & pointless[:, _I:])
+    first = numpy.flatnonzero(odd)
+    return int(first[0]) if first.size else len(table)
 
 
 def read_plain_run_at(buffer, offset: int, limit: int, stop_at_small_integers: bool = False, arcs: bool = False,
