@@ -69,11 +69,12 @@ class Cutter:
 
     def lowest_lift(self, distance):
         """The lowest the tool's lower surface can be: its shape, or a flat end when unknown."""
-        return self.lift(distance) if self.known else numpy.zeros_like(numpy.asarray(distance, float))
+        return numpy.zeros_like(numpy.asarray(distance, float)) if self.lowest_is_flat else self.lift(distance)
 
     @property
     def lowest_is_flat(self) -> bool:
-        """Is :meth:`lowest_lift` zero at every distance (a flat end, or a shape not known)?"""
+        """Is the lowest surface flat (:meth:`lowest_lift` zero at every distance): a flat
+        end, or a shape not known?"""
         return not self.known or (not self.point_angle and self.corner <= 0.0)
 
 
