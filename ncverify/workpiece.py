@@ -181,33 +181,58 @@ class Workpiece:
         z_low, z_high, slack = z_low - stray, z_high + stray, slack + stray
         may_cut = numpy.zeros(len(a), bool)
         first_cell, last_cell = self.nx * self.ny, -1
-        upper, lower = self.upper.reshape(-1), self._flat_lower()
-        # a flat lowest surface sinks ``lower`` to the piece's own low: stored once a piece
-        # (+ 0.0 stores a low of -0.0 as the sum with the lift's zero does elsewhere)
-        stored_lows = _float32_outwards(z_low + 0.0, up=False) if cutter.lowest_is_flat else None
-        for owner, flat, distance in self._cells_near(a, b, slack, cutter.radius + self.half_diagonal):
-            stray = slack.take(owner)
-            outer = numpy.maximum(distance - self.half_diagonal - stray, 0.0)  # nearest the cell's points can be to the true path
+        upper = self.upper.reshape(-1)
+        for near in self._cells_near(a, b, slack, cutter.radius + self.half_diagonal):
+            stray = slack.take(near.leaders).take(near.owner)
+            outer = numpy.maximum(near.distance - self.half_diagonal - stray, 0.0)  # nearest the cell's points can be to the true path
             touched = outer <= cutter.radius
-            surface_low = z_low.take(owner)
-            if stored_lows is None:
-                surface_low += cutter.lowest_lift(outer)
-            may_cut[owner[touched & (upper.take(flat) > surface_low)]] = True
+            lowest_lift = None if cutter.lowest_is_flat else cutter.lowest_lift(outer)
+            may_cut[near.pieces] = self._may_cut(near, touched, lowest_lift, z_low)
             if cutter.radius >= self.half_diagonal:  # else no cell lies wholly under the tool
-                inner = distance + self.half_diagonal + stray  # farthest they can be
+                inner = near.distance + self.half_diagonal + stray  # farthest they can be
                 covered = inner <= cutter.radius
-                _sink(upper, flat[covered], z_high[owner[covered]] + cutter.lift(inner[covered]), up=True)
-            touched_cells = flat[touched]
+                _sink(upper, near.flat[covered], near.least(z_high).take(near.owner[covered]) + cutter.lift(inner[covered]), up=True)
+            touched_cells = near.flat[touched]
             if not self.lower_emptied:
-                if stored_lows is None:
-                    _sink(lower, touched_cells, surface_low[touched], up=False)
-                else:
-                    numpy.minimum.at(lower, touched_cells, stored_lows.take(owner[touched]))
+                self._sink_lower(touched_cells, near, touched, lowest_lift, z_low)
             if len(touched_cells):
                 first_cell, last_cell = min(first_cell, int(touched_cells.min())), max(last_cell, int(touched_cells.max()))
         self._clear_below_bottom(first_cell, last_cell + 1)
         air = ~may_cut
         return total_length(a[air], b[air])
+
+    def _may_cut(self, near: "_Near", touched, lowest_lift, z_low):
+        """Which pieces of ``near`` may have cut: some cell they touch has ``upper`` above the
+        tool's lowest surface there. Every piece of a group touches the same cells, so with
+        a flat lowest surface (``lowest_lift`` None) a piece may cut where the highest top its
+        group touches lies above its own low; a shaped one is measured piece by piece."""
+        tops = self.upper.reshape(-1).take(near.flat)
+        if lowest_lift is None and not near.alone:
+            highest = numpy.full(len(near.leaders), NO_MATERIAL, numpy.float32)
+            numpy.maximum.at(highest, near.owner[touched], tops[touched])
+            return highest.take(near.group) > z_low.take(near.pieces)
+        member, entry = near.entries_of_each_piece()
+        if entry is not None:
+            tops, touched = tops.take(entry), touched.take(entry)
+            lowest_lift = None if lowest_lift is None else lowest_lift.take(entry)
+        surface = z_low.take(near.pieces).take(member)
+        if lowest_lift is not None:
+            surface += lowest_lift
+        may_cut = numpy.zeros(len(near.pieces), bool)
+        may_cut[member[touched & (tops > surface)]] = True
+        return may_cut
+
+    def _sink_lower(self, cells, near: "_Near", touched, lowest_lift, z_low) -> None:
+        """Lower ``lower`` on the ``touched`` cells of ``near`` to the lowest a piece of each
+        group reaches there. A flat lowest surface reaches its group's lowest low on every
+        cell, rounded once a group (+ 0.0 stores a low of -0.0 as the sum with a lift's zero
+        does)."""
+        lowest = near.least(z_low)
+        lower = self.lower.reshape(-1)
+        if lowest_lift is None:
+            numpy.minimum.at(lower, cells, _float32_outwards(lowest + 0.0, up=False).take(near.owner[touched]))
+        else:
+            _sink(lower, cells, lowest.take(near.owner[touched]) + lowest_lift[touched], up=False)
 
     def cut_anywhere(self) -> None:
         """A cut that cannot be placed: any material may be gone, none is surely gone.
@@ -262,7 +287,8 @@ class Workpiece:
         a, b, z_low, z_high, slack = self._split_steep(a, b, numpy.minimum(a[:, 2], b[:, 2]), numpy.maximum(a[:, 2], b[:, 2]), numpy.zeros(len(a)))
         upper, lower = self.upper.reshape(-1), self._flat_lower()
         clear = True
-        for owner, flat, distance in self._cells_near(a, b, slack, cutter.radius + self.half_diagonal):
+        for near in self._cells_near(a, b, slack, cutter.radius + self.half_diagonal):
+            owner, flat, distance = near.each_piece()
             cells = numpy.divmod(flat, self.nx)
             nearest = self._square_distance(cells, a[owner], b[owner])  # a point of the (closed) cell this close to the piece
             surface_high = z_high[owner] + cutter.lift(nearest)
@@ -320,12 +346,13 @@ class Workpiece:
         return start, end, low, high, *(values[move] for values in per_piece)
 
     def _cells_near(self, a, b, slack, reach: float):
-        """For chunks of pieces a-b: (piece, flat cell index, distance) of every cell whose
-        centre lies within ``reach + slack`` of a piece's XY path, one entry per (piece,
-        cell), a piece's cells row by row. Only the part of each row of a piece's bounding
-        box that can be that near is measured (:meth:`_row_spans`); the distance is worked
-        out as :func:`distance_to_segment` does, with each piece's and row's terms computed
-        once instead of once per cell."""
+        """For chunks of pieces a-b, the cells whose centres lie within ``reach + slack`` of a
+        piece's XY path, with their distances (:class:`_Near`). Pieces of a chunk with the
+        same XY path and slack (a plunge's steps, a profile's laps at each depth) form a
+        group, measured once. Only the part of each row of a piece's bounding box that can
+        be that near is measured (:meth:`_row_spans`); the distance is worked out as
+        :func:`distance_to_segment` does, with each piece's and row's terms computed once
+        instead of once per cell."""
         reach = reach + slack
         column_low, column_high = self._index_range(numpy.minimum(a[:, 0], b[:, 0]) - reach, numpy.maximum(a[:, 0], b[:, 0]) + reach, self.x_low, self.nx)
         row_low, row_high = self._index_range(numpy.minimum(a[:, 1], b[:, 1]) - reach, numpy.maximum(a[:, 1], b[:, 1]) + reach, self.y_low, self.ny)
@@ -337,20 +364,25 @@ class Workpiece:
         first_row, stop_row = self._centre_range(numpy.minimum(a[:, 1], b[:, 1]) - (reach + rounding), numpy.maximum(a[:, 1], b[:, 1]) + (reach + rounding),
                                                  self.y_low, self.ny)
         rows = numpy.where(numpy.isfinite(size), numpy.maximum(stop_row - first_row, 0), 0)  # the rows of the box whose centres can be near
-        repeated = _same_as_before(a, b, slack)
+        keys = _path_keys(a, b, slack)
+        words = _mixed(keys)
+        alike = _any_equal(words)
         for chunk in _chunks((column_high - column_low) * heights):
-            again = repeated[chunk]
-            again[0] = False
-            if again.any():  # each distinct piece measured once, its cells handed to its repeats
-                owner, flat, distance = self._near_in_chunk(chunk[~again], segments, rows, first_row, reach, rounding, column_low, column_high, centres)
-                yield _repeated_entries(chunk, (~again).cumsum() - 1, numpy.searchsorted(chunk[~again], owner), flat, distance)
+            chunk_words = words.take(chunk)
+            if alike and _any_equal(chunk_words):
+                group, leaders = _path_groups([key.take(chunk) for key in keys], chunk_words)
+                leaders = chunk.take(leaders)
             else:
-                yield self._near_in_chunk(chunk, segments, rows, first_row, reach, rounding, column_low, column_high, centres)
+                group, leaders = numpy.arange(len(chunk)), chunk
+            owner, flat, distance = self._near_in_chunk(leaders, segments, rows, first_row, reach, rounding, column_low, column_high, centres)
+            yield _Near(chunk, group, leaders, owner, flat, distance)
 
-    def _near_in_chunk(self, chunk, segments: "_Segments", rows, first_row, reach, rounding, column_low, column_high, centres):
-        """(piece, flat cell, distance) of the cells near the pieces ``chunk`` (see :meth:`_cells_near`)."""
-        piece = chunk.repeat(rows[chunk])  # one entry per (piece, row)
-        row = first_row.take(piece) + _ramp(rows[chunk])
+    def _near_in_chunk(self, pieces, segments: "_Segments", rows, first_row, reach, rounding, column_low, column_high, centres):
+        """(owner, flat cell, distance) of the cells near ``pieces``, ``owner`` the place of
+        each one's piece among them (see :meth:`_cells_near`)."""
+        piece = pieces.repeat(rows[pieces])  # one entry per (piece, row)
+        place = numpy.arange(len(pieces)).repeat(rows[pieces])
+        row = first_row.take(piece) + _ramp(rows[pieces])
         y = self._y(row)
         first, stop = self._row_spans(segments, reach.take(piece) + rounding.take(piece), piece, y, column_low.take(piece), column_high.take(piece))
         widths = stop - first
@@ -358,7 +390,7 @@ class Workpiece:
         column = numpy.arange(len(entry)) + (first - widths.cumsum() + widths).take(entry)
         cells, distance = segments.near_on_rows(piece, entry, centres.take(column), y, (y - segments.ay.take(piece)) * segments.dy.take(piece), reach.take(piece))
         entry = entry.take(cells)
-        return piece.take(entry), row.take(entry) * self.nx + column.take(cells), distance
+        return place.take(entry), row.take(entry) * self.nx + column.take(cells), distance
 
     def _row_spans(self, segments: "_Segments", reach, piece, y, column_low, column_high):
         """(first, stop) columns of each (piece, row) entry whose cell centres may lie within
@@ -539,28 +571,99 @@ def _chunks(sizes):
         yield numpy.arange(start, len(sizes))
 
 
-def _same_as_before(a, b, slack):
-    """Which pieces a-b have the same XY path and slack as the piece before them (a plunge's
-    steps, met at the same cells): compared on the start's X, then on the rest only where
-    that matches (few pieces do, outside a plunge)."""
-    repeated = numpy.zeros(len(a), bool)
-    candidates = (a[1:, 0] == a[:-1, 0]).nonzero()[0] + 1
-    for values in (a[:, 1], b[:, 0], b[:, 1], slack):
-        candidates = candidates[values[candidates] == values[candidates - 1]]
-    repeated[candidates] = True
-    return repeated
+_MIX = numpy.uint64(0x9E3779B97F4A7C15)  # an odd constant with well spread bits, to mix a path's key words into one
+_FOLD = numpy.uint64(29)
 
 
-def _repeated_entries(chunk, lead, measured, flat, distance):
-    """(piece, flat cell, distance) of every piece of ``chunk`` where each repeats the cells
-    of its ``lead`` (index among the distinct pieces), whose entries are ``flat``/``distance``
-    with ``measured`` the distinct piece of each: a piece's entries in the order its lead's
-    came, piece after piece, as measuring each would give them."""
-    counts = numpy.bincount(measured, minlength=int(lead[-1]) + 1)
-    firsts = counts.cumsum() - counts
-    each = counts.take(lead)
-    taken = firsts.take(lead).repeat(each) + _ramp(each)
-    return chunk.repeat(each), flat.take(taken), distance.take(taken)
+def _path_keys(a, b, slack):
+    """What makes pieces a-b meet the same cells at the same distances: their XY ends and
+    slack, as bits (two pieces equal to the bit are measured alike)."""
+    return [numpy.ascontiguousarray(values).view(numpy.uint64) for values in (a[:, 0], a[:, 1], b[:, 0], b[:, 1], slack)]
+
+
+def _mixed(keys):
+    """Each piece's ``keys`` mixed into one word: equal keys give equal words, and unequal
+    ones seldom do. The shift folds the product's high bits back down: a product alone
+    carries bits only upwards, and CAM coordinates (43.2 and 57.2) share many low bits."""
+    mixed = numpy.zeros(len(keys[0]), numpy.uint64)
+    for key in keys:
+        mixed ^= key
+        mixed *= _MIX
+        mixed ^= mixed >> _FOLD
+    return mixed
+
+
+def _any_equal(words) -> bool:
+    """Are any two ``words`` equal? (Sorting the words alone is cheap beside the pieces'
+    sweep, and most batches have no two pieces alike.)"""
+    words = numpy.sort(words)
+    return bool((words[1:] == words[:-1]).any())
+
+
+def _path_groups(keys, mixed):
+    """(group of each piece, first piece of each group) of the pieces whose ``keys`` are all
+    equal, groups numbered in the order of their first pieces: the pieces sorted on their
+    :func:`_mixed` words, in which equal keys lie side by side (unequal keys that mix alike
+    only split a group)."""
+    order = mixed.argsort()
+    new_run = numpy.zeros(len(order), bool)
+    for key in keys:
+        ordered = key.take(order)
+        new_run[1:] |= ordered[1:] != ordered[:-1]
+    new_run[0] = True
+    firsts = numpy.minimum.reduceat(order, new_run.nonzero()[0])
+    by_first = firsts.argsort()
+    number = numpy.empty(len(firsts), numpy.int64)
+    number[by_first] = numpy.arange(len(firsts))
+    group = numpy.empty(len(order), numpy.int64)
+    group[order] = number.take(new_run.cumsum() - 1)
+    return group, firsts.take(by_first)
+
+
+@dataclass(frozen=True)
+class _Near:
+    """The cells near a chunk of pieces: ``pieces`` (their indices), the ``group`` of each
+    (its place among ``leaders``, the first piece of each group), and an entry per (group,
+    cell): its ``owner`` group, ``flat`` cell index and ``distance`` from the group's path,
+    group after group, each one's cells row by row."""
+
+    pieces: numpy.ndarray
+    group: numpy.ndarray
+    leaders: numpy.ndarray
+    owner: numpy.ndarray
+    flat: numpy.ndarray
+    distance: numpy.ndarray
+
+    @property
+    def alone(self) -> bool:
+        """Is every piece a group of its own (most batches)?"""
+        return len(self.leaders) == len(self.pieces)
+
+    def least(self, values):
+        """The least of ``values`` (one a piece, all pieces) in each group."""
+        if self.alone:
+            return values.take(self.pieces)
+        least = numpy.full(len(self.leaders), numpy.inf)
+        numpy.minimum.at(least, self.group, values.take(self.pieces))
+        return least
+
+    def entries_of_each_piece(self):
+        """(member, entry): every piece's entries, piece after piece, ``member`` its place in
+        ``pieces`` and ``entry`` its group's entry (None: each piece alone, the entries as
+        they are)."""
+        if self.alone:
+            return self.owner, None
+        counts = numpy.bincount(self.owner, minlength=len(self.leaders))
+        each = counts.take(self.group)
+        entry = (counts.cumsum() - counts).take(self.group).repeat(each) + _ramp(each)
+        return numpy.arange(len(self.pieces)).repeat(each), entry
+
+    def each_piece(self):
+        """(piece, flat cell, distance) of every piece's cells, piece after piece."""
+        member, entry = self.entries_of_each_piece()
+        if entry is None:
+            return self.pieces.take(member), self.flat, self.distance
+        return self.pieces.take(member), self.flat.take(entry), self.distance.take(entry)
 
 
 def _ramp(counts):

@@ -571,7 +571,7 @@ def test_the_cells_near_each_piece_are_those_every_cell_measured_finds_in_the_sa
     b = numpy.array([[*end, 0.0] for (_, end), _ in repeated])
     slack = numpy.array([slack for _, slack in repeated])
     with patch.object(workpiece, "_CHUNK_CELLS", chunk), numpy.errstate(all="ignore"):  # small chunks: pieces spread over many
-        found = [numpy.concatenate(column) for column in zip(*piece._cells_near(a, b, slack, reach))]
+        found = [numpy.concatenate(column) for column in zip(*(near.each_piece() for near in piece._cells_near(a, b, slack, reach)))]
         expected = _every_cell_near(piece, a, b, slack, reach)
     for got, wanted in zip(found, expected):
         assert numpy.array_equal(got, wanted)
@@ -678,6 +678,23 @@ def test_the_sweep_leaves_the_field_that_every_cell_measured_against_every_piece
     batches.append((starts * [2.0, 2.0, 1.0] + [20.0, 15.0, 1.0], ends * [2.0, 2.0, 1.0] + [20.0, 15.0, 1.0], stray))
     for starts, ends, stray in batches:
         assert piece.cut(starts, ends, cutter, stray) == _sweep_every_cell(plain, starts, ends, cutter, stray)
+        assert numpy.array_equal(piece.upper, plain.upper) and numpy.array_equal(piece.lower, plain.lower)
+
+
+@settings(max_examples=60, deadline=None)
+@given(_SWEPT, _paths(), st.lists(st.floats(-9, 2), min_size=2, max_size=5), st.floats(0, 0.05), st.booleans())
+def test_laps_of_one_path_at_several_depths_leave_the_field_that_every_cell_measured_leaves(cutter, path, depths, stray, joined):
+    """A profile stepped down lap by lap meets the same cells lap after lap: the sweep
+    measures each path once for all its laps, and leaves what measuring every lap leaves
+    (each time over, the second judged against what the first cut). All in one chunk, as
+    the plain sweep judges every piece against the field before the batch."""
+    from ncverify import workpiece
+
+    piece, plain = Workpiece(BLANK, 0.5), Workpiece(BLANK, 0.5)
+    starts, ends = (numpy.concatenate([points * [2.0, 2.0, 1.0] + [20.0, 15.0, depth] for depth in depths]) for points in path)
+    for _ in range(2):
+        with patch.object(workpiece, "_CHUNK_CELLS", 1 << 24):
+            assert piece.cut(starts, ends, cutter, stray, joined) == _sweep_every_cell(plain, starts, ends, cutter, stray, joined)
         assert numpy.array_equal(piece.upper, plain.upper) and numpy.array_equal(piece.lower, plain.lower)
 
 
