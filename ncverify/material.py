@@ -14,7 +14,6 @@ import functools
 import math
 import weakref
 from collections import deque
-from itertools import groupby
 
 import numpy
 
@@ -446,11 +445,16 @@ class Material:
         return self.checker.settings.stock_memory
 
     def _flush(self, mine: _PathPiece) -> None:
-        for (cutter, tool), group in groupby(mine.lines, key=lambda line: line[2:]):
-            group = list(group)
+        """Sweep what the buffer holds: each tool's lines in one sweep, in the order the
+        tools first cut, then each tool's arcs (many arcs' chords in one sweep). Every sweep
+        only lowers the bounds, so the field left is the same in any order; only the air
+        (judged before each sweep) and how moves merge depend on it. One sweep a tool, not
+        one each time the tools take turns: a post that drills each part after milling it
+        swept two small batches a part, and a sweep costs a fixed time besides its moves."""
+        for (cutter, tool), group in _by_tool(mine.lines, 2):
             starts, ends = (_stacked(line[end] for line in group) for end in (0, 1))
             self._sweep(mine.piece, starts, ends, cutter, 0.0, tool)
-        for (cutter, tool), group in groupby(mine.arcs, key=lambda arcs: arcs[1:]):  # many arcs' chords in one sweep
+        for (cutter, tool), group in _by_tool(mine.arcs, 1):
             fields = [arcs[0] for arcs in group]
             starts, ends, sagitta, _ = workpiece.arc_chords(*(_stacked((arcs[field] for arcs in fields), width) for field, width in enumerate(_ARC_WIDTHS)),
                                                            tolerance=self.resolution / 8.0)
@@ -582,6 +586,16 @@ def _mebibytes(size: float) -> str:
 def _plane_indices(plane: tuple[str, str, str]) -> tuple[int, int, int]:
     """The columns of a plane's axes in (X, Y, Z)."""
     return tuple("XYZ".index(axis) for axis in plane)
+
+
+def _by_tool(buffered: list, key_from: int):
+    """((cutter, tool), entries) of the ``buffered`` entries, whose fields from
+    ``key_from`` on are the cutter and the tool, grouped by those in the order each first
+    comes."""
+    groups: dict[tuple, list] = {}
+    for entry in buffered:
+        groups.setdefault(entry[key_from:], []).append(entry)
+    return groups.items()
 
 
 def _stacked(pieces, width: int = 3) -> numpy.ndarray:

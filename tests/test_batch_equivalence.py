@@ -2,6 +2,7 @@
 must be the same as running the blocks one by one."""
 from __future__ import annotations
 
+import numpy
 import pytest
 from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
@@ -407,3 +408,42 @@ def test_the_highest_cut_of_a_batch_is_the_block_paths(start, ramp, lift):
     """Without a stock a feed move above Z0 with the spindle stopped is judged against the
     highest end of a spindle-on feed move across the plane: a batch's is its moves' ends."""
     _assert_same_findings(_program(["G0 X0. Y0.", "S1000 M03", f"G1 Z{start} F100.", *ramp, "M05", f"G0 Z{lift}", f"G1 X9. Z{lift}"], []))
+
+
+def _mill_then_drill(parts: int) -> str:
+    """Parts milled with T1 (a zigzag whose corners no merge joins) then drilled with T2, part
+    after part: the tools take turns within one buffer of the cut stock."""
+    body = []
+    for part in range(parts):
+        y = 8.0 * part - 30.0
+        body += ["T1 M06", "G43 H01 Z20.", "S8000 M03", f"G0 X-30. Y{y:.1f}", "G0 Z1.", "G1 Z-1. F300."]
+        body += [f"G1 X{-30.0 + 4.0 * (step + 1):.1f} Y{y + (step % 2) * 2.0:.1f}" for step in range(12)]
+        body += ["G0 Z20.", "T2 M06", "G43 H02 Z20.", "S3000 M03", f"G98 G81 X-20. Y{y + 1.0:.1f} Z-5. R1. F150.", f"X-10. Y{y + 1.0:.1f}", "G80"]
+    return _program(body, [_STOCK[0], "(ncverify: tool 1 radius 3 length 50 type endmill)", "(ncverify: tool 2 radius 2 length 60 type drill)"])
+
+
+def test_a_buffer_where_the_tools_take_turns_is_swept_once_a_tool_leaving_the_field_move_by_move_sweeps_leave(monkeypatch):
+    """Milling and drilling part after part: the buffered lines are swept in one sweep a
+    tool, and the field left is the one that sweeping every move on its own, in program
+    order, leaves (sweeps only lower the bounds)."""
+    from ncverify import material, workpiece
+
+    swept = []
+    cut = workpiece.Workpiece.cut
+
+    def recorded(piece, starts, ends, cutter, *rest, **options):
+        swept.append((piece, len(numpy.atleast_2d(starts)), cutter.radius))
+        return cut(piece, starts, ends, cutter, *rest, **options)
+
+    monkeypatch.setattr(workpiece.Workpiece, "cut", recorded)
+    program = _mill_then_drill(5)
+    check_text(program)
+    by_tool = [(moves, radius) for _, moves, radius in swept]
+    assert by_tool == [(5 * 13, 3.0), (5 * 2, 2.0)]  # 12 zigzag moves and the plunge a part, two plunges
+    field = swept[-1][0]
+
+    swept.clear()
+    monkeypatch.setattr(material, "_by_tool", lambda buffered, key_from: [(entry[key_from:], [entry]) for entry in buffered])
+    check_text(program)
+    assert len(swept) == 5 * (13 + 2)
+    assert numpy.array_equal(field.upper, swept[-1][0].upper) and numpy.array_equal(field.lower, swept[-1][0].lower)
