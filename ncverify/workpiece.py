@@ -72,10 +72,15 @@ class Cutter:
         return numpy.zeros_like(numpy.asarray(distance, float)) if self.lowest_is_flat else self.lift(distance)
 
     @property
+    def flat_end(self) -> bool:
+        """Is the tool known to have a flat end (:meth:`lift` zero at every distance)?"""
+        return self.known and not self.point_angle and self.corner <= 0.0
+
+    @property
     def lowest_is_flat(self) -> bool:
         """Is the lowest surface flat (:meth:`lowest_lift` zero at every distance): a flat
         end, or a shape not known?"""
-        return not self.known or (not self.point_angle and self.corner <= 0.0)
+        return not self.known or self.flat_end
 
 
 _MEASURED_REACH = 1e9  # mm from the origin within which a path's distance to a cell is exact to far below a cell
@@ -181,7 +186,6 @@ class Workpiece:
         z_low, z_high, slack = z_low - stray, z_high + stray, slack + stray
         may_cut = numpy.zeros(len(a), bool)
         first_cell, last_cell = self.nx * self.ny, -1
-        upper = self.upper.reshape(-1)
         for near in self._cells_near(a, b, slack, cutter.radius + self.half_diagonal):
             stray = slack.take(near.leaders).take(near.owner)
             outer = numpy.maximum(near.distance - self.half_diagonal - stray, 0.0)  # nearest the cell's points can be to the true path
@@ -191,7 +195,7 @@ class Workpiece:
             if cutter.radius >= self.half_diagonal:  # else no cell lies wholly under the tool
                 inner = near.distance + self.half_diagonal + stray  # farthest they can be
                 covered = inner <= cutter.radius
-                _sink(upper, near.flat[covered], near.least(z_high).take(near.owner[covered]) + cutter.lift(inner[covered]), up=True)
+                self._sink_upper(near, covered, inner, cutter, z_high)
             touched_cells = near.flat[touched]
             if not self.lower_emptied:
                 self._sink_lower(touched_cells, near, touched, lowest_lift, z_low)
@@ -221,6 +225,18 @@ class Workpiece:
         may_cut = numpy.zeros(len(near.pieces), bool)
         may_cut[member[touched & (tops > surface)]] = True
         return may_cut
+
+    def _sink_upper(self, near: "_Near", covered, inner, cutter: Cutter, z_high) -> None:
+        """Lower ``upper`` on the cells of ``near`` the tool ``covered`` to the highest its
+        surface lies there, for the lowest piece of each group. A flat end lies at the
+        piece's own high on every cell: rounded once a group (+ 0.0 as the sum with a lift's
+        zero gives it), not once a cell."""
+        highest = near.least(z_high)
+        owners = near.owner[covered]
+        if cutter.flat_end:
+            numpy.minimum.at(self.upper.reshape(-1), near.flat[covered], _float32_outwards(highest + 0.0, up=True).take(owners))
+        else:
+            _sink(self.upper, near.flat[covered], highest.take(owners) + cutter.lift(inner[covered]), up=True)
 
     def _sink_lower(self, cells, near: "_Near", touched, lowest_lift, z_low) -> None:
         """Lower ``lower`` on the ``touched`` cells of ``near`` to the lowest a piece of each
