@@ -213,7 +213,7 @@ class Workpiece:
         tops = self.upper.reshape(-1).take(near.flat)
         if lowest_lift is None and not near.alone:
             highest = numpy.full(len(near.leaders), NO_MATERIAL, numpy.float32)
-            numpy.maximum.at(highest, near.owner[touched], tops[touched])
+            numpy.fmax.at(highest, near.owner[touched], tops[touched])  # a NaN top (a NaN cut) is no cell above, as its comparison says
             return highest.take(near.group) > z_low.take(near.pieces)
         member, entry = near.entries_of_each_piece()
         if entry is not None:
