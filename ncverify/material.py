@@ -446,11 +446,12 @@ class Material:
 
     def _flush(self, mine: _PathPiece) -> None:
         """Sweep what the buffer holds: each tool's lines in one sweep, in the order the
-        tools first cut, then each tool's arcs (many arcs' chords in one sweep). Every sweep
-        only lowers the bounds, so the field left is the same in any order; only the air
-        (judged before each sweep) and how moves merge depend on it. One sweep a tool, not
-        one each time the tools take turns: a post that drills each part after milling it
-        swept two small batches a part, and a sweep costs a fixed time besides its moves."""
+        tools first cut, then each tool's arcs (many arcs' chords in one sweep). Sweeps only
+        lower the bounds, so their order does not change the field; grouping changes which
+        moves merge into one chord, and the air statistic (judged before each sweep). One
+        sweep a tool, not one each time the tools take turns: a post that drills each part
+        after milling it swept two small batches a part, and a sweep costs a fixed time
+        besides its moves."""
         for (cutter, tool), group in _by_tool(mine.lines, 2):
             starts, ends = (_stacked(line[end] for line in group) for end in (0, 1))
             self._sweep(mine.piece, starts, ends, cutter, 0.0, tool)
