@@ -195,10 +195,12 @@ class Workpiece:
             if cutter.radius >= self.half_diagonal:  # else no cell lies wholly under the tool
                 inner = near.distance + self.half_diagonal + stray  # farthest they can be
                 covered = inner <= cutter.radius
-                self._sink_upper(near, covered, inner, cutter, z_high)
+                _sink_groups(self.upper, near.flat[covered], near.owner[covered], near.least(z_high),
+                             None if cutter.flat_end else cutter.lift(inner[covered]), up=True)
             touched_cells = near.flat[touched]
             if not self.lower_emptied:
-                self._sink_lower(touched_cells, near, touched, lowest_lift, z_low)
+                _sink_groups(self.lower, touched_cells, near.owner[touched], near.least(z_low),
+                             None if lowest_lift is None else lowest_lift[touched], up=False)
             if len(touched_cells):
                 first_cell, last_cell = min(first_cell, int(touched_cells.min())), max(last_cell, int(touched_cells.max()))
         self._clear_below_bottom(first_cell, last_cell + 1)
@@ -225,30 +227,6 @@ class Workpiece:
         may_cut = numpy.zeros(len(near.pieces), bool)
         may_cut[member[touched & (tops > surface)]] = True
         return may_cut
-
-    def _sink_upper(self, near: "_Near", covered, inner, cutter: Cutter, z_high) -> None:
-        """Lower ``upper`` on the cells of ``near`` the tool ``covered`` to the highest its
-        surface lies there, for the lowest piece of each group. A flat end lies at the
-        piece's own high on every cell: rounded once a group (+ 0.0 as the sum with a lift's
-        zero gives it), not once a cell."""
-        highest = near.least(z_high)
-        owners = near.owner[covered]
-        if cutter.flat_end:
-            numpy.minimum.at(self.upper.reshape(-1), near.flat[covered], _float32_outwards(highest + 0.0, up=True).take(owners))
-        else:
-            _sink(self.upper, near.flat[covered], highest.take(owners) + cutter.lift(inner[covered]), up=True)
-
-    def _sink_lower(self, cells, near: "_Near", touched, lowest_lift, z_low) -> None:
-        """Lower ``lower`` on the ``touched`` cells of ``near`` to the lowest a piece of each
-        group reaches there. A flat lowest surface reaches its group's lowest low on every
-        cell, rounded once a group (+ 0.0 stores a low of -0.0 as the sum with a lift's zero
-        does)."""
-        lowest = near.least(z_low)
-        lower = self.lower.reshape(-1)
-        if lowest_lift is None:
-            numpy.minimum.at(lower, cells, _float32_outwards(lowest + 0.0, up=False).take(near.owner[touched]))
-        else:
-            _sink(lower, cells, lowest.take(near.owner[touched]) + lowest_lift[touched], up=False)
 
     def cut_anywhere(self) -> None:
         """A cut that cannot be placed: any material may be gone, none is surely gone.
@@ -815,6 +793,18 @@ def _sink(field, flat, heights, up: bool) -> None:
     if not len(flat):
         return
     numpy.minimum.at(field.reshape(-1), flat, _float32_outwards(heights, up))
+
+
+def _sink_groups(field, flat, owners, heights, lift, up: bool) -> None:
+    """:func:`_sink` for entries of groups of pieces: cell ``flat[k]`` is lowered to
+    ``heights[owners[k]]`` (each group's lowest piece) plus ``lift[k]``, the tool surface's
+    height over its tip there. No ``lift`` (None): the surface is flat, at the group's
+    height on every cell, rounded once a group instead of once a cell (+ 0.0 stores a
+    height of -0.0 as the sum with a zero lift does)."""
+    if lift is None:
+        numpy.minimum.at(field.reshape(-1), flat, _float32_outwards(heights + 0.0, up).take(owners))
+    else:
+        _sink(field, flat, heights.take(owners) + lift, up)
 
 
 def _float32_outwards(heights, up: bool):
