@@ -51,6 +51,9 @@ class Segment:
     arc: Arc | None = None
 
 
+RUN_AXES = ("X", "Y", "Z")  # the columns of a run made of moves the block path gathered (and a gathered move's first fields)
+
+
 @dataclass(slots=True)
 class MotionRun:
     """Many segments at once (a batch of plain blocks): ``points[0]`` is where the run

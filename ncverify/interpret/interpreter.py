@@ -29,7 +29,7 @@ from .arc_geometry import arc_by_centre, arc_by_radius, arc_through, end_heading
 from ..context import ToolTable
 from ..settings import Settings
 from ..source import ProgramSource, Span
-from ..trace import Arc, Change, Fault, MotionRun, Segment, any_in_row
+from ..trace import RUN_AXES, Arc, Change, Fault, MotionRun, Segment, any_in_row
 from ..dialect import logical_lines
 from ..values import VACANT, Condition, DomainError, Sym
 from ..verdict import evaluate_constraint, hazard, judge, show
@@ -1335,8 +1335,7 @@ _RUN_SEGMENT_KIND = ("rapid", "feed", "arc", "arc")
 _GATHERED_MOVES = 4096  # moves gathered into one run at most (memory stays flat in program length)
 _SHORTEST_RUN = 32  # fewer gathered moves go on one by one: the rules' work per run outweighs their work per move
 _RUN_KIND = {"rapid": 0, "feed": 1, "arc": _FIRST_ARC_KIND}  # a segment's kind in a MotionRun (+1: a counter-clockwise arc)
-_RUN_AXES_IN_ORDER = ("X", "Y", "Z")  # the columns of a run's points, as every batch has them
-_RUN_AXES = frozenset(_RUN_AXES_IN_ORDER)
+_RUN_AXES = frozenset(RUN_AXES)
 _BETWEEN_GATHERED = frozenset({ir.Move, ir.Assign, ir.Jump, ir.LoopStart, ir.LoopEnd})  # operations moves stay gathered across
 _ALWAYS_BETWEEN_GATHERED = frozenset({ir.Move, ir.Jump, ir.LoopStart, ir.LoopEnd})  # ... whatever they are: not asked (_keeps_moves_gathered)
 
@@ -1366,7 +1365,7 @@ _WRITTEN_BITS = numpy.array([1, 2, 4], dtype=numpy.uint8)  # X, Y, Z in a gather
 @lru_cache(maxsize=16)
 def _written_bits(written: tuple) -> int:
     """The axes ``written`` (all among X, Y, Z) as a gathered move holds them."""
-    return sum(int(bit) for axis, bit in zip(_RUN_AXES_IN_ORDER, _WRITTEN_BITS) if axis in written)
+    return sum(int(bit) for axis, bit in zip(RUN_AXES, _WRITTEN_BITS) if axis in written)
 
 
 def _made_end(move: tuple) -> dict | None:
@@ -1395,7 +1394,7 @@ def _gathered_run(moves: list, start: dict, plane, state) -> MotionRun:
     spans, made when asked for."""
     # column by column: zip(*moves) makes an iterator of each move, which costs more
     x, y, z, feeds, kinds, written, motions, sources = (list(map(itemgetter(field), moves)) for field in range(_BASE))
-    axes = _RUN_AXES_IN_ORDER
+    axes = RUN_AXES
     points = numpy.empty((len(moves) + 1, len(axes)), dtype=numpy.float64)
     points[0] = [start.get(axis) for axis in axes]  # an unknown coordinate (None) is NaN
     points[1:, 0], points[1:, 1], points[1:, 2] = x, y, z

@@ -26,7 +26,7 @@ from __future__ import annotations
 import math
 
 from .. import ir
-from ..trace import Segment
+from ..trace import RUN_AXES, Segment
 from .compiled import StraightCode, factory
 
 _MOST_LINES = 64  # lines of a pass at most
@@ -35,8 +35,7 @@ _ATTEMPTS = 4  # builds tried at a head (its lines may not all be lowered yet) b
 _IDLE = 16  # calls in a row that ran no pass before a head is given up
 _HEADS = 10_000  # heads remembered; past it the table starts again
 _SEGMENT_KINDS = {"rapid": "rapid", "linear": "feed"}  # the motion modes a pass may move in, and the segments they make
-_RUN_AXES_IN_ORDER = ("X", "Y", "Z")  # a MotionRun's columns, and a gathered move's first fields
-_RUN_AXES = frozenset(_RUN_AXES_IN_ORDER)
+_RUN_AXES = frozenset(RUN_AXES)
 _GIVEN_UP = _ATTEMPTS + 1
 
 
@@ -257,7 +256,7 @@ class _PassCode(StraightCode):
 
     def __init__(self, interpreter, steps: list, motions: list, gathering: bool, incremental: bool, runners: LoopRunners):
         super().__init__(interpreter)
-        self.objects: list = list(_RUN_AXES_IN_ORDER)  # k0, k1, k2: the axes of p0, p1, p2
+        self.objects: list = list(RUN_AXES)  # k0, k1, k2: the axes of p0, p1, p2
         self.current: dict[str, str] = {}  # variable -> the operand holding its value at this point of the pass
         self.tests, self.limit, self.effects, self.finish = [], [], [], []
         self.read: dict[str, str] = {}  # variable -> the operand holding its value at the pass's start
@@ -267,7 +266,7 @@ class _PassCode(StraightCode):
         self.store = [f"interpreter.blocks_run = blocks\n{'counts[count_key] = count' if self.counter == 'count' else 'loop_frame.iterations = iterations'}"]
         moves = [step[1] for step in steps if step[0] == "move" and step[1].targets]
         self.gathered = [gathering and op.span.path is None and _RUN_AXES.issuperset(op.targets) for op in moves]
-        self.axes = [axis for axis in _RUN_AXES_IN_ORDER if any(axis in op.targets for op in moves)]  # X, Y, Z as the pass moves them
+        self.axes = [axis for axis in RUN_AXES if any(axis in op.targets for op in moves)]  # X, Y, Z as the pass moves them
         self.moves_made = 0
         self.runners = runners
         self.built = self._pass(steps, iter(motions), incremental)
@@ -284,13 +283,13 @@ class _PassCode(StraightCode):
         base with the pass's X, Y, Z from the operands ``values``0..2 (the runner starts only
         where the position already holds every one of X, Y, Z the pass moves, so no key is
         added and their order is the block path's)."""
-        axes = ", ".join(f"{self._object(axis)}: {values}{_RUN_AXES_IN_ORDER.index(axis)}" for axis in self.axes)
+        axes = ", ".join(f"{self._object(axis)}: {values}{RUN_AXES.index(axis)}" for axis in self.axes)
         return f"{{**base, {axes}}}" if axes else "base"
 
     def _object(self, value) -> str:
         """The name of ``value`` in the generated code (the axes X, Y, Z are always k0..k2)."""
-        if type(value) is str and value in _RUN_AXES_IN_ORDER:
-            return f"k{_RUN_AXES_IN_ORDER.index(value)}"
+        if type(value) is str and value in RUN_AXES:
+            return f"k{RUN_AXES.index(value)}"
         self.objects.append(value)
         return f"k{len(self.objects) - 1}"
 
@@ -361,7 +360,7 @@ class _PassCode(StraightCode):
             if value is None:
                 return False
             if (incremental and axis not in op.absolute) or axis in op.incremental:
-                now = f"p{_RUN_AXES_IN_ORDER.index(axis)}" if axis in _RUN_AXES else f"start.get({self._object(axis)})"
+                now = f"p{RUN_AXES.index(axis)}" if axis in _RUN_AXES else f"start.get({self._object(axis)})"
                 value = f"None if {now} is None else {now} + {value}"
             targets[axis] = value
         if gathered:
@@ -371,7 +370,7 @@ class _PassCode(StraightCode):
             if last:
                 effects.append("b0, b1, b2 = p0, p1, p2")
                 self.finish = [f"state.position = {self._position()}", f"state.last_segment = {move}.segment({self._position('b')}, state.position)"]
-            effects += [f"p{_RUN_AXES_IN_ORDER.index(axis)} = {value}" for axis, value in targets.items()]
+            effects += [f"p{RUN_AXES.index(axis)} = {value}" for axis, value in targets.items()]
             effects += [f"gathered.append((p0, p1, p2, feed, {runners.run_kinds[_SEGMENT_KINDS[after]]}, {runners.written_bits(tuple(op.targets))}, "
                         f"{self._object(after)}, {move}, base))",  # the layout of interpreter._GATHERED_FIELDS
                         f"if len(gathered) >= {runners.most_gathered}:\n    state.motion_seen = True\n" + _indented(self.store, 1) + "    hand_on()"]
@@ -380,8 +379,8 @@ class _PassCode(StraightCode):
         ends = []
         for axis, value in targets.items():
             if axis in _RUN_AXES:
-                effects.append(f"p{_RUN_AXES_IN_ORDER.index(axis)} = {value}")
-                value = f"p{_RUN_AXES_IN_ORDER.index(axis)}"
+                effects.append(f"p{RUN_AXES.index(axis)} = {value}")
+                value = f"p{RUN_AXES.index(axis)}"
             ends.append(f"{self._object(axis)}: {value}")
         effects += [f"base = state.position = {{**start, {', '.join(ends)}}}", "state.motion_seen = True",
                     f"segment = Segment({self._object(_SEGMENT_KINDS[after])}, start, base, {self._object(op.span)}, {self._object(block)}, 'programmed', None, None)",
@@ -430,7 +429,7 @@ class _GatheredMove:
 
     def __init__(self, kind: str, span, block, axes: list):
         self.kind, self.span, self.block = kind, span, block
-        self.axes = [(axis, _RUN_AXES_IN_ORDER.index(axis)) for axis in axes]  # the pass's X, Y, Z and their fields
+        self.axes = [(axis, RUN_AXES.index(axis)) for axis in axes]  # the pass's X, Y, Z and their fields
 
     def position(self, move: tuple) -> dict:
         """Where ``move`` (gathered by this move of the pass) ends, as the block path has it."""
