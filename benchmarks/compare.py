@@ -4,7 +4,7 @@
 
 Writes each program (200,000 blocks by default) into ``benchmarks/out/``, then times
 ``ncverify check`` on it as a user runs it (every rule on, JSON report) and, for the
-programs LinuxCNC can read (the ISO rows), ``rs274 -t tool.tbl -g`` from
+programs LinuxCNC can read (the ISO rows), ``rs274 -t rs274-tool.tbl -g`` from
 ``.ci/install-rs274`` on the very same file. Both are timed end to end, process start
 included, in paired alternating runs (ours, theirs, ours, theirs ...) so that a load spike
 on a shared machine hits both alike. Printed: the minimum wall time and the minimum CPU time
@@ -30,7 +30,10 @@ from typing import Callable, Iterator
 
 HERE = Path(__file__).resolve().parent
 RS274 = HERE.parent / ".rs274" / "usr" / "bin" / "rs274"
-TOOL_TABLE = "T1 P1 D0.25 Z0 ;end mill 6.35\nT2 P2 D0.125 Z0 ;drill 3.175\n"  # rs274 reads diameters in inches
+# The same two tools for each reader: the standalone rs274 reads a table's diameters in
+# inches, ncverify reads LinuxCNC's ``tool.tbl`` beside the program in the program's millimetres.
+TOOL_TABLE = "T1 P1 D6.35 Z0 ;end mill\nT2 P2 D3.175 Z0 ;drill\n"
+RS274_TOOL_TABLE = "T1 P1 D0.25 Z0 ;end mill 6.35 mm\nT2 P2 D0.125 Z0 ;drill 3.175 mm\n"
 
 
 # --------------------------------------------------------------------------- the programs
@@ -253,12 +256,13 @@ class Program:
 
     def write(self, blocks: int) -> Path:
         path = self.path(blocks)
+        path.parent.mkdir(parents=True, exist_ok=True)
         if not path.exists():
-            path.parent.mkdir(parents=True, exist_ok=True)
             with path.open("w", encoding="ascii", newline="\n") as out:
                 for line in self.lines(blocks):
                     out.write(line + "\n")
-            (path.parent / "tool.tbl").write_text(TOOL_TABLE, encoding="ascii")
+        (path.parent / "tool.tbl").write_text(TOOL_TABLE, encoding="ascii")  # written each time: a table left by an older run may differ
+        (path.parent / "rs274-tool.tbl").write_text(RS274_TOOL_TABLE, encoding="ascii")
         return path
 
     def run_ncverify(self, path: Path) -> tuple[float, float]:
@@ -273,7 +277,7 @@ class Program:
 
     def run_rs274(self, path: Path) -> tuple[float, float]:
         environment = dict(os.environ, LD_LIBRARY_PATH=str(RS274.parent.parent / "lib"))
-        return _timed([str(RS274), "-t", "tool.tbl", "-g", path.name, path.with_suffix(".canon").name], cwd=path.parent, env=environment)
+        return _timed([str(RS274), "-t", "rs274-tool.tbl", "-g", path.name, path.with_suffix(".canon").name], cwd=path.parent, env=environment)
 
 
 PROGRAMS = (

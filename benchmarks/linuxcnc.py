@@ -21,6 +21,7 @@ HERE = Path(__file__).resolve().parent
 RS274 = HERE.parent / ".rs274" / "usr" / "bin" / "rs274"
 sys.path.insert(0, str(HERE))
 
+from compare import RS274_TOOL_TABLE, TOOL_TABLE  # noqa: E402  (one end mill, in the units each reader takes)
 from dialects import _points  # noqa: E402  (the same toolpath as the other dialects)
 
 LOOPS = 200  # calls of the subroutine, 6 blocks each
@@ -55,10 +56,11 @@ def main() -> None:
         work = Path(scratch)
         program = work / "bench.ngc"
         run = write_program(blocks, program)
-        (work / "tool.tbl").write_text("T1 P1 D0.25 Z0 ;end mill\n", encoding="ascii")
+        (work / "tool.tbl").write_text(TOOL_TABLE, encoding="ascii")
+        (work / "rs274-tool.tbl").write_text(RS274_TOOL_TABLE, encoding="ascii")
         ours = _time([sys.executable, "-m", "ncverify.cli", "check", str(program), "--format", "json", "--output", str(work / "report.json")])
         environment = dict(os.environ, LD_LIBRARY_PATH=str(RS274.parent.parent / "lib"))
-        theirs = _time([str(RS274), "-t", "tool.tbl", "-g", "bench.ngc", "out.txt"], cwd=work, env=environment)
+        theirs = _time([str(RS274), "-t", "rs274-tool.tbl", "-g", "bench.ngc", "out.txt"], cwd=work, env=environment)
     for name, seconds in (("ncverify check (every rule)", ours), ("rs274 (interpretation only)", theirs)):
         print(f"{name:30s} {seconds:6.2f} s  {run / seconds:10,.0f} blocks/s")
 
