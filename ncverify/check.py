@@ -80,6 +80,14 @@ class Rule:
     # Does ``motion_run`` judge arcs (kinds 2 and 3, ``run.arcs``) itself? Otherwise it gets
     # a run's stretches of straight moves, and ``segment`` each arc between them.
     handles_arcs: bool = False
+    # Does ``motion_run`` judge a run of canned-cycle moves (``run.cycle_moves``) as
+    # ``segment`` judges each of them, by its role and cycle? Only then do a hole pattern's
+    # moves reach the rules as runs (:attr:`Checker.gathers_hole_moves`).
+    judges_cycle_runs: bool = False
+    # Does ``hole`` read nothing the moves before the hole change (the cut stock, what other
+    # handlers keep in ``state.rule_state``)? Only then may a hole of a pattern reach it while
+    # the moves of the holes before it wait to reach the rules as one run.
+    judges_holes_before_moves: bool = False
     # The dialects whose programs it judges (None: every dialect; see :func:`rule`) and the
     # machine types it judges them on (None: every type): the checker asks no other.
     dialects: frozenset | None = None
@@ -152,6 +160,11 @@ class Checker:
                              and "arc" in instance.segment_kinds]
         self._segment_only = [instance.segment for instance in rules if _overrides(instance, "segment") and not _overrides(instance, "motion_run")]
         self._hole = _handlers(rules, "hole") + [self._constraints_on_hole]
+        # A hole pattern's moves may reach the rules as runs when every rule that judges moves
+        # judges cycle runs alike and every rule that judges holes may see one before the moves
+        # ahead of it (the rule constraints on holes read the hole's words and levels alone).
+        self.gathers_hole_moves = (all(one.judges_cycle_runs for one in rules if _overrides(one, "segment") or _overrides(one, "motion_run"))
+                                   and all(one.judges_holes_before_moves for one in rules if _overrides(one, "hole")))
         self._cycle_run = _handlers(rules, "cycle_run") + [self._constraints_on_run]
         self._change = _handlers(rules, "change")
         self._finish = _handlers(rules, "finish")

@@ -64,7 +64,8 @@ class MotionRun:
     (:class:`ncverify.interpret.interpreter.BatchArcs`). ``span(k)`` and ``segment(k)``
     build the per-segment objects on demand (an arc's with the same Arc the block path
     makes), for reports and for rules without a run handler. A part of a run (:meth:`part`)
-    knows the whole run and where in it it starts."""
+    knows the whole run and where in it it starts. ``cycle_moves``: the moves are a canned
+    cycle's (each segment carries its role and cycle), not the program's own."""
 
     axes: tuple[str, ...]
     points: object
@@ -77,6 +78,7 @@ class MotionRun:
     state_at: object = None  # Callable[[Segment, int], None]: the state as the block path has it at a segment
     whole: "MotionRun | None" = None  # the run this one is a part of (None: it is whole)
     first: int = 0  # where in the whole run it starts
+    cycle_moves: bool = False
 
     def __len__(self) -> int:
         return len(self.kinds)
@@ -101,7 +103,7 @@ class MotionRun:
         whole = self.whole or self
         first = self.first + start
         return MotionRun(self.axes, self.points[start : stop + 1], self.kinds[start:stop], self.feeds[start:stop], self.written[start:stop],
-                         lambda index: whole.span(first + index), lambda index: whole.segment(first + index), None, None, whole, first)
+                         lambda index: whole.span(first + index), lambda index: whole.segment(first + index), None, None, whole, first, self.cycle_moves)
 
 
 ARC_CW, ARC_CCW = 2, 3  # MotionRun kind codes of arcs

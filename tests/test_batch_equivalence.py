@@ -331,7 +331,7 @@ def test_sinumerik_cam_arcs_by_centre_and_by_cr_run_inside_batches():
 
 _HOLE_XY = st.tuples(st.floats(-10, 50, allow_nan=False), st.floats(-10, 50, allow_nan=False)).map(lambda xy: f"X{xy[0]:.3f} Y{xy[1]:.3f}")
 _CYCLE_WORDS = st.tuples(
-    st.sampled_from(["G81", "G82", "G83", "G73", "G85", "G86", "G89"]),
+    st.sampled_from(["G81", "G82", "G83", "G73", "G85", "G86", "G89", "G84", "G74"]),
     st.sampled_from(["Z-5.", "Z2.", "Z-1.5"]),
     st.sampled_from(["R1.", "R-1.", "R5.", ""]),  # below the top of the stock, above it, none
     st.sampled_from(["", "Q1.", "Q-1.", "Q0."]),
@@ -343,7 +343,7 @@ _CYCLE_WORDS = st.tuples(
 # alone on their lines (more than a batch's eight plain lines), absolute or incremental.
 _HOLES = st.tuples(
     st.sampled_from(["G98", "G99"]), st.sampled_from(["G90", "G91"]), _CYCLE_WORDS, st.lists(_HOLE_XY, min_size=0, max_size=40),
-    st.sampled_from(["G80", "G80 G0 Z15.", "G0 X0. Y0.", ""]),
+    st.sampled_from(["G80", "G80 G0 Z15.", "G0 X0. Y0.", "G1 X0. Y0.", "G0", "G63", ""]),
 ).map(lambda parts: [f"{parts[0]} {parts[1]} {parts[2]} {parts[3][0] if parts[3] else ''}".strip(), *parts[3][1:], parts[4], "G90"])
 _CONTOUR = st.tuples(st.sampled_from(["G41 D1", "G42 D1", "G41 D2"]), _STREAK, st.sampled_from(["G40 G1 X-10. Y20.", "G40"])).map(
     lambda parts: [f"{parts[0]} G1 X0. Y20. F800.", *parts[1], parts[2]])
@@ -354,15 +354,89 @@ _POST_BODY = st.lists(st.one_of(_HOLES, _CONTOUR, st.lists(_POST_LINES, min_size
 _POST_TOOLS = ["(ncverify: tool 1 radius 3 length 50 type endmill)", "(ncverify: tool 2 radius 1.5 length 40 type drill)"]
 
 
-@settings(max_examples=80, deadline=None, suppress_health_check=[HealthCheck.too_slow])
-@given(body=_POST_BODY, tools=st.booleans())
-def test_hole_patterns_contours_and_tool_changes_give_the_same_findings_batched_or_block_by_block(body, tools):
-    """A CAM post's program: hole cycles (R, Z, Q, P and K words, G98/G99, incremental
-    positions) whose position lines are plain but never a batch, compensated contours
-    that are, tool changes, spindle, feed and comment lines between them."""
+def _post_program(body: list[str], tools: bool) -> str:
     head = ["(ncverify: stock box X-20:60 Y-20:60 Z-20:0)", *(_POST_TOOLS if tools else []), "G21 G90 G94 G17 G40 G49 G80 G54", "T1 M6", "S8000 M3", "G0 X-10. Y20. Z15."]
-    program = "\n".join(["O1000", *head, *body, "G0 Z50.", "M30"]) + "\n"
-    _assert_same_findings(program)
+    return "\n".join(["O1000", *head, *body, "G0 Z50.", "M30"]) + "\n"
+
+
+@settings(max_examples=80, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(body=_POST_BODY, tools=st.booleans(), dialect=st.sampled_from(["iso", "linuxcnc"]))
+def test_hole_patterns_contours_and_tool_changes_give_the_same_findings_batched_or_block_by_block(body, tools, dialect):
+    """A CAM post's program: hole cycles (R, Z, Q, P and K words, G98/G99, incremental
+    positions, tapping; ended by G80 or by a motion code) whose moves reach the rules as
+    runs (their holes ahead of them), compensated contours that are batches, tool changes,
+    spindle, feed and comment lines between them."""
+    program = _post_program(body, tools)
+    batched = check_text(program, settings=Settings(dialect=dialect))
+    one_by_one = check_text(program, settings=Settings(per_block_only=True, dialect=dialect))
+    assert [(d.rule, d.status, d.span, d.message) for d in batched.diagnostics] == [(d.rule, d.status, d.span, d.message) for d in one_by_one.diagnostics]
+    assert batched.blocks == one_by_one.blocks
+
+
+def _hole_moves(program: str, **options) -> tuple[int, int]:
+    """How many moves of hole cycles the check hands the rules inside runs, and one by one."""
+    from unittest import mock
+
+    from ncverify.check import Checker
+
+    in_runs, alone = [], []
+    run_handler, segment_handler = Checker.motion_run, Checker.segment
+
+    def counting_runs(checker, run, state):
+        in_runs.append(len(run) if run.cycle_moves else 0)
+        return run_handler(checker, run, state)
+
+    def counting_segments(checker, segment, state):
+        alone.append(segment.cycle is not None)
+        return segment_handler(checker, segment, state)
+
+    with mock.patch.object(Checker, "motion_run", counting_runs), mock.patch.object(Checker, "segment", counting_segments):
+        check_text(program, settings=Settings(**options))
+    return sum(in_runs), sum(alone)
+
+
+_PATTERN = ["T2 M6", "S3000 M3", "G43 H2", "G0 Z5.", "G98 G81 X5. Y5. Z-5. R1. F150.",
+            *[f"X{5 + (index % 5) * 7.5:.3f} Y{5 + (index // 5) * 10.0:.3f}" for index in range(1, 20)], "G80", "G0 Z15."]
+
+
+@pytest.mark.parametrize("options", [{"dialect": "iso"}, {"dialect": "linuxcnc"}, {"profile": "fanuc"}, {"profile": "haas"}])
+def test_the_moves_of_a_hole_pattern_reach_the_rules_as_one_run(options):
+    """Every rule that judges holes or moves in these dialects was reviewed for it
+    (Rule.judges_cycle_runs, Rule.judges_holes_before_moves): a new rule that is not turns
+    the runs off, and this test says so."""
+    in_runs, alone = _hole_moves(_post_program(_PATTERN, tools=True), **options)
+    assert (in_runs, alone) == (_hole_moves(_post_program(_PATTERN, tools=True), per_block_only=True, **options)[1], 0)
+    assert in_runs >= 20 * 4
+
+
+_HOLES_AT = [f"X{5 + index * 2.5:.3f} Y5." for index in range(1, 20)]
+
+
+@pytest.mark.parametrize("body, rule, present", [
+    # no feed yet: the first infeed of the pattern is named as the cycle's
+    (["G0 Z5.", "G98 G81 X5. Y5. Z-5. R1.", *_HOLES_AT, "G80"], "core.feed-missing", "cycle infeed with no feed rate"),
+    # G41 just switched on: a cycle's moves do not settle it, the arc after the pattern does
+    (["G0 Z5.", "G41 D1", "G98 G81 X5. Y5. Z-5. R1. F150.", *_HOLES_AT, "G80", "G2 X10. Y10. R5. F300."], "core.comp-on-arc", "the first move after it is an arc"),
+    # a tap's feed is its pitch times the speed: not judged as a feed in mm/min, nor as a cut under G63
+    (["G0 Z5.", "G63", "G94 G84 X5. Y5. Z-5. R1. F0.5", *_HOLES_AT, "G80"], "core.feed-plausibility", None),
+    (["G0 Z5.", "G63", "G94 G84 X5. Y5. Z-5. R1. F0.5", *_HOLES_AT, "G80"], "core.tapping-mode-left-on", None),
+])
+def test_hole_moves_in_runs_are_judged_by_their_cycle_as_one_by_one(body, rule, present):
+    program = _post_program(body, tools=True)
+    batched = check_text(program)
+    one_by_one = check_text(program, settings=Settings(per_block_only=True))
+    assert [(d.rule, d.status, d.span, d.message) for d in batched.diagnostics] == [(d.rule, d.status, d.span, d.message) for d in one_by_one.diagnostics]
+    found = [d.message for d in batched.diagnostics if d.rule == rule]
+    assert (found == []) if present is None else any(present in message for message in found)
+    assert _hole_moves(program)[0] >= 19 * 4
+
+
+def test_a_dialect_whose_hole_rules_were_not_reviewed_judges_each_hole_move_alone():
+    """Fagor's own hole rules (G81 with its letters: Z the reference plane, I the depth) were
+    not reviewed for runs: its holes' moves go one by one."""
+    pattern = [line.replace("Z-5. R1.", "Z1. I-5.") for line in _PATTERN]
+    in_runs, alone = _hole_moves(_post_program(pattern, tools=True), dialect="fagor")
+    assert in_runs == 0 and alone >= 20 * 4
 
 
 def test_rapids_straight_up_out_of_the_cut_pass_in_a_run_as_block_by_block():

@@ -57,6 +57,7 @@ def _position_text(hole) -> str:
 
 @rule("core.comp-in-cycle")
 class CompensationInCycle(Rule):
+    judges_holes_before_moves = True
     def hole(self, hole, state):
         side = state.comp_side
         if side in ("off", None) or not self.first_time(state, ("core.comp-in-cycle", hole.definition)):
@@ -87,6 +88,7 @@ class CycleModalAtEnd(Rule):
 class CycleShift(Rule):
     """G76 fine boring and G87 back boring move the tool off the wall by a shift: I/J in
     G17, K/I in G18, J/K in G19 (the address table also names Q)."""
+    judges_holes_before_moves = True
     reads = modelled.AS_WRITTEN
 
     def hole(self, hole, state):
@@ -125,6 +127,7 @@ class RepeatSameHole(Rule):
     """Each repeat is its own Hole; a repeat at the position of the one before it (from the
     same block) drills the same hole again. The repeat word is the cycle model's
     ``repeat_letter`` (Fagor ``NR``), else ``L`` or ``K`` (lathe)."""
+    judges_holes_before_moves = True
 
     def hole(self, hole, state):
         memory = state.rule_state
@@ -170,6 +173,7 @@ def _same_position(a: tuple, b: tuple, absolute: bool) -> bool:
 @rule("core.cycle-parameter-value")
 class CycleParameterValue(Rule):
     """Every parameter whose cycle table entry lists ``allowed`` values."""
+    judges_holes_before_moves = True
     reads = modelled.AS_WRITTEN
 
     def __init__(self, checker):

@@ -20,6 +20,7 @@ def _where(point) -> str:
 
 @rule("core.holder-collision")
 class HolderCollision(Rule):
+    judges_cycle_runs = True
     segment_kinds = CUTTING  # the material model judges a feed move's holder
     def __init__(self, checker):
         super().__init__(checker)

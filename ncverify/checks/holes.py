@@ -10,6 +10,7 @@ from .. import modelled
 
 @rule("core.cycle-missing-parameter")
 class MissingParameter(Rule):
+    judges_holes_before_moves = True
     def hole(self, hole, state):
         if hole.missing and self.first_time(state, ("core.cycle-missing-parameter", hole.definition)):
             meanings = ", ".join(f"{letter} ({hole.model.params[letter].meaning})" for letter in hole.missing)
@@ -20,6 +21,7 @@ class MissingParameter(Rule):
 class HoleLevels(Rule):
     """Every hole is judged, so a message is worded only for a hazard that is not plainly
     absent (a condition, or concrete True): the levels of a correct hole are numbers."""
+    judges_holes_before_moves = True
     reads = modelled.AS_WRITTEN
     def hole(self, hole, state):
         bottom, r_point, initial = hole.bottom, hole.r_point, hole.initial
@@ -57,6 +59,7 @@ class HoleLevels(Rule):
 
 @rule("core.peck-depth")
 class PeckDepth(Rule):
+    judges_holes_before_moves = True
     reads = modelled.AS_WRITTEN
     def hole(self, hole, state):
         if (hole.model.infeed or "").startswith("peck") and not hole.model.r_incremental:
@@ -68,6 +71,7 @@ class PeckDepth(Rule):
 
 @rule("core.dwell-fraction")
 class DwellFraction(Rule):
+    judges_holes_before_moves = True
     def hole(self, hole, state):
         dwell = hole.params.get("P")
         if "P" not in hole.model.params:
@@ -81,6 +85,7 @@ _SPINDLE_WORDS = {"off": "stopped", "cw": "clockwise (M03)", "ccw": "counter-clo
 
 @rule("core.tapping-spindle-direction")
 class TappingSpindle(Rule):
+    judges_holes_before_moves = True
     def hole(self, hole, state):
         expected = hole.model.spindle_before
         if expected is None or state.spindle == expected or hole.params.get(",R") == 1.0 and state.spindle != "off":

@@ -27,6 +27,7 @@ class TravelLimit(ReportsMissingContext):
     inside the travel. On a lathe the program's X is a diameter: ``[machine] lathe_x`` says
     whether travel and offsets are diameters too or radii (then X is halved first), and arcs
     are judged at their end points."""
+    judges_cycle_runs = True
     reads = modelled.GEOMETRY_AND_DIAMETER
     handles_arcs = True  # end points in the run's arrays, each arc's extent as block by block
 
@@ -197,6 +198,7 @@ def _arc_extremes(direction, centre, radius, start, end, axes):
 
 @rule("core.tool-not-in-table", "core.spindle-over-limit", "core.feed-over-limit")
 class MachineLimits(ReportsMissingContext):
+    judges_cycle_runs = True
     reads = modelled.AS_WRITTEN
     segment_kinds = CUTTING  # a rapid runs at neither the programmed feed nor a cutting speed
     handles_arcs = True  # an arc cuts at the feed in force, as a straight feed move

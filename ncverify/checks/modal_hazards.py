@@ -20,6 +20,12 @@ _SPINDLE_CODE = {"cw": "M03", "ccw": "M04", "off": "M05", "orient": "M19"}
 _CUTTING_MOTION = frozenset({"linear", "arc_cw", "arc_ccw", "thread"})
 
 
+def _tapping_cycle(run, state) -> bool:
+    """Are a run's moves a tapping cycle's? (A tap's feed and its moves follow the thread:
+    the segment handlers pass over them.)"""
+    return run.cycle_moves and state.cycle is not None and state.cycle.model.tapping
+
+
 def _moved(a, b) -> bool:
     return a is not b and not (type(a) is float and type(b) is float and a == b)
 
@@ -73,6 +79,7 @@ def _ran_before(state, key: str, span) -> bool:
 class TappingModeLeftOn(Rule):
     """G63 in force for a cut that is not a tap: one finding per G63 episode. A feed move
     along the tool axis only (Z on a mill, in G17) is taken for a tap written with G01."""
+    judges_cycle_runs = True
     segment_kinds = CUTTING
 
     handles_arcs = True  # an arc cuts as a feed move does; judged by its end points, as block by block
@@ -92,7 +99,7 @@ class TappingModeLeftOn(Rule):
         self._report(segment.span, state)
 
     def motion_run(self, run, state):
-        if state.modal.get("path_mode") != "tapping" or state.rule_state.get("tapping-mode-reported"):
+        if state.modal.get("path_mode") != "tapping" or state.rule_state.get("tapping-mode-reported") or _tapping_cycle(run, state):
             return
         cutting = numpy.flatnonzero(run.kinds >= _FEED)
         if not len(cutting):
@@ -143,6 +150,7 @@ class LengthOffsetMotion(Rule):
     (at the start, after a tool change, which takes Z to the change position, after a
     reference return or a machine-coordinate move) it moves from the top of the travel, and
     the usual ``M06`` / ``G43 H01`` / ``G00 Z1.`` sequence is not reported."""
+    judges_cycle_runs = True
     reads = modelled.AS_WRITTEN
 
     handles_arcs = True  # every move, arcs too, by its end points
@@ -329,6 +337,7 @@ _FEED_LIMITS = {
 class FeedPlausibility(Rule):
     """A feed read in the wrong mode's units: above 5 mm/rev (0.2 in/rev) in G95, or below
     1 mm/min (0.04 in/min) in G94. One finding per feed value, like core.feed-missing."""
+    judges_cycle_runs = True
     reads = modelled.AS_WRITTEN
     segment_kinds = frozenset({"feed", "arc"})
 
@@ -349,7 +358,7 @@ class FeedPlausibility(Rule):
 
     def motion_run(self, run, state):
         limits = self._limits(state)
-        if limits is None:
+        if limits is None or _tapping_cycle(run, state):
             return
         cutting = numpy.flatnonzero(run.kinds >= _FEED)
         if not len(cutting):

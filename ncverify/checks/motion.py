@@ -28,6 +28,7 @@ class FeedMissing(Rule):
     reads = modelled.AS_WRITTEN
     segment_kinds = CUTTING
     handles_arcs = True
+    judges_cycle_runs = True
 
     def segment(self, segment, state):
         if segment.kind not in CUTTING or segment.kind == "thread" and not segment.cycle:
@@ -49,7 +50,7 @@ class FeedMissing(Rule):
         for index in numpy.flatnonzero(changed & invalid):
             feed = None if math.isnan(feeds[index]) else float(feeds[index])
             memory["feed-missing"] = feed
-            self._check(feed, run.span(int(cutting[index])), "cutting move", state, remember=False)
+            self._check(feed, run.span(int(cutting[index])), "cycle infeed" if run.cycle_moves else "cutting move", state, remember=False)
         last = feeds[-1]
         memory["feed-missing"] = None if math.isnan(last) else float(last)
 
@@ -101,6 +102,8 @@ class SpindleOffCutting(Rule):
     segment_kinds = CUTTING
 
     handles_arcs = True
+    judges_cycle_runs = True  # a hole's moves are never a lathe cycle's contour
+    judges_holes_before_moves = True
 
     def __init__(self, checker):
         super().__init__(checker)
@@ -227,14 +230,16 @@ class SpindleOffCutting(Rule):
 class CompensationOnArc(Rule):
     """The first in-plane move after G41/G42/G40 must be a straight line."""
     handles_arcs = True
+    judges_cycle_runs = True
 
     def change(self, change, state):
         if change.what == "cutter_comp" and change.old != change.new:
             state.rule_state["comp-transition"] = (change.new, change.span)
 
     def motion_run(self, run, state):
-        """The first move in the plane or arc settles the transition: an arc is judged as a segment."""
-        if "comp-transition" not in state.rule_state:
+        """The first move in the plane or arc settles the transition: an arc is judged as a segment.
+        A cycle's moves settle nothing (:meth:`segment`)."""
+        if "comp-transition" not in state.rule_state or run.cycle_moves:
             return
         plane = [run.axes.index(axis) for axis in state.plane_axes[:2] if axis in run.axes]
         settling = run.kinds >= ARC_CW
@@ -290,6 +295,7 @@ def _radii(points, centres):
 
 @rule("core.arc-geometry")
 class ArcGeometry(Rule):
+    judges_cycle_runs = True  # a hole's moves are straight: no arc to judge
     reads = modelled.AS_WRITTEN
     segment_kinds = ARCS
     handles_arcs = True

@@ -152,6 +152,7 @@ class _NeedsStock(Rule):
 
 @rule("core.rapid-into-stock")
 class RapidIntoStock(_NeedsStock):
+    judges_cycle_runs = True  # the rapids a run may hit are judged as segments, by their roles
     segment_kinds = frozenset({"rapid"})
     rule_id = "core.rapid-into-stock"
     reads = modelled.GEOMETRY
@@ -327,6 +328,7 @@ class RapidIntoStock(_NeedsStock):
 class StockModelTooLarge(Rule):
     """The stock as cut so far did not fit the memory cap (the blank, or the copies forked
     paths need): said once, where the first move after it was judged against the blank."""
+    judges_cycle_runs = True
 
     handles_arcs = True  # any move, arcs too
 
@@ -348,6 +350,7 @@ class ClearanceBelowStock(_NeedsStock):
     """A hole's R point or initial level (the G98 return level) inside the stock: below its
     top, or past the face the tool comes from along another tool axis or sign (Fagor
     ``#TOOL AX [X-]``: ``hole.up``)."""
+    judges_holes_before_moves = True  # against the blank
 
     rule_id = "core.clearance-below-stock"
     reads = modelled.GEOMETRY | {modelled.TOOL_AXIS}  # the levels are taken along the hole's own axis and side

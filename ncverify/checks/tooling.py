@@ -40,6 +40,7 @@ class CircleSmallerThanTool(ReportsMissingContext):
 class ConcaveArcTighterThanTool(ReportsMissingContext):
     """With G41/G42 on, an arc whose centre lies on the tool's side must have a radius of
     at least the tool radius, or the offset path cannot follow it."""
+    judges_cycle_runs = True  # a hole's moves are straight: no arc to judge
     reads = modelled.AS_WRITTEN
     segment_kinds = ARCS
     handles_arcs = True
@@ -83,6 +84,7 @@ class ConcaveArcTighterThanTool(ReportsMissingContext):
 @rule("core.tap-feed-pitch")
 class TapFeedMatchesPitch(ReportsMissingContext):
     """A tapping cycle feeds one pitch per revolution: F = pitch x S in G94, F = pitch in G95."""
+    judges_holes_before_moves = True
     reads = modelled.AS_WRITTEN
 
     tolerance = 0.01  # relative

@@ -51,6 +51,7 @@ class LengthOffsetMismatch(Rule):
 
 @rule("core.no-length-offset")
 class NoLengthOffset(Rule):
+    judges_cycle_runs = True
     segment_kinds = CUTTING  # a rapid cuts nothing
     handles_arcs = True  # an arc cuts as a straight feed move does
 

@@ -209,10 +209,12 @@ class Interpreter(ControlFlow):
         self._gathered_from = None  # the motion mode before the first of them
         self._gathered_start: dict = {}  # the position before the first of them
         self._gathered_plane = None  # the plane of the arcs among them (None: no arc)
+        self._gathered_holes = False  # they are the moves of a hole pattern (a modal hole cycle's)
         self._run_observer = observer  # where the gathered moves go
         self._inert_between_moves = getattr(runtime, "INERT_BETWEEN_MOVES", {})  # dialect operation -> when it leaves the moves gathered
+        self._gathers_hole_moves = getattr(observer, "gathers_hole_moves", False)  # see Checker.gathers_hole_moves
         if hasattr(observer, "motion_run") and not settings.per_block_only:
-            self.observer = GatheringObserver(observer, self._hand_on_gathered, self._gathered)
+            self.observer = GatheringObserver(observer, self._hand_on_gathered, self._gathered, lambda: self._gathered_holes)
         self._loop_runners = None
         if settings.loop_runner and not settings.per_block_only:
             self._loop_runners = loop_runner.LoopRunners(self, gathering=GatheringObserver, most_gathered=_GATHERED_MOVES, batch_after=_BATCH_AFTER,
@@ -1091,7 +1093,7 @@ class Interpreter(ControlFlow):
             return False
         return self._gather_segment(segment, op.targets, motion_before)
 
-    def _gather_segment(self, segment: Segment, written, motion_before) -> bool:
+    def _gather_segment(self, segment: Segment, written, motion_before, hole: bool = False) -> bool:
         """Keep a programmed move (``written``: the axes its block wrote), to hand it on with
         the moves next to it as one run (:meth:`_hand_on_gathered`), as a batch is: False when
         the run cannot carry it exactly (then it goes on alone). A run carries moves of
@@ -1101,9 +1103,21 @@ class Interpreter(ControlFlow):
         plane; its rapids, feeds and arcs are judged as a batch's. Every other event, and
         every operation but moves, assignments, jumps and loop bookkeeping, hands the run on
         first (:class:`GatheringObserver`, :meth:`_execute_block`); so do a fork and the
-        path's end."""
+        path's end.
+
+        ``hole``: the move is one of a modal hole cycle's (``written``: the axes it takes).
+        Those make runs of their own where the observer's rules judge such runs, and holes
+        ahead of their moves, as they judge each move (:attr:`Checker.gathers_hole_moves`): a
+        hole event leaves them gathered, the cycle's end hands them on (:meth:`_cancel_cycle`).
+        Programmed moves are gathered only with no cycle in force, hole moves only with one,
+        so the two never share a run."""
         state = self.state
-        if type(self.observer) is not GatheringObserver or state.cycle is not None or state.frame is not None or state.parked or state.left_start:
+        if type(self.observer) is not GatheringObserver or state.frame is not None or state.parked or state.left_start:
+            return False
+        if hole:
+            if state.cycle is None or state.cycle.model.shape or not self._gathers_hole_moves:
+                return False  # a one-shot cycle's, a lathe box cycle's or a modal call's moves go alone
+        elif state.cycle is not None:
             return False
         feed = state.feed
         if not (feed is None or type(feed) is float) or segment.kind not in _RUN_KIND or segment.span.path is not None:
@@ -1120,7 +1134,7 @@ class Interpreter(ControlFlow):
                 return False  # a run's arcs share one plane (Klartext CC names the plane of the arcs about it)
             self._gathered_plane = arc.plane
         if not gathered:
-            self._gathered_from, self._gathered_start = motion_before, start
+            self._gathered_from, self._gathered_start, self._gathered_holes = motion_before, start, hole
         kind = _RUN_KIND[segment.kind] + (arc is not None and arc.direction == "ccw")
         gathered.append((end.get("X"), end.get("Y"), end.get("Z"), math.nan if feed is None else feed, kind, _written_bits(tuple(written)),
                          state.modal.get("motion"), segment, None))
@@ -1153,6 +1167,7 @@ class Interpreter(ControlFlow):
         moves = gathered[:]
         gathered.clear()
         plane, self._gathered_plane = self._gathered_plane, None
+        holes, self._gathered_holes = self._gathered_holes, False
         state, start = self.state, self._gathered_start
         now = state.position, state.modal.get("motion"), state.feed
         try:
@@ -1162,7 +1177,7 @@ class Interpreter(ControlFlow):
                     state.position, state.modal["motion"], state.feed = segment.end, move[_MOTION], _as_value(move[_FEED])
                     self._run_observer.segment(segment, state)
             else:
-                run = _gathered_run(moves, start, plane, state)
+                run = _gathered_run(moves, start, plane, state, holes)
                 state.position, state.modal["motion"], state.feed = start, self._gathered_from, _as_value(moves[0][_FEED])
                 self._run_observer.motion_run(run, state)
         finally:
@@ -1259,6 +1274,8 @@ class Interpreter(ControlFlow):
         return None
 
     def _cancel_cycle(self) -> None:
+        if self._gathered_holes:
+            self._hand_on_gathered()  # while the rules still see the cycle in force, as they saw each move
         self.state.cycle = None
         self.state.cycle_data = {}
 
@@ -1388,10 +1405,10 @@ def _gathered_segment(moves: list, start: dict, index: int) -> Segment:
     return source.segment(start, source.position(move))
 
 
-def _gathered_run(moves: list, start: dict, plane, state) -> MotionRun:
+def _gathered_run(moves: list, start: dict, plane, state, holes: bool = False) -> MotionRun:
     """The MotionRun of gathered moves (``start``: where the first starts; ``plane``: their
-    arcs' plane, None without arcs): the batch's form, with the block path's segments and
-    spans, made when asked for."""
+    arcs' plane, None without arcs; ``holes``: they are a hole cycle's): the batch's form,
+    with the block path's segments and spans, made when asked for."""
     # column by column: zip(*moves) makes an iterator of each move, which costs more
     x, y, z, feeds, kinds, written, motions, sources = (list(map(itemgetter(field), moves)) for field in range(_BASE))
     axes = RUN_AXES
@@ -1403,7 +1420,8 @@ def _gathered_run(moves: list, start: dict, plane, state) -> MotionRun:
     segment_of = lru_cache(maxsize=1)(partial(_gathered_segment, moves, start))  # asked for by the rules, then by the material
     written = numpy.array(written, dtype=numpy.uint8)[:, None] & _WRITTEN_BITS != 0
     return MotionRun(axes, points, kinds, feeds, written, lambda index: sources[index].span, segment_of,
-                     None if plane is None else _gathered_arcs(sources, plane, axes), partial(_batch_state_at, state, kinds, feeds, motions=motions))
+                     None if plane is None else _gathered_arcs(sources, plane, axes), partial(_batch_state_at, state, kinds, feeds, motions=motions),
+                     cycle_moves=holes)
 
 
 def _gathered_arcs(sources: tuple, plane: tuple, axes: tuple) -> BatchArcs:
@@ -1419,12 +1437,19 @@ def _gathered_arcs(sources: tuple, plane: tuple, axes: tuple) -> BatchArcs:
 class GatheringObserver:
     """Stands between the interpreter and its observer while moves may be gathered
     (:meth:`Interpreter._gather`): every event first hands the gathered moves on
-    (``hand_on``), so the observer sees them in the order they happened."""
+    (``hand_on``), so the observer sees them in the order they happened; a hole leaves a
+    hole pattern's moves gathered (``holes_gathered()``), its rules judge it ahead of them."""
 
-    def __init__(self, observer, hand_on, gathered: list):
+    def __init__(self, observer, hand_on, gathered: list, holes_gathered=lambda: False):
         self.inner = observer
         self._hand_on = hand_on
         self._gathered = gathered  # the moves hand_on hands on (mostly none: then no call is made)
+        self._holes_gathered = holes_gathered  # are the gathered moves a hole pattern's? (then a hole leaves them gathered)
+
+    def hole(self, hole, state) -> None:
+        if self._gathered and not self._holes_gathered():
+            self._hand_on()
+        self.inner.hole(hole, state)
 
     def segment(self, segment, state) -> None:
         if self._gathered:

@@ -49,19 +49,22 @@ class Runtime:
         state = interpreter.state
         start = state.position
         end = None
+        moved = []
         for axis, value in targets.items():
             if value is not None and start.get(axis) is not value:
                 if end is None:
                     end = dict(start)
                 end[axis] = value
+                moved.append(axis)
         if end is None:
             return
         # what MachineState.move_to and emit() do, three calls less (a hole makes five moves)
         state.position = end
         if state.parked or state.left_start:
-            state.leave_start([axis for axis, value in targets.items() if value is not None and start.get(axis) is not value])
+            state.leave_start(moved)
         segment = state.last_segment = Segment(kind, start, end, span, block, role, cycle)
-        interpreter.observer.segment(segment, state)
+        if cycle is None or not interpreter._gather_segment(segment, moved, state.modal.get("motion"), hole=True):
+            interpreter.observer.segment(segment, state)
 
     def rapid_to(self, targets: dict, span, block, role: str, cycle: str | None) -> None:
         """A rapid traverse to ``targets`` (see :meth:`move_to`)."""
