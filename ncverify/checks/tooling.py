@@ -67,8 +67,10 @@ class ConcaveArcTighterThanTool(ReportsMissingContext):
         if arcs is None or state.comp_side not in ("left", "right"):
             return
         side = frames.compensation_side(state, arcs.plane)
-        inside = [kind for kind, direction in ((ARC_CW, "cw"), (ARC_CCW, "ccw")) if (side, direction) in _CONCAVE]
-        concave = numpy.flatnonzero(numpy.isin(run.kinds, inside))
+        inside = next((kind for kind, direction in ((ARC_CW, "cw"), (ARC_CCW, "ccw")) if (side, direction) in _CONCAVE), None)
+        if inside is None:
+            return
+        concave = numpy.flatnonzero(run.kinds == inside)
         if not len(concave):
             return
         self.segment(run.segment(int(concave[0])), state)  # says once what is missing, as the block path would here
