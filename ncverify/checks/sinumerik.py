@@ -439,7 +439,9 @@ class ThreadMillBore(Rule):
         first, second, _normal = state.plane_axes
         place = (hole.position.get(first), hole.position.get(second), hole.bottom)
         if hole.cycle.startswith("sinumerik.") and all(type(value) is float for value in place):
-            state.rule_state["sinumerik-bores"] = [*state.rule_state.get("sinumerik-bores", ()), (*place, hole.span)]
+            # (bore, the bores before it): one more bore costs one pair, not a copy of all the
+            # others (a post drills thousands), and forked paths share what came before
+            state.rule_state["sinumerik-bores"] = ((*place, hole.span), state.rule_state.get("sinumerik-bores"))
 
     def cycle_run(self, run, state):
         if run.cycle != "sinumerik.CYCLE90" or run.params.get("TYPTH", 0.0) != 0.0:
@@ -450,7 +452,7 @@ class ThreadMillBore(Rule):
             return
         needed = min(rfp, depth) - abs(pitch) / 2
         axis = state.plane_axes[2]
-        for bore_x, bore_y, bottom, span in state.rule_state.get("sinumerik-bores", ()):
+        for bore_x, bore_y, bottom, span in _first_to_last(state.rule_state.get("sinumerik-bores")):
             if math.dist((bore_x, bore_y), (x, y)) < 1e-6 and bottom > needed + 1e-9:
                 self.report("sinumerik.thread-mill-bore", run.span,
                             f"CYCLE90: the bore drilled in line {span.line} ends at {axis}{bottom:g}, but the thread from {axis}{rfp:g} to {axis}{depth:g} "
@@ -459,6 +461,15 @@ class ThreadMillBore(Rule):
 
 
 # --------------------------------------------------------------------------- tool and spindle at the call
+
+def _first_to_last(chain) -> list:
+    """The entries of a chain of (entry, the chain before it) pairs, the first one first."""
+    entries = []
+    while chain is not None:
+        entry, chain = chain
+        entries.append(entry)
+    return entries[::-1]
+
 
 @rule("sinumerik.no-tool-offset")
 class NoToolOffset(Rule):
