@@ -2,6 +2,8 @@
 must be the same as running the blocks one by one."""
 from __future__ import annotations
 
+import re
+
 import numpy
 import pytest
 from hypothesis import HealthCheck, example, given, settings
@@ -359,14 +361,19 @@ def _post_program(body: list[str], tools: bool) -> str:
     return "\n".join(["O1000", *head, *body, "G0 Z50.", "M30"]) + "\n"
 
 
-@settings(max_examples=80, deadline=None, suppress_health_check=[HealthCheck.too_slow])
-@given(body=_POST_BODY, tools=st.booleans(), dialect=st.sampled_from(["iso", "linuxcnc"]))
+def _in_fagor_letters(line: str) -> str:
+    """A hole cycle's line as Fagor writes it: the tool-axis word is the reference plane, I the depth."""
+    return re.sub(r"\bR(-?[0-9.]+)", r"I\1", line) if re.search(r"\bG[78]\d\b", line) else line
+
+
+@settings(max_examples=90, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(body=_POST_BODY, tools=st.booleans(), dialect=st.sampled_from(["iso", "linuxcnc", "fagor"]))
 def test_hole_patterns_contours_and_tool_changes_give_the_same_findings_batched_or_block_by_block(body, tools, dialect):
     """A CAM post's program: hole cycles (R, Z, Q, P and K words, G98/G99, incremental
     positions, tapping; ended by G80 or by a motion code) whose moves reach the rules as
     runs (their holes ahead of them), compensated contours that are batches, tool changes,
     spindle, feed and comment lines between them."""
-    program = _post_program(body, tools)
+    program = _post_program([_in_fagor_letters(line) for line in body] if dialect == "fagor" else body, tools)
     batched = check_text(program, settings=Settings(dialect=dialect))
     one_by_one = check_text(program, settings=Settings(per_block_only=True, dialect=dialect))
     assert [(d.rule, d.status, d.span, d.message) for d in batched.diagnostics] == [(d.rule, d.status, d.span, d.message) for d in one_by_one.diagnostics]
@@ -399,13 +406,14 @@ _PATTERN = ["T2 M6", "S3000 M3", "G43 H2", "G0 Z5.", "G98 G81 X5. Y5. Z-5. R1. F
             *[f"X{5 + (index % 5) * 7.5:.3f} Y{5 + (index // 5) * 10.0:.3f}" for index in range(1, 20)], "G80", "G0 Z15."]
 
 
-@pytest.mark.parametrize("options", [{"dialect": "iso"}, {"dialect": "linuxcnc"}, {"profile": "fanuc"}, {"profile": "haas"}])
+@pytest.mark.parametrize("options", [{"dialect": "iso"}, {"dialect": "linuxcnc"}, {"profile": "fanuc"}, {"profile": "haas"}, {"dialect": "fagor"}])
 def test_the_moves_of_a_hole_pattern_reach_the_rules_as_one_run(options):
     """Every rule that judges holes or moves in these dialects was reviewed for it
     (Rule.judges_cycle_runs, Rule.judges_holes_before_moves): a new rule that is not turns
     the runs off, and this test says so."""
-    in_runs, alone = _hole_moves(_post_program(_PATTERN, tools=True), **options)
-    assert (in_runs, alone) == (_hole_moves(_post_program(_PATTERN, tools=True), per_block_only=True, **options)[1], 0)
+    program = _post_program([_in_fagor_letters(line) for line in _PATTERN] if options.get("dialect") == "fagor" else _PATTERN, tools=True)
+    in_runs, alone = _hole_moves(program, **options)
+    assert (in_runs, alone) == (_hole_moves(program, per_block_only=True, **options)[1], 0)
     assert in_runs >= 20 * 4
 
 
@@ -431,11 +439,13 @@ def test_hole_moves_in_runs_are_judged_by_their_cycle_as_one_by_one(body, rule, 
     assert _hole_moves(program)[0] >= 19 * 4
 
 
-def test_a_dialect_whose_hole_rules_were_not_reviewed_judges_each_hole_move_alone():
-    """Fagor's own hole rules (G81 with its letters: Z the reference plane, I the depth) were
-    not reviewed for runs: its holes' moves go one by one."""
-    pattern = [line.replace("Z-5. R1.", "Z1. I-5.") for line in _PATTERN]
-    in_runs, alone = _hole_moves(_post_program(pattern, tools=True), dialect="fagor")
+def test_a_rule_not_reviewed_for_hole_runs_leaves_each_hole_move_to_go_alone(monkeypatch):
+    """One rule in scope whose hole handler may read what the moves before change is enough:
+    the holes' moves then reach the rules one by one, as the block path hands them."""
+    from ncverify.checks.holes import HoleLevels
+
+    monkeypatch.setattr(HoleLevels, "judges_holes_before_moves", False)
+    in_runs, alone = _hole_moves(_post_program(_PATTERN, tools=True))
     assert in_runs == 0 and alone >= 20 * 4
 
 

@@ -28,6 +28,7 @@ def _unmodelled_frame(state) -> bool:
 @rule("fagor.cycle-starts-spindle")
 class CycleStartsSpindle(Rule):
     """A Fagor cycle starts a stopped spindle clockwise with the S in force (seed L582-583)."""
+    judges_holes_before_moves = True
 
     def hole(self, hole, state):
         if not _is_fagor(hole.cycle) or state.spindle != "off" or not self.first_time(state, ("fagor.cycle-starts-spindle", hole.definition)):
@@ -45,6 +46,7 @@ class CycleStartsSpindle(Rule):
 @rule("fagor.unknown-start-plane")
 class UnknownStartPlane(Rule):
     """Zi is where the tool is on the tool axis when the cycle is defined (seed L629, L871)."""
+    judges_holes_before_moves = True
 
     def hole(self, hole, state):
         if not _is_fagor(hole.cycle) or hole.initial is not None or _unmodelled_frame(state) or not self.first_time(state, ("fagor.unknown-start-plane", hole.definition)):
@@ -58,6 +60,7 @@ class UnknownStartPlane(Rule):
 @rule("fagor.pocket-incremental-depth")
 class PocketIncrementalDepth(Rule):
     """G87/G88 in G91: the text measures I from Z, the manual's examples from Zi (H12)."""
+    judges_holes_before_moves = True
     reads = modelled.AS_WRITTEN
 
     def hole(self, hole, state):
@@ -78,6 +81,7 @@ class PocketIncrementalDepth(Rule):
 @rule("fagor.vc-absolute")
 class CycleDataAbsolute(Rule):
     """V.C.x values are absolute coordinates whatever G90/G91 (seed L783-784)."""
+    judges_holes_before_moves = True
 
     def hole(self, hole, state):
         cycle = state.cycle
@@ -93,6 +97,7 @@ class CycleDataAbsolute(Rule):
 @rule("fagor.arc-positioning-in-cycle")
 class ArcPositioning(Rule):
     """Positioning in a cycle zone uses the modal interpolation (seed L674-676, H33)."""
+    judges_holes_before_moves = True
 
     def hole(self, hole, state):
         if not _is_fagor(hole.cycle) or state.modal.get("motion") not in ("arc_cw", "arc_ccw"):
@@ -121,6 +126,7 @@ class PocketToolFit(ReportsMissingContext):
     """G87/G88/G210/G211: the tool against the pocket, bore or thread (seed L1386-1390,
     L1499-1503, L1599-1613; H13, H14, H20, H22). Sizes come from the cycle and the tool
     radius from the tool table; the largest tool that fits is reported."""
+    judges_holes_before_moves = True
     reads = modelled.SCALED_SIZES
 
     def hole(self, hole, state):
@@ -257,6 +263,7 @@ class G86BackOffDirection(Rule):
     orientation reference and on how the bar is clamped: the manual warns twice that a
     wrong orientation drives the tool into the wall (seed L1265-1273, reference H18). That
     is answered unknown, once per cycle definition (each definition backs off its own way)."""
+    judges_holes_before_moves = True
 
     def hole(self, hole, state):
         params = hole.params
@@ -277,6 +284,7 @@ class G86BackOffDirection(Rule):
 @rule("fagor.hole-at-unknown-position")
 class HoleAtUnknownPosition(Rule):
     """The block that defines a cycle machines where the tool is (seed L613-615; H2)."""
+    judges_holes_before_moves = True
 
     def hole(self, hole, state):
         if not _is_fagor(hole.cycle):
@@ -294,6 +302,7 @@ class HoleAtUnknownPosition(Rule):
 class RigidTappingEncoder(ReportsMissingContext):
     """G84 R1 is rigid tapping, which needs a motor-driven spindle with an encoder (seed
     L1090, L1132-1135; H19); ``[machine] spindle_encoder`` says whether the machine has one."""
+    judges_holes_before_moves = True
     reads = modelled.AS_WRITTEN
 
     def hole(self, hole, state):
@@ -338,6 +347,7 @@ class ThreadMillOvershoot(_PastTheStock):
     along the tool axis (seed L1782-1803, L1922-1939; H21). The manual gives no length; one
     pitch |B| is taken as the overshoot. Past the stock's far face the tool runs into the
     table or the fixture."""
+    judges_holes_before_moves = True
 
     rule_id = "fagor.thread-mill-overshoot"
 
@@ -361,6 +371,7 @@ class ThreadMillOvershoot(_PastTheStock):
 class DeepDrillingDepth(_PastTheStock):
     """G83's I is one peck and J the number of pecks (seed L1044-1050; H4): a depth of J
     pecks that ends more than a peck past the stock's far face was meant as a total depth."""
+    judges_holes_before_moves = True
 
     rule_id = "fagor.g83-depth"
 
@@ -384,6 +395,7 @@ class DeepDrillingDepth(_PastTheStock):
 class BoreMillingNoFloor(_PastTheStock):
     """G210 with a negative pitch B makes no bottom pass (seed L1615-1619; H20): meant for
     through holes. A hole that ends before the stock's far face is blind."""
+    judges_holes_before_moves = True
 
     rule_id = "fagor.bore-milling-no-floor"
 
