@@ -60,12 +60,13 @@ def _program(body: list[str], header: list[str]) -> str:
     return "\n".join(["O1000", "G21 G90 G17 G54", "T1 M06", *header, *body, "M30"]) + "\n"
 
 
-def _assert_same_findings(program: str) -> None:
-    batched = check_text(program)
-    one_by_one = check_text(program, settings=Settings(per_block_only=True))
+def _assert_same_findings(program: str, **options) -> None:
+    batched = check_text(program, settings=Settings(**options))
+    one_by_one = check_text(program, settings=Settings(per_block_only=True, **options))
     assert [(d.rule, d.status, d.span, d.message) for d in batched.diagnostics] == [
         (d.rule, d.status, d.span, d.message) for d in one_by_one.diagnostics]
     assert batched.blocks == one_by_one.blocks
+    assert batched.truncated == one_by_one.truncated  # the findings past a rule's limit, counted alike
 
 
 @settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.too_slow])
@@ -373,11 +374,7 @@ def test_hole_patterns_contours_and_tool_changes_give_the_same_findings_batched_
     positions, tapping; ended by G80 or by a motion code) whose moves reach the rules as
     runs (their holes ahead of them), compensated contours that are batches, tool changes,
     spindle, feed and comment lines between them."""
-    program = _post_program([_in_fagor_letters(line) for line in body] if dialect == "fagor" else body, tools)
-    batched = check_text(program, settings=Settings(dialect=dialect))
-    one_by_one = check_text(program, settings=Settings(per_block_only=True, dialect=dialect))
-    assert [(d.rule, d.status, d.span, d.message) for d in batched.diagnostics] == [(d.rule, d.status, d.span, d.message) for d in one_by_one.diagnostics]
-    assert batched.blocks == one_by_one.blocks
+    _assert_same_findings(_post_program([_in_fagor_letters(line) for line in body] if dialect == "fagor" else body, tools), dialect=dialect)
 
 
 def _hole_moves(program: str, **options) -> tuple[int, int]:
@@ -447,6 +444,26 @@ def test_a_rule_not_reviewed_for_hole_runs_leaves_each_hole_move_to_go_alone(mon
     monkeypatch.setattr(HoleLevels, "judges_holes_before_moves", False)
     in_runs, alone = _hole_moves(_post_program(_PATTERN, tools=True))
     assert in_runs == 0 and alone >= 20 * 4
+
+
+def test_a_rapid_crash_after_hundreds_of_retracts_in_one_run_is_found():
+    """The run path once judged only a rule's limit of candidate rapids (200), counting the
+    retracts out of the cut that it then lets pass: the crash after them went unreported."""
+    passes = [line for index in range(260) for line in (f"G1 X{index * 0.2:.3f} Y0. Z-1.", "G1 Y10.", "G0 Z5.", f"G0 X{index * 0.2 + 0.2:.3f} Y0.")]
+    head = ["(ncverify: stock box X-20:60 Y-20:60 Z-20:0)", "(ncverify: tool 1 radius 0.1 length 40 type endmill)", "G21 G90 G17 G54", "T1 M6", "S3000 M3",
+            "G43 H1", "G0 X0. Y0. Z5.", "F500."]
+    program = "\n".join(["O1", *head, *passes, "G0 X30. Y30. Z-3.", "M30"]) + "\n"
+    crashes = [d.span.line for d in check_text(program).diagnostics if d.rule == "core.rapid-into-stock"]
+    assert crashes == [2 + len(head) + len(passes)]
+    _assert_same_findings(program)
+
+
+def test_more_rapids_into_the_stock_than_a_rule_reports_are_counted_alike_in_runs():
+    holes = [f"X{5 + (index % 20) * 2.0:.3f} Y{5 + (index // 20) * 2.0:.3f}" for index in range(1, 300)]
+    for return_level in ("G98", "G99"):  # R below the stock's top: every rapid down to it, and with G99 between the holes, is a crash
+        program = _post_program([f"{return_level} G81 X5. Y5. Z-5. R-1. F150.", *holes, "G80"], tools=True)
+        assert check_text(program).truncated["core.rapid-into-stock"] > 0
+        _assert_same_findings(program)
 
 
 def test_rapids_straight_up_out_of_the_cut_pass_in_a_run_as_block_by_block():

@@ -281,13 +281,14 @@ class RapidIntoStock(_NeedsStock):
             starts[:, 1] = numpy.nan_to_num(starts[:, 1])
             ends[:, 1] = numpy.nan_to_num(ends[:, 1])
         known = ~(numpy.isnan(starts).any(axis=1) | numpy.isnan(ends).any(axis=1))
-        for index in rapids[~known]:
-            self.segment(run.segment(int(index)), state, run, int(index))
-        hits = rapids[known][geometry.enters_many(stock, starts[known], ends[known])][: self.checker.settings.max_findings_per_rule]
+        hits = rapids[known][geometry.enters_many(stock, starts[known], ends[known])]
         if self.checker.material.milled and tool_axis_problem(state) is None and run.axes == ("X", "Y", "Z"):
             hits = hits[~_straight_up(run.points, hits)]  # what _retracts passes, without making their segments
-        for index in hits:
-            self.segment(run.segment(int(index)), state, run, int(index))
+        # Every rapid that may meet the stock is judged, in the run's order, as block by block: a
+        # crash after a few hundred retracts out of the cut is found (the report keeps the first
+        # findings of a rule and counts the others), and the cut stock is taken up to each in turn.
+        for index in numpy.sort(numpy.concatenate((rapids[~known], hits))).tolist():
+            self.segment(run.segment(index), state, run, index)
 
     def _from_unknown(self, stock, end, span, what, state, tool):
         """Where the tool comes from is unknown; the end point alone can still be inside."""
