@@ -466,6 +466,21 @@ def test_more_rapids_into_the_stock_than_a_rule_reports_are_counted_alike_in_run
         _assert_same_findings(program)
 
 
+def test_moves_past_the_travel_are_each_reported_in_runs_as_block_by_block(tmp_path):
+    """The run path once reported five end points past the travel per axis and run; the
+    block path reports each (the report keeps a rule's first findings and counts the rest)."""
+    from ncverify.api import check_file
+
+    (tmp_path / "ncverify.toml").write_text("[machine]\ntravel = { X = [-100.0, 100.0], Y = [-100.0, 100.0], Z = [-100.0, 100.0] }\n"
+                                            "work_offsets = { G54 = [0.0, 0.0, 0.0] }\n")
+    moves = [f"G2 X{150 + index:.3f} Y{-150 - index:.3f} R40." if index % 3 == 0 else f"G1 X{150 + index:.3f} Y{-150 - index:.3f}" for index in range(300)]
+    program = tmp_path / "far.nc"
+    program.write_text("\n".join(["O1", "G21 G90 G17 G54", "T1 M6", "S3000 M3", "G0 X0. Y0. Z5.", "F500.", *moves, "M30"]) + "\n")
+    batched, one_by_one = check_file(str(program)), check_file(str(program), Settings(per_block_only=True))
+    assert [(d.rule, d.span, d.message) for d in batched.diagnostics] == [(d.rule, d.span, d.message) for d in one_by_one.diagnostics]
+    assert batched.truncated == one_by_one.truncated and batched.truncated["core.travel-limit"] > 0
+
+
 def test_rapids_straight_up_out_of_the_cut_pass_in_a_run_as_block_by_block():
     """A run's rapids that enter the blank are judged one by one, except those straight up
     the tool's axis from where it stands (a retract), which the run passes as the block

@@ -49,18 +49,26 @@ class TravelLimit(ReportsMissingContext):
             self._check_arc(segment, frame, state)
 
     def motion_run(self, run, state):
+        """Every end point outside the travel, and every arc's extent, reported in the order
+        the block path reports them (move by move, its axes in turn, then its arc): the
+        report keeps a rule's first findings and counts the others."""
         frame = self._frame(run.span(0), state)
         if frame is None:
             return
-        for axis, (offset, low, high, scale) in frame.items():
+        found = []  # (move, place among its checks, axis or None for the arc's extent, machine position)
+        for place, (axis, (offset, low, high, scale)) in enumerate(frame.items()):
             if axis not in run.axes or offset is None or isinstance(offset, Sym):
                 continue
             column = run.points[1:, run.axes.index(axis)] * scale + offset
             outside = numpy.flatnonzero(~numpy.isnan(column) & ((column < low) | (column > high)))
-            for index in outside[:5]:
-                self._report(axis, float(column[index]), low, high, run.span(int(index)), None)
-        for index in run.arc_indices():
-            self._arc_extent(run.segment(index), frame, state)
+            found += [(index, place, axis, position) for index, position in zip(outside.tolist(), column[outside].tolist())]
+        found += [(index, len(frame), None, None) for index in run.arc_indices()]
+        for index, _place, axis, position in sorted(found, key=lambda entry: entry[:2]):
+            if axis is None:
+                self._arc_extent(run.segment(index), frame, state)
+            else:
+                _offset, low, high, _scale = frame[axis]
+                self._report(axis, position, low, high, run.span(index), None)
 
     def _frame(self, span, state):
         """axis -> (offset from program to machine coordinates, low, high); None when the
