@@ -3,6 +3,8 @@ must be the same as running the blocks one by one."""
 from __future__ import annotations
 
 import re
+import tempfile
+from pathlib import Path
 
 import numpy
 import pytest
@@ -367,14 +369,32 @@ def _in_fagor_letters(line: str) -> str:
     return re.sub(r"\bR(-?[0-9.]+)", r"I\1", line) if re.search(r"\bG[78]\d\b", line) else line
 
 
+# A machine whose travel, feed and speed limits the posts' programs cross now and then.
+_TIGHT_MACHINE = ("[machine]\ntravel = { X = [-15.0, 45.0], Y = [-15.0, 45.0], Z = [-4.0, 60.0] }\nwork_offsets = { G54 = [0.0, 0.0, 0.0] }\n"
+                  "max_feed = 500.0\nmax_spindle = 5000.0\n")
+
+
 @settings(max_examples=90, deadline=None, suppress_health_check=[HealthCheck.too_slow])
-@given(body=_POST_BODY, tools=st.booleans(), dialect=st.sampled_from(["iso", "linuxcnc", "fagor"]))
-def test_hole_patterns_contours_and_tool_changes_give_the_same_findings_batched_or_block_by_block(body, tools, dialect):
+@given(body=_POST_BODY, tools=st.booleans(), dialect=st.sampled_from(["iso", "linuxcnc", "fagor"]), machine=st.booleans())
+def test_hole_patterns_contours_and_tool_changes_give_the_same_findings_batched_or_block_by_block(body, tools, dialect, machine):
     """A CAM post's program: hole cycles (R, Z, Q, P and K words, G98/G99, incremental
     positions, tapping; ended by G80 or by a motion code) whose moves reach the rules as
     runs (their holes ahead of them), compensated contours that are batches, tool changes,
-    spindle, feed and comment lines between them."""
-    _assert_same_findings(_post_program([_in_fagor_letters(line) for line in body] if dialect == "fagor" else body, tools), dialect=dialect)
+    spindle, feed and comment lines between them; on a machine of unknown limits, or of
+    limits they cross."""
+    program = _post_program([_in_fagor_letters(line) for line in body] if dialect == "fagor" else body, tools)
+    if not machine:
+        _assert_same_findings(program, dialect=dialect)
+        return
+    from ncverify.api import check_file
+
+    with tempfile.TemporaryDirectory() as folder:
+        (Path(folder) / "ncverify.toml").write_text(_TIGHT_MACHINE)
+        path = Path(folder) / "post.nc"
+        path.write_text(program)
+        batched, one_by_one = check_file(str(path), Settings(dialect=dialect)), check_file(str(path), Settings(per_block_only=True, dialect=dialect))
+    assert [(d.rule, d.status, d.span, d.message) for d in batched.diagnostics] == [(d.rule, d.status, d.span, d.message) for d in one_by_one.diagnostics]
+    assert (batched.truncated, batched.blocks) == (one_by_one.truncated, one_by_one.blocks)
 
 
 def _hole_moves(program: str, **options) -> tuple[int, int]:
