@@ -650,3 +650,20 @@ def test_the_z_travel_counts_the_active_edge_length_of_the_tool_in_the_spindle(e
     (finding,) = findings(result, "core.travel-limit")
     assert finding.status is status
     assert ("65" in finding.message) if status is Status.VIOLATED else ("T1 (edge D2)" in finding.message)
+
+
+_STATEMENTS = st.sampled_from([
+    "CYCLE81(15, 0, 2, -5)", "CYCLE83(10,0,1,-20,,-5,,3,1,0.5,1,0)", "MCALL CYCLE82(10, 0, 2, -8, , 0.5)", "MCALL", "M6", "T2 D1",
+    "S3000 M3", "G0 Z50", "R1=R1+1", "IF R1 < 5 GOTOB LOOP", "WHILE R2 < 3", "ENDWHILE", "LOOP: G1 X=R1*2 F500", "N10 G2 X10 Y5 CR=5",
+    "CYCLE81(15, , 2, -5) ; drill", "G0 X5.000 Y5.000", "DEF REAL DEPTH=-5", "CYCLE81(15,0,2,DEPTH)", "/N20 M8", "REPEAT LOOP P=2",
+])
+
+
+@hypothesis_settings(max_examples=80, deadline=None)
+@given(st.lists(_STATEMENTS, min_size=1, max_size=30))
+def test_a_line_read_again_lowers_as_its_first_reading_does(lines):
+    """The frontend keeps each line text's reading and lends it to the same text on another
+    line: the blocks it lowers are those of a fresh reading of that line."""
+    remembering, fresh = SinumerikFrontend(SinumerikLowering()), SinumerikLowering()
+    for number, text in enumerate(lines, start=1):
+        assert remembering.blocks(text.encode(), number, None) == fresh.lower(read_line(text, number), None)

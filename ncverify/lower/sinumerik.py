@@ -505,6 +505,9 @@ _SUBPROGRAM_END = re.compile(rb"(?mi)^[^;\n]*\b(?:M17|RET)\b(?![ \t]*=)")
 _STRUCTURE_LINE = re.compile(r"^\s*(?:/\d?\s*)?(?:N\d+\s*)?(?:[A-Za-z_]\w*\s*:(?!=)\s*)?(IF|ELSE|ENDIF)\b(.*)$", re.IGNORECASE)
 
 
+_READINGS_KEPT = 4096  # different line texts whose readings are kept at once
+
+
 class SinumerikFrontend:
     # A subprogram ends with M17 or RET (cycles manual L8555, L14068, L16610). Neither the
     # manual nor the reference says what the 840D does when a subprogram's text ends without
@@ -516,13 +519,26 @@ class SinumerikFrontend:
         self.lowering = lowering
         self._structures: dict = {}
         self._proc_cache: dict = {}
+        self._readings: dict[str, ReadBlock] = {}  # line text -> its reading (see _read)
 
     def blocks(self, raw: bytes, line: int, path: str | None) -> list[ir.Block]:
         if not self.lowering.uses_modal_call and _FAST_LINE.fullmatch(raw):  # with MCALL, a move also carries the call
             block = fast_motion_block(raw, line, path, _FAST_FORM)
             if block is not None:
                 return [block]
-        return self.lowering.lower(read_line(decode_line(raw), line), path)
+        return self.lowering.lower(self._read(decode_line(raw), line), path)
+
+    def _read(self, text: str, line: int) -> ReadBlock:
+        """:func:`read_line`, remembered by text: a post writes the same lines again and again
+        (``CYCLE81(15, 0, 2, -5)`` at every hole, ``M6``, ``G0 Z50``). A reading depends on the
+        text alone but for its line number, its items give columns, not spans, and the
+        lowering only reads them."""
+        reading = self._readings.get(text)
+        if reading is None:
+            if len(self._readings) >= _READINGS_KEPT:
+                self._readings.clear()
+            reading = self._readings[text] = read_line(text, line)
+        return reading if reading.line == line else replace(reading, line=line)
 
     def is_plain(self, raw: bytes) -> bool:
         """Could this line be part of a :class:`ir.MoveBatch`? (``N.. G0-G3 X Y Z I J K
