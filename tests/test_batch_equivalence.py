@@ -12,6 +12,7 @@ from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
 from ncverify import Settings, check_text
+from ncverify.api import check_file
 
 _NUMBER = st.one_of(
     st.floats(-500, 500, allow_nan=False).map(lambda value: f"{value:.3f}"),
@@ -62,13 +63,22 @@ def _program(body: list[str], header: list[str]) -> str:
     return "\n".join(["O1000", "G21 G90 G17 G54", "T1 M06", *header, *body, "M30"]) + "\n"
 
 
-def _assert_same_findings(program: str, **options) -> None:
-    batched = check_text(program, settings=Settings(**options))
-    one_by_one = check_text(program, settings=Settings(per_block_only=True, **options))
+def _assert_same_findings(program: str, project: str | None = None, **options):
+    """Batched and block by block: the same findings, block count and findings past a
+    rule's limit; returns the batched result. ``project``: an ``ncverify.toml`` beside the
+    program (a machine's limits)."""
+    with tempfile.TemporaryDirectory() as folder:
+        path = Path(folder) / "program.nc"
+        path.write_text(program)
+        if project is not None:
+            (Path(folder) / "ncverify.toml").write_text(project)
+        batched = check_file(str(path), Settings(**options))
+        one_by_one = check_file(str(path), Settings(per_block_only=True, **options))
     assert [(d.rule, d.status, d.span, d.message) for d in batched.diagnostics] == [
         (d.rule, d.status, d.span, d.message) for d in one_by_one.diagnostics]
     assert batched.blocks == one_by_one.blocks
-    assert batched.truncated == one_by_one.truncated  # the findings past a rule's limit, counted alike
+    assert batched.truncated == one_by_one.truncated
+    return batched
 
 
 @settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.too_slow])
@@ -383,18 +393,7 @@ def test_hole_patterns_contours_and_tool_changes_give_the_same_findings_batched_
     spindle, feed and comment lines between them; on a machine of unknown limits, or of
     limits they cross."""
     program = _post_program([_in_fagor_letters(line) for line in body] if dialect == "fagor" else body, tools)
-    if not machine:
-        _assert_same_findings(program, dialect=dialect)
-        return
-    from ncverify.api import check_file
-
-    with tempfile.TemporaryDirectory() as folder:
-        (Path(folder) / "ncverify.toml").write_text(_TIGHT_MACHINE)
-        path = Path(folder) / "post.nc"
-        path.write_text(program)
-        batched, one_by_one = check_file(str(path), Settings(dialect=dialect)), check_file(str(path), Settings(per_block_only=True, dialect=dialect))
-    assert [(d.rule, d.status, d.span, d.message) for d in batched.diagnostics] == [(d.rule, d.status, d.span, d.message) for d in one_by_one.diagnostics]
-    assert (batched.truncated, batched.blocks) == (one_by_one.truncated, one_by_one.blocks)
+    _assert_same_findings(program, _TIGHT_MACHINE if machine else None, dialect=dialect)
 
 
 def _hole_moves(program: str, **options) -> tuple[int, int]:
@@ -473,32 +472,24 @@ def test_a_rapid_crash_after_hundreds_of_retracts_in_one_run_is_found():
     head = ["(ncverify: stock box X-20:60 Y-20:60 Z-20:0)", "(ncverify: tool 1 radius 0.1 length 40 type endmill)", "G21 G90 G17 G54", "T1 M6", "S3000 M3",
             "G43 H1", "G0 X0. Y0. Z5.", "F500."]
     program = "\n".join(["O1", *head, *passes, "G0 X30. Y30. Z-3.", "M30"]) + "\n"
-    crashes = [d.span.line for d in check_text(program).diagnostics if d.rule == "core.rapid-into-stock"]
+    crashes = [d.span.line for d in _assert_same_findings(program).diagnostics if d.rule == "core.rapid-into-stock"]
     assert crashes == [2 + len(head) + len(passes)]
-    _assert_same_findings(program)
 
 
 def test_more_rapids_into_the_stock_than_a_rule_reports_are_counted_alike_in_runs():
     holes = [f"X{5 + (index % 20) * 2.0:.3f} Y{5 + (index // 20) * 2.0:.3f}" for index in range(1, 300)]
     for return_level in ("G98", "G99"):  # R below the stock's top: every rapid down to it, and with G99 between the holes, is a crash
         program = _post_program([f"{return_level} G81 X5. Y5. Z-5. R-1. F150.", *holes, "G80"], tools=True)
-        assert check_text(program).truncated["core.rapid-into-stock"] > 0
-        _assert_same_findings(program)
+        assert _assert_same_findings(program).truncated["core.rapid-into-stock"] > 0
 
 
-def test_moves_past_the_travel_are_each_reported_in_runs_as_block_by_block(tmp_path):
+def test_moves_past_the_travel_are_each_reported_in_runs_as_block_by_block():
     """The run path once reported five end points past the travel per axis and run; the
     block path reports each (the report keeps a rule's first findings and counts the rest)."""
-    from ncverify.api import check_file
-
-    (tmp_path / "ncverify.toml").write_text("[machine]\ntravel = { X = [-100.0, 100.0], Y = [-100.0, 100.0], Z = [-100.0, 100.0] }\n"
-                                            "work_offsets = { G54 = [0.0, 0.0, 0.0] }\n")
     moves = [f"G2 X{150 + index:.3f} Y{-150 - index:.3f} R40." if index % 3 == 0 else f"G1 X{150 + index:.3f} Y{-150 - index:.3f}" for index in range(300)]
-    program = tmp_path / "far.nc"
-    program.write_text("\n".join(["O1", "G21 G90 G17 G54", "T1 M6", "S3000 M3", "G0 X0. Y0. Z5.", "F500.", *moves, "M30"]) + "\n")
-    batched, one_by_one = check_file(str(program)), check_file(str(program), Settings(per_block_only=True))
-    assert [(d.rule, d.span, d.message) for d in batched.diagnostics] == [(d.rule, d.span, d.message) for d in one_by_one.diagnostics]
-    assert batched.truncated == one_by_one.truncated and batched.truncated["core.travel-limit"] > 0
+    program = "\n".join(["O1", "G21 G90 G17 G54", "T1 M6", "S3000 M3", "G0 X0. Y0. Z5.", "F500.", *moves, "M30"]) + "\n"
+    machine = "[machine]\ntravel = { X = [-100.0, 100.0], Y = [-100.0, 100.0], Z = [-100.0, 100.0] }\nwork_offsets = { G54 = [0.0, 0.0, 0.0] }\n"
+    assert _assert_same_findings(program, machine).truncated["core.travel-limit"] > 0
 
 
 def test_rapids_straight_up_out_of_the_cut_pass_in_a_run_as_block_by_block():
