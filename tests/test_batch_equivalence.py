@@ -113,22 +113,32 @@ _CONSTANT_CENTRE = ["G2 I5. J0. K0.", "G3 I-2. J1. K0.5"]  # full circles: on th
 _MIXED_STREAK = st.lists(st.one_of(_STREAK_ARC, _STREAK_LINE, st.sampled_from(_CONSTANT_CENTRE)), min_size=30, max_size=60)
 
 
-def _arcs_in_runs(program: str, **options) -> int:
-    """How many arcs the batched check hands the rules inside runs."""
+def _handed_to_rules(program: str, in_run, alone, **options) -> tuple[int, int]:
+    """What the check hands the rules, counted as it hands it: ``in_run(run)`` summed over
+    the runs, ``alone(segment)`` over the segments that reach them one by one."""
     from unittest import mock
 
     from ncverify.check import Checker
 
-    counted = []
-    original = Checker.motion_run
+    runs, segments = [], []
+    run_handler, segment_handler = Checker.motion_run, Checker.segment
 
-    def counting(checker, run, state):
-        counted.append(len(run.arc_indices()))
-        return original(checker, run, state)
+    def counting_runs(checker, run, state):
+        runs.append(in_run(run))
+        return run_handler(checker, run, state)
 
-    with mock.patch.object(Checker, "motion_run", counting):
+    def counting_segments(checker, segment, state):
+        segments.append(alone(segment))
+        return segment_handler(checker, segment, state)
+
+    with mock.patch.object(Checker, "motion_run", counting_runs), mock.patch.object(Checker, "segment", counting_segments):
         check_text(program, settings=Settings(**options))
-    return sum(counted)
+    return sum(runs), sum(segments)
+
+
+def _arcs_in_runs(program: str, **options) -> int:
+    """How many arcs the batched check hands the rules inside runs."""
+    return _handed_to_rules(program, lambda run: len(run.arc_indices()), lambda segment: 0, **options)[0]
 
 
 # Cuts the cut stock cannot place (incremental from an unknown position) at the start of a
@@ -398,24 +408,7 @@ def test_hole_patterns_contours_and_tool_changes_give_the_same_findings_batched_
 
 def _hole_moves(program: str, **options) -> tuple[int, int]:
     """How many moves of hole cycles the check hands the rules inside runs, and one by one."""
-    from unittest import mock
-
-    from ncverify.check import Checker
-
-    in_runs, alone = [], []
-    run_handler, segment_handler = Checker.motion_run, Checker.segment
-
-    def counting_runs(checker, run, state):
-        in_runs.append(len(run) if run.cycle_moves else 0)
-        return run_handler(checker, run, state)
-
-    def counting_segments(checker, segment, state):
-        alone.append(segment.cycle is not None)
-        return segment_handler(checker, segment, state)
-
-    with mock.patch.object(Checker, "motion_run", counting_runs), mock.patch.object(Checker, "segment", counting_segments):
-        check_text(program, settings=Settings(**options))
-    return sum(in_runs), sum(alone)
+    return _handed_to_rules(program, lambda run: len(run) if run.cycle_moves else 0, lambda segment: segment.cycle is not None, **options)
 
 
 _PATTERN = ["T2 M6", "S3000 M3", "G43 H2", "G0 Z5.", "G98 G81 X5. Y5. Z-5. R1. F150.",
