@@ -85,19 +85,9 @@ class KlartextLowering:
 
     def __init__(self, tool_names: dict | None = None):
         self.tool_names = tool_names if tool_names is not None else {}
-        self._recent: dict = {}  # blocks of lines read lately: loops by FN jumps read them again and again
         self._begun: dict = {}  # file -> the last BEGIN PGM read in it (lines are read in order before any jump)
 
     def lower(self, raw: bytes, line: int, path: str | None) -> list[ir.Block]:
-        key = (raw, line, path)
-        blocks = self._recent.get(key)
-        if blocks is None:
-            if len(self._recent) > 4096:
-                self._recent.clear()
-            blocks = self._recent[key] = self._lower(raw, line, path)
-        return blocks
-
-    def _lower(self, raw: bytes, line: int, path: str | None) -> list[ir.Block]:
         block = self._fast_motion(raw, line, path)
         return [block if block is not None else self._general(raw, line, path)]
 
@@ -967,7 +957,6 @@ class KlartextFrontend:
             if table is not None:
                 tools, names = read_tool_table(table)
                 self.lowering.tool_names.update(names)
-                self.lowering._recent.clear()  # TOOL CALL "name" lines read before the table knew the names
         context.tools = tools
         return context
 
