@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import ast
 import math
+import operator
 from dataclasses import dataclass, field
 
 
@@ -108,12 +109,19 @@ def _constants(terms) -> list:
     return found
 
 
+_RELATION_NAMES = {"<": "LT", "<=": "LE", ">": "GT", ">=": "GE", "==": "EQ", "!=": "NE"}
+_ON_NUMBERS = {relation: function for symbol, name, function in (("<", "LT", operator.lt), ("<=", "LE", operator.le), (">", "GT", operator.gt),
+                                                                   (">=", "GE", operator.ge), ("==", "EQ", operator.eq), ("!=", "NE", operator.ne))
+               for relation in (symbol, name)}
+
+
 def hazard(op: str, a, b) -> "bool | Condition":
     """``a op b`` as a hazard condition, with ISO relation names or symbols. When a value
     is symbolic the answer stays a condition even if intervals decide it, so that the
     verdict is ``proved`` (or ``violated`` with a witness) rather than silence."""
-    symbol = {"<": "LT", "<=": "LE", ">": "GT", ">=": "GE", "==": "EQ", "!=": "NE"}.get(op, op)
-    outcome = values.compare(symbol, a, b)
+    if type(a) is float and type(b) is float:
+        return _ON_NUMBERS[op](a, b)  # what compare() gives two numbers, without its lookups
+    outcome = values.compare(_RELATION_NAMES.get(op, op), a, b)
     if type(outcome) is bool and (isinstance(a, Sym) or isinstance(b, Sym)):
         return Condition(z3.BoolVal(outcome))
     return outcome

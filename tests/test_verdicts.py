@@ -608,3 +608,15 @@ def test_proved_holds_on_sampled_values_and_violated_reproduces(case, data):
         concrete = check(substitute(text, values))
         wrong = [(d.rule, d.span.line) for d in violated(concrete) if (d.rule, d.span.line) in proved]
         assert not wrong, f"proved but violated for {values}: {wrong}"
+
+
+@given(st.sampled_from(["<", "<=", ">", ">=", "==", "!=", "LT", "LE", "GT", "GE", "EQ", "NE"]),
+       st.floats(allow_nan=True, allow_infinity=True), st.floats(allow_nan=True, allow_infinity=True))
+def test_a_hazard_between_two_numbers_is_what_the_value_comparison_says(relation, a, b):
+    """Two numbers skip the general comparison (it runs for every hole and move): the answer
+    must be the one it gives, NaN and infinities included."""
+    from ncverify import values
+    from ncverify.verdict import hazard
+
+    name = {"<": "LT", "<=": "LE", ">": "GT", ">=": "GE", "==": "EQ", "!=": "NE"}.get(relation, relation)
+    assert hazard(relation, a, b) is values.compare(name, a, b)
