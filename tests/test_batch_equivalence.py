@@ -365,7 +365,7 @@ _CYCLE_WORDS = st.tuples(
     st.sampled_from(["F150.", ""]),
 ).map(lambda words: " ".join(word for word in words if word))
 # A hole pattern as posts write it: the cycle with the first position, the other positions
-# alone on their lines (more than a batch's eight plain lines), absolute or incremental.
+# alone on their lines (often more than the plain lines before a batch), absolute or incremental.
 _HOLES = st.tuples(
     st.sampled_from(["G98", "G99"]), st.sampled_from(["G90", "G91"]), _CYCLE_WORDS, st.lists(_HOLE_XY, min_size=0, max_size=40),
     st.sampled_from(["G80", "G80 G0 Z15.", "G0 X0. Y0.", "G1 X0. Y0.", "G0", "G63", ""]),

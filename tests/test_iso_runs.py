@@ -4,8 +4,10 @@ general one."""
 from __future__ import annotations
 
 import math
+import re
 
 import numpy
+import pytest
 
 from hypothesis import given, settings
 from hypothesis import strategies as st
@@ -146,3 +148,25 @@ def test_running_totals_past_two_to_the_63_still_give_each_number():
     assert len(run.line_starts) == 10_000
     assert set(run.table[:, LETTERS.index(b"X")].tolist()) == {999999999999.999}
     assert set(run.table[:, LETTERS.index(b"Y")].tolist()) == {-99999999999999.9}
+
+
+_OTHER_CODE_LINE = st.sampled_from(["G81 X1. Y2.", "G98 G81 X5. Y5. Z-5. R1. F150.", "G40 G1 X-10.", "G17", "G4 X1.", "G10 X1.", "G1.5 X1.", "G-1 X1.", "G01 X1.", "G3.0 X1. I1."])
+
+
+@settings(max_examples=400, deadline=None)
+@given(lines=st.lists(st.one_of(_LINE, _LINE, _LINE, _ANY_LINE, _OTHER_CODE_LINE), min_size=0, max_size=40), minimum=st.integers(1, 20),
+       arcs=st.booleans(), last_newline=st.booleans())
+def test_the_quick_look_at_the_first_lines_never_changes_what_the_reader_answers(lines, minimum, arcs, last_newline):
+    """Before its arrays, the reader looks at the first lines with a pattern (a failed attempt
+    then costs microseconds, not a quarter of a millisecond): whatever that pattern refuses,
+    the arrays refuse as well."""
+    from ncverify.read import iso_runs
+
+    chunk = ("\n".join(lines) + ("\n" if last_newline else "")).encode()
+    quick = read_plain_run(chunk, minimum_lines=minimum, arcs=arcs)
+    with pytest.MonkeyPatch.context() as patched:
+        patched.setattr(iso_runs, "_lines_in_form", lambda arcs, count: re.compile(rb""))  # lets every chunk through
+        full = read_plain_run(chunk, minimum_lines=minimum, arcs=arcs)
+    assert (quick is None) == (full is None)
+    if full is not None:
+        assert quick.length == full.length and numpy.array_equal(quick.table, full.table, equal_nan=True)

@@ -1521,7 +1521,7 @@ class BatchArcs:
         return arc_by_centre(direction, self.plane, c1, c2, s1, s2, e1, e2)
 
 
-_BATCH_AFTER = 8  # plain blocks in a row before the rest of the streak is read as a batch
+_BATCH_AFTER = 4  # plain blocks in a row before the rest of the streak is read as a batch
 _WATCHED_MODAL = frozenset({"feed_mode", "spindle_mode", "path_mode"})  # groups whose codes make a Change
 
 

@@ -10,7 +10,9 @@ so what is read here is exactly what the per-block reader would read.
 """
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy
 
@@ -225,6 +227,8 @@ def read_plain_run(chunk: bytes, minimum_lines: int = _MINIMUM_LINES, stop_at_sm
     the first line whose words do not go together."""
     if len(chunk) < minimum_lines * 4:
         return None
+    if minimum_lines and _lines_in_form(arcs, minimum_lines).match(chunk) is None:
+        return None  # a byte out of form in the first lines: the run is too short, told without the arrays
     found = _Chunk(chunk, arcs)
     stop = found.line_start_at(found.first_bad_position())
     letters, values, has_point = found.numbers(stop)
@@ -250,6 +254,19 @@ def read_plain_run(chunk: bytes, minimum_lines: int = _MINIMUM_LINES, stop_at_sm
         table, pointless = table[:odd], pointless[:odd]
     line_starts = numpy.concatenate(([0], found.newlines[: line_count - 1] + 1)) if line_count else numpy.zeros(0, dtype=numpy.int64)
     return PlainRun(table, pointless, line_starts, stop, found.words_per_line[:line_count] > 0)
+
+
+@lru_cache(maxsize=4)
+def _lines_in_form(arcs: bool, count: int) -> re.Pattern:
+    """``count`` whole lines of nothing but the bytes a plain run's words are made of, any
+    motion code among those the run takes (a G word of another value, such as G81 or G40,
+    ends the run). A streak cut short by a tool change, a comment or a cycle fails this in
+    microseconds, where the arrays of :class:`_Chunk` take a quarter of a millisecond to
+    tell. A line that passes may still be refused by them (one letter twice)."""
+    letters = (LETTERS if arcs else _STRAIGHT_LETTERS).replace(b"G", b"")
+    motion = rb"G[+-]?0*[0-3]?(?:\.0*)?(?![0-9.])" if arcs else rb"G[+-]?0*[01]?(?:\.0*)?(?![0-9.])"
+    line = rb"(?:[" + letters + rb"0-9.+\- \t\r]|" + motion + rb")*(?:\n|\Z)"  # the text's last line may have no line end
+    return re.compile(rb"(?:" + line + rb"){" + str(count).encode() + rb"}")
 
 
 def _first_odd_line(table, pointless, words, small_integers_are_increments: bool, arcs: bool) -> int:
