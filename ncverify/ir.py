@@ -93,6 +93,7 @@ Operations (all carry the ``span`` of the words they came from):
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from functools import lru_cache
 from typing import Any, Callable, Union
 
 from .source import Span
@@ -110,9 +111,11 @@ class Var:
     prefix: str = "#"  # of an indirect reference's name: "#", "Q", "R", "P"
 
 
+@lru_cache(maxsize=512)
 def cycle_code(cycle: str) -> str:
     """The control's own code of a cycle id ``<dialect>.<code>``: ``CYCLE81`` of
-    ``sinumerik.CYCLE81``, ``G81`` of ``iso.G81``, ``200`` of ``heidenhain.200``."""
+    ``sinumerik.CYCLE81``, ``G81`` of ``iso.G81``, ``200`` of ``heidenhain.200`` (kept per
+    id: rules ask it of every hole)."""
     return cycle.rsplit(".", 1)[-1]
 
 

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import replace
+from functools import lru_cache
 
 from ..ir import cycle_code
 from .. import frames, pocket, values
@@ -23,7 +24,10 @@ _PLUNGE_CHECKED = {251, 252, 253, 254}
 _SL_CYCLES = {21, 22, 23, 24}
 
 
+@lru_cache(maxsize=512)
 def cycle_number(cycle: str) -> int | None:
+    """The number of a Klartext cycle id (``heidenhain.200``: 200), None for any other.
+    Kept per id: some thirty rules ask it of every hole."""
     if not cycle.startswith("heidenhain."):
         return None
     tail = cycle_code(cycle)
