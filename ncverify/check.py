@@ -176,6 +176,7 @@ class Checker:
         self._reads.update({definition.id: modelled.AS_WRITTEN for definition in constrained if definition.id not in self._reads})
         self._reads.setdefault("core.arithmetic-domain", modelled.EVERY)
         self._constraints: dict[str, list] = {}  # cycle -> (definition, constraint) that judge it, in definition order
+        self._kept_outcomes: dict = {}  # (cycle, concrete names) -> outcomes of its constraints (_outcomes)
         for definition in constrained:
             if definition.id in settings.disabled_rules:
                 continue
@@ -332,13 +333,31 @@ class Checker:
         self._apply_constraints(run.cycle, dict(run.params), run.param_spans, run.span, state)
 
     def _apply_constraints(self, cycle: str, names: dict, spans: dict, span: Span, state) -> None:
-        for definition, constraint in self._constraints.get(cycle, ()):
-            outcome = evaluate_constraint(constraint.tree, names)
+        constraints = self._constraints.get(cycle, ())
+        for (definition, constraint), outcome in zip(constraints, self._outcomes(cycle, constraints, names)):
             verdict = self.judge(outcome, state)
             if verdict is None:
                 continue
             where = _first_span(constraint.tree, spans) or span
             self.report_verdict(definition.id, where, _format_message(constraint.message, names), verdict, state)
+
+
+    def _outcomes(self, cycle: str, constraints, names: dict) -> list:
+        """Each constraint evaluated on ``names``. Where every name is a number (or absent),
+        the outcomes are kept for the next hole with the same words and levels: a pattern
+        asks the same questions at each of its holes."""
+        key = (cycle, tuple(names.items())) if all(value is None or type(value) is float for value in names.values()) else None
+        outcomes = self._kept_outcomes.get(key) if key is not None else None
+        if outcomes is None:
+            outcomes = [evaluate_constraint(constraint.tree, names) for _definition, constraint in constraints]
+            if key is not None:
+                if len(self._kept_outcomes) >= _OUTCOMES_KEPT:
+                    self._kept_outcomes.clear()
+                self._kept_outcomes[key] = outcomes
+        return outcomes
+
+
+_OUTCOMES_KEPT = 256  # constraint outcomes kept by cycle and concrete words (Checker._outcomes)
 
 
 # Faults after which the rest of a path is not analysed: a proof covers only the paths

@@ -374,3 +374,15 @@ def test_f_auto_moves_at_the_feed_of_the_tool_call_in_force():
     assert not at(check(fast.replace("F500", "F300"), limit), "core.feed-over-limit")
     unknown = check(program(moves), limit)  # no feed in the tool call: unknown, never one a witness could choose
     assert not at(unknown, "core.feed-over-limit") and at(unknown, "core.feed-over-limit", Status.UNKNOWN) == [7]
+
+
+def test_a_broken_constraint_is_reported_at_each_definition_however_often_its_words_repeat():
+    """Holes with the same words and levels share their constraints' outcomes: a second
+    definition with the same words is still reported at its own line, and one between them
+    that keeps the constraint is not."""
+    body = (drilling(depth="+0") + "7  L  X+10  Y+10 R0 FMAX M99\n8  L  X+20  Y+10 R0 FMAX M99\n" + drilling(depth="-15")
+            + "9  L  X+30  Y+10 R0 FMAX M99\n" + drilling(depth="+0") + "10  L  X+40  Y+10 R0 FMAX M99\n")
+    text = program(body)
+    zero_depth_lines = [number for number, line in enumerate(text.splitlines(), 1) if "Q201=+0" in line]
+    assert len(zero_depth_lines) == 2
+    assert sorted(at(check(text), "heidenhain.zero-depth")) == zero_depth_lines
