@@ -895,3 +895,22 @@ def test_the_summed_length_of_moves_is_numpy_s_norm_summed_bit_for_bit(rows):
     moves = numpy.array(rows, float).reshape(-1, 6)
     starts, ends = moves[:, :3], moves[:, 3:]
     assert total_length(starts, ends) == float(numpy.linalg.norm(ends - starts, axis=1).sum())
+
+
+_COORDINATE = st.one_of(st.floats(-60, 60, allow_nan=False), st.sampled_from([-10.0, 0.0, 30.0, 40.0, 5.0]))  # on the faces too
+_POINT = st.tuples(_COORDINATE, _COORDINATE, _COORDINATE)
+
+
+@settings(max_examples=300, deadline=None)
+@given(segments=st.lists(st.tuples(_POINT, _POINT), max_size=12), bar=st.booleans())
+def test_rapids_judged_together_are_judged_as_each_alone(segments, bar):
+    """A run's rapids are tested against the blank at once (geometry.enters_many); the
+    answer for each is the one a lone rapid gets (geometry._clip_box)."""
+    from ncverify import geometry
+
+    stock = Stock.cylinder(50.0, (-10, 0)) if bar else BLANK
+    starts = numpy.array([start for start, _end in segments], float).reshape(-1, 3)
+    ends = numpy.array([end for _start, end in segments], float).reshape(-1, 3)
+    box = geometry.stock_box(stock)
+    alone = [geometry._clip_box(start, end, box) is not None for start, end in segments]
+    assert geometry.enters_many(stock, starts, ends).tolist() == alone
