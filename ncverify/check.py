@@ -86,7 +86,8 @@ class Rule:
     judges_cycle_runs: bool = False
     # Does ``hole`` read nothing the moves before the hole change (the cut stock, what other
     # handlers keep in ``state.rule_state``)? Only then may a hole of a pattern reach it while
-    # the moves of the holes before it wait to reach the rules as one run.
+    # the moves of the holes before it wait to reach the rules as one run. One that reads the
+    # cut stock now and then calls ``checker.hand_on_held_moves()`` first.
     judges_holes_before_moves: bool = False
     # The dialects whose programs it judges (None: every dialect; see :func:`rule`) and the
     # machine types it judges them on (None: every type): the checker asks no other.
@@ -146,6 +147,9 @@ class Checker:
         self.path_condition: list = []
         self.material = Material(self)
         self.call_site = lambda: None  # the interpreter's: where the checked file called into another
+        # the interpreter's: hands on the moves it holds back to give the rules as one run (a
+        # hole pattern's), so that the cut stock holds them before a hole is judged against it
+        self.hand_on_held_moves = lambda: None
         self.unexplored: str | None = None  # why some path was not followed to its end (no proof covers it)
         rules = [cls(self) for cls in rule_classes() if not set(cls.ids) <= settings.disabled_rules and in_scope(cls, context.dialect, context.machine.kind)]
         self.rules = rules

@@ -406,6 +406,16 @@ def test_hole_patterns_contours_and_tool_changes_give_the_same_findings_batched_
     _assert_same_findings(program, _TIGHT_MACHINE if machine else None, dialect=dialect)
 
 
+def test_a_hole_judged_against_the_cut_stock_sees_the_holes_before_it_cut():
+    """Found by the test above: Fagor holes at one place, their reference plane (Z) below the
+    top of the stock. Block by block the holes before the last have drilled there when it is
+    judged, and the cut stock clears its level; with their moves held back for one run, the
+    last hole was judged against stock they had not cut yet, an ``unknown`` the block path
+    does not give. The rule now has the held moves handed on before it asks the cut stock."""
+    body = ["G1 Z-1. F300.", "G98 G90 G81 Z-5. I1. F150. X0.000 Y0.000", "G99 G90 G81 Z-5. I1. F150. X0.000 Y0.000", "X0.000 Y0.000"]
+    _assert_same_findings(_post_program(body, True), dialect="fagor")
+
+
 def _hole_moves(program: str, **options) -> tuple[int, int]:
     """How many moves of hole cycles the check hands the rules inside runs, and one by one."""
     return _handed_to_rules(program, lambda run: len(run) if run.cycle_moves else 0, lambda segment: segment.cycle is not None, **options)

@@ -351,7 +351,7 @@ class ClearanceBelowStock(_NeedsStock):
     """A hole's R point or initial level (the G98 return level) inside the stock: below its
     top, or past the face the tool comes from along another tool axis or sign (Fagor
     ``#TOOL AX [X-]``: ``hole.up``)."""
-    judges_holes_before_moves = True  # against the blank
+    judges_holes_before_moves = True  # against the blank, and against the cut stock once the moves held back are handed on
 
     rule_id = "core.clearance-below-stock"
     reads = modelled.GEOMETRY | {modelled.TOOL_AXIS}  # the levels are taken along the hole's own axis and side
@@ -397,6 +397,7 @@ class ClearanceBelowStock(_NeedsStock):
         x, y = position.get("X"), position.get("Y")
         if verdict is None or verdict.status is not Status.VIOLATED or not all(type(value) is float for value in (x, y, level)):
             return verdict
+        self.checker.hand_on_held_moves()  # the holes before this one are cut first, as block by block
         if self.checker.material.stayed_above(level, state) is not None:
             return verdict  # cuts placed by free parameters: their assumed ranges, not the grid, say where they went
         left = self.checker.material.rapid((x, y, level), (x, y, level), state)

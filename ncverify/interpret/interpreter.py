@@ -215,6 +215,8 @@ class Interpreter(ControlFlow):
         self._gathers_hole_moves = getattr(observer, "gathers_hole_moves", False)  # see Checker.gathers_hole_moves
         if hasattr(observer, "motion_run") and not settings.per_block_only:
             self.observer = GatheringObserver(observer, self._hand_on_gathered, self._gathered, lambda: self._gathered_holes)
+            if hasattr(observer, "hand_on_held_moves"):
+                observer.hand_on_held_moves = self._hand_on_gathered
         self._loop_runners = None
         if settings.loop_runner and not settings.per_block_only:
             self._loop_runners = loop_runner.LoopRunners(self, gathering=GatheringObserver, most_gathered=_GATHERED_MOVES, batch_after=_BATCH_AFTER,
