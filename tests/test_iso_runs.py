@@ -170,3 +170,20 @@ def test_the_quick_look_at_the_first_lines_never_changes_what_the_reader_answers
     assert (quick is None) == (full is None)
     if full is not None:
         assert quick.length == full.length and numpy.array_equal(quick.table, full.table, equal_nan=True)
+
+
+_G_WORD = st.sampled_from(["G0", "G00", "G1", "G01", "G1.", "G1.0", "G-0", "G+1", "G.0", "G0.", "G003", "G2", "G03", "G3.00",
+                           "G10", "G80", "G98", "G-1", "G2.5", "G.5", "G4", "G90", "G17", "G 1", "G -1"])
+_G_LINE = st.tuples(st.lists(_G_WORD, min_size=1, max_size=2), st.lists(_WORD, max_size=4)).map(lambda parts: " ".join(parts[0] + parts[1]))
+
+
+@settings(max_examples=400, deadline=None)
+@given(line=_G_LINE)
+def test_the_plain_form_refuses_no_line_the_fast_lowering_takes(line):
+    """The plain form lets G through only with a motion code of 0-3, however written: a
+    line it refuses goes to the general lowering, so the fast one must have no block for it."""
+    from ncverify.lower.iso import _CANONICAL, _FAST_LINE, lower_fast_motion
+
+    raw = line.encode()
+    if _FAST_LINE.fullmatch(raw) is None and _CANONICAL.fullmatch(raw) is None:
+        assert lower_fast_motion(raw, 1, None, _FORM) is None

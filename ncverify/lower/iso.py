@@ -452,7 +452,10 @@ def _decimal_point_message(letter: str, value: float, increment: float) -> str:
 # fails at once instead of retrying every split of every number.
 # What the fast lowering takes, and what may join a batch: the plain blocks and arcs with
 # their centre or radius words.
-_FAST_LINE = re.compile(rb"[ \t]*+(?:[NGXYZABCFIJKR][ \t]*+[+-]?+(?>\d+\.?\d*|\.\d+)[ \t]*+)++")
+# G only with a motion code the fast lowering takes (0-3, however written): a line with G80,
+# G90 or G98 G81 goes to the general lowering at once, not after the fast one reads it whole
+_FAST_LINE = re.compile(rb"[ \t]*+(?:(?:[NXYZABCFIJKR][ \t]*+[+-]?+(?>\d+\.?\d*|\.\d+)"
+                        rb"|G[ \t]*+[+-]?+(?:0*+[0-3](?:\.0*+)?+|0++(?:\.0*+)?+|0*+\.0++)(?![0-9.]))[ \t]*+)++")
 _PLAIN_WORD_BYTES = re.compile(rb"(CR=|[NGXYZABCFIJKR])[ \t]*([+-]?(?:\d+\.?\d*|\.\d+))")
 _LETTERS = {letter.encode(): letter for letter in "NGXYZABCFIJKR"} | {b"CR=": "R"}  # SINUMERIK's CR= is an arc's radius word
 _NUMBER_BYTES = rb"([+-]?(?:\d+\.?\d*|\.\d+))"
