@@ -345,7 +345,6 @@ class Checker:
             where = _first_span(constraint.tree, spans) or span
             self.report_verdict(definition.id, where, _format_message(constraint.message, names), verdict, state)
 
-
     def _outcomes(self, cycle: str, constraints, names: dict) -> list:
         """Each constraint evaluated on ``names``. Where every name is a number (or absent),
         the outcomes are kept for the next hole with the same words and levels: a pattern

@@ -265,7 +265,7 @@ def _lines_in_form(arcs: bool, count: int) -> re.Pattern:
     tell. A line that passes may still be refused by them (one letter twice)."""
     letters = (LETTERS if arcs else _STRAIGHT_LETTERS).replace(b"G", b"")
     motion = rb"G[+-]?0*[0-3]?(?:\.0*)?(?![0-9.])" if arcs else rb"G[+-]?0*[01]?(?:\.0*)?(?![0-9.])"
-    line = rb"(?:[" + letters + rb"0-9.+\- \t\r]|" + motion + rb")*(?:\n|\Z)"  # the text's last line may have no line end
+    line = rb"(?:[" + letters + rb"0-9.+\- \t\r]|" + motion + rb")*+(?:\n|\Z)"  # possessive: no line end inside; the text's last may have none
     return re.compile(rb"(?:" + line + rb"){" + str(count).encode() + rb"}")
 
 
