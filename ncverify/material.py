@@ -17,12 +17,13 @@ from collections import deque
 
 import numpy
 
-from . import frames, geometry, workpiece
+from . import frames, geometry, workpiece, xy_arcs
 from .context import active_edge, radius_delta
 from . import turning_stock
 from .turning_stock import Turning
 from .verdict import both, hazard
 from .trace import ARC_CW
+from .xy_arcs import XYArcs
 from .workpiece import Cutter, RapidVerdict, Workpiece
 
 _KEY = "workpiece"
@@ -36,6 +37,7 @@ _FLAT = {"endmill", "facemill", "slot", "reamer", "boring", "threadmill", "tap"}
 _NOT_CUTTING = {"probe"}
 AUTO_RESOLUTION = (0.05, 1.0)  # bounds of the resolution chosen from the smallest tool
 _FIELD_BYTES_PER_CELL = 8  # two float32 bounds
+_ARC_PART_CELLS = 8  # longest part of an arc swept as one piece, in cells: a part that meets material counts whole as cutting
 _ARC_WIDTHS = (3, 3, 2, 1, 3)  # columns of a buffered arc's fields: start, end, centre, clockwise, plane axes (see _flush)
 
 
@@ -457,18 +459,36 @@ class Material:
             self._sweep(mine.piece, starts, ends, cutter, 0.0, tool)
         for (cutter, tool), group in _by_tool(mine.arcs, 1):
             fields = [arcs[0] for arcs in group]
-            starts, ends, sagitta, _ = workpiece.arc_chords(*(_stacked((arcs[field] for arcs in fields), width) for field, width in enumerate(_ARC_WIDTHS)),
-                                                           tolerance=self.resolution / 8.0)
-            mine.deepest = min(mine.deepest, float((numpy.minimum(starts[:, 2], ends[:, 2]) - sagitta).min()))
-            self._sweep(mine.piece, starts, ends, cutter, sagitta, tool, joined=False)
+            self._sweep_arcs(mine, *(_stacked((arcs[field] for arcs in fields), width) for field, width in enumerate(_ARC_WIDTHS)), cutter, tool)
         mine.lines, mine.arcs, mine.buffered = [], [], 0
+
+    def _sweep_arcs(self, mine: _PathPiece, starts, ends, centres, clockwise, planes, cutter: Cutter, tool: str) -> None:
+        """Arcs and helices about the Z axis swept as arcs; the others (other planes, ends
+        off their circle) as chords within an eighth of a cell of them, each chord's
+        sagitta its stray."""
+        clockwise = clockwise.reshape(-1).astype(bool)
+        about_z = (planes == (0, 1, 2)).all(axis=1)
+        about_z[about_z] = xy_arcs.measurable(starts[about_z, :2], ends[about_z, :2], centres[about_z], self.resolution, workpiece.MEASURED_REACH)
+        if about_z.any():
+            arcs, _ = XYArcs.of(starts[about_z], ends[about_z], centres[about_z], clockwise[about_z], _ARC_PART_CELLS * self.resolution, self.resolution)
+            mine.deepest = min(mine.deepest, float(arcs.low.min()))
+            self._tally_air(tool, float(arcs.length.sum()), mine.piece.cut_arcs(arcs, cutter))
+        if about_z.all():
+            return
+        rest = ~about_z
+        starts, ends, sagitta, _ = workpiece.arc_chords(starts[rest], ends[rest], centres[rest], clockwise[rest], planes[rest], tolerance=self.resolution / 8.0)
+        mine.deepest = min(mine.deepest, float((numpy.minimum(starts[:, 2], ends[:, 2]) - sagitta).min()))
+        self._sweep(mine.piece, starts, ends, cutter, sagitta, tool, joined=False)
 
     def _sweep(self, piece: Workpiece, starts, ends, cutter: Cutter, stray, tool: str, joined: bool = True) -> None:
         if not len(starts):
             return
-        air = piece.cut(starts, ends, cutter, stray, joined)
+        self._tally_air(tool, workpiece.total_length(starts, ends), piece.cut(starts, ends, cutter, stray, joined))
+
+    def _tally_air(self, tool: str, length: float, air: float) -> None:
+        """The tool cut ``length`` of feed moves, ``air`` of which surely cut nothing."""
         totals = self.air.setdefault(tool, [0.0, 0.0])
-        totals[0] += workpiece.total_length(starts, ends)
+        totals[0] += length
         totals[1] += air
 
     @staticmethod

@@ -32,6 +32,7 @@ import numpy
 import shapely
 
 from .context import Stock
+from .xy_arcs import XYArcs
 
 NO_MATERIAL = -numpy.inf
 _CHUNK_CELLS = 1 << 18  # cells looked at per vectorised step: bounds the scratch memory (tens of MiB); a cut's air is judged a step at a time
@@ -83,7 +84,7 @@ class Cutter:
         return not self.known or self.flat_end
 
 
-_MEASURED_REACH = 1e9  # mm from the origin within which a path's distance to a cell is exact to far below a cell
+MEASURED_REACH = 1e9  # mm from the origin within which a path's distance to a cell is exact to far below a cell
 
 
 @dataclass(frozen=True)
@@ -184,9 +185,28 @@ class Workpiece:
         pieces = _merge_runs(starts, ends, strays, self.resolution / 4.0, self.resolution) if joined else _as_given(starts, ends, strays)
         a, b, z_low, z_high, slack, stray = self._split_steep(*pieces)
         z_low, z_high, slack = z_low - stray, z_high + stray, slack + stray
-        may_cut = numpy.zeros(len(a), bool)
+        air = ~self._lower_near(self._cells_near(a, b, slack, cutter.radius + self.half_diagonal), cutter, z_low, z_high, slack)
+        return total_length(a[air], b[air])
+
+    def cut_arcs(self, arcs: XYArcs, cutter: Cutter) -> float:
+        """Sweep ``cutter`` along arcs and helices about the Z axis, as :meth:`cut` sweeps
+        straight moves: each part one piece, measured exactly, its drift off its circle its
+        stray. Returns the length of the parts that surely cut nothing."""
+        if not len(arcs):
+            return 0.0
+        self.cuts += 1
+        low, high = self._slab(cutter)  # parts above or below the slab are laid on its faces, as straight moves are
+        may_cut = self._lower_near(self._cells_near_arcs(arcs, cutter.radius + self.half_diagonal), cutter,
+                                   numpy.clip(arcs.low, low, high), numpy.clip(arcs.high, low, high), arcs.drift)
+        return float(arcs.length[~may_cut].sum())
+
+    def _lower_near(self, nears, cutter: Cutter, z_low, z_high, slack):
+        """Lower both bounds where the pieces (``z_low``, ``z_high`` and ``slack`` one a
+        piece) pass, from the cells near them (``nears``, :class:`_Near` chunks); returns
+        which pieces may have cut, each judged against the field before its chunk."""
+        may_cut = numpy.zeros(len(z_low), bool)
         first_cell, last_cell = self.nx * self.ny, -1
-        for near in self._cells_near(a, b, slack, cutter.radius + self.half_diagonal):
+        for near in nears:
             stray = slack.take(near.leaders).take(near.owner)
             outer = numpy.maximum(near.distance - self.half_diagonal - stray, 0.0)  # nearest the cell's points can be to the true path
             touched = outer <= cutter.radius
@@ -204,8 +224,7 @@ class Workpiece:
             if len(touched_cells):
                 first_cell, last_cell = min(first_cell, int(touched_cells.min())), max(last_cell, int(touched_cells.max()))
         self._clear_below_bottom(first_cell, last_cell + 1)
-        air = ~may_cut
-        return total_length(a[air], b[air])
+        return may_cut
 
     def _may_cut(self, near: "_Near", touched, lowest_lift, z_low):
         """Which pieces of ``near`` may have cut: some cell they touch has ``upper`` above the
@@ -275,7 +294,7 @@ class Workpiece:
         return at_end if at_end.outcome == "hits" else verdict
 
     def _rapid_path(self, start, end, cutter: Cutter) -> RapidVerdict:
-        if not all(abs(value) <= _MEASURED_REACH for value in (start[0], start[1], end[0], end[1])):
+        if not all(abs(value) <= MEASURED_REACH for value in (start[0], start[1], end[0], end[1])):
             return RapidVerdict("unsure")  # so far out, rounding places the path's nearest points many mm off
         a, b, _ = self._within_slab(numpy.array([start], float), numpy.array([end], float), cutter, numpy.zeros(1))
         a, b, z_low, z_high, slack = self._split_steep(a, b, numpy.minimum(a[:, 2], b[:, 2]), numpy.maximum(a[:, 2], b[:, 2]), numpy.zeros(len(a)))
@@ -307,8 +326,7 @@ class Workpiece:
         above, so the pieces outside are laid on the slab's faces. Without this a plunge to
         Z-1e8 would be split into steps of one cell by the hundred million. ``strays`` (one
         a move) go with the pieces."""
-        low = self.bottom - float(cutter.lift(numpy.array(cutter.radius))) - self.resolution
-        high = self.top + self.resolution
+        low, high = self._slab(cutter)
         leaving = ~((numpy.minimum(starts[:, 2], ends[:, 2]) >= low) & (numpy.maximum(starts[:, 2], ends[:, 2]) <= high))
         if not leaving.any():
             return starts, ends, strays
@@ -321,6 +339,10 @@ class Workpiece:
         cut_starts, cut_ends = starts.repeat(counts, axis=0), ends.repeat(counts, axis=0)  # a copy of the rest, in one pass
         cut_starts[laid], cut_ends[laid] = laid_starts, laid_ends
         return cut_starts, cut_ends, strays.repeat(counts)
+
+    def _slab(self, cutter: Cutter) -> tuple[float, float]:
+        """The tip heights the sweep keeps moves between (see :meth:`_within_slab`)."""
+        return self.bottom - float(cutter.lift(numpy.array(cutter.radius))) - self.resolution, self.top + self.resolution
 
     def _split_steep(self, a, b, z_low, z_high, *per_piece):
         """Pieces split so that none climbs or falls more than one cell. Only single moves
@@ -370,6 +392,44 @@ class Workpiece:
                 group, leaders = numpy.arange(len(chunk)), chunk
             owner, flat, distance = self._near_in_chunk(leaders, segments, rows, first_row, reach, rounding, column_low, column_high, centres)
             yield _Near(chunk, group, leaders, owner, flat, distance)
+
+    def _cells_near_arcs(self, arcs: XYArcs, reach: float):
+        """:meth:`_cells_near` for arcs about Z (each a group of its own): the cells of each
+        arc's box widened by the reach and its drift whose centres lie within that of the
+        arc, row by row, from the spans where the row crosses the arc's annulus."""
+        reach = reach + arcs.drift
+        rounding = self.resolution * 1e-3 + 1e-14 * arcs.size()
+        x_low, y_low, x_high, y_high = arcs.box()
+        column_low, column_high = self._index_range(x_low - reach, x_high + reach, self.x_low, self.nx)
+        first_row, stop_row = self._centre_range(y_low - (reach + rounding), y_high + (reach + rounding), self.y_low, self.ny)
+        rows = numpy.maximum(stop_row - first_row, 0)
+        centres = self._column_centres()
+        for chunk in _chunks((column_high - column_low) * rows):
+            owner, flat, distance = self._near_arcs_in_chunk(arcs, chunk, rows, first_row, reach + rounding, reach, column_low, column_high, centres)
+            yield _Near(chunk, numpy.arange(len(chunk)), chunk, owner, flat, distance)
+
+    def _near_arcs_in_chunk(self, arcs: XYArcs, pieces, rows, first_row, span_reach, reach, column_low, column_high, centres):
+        """(owner, flat cell, distance) of the cells near the arcs ``pieces``, as
+        :meth:`_near_in_chunk` gives them: each (arc, row) has two spans, left and right of
+        the centre, the right one starting where the left one stops (no cell twice)."""
+        piece = pieces.repeat(rows[pieces])  # one entry per (arc, row)
+        place = numpy.arange(len(pieces)).repeat(rows[pieces])
+        row = first_row.take(piece) + _ramp(rows[pieces])
+        y = self._y(row)
+        low, high = column_low.take(piece), column_high.take(piece)
+        (left_first, left_stop), (right_first, right_stop) = (self._centre_range(begin, end, self.x_low, self.nx)
+                                                              for begin, end in arcs.row_spans(piece, y, span_reach.take(piece)))
+        left_first, left_stop = numpy.maximum(left_first, low), numpy.minimum(left_stop, high)
+        right_first, right_stop = numpy.maximum(numpy.maximum(right_first, left_stop), low), numpy.minimum(right_stop, high)
+        first = numpy.stack([left_first, right_first], axis=1).reshape(-1)
+        widths = numpy.maximum(numpy.stack([left_stop, right_stop], axis=1).reshape(-1) - first, 0)
+        entry = numpy.arange(len(first)).repeat(widths)  # each measured cell's span
+        column = numpy.arange(len(entry)) + (first - widths.cumsum() + widths).take(entry)
+        entry >>= 1  # the span's (arc, row)
+        distance = arcs.distance(piece.take(entry), centres.take(column), y.take(entry))
+        near = (distance <= reach.take(piece.take(entry))).nonzero()[0]
+        entry = entry.take(near)
+        return place.take(entry), row.take(entry) * self.nx + column.take(near), distance.take(near)
 
     def _near_in_chunk(self, pieces, segments: "_Segments", rows, first_row, reach, rounding, column_low, column_high, centres):
         """(owner, flat cell, distance) of the cells near ``pieces``, ``owner`` the place of

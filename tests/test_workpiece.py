@@ -914,3 +914,146 @@ def test_rapids_judged_together_are_judged_as_each_alone(segments, bar):
     box = geometry.stock_box(stock)
     alone = [geometry._clip_box(start, end, box) is not None for start, end in segments]
     assert geometry.enters_many(stock, starts, ends).tolist() == alone
+
+
+# Arcs and helices about Z measured as arcs ------------------------------------------------
+# An arc about the Z axis is swept in parts, each one piece. Its distance is held to the arc
+# sampled densely (an independent model); the cells and the field it leaves are held, bit
+# for bit, to every cell of the grid measured with that distance; and the bounds to the
+# material the tool really leaves, sampled by brute force.
+
+_XY_ARC = st.tuples(st.floats(-10, 50), st.floats(-10, 40), st.floats(0.05, 30), st.floats(-7, 7), st.floats(-7, 7), st.booleans(),
+                    st.sampled_from([0.0, 0.0, 1e-7, -0.04]), st.floats(-14, 4), st.sampled_from([0.0, 0.0, 0.3, -2.0, 15.0]))
+# centre, radius, start and end angles, clockwise, end off the circle, start height, climb
+
+
+def _xy_arcs(drawn, longest=4.0, rise=0.5):
+    from ncverify.xy_arcs import XYArcs
+
+    rows = numpy.array([[cx + r * math.cos(a), cy + r * math.sin(a), z, cx + (r + off) * math.cos(b), cy + (r + off) * math.sin(b), z + climb, cx, cy]
+                        for cx, cy, r, a, b, _, off, z, climb in drawn])
+    clockwise = numpy.array([arc[5] for arc in drawn])
+    arcs, arc = XYArcs.of(rows[:, 0:3], rows[:, 3:6], rows[:, 6:8], clockwise, longest, rise)
+    return arcs, arc, rows, clockwise
+
+
+def _arc_points(start, end, centre, clockwise, count=20001):
+    """Points along the arc from ``start`` to ``end`` (on the circle through ``start``), by angle,
+    and its length seen from above."""
+    radius = math.hypot(start[0] - centre[0], start[1] - centre[1])
+    begin = math.atan2(start[1] - centre[1], start[0] - centre[0])
+    finish = math.atan2(end[1] - centre[1], end[0] - centre[0])
+    sweep = ((begin - finish) if clockwise else (finish - begin)) % (2 * math.pi) or 2 * math.pi
+    angles = begin + (-1 if clockwise else 1) * sweep * numpy.linspace(0.0, 1.0, count)
+    return numpy.column_stack([centre[0] + radius * numpy.cos(angles), centre[1] + radius * numpy.sin(angles)]), radius * sweep
+
+
+@settings(max_examples=80, deadline=None)
+@given(st.lists(_XY_ARC, min_size=1, max_size=4), st.lists(st.tuples(st.floats(-20, 60), st.floats(-20, 50)), min_size=1, max_size=20))
+def test_a_point_s_distance_from_an_arc_s_parts_is_its_least_distance_from_the_arc_sampled_densely(drawn, sampled):
+    """Each arc cut into parts (of a quarter turn, 4 mm and half a millimetre's climb at
+    most): the nearest part is as near as the arc sampled, and the parts' lengths add up to
+    the arc's along its helix."""
+    arcs, arc, rows, clockwise = _xy_arcs(drawn)
+    points = numpy.array(sampled)
+    for k, row in enumerate(rows):
+        along, flat_length = _arc_points(row[0:2], row[3:5], row[6:8], clockwise[k])
+        sampled_distance = numpy.hypot(points[:, :1] - along[None, :, 0], points[:, 1:] - along[None, :, 1]).min(axis=1)
+        parts = numpy.flatnonzero(arc == k)
+        got = numpy.min([arcs.distance(numpy.full(len(points), part), points[:, 0], points[:, 1]) for part in parts], axis=0)
+        step = flat_length / 20000
+        assert (got <= sampled_distance + 1e-9).all() and (got >= sampled_distance - step / 2 - 1e-9).all()
+        assert arcs.length[parts].sum() == pytest.approx(math.hypot(flat_length, drawn[k][8]))
+        assert arcs.low[parts].min() == min(row[2], row[5]) and arcs.high[parts].max() == max(row[2], row[5])
+        assert (arcs.high[parts] - arcs.low[parts] <= 0.5 + 1e-9).all() and (arcs.length[parts] <= numpy.hypot(4.0, 0.5) + 1e-9).all()
+        assert (arcs.drift[parts] == pytest.approx(abs(drawn[k][6]), abs=1e-9))
+
+
+def _every_cell_near_arcs(piece, arcs, reach):
+    rows, columns = numpy.divmod(numpy.arange(piece.nx * piece.ny), piece.nx)
+    found = []
+    for k in range(len(arcs)):
+        distance = arcs.distance(numpy.full(len(rows), k), piece._x(columns), piece._y(rows))
+        near = numpy.flatnonzero(distance <= reach + arcs.drift[k])
+        found.append((numpy.full(len(near), k), near, distance[near]))
+    return [numpy.concatenate(column) for column in zip(*found)]
+
+
+@settings(max_examples=150, deadline=None)
+@given(_GRIDS, st.lists(_XY_ARC, min_size=1, max_size=6), st.floats(0, 6), st.sampled_from([1 << 18, 7, 40]), st.sampled_from([0.3, 4.0, 1e9]))
+def test_the_cells_near_each_arc_are_those_every_cell_measured_finds_in_the_same_order(grid, drawn, reach, chunk, longest):
+    """The spans where each row crosses an arc's annulus, inside its box, hold every cell
+    the arc's distance finds near it, in chunks of every size."""
+    from ncverify import workpiece
+
+    piece = Workpiece(*grid)
+    arcs, _, _, _ = _xy_arcs(drawn, longest)
+    with patch.object(workpiece, "_CHUNK_CELLS", chunk):
+        found = [numpy.concatenate(column) for column in zip(*(near.each_piece() for near in piece._cells_near_arcs(arcs, reach)))]
+    for got, wanted in zip(found, _every_cell_near_arcs(piece, arcs, reach)):
+        assert numpy.array_equal(got, wanted)
+
+
+def _sweep_arcs_every_cell(piece, arcs, cutter):
+    """The arc sweep written plainly: each part against every cell of the grid."""
+    from ncverify.workpiece import _sink
+
+    z_low, z_high = (numpy.clip(heights, *piece._slab(cutter)) for heights in (arcs.low, arcs.high))
+    owner, flat, distance = _every_cell_near_arcs(piece, arcs, cutter.radius + piece.half_diagonal)
+    outer = numpy.maximum(distance - piece.half_diagonal - arcs.drift[owner], 0.0)
+    touched = outer <= cutter.radius
+    surface_low = z_low[owner] + cutter.lowest_lift(outer)
+    may_cut = numpy.zeros(len(arcs), bool)
+    may_cut[owner[touched & (piece.upper.reshape(-1)[flat] > surface_low)]] = True
+    inner = distance + piece.half_diagonal + arcs.drift[owner]
+    covered = inner <= cutter.radius
+    _sink(piece.upper, flat[covered], z_high[owner][covered] + cutter.lift(inner[covered]), up=True)
+    _sink(piece.lower, flat[touched], surface_low[touched], up=False)
+    for field in (piece.upper, piece.lower):
+        field[field <= piece.bottom] = NO_MATERIAL
+    return float(arcs.length[~may_cut].sum())
+
+
+@settings(max_examples=60, deadline=None)
+@given(_SWEPT, st.lists(_XY_ARC, min_size=1, max_size=6))
+def test_arcs_swept_leave_the_field_and_air_that_every_cell_measured_against_every_part_leaves(cutter, drawn):
+    """Arcs and helices above, through and below the blank, each time over judged against
+    what the time before cut."""
+    from ncverify import workpiece
+
+    piece, plain = Workpiece(BLANK, 0.5), Workpiece(BLANK, 0.5)
+    arcs, _, _, _ = _xy_arcs(drawn)
+    for _ in range(2):
+        with patch.object(workpiece, "_CHUNK_CELLS", 1 << 40):  # one step, as the plain sweep judges the air
+            assert piece.cut_arcs(arcs, cutter) == _sweep_arcs_every_cell(plain, arcs, cutter)
+        assert numpy.array_equal(piece.upper, plain.upper) and numpy.array_equal(piece.lower, plain.lower)
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.floats(0.3, 12), st.floats(0, 6.28), st.floats(-6.28, 6.28), st.booleans(), cutters, st.sampled_from([0.25, 0.5, 1.0]),
+       st.sampled_from([0.0, -1.5, 3.0]))
+def test_an_arc_s_or_a_helix_s_bounds_hold_the_material_sampled_by_brute_force(radius, begin, finish, clockwise, cutter, resolution, climb):
+    from ncverify.xy_arcs import XYArcs
+
+    centre = (20.0, 15.0)
+    start = (centre[0] + radius * math.cos(begin), centre[1] + radius * math.sin(begin), -2.5)
+    end = (centre[0] + radius * math.cos(finish), centre[1] + radius * math.sin(finish), -2.5 + climb)
+    piece = Workpiece(BLANK, resolution)
+    piece.cut_arcs(XYArcs.of(numpy.array([start]), numpy.array([end]), numpy.array([centre]), numpy.array([clockwise]), 8 * resolution, resolution)[0], cutter)
+    along, _ = _arc_points(start, end, centre, clockwise, count=600)
+    dense = numpy.column_stack([along, numpy.linspace(-2.5, -2.5 + climb, len(along))])
+    sample = numpy.column_stack([numpy.random.default_rng(5).uniform(0, 40, 300), numpy.random.default_rng(6).uniform(0, 30, 300)])
+    tops = true_top(sample, list(zip(dense[:-1], dense[1:])), cutter, 0.0, samples=40)
+    rows, columns = (sample[:, 1] / resolution).astype(int), (sample[:, 0] / resolution).astype(int)
+    assert (piece.upper[rows, columns] >= tops - 0.02).all()
+    assert (piece.lower[rows, columns] <= tops + 0.02).all()
+
+
+def test_an_arc_whose_end_lies_off_its_circle_or_on_its_centre_is_left_to_the_chords():
+    from ncverify.xy_arcs import measurable
+
+    centre = numpy.array([[0.0, 0.0]] * 4)
+    starts = numpy.array([[5.0, 0.0], [5.0, 0.0], [5.0, 0.0], [0.0, 0.0]])
+    ends = numpy.array([[0.0, 5.06], [0.0, 5.07], [0.0, 0.0], [0.0, 5.0]])
+    assert measurable(starts, ends, centre, 0.5, 1e9).tolist() == [True, False, False, False]
+    assert measurable(starts + 2e9, ends + 2e9, centre + 2e9, 0.5, 1e9).tolist() == [False] * 4
