@@ -380,23 +380,15 @@ class Workpiece:
         first_row, stop_row = self._centre_range(numpy.minimum(a[:, 1], b[:, 1]) - (reach + rounding), numpy.maximum(a[:, 1], b[:, 1]) + (reach + rounding),
                                                  self.y_low, self.ny)
         rows = numpy.where(numpy.isfinite(size), numpy.maximum(stop_row - first_row, 0), 0)  # the rows of the box whose centres can be near
-        keys = _path_keys(a, b, slack)
-        words = _mixed(keys)
-        alike = _any_equal(words)
-        for chunk in _chunks((column_high - column_low) * heights):
-            chunk_words = words.take(chunk)
-            if alike and _any_equal(chunk_words):
-                group, leaders = _path_groups([key.take(chunk) for key in keys], chunk_words)
-                leaders = chunk.take(leaders)
-            else:
-                group, leaders = numpy.arange(len(chunk)), chunk
+        for chunk, group, leaders in _grouped_chunks((column_high - column_low) * heights, _path_keys(a, b, slack)):
             owner, flat, distance = self._near_in_chunk(leaders, segments, rows, first_row, reach, rounding, column_low, column_high, centres)
             yield _Near(chunk, group, leaders, owner, flat, distance)
 
     def _cells_near_arcs(self, arcs: XYArcs, reach: float):
-        """:meth:`_cells_near` for arcs about Z (each a group of its own): the cells of each
-        arc's box widened by the reach and its drift whose centres lie within that of the
-        arc, row by row, from the spans where the row crosses the arc's annulus."""
+        """:meth:`_cells_near` for arcs about Z: the cells of each arc's box widened by the
+        reach and its drift whose centres lie within that of the arc, row by row, from the
+        spans where the row crosses the arc's annulus. Arcs alike seen from above (a
+        profile's corners lap after lap) are measured once."""
         reach = reach + arcs.drift
         rounding = self.resolution * 1e-3 + 1e-14 * arcs.size()
         x_low, y_low, x_high, y_high = arcs.box()
@@ -404,9 +396,9 @@ class Workpiece:
         first_row, stop_row = self._centre_range(y_low - (reach + rounding), y_high + (reach + rounding), self.y_low, self.ny)
         rows = numpy.maximum(stop_row - first_row, 0)
         centres = self._column_centres()
-        for chunk in _chunks((column_high - column_low) * rows):
-            owner, flat, distance = self._near_arcs_in_chunk(arcs, chunk, rows, first_row, reach + rounding, reach, column_low, column_high, centres)
-            yield _Near(chunk, numpy.arange(len(chunk)), chunk, owner, flat, distance)
+        for chunk, group, leaders in _grouped_chunks((column_high - column_low) * rows, arcs.keys()):
+            owner, flat, distance = self._near_arcs_in_chunk(arcs, leaders, rows, first_row, reach + rounding, reach, column_low, column_high, centres)
+            yield _Near(chunk, group, leaders, owner, flat, distance)
 
     def _near_arcs_in_chunk(self, arcs: XYArcs, pieces, rows, first_row, span_reach, reach, column_low, column_high, centres):
         """(owner, flat cell, distance) of the cells near the arcs ``pieces``, as
@@ -623,6 +615,22 @@ def _chunks(sizes):
             start = end
     if start < len(sizes):
         yield numpy.arange(start, len(sizes))
+
+
+def _grouped_chunks(sizes, keys):
+    """(chunk, group, leaders) of the pieces in chunks (:func:`_chunks` of their cell
+    windows ``sizes``): within a chunk, the pieces whose ``keys`` (bit patterns, see
+    :func:`_path_keys`) are all equal form a group, ``group`` each piece's place among
+    ``leaders``, the first piece of each group (as :class:`_Near` takes them)."""
+    words = _mixed(keys)
+    alike = _any_equal(words)
+    for chunk in _chunks(sizes):
+        chunk_words = words.take(chunk)
+        if alike and _any_equal(chunk_words):
+            group, leaders = _path_groups([key.take(chunk) for key in keys], chunk_words)
+            yield chunk, group, chunk.take(leaders)
+        else:
+            yield chunk, numpy.arange(len(chunk)), chunk
 
 
 _MIX = numpy.uint64(0x9E3779B97F4A7C15)  # an odd constant with well spread bits, to mix a path's key words into one

@@ -78,6 +78,11 @@ class XYArcs:
                    numpy.minimum(pz, qz), numpy.maximum(pz, qz), numpy.abs(end_radius - radius).take(arc),
                    numpy.hypot(part_radius * (sweep / counts).take(arc), qz - pz)), arc
 
+    def keys(self):
+        """What makes arcs meet the same cells at the same distances: their centres, ends
+        and drift, as bits (arcs equal to the bit, at any heights, are measured alike)."""
+        return [numpy.ascontiguousarray(values).view(numpy.uint64) for values in (self.cx, self.cy, self.sx, self.sy, self.ex, self.ey, self.drift)]
+
     def __len__(self) -> int:
         return len(self.radius)
 

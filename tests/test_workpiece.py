@@ -979,15 +979,22 @@ def _every_cell_near_arcs(piece, arcs, reach):
     return [numpy.concatenate(column) for column in zip(*found)]
 
 
+def _laps(drawn):
+    """Each drawn arc (with how many laps) repeated that many times, a millimetre deeper each lap."""
+    return [(*arc[:7], arc[7] - lap, arc[8]) for arc, laps in drawn for lap in range(laps)]
+
+
 @settings(max_examples=150, deadline=None)
-@given(_GRIDS, st.lists(_XY_ARC, min_size=1, max_size=6), st.floats(0, 6), st.sampled_from([1 << 18, 7, 40]), st.sampled_from([0.3, 4.0, 1e9]))
+@given(_GRIDS, st.lists(st.tuples(_XY_ARC, st.integers(1, 3)), min_size=1, max_size=6), st.floats(0, 6), st.sampled_from([1 << 18, 7, 40]),
+       st.sampled_from([0.3, 4.0, 1e9]))
 def test_the_cells_near_each_arc_are_those_every_cell_measured_finds_in_the_same_order(grid, drawn, reach, chunk, longest):
     """The spans where each row crosses an arc's annulus, inside its box, hold every cell
-    the arc's distance finds near it, in chunks of every size."""
+    the arc's distance finds near it, in chunks of every size; an arc's laps at other
+    heights (measured once, their cells handed on) too."""
     from ncverify import workpiece
 
     piece = Workpiece(*grid)
-    arcs, _, _, _ = _xy_arcs(drawn, longest)
+    arcs, _, _, _ = _xy_arcs(_laps(drawn), longest)
     with patch.object(workpiece, "_CHUNK_CELLS", chunk):
         found = [numpy.concatenate(column) for column in zip(*(near.each_piece() for near in piece._cells_near_arcs(arcs, reach)))]
     for got, wanted in zip(found, _every_cell_near_arcs(piece, arcs, reach)):
@@ -1015,14 +1022,14 @@ def _sweep_arcs_every_cell(piece, arcs, cutter):
 
 
 @settings(max_examples=60, deadline=None)
-@given(_SWEPT, st.lists(_XY_ARC, min_size=1, max_size=6))
+@given(_SWEPT, st.lists(st.tuples(_XY_ARC, st.integers(1, 3)), min_size=1, max_size=6))
 def test_arcs_swept_leave_the_field_and_air_that_every_cell_measured_against_every_part_leaves(cutter, drawn):
-    """Arcs and helices above, through and below the blank, each time over judged against
-    what the time before cut."""
+    """Arcs and helices above, through and below the blank, some lapped at other heights,
+    each time over judged against what the time before cut."""
     from ncverify import workpiece
 
     piece, plain = Workpiece(BLANK, 0.5), Workpiece(BLANK, 0.5)
-    arcs, _, _, _ = _xy_arcs(drawn)
+    arcs, _, _, _ = _xy_arcs(_laps(drawn))
     for _ in range(2):
         with patch.object(workpiece, "_CHUNK_CELLS", 1 << 40):  # one step, as the plain sweep judges the air
             assert piece.cut_arcs(arcs, cutter) == _sweep_arcs_every_cell(plain, arcs, cutter)
