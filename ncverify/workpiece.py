@@ -418,8 +418,9 @@ class Workpiece:
         entry = numpy.arange(len(first)).repeat(widths)  # each measured cell's span
         column = numpy.arange(len(entry)) + (first - widths.cumsum() + widths).take(entry)
         entry >>= 1  # the span's (arc, row)
-        distance = arcs.distance(piece.take(entry), centres.take(column), y.take(entry))
-        near = (distance <= reach.take(piece.take(entry))).nonzero()[0]
+        arc = piece.take(entry)
+        distance = arcs.distance(arc, centres.take(column), y.take(entry))
+        near = (distance <= reach.take(arc)).nonzero()[0]
         entry = entry.take(near)
         return place.take(entry), row.take(entry) * self.nx + column.take(near), distance.take(near)
 
