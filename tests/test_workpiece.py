@@ -1038,17 +1038,24 @@ def test_arcs_swept_leave_the_field_and_air_that_every_cell_measured_against_eve
 
 @settings(max_examples=40, deadline=None)
 @given(st.floats(0.3, 12), st.floats(0, 6.28), st.floats(-6.28, 6.28), st.booleans(), cutters, st.sampled_from([0.25, 0.5, 1.0]),
-       st.sampled_from([0.0, -1.5, 3.0]))
-def test_an_arc_s_or_a_helix_s_bounds_hold_the_material_sampled_by_brute_force(radius, begin, finish, clockwise, cutter, resolution, climb):
+       st.sampled_from([0.0, -1.5, 3.0]), st.sampled_from([0.0, 0.0, 0.05, -0.2]))
+def test_an_arc_s_or_a_helix_s_bounds_hold_the_material_sampled_by_brute_force(radius, begin, finish, clockwise, cutter, resolution, climb, off):
+    """Arcs, helices and arcs whose end lies off their circle (the path then spirals from
+    the start's radius to the end's, as controls that accept it move). An end off the
+    circle on the start's own ray is left out: whether that is a full turn or none is
+    decided by the last bit of an arc tangent, which numpy's and math's may round apart."""
     from ncverify.xy_arcs import XYArcs
+
+    assume(off == 0.0 or abs(math.remainder(finish - begin, 2 * math.pi)) > 1e-9)
 
     centre = (20.0, 15.0)
     start = (centre[0] + radius * math.cos(begin), centre[1] + radius * math.sin(begin), -2.5)
-    end = (centre[0] + radius * math.cos(finish), centre[1] + radius * math.sin(finish), -2.5 + climb)
+    end = (centre[0] + (radius + off) * math.cos(finish), centre[1] + (radius + off) * math.sin(finish), -2.5 + climb)
     piece = Workpiece(BLANK, resolution)
     piece.cut_arcs(XYArcs.of(numpy.array([start]), numpy.array([end]), numpy.array([centre]), numpy.array([clockwise]), 8 * resolution, resolution)[0], cutter)
     along, _ = _arc_points(start, end, centre, clockwise, count=600)
-    dense = numpy.column_stack([along, numpy.linspace(-2.5, -2.5 + climb, len(along))])
+    spiral = 1.0 + off / radius * numpy.linspace(0.0, 1.0, len(along))[:, None]
+    dense = numpy.column_stack([centre + (along - centre) * spiral, numpy.linspace(-2.5, -2.5 + climb, len(along))])
     sample = numpy.column_stack([numpy.random.default_rng(5).uniform(0, 40, 300), numpy.random.default_rng(6).uniform(0, 30, 300)])
     tops = true_top(sample, list(zip(dense[:-1], dense[1:])), cutter, 0.0, samples=40)
     rows, columns = (sample[:, 1] / resolution).astype(int), (sample[:, 0] / resolution).astype(int)
