@@ -53,30 +53,32 @@ class XYArcs:
         away from its centre (see :func:`measurable`)."""
         sx, sy = starts[:, 0] - centres[:, 0], starts[:, 1] - centres[:, 1]
         ex, ey = ends[:, 0] - centres[:, 0], ends[:, 1] - centres[:, 1]
-        radius, end_radius = numpy.hypot(sx, sy), numpy.hypot(ex, ey)
+        radius, end_radius = _length(sx, sy), _length(ex, ey)
         begin, finish = numpy.arctan2(sy, sx), numpy.arctan2(ey, ex)
         sweep = numpy.where(clockwise, begin - finish, finish - begin) % (2 * math.pi)
         sweep[sweep == 0.0] = 2 * math.pi  # a full circle
-        climb = ends[:, 2] - starts[:, 2]
+        ex, ey = ex * (radius / end_radius), ey * (radius / end_radius)  # the end moved onto the circle
+        # counterclockwise from the first end: a clockwise arc's parts run from its end back
+        first_x, first_y, last_x, last_y = numpy.where(clockwise, [ex, ey, sx, sy], [sx, sy, ex, ey])
+        first_z, last_z = numpy.where(clockwise, [ends[:, 2], starts[:, 2]], [starts[:, 2], ends[:, 2]])
+        climb = last_z - first_z
         counts = numpy.ceil(numpy.maximum.reduce([radius * sweep / longest, sweep / (math.pi / 2), numpy.abs(climb) / rise]))
         counts = numpy.maximum(counts, 1).astype(numpy.int64)
         arc = numpy.arange(len(radius)).repeat(counts)
         step = numpy.arange(len(arc)) - (counts.cumsum() - counts).repeat(counts)  # each part's place in its arc
-        first, last = step == 0, numpy.append(step[1:] == 0, True)
-        part_radius = radius.take(arc)
-        angle = begin.take(arc) + (numpy.where(clockwise, -sweep, sweep) / counts).take(arc) * step
-        px, py = part_radius * numpy.cos(angle), part_radius * numpy.sin(angle)  # each part's first point along the arc
-        px[first], py[first] = sx, sy  # the arcs' own ends, not their angles' rounding
+        last = numpy.append(step[1:] == 0, True)
+        part_radius, turn = radius.take(arc), (sweep / counts).take(arc)
+        px, py = first_x.take(arc), first_y.take(arc)  # each part's first point: the arc's own where it is the first part
+        later = step.nonzero()[0]
+        angle = numpy.where(clockwise, finish, begin).take(arc.take(later)) + turn.take(later) * step.take(later)
+        px[later], py[later] = part_radius.take(later) * numpy.cos(angle), part_radius.take(later) * numpy.sin(angle)
         qx, qy = numpy.roll(px, -1), numpy.roll(py, -1)
-        qx[last], qy[last] = ex * (radius / end_radius), ey * (radius / end_radius)  # the end moved onto the circle
-        pz = starts[:, 2].take(arc) + (climb / counts).take(arc) * step
+        qx[last], qy[last] = last_x, last_y
+        pz = first_z.take(arc) + (climb / counts).take(arc) * step
         qz = numpy.roll(pz, -1)
-        qz[last] = ends[:, 2]
-        clockwise = numpy.asarray(clockwise, bool).take(arc)
-        return cls(centres[:, 0].take(arc), centres[:, 1].take(arc), part_radius,
-                   numpy.where(clockwise, qx, px), numpy.where(clockwise, qy, py), numpy.where(clockwise, px, qx), numpy.where(clockwise, py, qy),
-                   numpy.minimum(pz, qz), numpy.maximum(pz, qz), numpy.abs(end_radius - radius).take(arc),
-                   numpy.hypot(part_radius * (sweep / counts).take(arc), qz - pz)), arc
+        qz[last] = last_z
+        return cls(centres[:, 0].take(arc), centres[:, 1].take(arc), part_radius, px, py, qx, qy, numpy.minimum(pz, qz), numpy.maximum(pz, qz),
+                   numpy.abs(end_radius - radius).take(arc), _length(part_radius * turn, qz - pz)), arc
 
     def keys(self):
         """What makes arcs meet the same cells at the same distances: their centres, ends
@@ -141,8 +143,8 @@ def measurable(starts, ends, centres, resolution: float, reach_limit: float):
     away from the centre and within an eighth of a cell of one circle, and near enough the
     origin for the distances to be exact to far below a cell (``reach_limit``); the rest
     are cut as chords."""
-    start_radius = numpy.hypot(starts[:, 0] - centres[:, 0], starts[:, 1] - centres[:, 1])
-    end_radius = numpy.hypot(ends[:, 0] - centres[:, 0], ends[:, 1] - centres[:, 1])
+    start_radius = _length(starts[:, 0] - centres[:, 0], starts[:, 1] - centres[:, 1])
+    end_radius = _length(ends[:, 0] - centres[:, 0], ends[:, 1] - centres[:, 1])
     far = numpy.maximum(numpy.abs(centres).max(axis=1), numpy.maximum(numpy.abs(starts).max(axis=1), numpy.abs(ends).max(axis=1)))
     with numpy.errstate(invalid="ignore"):
         return (start_radius > 0.0) & (end_radius > 0.0) & (numpy.abs(end_radius - start_radius) <= _MOST_DRIFT * resolution) & (far <= reach_limit)
