@@ -37,7 +37,7 @@ _FLAT = {"endmill", "facemill", "slot", "reamer", "boring", "threadmill", "tap"}
 _NOT_CUTTING = {"probe"}
 AUTO_RESOLUTION = (0.05, 1.0)  # bounds of the resolution chosen from the smallest tool
 _FIELD_BYTES_PER_CELL = 8  # two float32 bounds
-_ARC_PART_CELLS = 8  # longest part of an arc swept as one piece, in cells: a part that meets material counts whole as cutting
+_ARC_PART_CELLS = 16  # longest part of an arc swept as one piece, in cells: a part that meets material counts whole as cutting
 _ARC_WIDTHS = (3, 3, 2, 1, 3)  # columns of a buffered arc's fields: start, end, centre, clockwise, plane axes (see _flush)
 
 

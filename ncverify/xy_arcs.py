@@ -25,7 +25,7 @@ _MOST_DRIFT = 0.125  # of a cell: an arc whose end lies farther off its circle i
 
 @dataclass(frozen=True)
 class XYArcs:
-    """Arcs of at most a quarter turn about the Z axis, given counterclockwise from
+    """Arcs of at most a half turn about the Z axis, given counterclockwise from
     ``(sx, sy)`` to ``(ex, ey)``, both measured from the centre ``(cx, cy)`` and both on
     the circle of ``radius``; ``low`` and ``high``: the heights between which each one
     climbs. ``drift``: how far the path may stray from that circle (the programmed end lies
@@ -47,7 +47,7 @@ class XYArcs:
     def of(cls, starts, ends, centres, clockwise, longest: float, rise: float) -> tuple["XYArcs", numpy.ndarray]:
         """The arcs from ``starts`` to ``ends`` ((x, y, z) rows) around ``centres`` ((x, y)),
         turning as :func:`ncverify.workpiece.arc_chords` turns them (an arc ending where it
-        starts turns once), each cut into equal parts of at most ``longest``, a quarter turn
+        starts turns once), each cut into equal parts of at most ``longest``, a half turn
         and a climb of ``rise``; and the arc of each part. A part that meets material counts
         whole as cutting, and a part's box holds little but its own cells. Each end must lie
         away from its centre (see :func:`measurable`)."""
@@ -62,7 +62,7 @@ class XYArcs:
         first_x, first_y, last_x, last_y = numpy.where(clockwise, [ex, ey, sx, sy], [sx, sy, ex, ey])
         first_z, last_z = numpy.where(clockwise, [ends[:, 2], starts[:, 2]], [starts[:, 2], ends[:, 2]])
         climb = last_z - first_z
-        counts = numpy.ceil(numpy.maximum.reduce([radius * sweep / longest, sweep / (math.pi / 2), numpy.abs(climb) / rise]))
+        counts = numpy.ceil(numpy.maximum.reduce([radius * sweep / longest, sweep / math.pi, numpy.abs(climb) / rise]))
         counts = numpy.maximum(counts, 1).astype(numpy.int64)
         arc = numpy.arange(len(radius)).repeat(counts)
         step = numpy.arange(len(arc)) - (counts.cumsum() - counts).repeat(counts)  # each part's place in its arc

@@ -951,7 +951,7 @@ def _arc_points(start, end, centre, clockwise, count=20001):
 @settings(max_examples=80, deadline=None)
 @given(st.lists(_XY_ARC, min_size=1, max_size=4), st.lists(st.tuples(st.floats(-20, 60), st.floats(-20, 50)), min_size=1, max_size=20))
 def test_a_point_s_distance_from_an_arc_s_parts_is_its_least_distance_from_the_arc_sampled_densely(drawn, sampled):
-    """Each arc cut into parts (of a quarter turn, 4 mm and half a millimetre's climb at
+    """Each arc cut into parts (of a half turn, 4 mm and half a millimetre's climb at
     most): the nearest part is as near as the arc sampled, and the parts' lengths add up to
     the arc's along its helix."""
     arcs, arc, rows, clockwise = _xy_arcs(drawn)
