@@ -21,6 +21,7 @@ from dataclasses import dataclass
 import numpy
 
 _MOST_DRIFT = 0.125  # of a cell: an arc whose end lies farther off its circle is cut as chords
+_MOST_PARTS = 64  # parts an arc is cut into for its length and climb (see XYArcs.of)
 
 
 @dataclass(frozen=True)
@@ -47,10 +48,13 @@ class XYArcs:
     def of(cls, starts, ends, centres, clockwise, longest: float, rise: float) -> tuple["XYArcs", numpy.ndarray]:
         """The arcs from ``starts`` to ``ends`` ((x, y, z) rows) around ``centres`` ((x, y)),
         turning as :func:`ncverify.workpiece.arc_chords` turns them (an arc ending where it
-        starts turns once), each cut into equal parts of at most ``longest``, a half turn
-        and a climb of ``rise``; and the arc of each part. A part that meets material counts
-        whole as cutting, and a part's box holds little but its own cells. Each end must lie
-        away from its centre (see :func:`measurable`)."""
+        starts turns once), each cut into equal parts of at most a half turn and, up to 64
+        parts, of at most ``longest`` and a climb of ``rise``; and the arc of each part. A part
+        that meets material counts whole as cutting, and a part's box holds little but its
+        own cells. A longer part, or one that climbs more, is as sound (its heights are its
+        range), only coarser: an arc a kilometre wide, or a helix down from a kilometre up (a
+        typing slip), is not cut into millions. Each end must lie away from its centre (see
+        :func:`measurable`)."""
         sx, sy = starts[:, 0] - centres[:, 0], starts[:, 1] - centres[:, 1]
         ex, ey = ends[:, 0] - centres[:, 0], ends[:, 1] - centres[:, 1]
         radius, end_radius = _length(sx, sy), _length(ex, ey)
@@ -62,8 +66,8 @@ class XYArcs:
         first_x, first_y, last_x, last_y = numpy.where(clockwise, [ex, ey, sx, sy], [sx, sy, ex, ey])
         first_z, last_z = numpy.where(clockwise, [ends[:, 2], starts[:, 2]], [starts[:, 2], ends[:, 2]])
         climb = last_z - first_z
-        counts = numpy.ceil(numpy.maximum.reduce([radius * sweep / longest, sweep / math.pi, numpy.abs(climb) / rise]))
-        counts = numpy.maximum(counts, 1).astype(numpy.int64)
+        by_size = numpy.minimum(numpy.ceil(numpy.maximum(radius * sweep / longest, numpy.abs(climb) / rise)), _MOST_PARTS)
+        counts = numpy.maximum(numpy.maximum(by_size, numpy.ceil(sweep / math.pi)), 1).astype(numpy.int64)
         arc = numpy.arange(len(radius)).repeat(counts)
         step = numpy.arange(len(arc)) - (counts.cumsum() - counts).repeat(counts)  # each part's place in its arc
         last = numpy.append(step[1:] == 0, True)

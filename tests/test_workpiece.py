@@ -927,6 +927,17 @@ _XY_ARC = st.tuples(st.floats(-10, 50), st.floats(-10, 40), st.floats(0.05, 30),
 # centre, radius, start and end angles, clockwise, end off the circle, start height, climb
 
 
+@st.composite
+def _wide_arc(draw):
+    """An arc of a circle up to a kilometre wide, passing through the blank near its middle."""
+    radius, facing, half = draw(st.sampled_from([1e2, 1e4, 1e6])), draw(st.floats(0, 6.28)), draw(st.floats(1e-6, 1e-4))
+    return (20.0 - radius * math.cos(facing), 15.0 - radius * math.sin(facing), radius, facing - half * 100 / radius * 100,
+            facing + half * 100 / radius * 100, draw(st.booleans()), 0.0, draw(st.floats(-14, 4)), 0.0)
+
+
+_ANY_ARC = st.one_of(_XY_ARC, _XY_ARC, _XY_ARC, _wide_arc())
+
+
 def _xy_arcs(drawn, longest=4.0, rise=0.5):
     from ncverify.xy_arcs import XYArcs
 
@@ -985,12 +996,13 @@ def _laps(drawn):
 
 
 @settings(max_examples=150, deadline=None)
-@given(_GRIDS, st.lists(st.tuples(_XY_ARC, st.integers(1, 3)), min_size=1, max_size=6), st.floats(0, 6), st.sampled_from([1 << 18, 7, 40]),
+@given(_GRIDS, st.lists(st.tuples(_ANY_ARC, st.integers(1, 3)), min_size=1, max_size=6), st.floats(0, 6), st.sampled_from([1 << 18, 7, 40]),
        st.sampled_from([0.3, 4.0, 1e9]))
 def test_the_cells_near_each_arc_are_those_every_cell_measured_finds_in_the_same_order(grid, drawn, reach, chunk, longest):
     """The spans where each row crosses an arc's annulus, inside its box, hold every cell
     the arc's distance finds near it, in chunks of every size; an arc's laps at other
-    heights (measured once, their cells handed on) too."""
+    heights (measured once, their cells handed on) too, and arcs of circles a kilometre
+    wide, whose annulus is worked out from squares of a million and more."""
     from ncverify import workpiece
 
     piece = Workpiece(*grid)
@@ -1022,7 +1034,7 @@ def _sweep_arcs_every_cell(piece, arcs, cutter):
 
 
 @settings(max_examples=60, deadline=None)
-@given(_SWEPT, st.lists(st.tuples(_XY_ARC, st.integers(1, 3)), min_size=1, max_size=6))
+@given(_SWEPT, st.lists(st.tuples(_ANY_ARC, st.integers(1, 3)), min_size=1, max_size=6))
 def test_arcs_swept_leave_the_field_and_air_that_every_cell_measured_against_every_part_leaves(cutter, drawn):
     """Arcs and helices above, through and below the blank, some lapped at other heights,
     each time over judged against what the time before cut."""
@@ -1038,9 +1050,10 @@ def test_arcs_swept_leave_the_field_and_air_that_every_cell_measured_against_eve
 
 @settings(max_examples=40, deadline=None)
 @given(st.floats(0.3, 12), st.floats(0, 6.28), st.floats(-6.28, 6.28), st.booleans(), cutters, st.sampled_from([0.25, 0.5, 1.0]),
-       st.sampled_from([0.0, -1.5, 3.0]), st.sampled_from([0.0, 0.0, 0.05, -0.2]))
+       st.sampled_from([0.0, -1.5, 3.0, -40.0]), st.sampled_from([0.0, 0.0, 0.05, -0.2]))
 def test_an_arc_s_or_a_helix_s_bounds_hold_the_material_sampled_by_brute_force(radius, begin, finish, clockwise, cutter, resolution, climb, off):
-    """Arcs, helices and arcs whose end lies off their circle (the path then spirals from
+    """Arcs, helices (one falling 40 mm through the blank, past the parts' limit: its parts
+    climb more than a cell each) and arcs whose end lies off their circle (the path then spirals from
     the start's radius to the end's, as controls that accept it move). An end off the
     circle on the start's own ray is left out: whether that is a full turn or none is
     decided by the last bit of an arc tangent, which numpy's and math's may round apart."""
@@ -1059,8 +1072,22 @@ def test_an_arc_s_or_a_helix_s_bounds_hold_the_material_sampled_by_brute_force(r
     sample = numpy.column_stack([numpy.random.default_rng(5).uniform(0, 40, 300), numpy.random.default_rng(6).uniform(0, 30, 300)])
     tops = true_top(sample, list(zip(dense[:-1], dense[1:])), cutter, 0.0, samples=40)
     rows, columns = (sample[:, 1] / resolution).astype(int), (sample[:, 0] / resolution).astype(int)
-    assert (piece.upper[rows, columns] >= tops - 0.02).all()
-    assert (piece.lower[rows, columns] <= tops + 0.02).all()
+    present = tops > BLANK.z_range[0]  # below the blank's bottom nothing is left, whatever the depth
+    assert (piece.upper[rows, columns][present] >= tops[present] - 0.02).all()
+    assert (piece.lower[rows, columns][present] <= tops[present] + 0.02).all()
+
+
+def test_an_arc_a_kilometre_wide_or_a_helix_a_kilometre_high_is_cut_into_few_parts():
+    """A typing slip in a radius or a depth must not make millions of pieces: past 64 parts
+    for its length and climb, an arc's parts grow instead (a half turn still splits)."""
+    from ncverify.xy_arcs import XYArcs
+
+    starts = numpy.array([[1e6, 0.0, 0.0], [5.0, 0.0, 1e6], [5.0, 0.0, 0.0]])
+    ends = numpy.array([[1e6, 0.0, 0.0], [5.0, 0.0, 0.0], [-5.0, 0.0, -0.1]])
+    arcs, arc = XYArcs.of(starts, ends, numpy.zeros((3, 2)), numpy.array([True, False, False]), 8.0, 0.5)
+    assert numpy.bincount(arc).tolist() == [64, 64, 2]
+    assert arcs.length[arc == 0].sum() == pytest.approx(2 * math.pi * 1e6)
+    assert arcs.low[arc == 1].min() == 0.0 and arcs.high[arc == 1].max() == 1e6
 
 
 def test_an_arc_whose_end_lies_off_its_circle_or_on_its_centre_is_left_to_the_chords():
