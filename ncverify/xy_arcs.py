@@ -52,8 +52,8 @@ class XYArcs:
         parts, of at most ``longest`` and a climb of ``rise``; and the arc of each part. A part
         that meets material counts whole as cutting, and a part's box holds little but its
         own cells. A longer part, or one that climbs more, is as sound (its heights are its
-        range), only coarser: an arc a kilometre wide, or a helix down from a kilometre up (a
-        typing slip), is not cut into millions. Each end must lie away from its centre (see
+        range), only coarser: an arc of a kilometre's radius, or a helix down from a
+        kilometre up (a typing slip), is not cut into millions. Each end must lie away from its centre (see
         :func:`measurable`)."""
         sx, sy = starts[:, 0] - centres[:, 0], starts[:, 1] - centres[:, 1]
         ex, ey = ends[:, 0] - centres[:, 0], ends[:, 1] - centres[:, 1]

@@ -929,10 +929,11 @@ _XY_ARC = st.tuples(st.floats(-10, 50), st.floats(-10, 40), st.floats(0.05, 30),
 
 @st.composite
 def _wide_arc(draw):
-    """An arc of a circle up to a kilometre wide, passing through the blank near its middle."""
-    radius, facing, half = draw(st.sampled_from([1e2, 1e4, 1e6])), draw(st.floats(0, 6.28)), draw(st.floats(1e-6, 1e-4))
-    return (20.0 - radius * math.cos(facing), 15.0 - radius * math.sin(facing), radius, facing - half * 100 / radius * 100,
-            facing + half * 100 / radius * 100, draw(st.booleans()), 0.0, draw(st.floats(-14, 4)), 0.0)
+    """An arc of a circle of up to a kilometre's radius, passing through the blank near its middle."""
+    radius, facing, half_length = draw(st.sampled_from([1e2, 1e4, 1e6])), draw(st.floats(0, 6.28)), draw(st.floats(0.01, 1.0))
+    half_angle = half_length / radius  # counterclockwise the short way, clockwise nearly the whole circle
+    return (20.0 - radius * math.cos(facing), 15.0 - radius * math.sin(facing), radius, facing - half_angle, facing + half_angle,
+            draw(st.booleans()), 0.0, draw(st.floats(-14, 4)), 0.0)
 
 
 _ANY_ARC = st.one_of(_XY_ARC, _XY_ARC, _XY_ARC, _wide_arc())
@@ -1001,8 +1002,8 @@ def _laps(drawn):
 def test_the_cells_near_each_arc_are_those_every_cell_measured_finds_in_the_same_order(grid, drawn, reach, chunk, longest):
     """The spans where each row crosses an arc's annulus, inside its box, hold every cell
     the arc's distance finds near it, in chunks of every size; an arc's laps at other
-    heights (measured once, their cells handed on) too, and arcs of circles a kilometre
-    wide, whose annulus is worked out from squares of a million and more."""
+    heights (measured once, their cells handed on) too, and arcs of circles of up to a
+    kilometre's radius, whose annulus is worked out from squares of a million and more."""
     from ncverify import workpiece
 
     piece = Workpiece(*grid)
@@ -1077,7 +1078,7 @@ def test_an_arc_s_or_a_helix_s_bounds_hold_the_material_sampled_by_brute_force(r
     assert (piece.lower[rows, columns][present] <= tops[present] + 0.02).all()
 
 
-def test_an_arc_a_kilometre_wide_or_a_helix_a_kilometre_high_is_cut_into_few_parts():
+def test_an_arc_of_a_kilometre_s_radius_or_a_helix_a_kilometre_high_is_cut_into_few_parts():
     """A typing slip in a radius or a depth must not make millions of pieces: past 64 parts
     for its length and climb, an arc's parts grow instead (a half turn still splits)."""
     from ncverify.xy_arcs import XYArcs
