@@ -465,8 +465,15 @@ class Material:
     def _sweep_arcs(self, mine: _PathPiece, starts, ends, centres, clockwise, planes, cutter: Cutter, tool: str) -> None:
         """Arcs and helices about the Z axis swept as arcs; the others (other planes, ends
         off their circle) as chords within an eighth of a cell of them, each chord's
-        sagitta its stray."""
+        sagitta its stray. An arc whose end lies on its start's ray, off its circle, may
+        turn once or not at all (:func:`workpiece.unsettled_turns`): it is a cut that
+        cannot be placed."""
         clockwise = clockwise.reshape(-1).astype(bool)
+        unsettled = workpiece.unsettled_turns(starts, ends, centres, planes)
+        if unsettled.any():
+            mine.unplaced()
+            settled = ~unsettled
+            starts, ends, centres, clockwise, planes = starts[settled], ends[settled], centres[settled], clockwise[settled], planes[settled]
         about_z = (planes == (0, 1, 2)).all(axis=1)
         about_z[about_z] = xy_arcs.measurable(starts[about_z, :2], ends[about_z, :2], centres[about_z], self.resolution, workpiece.MEASURED_REACH)
         if about_z.any():

@@ -894,6 +894,7 @@ def _float32_outwards(heights, up: bool):
     return stored
 
 
+_SAME_RAY = 1e-12  # sine of the angle within which two directions from a centre are taken for one ray (see unsettled_turns)
 _GROUP = 64  # moves in the largest group merged into one chord
 _TREE_AT_ONCE = 1024  # moves in the groups left up to which they and every group below them are judged in one step
 
@@ -1191,6 +1192,19 @@ def _swept_many(starts, ends, offset, radius: float, outwards: bool):
     lines = shapely.linestrings(coords)
     chord_factor = 1.0 / math.cos(math.pi / (4 * _ROUND_SEGMENTS)) if outwards else 1.0
     return shapely.union_all(shapely.buffer(lines, radius * chord_factor, quad_segs=_ROUND_SEGMENTS))
+
+
+def unsettled_turns(starts, ends, centres, planes):
+    """Which arcs (as :func:`arc_chords` takes them) end on their start's own ray from the
+    centre, at another point (the end off the circle): whether such an arc turns once or
+    not at all comes down to the rounding of two arc tangents, and a control's arithmetic
+    may decide it either way, where :func:`arc_chords` takes the turn its own gives."""
+    rows = numpy.arange(len(starts))
+    first, second = (numpy.asarray(planes[:, axis], numpy.int64) for axis in (0, 1))
+    sx, sy = starts[rows, first] - centres[:, 0], starts[rows, second] - centres[:, 1]
+    ex, ey = ends[rows, first] - centres[:, 0], ends[rows, second] - centres[:, 1]
+    along = (sx * ex + sy * ey > 0.0) & (numpy.abs(sx * ey - sy * ex) <= _SAME_RAY * numpy.hypot(sx, sy) * numpy.hypot(ex, ey))
+    return along & ((sx != ex) | (sy != ey))
 
 
 def arc_chords(starts, ends, centres, clockwise, planes, tolerance: float = 0.01):

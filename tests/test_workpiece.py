@@ -306,6 +306,26 @@ def test_a_rapid_of_a_tool_of_unknown_size_is_never_shown_clear_beside_its_axis(
     assert not [d for d in result.diagnostics if d.rule == "core.rapid-into-stock" and d.span.line == 10]  # straight up its own axis
 
 
+def test_a_circle_ending_on_its_start_s_ray_off_the_circle_cuts_nowhere_sure():
+    """G2 from X62 Y66 about X50 Y50 to X62.0024 Y66.0032: the end lies on the start's own
+    ray, 0.004 mm off the circle, so whether the arc turns once or not at all is a matter of
+    rounding (here the arc tangents make it a full turn). A smaller tool's rapid down where
+    the full turn would have cut is then neither clear (as it was when the model took the
+    full turn) nor a crash: unknown."""
+    from ncverify import Settings, check_text
+    from ncverify.diagnostics import Status
+    from ncverify.workpiece import unsettled_turns
+
+    program = ("(ncverify: stock box X0:100 Y0:100 Z-20:0)\n(ncverify: tool 1 radius 3 type endmill)\n(ncverify: tool 2 radius 1 type endmill)\n"
+               "G21 G90 G17 G54\nT1 M06\nG43 H01 Z50.\nS6000 M03\nG00 X62. Y66.\nZ2.\nG01 Z-5. F200.\nG02 X62.0024 Y66.0032 I-12. J-16.\n"
+               "G00 Z50.\nT2 M06\nG43 H02 Z50.\nX38. Y34.\nG00 Z-4.\nG00 Z50.\nM30\n")
+    result = check_text(program, "t.nc", Settings())
+    down = [d for d in result.diagnostics if d.rule == "core.rapid-into-stock" and d.span.line == 16]
+    assert [d.status for d in down] == [Status.UNKNOWN]
+    starts, ends = numpy.array([[62.0, 66.0, -5.0]] * 3), numpy.array([[62.0024, 66.0032, -5.0], [62.0, 66.0, -5.0], [38.0, 34.0, -5.0]])
+    assert unsettled_turns(starts, ends, numpy.array([[50.0, 50.0]] * 3), numpy.array([[0, 1, 2]] * 3)).tolist() == [True, False, False]
+
+
 # --------------------------------------------------------------------------- the turned bar
 
 def _centre_distance(points, moves, offset):
