@@ -1207,6 +1207,14 @@ def unsettled_turns(starts, ends, centres, planes):
     return along & ((sx != ex) | (sy != ey))
 
 
+def turn_unsettled(start, centre, end) -> bool:
+    """:func:`unsettled_turns` for one arc, given by numbers on its plane's two axes (for the
+    rules, which see one arc at a time)."""
+    sx, sy, ex, ey = start[0] - centre[0], start[1] - centre[1], end[0] - centre[0], end[1] - centre[1]
+    return (sx * ex + sy * ey > 0.0 and abs(sx * ey - sy * ex) <= _SAME_RAY * math.hypot(sx, sy) * math.hypot(ex, ey)
+            and (sx != ex or sy != ey))
+
+
 def arc_chords(starts, ends, centres, clockwise, planes, tolerance: float = 0.01):
     """Chords of many circular (or helical) moves at once, none farther than ``tolerance``
     from its arc: (chord starts, chord ends) as arrays of (x, y, z), the sagitta each chord

@@ -147,6 +147,22 @@ def test_a_symbolic_arc_whose_extremes_may_pass_the_travel_is_not_proved(tmp_pat
     assert statuses(result, "core.travel-limit", 7) == [Status.UNKNOWN]
 
 
+def test_an_arc_ending_on_its_start_s_ray_off_the_circle_is_judged_by_its_whole_circle(tmp_path):
+    """G02 from X0 Y0 about X60 Y45 to X-0.006 Y-0.0045: the end lies on the start's ray,
+    off the circle, so the arc turns once or not at all as the control's rounding falls. Its
+    end points are well inside the travel; a full turn would reach X135, past it."""
+    program = _arc_program(tmp_path, 40)
+    program.write_text(iso("""
+        G21 G90 G54 G17
+        G00 X0. Y0. Z2.
+        G01 Z-2. F100.
+        G02 X-0.006 Y-0.0045 I60. J45.
+    """))
+    result = check_file(program)
+    assert statuses(result, "core.travel-limit", 6) == [Status.UNKNOWN]
+    assert "rounding" in [d for d in result.diagnostics if d.rule == "core.travel-limit"][0].reason
+
+
 # --------------------------------------------------------------------------- one coordinate pipeline
 
 WORK_OFFSET = (-300.0, -200.0, -250.0)

@@ -13,6 +13,7 @@ from ..check import CUTTING, hazard, rule, show
 from ..context import NO_TOOL_TABLE, active_edge
 from ..diagnostics import Status
 from ..values import Condition, Sym
+from ..workpiece import turn_unsettled
 from .common import UNKNOWN_DIAMETER_MODE, ReportsMissingContext, lathe_x_is_diameter
 from .. import modelled
 
@@ -143,7 +144,9 @@ class TravelLimit(ReportsMissingContext):
     def _check_arc(self, segment, frame, state):
         """The quadrant points the arc sweeps are part of the obligation: exactly when the
         arc is concrete, else through the whole circle (which holds them) when the solver
-        shows it inside the travel; anything less is ``unknown``, never the end points alone."""
+        shows it inside the travel; anything less is ``unknown``, never the end points alone.
+        A concrete arc that may turn once or not at all (its end on its start's ray, off the
+        circle: :func:`workpiece.turn_unsettled`) is judged by its whole circle too."""
         arc = segment.arc
         first, second, _normal = arc.plane
         axes = [axis for axis in (first, second) if axis in frame]
@@ -153,7 +156,7 @@ class TravelLimit(ReportsMissingContext):
         start = (segment.start.get(first), segment.start.get(second))
         end = (segment.end.get(first), segment.end.get(second))
         known = (*(centre or (None, None)), arc.start_radius, *start, *end)
-        if all(type(v) is float for v in known):
+        if all(type(v) is float for v in known) and not turn_unsettled(start, centre, end):
             for axis, value in _arc_extremes(arc.direction, centre, arc.start_radius, start, end, (first, second)):
                 if axis in frame:
                     self._check_axis(axis, value, frame[axis], segment.span, state)
@@ -162,12 +165,16 @@ class TravelLimit(ReportsMissingContext):
             self.report("core.travel-limit", segment.span, "the arc's centre or radius is not known, so the extremes it sweeps were not checked against the travel",
                         Status.UNKNOWN, "arc extremes not known")
             return
+        why = ("the arc's circle may leave the travel; its end lies on its start's ray, off the circle, so whether it turns once or not at all "
+               "depends on the control's rounding" if all(type(v) is float for v in known) else
+               "the arc's circle may leave the travel; whether the arc sweeps that side depends on free parameters")
         for axis in axes:
-            self._check_circle(axis, centre[(first, second).index(axis)], arc.start_radius_sq, frame[axis], segment.span, state)
+            self._check_circle(axis, centre[(first, second).index(axis)], arc.start_radius_sq, frame[axis], segment.span, state, why)
 
-    def _check_circle(self, axis, centre, radius_sq, limits, span, state):
-        """A symbolic arc: its whole circle inside the travel proves its swept extremes are;
-        a circle that may leave it is ``unknown`` (the arc may not sweep that side)."""
+    def _check_circle(self, axis, centre, radius_sq, limits, span, state, why: str):
+        """An arc judged by its whole circle (a symbolic one, or one that may not turn): the
+        circle inside the travel proves its swept extremes are; a circle that may leave it
+        is ``unknown``, for ``why`` (the arc may not sweep that side)."""
         offset, low, high, _scale = limits
         if offset is None:
             return
@@ -179,7 +186,7 @@ class TravelLimit(ReportsMissingContext):
         if verdict is None:
             return
         if verdict.status is not Status.PROVED:
-            verdict = type(verdict)(Status.UNKNOWN, reason=verdict.reason or "the arc's circle may leave the travel; whether the arc sweeps that side depends on free parameters")
+            verdict = type(verdict)(Status.UNKNOWN, reason=verdict.reason or why)
         self.checker.report_verdict("core.travel-limit", span, f"the arc about {axis}{show(centre)} sweeps past the travel {low:g}..{high:g} on {axis}", verdict, state)
 
     def _report(self, axis, machine, low, high, span, verdict):
