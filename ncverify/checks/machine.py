@@ -155,8 +155,8 @@ class TravelLimit(ReportsMissingContext):
         centre = arc.centre
         start = (segment.start.get(first), segment.start.get(second))
         end = (segment.end.get(first), segment.end.get(second))
-        known = (*(centre or (None, None)), arc.start_radius, *start, *end)
-        if all(type(v) is float for v in known) and not turn_unsettled(start, centre, end):
+        concrete = all(type(v) is float for v in (*(centre or (None, None)), arc.start_radius, *start, *end))
+        if concrete and not turn_unsettled(start, centre, end):
             for axis, value in _arc_extremes(arc.direction, centre, arc.start_radius, start, end, (first, second)):
                 if axis in frame:
                     self._check_axis(axis, value, frame[axis], segment.span, state)
@@ -166,7 +166,7 @@ class TravelLimit(ReportsMissingContext):
                         Status.UNKNOWN, "arc extremes not known")
             return
         why = ("the arc's circle may leave the travel; its end lies on its start's ray, off the circle, so whether it turns once or not at all "
-               "depends on the control's rounding" if all(type(v) is float for v in known) else
+               "depends on the control's rounding" if concrete else
                "the arc's circle may leave the travel; whether the arc sweeps that side depends on free parameters")
         for axis in axes:
             self._check_circle(axis, centre[(first, second).index(axis)], arc.start_radius_sq, frame[axis], segment.span, state, why)
