@@ -185,7 +185,7 @@ class Workpiece:
         pieces = _merge_runs(starts, ends, strays, self.resolution / 4.0, self.resolution) if joined else _as_given(starts, ends, strays)
         a, b, z_low, z_high, slack, stray = self._split_steep(*pieces)
         z_low, z_high, slack = z_low - stray, z_high + stray, slack + stray
-        air = ~self._lower_near(self._cells_near(a, b, slack, cutter.radius + self.half_diagonal), cutter, z_low, z_high, slack)
+        air = ~self._lower_near(self._cells_near(a, b, slack, cutter.radius + self.half_diagonal, cutter), cutter, z_low, z_high, slack)
         return total_length(a[air], b[air])
 
     def cut_arcs(self, arcs: XYArcs, cutter: Cutter) -> float:
@@ -207,19 +207,24 @@ class Workpiece:
         may_cut = numpy.zeros(len(z_low), bool)
         first_cell, last_cell = self.nx * self.ny, -1
         for near in nears:
-            stray = slack.take(near.leaders).take(near.owner)
-            outer = numpy.maximum(near.distance - self.half_diagonal - stray, 0.0)  # nearest the cell's points can be to the true path
-            touched = outer <= cutter.radius
-            lowest_lift = None if cutter.lowest_is_flat else cutter.lowest_lift(outer)
+            if near.distance is None:  # a flat end's cells, judged already (see _swept_in_chunk)
+                touched, lowest_lift, touched_cells = None, None, near.flat
+            else:
+                stray = slack.take(near.leaders).take(near.owner)
+                outer = numpy.maximum(near.distance - self.half_diagonal - stray, 0.0)  # nearest the cell's points can be to the true path
+                touched = outer <= cutter.radius
+                lowest_lift = None if cutter.lowest_is_flat else cutter.lowest_lift(outer)
+                touched_cells = near.flat[touched]
             may_cut[near.pieces] = self._may_cut(near, touched, lowest_lift, z_low)
-            if cutter.radius >= self.half_diagonal:  # else no cell lies wholly under the tool
+            if near.distance is None:
+                _sink_groups(self.upper, near.covered_flat, near.covered_owner, near.least(z_high), None, up=True)
+            elif cutter.radius >= self.half_diagonal:  # else no cell lies wholly under the tool
                 inner = near.distance + self.half_diagonal + stray  # farthest they can be
                 covered = inner <= cutter.radius
                 _sink_groups(self.upper, near.flat[covered], near.owner[covered], near.least(z_high),
                              None if cutter.flat_end else cutter.lift(inner[covered]), up=True)
-            touched_cells = near.flat[touched]
             if not self.lower_emptied:
-                _sink_groups(self.lower, touched_cells, near.owner[touched], near.least(z_low),
+                _sink_groups(self.lower, touched_cells, near.owner if touched is None else near.owner[touched], near.least(z_low),
                              None if lowest_lift is None else lowest_lift[touched], up=False)
             if len(touched_cells):
                 first_cell, last_cell = min(first_cell, int(touched_cells.min())), max(last_cell, int(touched_cells.max()))
@@ -227,24 +232,28 @@ class Workpiece:
         return may_cut
 
     def _may_cut(self, near: "_Near", touched, lowest_lift, z_low):
-        """Which pieces of ``near`` may have cut: some cell they touch has ``upper`` above the
-        tool's lowest surface there. Every piece of a group touches the same cells, so with
-        a flat lowest surface (``lowest_lift`` None) a piece may cut where the highest top its
-        group touches lies above its own low; a shaped one is measured piece by piece."""
+        """Which pieces of ``near`` may have cut: some cell they touch (``touched``; None:
+        every cell of ``near``) has ``upper`` above the tool's lowest surface there. Every
+        piece of a group touches the same cells, so with a flat lowest surface
+        (``lowest_lift`` None) a piece may cut where the highest top its group touches lies
+        above its own low; a shaped one is measured piece by piece."""
         tops = self.upper.reshape(-1).take(near.flat)
         if lowest_lift is None and not near.alone:
             highest = numpy.full(len(near.leaders), NO_MATERIAL, numpy.float32)
-            numpy.fmax.at(highest, near.owner[touched], tops[touched])  # a NaN top (a NaN cut) is no cell above, as its comparison says
+            owner = near.owner if touched is None else near.owner[touched]
+            numpy.fmax.at(highest, owner, tops if touched is None else tops[touched])  # a NaN top (a NaN cut) is no cell above, as its comparison says
             return highest.take(near.group) > z_low.take(near.pieces)
         member, entry = near.entries_of_each_piece()
         if entry is not None:
-            tops, touched = tops.take(entry), touched.take(entry)
+            tops = tops.take(entry)
+            touched = None if touched is None else touched.take(entry)
             lowest_lift = None if lowest_lift is None else lowest_lift.take(entry)
         surface = z_low.take(near.pieces).take(member)
         if lowest_lift is not None:
             surface += lowest_lift
+        above = tops > surface
         may_cut = numpy.zeros(len(near.pieces), bool)
-        may_cut[member[touched & (tops > surface)]] = True
+        may_cut[member[above if touched is None else touched & above]] = True
         return may_cut
 
     def cut_anywhere(self) -> None:
@@ -361,14 +370,17 @@ class Workpiece:
         high = numpy.where(split, numpy.maximum(start[:, 2], end[:, 2]), z_high[move])
         return start, end, low, high, *(values[move] for values in per_piece)
 
-    def _cells_near(self, a, b, slack, reach: float):
+    def _cells_near(self, a, b, slack, reach: float, cutter: Cutter | None = None):
         """For chunks of pieces a-b, the cells whose centres lie within ``reach + slack`` of a
         piece's XY path, with their distances (:class:`_Near`). Pieces of a chunk with the
         same XY path and slack (a plunge's steps, a profile's laps at each depth) form a
         group, measured once. Only the part of each row of a piece's bounding box that can
         be that near is measured (:meth:`_row_spans`); the distance is worked out as
         :func:`distance_to_segment` does, with each piece's and row's terms computed once
-        instead of once per cell."""
+        instead of once per cell. A flat-end ``cutter`` (``reach`` its radius and the half
+        diagonal) gets the cells it touches and covers instead (:meth:`_swept_in_chunk`):
+        a tool whose shape is not known needs the distances (its surface's height over the
+        cells it covers), as do the rapid checks."""
         reach = reach + slack
         column_low, column_high = self._index_range(numpy.minimum(a[:, 0], b[:, 0]) - reach, numpy.maximum(a[:, 0], b[:, 0]) + reach, self.x_low, self.nx)
         row_low, row_high = self._index_range(numpy.minimum(a[:, 1], b[:, 1]) - reach, numpy.maximum(a[:, 1], b[:, 1]) + reach, self.y_low, self.ny)
@@ -381,8 +393,11 @@ class Workpiece:
                                                  self.y_low, self.ny)
         rows = numpy.where(numpy.isfinite(size), numpy.maximum(stop_row - first_row, 0), 0)  # the rows of the box whose centres can be near
         for chunk, group, leaders in _grouped_chunks((column_high - column_low) * heights, _path_keys(a, b, slack)):
-            owner, flat, distance = self._near_in_chunk(leaders, segments, rows, first_row, reach, rounding, column_low, column_high, centres)
-            yield _Near(chunk, group, leaders, owner, flat, distance)
+            rows_of = _Rows.of(self, leaders, segments, rows, first_row, reach, rounding, column_low, column_high)
+            if cutter is not None and cutter.flat_end:
+                yield _Near(chunk, group, leaders, *self._swept_in_chunk(rows_of, centres, cutter, slack))
+            else:
+                yield _Near(chunk, group, leaders, *self._near_in_chunk(rows_of, centres))
 
     def _cells_near_arcs(self, arcs: XYArcs, reach: float):
         """:meth:`_cells_near` for arcs about Z: the cells of each arc's box widened by the
@@ -414,9 +429,7 @@ class Workpiece:
         left_first, left_stop = numpy.maximum(left_first, low), numpy.minimum(left_stop, high)
         right_first, right_stop = numpy.maximum(numpy.maximum(right_first, left_stop), low), numpy.minimum(right_stop, high)
         first = numpy.stack([left_first, right_first], axis=1).reshape(-1)
-        widths = numpy.maximum(numpy.stack([left_stop, right_stop], axis=1).reshape(-1) - first, 0)
-        entry = numpy.arange(len(first)).repeat(widths)  # each measured cell's span
-        column = numpy.arange(len(entry)) + (first - widths.cumsum() + widths).take(entry)
+        entry, column = _span_cells(first, numpy.maximum(numpy.stack([left_stop, right_stop], axis=1).reshape(-1), first))
         entry >>= 1  # the span's (arc, row)
         arc = piece.take(entry)
         distance = arcs.distance(arc, centres.take(column), y.take(entry))
@@ -424,20 +437,52 @@ class Workpiece:
         entry = entry.take(near)
         return place.take(entry), row.take(entry) * self.nx + column.take(near), distance.take(near)
 
-    def _near_in_chunk(self, pieces, segments: "_Segments", rows, first_row, reach, rounding, column_low, column_high, centres):
-        """(owner, flat cell, distance) of the cells near ``pieces``, ``owner`` the place of
-        each one's piece among them (see :meth:`_cells_near`)."""
-        piece = pieces.repeat(rows[pieces])  # one entry per (piece, row)
-        place = numpy.arange(len(pieces)).repeat(rows[pieces])
-        row = first_row.take(piece) + _ramp(rows[pieces])
-        y = self._y(row)
-        first, stop = self._row_spans(segments, reach.take(piece) + rounding.take(piece), piece, y, column_low.take(piece), column_high.take(piece))
-        widths = stop - first
-        entry = numpy.arange(len(piece)).repeat(widths)  # each measured cell's (piece, row)
-        column = numpy.arange(len(entry)) + (first - widths.cumsum() + widths).take(entry)
-        cells, distance = segments.near_on_rows(piece, entry, centres.take(column), y, (y - segments.ay.take(piece)) * segments.dy.take(piece), reach.take(piece))
+    def _near_in_chunk(self, rows: "_Rows", centres):
+        """(owner, flat cell, distance) of the cells near the pieces of ``rows``, ``owner``
+        the place of each one's piece among them (see :meth:`_cells_near`)."""
+        entry, column = _span_cells(*rows.spans)
+        cells, distance = rows.segments.near_on_rows(rows.piece, entry, centres.take(column), rows.y, rows.across, rows.reach)
         entry = entry.take(cells)
-        return place.take(entry), row.take(entry) * self.nx + column.take(cells), distance
+        return rows.place.take(entry), rows.row.take(entry) * self.nx + column.take(cells), distance
+
+    def _swept_in_chunk(self, rows: "_Rows", centres, cutter: Cutter, slack):
+        """(owner, flat cell, None, covered owner, covered flat cell) of a flat-end tool
+        along the pieces of ``rows``: the cells it may touch and those it surely covers,
+        judged as :meth:`_lower_near` judges the distances :meth:`_near_in_chunk` gives, bit
+        for bit. Neither needs a cell's distance but at its ends: the points within a radius
+        of a piece cross a row in one stretch, and the cells of that stretch (but for those
+        within the rounding of its ends, which are measured) are all touched, or all covered."""
+        stray, half = slack.take(rows.piece), self.half_diagonal
+
+        def touched(distance, entry):
+            return (distance <= rows.reach.take(entry)) & (numpy.maximum(distance - half - stray.take(entry), 0.0) <= cutter.radius)
+
+        def covered(distance, entry):
+            return (distance <= rows.reach.take(entry)) & (distance + half + stray.take(entry) <= cutter.radius)
+
+        entry, column = self._cells_within(rows, centres, rows.reach, touched)
+        touched_cells = (rows.place.take(entry), rows.row.take(entry) * self.nx + column, None)
+        if cutter.radius < half:  # no cell lies wholly under the tool
+            return (*touched_cells, touched_cells[0][:0], touched_cells[1][:0])
+        entry, column = self._cells_within(rows, centres, cutter.radius - half - stray, covered)
+        return (*touched_cells, rows.place.take(entry), rows.row.take(entry) * self.nx + column)
+
+    def _cells_within(self, rows: "_Rows", centres, radius, keep):
+        """(entry, column) of the cells of each (piece, row) entry of ``rows`` within
+        ``radius`` (one an entry) of its piece, as ``keep(distance, entry)`` judges them: the
+        stretch of the row within the radius less the rounding is kept whole, and only the
+        cells between it and the stretch within the radius plus the rounding are measured."""
+        box_first, box_stop = rows.spans
+        outer_first, outer_stop = self._centre_range(*_capsule_crossing(rows.segments, rows.piece, rows.y, radius + rows.rounding, outward=True), self.x_low, self.nx)
+        outer_first, outer_stop = numpy.maximum(outer_first, box_first), numpy.maximum(numpy.minimum(outer_stop, box_stop), outer_first)
+        sure_first, sure_stop = self._centre_range(*_capsule_crossing(rows.segments, rows.piece, rows.y, radius - rows.rounding, outward=False), self.x_low, self.nx)
+        sure_first = numpy.clip(sure_first, outer_first, outer_stop)
+        sure_stop = numpy.clip(sure_stop, sure_first, outer_stop)
+        edge, column = _span_cells(numpy.concatenate([outer_first, sure_stop]), numpy.concatenate([sure_first, outer_stop]))
+        edge %= len(rows.piece)
+        kept = keep(rows.segments.distances_on_rows(rows.piece, edge, centres.take(column), rows.y, rows.across), edge).nonzero()[0]
+        entry, sure_column = _span_cells(sure_first, sure_stop)
+        return numpy.concatenate([entry, edge.take(kept)]), numpy.concatenate([sure_column, column.take(kept)])
 
     def _row_spans(self, segments: "_Segments", reach, piece, y, column_low, column_high):
         """(first, stop) columns of each (piece, row) entry whose cell centres may lie within
@@ -695,7 +740,9 @@ class _Near:
     leaders: numpy.ndarray
     owner: numpy.ndarray
     flat: numpy.ndarray
-    distance: numpy.ndarray
+    distance: numpy.ndarray | None  # None: a flat end's cells, each touched, and those it covers below
+    covered_owner: numpy.ndarray | None = None
+    covered_flat: numpy.ndarray | None = None
 
     @property
     def alone(self) -> bool:
@@ -727,6 +774,82 @@ class _Near:
         if entry is None:
             return self.pieces.take(member), self.flat, self.distance
         return self.pieces.take(member), self.flat.take(entry), self.distance.take(entry)
+
+
+@dataclass(frozen=True)
+class _Rows:
+    """The rows a chunk of pieces is measured on: an entry per (piece, row), with the
+    ``piece``, its ``place`` among the chunk's, the ``row`` and its centre's ``y``, the
+    ``across`` term of the distance, the ``reach`` and ``rounding`` of the piece, and the
+    ``spans`` of columns (first, stop) whose centres may lie within the reach."""
+
+    segments: "_Segments"
+    piece: numpy.ndarray
+    place: numpy.ndarray
+    row: numpy.ndarray
+    y: numpy.ndarray
+    across: numpy.ndarray
+    reach: numpy.ndarray
+    rounding: numpy.ndarray
+    spans: tuple
+
+    @classmethod
+    def of(cls, workpiece: Workpiece, pieces, segments: "_Segments", rows, first_row, reach, rounding, column_low, column_high):
+        piece = pieces.repeat(rows[pieces])
+        row = first_row.take(piece) + _ramp(rows[pieces])
+        y = workpiece._y(row)
+        reach, rounding = reach.take(piece), rounding.take(piece)
+        spans = workpiece._row_spans(segments, reach + rounding, piece, y, column_low.take(piece), column_high.take(piece))
+        return cls(segments, piece, numpy.arange(len(pieces)).repeat(rows[pieces]), row, y, (y - segments.ay.take(piece)) * segments.dy.take(piece),
+                   reach, rounding, spans)
+
+
+def _span_cells(first, stop):
+    """(entry, column) of every cell of the spans first-stop (one an entry, stop >= first),
+    span after span."""
+    widths = stop - first
+    entry = numpy.arange(len(first)).repeat(widths)
+    return entry, numpy.arange(len(entry)) + (first - widths.cumsum() + widths).take(entry)
+
+
+def _capsule_crossing(segments: "_Segments", piece, y, radius, outward: bool):
+    """(left, right): where the row at ``y`` crosses the points within ``radius`` of each
+    segment ``piece`` (one an entry); left > right where it does not. That set is the
+    union of a disc at each end and the rectangle between, and convex, so the crossing is
+    the hull of those three crossings. Where the arithmetic fails (a length whose square
+    overflows) the crossing is taken for the whole row (``outward``) or for nothing."""
+    ax, ay, dx, dy = (terms.take(piece) for terms in (segments.ax, segments.ay, segments.dx, segments.dy))
+    with numpy.errstate(all="ignore"):
+        length = numpy.sqrt(dx * dx + dy * dy)
+        left, right = numpy.full(len(piece), numpy.inf), numpy.full(len(piece), -numpy.inf)
+        for end_x, end_y in ((ax, ay), (ax + dx, ay + dy)):
+            half_chord = numpy.sqrt(radius * radius - (y - end_y) ** 2)  # NaN where the row passes the disc
+            left, right = numpy.fmin(left, end_x - half_chord), numpy.fmax(right, end_x + half_chord)
+        along = y - ay
+        # the rectangle: 0 <= (x - ax) dx + along dy <= length², |(x - ax) dy - along dx| <= radius length
+        low_t, high_t = _solve_linear(dx, -along * dy, length * length - along * dy)
+        low_s, high_s = _solve_linear(dy, along * dx - radius * length, along * dx + radius * length)
+        low, high = ax + numpy.maximum(low_t, low_s), ax + numpy.minimum(high_t, high_s)
+        band = (length > 0.0) & (low <= high)
+        left, right = numpy.where(band, numpy.fmin(left, low), left), numpy.where(band, numpy.fmax(right, high), right)
+    failed = ~numpy.isfinite(length)
+    empty = radius < 0.0
+    if outward:
+        return numpy.where(failed, -numpy.inf, numpy.where(empty, numpy.inf, left)), numpy.where(failed, numpy.inf, numpy.where(empty, -numpy.inf, right))
+    empty |= failed
+    return numpy.where(empty, numpy.inf, left), numpy.where(empty, -numpy.inf, right)
+
+
+def _solve_linear(factor, low, high):
+    """(low, high) of the x with ``low <= x * factor <= high`` (one an entry); low > high where none."""
+    with numpy.errstate(all="ignore"):
+        sloped = factor != 0.0
+        divided = numpy.where(sloped, factor, 1.0)
+        first, second = low / divided, high / divided
+        below, above = numpy.minimum(first, second), numpy.maximum(first, second)
+    level_inside = (low <= 0.0) & (high >= 0.0)
+    return (numpy.where(sloped, below, numpy.where(level_inside, -numpy.inf, numpy.inf)),
+            numpy.where(sloped, above, numpy.where(level_inside, numpy.inf, -numpy.inf)))
 
 
 def _ramp(counts):
@@ -790,14 +913,18 @@ class _Segments:
         with the other points of its run ``entry[k]``: the inner loop of the sweep, worked in
         place. Each term is gathered point by point through one index (spreading a run's
         terms by ``repeat`` cost twice as much)."""
+        distance = self.distances_on_rows(piece, entry, px, py, across)
+        near = (distance <= reach.take(entry)).nonzero()[0]
+        return near, distance.take(near)
+
+    def distances_on_rows(self, piece, entry, px, py, across):
+        """The :meth:`distance` of each point of :meth:`near_on_rows` (``px`` is overwritten)."""
         owner = piece.take(entry)
         terms = [values.take(owner) for values in (self.ax, self.ay, self.dx, self.dy, self.divisor)]
         qx, qy = _offsets(*terms, px, py.take(entry), across.take(entry))
         distance = numpy.multiply(qx, qx)
         distance += numpy.multiply(qy, qy, out=px)
-        numpy.sqrt(distance, out=distance)  # as _length works it out
-        near = (distance <= reach.take(entry)).nonzero()[0]
-        return near, distance.take(near)
+        return numpy.sqrt(distance, out=distance)  # as _length works it out
 
     def _offsets(self, owner, px, py, across):
         """(x, y) from the points (px, py) to their nearest points on segments ``owner``,

@@ -11,7 +11,7 @@ from unittest.mock import patch
 import numpy
 import pytest
 import shapely
-from hypothesis import assume, given, settings, strategies as st
+from hypothesis import assume, example, given, settings, strategies as st
 
 from ncverify.context import Stock
 from ncverify.workpiece import NO_MATERIAL, Cutter, ModelTooLarge, Workpiece, distance_to_segment
@@ -716,6 +716,29 @@ def test_laps_of_one_path_at_several_depths_leave_the_field_that_every_cell_meas
         with patch.object(workpiece, "_CHUNK_CELLS", 1 << 24):
             assert piece.cut(starts, ends, cutter, stray, joined) == _sweep_every_cell(plain, starts, ends, cutter, stray, joined)
         assert numpy.array_equal(piece.upper, plain.upper) and numpy.array_equal(piece.lower, plain.lower)
+
+
+@settings(max_examples=200, deadline=None)
+@given(_GRIDS, st.lists(st.tuples(_pieces(), st.floats(-8, 1), st.floats(0, 0.3)), min_size=1, max_size=6),
+       st.one_of(st.floats(0.01, 8.0), st.sampled_from([0.25, 0.5, 1.0, 2.0])), st.sampled_from([1 << 24, 7, 40]))
+@example((BLANK, 0.5), [(((-1e200, 10.0), (1e200, 10.0)), -1.0, 0.0), (((5.0, -1e160), (5.0, 1e160)), -1.0, 0.0)], 2.0, 1 << 24)  # squares past the float range
+def test_a_flat_end_touches_and_covers_the_cells_every_cell_measured_finds(grid, drawn, radius, chunk):
+    """A flat end's cells are not measured but taken a row's stretch at a time, the few at
+    each stretch's ends measured: pieces anywhere (far out, off to infinity, along a row or
+    a column, nearly level, of no length), with strays, radii below and above a cell's half
+    diagonal, in chunks of every size, leave the field of every cell measured, and in one
+    chunk (each is judged against the field before it) its air."""
+    from ncverify import workpiece
+
+    piece, plain = Workpiece(*grid), Workpiece(*grid)
+    starts = numpy.array([[*start, depth] for (start, _), depth, _ in drawn])
+    ends = numpy.array([[*end, depth] for (_, end), depth, _ in drawn])
+    strays = numpy.array([stray for _, _, stray in drawn])
+    with patch.object(workpiece, "_CHUNK_CELLS", chunk), numpy.errstate(all="ignore"):
+        air, plain_air = piece.cut(starts, ends, Cutter(radius), strays, joined=False), _sweep_every_cell(plain, starts, ends, Cutter(radius), strays, joined=False)
+    if chunk == 1 << 24:
+        assert air == plain_air or math.isnan(air) and math.isnan(plain_air)  # a piece off to infinity has no finite length
+    assert numpy.array_equal(piece.upper, plain.upper) and numpy.array_equal(piece.lower, plain.lower)
 
 
 _HEIGHT = st.one_of(st.floats(-12, 3), st.sampled_from([0.5, -10.5, 0.0, -10.0, 1e6, -1e6]))  # the slab's faces among them
