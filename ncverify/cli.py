@@ -99,7 +99,7 @@ def build_parser() -> argparse.ArgumentParser:
     check.add_argument("--sarif-category", default="ncverify", metavar="NAME", help="SARIF: the run's automationDetails category (one per analysed library)")
     check.add_argument("--plot", metavar="DIR", help="draw the toolpath of every failing file into DIR (needs ncverify[plot])")
     check.add_argument("--stock-resolution", type=_stock_resolution, default=Settings.stock_resolution, metavar="MM|auto|off",
-                       help="judge rapids against the stock as cut so far, with cells of MM (default auto: from the smallest tool); "
+                       help="judge rapids against the stock as cut so far, with cells of MM (default auto: from the smallest tool the program loads); "
                             "0 or off: against the raw blank")
     check.add_argument("--stock-out", metavar="FILE", help="write the workpiece the program leaves (.stl or .npz; {stem}: the program's name)")
 

@@ -176,6 +176,19 @@ def tool_value_problem(key: str, value: float) -> str | None:
 NO_TOOL_TABLE = "no tool table ([tools.N] in ncverify.toml, 'ncverify: tool' annotations, or TOOL.T beside a Klartext program)"
 
 
+def tools_called_in(buffer, call, unsure) -> frozenset[int] | None:
+    """The tool numbers the text ``buffer`` can load: every number the pattern ``call``
+    finds (its first group), and no other. None, any tool, where that cannot be told from
+    the text: the pattern ``unsure`` finds a tool called by a computed number, a call of
+    another program (whose tools are not in this text) or a write to the tool table, or
+    no tool is called at all (the program cuts with the one in the spindle). A number in
+    a comment is counted too, which can only add a tool."""
+    if unsure.search(buffer) is not None:
+        return None
+    called = frozenset(int(number) for number in call.findall(buffer))
+    return called or None
+
+
 class ToolTable(Mapping[int, Tool]):
     """The tools by number, and the one place where a computed T number becomes a tool.
 
@@ -337,6 +350,7 @@ class RuleContext:
     arc_tolerance: "ArcTolerance | None" = None  # the control's own, where the dialect states it
     lengths_by_set_up: bool = False  # see DialectSetup.lengths_by_set_up
     dialect: str | None = None  # the program's dialect: rules of other dialects are not asked (None: every rule is)
+    tools_called: frozenset[int] | None = None  # the tool numbers the program's text can call; None: any of the table's
 
     @property
     def lathe(self) -> bool:

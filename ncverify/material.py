@@ -89,7 +89,7 @@ class Material:
         context, settings = checker.context, checker.settings
         self.stock = context.stock
         self.tools = context.tools
-        self.resolution, self.too_large = _resolution(self.stock, self.tools, context.machine.kind, settings)
+        self.resolution, self.too_large = _resolution(self.stock, self.tools, context.tools_called, context.machine.kind, settings)
         self.turning = Turning(self.stock, self.tools) if turning_stock.kept(self.stock, context.machine.kind, settings) else None
         self.air: dict[str, list[float]] = {}  # tool -> [feed length, air length]
         self.final: Workpiece | None = None
@@ -579,10 +579,13 @@ def _cutter_shape(kind: str | None, radius: float, corner: float | None, point_a
     return Cutter(radius, known=False)
 
 
-def _resolution(stock, tools, machine, settings) -> tuple[float | None, str | None]:
+def _resolution(stock, tools, called, machine, settings) -> tuple[float | None, str | None]:
     """The cell size when the model is kept, else None and, when the model was wanted but
     does not fit the memory cap, why (the rules then judge against the blank and say so).
-    Not kept: turned off, no stock, a lathe bar (:mod:`.turning_stock` keeps that)."""
+    Not kept: turned off, no stock, a lathe bar (:mod:`.turning_stock` keeps that). Cells
+    come from the smallest of the tools the program can load (``called``; None: of every
+    tool in the table): a machine's whole magazine in its table, engraving tools and all,
+    should not make every program's cells as fine as its finest tool."""
     wanted, cap = settings.stock_resolution, settings.stock_memory
     if wanted == 0 or stock is None or machine == "lathe" or stock.kind not in ("box", "polygon"):
         return None, None
@@ -591,7 +594,7 @@ def _resolution(stock, tools, machine, settings) -> tuple[float | None, str | No
     fitting = math.sqrt(area * _FIELD_BYTES_PER_CELL / cap) * 1.01  # the finest cells the cap allows
     if wanted is not None:
         return (wanted, None) if wanted >= fitting else (None, _too_large(stock, f"cells of {wanted:g} mm", wanted, area, cap))
-    radii = [tool.radius for tool in tools.values() if tool.radius]
+    radii = [tool.radius for number, tool in tools.items() if tool.radius and (called is None or number in called)]
     smallest = min(radii) if radii else None
     chosen = min(max(smallest / 4.0 if smallest else 0.5, AUTO_RESOLUTION[0]), AUTO_RESOLUTION[1])
     if smallest is not None and fitting > smallest:  # cells wider than the tool: none of its cuts would surely clear a cell

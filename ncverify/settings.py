@@ -33,7 +33,7 @@ class Settings:
     file_timeout_s: float = 600.0  # wall clock for one file's analysis (ncverify.watchdog)
     file_memory_bytes: int = 8 << 30  # memory for one file's analysis
     rapid_path: str = "straight"  # or "dogleg": each axis moves on its own at rapid
-    stock_resolution: float | None = None  # the stock as cut so far: None (default) cells from the smallest tool, > 0 these cells (mm), 0 off (the blank)
+    stock_resolution: float | None = None  # the stock as cut so far: None (default) cells from the smallest tool the program loads, > 0 these cells (mm), 0 off (the blank)
     stock_memory: int = 256 << 20  # bytes the in-process stock may take
     stock_out: Path | None = None  # write the cut workpiece here (.stl or .npz; {stem}: the program's name)
     config: Path | None = None  # the project file; None: ncverify.toml found upward

@@ -22,7 +22,7 @@ import re
 from functools import cache
 
 from .. import ir, values
-from ..context import Context, Stock, Tool, tool_value_problem
+from ..context import Context, Stock, Tool, tool_value_problem, tools_called_in
 from ..cycle_models import load_cycle_table
 from ..dependencies import note_file
 from ..dialect import DialectSetup
@@ -898,6 +898,12 @@ _BLK_FORM = re.compile(r"(?mi)^[ \t]*\d*[ \t]*BLK[ \t]+FORM[ \t]+(0\.1|0\.2|CYLI
 _STOCK_WORD = re.compile(r"(?i)\b(I?[XYZ]|D|R|L|DIST|DI)[ \t]*([+-]?[0-9]+(?:[.,][0-9]*)?)")
 
 
+_TOOL_CALL = re.compile(rb"TOOL\s+CALL\s+(\d+)", re.IGNORECASE)
+# what leaves the tools a program loads to more than its numbered TOOL CALLs: a tool called
+# by name or a Q parameter, a call of another program, a write to a table (FN 17, FN 26-28)
+_TOOL_CALL_UNSURE = re.compile(rb"TOOL\s+CALL\s+[\"'Qq]|(?:CALL|SEL)\s+PGM|PGM\s+CALL|\bFN\s*(?:17|26|27|28)\b|TAB(?:OPEN|WRITE)", re.IGNORECASE)
+
+
 class KlartextFrontend:
     def __init__(self, lowering: KlartextLowering, tool_table: dict[int, Tool] | None = None):
         self.lowering = lowering
@@ -946,6 +952,10 @@ class KlartextFrontend:
     def variable_scope(name: str) -> str:
         """QL parameters belong to one program (reference A §3); Q and QR are global."""
         return "local" if name.startswith("QL") else "global"
+
+    def tools_called(self, source) -> frozenset[int] | None:
+        """The tools the program can load (:func:`~ncverify.context.tools_called_in`)."""
+        return tools_called_in(source.buffer, _TOOL_CALL, _TOOL_CALL_UNSURE)
 
     def program_context(self, source) -> Context:
         """The BLK FORM of the program as its stock, TOOL.T beside it as its tools."""

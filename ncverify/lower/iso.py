@@ -18,6 +18,7 @@ from ..cycle_models import UNKNOWN_CYCLE
 from ..dialect import DialectSetup
 from ..read.iso import ReadBlock, Statement, Word, read_line
 from ..read.iso_runs import read_plain_run_at
+from ..context import tools_called_in
 from ..source import Span, decode_line, find_all, line_start
 from ..tables import CodeTable, code_key, iso_table
 from ..values import VACANT
@@ -592,15 +593,27 @@ def lower_fast_motion(raw: bytes, line: int, path: str | None, form: FastMotionF
     return block
 
 
+_TOOL_WORD = re.compile(rb"(?<![A-Za-z_#<])[Tt]\s*(\d+)")
+# what leaves the tools a program loads to more than its T words: a T word with a computed
+# number, a call of a program that may be another file (M98, M198, G65, G66), G10 (it
+# writes tool offsets)
+_TOOL_UNSURE = rb"(?<![A-Za-z_#<])[Tt]\s*[-+#\[<]|(?<![A-Za-z])[Mm]\s*0*(?:98|198)(?!\d)|(?<![A-Za-z])[Gg]\s*0*(?:10|65|66)(?!\d)"
+
+
 class IsoFrontend:
     """What the interpreter asks of a dialect: blocks of a line, where programs start, and
     where a sequence number may be. Programs are ``O`` numbers; labels are ``N`` numbers."""
 
     dialect = "iso"
+    tool_unsure = re.compile(_TOOL_UNSURE)
 
     def __init__(self, lowering: IsoLowering):
         self.lowering = lowering
         self.fast_form = FastMotionForm(lowering.axis_letters - frozenset(lowering.twins), lowering.increment, lowering.feed_increment)
+
+    def tools_called(self, source) -> frozenset[int] | None:
+        """The tools the program can load (:func:`~ncverify.context.tools_called_in`)."""
+        return tools_called_in(source.buffer, _TOOL_WORD, self.tool_unsure)
 
     def blocks(self, raw: bytes, line: int, path: str | None) -> list[ir.Block]:
         block = fast_motion_block(raw, line, path, self.fast_form)

@@ -34,7 +34,7 @@ from ..resources import data_dir, read_table
 from ..source import Span, decode_line, line_start
 from ..tables import CodeTable
 from ..values import VACANT
-from .iso import IsoFrontend, IsoLowering
+from .iso import _TOOL_UNSURE, IsoFrontend, IsoLowering
 
 LAST_PARAMETER = 5602.0  # the highest numbered parameter
 ARGUMENTS = 30  # #1-#30 are a subroutine's arguments
@@ -273,14 +273,29 @@ def _name_pattern(name: str) -> bytes:
     return rb"0*" + body.encode() + rb"(?![0-9])"
 
 
+_OWORD_CALL = re.compile(rb"[Oo]\s*(<[^>]*>|\d+)\s*call", re.IGNORECASE)
+_OWORD_SUB = re.compile(rb"[Oo]\s*(<[^>]*>|\d+)\s*sub", re.IGNORECASE)
+
+
 class LinuxcncFrontend(IsoFrontend):
     """Programs are the file's main code and its ``oN sub`` definitions; labels are O-words."""
 
     dialect = "linuxcnc"
+    tool_unsure = re.compile(_TOOL_UNSURE + rb"|(?<![A-Za-z])[Mm]\s*0*61(?!\d)")  # M61 sets the tool number without a T word
 
     def __init__(self, lowering: LinuxcncLowering):
         super().__init__(lowering)
         self.structure_notes: dict[int, list[ir.Note]] = {}  # line -> O-word structure findings of the main file
+
+    def tools_called(self, source) -> frozenset[int] | None:
+        """As in ISO, and none told when the program calls a subroutine it does not define
+        (a file of its own, whose T words are not in this text)."""
+        def names(pattern):
+            return {name.lower().replace(b" ", b"") for name in pattern.findall(source.buffer)}
+
+        if names(_OWORD_CALL) - names(_OWORD_SUB):
+            return None
+        return super().tools_called(source)
 
     def _lower_text(self, text: str, line: int, path: str | None) -> list[ir.Block]:
         blocks = []
