@@ -185,8 +185,13 @@ def tools_called_in(buffer, call, unsure) -> frozenset[int] | None:
     a comment is counted too, which can only add a tool."""
     if unsure.search(buffer) is not None:
         return None
-    called = frozenset(int(number) for number in call.findall(buffer))
-    return called or None
+    called = set()
+    for found in call.finditer(buffer):
+        number = found.group(1)
+        if len(number) > 15:  # no tool of the table (and past what int() takes from text of thousands of digits)
+            return None
+        called.add(int(number))
+    return frozenset(called) or None
 
 
 class ToolTable(Mapping[int, Tool]):

@@ -61,6 +61,7 @@ def test_every_tool_the_interpreter_loads_is_one_the_scan_names(lines, path):
     ("T1 M6\nG65 P9010 A1.\nM30\n", None),
     ("T1 M6\nG10 L12 P1 R0.2\nM30\n", None),  # tool offsets written by the program
     ("G0M98P100\nT1M6\nM30\n", None),
+    ("T1 M6\n(T" + "9" * 5000 + ")\nM30\n", None),  # a number no table holds, past what int() reads from text
 ])
 def test_the_iso_scan_names_the_t_words_or_says_it_cannot_tell(text, called):
     assert _called_and_loaded(_TABLE + text, "t.nc")[0] == (None if called is None else frozenset(called))
