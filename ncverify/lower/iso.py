@@ -14,11 +14,11 @@ from dataclasses import dataclass, field
 import numpy
 
 from .. import ir, values
+from ..context import tools_called_in
 from ..cycle_models import UNKNOWN_CYCLE
 from ..dialect import DialectSetup
 from ..read.iso import ReadBlock, Statement, Word, read_line
 from ..read.iso_runs import read_plain_run_at
-from ..context import tools_called_in
 from ..source import Span, decode_line, find_all, line_start
 from ..tables import CodeTable, code_key, iso_table
 from ..values import VACANT
@@ -597,7 +597,7 @@ _TOOL_WORD = re.compile(rb"(?<![A-Za-z_#<])[Tt]\s*(\d+)")
 # what leaves the tools a program loads to more than its T words: a T word with a computed
 # number, a call of a program that may be another file (M98, M198, G65, G66), G10 (it
 # writes tool offsets)
-_TOOL_UNSURE = rb"(?<![A-Za-z_#<])[Tt]\s*[-+#\[<]|(?<![A-Za-z])[Mm]\s*0*(?:98|198)(?!\d)|(?<![A-Za-z])[Gg]\s*0*(?:10|65|66)(?!\d)"
+TOOL_UNSURE = rb"(?<![A-Za-z_#<])[Tt]\s*[-+#\[<]|(?<![A-Za-z])[Mm]\s*0*(?:98|198)(?!\d)|(?<![A-Za-z])[Gg]\s*0*(?:10|65|66)(?!\d)"
 
 
 class IsoFrontend:
@@ -605,7 +605,7 @@ class IsoFrontend:
     where a sequence number may be. Programs are ``O`` numbers; labels are ``N`` numbers."""
 
     dialect = "iso"
-    tool_unsure = re.compile(_TOOL_UNSURE)
+    tool_unsure = re.compile(TOOL_UNSURE)
 
     def __init__(self, lowering: IsoLowering):
         self.lowering = lowering

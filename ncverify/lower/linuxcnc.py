@@ -34,7 +34,7 @@ from ..resources import data_dir, read_table
 from ..source import Span, decode_line, line_start
 from ..tables import CodeTable
 from ..values import VACANT
-from .iso import _TOOL_UNSURE, IsoFrontend, IsoLowering
+from .iso import TOOL_UNSURE, IsoFrontend, IsoLowering
 
 LAST_PARAMETER = 5602.0  # the highest numbered parameter
 ARGUMENTS = 30  # #1-#30 are a subroutine's arguments
@@ -281,7 +281,7 @@ class LinuxcncFrontend(IsoFrontend):
     """Programs are the file's main code and its ``oN sub`` definitions; labels are O-words."""
 
     dialect = "linuxcnc"
-    tool_unsure = re.compile(_TOOL_UNSURE + rb"|(?<![A-Za-z])[Mm]\s*0*61(?!\d)")  # M61 sets the tool number without a T word
+    tool_unsure = re.compile(TOOL_UNSURE + rb"|(?<![A-Za-z])[Mm]\s*0*61(?!\d)")  # M61 sets the tool number without a T word
 
     def __init__(self, lowering: LinuxcncLowering):
         super().__init__(lowering)
