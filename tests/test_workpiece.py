@@ -725,9 +725,10 @@ def test_laps_of_one_path_at_several_depths_leave_the_field_that_every_cell_meas
 def test_a_flat_end_touches_and_covers_the_cells_every_cell_measured_finds(grid, drawn, radius, chunk):
     """A flat end's cells are not measured but taken a row's stretch at a time, the few at
     each stretch's ends measured: pieces anywhere (far out, off to infinity, along a row or
-    a column, nearly level, of no length), with strays, radii below and above a cell's half
-    diagonal, in chunks of every size, leave the field of every cell measured, and in one
-    chunk (each is judged against the field before it) its air."""
+    a column, nearly level, of no length), with strays, radii from below a cell's half
+    diagonal (measured cell by cell, as below two cells) to many cells, in chunks of every
+    size, leave the field of every cell measured, and in one chunk (each is judged against
+    the field before it) its air."""
     from ncverify import workpiece
 
     piece, plain = Workpiece(*grid), Workpiece(*grid)
