@@ -259,7 +259,7 @@ def _run(source: ProgramSource, settings: Settings, detection: Detection, result
         machine=replace(context.machine, kind=dialect.machine), stock=context.stock, tools=ToolTable(context.tools),
         limits=RegisterLimits(**dialect.limits), rapid_path=settings.rapid_path, wording=wording(detection.dialect, dialect.profile),
         arc_tolerance=dialect.arc_tolerance, lengths_by_set_up=dialect.lengths_by_set_up, dialect=detection.dialect,
-        tools_called=_tools_called(frontend, source, context.tools),
+        tools_called=_tools_called(frontend, source, context.tools, dialect.machine),
     )
     checker = (checker_class or Checker)(settings, rule_context, context.severity, found.suppressions)
     for note in found.notes:
@@ -292,11 +292,12 @@ def _run(source: ProgramSource, settings: Settings, detection: Detection, result
         _write_stock(checker.material.final, settings, source)
 
 
-def _tools_called(frontend, source: ProgramSource, tools: dict) -> frozenset[int] | None:
+def _tools_called(frontend, source: ProgramSource, tools: dict, machine: str) -> frozenset[int] | None:
     """The tools the program's text can load, for the cut stock's cells (a quarter of the
     smallest of their radii): asked only where the table's radii differ (else the answer
-    changes nothing) and of a dialect that can tell (else None: any tool)."""
-    if not hasattr(frontend, "tools_called") or len({tool.radius for tool in tools.values() if tool.radius}) < 2:
+    changes nothing), of a dialect that can tell (else None: any tool), and not on a lathe,
+    whose T words also carry the offset (``T0101``) and whose bar keeps no cells."""
+    if machine == "lathe" or not hasattr(frontend, "tools_called") or len({tool.radius for tool in tools.values() if tool.radius}) < 2:
         return None
     return frontend.tools_called(source)
 

@@ -67,6 +67,15 @@ def test_the_iso_scan_names_the_t_words_or_says_it_cannot_tell(text, called):
     assert _called_and_loaded(_TABLE + text, "t.nc")[0] == (None if called is None else frozenset(called))
 
 
+def test_a_lathe_s_tool_words_are_not_read_as_tool_numbers():
+    """``T0101`` on a lathe is tool 1 with offset 1, not tool 101 (found on the Haas lathe
+    programs of the third-party corpus): a lathe's text is not scanned (its bar keeps no
+    cells to choose)."""
+    program = "(ncverify: machine lathe)\n" + _TABLE + "G18 G21 G40 G99\nT0101\nG97 S1000 M03\nG00 X20. Z2.\nM30\n"
+    called, loaded = _called_and_loaded(program, "t.nc")
+    assert called is None and 1.0 in loaded
+
+
 @pytest.mark.parametrize(("text", "called"), [
     ("T1 M6\no100 sub\nT2 M6\no100 endsub\no100 call\nM2\n", {1, 2}),
     ("T1 M6\no<pocket> sub\nT4 M6\no<pocket> endsub\no<pocket> call\nM2\n", {1, 4}),
