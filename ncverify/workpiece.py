@@ -32,7 +32,7 @@ import numpy
 import shapely
 
 from .context import Stock
-from .xy_arcs import XYArcs
+from .xy_arcs import XYArcs, length as _length  # the sweep's one distance formula (many locals here are named length)
 
 NO_MATERIAL = -numpy.inf
 _CHUNK_CELLS = 1 << 18  # cells looked at per vectorised step: bounds the scratch memory (tens of MiB); a cut's air is judged a step at a time
@@ -973,14 +973,6 @@ def total_length(starts, ends) -> float:
     squares += delta[:, 1] * delta[:, 1]
     squares += delta[:, 2] * delta[:, 2]
     return float(numpy.sqrt(squares, out=squares).sum())
-
-
-def _length(x, y):
-    """sqrt(x*x + y*y): the distance every part of the sweep measures, the same bits
-    everywhere. Not numpy.hypot, which costs several times more for its care of values past
-    1e154, whose squares overflow to infinity here: a cell that far from a path is beyond
-    any tool's reach either way."""
-    return numpy.sqrt(x * x + y * y)
 
 
 def _sink(field, flat, heights, up: bool) -> None:

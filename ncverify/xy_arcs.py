@@ -57,7 +57,7 @@ class XYArcs:
         :func:`measurable`)."""
         sx, sy = starts[:, 0] - centres[:, 0], starts[:, 1] - centres[:, 1]
         ex, ey = ends[:, 0] - centres[:, 0], ends[:, 1] - centres[:, 1]
-        radius, end_radius = _length(sx, sy), _length(ex, ey)
+        radius, end_radius = length(sx, sy), length(ex, ey)
         begin, finish = numpy.arctan2(sy, sx), numpy.arctan2(ey, ex)
         sweep = numpy.where(clockwise, begin - finish, finish - begin) % (2 * math.pi)
         sweep[sweep == 0.0] = 2 * math.pi  # a full circle
@@ -82,7 +82,7 @@ class XYArcs:
         qz = numpy.roll(pz, -1)
         qz[last] = last_z
         return cls(centres[:, 0].take(arc), centres[:, 1].take(arc), part_radius, px, py, qx, qy, numpy.minimum(pz, qz), numpy.maximum(pz, qz),
-                   numpy.abs(end_radius - radius).take(arc), _length(part_radius * turn, qz - pz)), arc
+                   numpy.abs(end_radius - radius).take(arc), length(part_radius * turn, qz - pz)), arc
 
     def keys(self):
         """What makes arcs meet the same cells at the same distances: their centres, ends
@@ -103,13 +103,13 @@ class XYArcs:
         """Distance of the points (px, py) from ``arcs`` (one an arc), seen from above:
         from the circle where the point lies within the arc's angle, else from the nearer end."""
         vx, vy = px - self.cx.take(arcs), py - self.cy.take(arcs)
-        distance = _length(vx, vy)
+        distance = length(vx, vy)
         distance -= self.radius.take(arcs)
         numpy.abs(distance, out=distance)
         beyond = (~self.within_angle(arcs, vx, vy)).nonzero()[0]
         if len(beyond):
             arcs, vx, vy = arcs.take(beyond), vx.take(beyond), vy.take(beyond)
-            distance[beyond] = numpy.minimum(_length(vx - self.sx.take(arcs), vy - self.sy.take(arcs)), _length(vx - self.ex.take(arcs), vy - self.ey.take(arcs)))
+            distance[beyond] = numpy.minimum(length(vx - self.sx.take(arcs), vy - self.sy.take(arcs)), length(vx - self.ex.take(arcs), vy - self.ey.take(arcs)))
         return distance
 
     def box(self):
@@ -147,12 +147,16 @@ def measurable(starts, ends, centres, resolution: float, reach_limit: float):
     away from the centre and within an eighth of a cell of one circle, and near enough the
     origin for the distances to be exact to far below a cell (``reach_limit``); the rest
     are cut as chords."""
-    start_radius = _length(starts[:, 0] - centres[:, 0], starts[:, 1] - centres[:, 1])
-    end_radius = _length(ends[:, 0] - centres[:, 0], ends[:, 1] - centres[:, 1])
+    start_radius = length(starts[:, 0] - centres[:, 0], starts[:, 1] - centres[:, 1])
+    end_radius = length(ends[:, 0] - centres[:, 0], ends[:, 1] - centres[:, 1])
     far = numpy.maximum(numpy.abs(centres).max(axis=1), numpy.maximum(numpy.abs(starts).max(axis=1), numpy.abs(ends).max(axis=1)))
     with numpy.errstate(invalid="ignore"):
         return (start_radius > 0.0) & (end_radius > 0.0) & (numpy.abs(end_radius - start_radius) <= _MOST_DRIFT * resolution) & (far <= reach_limit)
 
 
-def _length(x, y):
+def length(x, y):
+    """sqrt(x*x + y*y): the distance every part of the sweep measures (here and in
+    :mod:`ncverify.workpiece`), the same bits everywhere. Not numpy.hypot, which costs
+    several times more for its care of values past 1e154, whose squares overflow to
+    infinity here: a cell that far from a path is beyond any tool's reach either way."""
     return numpy.sqrt(x * x + y * y)
