@@ -212,47 +212,62 @@ class CycleRunner(Runtime):
         if missing or bottom is None:
             state.move_to(targets)
             return
-        name = cycle.cycle
+        passes = _DIALECT_PASSES.get(model.passes)
+        steps = self._hole_steps(cycle, axis, targets, (r_point, bottom, reference, entry), passes is None)
+        self.move_through(steps, span, block, cycle.cycle)
+        if passes is not None:
+            passes(self, cycle, span, block, (r_point, bottom, reference, entry))
+
+    def _hole_steps(self, cycle: ActiveCycle, axis: str, targets: dict, levels: tuple, down: bool) -> list:
+        """The moves of one hole as :meth:`move_through` takes them, from where the tool
+        stands to the hole (``targets``) and, with ``down``, into it and out (a dialect's
+        passes make the rest)."""
+        state = self.state
+        model = cycle.model
+        r_point, bottom, reference, entry = levels
         positioning = "rapid"
         if model.positions_in_motion_mode and state.modal.get("motion") != "rapid":
             positioning = "feed"  # Fagor: the move to the hole is made in the interpolation in force (G1: at feed)
+        steps = []
         if model.rises_to_r:  # LinuxCNC: a tool below the R point first rises to it, then positions
             level = state.position.get(axis)
             if type(level) is float and type(r_point) is float and (level - r_point) * cycle.up < 0:
-                self.move_to({axis: r_point}, span, block, "approach", name)
-        self.move_to(targets, span, block, "between-holes", name, positioning)
-        passes = _DIALECT_PASSES.get(model.passes)
-        if passes is not None:
-            passes(self, cycle, span, block, (r_point, bottom, reference, entry))
-            return
+                steps.append(({axis: r_point}, "approach", "rapid"))
+        steps.append((targets, "between-holes", positioning))
+        if not down:
+            return steps
         if model.infeed == "back_bore":
-            self.move_to({axis: r_point}, span, block, "through-bore", name)
-            self.move_to({axis: bottom}, span, block, "infeed", name, "feed")
-            self.move_to({axis: initial}, span, block, "retract", name)
-            return
-        self.move_to({axis: r_point}, span, block, "approach", name)
+            return [*steps, ({axis: r_point}, "through-bore", "rapid"), ({axis: bottom}, "infeed", "feed"), ({axis: cycle.initial}, "retract", "rapid")]
+        steps.append(({axis: r_point}, "approach", "rapid"))
         if entry is not None:
-            self.move_to({axis: entry}, span, block, "into-hole", name)
-        self.move_to({axis: bottom}, span, block, "infeed", name, "feed")
+            steps.append(({axis: entry}, "into-hole", "rapid"))
+        steps.append(({axis: bottom}, "infeed", "feed"))
         retract_kind = "feed" if model.retract == "feed" else "rapid"
         straight_out = model.retract_to_higher and not model.feeds_out_to_r and reference is None and state.modal.get("cycle_return") != "r_point"
         if not straight_out:  # LinuxCNC leaves the hole straight to the G98 level, at the cycle's retract kind
-            self.move_to({axis: r_point}, span, block, "out-of-hole", name, retract_kind)
+            steps.append(({axis: r_point}, "out-of-hole", retract_kind))
         if reference is not None:
-            self.move_to({axis: reference}, span, block, "out-of-hole", name)
-        if straight_out:  # from the bottom up its own hole, then on up over the R point the tool came down through
-            self.retract(cycle, span, block, r_point, retract_kind, "out-of-hole")
-        else:
-            self.retract(cycle, span, block, r_point)
+            steps.append(({axis: reference}, "out-of-hole", "rapid"))
+        retract = self._retract_step(cycle, r_point, *((retract_kind, "out-of-hole") if straight_out else ()))
+        if retract is not None:
+            steps.append(retract)
+        return steps
 
     def retract(self, cycle: ActiveCycle, span, block, r_point=None, kind: str = "rapid", role: str = "retract") -> None:
         """G98: rapid back to the initial level (G99 stays at the R point); with
         ``retract_to_higher`` (LinuxCNC) to the higher of the initial level and R."""
-        if self.state.modal.get("cycle_return") != "r_point" and cycle.initial is not None:
-            level = cycle.initial
-            if cycle.model.retract_to_higher and type(level) is float and type(r_point) is float:
-                level = max(level * cycle.up, r_point * cycle.up) * cycle.up
-            self.move_to({self.drill_axis(cycle.model): level}, span, block, role, cycle.cycle, kind)
+        step = self._retract_step(cycle, r_point, kind, role)
+        if step is not None:
+            self.move_to(step[0], span, block, step[1], cycle.cycle, step[2])
+
+    def _retract_step(self, cycle: ActiveCycle, r_point=None, kind: str = "rapid", role: str = "retract") -> tuple | None:
+        """:meth:`retract` as a step of :meth:`move_through`; None under G99."""
+        if self.state.modal.get("cycle_return") == "r_point" or cycle.initial is None:
+            return None
+        level = cycle.initial
+        if cycle.model.retract_to_higher and type(level) is float and type(r_point) is float:
+            level = max(level * cycle.up, r_point * cycle.up) * cycle.up
+        return {self.drill_axis(cycle.model): level}, role, kind
 
     def _levels(self, model: CycleModel, axis: str, data: dict, initial, incremental: bool):
         """R point and bottom on the drilling axis (seed L2059 and the lathe table L2890)."""

@@ -1144,6 +1144,41 @@ class Interpreter(ControlFlow):
             self._hand_on_gathered()
         return True
 
+    def _gather_hole_moves(self, steps: list, span, block, cycle: str) -> bool:
+        """Make and gather the moves of :meth:`Runtime.move_through` as :meth:`Runtime.move_to`
+        and :meth:`_gather_segment` make and gather them one by one, their conditions asked
+        once: False, having done nothing, when some move would go on alone."""
+        state = self.state
+        feed = state.feed
+        if (type(self.observer) is not GatheringObserver or state.frame is not None or state.parked or state.left_start or state.cycle is None
+                or state.cycle.model.shape or not self._gathers_hole_moves or span.path is not None or not (feed is None or type(feed) is float)
+                or not _numbers(state.position)):
+            return False
+        for targets, _role, _kind in steps:
+            if not _RUN_AXES.issuperset(targets) or not _numbers(targets):
+                return False
+        motion, gathered = state.modal.get("motion"), self._gathered
+        feed = math.nan if feed is None else feed
+        for targets, role, kind in steps:
+            start = state.position
+            end, moved = None, []
+            for axis, value in targets.items():
+                if value is not None and start.get(axis) is not value:
+                    if end is None:
+                        end = dict(start)
+                    end[axis] = value
+                    moved.append(axis)
+            if end is None:
+                continue
+            state.position = end
+            segment = state.last_segment = Segment(kind, start, end, span, block, role, cycle)
+            if not gathered:
+                self._gathered_from, self._gathered_start, self._gathered_holes = motion, start, True
+            gathered.append((end.get("X"), end.get("Y"), end.get("Z"), feed, _RUN_KIND[kind], _written_bits(tuple(moved)), motion, segment, None))
+            if len(gathered) >= _GATHERED_MOVES:
+                self._hand_on_gathered()
+        return True
+
     def _keeps_moves_gathered(self, op, kind) -> bool:
         """May ``op`` run while moves are gathered? Moves decide for themselves (:meth:`_gather`);
         assignments, jumps and loop bookkeeping change no state a rule reads, except an

@@ -66,6 +66,14 @@ class Runtime:
         if cycle is None or not interpreter._gather_segment(segment, moved, state.modal.get("motion"), hole=True):
             interpreter.observer.segment(segment, state)
 
+    def move_through(self, steps: list, span, block, cycle: str) -> None:
+        """The moves of ``steps``, each ``(targets, role, kind)`` as :meth:`move_to` takes
+        it, one after the other: a hole's, judged with the moves next to them where they may
+        be (the conditions asked once for all of them)."""
+        if not self._interp._gather_hole_moves(steps, span, block, cycle):
+            for targets, role, kind in steps:
+                self.move_to(targets, span, block, role, cycle, kind)
+
     def rapid_to(self, targets: dict, span, block, role: str, cycle: str | None) -> None:
         """A rapid traverse to ``targets`` (see :meth:`move_to`)."""
         self.move_to(targets, span, block, role, cycle, "rapid")
