@@ -87,6 +87,25 @@ def line_start(buffer, offset: int) -> int:
     return buffer.rfind(b"\n", 0, offset) + 1
 
 
+def lines_holding(buffer, keyword: re.Pattern, line_pattern: re.Pattern, start: int = 0, end: int | None = None):
+    """The matches of ``line_pattern``, a pattern anchored at line starts (``(?m)^...``, one
+    match a line at most, none across a line end), as its ``finditer`` over ``buffer[start:end]``
+    gives them, tried only on the lines that hold ``keyword``, which every matching line holds.
+    A pattern such as ``^[^;\\n]*\\bMCALL`` backtracks along every line of the text, where a
+    search for its keyword alone runs several times faster: on a long program the scan took
+    a tenth of the check."""
+    end = len(buffer) if end is None else end
+    tried = -1
+    for found in keyword.finditer(buffer, start, end):
+        begin = max(line_start(buffer, found.start()), start)
+        if begin == tried:
+            continue  # the keyword twice in one line
+        tried = begin
+        match = line_pattern.match(buffer, begin, end)
+        if match is not None:
+            yield match
+
+
 def _count_newlines(buffer, start: int, end: int) -> int:
     """Line ends between the offsets, counted on the buffer in place (a slice of an mmap
     is a copy: faulting its fresh pages in cost six times the count), in pieces whose

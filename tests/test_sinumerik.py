@@ -228,6 +228,16 @@ def test_tc_dp_assignments_are_a_tool_table():
     assert (tools[3].type, tools[3].length, tools[3].radius) == ("drill", 95.0, 4.25)
 
 
+def test_the_blank_and_tool_data_are_read_from_the_lines_naming_them_wherever_they_stand():
+    """Only the lines naming WORKPIECE or $TC_DP (in any case) are read, each with its own
+    line number; a name in a comment line makes no blank."""
+    text = (b"; WORKPIECE in a comment\r\nG17 G90\n\n$tc_dp1[3,1]=220 $TC_DP6[3,1]=4.25\n"
+            b'N50 workpiece(,"",,"BOX",0,0,-20,-80,0,0,120,80)\r\nM30')
+    context = program_context(text)
+    assert (context.stock.x_range, context.stock.span.line) == ((0.0, 120.0), 5)
+    assert (context.tools[3].type, context.tools[3].radius) == ("drill", 4.25)
+
+
 def test_a_rapid_into_the_workpiece_blank_is_found_with_no_project_file():
     result = check("""
         WORKPIECE(,"",,"BOX",0,0,-30,-80,0,0,80,60)

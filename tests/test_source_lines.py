@@ -1,5 +1,6 @@
 """Line numbers of a program's offsets: counted on the buffer in place, an mmap as much as
-bytes, they are the line ends before the offset plus one."""
+bytes, they are the line ends before the offset plus one. Scans of the whole text for the
+lines that match a pattern find what the pattern finds."""
 from __future__ import annotations
 
 import mmap
@@ -7,7 +8,8 @@ import mmap
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from ncverify.source import ProgramSource
+from ncverify.lower.sinumerik import _MODAL_CALL, _PROGRAM_END, _REPEAT_SECTION
+from ncverify.source import ProgramSource, lines_holding
 
 _TEXT = st.lists(st.sampled_from([b"G1 X1.\n", b"\n", b"M30", b"(a\r\nb)\n", b"N10 G0 Z5.\r\n", b"x" * 300]), max_size=40).map(b"".join)
 
@@ -32,3 +34,21 @@ def test_line_numbers_in_a_long_mapped_file(tmp_path):
     for index in (299_999, 1, 150_000, 200_001, 0):
         assert source.line_number_at(ends[index]) == index + 1
     assert source.line_number_at(len(source)) == len(lines) + 1
+
+
+# Lines as SINUMERIK programs write the words its whole-text scans look for: in code, after
+# a comment's semicolon, twice in a line, in lower case, as part of longer names.
+_SCANNED_LINE = st.lists(st.sampled_from([b"N10 ", b"MCALL CYCLE81", b"mcall sub1", b"; MCALL X", b"M30", b"m2", b"M300", b"M02 ",
+                                          b"REPEAT LBL1 P2", b"REPEATB A", b"R1=2 ", b"G0 X1", b"\t", b"\r"]), max_size=5).map(b"".join)
+_SCANNED_TEXT = st.lists(_SCANNED_LINE, max_size=12).map(b"\n".join)
+
+
+@settings(max_examples=300, deadline=None)
+@given(text=_SCANNED_TEXT, cut=st.tuples(st.floats(0, 1), st.floats(0, 1)))
+def test_a_scan_of_the_lines_holding_a_keyword_finds_what_the_line_pattern_finds_everywhere(text, cut):
+    """:func:`lines_holding` tries a pattern anchored at line starts on the lines that hold
+    its keyword only: the same matches as the pattern's own scan, between any two offsets."""
+    start, end = sorted(int(len(text) * fraction) for fraction in cut)
+    for keyword, pattern in (_MODAL_CALL, _PROGRAM_END, _REPEAT_SECTION):
+        assert [m.span() for m in lines_holding(text, keyword, pattern, start, end)] == [m.span() for m in pattern.finditer(text, start, end)]
+        assert [m.span() for m in lines_holding(text, keyword, pattern)] == [m.span() for m in pattern.finditer(text)]

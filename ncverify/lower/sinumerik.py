@@ -37,7 +37,7 @@ from ..dialect import DialectSetup
 from ..read.iso_runs import read_plain_run_at
 from ..read.sinumerik import PATH_COMMANDS, Item, ReadBlock, read_line
 from ..resources import data_dir, read_table
-from ..source import Span, decode_line
+from ..source import Span, decode_line, line_start, lines_holding
 from . import modal_call
 from .iso import FastMotionForm, fast_motion_block
 
@@ -498,9 +498,11 @@ _FAST_FORM = FastMotionForm(frozenset(_AXES), number_label=lambda digits: f"N{in
                             arc_words_in_span=False, line=_FAST_LINE)
 _PROGRAM_HEADER = re.compile(rb"(?mi)^[ \t]*%_N_(\w+?)_(MPF|SPF)\b")
 _PROC = re.compile(rb"(?mi)^[ \t]*(?:N\d+[ \t]*)?PROC[ \t]+(\w+)")
-_PROGRAM_END = re.compile(rb"(?mi)^[^;\n]*\bM0?(?:2|30)\b(?![ \t]*=)")
-_MODAL_CALL = re.compile(rb"(?mi)^[^;\n]*\bMCALL[ \t]+(\w+)[^\n]*")
-_REPEAT_SECTION = re.compile(rb"(?mi)^[^;\n]*\bREPEATB?[ \t]+[A-Z_]")
+# Scans of the whole text: each line pattern with a keyword every line it matches holds
+# (:func:`~ncverify.source.lines_holding`).
+_PROGRAM_END = (re.compile(rb"(?i)M0?(?:2|30)"), re.compile(rb"(?mi)^[^;\n]*\bM0?(?:2|30)\b(?![ \t]*=)"))
+_MODAL_CALL = (re.compile(rb"(?i)MCALL"), re.compile(rb"(?mi)^[^;\n]*\bMCALL[ \t]+(\w+)[^\n]*"))
+_REPEAT_SECTION = (re.compile(rb"(?i)REPEAT"), re.compile(rb"(?mi)^[^;\n]*\bREPEATB?[ \t]+[A-Z_]"))
 _SUBPROGRAM_END = re.compile(rb"(?mi)^[^;\n]*\b(?:M17|RET)\b(?![ \t]*=)")
 _STRUCTURE_LINE = re.compile(r"^\s*(?:/\d?\s*)?(?:N\d+\s*)?(?:[A-Za-z_]\w*\s*:(?!=)\s*)?(IF|ELSE|ENDIF)\b(.*)$", re.IGNORECASE)
 
@@ -567,7 +569,7 @@ class SinumerikFrontend:
         with ``PROC NAME`` is that subprogram, and one that ends with M17/RET and never with
         M2/M30 is a subprogram stored on its own."""
         self._find_modal_calls(buffer)
-        if _REPEAT_SECTION.search(buffer):
+        if _first_line(buffer, _REPEAT_SECTION) is not None:
             self.lowering.uses_repeat = True
         found = [(match.group(1).decode().upper(), match.start()) for match in _PROGRAM_HEADER.finditer(buffer)]
         if found:
@@ -576,14 +578,14 @@ class SinumerikFrontend:
         proc = _PROC.match(buffer, head) if head is not None else None
         if proc:
             return [(proc.group(1).decode().upper(), 0)]
-        if _PROGRAM_END.search(buffer) is None and _SUBPROGRAM_END.search(buffer) is not None:
+        if _first_line(buffer, _PROGRAM_END) is None and _SUBPROGRAM_END.search(buffer) is not None:
             return [("(SUBPROGRAM)", 0)]
         return []
 
     def _find_modal_calls(self, buffer) -> None:
         """Whether the text has an MCALL of a subprogram (not of a cycle), and how many
         arguments the longest passes: every moving block then carries the modal call."""
-        for match in _MODAL_CALL.finditer(buffer):
+        for match in lines_holding(buffer, *_MODAL_CALL):
             if match.group(1).decode().upper() in self.lowering.cycles:
                 continue
             self.lowering.uses_modal_call = True
@@ -605,7 +607,7 @@ class SinumerikFrontend:
         head = _first_code_line(buffer[start:end])
         if head is not None and _PROC.match(buffer, start + head):
             return True
-        return _PROGRAM_END.search(buffer, start, end) is None
+        return _first_line(buffer, _PROGRAM_END, start, end) is None
 
     def tape_marks(self, buffer) -> list[int]:
         return []
@@ -683,6 +685,11 @@ class SinumerikFrontend:
         return program_context(bytes(source.buffer))
 
 
+def _first_line(buffer, scan: tuple, start: int = 0, end: int | None = None):
+    """The first match of a whole-text scan (keyword, line pattern), or None."""
+    return next(lines_holding(buffer, *scan, start, end), None)
+
+
 def _first_code_line(buffer) -> int | None:
     offset = 0
     for raw in bytes(buffer[:65536]).split(b"\n"):
@@ -724,7 +731,7 @@ def program_context(buffer: bytes) -> Context:
     """The blank from ``WORKPIECE(...)`` and the tools from ``$TC_DP`` assignments."""
     context = Context()
     tools: dict[int, dict[int, dict]] = {}  # tool -> edge -> offset parameter -> value
-    for number, raw in enumerate(buffer.split(b"\n"), start=1):
+    for number, raw in _lines_naming(buffer, _CONTEXT_WORDS):
         upper = raw.upper()
         if b"WORKPIECE" in upper:
             stock = _workpiece(decode_line(raw).split(";")[0], number)
@@ -739,6 +746,21 @@ def program_context(buffer: bytes) -> Context:
         context.tools[number] = _tool(number, edges.get(1, {}))
         context.tools[number].edges = {edge: _tool(number, data) for edge, data in edges.items() if edge != 1}
     return context
+
+
+_CONTEXT_WORDS = (re.compile(rb"(?i)WORKPIECE"), re.compile(rb"(?i)\$TC_DP"))  # searched one by one: an alternative is three times slower
+
+
+def _lines_naming(buffer: bytes, keywords: tuple):
+    """(line number, text) of the lines holding any of ``keywords``, in order: a long
+    program's other lines are not split off one by one."""
+    starts = sorted({line_start(buffer, found.start()) for keyword in keywords for found in keyword.finditer(buffer)})
+    number, counted = 1, 0
+    for start in starts:
+        number += buffer.count(b"\n", counted, start)
+        counted = start
+        end = buffer.find(b"\n", start)
+        yield number, buffer[start : len(buffer) if end < 0 else end]
 
 
 def _tool(number: int, data: dict) -> Tool:
