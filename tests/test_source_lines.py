@@ -8,6 +8,7 @@ import mmap
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from ncverify.lower.fagor import _DOLLAR, _PERCENT, _STRUCTURE, _SUBROUTINE_HEADER
 from ncverify.lower.sinumerik import _MODAL_CALL, _PROGRAM_END, _REPEAT_SECTION
 from ncverify.source import ProgramSource, lines_holding
 
@@ -36,11 +37,13 @@ def test_line_numbers_in_a_long_mapped_file(tmp_path):
     assert source.line_number_at(len(source)) == len(lines) + 1
 
 
-# Lines as SINUMERIK programs write the words its whole-text scans look for: in code, after
-# a comment's semicolon, twice in a line, in lower case, as part of longer names.
+# Lines as SINUMERIK and Fagor programs write the words their whole-text scans look for:
+# in code, after a comment's semicolon, twice in a line, in lower case, in longer names.
 _SCANNED_LINE = st.lists(st.sampled_from([b"N10 ", b"MCALL CYCLE81", b"mcall sub1", b"; MCALL X", b"M30", b"m2", b"M300", b"M02 ",
-                                          b"REPEAT LBL1 P2", b"REPEATB A", b"R1=2 ", b"G0 X1", b"\t", b"\r"]), max_size=5).map(b"".join)
+                                          b"REPEAT LBL1 P2", b"REPEATB A", b"R1=2 ", b"G0 X1", b"$IF [P1 EQ 1]", b"$ENDIF", b"$ifx",
+                                          b"/ $ELSE", b"%L SUB1", b"% l x.y", b"%", b"\t", b"\r"]), max_size=5).map(b"".join)
 _SCANNED_TEXT = st.lists(_SCANNED_LINE, max_size=12).map(b"\n".join)
+_SCANS = (_MODAL_CALL, _PROGRAM_END, _REPEAT_SECTION, (_DOLLAR, _STRUCTURE), (_PERCENT, _SUBROUTINE_HEADER))
 
 
 @settings(max_examples=300, deadline=None)
@@ -49,6 +52,6 @@ def test_a_scan_of_the_lines_holding_a_keyword_finds_what_the_line_pattern_finds
     """:func:`lines_holding` tries a pattern anchored at line starts on the lines that hold
     its keyword only: the same matches as the pattern's own scan, between any two offsets."""
     start, end = sorted(int(len(text) * fraction) for fraction in cut)
-    for keyword, pattern in (_MODAL_CALL, _PROGRAM_END, _REPEAT_SECTION):
+    for keyword, pattern in _SCANS:
         assert [m.span() for m in lines_holding(text, keyword, pattern, start, end)] == [m.span() for m in pattern.finditer(text, start, end)]
         assert [m.span() for m in lines_holding(text, keyword, pattern)] == [m.span() for m in pattern.finditer(text)]

@@ -35,7 +35,7 @@ from ..cycle_models import load_cycle_table
 from ..dialect import DialectSetup
 from ..read.fagor import FagorLine, Statement, read_fagor_line
 from ..read.iso import ReadBlock
-from ..source import Span, decode_line
+from ..source import Span, decode_line, lines_holding
 from ..tables import CodeTable, _load, code_key
 from ..values import VACANT
 from . import modal_call
@@ -503,6 +503,10 @@ _FLOW["CONTINUE"] = _continue
 
 _STRUCTURE = re.compile(rb"(?im)^[ \t]*/?[ \t]*(?:N\d+[ \t]*)?\$(ELSEIF|ELSE|ENDIF|IF|ENDWHILE|WHILE|ENDDO|DO|ENDFOR|FOR|ENDSWITCH|SWITCH|CASE|DEFAULT|BREAK|CONTINUE)(?![A-Z0-9_])")
 _LOOPS = {"WHILE": "ENDWHILE", "DO": "ENDDO", "FOR": "ENDFOR"}
+_RPT, _RPT_WORD = re.compile(rb"(?i)RPT"), re.compile(rb"(?i)\bRPT\b")
+_SUBROUTINE_HEADER = re.compile(rb"(?im)^[ \t]*%[ \t]*L[ \t]+([A-Za-z0-9_.]+)")
+# the keywords of the lines _STRUCTURE and _SUBROUTINE_HEADER match (see source.lines_holding)
+_DOLLAR, _PERCENT = re.compile(rb"\$"), re.compile(rb"%")
 
 
 def program_structure(buffer) -> dict[str, str]:
@@ -512,7 +516,7 @@ def program_structure(buffer) -> dict[str, str]:
     targets: dict[str, str] = {}
     stack: list[list] = []  # [keyword, line, last branch line]
     line, counted = 1, 0
-    for match in _STRUCTURE.finditer(buffer):
+    for match in lines_holding(buffer, _DOLLAR, _STRUCTURE):
         line += buffer.count(b"\n", counted, match.start())
         counted = match.start()
         keyword = match.group(1).decode().upper()
@@ -594,7 +598,7 @@ class FagorFrontend:
     # ---- programs: "%L NAME" local subroutines; the rest is the main program
 
     def programs(self, buffer) -> list[tuple[str, int]]:
-        if re.search(rb"(?i)\bRPT\b", buffer):
+        if _RPT.search(buffer) and _RPT_WORD.search(buffer):  # the letters alone are found several times faster
             self.lowering.uses_rpt = True
         modal_calls = [match.group(1).upper() for match in _MODAL_CALL_ARGUMENTS.finditer(buffer)]
         if modal_calls:
@@ -605,7 +609,7 @@ class FagorFrontend:
         subroutine_end = re.compile(rb"(?im)^[^;\n]*(?:\bM(?:17|29)(?![0-9])|#RET\b|\$RET\b)[^\n]*\n?")
         position = 0
         main_start = None
-        for match in re.finditer(rb"(?im)^[ \t]*%[ \t]*L[ \t]+([A-Za-z0-9_.]+)", buffer):
+        for match in lines_holding(buffer, _PERCENT, _SUBROUTINE_HEADER):
             if main_start is None and _has_code(buffer[position : match.start()]):
                 main_start = position
             found.append((match.group(1).decode(), match.start()))
