@@ -261,7 +261,6 @@ _OWORD_LINE = rb"(?im)^[ \t]*(?:/[ \t]*)?(?:N[ \t]*[\d.]+[ \t]*)?O[ \t]*"
 _SUB = re.compile(_OWORD_LINE + rb"(\d+|<[^>\n]*>)[ \t]*S[ \t]*U[ \t]*B(?![ \t]*[A-Z])")
 _FANUC_PROGRAM = re.compile(rb"(?im)^[ \t]*O[ \t]*(\d+)[ \t]*(?:\([^)\n]*\)[ \t]*|;[^\n]*)?\r?$")  # O1 ... M99, called by M98
 _ENDSUB = rb"[ \t]*E[ \t]*N[ \t]*D[ \t]*S[ \t]*U[ \t]*B"
-_PROGRAM_END = re.compile(rb"(?im)^[^;(\n]*\bM0*(?:2|30)(?![0-9.])|^[ \t]*%[ \t]*$")
 
 
 def _name_pattern(name: str) -> bytes:
