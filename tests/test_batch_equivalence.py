@@ -458,6 +458,58 @@ def test_hole_moves_in_runs_are_judged_by_their_cycle_as_one_by_one(body, rule, 
     assert _hole_moves(program)[0] >= 19 * 4
 
 
+def _comparable(array) -> list:
+    """An array's numbers as a list that compares equal where they are (NaN as None)."""
+    return numpy.where(numpy.isnan(array), None, array).tolist()
+
+
+def _events_to_rules(program: str, dialect: str) -> list:
+    """Every run and lone move the check hands the rules, as numbers and the segments the
+    rules may ask for (kind, ends, span, role, cycle)."""
+    from unittest import mock
+
+    from ncverify.check import Checker
+
+    events = []
+    run_handler, segment_handler = Checker.motion_run, Checker.segment
+
+    def segment_of(segment):
+        return segment.kind, segment.start, segment.end, segment.span, segment.role, segment.cycle
+
+    def taking_runs(checker, run, state):
+        events.append(("run", _comparable(run.points), run.kinds.tolist(), _comparable(run.feeds), run.written.tolist(), run.cycle_moves,
+                       [segment_of(run.segment(index)) for index in range(len(run))]))
+        return run_handler(checker, run, state)
+
+    def taking_segments(checker, segment, state):
+        events.append(("alone", segment_of(segment)))
+        return segment_handler(checker, segment, state)
+
+    with mock.patch.object(Checker, "motion_run", taking_runs), mock.patch.object(Checker, "segment", taking_segments):
+        check_text(program, settings=Settings(dialect=dialect))
+    return events
+
+
+@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(body=st.lists(st.one_of(_HOLES, st.lists(_POST_LINES, min_size=1, max_size=3)), min_size=1, max_size=5).map(
+    lambda parts: [line for part in parts for line in part]), dialect=st.sampled_from(["iso", "linuxcnc", "fagor"]))
+def test_a_holes_moves_gathered_in_one_go_are_the_moves_gathered_one_by_one(body, dialect):
+    """``Runtime.move_through`` gathers a hole's moves with the conditions asked once: the
+    rules get the very runs and lone moves that ``move_to`` and ``_gather_segment`` make of
+    them one move at a time (hole patterns absolute and incremental, G98 and G99, K repeats,
+    ended every way)."""
+    from unittest import mock
+
+    from ncverify.interpret.interpreter import Interpreter
+
+    body = ["G0 Z15.", *body]  # a second move: from there on the tool has left the start position, whose moves go alone
+    program = _post_program([_in_fagor_letters(line) for line in body] if dialect == "fagor" else body, tools=True)
+    in_one_go = _events_to_rules(program, dialect)
+    with mock.patch.object(Interpreter, "_gather_hole_moves", lambda *arguments: False):
+        one_by_one = _events_to_rules(program, dialect)
+    assert in_one_go == one_by_one
+
+
 def test_a_rule_not_reviewed_for_hole_runs_leaves_each_hole_move_to_go_alone(monkeypatch):
     """One rule in scope whose hole handler may read what the moves before change is enough:
     the holes' moves then reach the rules one by one, as the block path hands them."""
