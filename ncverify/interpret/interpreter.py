@@ -22,6 +22,7 @@ import numpy
 from .. import frames, ir, values
 from .control_flow import ControlFlow, CallFrame, LoopFrame, PathEnd, Position
 from .cycles import ActiveCycle, CycleRunner
+from .runtime import moved_to
 from .fagor import FagorState
 from .heidenhain.state import KlartextState
 from . import compiled, loop_runner, modal_call
@@ -1161,13 +1162,7 @@ class Interpreter(ControlFlow):
         feed = math.nan if feed is None else feed
         for targets, role, kind in steps:
             start = state.position
-            end, moved = None, []
-            for axis, value in targets.items():
-                if value is not None and start.get(axis) is not value:
-                    if end is None:
-                        end = dict(start)
-                    end[axis] = value
-                    moved.append(axis)
+            end, moved = moved_to(start, targets)
             if end is None:
                 continue
             state.position = end

@@ -18,6 +18,21 @@ from ..trace import Segment
 from ..values import VACANT
 
 
+def moved_to(start: dict, targets: dict) -> tuple[dict | None, list]:
+    """Where a move to ``targets`` from ``start`` ends (a new dict: positions are
+    copy-on-write) and the axes it moves, leaving out None values and axes that hold that
+    very value already; (None, []) when no axis moves."""
+    end = None
+    moved = []
+    for axis, value in targets.items():
+        if value is not None and start.get(axis) is not value:
+            if end is None:
+                end = dict(start)
+            end[axis] = value
+            moved.append(axis)
+    return end, moved
+
+
 class Runtime:
     """What a cycle or dialect operation may do to the machine and the trace."""
 
@@ -48,14 +63,7 @@ class Runtime:
         interpreter = self._interp
         state = interpreter.state
         start = state.position
-        end = None
-        moved = []
-        for axis, value in targets.items():
-            if value is not None and start.get(axis) is not value:
-                if end is None:
-                    end = dict(start)
-                end[axis] = value
-                moved.append(axis)
+        end, moved = moved_to(start, targets)
         if end is None:
             return
         # what MachineState.move_to and emit() do, three calls less (a hole makes five moves)
