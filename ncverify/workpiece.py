@@ -1321,18 +1321,22 @@ def unsettled_turns(starts, ends, centres, planes):
     may decide it either way, where :func:`arc_chords` takes the turn its own gives."""
     rows = numpy.arange(len(starts))
     first, second = (numpy.asarray(planes[:, axis], numpy.int64) for axis in (0, 1))
-    sx, sy = starts[rows, first] - centres[:, 0], starts[rows, second] - centres[:, 1]
-    ex, ey = ends[rows, first] - centres[:, 0], ends[rows, second] - centres[:, 1]
-    along = (sx * ex + sy * ey > 0.0) & (numpy.abs(sx * ey - sy * ex) <= _SAME_RAY * numpy.hypot(sx, sy) * numpy.hypot(ex, ey))
-    return along & ((sx != ex) | (sy != ey))
+    return _end_on_start_ray(starts[rows, first] - centres[:, 0], starts[rows, second] - centres[:, 1],
+                             ends[rows, first] - centres[:, 0], ends[rows, second] - centres[:, 1])
 
 
 def turn_unsettled(start, centre, end) -> bool:
     """:func:`unsettled_turns` for one arc, given by numbers on its plane's two axes (for the
-    rules, which see one arc at a time)."""
-    sx, sy, ex, ey = start[0] - centre[0], start[1] - centre[1], end[0] - centre[0], end[1] - centre[1]
-    return (sx * ex + sy * ey > 0.0 and abs(sx * ey - sy * ex) <= _SAME_RAY * math.hypot(sx, sy) * math.hypot(ex, ey)
-            and (sx != ex or sy != ey))
+    rules, which see one arc at a time): the same arithmetic, so that the rules and the cut
+    stock never part on an arc at the edge of the test."""
+    return bool(_end_on_start_ray(start[0] - centre[0], start[1] - centre[1], end[0] - centre[0], end[1] - centre[1]))
+
+
+def _end_on_start_ray(sx, sy, ex, ey):
+    """Does the end (ex, ey) lie on the ray from the centre through the start (sx, sy), at
+    another point? Offsets from the centre, numbers or arrays alike."""
+    along = (sx * ex + sy * ey > 0.0) & (numpy.abs(sx * ey - sy * ex) <= _SAME_RAY * numpy.hypot(sx, sy) * numpy.hypot(ex, ey))
+    return along & ((sx != ex) | (sy != ey))
 
 
 def arc_chords(starts, ends, centres, clockwise, planes, tolerance: float = 0.01):
