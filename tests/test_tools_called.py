@@ -80,6 +80,7 @@ def test_a_lathe_s_tool_words_are_not_read_as_tool_numbers():
     ("T1 M6\no100 sub\nT2 M6\no100 endsub\no100 call\nM2\n", {1, 2}),
     ("T1 M6\no<pocket> sub\nT4 M6\no<pocket> endsub\no<pocket> call\nM2\n", {1, 4}),
     ("T1 M6\no<elsewhere> call\nM2\n", None),  # a file of its own
+    ("T1 M6\n(o<elsewhere> sub is in its own file)\no<elsewhere> call\nM2\n", None),  # a comment defines no subroutine
     ("T1 M6\nM61 Q2\nM2\n", None),  # sets the tool number without a T word
 ])
 def test_the_linuxcnc_scan_looks_into_the_file_s_own_subroutines_only(text, called):

@@ -273,7 +273,6 @@ def _name_pattern(name: str) -> bytes:
 
 
 _OWORD_CALL = re.compile(rb"[Oo]\s*(<[^>]*>|\d+)\s*call", re.IGNORECASE)
-_OWORD_SUB = re.compile(rb"[Oo]\s*(<[^>]*>|\d+)\s*sub", re.IGNORECASE)
 
 
 class LinuxcncFrontend(IsoFrontend):
@@ -288,11 +287,12 @@ class LinuxcncFrontend(IsoFrontend):
 
     def tools_called(self, source) -> frozenset[int] | None:
         """As in ISO, and none told when the program calls a subroutine it does not define
-        (a file of its own, whose T words are not in this text)."""
+        (a file of its own, whose T words are not in this text): defined as the program
+        index finds its ``sub`` lines (a ``sub`` in a comment defines none)."""
         def names(pattern):
             return {name.lower().replace(b" ", b"") for name in pattern.findall(source.buffer)}
 
-        if names(_OWORD_CALL) - names(_OWORD_SUB):
+        if names(_OWORD_CALL) - names(_SUB):
             return None
         return super().tools_called(source)
 
