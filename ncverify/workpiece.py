@@ -820,7 +820,7 @@ def _capsule_crossing(segments: "_Segments", piece, y, radius, outward: bool):
     overflows) the crossing is taken for the whole row (``outward``) or for nothing."""
     ax, ay, dx, dy = (terms.take(piece) for terms in (segments.ax, segments.ay, segments.dx, segments.dy))
     with numpy.errstate(all="ignore"):
-        length = numpy.sqrt(dx * dx + dy * dy)
+        length = _length(dx, dy)
         left, right = numpy.full(len(piece), numpy.inf), numpy.full(len(piece), -numpy.inf)
         for end_x, end_y in ((ax, ay), (ax + dx, ay + dy)):
             half_chord = numpy.sqrt(radius * radius - (y - end_y) ** 2)  # NaN where the row passes the disc

@@ -53,8 +53,8 @@ class XYArcs:
         that meets material counts whole as cutting, and a part's box holds little but its
         own cells. A longer part, or one that climbs more, is as sound (its heights are its
         range), only coarser: an arc of a kilometre's radius, or a helix down from a
-        kilometre up (a typing slip), is not cut into millions. Each end must lie away from its centre (see
-        :func:`measurable`)."""
+        kilometre up (a typing slip), is not cut into millions. Each end must lie away from
+        its centre (see :func:`measurable`)."""
         sx, sy = starts[:, 0] - centres[:, 0], starts[:, 1] - centres[:, 1]
         ex, ey = ends[:, 0] - centres[:, 0], ends[:, 1] - centres[:, 1]
         radius, end_radius = length(sx, sy), length(ex, ey)
