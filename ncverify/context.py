@@ -16,7 +16,7 @@ import shapely
 from shapely.geometry import Polygon
 
 from .ir import ACTIVE_EDGE
-from .source import Span
+from .source import Span, finditer_all, search_any
 
 TOOL_TYPES = ("drill", "endmill", "ball", "bullnose", "chamfer", "spot", "tap", "threadmill", "boring", "reamer",
               "facemill", "slot", "turning", "grooving", "parting", "threading", "probe")
@@ -177,16 +177,17 @@ NO_TOOL_TABLE = "no tool table ([tools.N] in ncverify.toml, 'ncverify: tool' ann
 
 
 def tools_called_in(buffer, call, unsure) -> frozenset[int] | None:
-    """The tool numbers the text ``buffer`` can load: every number the pattern ``call``
-    finds (its first group), and no other. None, any tool, where that cannot be told from
-    the text: the pattern ``unsure`` finds a tool called by a computed number, a call of
-    another program (whose tools are not in this text) or a write to the tool table, or
-    no tool is called at all (the program cuts with the one in the spindle). A number in
-    a comment is counted too, which can only add a tool."""
-    if unsure.search(buffer) is not None:
+    """The tool numbers the text ``buffer`` can load: every number the patterns ``call``
+    find (their first group), and no other. None, any tool, where that cannot be told from
+    the text: one of the patterns ``unsure`` finds a tool called by a computed number, a
+    call of another program (whose tools are not in this text) or a write to the tool
+    table, or no tool is called at all (the program cuts with the one in the spindle). A
+    number in a comment is counted too, which can only add a tool. (Both are sequences of
+    patterns, as :func:`~ncverify.source.letter_led` makes them for a fast scan.)"""
+    if search_any(buffer, unsure):
         return None
     called = set()
-    for found in call.finditer(buffer):
+    for found in finditer_all(buffer, call):
         number = found.group(1)
         if len(number) > 15:  # no tool of the table (and past what int() takes from text of thousands of digits)
             return None

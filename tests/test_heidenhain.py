@@ -386,3 +386,13 @@ def test_a_broken_constraint_is_reported_at_each_definition_however_often_its_wo
     zero_depth_lines = [number for number, line in enumerate(text.splitlines(), 1) if "Q201=+0" in line]
     assert len(zero_depth_lines) == 2
     assert sorted(at(check(text), "heidenhain.zero-depth")) == zero_depth_lines
+
+
+def test_a_program_that_calls_its_tool_by_name_is_a_main_program():
+    """Only a program with no TOOL CALL of any kind (and no M2/M30) is run as a called
+    macro whose caller started the spindle: one that calls its tool by name is not."""
+    named = ('0  BEGIN PGM NAMED MM\n1  BLK FORM 0.1 Z X+0 Y+0 Z-20\n2  BLK FORM 0.2  X+100  Y+100  Z+0\n3  TOOL CALL "MILL_D10" Z\n'
+             "4  L  X+10  Y+10 R0 FMAX\n5  L  Z+5 R0 FMAX\n6  L  Z-2 R0 F200\n7  L  X+50 R0\n8  L  Z+50 R0 FMAX\n9  END PGM NAMED MM\n")
+    macro = named.replace('3  TOOL CALL "MILL_D10" Z\n', "")
+    assert at(check(named), "core.spindle-off-cutting", Status.UNKNOWN) == [7]  # its 7th line: the first feed move
+    assert "core.spindle-off-cutting" not in rules(check(macro))

@@ -4,13 +4,17 @@ lines that match a pattern find what the pattern finds."""
 from __future__ import annotations
 
 import mmap
+import re
 
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from ncverify.lower.fagor import _DOLLAR, _PERCENT, _STRUCTURE, _SUBROUTINE_HEADER
 from ncverify.lower.sinumerik import _MODAL_CALL, _PROGRAM_END, _REPEAT_SECTION
-from ncverify.source import ProgramSource, lines_holding
+from ncverify.lower.heidenhain import _TOOL_CALL_NUMBER, _TOOL_CALL_UNSURE
+from ncverify.lower.iso import _TOOL_WORD, IsoFrontend
+from ncverify.lower.linuxcnc import LinuxcncFrontend
+from ncverify.source import ProgramSource, finditer_all, lines_holding, search_any
 
 _TEXT = st.lists(st.sampled_from([b"G1 X1.\n", b"\n", b"M30", b"(a\r\nb)\n", b"N10 G0 Z5.\r\n", b"x" * 300]), max_size=40).map(b"".join)
 
@@ -55,3 +59,28 @@ def test_a_scan_of_the_lines_holding_a_keyword_finds_what_the_line_pattern_finds
     for keyword, pattern in _SCANS:
         assert [m.span() for m in lines_holding(text, keyword, pattern, start, end)] == [m.span() for m in pattern.finditer(text, start, end)]
         assert [m.span() for m in lines_holding(text, keyword, pattern)] == [m.span() for m in pattern.finditer(text)]
+
+
+# The tool scans as one pattern each, as they were written before they were made letter-led
+# (tried at every byte): the letter-led scans must find what these find.
+_ISO_UNSURE = rb"(?<![A-Za-z_#<])[Tt]\s*[-+#\[<]|(?<![A-Za-z])[Mm]\s*0*(?:98|198)(?!\d)|(?<![A-Za-z])[Gg]\s*0*(?:10|65|66)(?!\d)"
+_TOOL_SCANS = (  # (letter-led patterns, the one pattern, finds numbers)
+    (_TOOL_WORD, re.compile(rb"(?<![A-Za-z_#<])[Tt]\s*(\d+)"), True),
+    (IsoFrontend.tool_unsure, re.compile(_ISO_UNSURE), False),
+    (LinuxcncFrontend.tool_unsure, re.compile(_ISO_UNSURE + rb"|(?<![A-Za-z])[Mm]\s*0*61(?!\d)"), False),
+    (_TOOL_CALL_NUMBER, re.compile(rb"TOOL\s+CALL\s+(\d+)", re.IGNORECASE), True),
+    (_TOOL_CALL_UNSURE, re.compile(rb"TOOL\s+CALL\s+[\"'Qq]|(?:CALL|SEL)\s+PGM|PGM\s+CALL|\bFN\s*(?:17|26|27|28)\b|TAB(?:OPEN|WRITE)", re.IGNORECASE), False),
+)
+_TOOL_TEXT = st.lists(st.sampled_from([b"T", b"t", b"M", b"m", b"G", b"g", b"1", b"0", b"6", b"98", b"198", b"10", b"65", b"61", b" ", b"\n", b"#",
+                                       b"[", b"<", b"_", b"-", b"x", b"Q", b"'", b"TOOL", b"tool", b"CALL", b"call", b"PGM", b"Sel", b"FN",
+                                       b"fn", b"17", b"26", b"TAB", b"open", b"WRITE", b"\""]), max_size=30).map(b"".join)
+
+
+@settings(max_examples=500, deadline=None)
+@given(text=_TOOL_TEXT)
+def test_the_letter_led_tool_scans_find_what_one_pattern_finds(text):
+    for letter_led, one_pattern, numbers in _TOOL_SCANS:
+        assert search_any(text, letter_led) == (one_pattern.search(text) is not None)
+        if numbers:
+            found = sorted((match.start(), match.group(1)) for match in finditer_all(text, letter_led))
+            assert found == [(match.start(), match.group(1)) for match in one_pattern.finditer(text)]

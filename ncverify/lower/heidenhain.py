@@ -28,7 +28,7 @@ from ..dependencies import note_file
 from ..dialect import DialectSetup
 from ..read.heidenhain import Cursor, ReadError, continues as _continues, split
 from ..read.heidenhain_runs import is_plain_line, read_plain_run
-from ..source import Span
+from ..source import Span, letter_led
 
 _AXES = ("X", "Y", "Z", "A", "B", "C", "U", "V", "W")
 _TOOL_AXIS_PLANE = {"Z": "xy", "X": "yz", "Y": "zx"}
@@ -898,10 +898,11 @@ _BLK_FORM = re.compile(r"(?mi)^[ \t]*\d*[ \t]*BLK[ \t]+FORM[ \t]+(0\.1|0\.2|CYLI
 _STOCK_WORD = re.compile(r"(?i)\b(I?[XYZ]|D|R|L|DIST|DI)[ \t]*([+-]?[0-9]+(?:[.,][0-9]*)?)")
 
 
-_TOOL_CALL = re.compile(rb"TOOL\s+CALL\s+(\d+)", re.IGNORECASE)
+_TOOL_CALL_NUMBER = letter_led(rb"TOOL\s+CALL\s+(\d+)")
 # what leaves the tools a program loads to more than its numbered TOOL CALLs: a tool called
 # by name or a Q parameter, a call of another program, a write to a table (FN 17, FN 26-28)
-_TOOL_CALL_UNSURE = re.compile(rb"TOOL\s+CALL\s+[\"'Qq]|(?:CALL|SEL)\s+PGM|PGM\s+CALL|\bFN\s*(?:17|26|27|28)\b|TAB(?:OPEN|WRITE)", re.IGNORECASE)
+_TOOL_CALL_UNSURE = letter_led(rb"TOOL\s+CALL\s+[\"'Q]", rb"CALL\s+PGM", rb"SEL\s+PGM", rb"PGM\s+CALL", rb"F(?<!\wF)N\s*(?:17|26|27|28)\b",
+                               rb"TAB(?:OPEN|WRITE)")
 
 
 class KlartextFrontend:
@@ -955,7 +956,7 @@ class KlartextFrontend:
 
     def tools_called(self, source) -> frozenset[int] | None:
         """The tools the program can load (:func:`~ncverify.context.tools_called_in`)."""
-        return tools_called_in(source.buffer, _TOOL_CALL, _TOOL_CALL_UNSURE)
+        return tools_called_in(source.buffer, _TOOL_CALL_NUMBER, _TOOL_CALL_UNSURE)
 
     def program_context(self, source) -> Context:
         """The BLK FORM of the program as its stock, TOOL.T beside it as its tools."""

@@ -19,7 +19,7 @@ from ..cycle_models import UNKNOWN_CYCLE
 from ..dialect import DialectSetup
 from ..read.iso import ReadBlock, Statement, Word, read_line
 from ..read.iso_runs import read_plain_run_at
-from ..source import Span, decode_line, find_all, line_start
+from ..source import Span, decode_line, find_all, letter_led, line_start
 from ..tables import CodeTable, code_key, iso_table
 from ..values import VACANT
 
@@ -593,11 +593,11 @@ def lower_fast_motion(raw: bytes, line: int, path: str | None, form: FastMotionF
     return block
 
 
-_TOOL_WORD = re.compile(rb"(?<![A-Za-z_#<])[Tt]\s*(\d+)")
+_TOOL_WORD = letter_led(rb"T(?<![A-Z_#<]T)\s*(\d+)")
 # what leaves the tools a program loads to more than its T words: a T word with a computed
 # number, a call of a program that may be another file (M98, M198, G65, G66), G10 (it
 # writes tool offsets)
-TOOL_UNSURE = rb"(?<![A-Za-z_#<])[Tt]\s*[-+#\[<]|(?<![A-Za-z])[Mm]\s*0*(?:98|198)(?!\d)|(?<![A-Za-z])[Gg]\s*0*(?:10|65|66)(?!\d)"
+TOOL_UNSURE = (rb"T(?<![A-Z_#<]T)\s*[-+#\[<]", rb"M(?<![A-Z]M)\s*0*(?:98|198)(?!\d)", rb"G(?<![A-Z]G)\s*0*(?:10|65|66)(?!\d)")
 
 
 class IsoFrontend:
@@ -605,7 +605,7 @@ class IsoFrontend:
     where a sequence number may be. Programs are ``O`` numbers; labels are ``N`` numbers."""
 
     dialect = "iso"
-    tool_unsure = re.compile(TOOL_UNSURE)
+    tool_unsure = letter_led(*TOOL_UNSURE)
 
     def __init__(self, lowering: IsoLowering):
         self.lowering = lowering

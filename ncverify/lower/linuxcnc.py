@@ -31,7 +31,7 @@ from ..dialect import DialectSetup
 from ..read.iso import ReadBlock, Statement, Word
 from ..read.linuxcnc import POLAR, OWord, read_line
 from ..resources import data_dir, read_table
-from ..source import Span, decode_line, line_start
+from ..source import Span, decode_line, letter_led, line_start
 from ..tables import CodeTable
 from ..values import VACANT
 from .iso import TOOL_UNSURE, IsoFrontend, IsoLowering
@@ -279,7 +279,7 @@ class LinuxcncFrontend(IsoFrontend):
     """Programs are the file's main code and its ``oN sub`` definitions; labels are O-words."""
 
     dialect = "linuxcnc"
-    tool_unsure = re.compile(TOOL_UNSURE + rb"|(?<![A-Za-z])[Mm]\s*0*61(?!\d)")  # M61 sets the tool number without a T word
+    tool_unsure = letter_led(*TOOL_UNSURE, rb"M(?<![A-Z]M)\s*0*61(?!\d)")  # M61 sets the tool number without a T word
 
     def __init__(self, lowering: LinuxcncLowering):
         super().__init__(lowering)
