@@ -30,10 +30,20 @@ from typing import Callable, Iterator
 
 HERE = Path(__file__).resolve().parent
 RS274 = HERE.parent / ".rs274" / "usr" / "bin" / "rs274"
-# The same two tools for each reader: the standalone rs274 reads a table's diameters in
-# inches, ncverify reads LinuxCNC's ``tool.tbl`` beside the program in the program's millimetres.
-TOOL_TABLE = "T1 P1 D6.35 Z0 ;end mill\nT2 P2 D3.175 Z0 ;drill\n"
-RS274_TOOL_TABLE = "T1 P1 D0.25 Z0 ;end mill 6.35 mm\nT2 P2 D0.125 Z0 ;drill 3.175 mm\n"
+# The same two tools for every reader, as each one reads them: the standalone rs274 a table
+# of diameters in inches; ncverify LinuxCNC's ``tool.tbl`` beside a LinuxCNC program, and in
+# every other program the annotations of :func:`_tool_lines`. Without them the rules that need
+# a tool's size answer ``unknown`` and the stock is swept by the tool's axis alone: a fraction
+# of the work a user's run does, who gives ncverify the tools.
+TOOLS = {1: (3.175, "endmill"), 2: (1.5875, "drill")}  # number: (radius mm, type)
+TOOL_TABLE = "".join(f"T{number} P{number} D{2 * radius:g} Z0 ;{kind}\n" for number, (radius, kind) in TOOLS.items())
+RS274_TOOL_TABLE = "".join(f"T{number} P{number} D{2 * radius / 25.4:g} Z0 ;{kind}\n" for number, (radius, kind) in TOOLS.items())
+
+
+def _tool_lines(comment: str) -> list[str]:
+    """The tools as ``ncverify: tool`` annotations, each in the language's comment form
+    ``comment`` (a format string)."""
+    return [comment.format(f"ncverify: tool {number} radius {radius:g} length 0 type {kind}") for number, (radius, kind) in TOOLS.items()]
 
 
 # --------------------------------------------------------------------------- the programs
@@ -41,11 +51,13 @@ RS274_TOOL_TABLE = "T1 P1 D0.25 Z0 ;end mill 6.35 mm\nT2 P2 D0.125 Z0 ;drill 3.1
 
 def _surfacing(blocks: int) -> Iterator[str]:
     """Straight feed moves of a zig-zag surfacing pass (the plain CAM bulk)."""
-    yield from ("(ncverify: stock box X-5:105 Y-5:1000 Z-20:0)", "G21 G90 G17 G40 G49 G80 G54", "T1 M6", "G43 H1", "G0 Z50.",
-                "S8000 M3", "G0 X0. Y0.", "G0 Z5.", "G1 Z-1. F800.")
-    for index in range(blocks - 11):
+    head = ["(ncverify: stock box X-5:105 Y-5:1000 Z-20:0)", *_tool_lines("({})"), "G21 G90 G17 G40 G49 G80 G54", "T1 M6", "G43 H1",
+            "G0 Z50.", "S8000 M3", "G0 X0. Y0.", "G0 Z5.", "G1 Z-1. F800."]
+    tail = ["G0 Z50.", "M5", "M30"]
+    yield from head
+    for index in range(blocks - len(head) - len(tail)):
         yield f"G1 X{(index % 2000) * 0.05:.3f} Y{(index // 2000) * 0.5:.3f} Z{-1.0 - 0.2 * math.sin(index / 50.0):.3f}"
-    yield from ("G0 Z50.", "M5", "M30")
+    yield from tail
 
 
 def _trochoid(groups: int, *, radius: float = 2.0, step: float = 0.4, width: int = 120) -> Iterator[tuple]:
@@ -77,12 +89,14 @@ def _iso_trochoid_block(move: tuple) -> str:
 
 def _adaptive(blocks: int) -> Iterator[str]:
     """G01 with G02/G03 in I/J form and helical ramps, as adaptive clearing writes them."""
-    yield from ("(ncverify: stock box X-5:105 Y-5:10000 Z-20:0)", "G21 G90 G17 G40 G49 G80 G54", "T1 M6", "G43 H1", "G0 Z50.",
-                "S8000 M3", "G0 X0. Y0.", "G0 Z5.", "F1200.")
+    head = ["(ncverify: stock box X-5:105 Y-5:10000 Z-20:0)", *_tool_lines("({})"), "G21 G90 G17 G40 G49 G80 G54", "T1 M6", "G43 H1",
+            "G0 Z50.", "S8000 M3", "G0 X0. Y0.", "G0 Z5.", "F1200."]
+    tail = ["G0 Z50.", "M5", "M30"]
+    yield from head
     moves = _trochoid(blocks // 4 + 1)
-    for _ in range(blocks - 11):
+    for _ in range(blocks - len(head) - len(tail)):
         yield _iso_trochoid_block(next(moves))
-    yield from ("G0 Z50.", "M5", "M30")
+    yield from tail
 
 
 LOOP_PASSES = 50_000  # moves the macro loop makes; 4 blocks a pass
@@ -164,7 +178,7 @@ def _iso_part(offset: float) -> Iterator[str]:
 
 
 def _iso_post(blocks: int) -> Iterator[str]:
-    head = ["(ncverify: stock box X-20:60 Y-20:100000 Z-20:0)", "G21 G90 G94 G17 G40 G49 G80 G54"]
+    head = ["(ncverify: stock box X-20:60 Y-20:100000 Z-20:0)", *_tool_lines("({})"), "G21 G90 G94 G17 G40 G49 G80 G54"]
     return _repeat_parts(blocks, head, _iso_part, ["G0 Z50.", "M30"])
 
 
@@ -196,7 +210,7 @@ def _sinumerik_part(offset: float) -> Iterator[str]:
 
 
 def _sinumerik_post(blocks: int) -> Iterator[str]:
-    head = ["%_N_PART_MPF", 'WORKPIECE(,"",,"BOX",0,0,-20,-80,-20,-20,60,100000)', "G17 G90 G71 G54"]
+    head = ["%_N_PART_MPF", 'WORKPIECE(,"",,"BOX",0,0,-20,-80,-20,-20,60,100000)', *_tool_lines("; {}"), "G17 G90 G71 G54"]
     return _repeat_parts(blocks, head, _sinumerik_part, ["G0 Z50", "M30"])
 
 
@@ -221,7 +235,7 @@ def _heidenhain_part(offset: float) -> Iterator[str]:
 
 
 def _heidenhain_post(blocks: int) -> Iterator[str]:
-    head = ["BEGIN PGM PART MM", "BLK FORM 0.1 Z X-20 Y-20 Z-20", "BLK FORM 0.2 X+60 Y+100000 Z+0"]
+    head = ["BEGIN PGM PART MM", "BLK FORM 0.1 Z X-20 Y-20 Z-20", "BLK FORM 0.2 X+60 Y+100000 Z+0", *_tool_lines("; {}")]
     lines = _repeat_parts(blocks, head, _heidenhain_part, ["M30", "END PGM PART MM"])
     return (f"{number} {line}" for number, line in enumerate(lines))
 
@@ -236,7 +250,7 @@ def _fagor_part(offset: float) -> Iterator[str]:
 
 
 def _fagor_post(blocks: int) -> Iterator[str]:
-    head = ["; ncverify: stock box X-20:60 Y-20:100000 Z-20:0", "G71 G90 G17 G40 G54"]
+    head = ["; ncverify: stock box X-20:60 Y-20:100000 Z-20:0", *_tool_lines("; {}"), "G71 G90 G17 G40 G54"]
     return _repeat_parts(blocks, head, _fagor_part, ["G0 Z50", "M30"])
 
 
@@ -257,11 +271,10 @@ class Program:
     def write(self, blocks: int) -> Path:
         path = self.path(blocks)
         path.parent.mkdir(parents=True, exist_ok=True)
-        if not path.exists():
-            with path.open("w", encoding="ascii", newline="\n") as out:
-                for line in self.lines(blocks):
-                    out.write(line + "\n")
-        (path.parent / "tool.tbl").write_text(TOOL_TABLE, encoding="ascii")  # written each time: a table left by an older run may differ
+        with path.open("w", encoding="ascii", newline="\n") as out:  # written each time, as the tables: an older run's may differ
+            for line in self.lines(blocks):
+                out.write(line + "\n")
+        (path.parent / "tool.tbl").write_text(TOOL_TABLE, encoding="ascii")
         (path.parent / "rs274-tool.tbl").write_text(RS274_TOOL_TABLE, encoding="ascii")
         return path
 
