@@ -120,6 +120,7 @@ class Workpiece:
         self.bottom, self.top = stock.z_range
         self.half_diagonal = self.resolution * math.sqrt(0.5)
         self.upper, self.lower = self._blank(stock)
+        self._solid = self._solid_extent(stock)
         self.lower_emptied = False  # a cut that could not be placed emptied ``lower`` (see cut_anywhere)
         self._centres = None  # see _column_centres
 
@@ -142,20 +143,26 @@ class Workpiece:
 
     def _box_blank(self, stock: Stock):
         """A box's tops: the grid starts at its corner, so material maybe on every cell and
-        surely on all but the last row and column where they stick out past its far sides
-        (filled whole, then those cleared: a long blank has many cells). A top at +0, the
-        usual one, is what a zeroed array holds: the system hands such an array out
+        surely on all but the last row and column where they stick out past its far sides.
+        Those are not written but counted out wherever ``lower`` is read
+        (:meth:`_solid_extent`): a column written wrote a value on every row. A top at +0,
+        the usual one, is what a zeroed array holds: the system hands such an array out
         without touching its memory, so cells no cut reaches cost neither time nor memory
         (a CAM post's blank may be metres long)."""
         if numpy.float32(self.top).tobytes() == bytes(4):
-            upper, lower = numpy.zeros((self.ny, self.nx), numpy.float32), numpy.zeros((self.ny, self.nx), numpy.float32)
-        else:
-            upper = numpy.full((self.ny, self.nx), self.top, numpy.float32)
-            lower = upper.copy()
+            return numpy.zeros((self.ny, self.nx), numpy.float32), numpy.zeros((self.ny, self.nx), numpy.float32)
+        upper = numpy.full((self.ny, self.nx), self.top, numpy.float32)
+        return upper, upper.copy()
+
+    def _solid_extent(self, stock: Stock) -> tuple[int, int]:
+        """(rows, columns) from the grid's corner whose cells can hold material surely: a
+        box's last row and column stick out past its far sides, and ``lower`` holds no
+        material there whatever it says (:meth:`_lower_at`, :meth:`_lower_field`)."""
+        if stock.kind != "box":
+            return self.ny, self.nx
         half = self.resolution / 2
-        lower[self._y(numpy.arange(self.ny)) + half > stock.y_range[1], :] = NO_MATERIAL
-        lower[:, self._x(numpy.arange(self.nx)) + half > stock.x_range[1]] = NO_MATERIAL
-        return upper, lower
+        return (int(numpy.count_nonzero(self._y(numpy.arange(self.ny)) + half <= stock.y_range[1])),
+                int(numpy.count_nonzero(self._x(numpy.arange(self.nx)) + half <= stock.x_range[1])))
 
     def _blank_band(self, stock: Stock, xs, ys):
         """(maybe, surely) material in the cells of centres ``xs`` x ``ys`` (rows by columns)
@@ -283,11 +290,26 @@ class Workpiece:
             cells = field.reshape(-1)[first_cell:end_cell]
             cells[cells <= self.bottom] = NO_MATERIAL
 
-    def _flat_lower(self):
-        """``lower`` as one row of all cells (an emptied one stays one shared value)."""
+    def _lower_at(self, flat):
+        """The lower bound at the cells ``flat`` (flat indices; a new array)."""
         if self.lower_emptied:
-            return numpy.broadcast_to(numpy.float32(NO_MATERIAL), (self.ny * self.nx,))
-        return self.lower.reshape(-1)
+            return numpy.full(len(flat), NO_MATERIAL, numpy.float32)
+        values = self.lower.reshape(-1).take(flat)
+        if self._solid != (self.ny, self.nx):
+            rows, columns = numpy.divmod(flat, self.nx)
+            values[(rows >= self._solid[0]) | (columns >= self._solid[1])] = NO_MATERIAL
+        return values
+
+    def _lower_field(self, lower=None):
+        """The whole lower bound (``lower``: of another field of this grid), no material on
+        the cells past a box's far sides."""
+        lower = self.lower if lower is None else lower
+        if self._solid == (self.ny, self.nx) or (lower is self.lower and self.lower_emptied):
+            return lower
+        lower = lower.copy()
+        lower[self._solid[0]:, :] = NO_MATERIAL
+        lower[:, self._solid[1]:] = NO_MATERIAL
+        return lower
 
     # Rapids ----------------------------------------------------------------------------
 
@@ -307,19 +329,20 @@ class Workpiece:
             return RapidVerdict("unsure")  # so far out, rounding places the path's nearest points many mm off
         a, b, _ = self._within_slab(numpy.array([start], float), numpy.array([end], float), cutter, numpy.zeros(1))
         a, b, z_low, z_high, slack = self._split_steep(a, b, numpy.minimum(a[:, 2], b[:, 2]), numpy.maximum(a[:, 2], b[:, 2]), numpy.zeros(len(a)))
-        upper, lower = self.upper.reshape(-1), self._flat_lower()
+        upper = self.upper.reshape(-1)
         clear = True
         for near in self._cells_near(a, b, slack, cutter.radius + self.half_diagonal):
             owner, flat, distance = near.each_piece()
             cells = numpy.divmod(flat, self.nx)
             nearest = self._square_distance(cells, a[owner], b[owner])  # a point of the (closed) cell this close to the piece
             surface_high = z_high[owner] + cutter.lift(nearest)
-            hit = (nearest <= cutter.radius) & (lower[flat] > surface_high)
+            lower = self._lower_at(flat)
+            hit = (nearest <= cutter.radius) & (lower > surface_high)
             if hit.any():
                 first = int(numpy.flatnonzero(hit)[0])
                 piece = owner[first:first + 1]
                 on_path = _nearest_on_segment(self._x(cells[1][first]), self._y(cells[0][first]), a[piece, :2], b[piece, :2])
-                level = min(float(lower[flat[first]]), float(z_high[piece[0]]))
+                level = min(float(lower[first]), float(z_high[piece[0]]))
                 return RapidVerdict("hits", (float(on_path[0][0]), float(on_path[1][0]), level))
             outer = numpy.maximum(distance - self.half_diagonal, 0.0)
             reach = outer <= cutter.radius
@@ -551,14 +574,14 @@ class Workpiece:
         """(at least, at most) the volume cut away, in mm³, from the two bounds."""
         blank_upper, blank_lower = self._blank(self.stock)
         area = self.resolution ** 2
-        least = numpy.maximum(_height(blank_lower, self.bottom) - _height(self.upper, self.bottom), 0.0).sum() * area
-        most = (_height(blank_upper, self.bottom) - _height(self.lower, self.bottom)).sum() * area
+        least = numpy.maximum(_height(self._lower_field(blank_lower), self.bottom) - _height(self.upper, self.bottom), 0.0).sum() * area
+        most = (_height(blank_upper, self.bottom) - _height(self._lower_field(), self.bottom)).sum() * area
         return float(least), float(most)
 
 
     def save_npz(self, path) -> None:
         """Both bounds and the grid, for a user to look at what the program leaves."""
-        numpy.savez_compressed(path, upper=self.upper, lower=self.lower, x_low=self.x_low, y_low=self.y_low,
+        numpy.savez_compressed(path, upper=self.upper, lower=self._lower_field(), x_low=self.x_low, y_low=self.y_low,
                                resolution=self.resolution, bottom=self.bottom)
 
     def save_stl(self, path) -> None:

@@ -805,12 +805,16 @@ def test_arcs_and_helices_swept_as_chords_leave_the_field_every_cell_measured_le
 
 @pytest.mark.parametrize("top", [0.0, -0.0, 5.0])
 def test_a_box_blank_at_any_top_holds_it_on_every_cell_and_is_surely_there_but_where_cells_stick_out(top):
-    """A top at +0 is laid out as zeroed memory, any other (-0 too) filled in: the same tops."""
+    """A top at +0 is laid out as zeroed memory, any other (-0 too) filled in: the same tops.
+    The cells that stick out are counted out where the lower bound is read, whole or cell
+    by cell, and are not written (which would write every row)."""
     piece = Workpiece(Stock.box((0, 40.3), (0, 30.2), (top - 10, top)), 0.5)
     assert piece.upper.tobytes() == numpy.full((61, 81), top, numpy.float32).tobytes()
     inside = numpy.full((61, 81), top, numpy.float32)
     inside[-1, :] = inside[:, -1] = NO_MATERIAL  # centres within half a cell of the far sides: their cells stick out
-    assert piece.lower.tobytes() == inside.tobytes()
+    assert piece._lower_field().tobytes() == inside.tobytes()
+    assert piece._lower_at(numpy.arange(61 * 81)[::-1]).tobytes() == inside.reshape(-1)[::-1].tobytes()
+    assert piece.lower.tobytes() == numpy.full((61, 81), top, numpy.float32).tobytes()
 
 
 def test_a_copy_of_a_workpiece_whose_lower_bound_was_emptied_cuts_its_upper_bound_on_its_own():
@@ -1143,3 +1147,12 @@ def test_an_arc_whose_end_lies_off_its_circle_or_on_its_centre_is_left_to_the_ch
     ends = numpy.array([[0.0, 5.06], [0.0, 5.07], [0.0, 0.0], [0.0, 5.0]])
     assert measurable(starts, ends, centre, 0.5, 1e9).tolist() == [True, False, False, False]
     assert measurable(starts + 2e9, ends + 2e9, centre + 2e9, 0.5, 1e9).tolist() == [False] * 4
+
+
+def test_a_rapid_through_cells_that_stick_out_past_the_blank_is_no_sure_hit():
+    """The last column's cells reach past the far side: a rapid there, outside the blank, may
+    meet material (the cell may hold it) but surely does not, while one a cell inside does."""
+    piece = Workpiece(Stock.box((0, 40.3), (0, 30.2), (-10, 0)), 0.5)
+    assert piece.rapid((40.45, 10.0, -1.0), (40.45, 20.0, -1.0), Cutter(0.05)).outcome == "unsure"
+    assert piece.rapid((10.0, 30.45, -1.0), (20.0, 30.45, -1.0), Cutter(0.05)).outcome == "unsure"
+    assert piece.rapid((39.0, 10.0, -1.0), (39.0, 20.0, -1.0), Cutter(0.05)).outcome == "hits"
