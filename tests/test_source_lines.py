@@ -13,7 +13,7 @@ from ncverify.lower.fagor import _DOLLAR, _PERCENT, _STRUCTURE, _SUBROUTINE_HEAD
 from ncverify.lower.sinumerik import _MODAL_CALL, _PROGRAM_END, _REPEAT_SECTION
 from ncverify.lower.heidenhain import _TOOL_CALL_NUMBER, _TOOL_CALL_UNSURE
 from ncverify.lower.iso import _TOOL_WORD, IsoFrontend
-from ncverify.lower.linuxcnc import LinuxcncFrontend
+from ncverify.lower.linuxcnc import _FANUC_PROGRAM, _LETTER_O, _OWORD_CALL, _SUB, LinuxcncFrontend
 from ncverify.source import ProgramSource, finditer_all, lines_holding, search_any
 
 _TEXT = st.lists(st.sampled_from([b"G1 X1.\n", b"\n", b"M30", b"(a\r\nb)\n", b"N10 G0 Z5.\r\n", b"x" * 300]), max_size=40).map(b"".join)
@@ -41,13 +41,15 @@ def test_line_numbers_in_a_long_mapped_file(tmp_path):
     assert source.line_number_at(len(source)) == len(lines) + 1
 
 
-# Lines as SINUMERIK and Fagor programs write the words their whole-text scans look for:
-# in code, after a comment's semicolon, twice in a line, in lower case, in longer names.
+# Lines as SINUMERIK, Fagor and LinuxCNC programs write the words their whole-text scans look
+# for: in code, after a comment's semicolon, twice in a line, in lower case, in longer names.
 _SCANNED_LINE = st.lists(st.sampled_from([b"N10 ", b"MCALL CYCLE81", b"mcall sub1", b"; MCALL X", b"M30", b"m2", b"M300", b"M02 ",
                                           b"REPEAT LBL1 P2", b"REPEATB A", b"R1=2 ", b"G0 X1", b"$IF [P1 EQ 1]", b"$ENDIF", b"$ifx",
-                                          b"/ $ELSE", b"%L SUB1", b"% l x.y", b"%", b"\t", b"\r"]), max_size=5).map(b"".join)
+                                          b"/ $ELSE", b"%L SUB1", b"% l x.y", b"%", b"\t", b"\r", b"o100 sub", b"O<name> SUB", b"O 12",
+                                          b"(o1 sub)", b"O1", b"o2 call", b"o100 subx", b"/ N5 O7 sub"]), max_size=5).map(b"".join)
 _SCANNED_TEXT = st.lists(_SCANNED_LINE, max_size=12).map(b"\n".join)
-_SCANS = (_MODAL_CALL, _PROGRAM_END, _REPEAT_SECTION, (_DOLLAR, _STRUCTURE), (_PERCENT, _SUBROUTINE_HEADER))
+_SCANS = (_MODAL_CALL, _PROGRAM_END, _REPEAT_SECTION, (_DOLLAR, _STRUCTURE), (_PERCENT, _SUBROUTINE_HEADER), (_LETTER_O, _SUB),
+          (_LETTER_O, _FANUC_PROGRAM))
 
 
 @settings(max_examples=300, deadline=None)
@@ -69,11 +71,12 @@ _TOOL_SCANS = (  # (letter-led patterns, the one pattern, finds numbers)
     (IsoFrontend.tool_unsure, re.compile(_ISO_UNSURE), False),
     (LinuxcncFrontend.tool_unsure, re.compile(_ISO_UNSURE + rb"|(?<![A-Za-z])[Mm]\s*0*61(?!\d)"), False),
     (_TOOL_CALL_NUMBER, re.compile(rb"TOOL\s+CALL\s+(\d+)", re.IGNORECASE), True),
+    (_OWORD_CALL, re.compile(rb"[Oo]\s*(<[^>]*>|\d+)\s*call", re.IGNORECASE), True),
     (_TOOL_CALL_UNSURE, re.compile(rb"TOOL\s+CALL\s+[\"'Qq]|(?:CALL|SEL)\s+PGM|PGM\s+CALL|\bFN\s*(?:17|26|27|28)\b|TAB(?:OPEN|WRITE)", re.IGNORECASE), False),
 )
 _TOOL_TEXT = st.lists(st.sampled_from([b"T", b"t", b"M", b"m", b"G", b"g", b"1", b"0", b"6", b"98", b"198", b"10", b"65", b"61", b" ", b"\n", b"#",
                                        b"[", b"<", b"_", b"-", b"x", b"Q", b"'", b"TOOL", b"tool", b"CALL", b"call", b"PGM", b"Sel", b"FN",
-                                       b"fn", b"17", b"26", b"TAB", b"open", b"WRITE", b"\""]), max_size=30).map(b"".join)
+                                       b"fn", b"17", b"26", b"TAB", b"open", b"WRITE", b"\"", b"O", b"o", b"<a>", b"CALL "]), max_size=30).map(b"".join)
 
 
 @settings(max_examples=500, deadline=None)

@@ -31,7 +31,7 @@ from ..dialect import DialectSetup
 from ..read.iso import ReadBlock, Statement, Word
 from ..read.linuxcnc import POLAR, OWord, read_line
 from ..resources import data_dir, read_table
-from ..source import Span, decode_line, letter_led, line_start
+from ..source import Span, decode_line, finditer_all, letter_led, line_start, lines_holding
 from ..tables import CodeTable
 from ..values import VACANT
 from .iso import TOOL_UNSURE, IsoFrontend, IsoLowering
@@ -272,7 +272,8 @@ def _name_pattern(name: str) -> bytes:
     return rb"0*" + body.encode() + rb"(?![0-9])"
 
 
-_OWORD_CALL = re.compile(rb"[Oo]\s*(<[^>]*>|\d+)\s*call", re.IGNORECASE)
+_OWORD_CALL = letter_led(rb"O\s*(<[^>]*>|\d+)\s*call")
+_LETTER_O = letter_led(rb"O")  # what every O-word line holds: the whole-text scans try their patterns on those lines only
 
 
 class LinuxcncFrontend(IsoFrontend):
@@ -289,10 +290,10 @@ class LinuxcncFrontend(IsoFrontend):
         """As in ISO, and none told when the program calls a subroutine it does not define
         (a file of its own, whose T words are not in this text): defined as the program
         index finds its ``sub`` lines (a ``sub`` in a comment defines none)."""
-        def names(pattern):
-            return {name.lower().replace(b" ", b"") for name in pattern.findall(source.buffer)}
+        def names(matches):
+            return {match.group(1).lower().replace(b" ", b"") for match in matches}
 
-        if names(_OWORD_CALL) - names(_SUB):
+        if names(finditer_all(source.buffer, _OWORD_CALL)) - names(lines_holding(source.buffer, _LETTER_O, _SUB)):
             return None
         return super().tools_called(source)
 
@@ -311,9 +312,9 @@ class LinuxcncFrontend(IsoFrontend):
     def programs(self, buffer) -> list[tuple[str, int]]:
         """The main program at the top, then each subroutine from the line after its ``sub``."""
         found = [("main", 0)]
-        for match in _FANUC_PROGRAM.finditer(buffer):
+        for match in lines_holding(buffer, _LETTER_O, _FANUC_PROGRAM):
             found.append((f"O{int(match.group(1))}", match.start()))
-        for match in _SUB.finditer(buffer):
+        for match in lines_holding(buffer, _LETTER_O, _SUB):
             newline = buffer.find(b"\n", match.end())
             body = len(buffer) if newline < 0 else newline + 1
             found.append((self.program_name(_oword_name(match.group(1))), body))
