@@ -3,7 +3,7 @@
     python benchmarks/dialects.py [BLOCKS] [DIALECT ...]
 
 Every dialect gets the zig-zag of ``generate.py`` (straight feed moves, a tool call, a
-spindle start, a stock) as its CAM post would write it. Prints blocks per second end to
+spindle start, a stock, the tool's size) as its CAM post would write it. Prints blocks per second end to
 end and peak memory per dialect: the figures in the README's Speed section.
 """
 from __future__ import annotations
@@ -16,6 +16,7 @@ import time
 from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
+TOOL = "ncverify: tool 1 radius 3.175 length 0 type endmill"  # a 6.35 mm end mill, as in compare.py
 
 
 def _points(blocks: int):
@@ -24,25 +25,25 @@ def _points(blocks: int):
 
 
 def _iso(blocks: int) -> tuple[list[str], str, list[str]]:
-    head = ["%", "O1000", "(ncverify: stock box X-1:101 Y-1:1000 Z-20:-2)", "G21 G90 G17 G40 G49 G80 G54", "T1 M06", "G43 H01 Z50.",
+    head = ["%", "O1000", "(ncverify: stock box X-1:101 Y-1:1000 Z-20:-2)", f"({TOOL})", "G21 G90 G17 G40 G49 G80 G54", "T1 M06", "G43 H01 Z50.",
             "S8000 M03", "G00 X0. Y0.", "G00 Z5.", "G01 Z-1. F800."]
     return head, "N{n} G01 X{x:.3f} Y{y:.3f} Z{z:.3f}", ["G00 Z50.", "M05", "M30", "%"]
 
 
 def _heidenhain(blocks: int) -> tuple[list[str], str, list[str]]:
-    head = ["0 BEGIN PGM BENCH MM", "1 BLK FORM 0.1 Z X-1 Y-1 Z-20", "2 BLK FORM 0.2 X+101 Y+1000 Z-2", "3 TOOL CALL 1 Z S8000",
-            "4 L Z+50 R0 FMAX M3", "5 L X+0 Y+0 R0 FMAX", "6 L Z+5 FMAX", "7 L Z-1 F800"]
+    head = ["0 BEGIN PGM BENCH MM", "1 BLK FORM 0.1 Z X-1 Y-1 Z-20", "2 BLK FORM 0.2 X+101 Y+1000 Z-2", f"3 ; {TOOL}", "4 TOOL CALL 1 Z S8000",
+            "5 L Z+50 R0 FMAX M3", "6 L X+0 Y+0 R0 FMAX", "7 L Z+5 FMAX", "8 L Z-1 F800"]
     return head, "{n} L X{x:+.3f} Y{y:+.3f} Z{z:+.3f}", ["L Z+50 R0 FMAX M5", "M30", "END PGM BENCH MM"]
 
 
 def _sinumerik(blocks: int) -> tuple[list[str], str, list[str]]:
-    head = ["%_N_BENCH_MPF", "WORKPIECE(,\"\",,\"BOX\",0,-2,-20,-80,-1,-1,101,1000)", "G17 G90 G71 G54", "T1 D1", "M6",
+    head = ["%_N_BENCH_MPF", "WORKPIECE(,\"\",,\"BOX\",0,-2,-20,-80,-1,-1,101,1000)", f"; {TOOL}", "G17 G90 G71 G54", "T1 D1", "M6",
             "S8000 M3", "G0 X0 Y0 Z50", "G0 Z5", "G1 Z-1 F800"]
     return head, "N{n} G1 X{x:.3f} Y{y:.3f} Z{z:.3f}", ["G0 Z50", "M5", "M30"]
 
 
 def _fagor(blocks: int) -> tuple[list[str], str, list[str]]:
-    head = ["; ncverify: stock box X-1:101 Y-1:1000 Z-20:-2", "G71 G90 G17 G40 G54", "T1 D1", "M6", "S8000 M3",
+    head = ["; ncverify: stock box X-1:101 Y-1:1000 Z-20:-2", f"; {TOOL}", "G71 G90 G17 G40 G54", "T1 D1", "M6", "S8000 M3",
             "G0 X0 Y0 Z50", "G0 Z5", "G1 Z-1 F800", "#MSG [\"BENCH\"]"]
     return head, "N{n} G1 X{x:.3f} Y{y:.3f} Z{z:.3f}", ["G0 Z50", "M5", "M30"]
 
@@ -67,7 +68,8 @@ def time_check(path: Path, dialect: str) -> tuple[float, int, dict]:
     import json
 
     report = path.with_suffix(".json")
-    command = [sys.executable, "-m", "ncverify.cli", "check", str(path), "--format", "json", "--output", str(report), "--dialect", dialect]
+    command = [sys.executable, "-m", "ncverify.cli", "check", str(path), "--format", "json", "--output", str(report), "--dialect", dialect,
+               "--no-cache"]  # a cached result would time nothing
     started = time.perf_counter()
     completed = subprocess.run(command, check=False)
     return time.perf_counter() - started, completed.returncode, json.loads(report.read_text())
@@ -78,8 +80,7 @@ def main() -> None:
     for dialect in sys.argv[2:] or DIALECTS:
         _make, extension = DIALECTS[dialect]
         program = HERE / "out" / f"surfacing-{dialect}-{blocks}{extension}"
-        if not program.exists():
-            write_program(dialect, blocks, program)
+        write_program(dialect, blocks, program)  # each run: a file left by an older run may differ
         elapsed, code, report = time_check(program, dialect)
         peak_kib = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss
         entry = report["files"][0]
