@@ -325,7 +325,9 @@ def test_settings_of_the_editor_win_over_the_project_file_and_bad_values_are_ign
 def test_a_newer_version_ends_the_worker_checking_the_older_one():
     from ncverify.lsp.analysis import EditorSettings, Runner
 
-    big = "O1000\nG21 G90 G54\nS1000 M03\n" + "G01 X1. Y1. F100.\nX2. Y2.\n" * 100000 + "M30\n"
+    # a comment on each line keeps it off the array reader: seconds of checking, not a fifth
+    # of one, so the older version is still being checked when the newer one comes
+    big = "O1000\nG21 G90 G54\nS1000 M03\n" + "G01 X1. Y1. F100. (A)\nX2. Y2. (B)\n" * 100000 + "M30\n"
     small = BRACKET.read_text(encoding="utf-8")
     settings = EditorSettings().settings()
 
