@@ -203,7 +203,7 @@ class Workpiece:
             return 0.0
         self.cuts += 1
         low, high = self._slab(cutter)  # parts above or below the slab are laid on its faces, as straight moves are
-        may_cut = self._lower_near(self._cells_near_arcs(arcs, cutter.radius + self.half_diagonal), cutter,
+        may_cut = self._lower_near(self._cells_near_arcs(arcs, cutter.radius + self.half_diagonal, cutter.lowest_is_flat), cutter,
                                    numpy.clip(arcs.low, low, high), numpy.clip(arcs.high, low, high), arcs.drift)
         return float(arcs.length[~may_cut].sum())
 
@@ -415,18 +415,20 @@ class Workpiece:
         first_row, stop_row = self._centre_range(numpy.minimum(a[:, 1], b[:, 1]) - (reach + rounding), numpy.maximum(a[:, 1], b[:, 1]) + (reach + rounding),
                                                  self.y_low, self.ny)
         rows = numpy.where(numpy.isfinite(size), numpy.maximum(stop_row - first_row, 0), 0)  # the rows of the box whose centres can be near
-        for chunk, group, leaders in _grouped_chunks((column_high - column_low) * heights, _path_keys(a, b, slack)):
+        once = cutter is not None and cutter.lowest_is_flat
+        for chunk, group, leaders in _grouped_chunks((column_high - column_low) * heights, _path_keys(a, b, slack), once):
             rows_of = _Rows.of(self, leaders, segments, rows, first_row, reach, rounding, column_low, column_high)
             if cutter is not None and cutter.flat_end and cutter.radius >= _SPANS_FROM_CELLS * self.resolution:
                 yield _Near(chunk, group, leaders, *self._swept_in_chunk(rows_of, centres, cutter, slack))
             else:
                 yield _Near(chunk, group, leaders, *self._near_in_chunk(rows_of, centres))
 
-    def _cells_near_arcs(self, arcs: XYArcs, reach: float):
+    def _cells_near_arcs(self, arcs: XYArcs, reach: float, once: bool = False):
         """:meth:`_cells_near` for arcs about Z: the cells of each arc's box widened by the
         reach and its drift whose centres lie within that of the arc, row by row, from the
         spans where the row crosses the arc's annulus. Arcs alike seen from above (a
-        profile's corners lap after lap) are measured once."""
+        profile's corners lap after lap) are measured once (``once``: and fill a chunk
+        once, see :func:`_grouped_chunks`)."""
         reach = reach + arcs.drift
         rounding = self.resolution * 1e-3 + 1e-14 * arcs.size()
         x_low, y_low, x_high, y_high = arcs.box()
@@ -434,7 +436,7 @@ class Workpiece:
         first_row, stop_row = self._centre_range(y_low - (reach + rounding), y_high + (reach + rounding), self.y_low, self.ny)
         rows = numpy.maximum(stop_row - first_row, 0)
         centres = self._column_centres()
-        for chunk, group, leaders in _grouped_chunks((column_high - column_low) * rows, arcs.keys()):
+        for chunk, group, leaders in _grouped_chunks((column_high - column_low) * rows, arcs.keys(), once):
             owner, flat, distance = self._near_arcs_in_chunk(arcs, leaders, rows, first_row, reach + rounding, reach, column_low, column_high, centres)
             yield _Near(chunk, group, leaders, owner, flat, distance)
 
@@ -686,14 +688,36 @@ def _chunks(sizes):
         yield numpy.arange(start, len(sizes))
 
 
-def _grouped_chunks(sizes, keys):
+def _chunks_by_path(sizes, words):
+    """:func:`_chunks` where a piece whose path (its :func:`_mixed` word) came before in its
+    chunk adds nothing to the chunk: a profile's laps at each depth, counted lap by lap,
+    made a chunk of each part of a CAM post, and each chunk costs a fixed time besides its
+    cells (a tenth of that post's check). Words of unequal paths that mix alike (rare)
+    leave one path out of the count."""
+    start, total, seen = 0, 0, set()
+    for index, (size, word) in enumerate(zip(sizes.tolist(), words.tolist())):
+        if word in seen:
+            continue
+        if total + size > _CHUNK_CELLS and index > start:
+            yield numpy.arange(start, index)
+            start, total, seen = index, 0, set()
+        seen.add(word)
+        total += size
+    if start < len(sizes):
+        yield numpy.arange(start, len(sizes))
+
+
+def _grouped_chunks(sizes, keys, once: bool = False):
     """(chunk, group, leaders) of the pieces in chunks (:func:`_chunks` of their cell
     windows ``sizes``): within a chunk, the pieces whose ``keys`` (bit patterns, see
     :func:`_path_keys`) are all equal form a group, ``group`` each piece's place among
-    ``leaders``, the first piece of each group (as :class:`_Near` takes them)."""
+    ``leaders``, the first piece of each group (as :class:`_Near` takes them). ``once``:
+    the cells of a group are looked at once, whatever its count of pieces (the tool's
+    lowest surface is flat, so no piece's own cells are spread out), and only a group's
+    first piece fills its chunk (:func:`_chunks_by_path`)."""
     words = _mixed(keys)
     alike = _any_equal(words)
-    for chunk in _chunks(sizes):
+    for chunk in _chunks_by_path(sizes, words) if once and alike else _chunks(sizes):
         chunk_words = words.take(chunk)
         if alike and _any_equal(chunk_words):
             group, leaders = _path_groups([key.take(chunk) for key in keys], chunk_words)

@@ -1156,3 +1156,42 @@ def test_a_rapid_through_cells_that_stick_out_past_the_blank_is_no_sure_hit():
     assert piece.rapid((40.45, 10.0, -1.0), (40.45, 20.0, -1.0), Cutter(0.05)).outcome == "unsure"
     assert piece.rapid((10.0, 30.45, -1.0), (20.0, 30.45, -1.0), Cutter(0.05)).outcome == "unsure"
     assert piece.rapid((39.0, 10.0, -1.0), (39.0, 20.0, -1.0), Cutter(0.05)).outcome == "hits"
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.lists(st.tuples(st.integers(0, 5), st.integers(0, 60)), max_size=40), st.sampled_from([1, 30, 100, 1 << 18]))
+def test_chunks_by_path_count_each_path_once_and_keep_the_pieces_in_order(pieces, budget):
+    """Consecutive chunks of every piece, in order; a chunk counts each path's window once
+    (its first piece's), stays within the budget unless one path alone passes it, and ends
+    only where the next piece's new path would pass it."""
+    from ncverify import workpiece
+
+    words = numpy.array([path for path, _ in pieces], numpy.uint64)
+    sizes = numpy.array([size for _, size in pieces], numpy.int64)
+    with patch.object(workpiece, "_CHUNK_CELLS", budget):
+        chunks = [chunk.tolist() for chunk in workpiece._chunks_by_path(sizes, words)]
+    assert [index for chunk in chunks for index in chunk] == list(range(len(pieces)))
+    for number, chunk in enumerate(chunks):
+        counted = {}
+        for index in chunk:
+            counted.setdefault(pieces[index][0], pieces[index][1])
+        assert sum(counted.values()) <= budget or len(counted) == 1
+        if number + 1 < len(chunks):
+            path, size = pieces[chunks[number + 1][0]]
+            assert path not in counted and sum(counted.values()) + size > budget
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.sampled_from([Cutter(1.5), Cutter(0.3), Cutter(2.0, known=False)]), _paths(), st.lists(st.floats(-9, 2), min_size=2, max_size=5),
+       st.sampled_from([7, 40, 300]))
+def test_laps_in_chunks_filled_by_path_leave_the_field_every_cell_measured_leaves(cutter, path, depths, chunk):
+    """A profile's laps fill a chunk once for a flat lowest surface: in chunks of every size
+    the field is the one measuring every lap leaves."""
+    from ncverify import workpiece
+
+    piece, plain = Workpiece(BLANK, 0.5), Workpiece(BLANK, 0.5)
+    starts, ends = (numpy.concatenate([points * [2.0, 2.0, 1.0] + [20.0, 15.0, depth] for depth in depths]) for points in path)
+    with patch.object(workpiece, "_CHUNK_CELLS", chunk):
+        piece.cut(starts, ends, cutter, 0.0, joined=False)
+    _sweep_every_cell(plain, starts, ends, cutter, 0.0, joined=False)
+    assert numpy.array_equal(piece.upper, plain.upper) and numpy.array_equal(piece.lower, plain.lower)
