@@ -694,6 +694,12 @@ def _chunks_by_path(sizes, words):
     made a chunk of each part of a CAM post, and each chunk costs a fixed time besides its
     cells (a tenth of that post's check). Words of unequal paths that mix alike (rare)
     leave one path out of the count."""
+    ordered = words.take(order := words.argsort(kind="stable"))
+    first = numpy.ones(len(words), bool)
+    first[1:] = ordered[1:] != ordered[:-1]
+    if sizes.take(order[first]).sum() <= _CHUNK_CELLS:  # one step, told without the loop below
+        yield numpy.arange(len(sizes))
+        return
     start, total, seen = 0, 0, set()
     for index, (size, word) in enumerate(zip(sizes.tolist(), words.tolist())):
         if word in seen:
