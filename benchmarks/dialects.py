@@ -15,6 +15,8 @@ import sys
 import time
 from pathlib import Path
 
+from compare import check_report  # a sibling script: benchmarks/ is the path's first entry
+
 HERE = Path(__file__).resolve().parent
 TOOL = "ncverify: tool 1 radius 3.175 length 0 type endmill"  # a 6.35 mm end mill, as in compare.py
 
@@ -82,6 +84,7 @@ def main() -> None:
         program = HERE / "out" / f"surfacing-{dialect}-{blocks}{extension}"
         write_program(dialect, blocks, program)  # each run: a file left by an older run may differ
         elapsed, code, report = time_check(program, dialect)
+        check_report(program.with_suffix(".json"), program)
         peak_kib = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss
         entry = report["files"][0]
         findings = sum(1 for d in entry["diagnostics"] if d["status"] == "violated")
