@@ -1,6 +1,6 @@
 """Time ``ncverify check`` against LinuxCNC's interpreter (``rs274``) on the same toolpaths.
 
-    python benchmarks/compare.py [--blocks N] [--runs N] [--only NAME ...] [--markdown]
+    python benchmarks/compare.py [--blocks N] [--runs N] [--only NAME ...] [--markdown] [--air-cutting]
 
 Writes each program (200,000 blocks by default) into ``benchmarks/out/``, then times
 ``ncverify check`` on it as a user runs it (every rule on, JSON report) and, for the
@@ -11,6 +11,8 @@ on a shared machine hits both alike. Printed: the minimum wall time and the mini
 (user + system, of the process and its children) of each, and their ratios; on a machine
 shared with other jobs the CPU time is the steadier figure.
 SINUMERIK, Klartext and Fagor programs are timed for ncverify only (rs274 reads ISO only).
+``--air-cutting`` times the check that also reports the air statistic, which sweeps every
+feed move through the cut stock (a plain check sweeps only where a rapid enters the blank).
 """
 from __future__ import annotations
 
@@ -278,10 +280,10 @@ class Program:
         (path.parent / "rs274-tool.tbl").write_text(RS274_TOOL_TABLE, encoding="ascii")
         return path
 
-    def run_ncverify(self, path: Path) -> tuple[float, float]:
+    def run_ncverify(self, path: Path, extra: tuple[str, ...] = ()) -> tuple[float, float]:
         report = path.with_suffix(".json")
         command = [sys.executable, "-m", "ncverify.cli", "check", str(path), "--format", "json", "--output", str(report),
-                   "--no-cache", *self.options]  # a cached result would time nothing
+                   "--no-cache", *self.options, *extra]  # a cached result would time nothing
         # As installed by pip: modules are compiled once, not on every start.
         environment = {name: value for name, value in os.environ.items() if name != "PYTHONDONTWRITEBYTECODE"}
         timing = _timed(command, env=environment)
@@ -340,7 +342,10 @@ def main() -> None:
     parser.add_argument("--runs", type=int, default=3, help="paired runs per program; the minimum is reported")
     parser.add_argument("--only", nargs="*", help="program names to run")
     parser.add_argument("--markdown", action="store_true", help="print the README table")
+    parser.add_argument("--air-cutting", action="store_true",
+                        help="check with --air-cutting: every feed move swept through the cut stock, none deferred")
     arguments = parser.parse_args()
+    extra = ("--air-cutting",) if arguments.air_cutting else ()
     have_rs274 = RS274.exists()
     rows = []
     for program in PROGRAMS:
@@ -349,7 +354,7 @@ def main() -> None:
         path = program.write(arguments.blocks)
         ours, theirs = [], []
         for _ in range(arguments.runs):
-            ours.append(program.run_ncverify(path))
+            ours.append(program.run_ncverify(path, extra))
             if program.rs274 and have_rs274:
                 theirs.append(program.run_rs274(path))
         rows.append((program.name, _best(ours), _best(theirs) if theirs else None))

@@ -102,6 +102,8 @@ def build_parser() -> argparse.ArgumentParser:
                        help="judge rapids against the stock as cut so far, with cells of MM (default auto: from the smallest tool the program loads); "
                             "0 or off: against the raw blank")
     check.add_argument("--stock-out", metavar="FILE", help="write the workpiece the program leaves (.stl or .npz; {stem}: the program's name)")
+    check.add_argument("--air-cutting", action="store_true",
+                       help="report, per tool, the feed length that cut only air (sweeps every feed move through the stock model: slower)")
 
     plot = commands.add_parser("plot", help="draw a program's toolpath with its findings")
     plot.add_argument("program", metavar="PROGRAM")
@@ -225,7 +227,7 @@ def _given(argv: list[str]) -> frozenset[str]:
     flags = {"--loop-bound": "loop_bound", "--max-paths": "max_paths", "--rapid-path": "rapid_path",
              "--solver-timeout": "solver_timeout_s", "--least-input-increment": "least_input_increment",
              "--machine": "machine", "--profile": "profile", "--dialect": "dialect", "--subprogram-path": "subprogram_path",
-             "--stock-resolution": "stock_resolution"}
+             "--stock-resolution": "stock_resolution", "--air-cutting": "air_cutting"}
     return frozenset(setting for flag, setting in flags.items() if any(arg == flag or arg.startswith(flag + "=") for arg in argv))
 
 
@@ -241,6 +243,7 @@ def _settings(arguments) -> Settings:
         file_timeout_s=arguments.file_timeout, file_memory_bytes=arguments.file_memory << 20, explicit=getattr(arguments, "given", frozenset()),
         cache_dir=Path(arguments.cache_dir) if arguments.cache_dir else None,
         stock_resolution=arguments.stock_resolution, stock_out=Path(arguments.stock_out) if arguments.stock_out else None,
+        air_cutting=arguments.air_cutting,
     )
 
 

@@ -384,7 +384,8 @@ class Material:
     def _holder(self, state) -> _PathPiece:
         holder = state.rule_state.get(_KEY)
         if holder is None:
-            holder = state.rule_state[_KEY] = _PathPiece(self._allocate(lambda: Workpiece(self.stock, self.resolution, self._memory_cap)))
+            holder = state.rule_state[_KEY] = _PathPiece(self._allocate(
+                lambda: Workpiece(self.stock, self.resolution, self._memory_cap, deferred=not self.checker.settings.air_cutting)))
         return holder
 
     def _tool_name(self, state) -> str:
@@ -479,7 +480,9 @@ class Material:
         if about_z.any():
             arcs, _ = XYArcs.of(starts[about_z], ends[about_z], centres[about_z], clockwise[about_z], _ARC_PART_CELLS * self.resolution, self.resolution)
             mine.deepest = min(mine.deepest, float(arcs.low.min()))
-            self._tally_air(tool, float(arcs.length.sum()), mine.piece.cut_arcs(arcs, cutter))
+            air = mine.piece.cut_arcs(arcs, cutter)
+            if air is not None:
+                self._tally_air(tool, float(arcs.length.sum()), air)
         if about_z.all():
             return
         rest = ~about_z
@@ -490,7 +493,9 @@ class Material:
     def _sweep(self, piece: Workpiece, starts, ends, cutter: Cutter, stray, tool: str, joined: bool = True) -> None:
         if not len(starts):
             return
-        self._tally_air(tool, workpiece.total_length(starts, ends), piece.cut(starts, ends, cutter, stray, joined))
+        air = piece.cut(starts, ends, cutter, stray, joined)
+        if air is not None:  # judged only with Settings.air_cutting (see Workpiece._defer)
+            self._tally_air(tool, workpiece.total_length(starts, ends), air)
 
     def _tally_air(self, tool: str, length: float, air: float) -> None:
         """The tool cut ``length`` of feed moves, ``air`` of which surely cut nothing."""

@@ -17,7 +17,7 @@ SETTINGS = {
     "loop_bound": int, "call_depth": int, "max_paths": int, "solver_timeout_s": float, "machine": str,
     "profile": str, "dialect": str, "subprogram_path": list, "rapid_path": str, "least_input_increment": float,
     "cache_dir": str,
-    "stock_resolution": float,
+    "stock_resolution": float, "air_cutting": bool,
 }
 _MAY_BE_ZERO = {"least_input_increment", "stock_resolution"}  # 0: whole units; 0: no in-process stock
 _WORDS = {"stock_resolution": {"auto": None, "off": 0.0}}  # settings that take a word for a value
@@ -102,7 +102,7 @@ class _Reader:
                     self.fail(f"[settings] {key}", f"expected a number or one of {', '.join(_WORDS[key])}, got {value!r}")
                 settings[key] = _WORDS[key][value]
                 continue
-            if not isinstance(value, kind) or isinstance(value, bool):
+            if not isinstance(value, kind) or (isinstance(value, bool) and kind is not bool):
                 self.fail(f"[settings] {key}", f"expected a {kind.__name__}, got {value!r}")
             if key in _CHOICES and value not in _CHOICES[key]:
                 self.fail(f"[settings] {key}", f"expected one of {', '.join(_CHOICES[key])}, got {value!r}")

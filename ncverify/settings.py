@@ -36,6 +36,7 @@ class Settings:
     stock_resolution: float | None = None  # the stock as cut so far: None (default) cells from the smallest tool the program loads, > 0 these cells (mm), 0 off (the blank)
     stock_memory: int = 256 << 20  # bytes the in-process stock may take
     stock_out: Path | None = None  # write the cut workpiece here (.stl or .npz; {stem}: the program's name)
+    air_cutting: bool = False  # judge every feed move against the stock before it, for the share that cut only air (sweeps every cut; see Workpiece._defer)
     config: Path | None = None  # the project file; None: ncverify.toml found upward
     record_values: bool = False  # editors: keep what each assignment computes, by line (FileResult.values)
     cache_dir: Path | None = None  # None: [settings] cache_dir of the project file, else the user cache folder

@@ -26,7 +26,7 @@ from __future__ import annotations
 import ctypes
 import functools
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy
 import shapely
@@ -102,7 +102,7 @@ class ModelTooLarge(ValueError):
 class Workpiece:
     """The height field of a box or polygon blank, milled with the tool along +Z."""
 
-    def __init__(self, stock: Stock, resolution: float, memory_cap: int = 256 << 20):
+    def __init__(self, stock: Stock, resolution: float, memory_cap: int = 256 << 20, deferred: bool = False):
         if stock.kind not in ("box", "polygon"):
             raise ValueError(f"a {stock.kind} stock is not modelled as a height field")
         (x_low, y_low, x_high, y_high) = outline(stock).bounds
@@ -123,6 +123,7 @@ class Workpiece:
         self._solid = self._solid_extent(stock)
         self.lower_emptied = False  # a cut that could not be placed emptied ``lower`` (see cut_anywhere)
         self._centres = None  # see _column_centres
+        self._waiting: list[_Waiting] | None = [] if deferred else None  # sweeps not applied yet (see _defer)
 
     def _blank(self, stock: Stock):
         """Tops of the uncut blank: cells wholly inside carry material on every point, cells
@@ -174,7 +175,7 @@ class Workpiece:
 
     # Cutting ---------------------------------------------------------------------------
 
-    def cut(self, starts, ends, cutter: Cutter, stray=0.0, joined: bool = True) -> float:
+    def cut(self, starts, ends, cutter: Cutter, stray=0.0, joined: bool = True) -> float | None:
         """Sweep ``cutter`` along straight moves (arrays of (x, y, z) tip positions, one row
         a move) and lower the tops it passes under. ``stray``: how far the true path may
         leave these chords, in any direction (an arc's sagitta), one number or one a row
@@ -182,30 +183,95 @@ class Workpiece:
         is, none merged with its neighbours into one chord (an arc's chords are already as
         long as their stray allows, and seldom join: on the real-world corpus 2 % did, and
         trying cost more than their sweep). Returns the length of the moves that surely cut
-        nothing (air), judged before each chunk is applied."""
+        nothing (air), judged before each chunk is applied; None from a deferred workpiece,
+        which judges no air (see :meth:`_defer`)."""
         starts, ends = numpy.atleast_2d(numpy.asarray(starts, float)), numpy.atleast_2d(numpy.asarray(ends, float))
         if not len(starts):
-            return 0.0
+            return 0.0 if self._waiting is None else None
         self.cuts += 1
         strays = numpy.broadcast_to(numpy.asarray(stray, float), len(starts))
         starts, ends, strays = self._within_slab(starts, ends, cutter, strays)
         pieces = _merge_runs(starts, ends, strays, self.resolution / 4.0, self.resolution) if joined else _as_given(starts, ends, strays)
         a, b, z_low, z_high, slack, stray = self._split_steep(*pieces)
         z_low, z_high, slack = z_low - stray, z_high + stray, slack + stray
-        air = ~self._lower_near(self._cells_near(a, b, slack, cutter.radius + self.half_diagonal, cutter), cutter, z_low, z_high, slack)
+        if self._waiting is not None:
+            reach = cutter.radius + self.half_diagonal + slack
+            self._defer(Workpiece._sweep_lines, (a, b, z_low, z_high, slack), cutter, numpy.minimum(a[:, 0], b[:, 0]) - reach,
+                        numpy.minimum(a[:, 1], b[:, 1]) - reach, numpy.maximum(a[:, 0], b[:, 0]) + reach, numpy.maximum(a[:, 1], b[:, 1]) + reach)
+            return None
+        air = ~self._sweep_lines(a, b, z_low, z_high, slack, cutter)
         return total_length(a[air], b[air])
 
-    def cut_arcs(self, arcs: XYArcs, cutter: Cutter) -> float:
+    def cut_arcs(self, arcs: XYArcs, cutter: Cutter) -> float | None:
         """Sweep ``cutter`` along arcs and helices about the Z axis, as :meth:`cut` sweeps
         straight moves: each part one piece, measured exactly, its drift off its circle its
-        stray. Returns the length of the parts that surely cut nothing."""
+        stray. Returns the length of the parts that surely cut nothing (None: deferred)."""
         if not len(arcs):
-            return 0.0
+            return 0.0 if self._waiting is None else None
         self.cuts += 1
         low, high = self._slab(cutter)  # parts above or below the slab are laid on its faces, as straight moves are
-        may_cut = self._lower_near(self._cells_near_arcs(arcs, cutter.radius + self.half_diagonal, cutter.lowest_is_flat), cutter,
-                                   numpy.clip(arcs.low, low, high), numpy.clip(arcs.high, low, high), arcs.drift)
-        return float(arcs.length[~may_cut].sum())
+        z_low, z_high = numpy.clip(arcs.low, low, high), numpy.clip(arcs.high, low, high)
+        if self._waiting is not None:
+            reach = cutter.radius + self.half_diagonal + arcs.drift
+            x_low, y_low, x_high, y_high = arcs.box()
+            self._defer(Workpiece._sweep_arcs, (arcs, z_low, z_high), cutter, x_low - reach, y_low - reach, x_high + reach, y_high + reach)
+            return None
+        return float(arcs.length[~self._sweep_arcs(arcs, z_low, z_high, cutter)].sum())
+
+    def _sweep_lines(self, a, b, z_low, z_high, slack, cutter: Cutter):
+        """Lower the fields under straight pieces; returns which may have cut."""
+        return self._lower_near(self._cells_near(a, b, slack, cutter.radius + self.half_diagonal, cutter), cutter, z_low, z_high, slack)
+
+    def _sweep_arcs(self, arcs: XYArcs, z_low, z_high, cutter: Cutter):
+        """Lower the fields under the parts of arcs; returns which may have cut."""
+        return self._lower_near(self._cells_near_arcs(arcs, cutter.radius + self.half_diagonal, cutter.lowest_is_flat), cutter, z_low, z_high, arcs.drift)
+
+    # Deferred sweeps ---------------------------------------------------------------------
+
+    def _defer(self, sweep, parts: tuple, cutter: Cutter, x_low, y_low, x_high, y_high) -> None:
+        """Keep a sweep to apply when a question needs the cells it reaches (within the
+        boxes ``x_low``..``y_high``, one a piece). Both fields are only ever lowered to the
+        least of what the pieces leave on a cell, and the least does not depend on the
+        order: a cell looked at after the pieces that reach it are applied, whenever and
+        in whatever groups, holds what applying every sweep in turn leaves there. A program
+        whose rapids stay above the blank then sweeps nothing (the air statistic, which
+        judges each piece against the field before it, needs every sweep in turn, so a
+        workpiece that judges it is not deferred). What waits is bounded: past
+        ``_MOST_WAITING`` pieces or ``_MOST_SWEEPS`` sweeps, the oldest are applied."""
+        boxes = numpy.stack([*self._index_range(y_low, y_high, self.y_low, self.ny), *self._index_range(x_low, x_high, self.x_low, self.nx)])
+        boxes[::2] -= 1  # a cell's margin: the sweep itself keeps within the box, rounding and all
+        boxes[1::2] += 1
+        self._waiting.append(_Waiting(sweep, parts, cutter, boxes, numpy.arange(boxes.shape[1]),
+                                      (int(boxes[0].min()), int(boxes[1].max()), int(boxes[2].min()), int(boxes[3].max()))))
+        while len(self._waiting) > _MOST_SWEEPS or sum(len(waiting.left) for waiting in self._waiting) > _MOST_WAITING:
+            waiting = self._waiting.pop(0)
+            waiting.apply(self, waiting.left)
+
+    def settle(self, rows=(0, None), columns=(0, None)) -> None:
+        """Apply the waiting sweeps' pieces that may reach the cells of ``rows`` and
+        ``columns`` ((first, stop); the whole grid by default), so that those cells hold
+        what every cut so far left (see :meth:`_defer`)."""
+        if not self._waiting:
+            return
+        window = (rows[0], self.ny if rows[1] is None else rows[1], columns[0], self.nx if columns[1] is None else columns[1])
+        still = []
+        for waiting in self._waiting:
+            reaching = waiting.reaching(window)
+            if len(reaching):
+                waiting.apply(self, reaching)
+                waiting = waiting.without(reaching)
+            if len(waiting.left):
+                still.append(waiting)
+        self._waiting = still
+
+    def _settle_near(self, start, end, reach: float) -> None:
+        """:meth:`settle` the cells within ``reach`` of the XY path from ``start`` to ``end``'s box."""
+        if not self._waiting:
+            return
+        xs, ys = numpy.array([start[0], end[0]], float), numpy.array([start[1], end[1]], float)
+        rows = self._index_range(numpy.array([ys.min() - reach]), numpy.array([ys.max() + reach]), self.y_low, self.ny)
+        columns = self._index_range(numpy.array([xs.min() - reach]), numpy.array([xs.max() + reach]), self.x_low, self.nx)
+        self.settle((int(rows[0][0]), int(rows[1][0])), (int(columns[0][0]), int(columns[1][0])))
 
     def _lower_near(self, nears, cutter: Cutter, z_low, z_high, slack):
         """Lower both bounds where the pieces (``z_low``, ``z_high`` and ``slack`` one a
@@ -279,6 +345,7 @@ class Workpiece:
         twin = object.__new__(Workpiece)
         twin.__dict__.update(self.__dict__)
         twin.upper, twin.lower = self.upper.copy(), self.lower if self.lower_emptied else self.lower.copy()
+        twin._waiting = None if self._waiting is None else list(self._waiting)  # each _Waiting is never changed, only replaced
         return twin
 
     def _clear_below_bottom(self, first_cell: int, end_cell: int) -> None:
@@ -317,6 +384,7 @@ class Workpiece:
         """Does a rapid from ``start`` to ``end`` (tip positions) meet what is left? The path
         is judged a cell's height at a time; where that leaves it unsure, the lower end point
         alone, where the tool's height is exact, can still show the hit."""
+        self._settle_near(start, end, cutter.radius + self.half_diagonal)
         verdict = self._rapid_path(start, end, cutter)
         if verdict.outcome != "unsure" or start[2] == end[2]:
             return verdict
@@ -574,6 +642,7 @@ class Workpiece:
 
     def removed_volume(self) -> tuple[float, float]:
         """(at least, at most) the volume cut away, in mm³, from the two bounds."""
+        self.settle()
         blank_upper, blank_lower = self._blank(self.stock)
         area = self.resolution ** 2
         least = numpy.maximum(_height(self._lower_field(blank_lower), self.bottom) - _height(self.upper, self.bottom), 0.0).sum() * area
@@ -583,12 +652,14 @@ class Workpiece:
 
     def save_npz(self, path) -> None:
         """Both bounds and the grid, for a user to look at what the program leaves."""
+        self.settle()
         numpy.savez_compressed(path, upper=self.upper, lower=self._lower_field(), x_low=self.x_low, y_low=self.y_low,
                                resolution=self.resolution, bottom=self.bottom)
 
     def save_stl(self, path) -> None:
         """The part as at most this much material (the upper bound) as a binary STL: a
         column per cell, with the faces between neighbours of different heights."""
+        self.settle()
         heights = numpy.where(numpy.isfinite(self.upper), self.upper, self.bottom).astype(numpy.float64)
         padded = numpy.pad(heights, 1, constant_values=self.bottom)
         x = self.x_low + numpy.arange(self.nx + 1) * self.resolution
@@ -779,6 +850,40 @@ def _path_groups(keys, mixed):
     group = numpy.empty(len(order), numpy.int64)
     group[order] = number.take(new_run.cumsum() - 1)
     return group, firsts.take(by_first)
+
+
+_MOST_WAITING = 1 << 19  # pieces of deferred sweeps kept at most (about 60 bytes each, with their boxes)
+_MOST_SWEEPS = 256  # deferred sweeps kept at most: a question looks at each one's box
+
+
+@dataclass(frozen=True)
+class _Waiting:
+    """A deferred sweep (see :meth:`Workpiece._defer`): ``sweep(workpiece, *parts,
+    cutter)`` applies it, ``parts`` one entry a piece; ``boxes`` (first row, stop row,
+    first column, stop column; one column a piece) hold the cells each piece can lower,
+    ``box`` all of them; ``left``: the pieces not applied yet."""
+
+    sweep: object
+    parts: tuple
+    cutter: Cutter
+    boxes: numpy.ndarray
+    left: numpy.ndarray
+    box: tuple[int, int, int, int]
+
+    def reaching(self, window) -> numpy.ndarray:
+        """The pieces left whose boxes meet ``window`` (first row, stop row, first column, stop column)."""
+        first_row, stop_row, first_column, stop_column = window
+        if self.box[0] >= stop_row or self.box[1] <= first_row or self.box[2] >= stop_column or self.box[3] <= first_column:
+            return self.left[:0]
+        boxes = self.boxes.take(self.left, axis=1)
+        meets = (boxes[0] < stop_row) & (boxes[1] > first_row) & (boxes[2] < stop_column) & (boxes[3] > first_column)
+        return self.left[meets]
+
+    def without(self, applied) -> "_Waiting":
+        return replace(self, left=numpy.setdiff1d(self.left, applied, assume_unique=True))
+
+    def apply(self, workpiece: "Workpiece", pieces) -> None:
+        self.sweep(workpiece, *(part.take(pieces) if isinstance(part, XYArcs) else part.take(pieces, axis=0) for part in self.parts), self.cutter)
 
 
 @dataclass(frozen=True)

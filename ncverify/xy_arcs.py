@@ -16,7 +16,7 @@ crosses the row, inside the box.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 
 import numpy
 
@@ -91,6 +91,10 @@ class XYArcs:
 
     def __len__(self) -> int:
         return len(self.radius)
+
+    def take(self, index) -> "XYArcs":
+        """The arcs ``index`` (an array of indices), in its order."""
+        return XYArcs(*(getattr(self, field.name).take(index) for field in fields(self)))
 
     def within_angle(self, arcs, vx, vy):
         """Do the directions (vx, vy) from the centres of ``arcs`` lie within their angles

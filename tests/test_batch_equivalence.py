@@ -628,4 +628,6 @@ def test_a_buffer_where_the_tools_take_turns_is_swept_once_a_tool_leaving_the_fi
     monkeypatch.setattr(material, "_by_tool", lambda buffered, key_from: [(entry[key_from:], [entry]) for entry in buffered])
     check_text(program)
     assert len(swept) == 5 * (13 + 2)
+    field.settle()
+    swept[-1][0].settle()
     assert numpy.array_equal(field.upper, swept[-1][0].upper) and numpy.array_equal(field.lower, swept[-1][0].lower)

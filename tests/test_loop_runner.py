@@ -67,7 +67,7 @@ def _report(program: str, path: str, **options) -> tuple:
           recording("change", lambda change, state: (change.what, change.span, value(change.old), value(change.new), seen(state))),
           recording("fault", lambda fault: (fault.rule, fault.span, fault.message, fault.status)),
           recording("path_end", path_end)):
-        result = check_text(program, path, Settings(**options))
+        result = check_text(program, path, Settings(air_cutting=True, **options))  # the air statistic too
     return render_json([result], []), result.blocks, result.paths, events
 
 

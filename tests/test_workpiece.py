@@ -2,6 +2,7 @@
 against an independent brute-force sweep and exact volumes; rapids are judged from them."""
 from __future__ import annotations
 
+import json
 import math
 import platform
 import resource
@@ -1195,3 +1196,110 @@ def test_laps_in_chunks_filled_by_path_leave_the_field_every_cell_measured_leave
         piece.cut(starts, ends, cutter, 0.0, joined=False)
     _sweep_every_cell(plain, starts, ends, cutter, 0.0, joined=False)
     assert numpy.array_equal(piece.upper, plain.upper) and numpy.array_equal(piece.lower, plain.lower)
+
+
+_OPERATIONS = st.lists(st.one_of(
+    st.tuples(st.just("lines"), cutters, st.lists(st.tuples(points, points), min_size=1, max_size=4)),
+    st.tuples(st.just("path"), cutters, _paths(), st.floats(0, 0.05)),
+    st.tuples(st.just("arcs"), cutters, st.lists(st.tuples(_ANY_ARC, st.integers(1, 2)), min_size=1, max_size=4)),
+    st.tuples(st.just("rapid"), cutters, points, points),
+    st.tuples(st.just("anywhere")), st.tuples(st.just("fork")),
+), min_size=1, max_size=12)
+
+
+@settings(max_examples=120, deadline=None)
+@given(_GRIDS, _OPERATIONS, st.sampled_from([(1 << 19, 256), (3, 2), (40, 1)]), st.data())
+def test_deferred_sweeps_answer_every_rapid_and_leave_every_cell_as_sweeping_each_cut_in_turn(grid, operations, bounds, data):
+    """A deferred workpiece applies a cut only where a rapid looks (or when too much
+    waits): each rapid gets the verdict the workpiece that sweeps every cut at once gives,
+    and once everything is applied both fields are the same to the bit; a fork's copy
+    too, whatever the original cut after it. Tiny bounds on what waits apply the oldest
+    sweeps part-way through."""
+    from ncverify import workpiece
+
+    eager, deferred = Workpiece(*grid), Workpiece(*grid, deferred=True)
+    forks = []
+    with patch.object(workpiece, "_MOST_WAITING", bounds[0]), patch.object(workpiece, "_MOST_SWEEPS", bounds[1]), numpy.errstate(all="ignore"):
+        for kind, *given_ in operations:
+            if kind == "lines":
+                cutter, moves = given_
+                starts, ends = numpy.array([move[0] for move in moves], float), numpy.array([move[1] for move in moves], float)
+                assert deferred.cut(starts, ends, cutter) is None
+                eager.cut(starts, ends, cutter)
+            elif kind == "path":
+                cutter, (starts, ends), stray = given_
+                deferred.cut(starts, ends, cutter, stray)
+                eager.cut(starts, ends, cutter, stray)
+            elif kind == "arcs":
+                cutter, drawn = given_
+                arcs, _, _, _ = _xy_arcs(_laps(drawn))
+                assert deferred.cut_arcs(arcs, cutter) is None
+                eager.cut_arcs(arcs, cutter)
+            elif kind == "rapid":
+                cutter, start, end = given_
+                assert deferred.rapid(start, end, cutter) == eager.rapid(start, end, cutter)
+                looked_at = _cells_within(eager, start, end, cutter.radius + eager.half_diagonal)
+                for field in ("upper", "lower"):
+                    assert numpy.array_equal(getattr(eager, field)[looked_at], getattr(deferred, field)[looked_at])
+            elif kind == "anywhere":
+                deferred.cut_anywhere()
+                eager.cut_anywhere()
+            else:
+                forks.append((eager.copy(), deferred.copy()))
+        for first, second in [(eager, deferred), *forks]:
+            second.settle()
+            assert numpy.array_equal(first.upper, second.upper) and numpy.array_equal(first.lower, second.lower)
+            assert not second._waiting
+
+
+def _cells_within(piece, start, end, reach):
+    """(rows, columns) of the cells whose centres lie within ``reach`` of the XY path start-end."""
+    rows, columns = numpy.indices((piece.ny, piece.nx))
+    distance = distance_to_segment(piece._x(columns.reshape(-1)), piece._y(rows.reshape(-1)), numpy.array([start[:2]]), numpy.array([end[:2]]))
+    return (distance <= reach).reshape(rows.shape)
+
+
+def test_a_deferred_cut_far_from_a_rapid_waits_and_one_under_it_is_applied():
+    """The rapid's question applies the cuts that reach the cells it looks at, no others."""
+    piece = Workpiece(BLANK, 0.5, deferred=True)
+    cutter, smaller = Cutter(2.0), Cutter(1.0)
+    piece.cut([(5.0, 5.0, -2.0)], [(10.0, 5.0, -2.0)], cutter)
+    piece.cut([(30.0, 25.0, -2.0)], [(35.0, 25.0, -2.0)], cutter)
+    assert piece.rapid((5.0, 5.0, -1.0), (10.0, 5.0, -1.0), smaller).outcome == "clear"
+    assert [len(waiting.left) for waiting in piece._waiting] == [1]  # the far one still waits
+    assert piece.rapid((30.0, 25.0, -1.0), (35.0, 25.0, -1.0), smaller).outcome == "clear"
+    assert piece._waiting == []
+    assert piece.rapid((20.0, 15.0, -1.0), (21.0, 15.0, -1.0), smaller).outcome == "hits"
+
+
+_AIR = ("(ncverify: stock box X0:100 Y0:100 Z-20:0)\n(ncverify: tool 1 radius 4 type endmill)\nG21 G90 G17 G54\nT1 M06\nG43 H01 Z50.\n"
+        "S6000 M03\nG00 X10. Y50.\nZ0.5\nG01 X90. F200.\nZ-5.\nX10.\nG00 Z50.\nM30\n")
+
+
+def test_the_air_statistic_is_reported_when_asked_for_on_the_command_line_or_in_the_project_file(tmp_path, capsys):
+    """The first feed move runs 0.5 mm above the blank: its 80 mm cut only air, of the
+    165.5 mm fed (then a plunge and a slot). A plain check does not judge air (its sweeps
+    wait for a rapid that needs them) and says nothing of it."""
+    from ncverify.cli import main
+
+    program = tmp_path / "slot.nc"
+    program.write_text(_AIR)
+    outputs = {}
+    for name, arguments in (("plain", []), ("asked", ["--air-cutting"])):
+        main(["check", str(program), "--no-cache", "--format", "json", "--output", str(tmp_path / f"{name}.json"), *arguments])
+        outputs[name] = json.loads((tmp_path / f"{name}.json").read_text())
+    assert "air_cutting" not in outputs["plain"]["files"][0]
+    assert outputs["asked"]["files"][0]["air_cutting"] == {"T1": {"feed_mm": 165.5, "air_mm": 80.0}}
+    outputs["asked"]["files"][0].pop("air_cutting")
+    assert outputs["plain"] == outputs["asked"]
+    (tmp_path / "ncverify.toml").write_text("[settings]\nair_cutting = true\n")
+    main(["check", str(program), "--no-cache"])
+    assert f"{program}: note: feed moves that cut only air, per tool: T1 48% of 166 mm" in capsys.readouterr().out
+
+
+def test_the_project_file_takes_only_true_or_false_for_the_air_statistic(tmp_path):
+    from ncverify.project import ConfigError, load_project_text
+
+    assert load_project_text("[settings]\nair_cutting = false\n", tmp_path / "ncverify.toml").settings == {"air_cutting": False}
+    with pytest.raises(ConfigError, match="expected a bool"):
+        load_project_text("[settings]\nair_cutting = 1\n", tmp_path / "ncverify.toml")
