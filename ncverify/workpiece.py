@@ -190,17 +190,31 @@ class Workpiece:
             return 0.0 if self._waiting is None else None
         self.cuts += 1
         strays = numpy.broadcast_to(numpy.asarray(stray, float), len(starts))
+        if self._waiting is not None:  # the moves kept as given: they are made into pieces when a question first needs them
+            low, high = numpy.minimum(starts, ends), numpy.maximum(starts, ends)
+            reach = cutter.radius + self.half_diagonal + self.resolution + float(strays.max())  # a chord strays a quarter cell from its moves at most
+            box = self._cell_boxes(*(numpy.array([value]) for value in (low[:, 0].min() - reach, low[:, 1].min() - reach, high[:, 0].max() + reach,
+                                                                          high[:, 1].max() + reach)))
+            self._defer(_Waiting(Workpiece._waiting_lines, (starts, ends, strays, joined), cutter, _whole_box(box), size=len(starts)))
+            return None
+        a, b, z_low, z_high, slack = pieces = self._line_pieces(starts, ends, cutter, strays, joined)
+        air = ~self._sweep_lines(*pieces, cutter)
+        return total_length(a[air], b[air])
+
+    def _line_pieces(self, starts, ends, cutter: Cutter, strays, joined: bool):
+        """The pieces :meth:`cut` sweeps for its moves: (a, b, z low, z high, slack)."""
         starts, ends, strays = self._within_slab(starts, ends, cutter, strays)
         pieces = _merge_runs(starts, ends, strays, self.resolution / 4.0, self.resolution) if joined else _as_given(starts, ends, strays)
         a, b, z_low, z_high, slack, stray = self._split_steep(*pieces)
-        z_low, z_high, slack = z_low - stray, z_high + stray, slack + stray
-        if self._waiting is not None:
-            reach = cutter.radius + self.half_diagonal + slack
-            self._defer(Workpiece._sweep_lines, (a, b, z_low, z_high, slack), cutter, numpy.minimum(a[:, 0], b[:, 0]) - reach,
-                        numpy.minimum(a[:, 1], b[:, 1]) - reach, numpy.maximum(a[:, 0], b[:, 0]) + reach, numpy.maximum(a[:, 1], b[:, 1]) + reach)
-            return None
-        air = ~self._sweep_lines(a, b, z_low, z_high, slack, cutter)
-        return total_length(a[air], b[air])
+        return a, b, z_low - stray, z_high + stray, slack + stray
+
+    def _waiting_lines(self, starts, ends, strays, joined: bool, cutter: Cutter) -> "_Waiting":
+        """A deferred :meth:`cut`'s moves made into its pieces, each with its box."""
+        a, b, z_low, z_high, slack = pieces = self._line_pieces(starts, ends, cutter, strays, joined)
+        reach = cutter.radius + self.half_diagonal + slack
+        return _Waiting.of(Workpiece._sweep_lines, pieces, cutter, self._cell_boxes(
+            numpy.minimum(a[:, 0], b[:, 0]) - reach, numpy.minimum(a[:, 1], b[:, 1]) - reach, numpy.maximum(a[:, 0], b[:, 0]) + reach,
+            numpy.maximum(a[:, 1], b[:, 1]) + reach))
 
     def cut_arcs(self, arcs: XYArcs, cutter: Cutter) -> float | None:
         """Sweep ``cutter`` along arcs and helices about the Z axis, as :meth:`cut` sweeps
@@ -214,7 +228,8 @@ class Workpiece:
         if self._waiting is not None:
             reach = cutter.radius + self.half_diagonal + arcs.drift
             x_low, y_low, x_high, y_high = arcs.box()
-            self._defer(Workpiece._sweep_arcs, (arcs, z_low, z_high), cutter, x_low - reach, y_low - reach, x_high + reach, y_high + reach)
+            self._defer(_Waiting.of(Workpiece._sweep_arcs, (arcs, z_low, z_high), cutter,
+                                    self._cell_boxes(x_low - reach, y_low - reach, x_high + reach, y_high + reach)))
             return None
         return float(arcs.length[~self._sweep_arcs(arcs, z_low, z_high, cutter)].sum())
 
@@ -228,24 +243,31 @@ class Workpiece:
 
     # Deferred sweeps ---------------------------------------------------------------------
 
-    def _defer(self, sweep, parts: tuple, cutter: Cutter, x_low, y_low, x_high, y_high) -> None:
-        """Keep a sweep to apply when a question needs the cells it reaches (within the
-        boxes ``x_low``..``y_high``, one a piece). Both fields are only ever lowered to the
-        least of what the pieces leave on a cell, and the least does not depend on the
-        order: a cell looked at after the pieces that reach it are applied, whenever and
-        in whatever groups, holds what applying every sweep in turn leaves there. A program
-        whose rapids stay above the blank then sweeps nothing (the air statistic, which
-        judges each piece against the field before it, needs every sweep in turn, so a
-        workpiece that judges it is not deferred). What waits is bounded: past
-        ``_MOST_WAITING`` pieces or ``_MOST_SWEEPS`` sweeps, the oldest are applied."""
-        boxes = numpy.stack([*self._index_range(y_low, y_high, self.y_low, self.ny), *self._index_range(x_low, x_high, self.x_low, self.nx)])
-        boxes[::2] -= 1  # a cell's margin: the sweep itself keeps within the box, rounding and all
+    def _defer(self, waiting: "_Waiting") -> None:
+        """Keep a sweep to apply when a question needs the cells it reaches. Both fields
+        are only ever lowered to the least of what the pieces leave on a cell, and the
+        least does not depend on the order: a cell looked at after the pieces that reach it
+        are applied, whenever and in whatever groups, holds what applying every sweep in
+        turn leaves there. A program whose rapids stay above the blank then sweeps nothing
+        (the air statistic, which judges each piece against the field before it, needs
+        every sweep in turn, so a workpiece that judges it is not deferred). What waits is
+        bounded: past ``_MOST_WAITING`` pieces or ``_MOST_SWEEPS`` sweeps, the oldest are
+        applied."""
+        self._waiting.append(waiting)
+        while len(self._waiting) > _MOST_SWEEPS or sum(waiting.size for waiting in self._waiting) > _MOST_WAITING:
+            oldest = self._waiting.pop(0).prepared(self)
+            oldest.apply(self, oldest.left)
+
+    def _cell_boxes(self, x_low, y_low, x_high, y_high):
+        """The cells (first row, stop row, first column, stop column; one column of the
+        result a piece) within the XY boxes given, a cell wider on every side: the sweep
+        itself keeps within the box, rounding and all. A bound that is not a number
+        (a path off to infinity) takes the grid's edge."""
+        boxes = numpy.stack([*self._index_range(numpy.nan_to_num(y_low, nan=-numpy.inf), numpy.nan_to_num(y_high, nan=numpy.inf), self.y_low, self.ny),
+                             *self._index_range(numpy.nan_to_num(x_low, nan=-numpy.inf), numpy.nan_to_num(x_high, nan=numpy.inf), self.x_low, self.nx)])
+        boxes[::2] -= 1
         boxes[1::2] += 1
-        self._waiting.append(_Waiting(sweep, parts, cutter, boxes, numpy.arange(boxes.shape[1]),
-                                      (int(boxes[0].min()), int(boxes[1].max()), int(boxes[2].min()), int(boxes[3].max()))))
-        while len(self._waiting) > _MOST_SWEEPS or sum(len(waiting.left) for waiting in self._waiting) > _MOST_WAITING:
-            waiting = self._waiting.pop(0)
-            waiting.apply(self, waiting.left)
+        return boxes
 
     def settle(self, rows=(0, None), columns=(0, None)) -> None:
         """Apply the waiting sweeps' pieces that may reach the cells of ``rows`` and
@@ -256,11 +278,13 @@ class Workpiece:
         window = (rows[0], self.ny if rows[1] is None else rows[1], columns[0], self.nx if columns[1] is None else columns[1])
         still = []
         for waiting in self._waiting:
-            reaching = waiting.reaching(window)
-            if len(reaching):
-                waiting.apply(self, reaching)
-                waiting = waiting.without(reaching)
-            if len(waiting.left):
+            if waiting.meets(window):
+                waiting = waiting.prepared(self)
+                reaching = waiting.reaching(window)
+                if len(reaching):
+                    waiting.apply(self, reaching)
+                    waiting = waiting.without(reaching)
+            if waiting.size:
                 still.append(waiting)
         self._waiting = still
 
@@ -861,29 +885,48 @@ class _Waiting:
     """A deferred sweep (see :meth:`Workpiece._defer`): ``sweep(workpiece, *parts,
     cutter)`` applies it, ``parts`` one entry a piece; ``boxes`` (first row, stop row,
     first column, stop column; one column a piece) hold the cells each piece can lower,
-    ``box`` all of them; ``left``: the pieces not applied yet."""
+    ``box`` all of them; ``left``: the pieces not applied yet. Not prepared yet (``boxes``
+    None): ``sweep`` makes the prepared one from ``parts`` (a cut's moves as given, which
+    become pieces only when a question first needs them), ``box`` holds every cell it can
+    lower and ``size`` counts its moves."""
 
     sweep: object
     parts: tuple
     cutter: Cutter
-    boxes: numpy.ndarray
-    left: numpy.ndarray
     box: tuple[int, int, int, int]
+    boxes: numpy.ndarray | None = None
+    left: numpy.ndarray | None = None
+    size: int = 0  # pieces left (moves, before it is prepared)
+
+    @classmethod
+    def of(cls, sweep, parts: tuple, cutter: Cutter, boxes) -> "_Waiting":
+        return cls(sweep, parts, cutter, _whole_box(boxes), boxes, numpy.arange(boxes.shape[1]), boxes.shape[1])
+
+    def meets(self, window) -> bool:
+        """Does ``box`` meet ``window`` (first row, stop row, first column, stop column)?"""
+        return self.box[0] < window[1] and self.box[1] > window[0] and self.box[2] < window[3] and self.box[3] > window[2]
+
+    def prepared(self, workpiece: "Workpiece") -> "_Waiting":
+        return self if self.boxes is not None else self.sweep(workpiece, *self.parts, self.cutter)
 
     def reaching(self, window) -> numpy.ndarray:
-        """The pieces left whose boxes meet ``window`` (first row, stop row, first column, stop column)."""
+        """The pieces left whose boxes meet ``window``."""
         first_row, stop_row, first_column, stop_column = window
-        if self.box[0] >= stop_row or self.box[1] <= first_row or self.box[2] >= stop_column or self.box[3] <= first_column:
-            return self.left[:0]
         boxes = self.boxes.take(self.left, axis=1)
         meets = (boxes[0] < stop_row) & (boxes[1] > first_row) & (boxes[2] < stop_column) & (boxes[3] > first_column)
         return self.left[meets]
 
     def without(self, applied) -> "_Waiting":
-        return replace(self, left=numpy.setdiff1d(self.left, applied, assume_unique=True))
+        left = numpy.setdiff1d(self.left, applied, assume_unique=True)
+        return replace(self, left=left, size=len(left))
 
     def apply(self, workpiece: "Workpiece", pieces) -> None:
         self.sweep(workpiece, *(part.take(pieces) if isinstance(part, XYArcs) else part.take(pieces, axis=0) for part in self.parts), self.cutter)
+
+
+def _whole_box(boxes) -> tuple[int, int, int, int]:
+    """The box of cells that holds every one of ``boxes`` (see :meth:`Workpiece._cell_boxes`)."""
+    return int(boxes[0].min()), int(boxes[1].max()), int(boxes[2].min()), int(boxes[3].max())
 
 
 @dataclass(frozen=True)

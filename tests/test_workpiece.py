@@ -1203,6 +1203,7 @@ _OPERATIONS = st.lists(st.one_of(
     st.tuples(st.just("path"), cutters, _paths(), st.floats(0, 0.05)),
     st.tuples(st.just("arcs"), cutters, st.lists(st.tuples(_ANY_ARC, st.integers(1, 2)), min_size=1, max_size=4)),
     st.tuples(st.just("rapid"), cutters, points, points),
+    st.tuples(st.just("beside"), cutters, cutters, points, st.floats(0, 5), st.floats(0, 1.3), st.floats(-2, 2)),
     st.tuples(st.just("anywhere")), st.tuples(st.just("fork")),
 ), min_size=1, max_size=12)
 
@@ -1235,8 +1236,15 @@ def test_deferred_sweeps_answer_every_rapid_and_leave_every_cell_as_sweeping_eac
                 arcs, _, _, _ = _xy_arcs(_laps(drawn))
                 assert deferred.cut_arcs(arcs, cutter) is None
                 eager.cut_arcs(arcs, cutter)
-            elif kind == "rapid":
-                cutter, start, end = given_
+            elif kind in ("rapid", "beside"):
+                if kind == "beside":  # a short cut, then a rapid beside it, as far off as the two tools' reach and a little more
+                    cutter, rapid_cutter, (x, y, z), length, apart, below = given_
+                    for piece in (eager, deferred):
+                        piece.cut([(x, y, z)], [(x + length, y, z)], cutter)
+                    apart *= cutter.radius + rapid_cutter.radius + 2 * eager.resolution
+                    cutter, start, end = rapid_cutter, (x, y + apart, z + below), (x + length, y + apart, z + below)
+                else:
+                    cutter, start, end = given_
                 assert deferred.rapid(start, end, cutter) == eager.rapid(start, end, cutter)
                 looked_at = _cells_within(eager, start, end, cutter.radius + eager.half_diagonal)
                 for field in ("upper", "lower"):
@@ -1266,7 +1274,7 @@ def test_a_deferred_cut_far_from_a_rapid_waits_and_one_under_it_is_applied():
     piece.cut([(5.0, 5.0, -2.0)], [(10.0, 5.0, -2.0)], cutter)
     piece.cut([(30.0, 25.0, -2.0)], [(35.0, 25.0, -2.0)], cutter)
     assert piece.rapid((5.0, 5.0, -1.0), (10.0, 5.0, -1.0), smaller).outcome == "clear"
-    assert [len(waiting.left) for waiting in piece._waiting] == [1]  # the far one still waits
+    assert [(waiting.size, waiting.boxes) for waiting in piece._waiting] == [(1, None)]  # the far one still waits, its move not even made a piece
     assert piece.rapid((30.0, 25.0, -1.0), (35.0, 25.0, -1.0), smaller).outcome == "clear"
     assert piece._waiting == []
     assert piece.rapid((20.0, 15.0, -1.0), (21.0, 15.0, -1.0), smaller).outcome == "hits"
