@@ -208,7 +208,7 @@ class Material:
         False, having done nothing, where that needs more than the arrays: the lathe's
         model, the holder judged move by move, a position not known, a tool axis other than
         Z. An arc given by its radius (whose centre is not worked out) is cut anywhere."""
-        if self.turning is not None or self._holder_parts(state) or tool_axis_problem(state) is not None or any(axis not in run.axes for axis in "XYZ"):
+        if self.turning is not None or tool_axis_problem(state) is not None or any(axis not in run.axes for axis in "XYZ"):
             return False
         cutting = done + numpy.flatnonzero(run.kinds[done:stop] >= _FEED)
         columns = [run.axes.index(axis) for axis in "XYZ"]
@@ -216,6 +216,8 @@ class Material:
         by_radius = ~numpy.isnan(run.arcs.radii[cutting])
         by_centre = (run.kinds[cutting] != _FEED) & ~by_radius
         if numpy.isnan(starts).any() or numpy.isnan(ends).any() or numpy.isnan(run.arcs.centres[cutting[by_centre]]).any():
+            return False
+        if len(cutting) and self._holder_reaches(state, numpy.minimum(starts[:, 2], ends[:, 2])).any():
             return False
         if not len(cutting):
             return True
@@ -273,14 +275,15 @@ class Material:
         sized = mine.sized(cutter)
         for start, end in zip(starts[known][-_RECENT:].tolist(), ends[known][-_RECENT:].tolist()):  # as the block-by-block path keeps them
             mine.recent.append((tuple(start), tuple(end), sized))
-        parts = self._holder_parts(state)
-        if not parts:
-            self._buffer(mine, starts[known], ends[known], sized, self._tool_name(state))
-            return
-        self._flush(mine)
-        for start, end, index in zip(starts[known], ends[known], feeds[known]):  # move by move: each against what the ones before left
-            self._judge_holder(mine.piece, start, end, parts, run.span(int(index)), state)
-            self._sweep(mine.piece, start[None], end[None], mine.sized(cutter), 0.0, self._tool_name(state))
+        starts, ends, feeds, tool = starts[known], ends[known], feeds[known], self._tool_name(state)
+        done = 0
+        for move in numpy.flatnonzero(self._holder_reaches(state, numpy.minimum(starts[:, 2], ends[:, 2]))).tolist():
+            # as the block path takes them: the moves before buffered, this one judged against what they left, then buffered
+            self._buffer(mine, starts[done:move], ends[done:move], sized, tool)
+            self._flush(mine)
+            self._judge_holder(mine.piece, starts[move], ends[move], self._holder_parts(state), run.span(int(feeds[move])), state)
+            done = move
+        self._buffer(mine, starts[done:], ends[done:], sized, tool)
 
     @staticmethod
     def _not_placed(mine: _PathPiece, run, moves, state) -> None:
@@ -321,22 +324,35 @@ class Material:
     def holder(self, segment, state) -> None:
         """Before a feed move is cut: its tool's non-cutting parts against what is left (the
         moves of a batch are judged as :meth:`motion_run` cuts them)."""
-        parts = self._holder_parts(state) if self.milled and segment.kind != "rapid" else []
-        if not parts:
+        if not self.milled or segment.kind == "rapid" or not self._holder_parts(state):
             return
         start, end = self._placed(segment, state)
-        if end is None or (mine := self._current(state)) is None:
+        if end is None or not self._holder_reaches(state, numpy.array([min(start[2], end[2])]))[0] or (mine := self._current(state)) is None:
             return
         for a, b in ((start, start), (end, end)) if segment.arc is not None else ((start, end),):  # an arc's tool is surely at its ends
-            self._judge_holder(mine.piece, a, b, parts, segment.span, state)
+            self._judge_holder(mine.piece, a, b, self._holder_parts(state), segment.span, state)
 
     def _holder_parts(self, state) -> list:
         return self.holder_rule.parts(state) if self.holder_rule is not None else []
 
+    def _holder_reaches(self, state, lowest):
+        """Can a non-cutting part of the tool meet material on moves whose tips go down to
+        ``lowest`` (one a move)? Not where every part's bottom stays above the blank's top,
+        where no material ever is: shallow cuts (most of them) are then swept in batches,
+        not move by move."""
+        parts = self._holder_parts(state)
+        if not parts:
+            return numpy.zeros(len(lowest), bool)
+        return lowest + min(height for height, _, _ in parts) <= self.stock.z_range[1]
+
     def _judge_holder(self, piece: Workpiece, start, end, parts, span, state) -> None:
         """Each non-cutting part of the tool (height above the tip, its shape, its name)
-        against the material before the move; the first that meets it is reported."""
+        against the material before the move; the first that meets it is reported. A part
+        whose bottom stays above the blank's top meets nothing."""
+        top = self.stock.z_range[1]
         for height, shape, part in parts:
+            if min(start[2], end[2]) + height > top:
+                continue
             verdict = piece.rapid(*[(point[0], point[1], point[2] + height) for point in (start, end)], shape)
             if verdict.outcome == "hits":
                 self.holder_rule.collides(span, start, end, part, verdict.point, state)

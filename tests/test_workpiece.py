@@ -6,6 +6,7 @@ import json
 import math
 import platform
 import resource
+import tempfile
 from pathlib import Path
 from unittest.mock import patch
 
@@ -448,6 +449,40 @@ def test_a_shank_in_a_slot_cut_before_meets_nothing():
     program = ("(ncverify: stock box X0:100 Y0:60 Z-60:0)\n(ncverify: tool 1 radius 4 cutting-length 10 type endmill)\nG21 G90 G17 G54\nT1 M06\n"
                "G43 H01 Z50.\nS6000 M03\nG00 X20. Y30.\nZ2.\nG01 Z-8. F200.\nX80.\nZ-16.\nX20.\nG00 Z50.\nM30\n")
     assert _holder_findings(program) == []
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.lists(st.tuples(st.floats(0, 100), st.floats(0, 60), st.floats(-24, 1)), min_size=1, max_size=40), st.sampled_from([8.0, 12.0, 20.0]),
+       st.booleans())
+def test_the_shank_is_judged_alike_in_batches_and_block_by_block_and_only_where_it_can_reach_the_blank(moves, flutes, arcs):
+    """Feed moves at depths above and below the flute length: batched and block by block,
+    the same shank findings (each move judged against what the moves before it left),
+    and the shank is judged only on moves deep enough for it to reach below the blank's
+    top (a shallow move is swept in its batch, not one by one)."""
+    from ncverify import Settings, check_text, workpiece
+
+    body = [f"G01 X{x:.3f} Y{y:.3f} Z{z:.3f} F800." for x, y, z in moves]
+    if arcs:
+        body = [line if index % 3 else line.replace("G01", "G02") + " R80." for index, line in enumerate(body)]
+    program = (f"(ncverify: stock box X0:100 Y0:60 Z-60:0)\n(ncverify: tool 1 radius 4 cutting-length {flutes} type endmill)\nG21 G90 G17 G54\n"
+               "T1 M06\nG43 H01 Z50.\nS6000 M03\nG00 X50. Y30.\nZ2.\n" + "\n".join(body) + "\nG00 Z50.\nM30\n")
+    judged = []  # the lowest point of each part asked about (every question the model answers here is the shank's)
+    original = workpiece.Workpiece.rapid
+
+    def recorded(self, start, end, cutter):
+        judged.append(min(start[2], end[2]))
+        return original(self, start, end, cutter)
+
+    with patch.object(workpiece.Workpiece, "rapid", recorded), tempfile.TemporaryDirectory() as folder:
+        findings, fields = [], []
+        for alone in (False, True):
+            left = Path(folder) / f"left-{alone}.npz"
+            findings.append([(d.rule, d.status, d.span, d.message) for d in check_text(program, "t.nc", Settings(per_block_only=alone, stock_out=left)).diagnostics])
+            with numpy.load(left) as saved:
+                fields.append((saved["upper"], saved["lower"]))
+    assert findings[0] == findings[1]
+    assert all(numpy.array_equal(batched, alone) for batched, alone in zip(*fields))  # the same cuts, swept in the same groups
+    assert all(lowest <= 0.0 for lowest in judged)
 
 
 # --------------------------------------------------------------------------- the memory cap
