@@ -190,7 +190,7 @@ class Workpiece:
             return 0.0 if self._waiting is None else None
         self.cuts += 1
         strays = numpy.broadcast_to(numpy.asarray(stray, float), len(starts))
-        if self._waiting is not None:  # the moves kept as given: they are made into pieces when a question first needs them
+        if self._waiting is not None and len(starts) >= _FEWEST_DEFERRED:  # the moves kept as given: made into pieces when a question first needs them
             low, high = numpy.minimum(starts, ends), numpy.maximum(starts, ends)
             reach = cutter.radius + self.half_diagonal + self.resolution + float(strays.max())  # a chord strays a quarter cell from its moves at most
             box = self._cell_boxes(*(numpy.array([value]) for value in (low[:, 0].min() - reach, low[:, 1].min() - reach, high[:, 0].max() + reach,
@@ -199,7 +199,7 @@ class Workpiece:
             return None
         a, b, z_low, z_high, slack = pieces = self._line_pieces(starts, ends, cutter, strays, joined)
         air = ~self._sweep_lines(*pieces, cutter)
-        return total_length(a[air], b[air])
+        return total_length(a[air], b[air]) if self._waiting is None else None
 
     def _line_pieces(self, starts, ends, cutter: Cutter, strays, joined: bool):
         """The pieces :meth:`cut` sweeps for its moves: (a, b, z low, z high, slack)."""
@@ -225,13 +225,14 @@ class Workpiece:
         self.cuts += 1
         low, high = self._slab(cutter)  # parts above or below the slab are laid on its faces, as straight moves are
         z_low, z_high = numpy.clip(arcs.low, low, high), numpy.clip(arcs.high, low, high)
-        if self._waiting is not None:
+        if self._waiting is not None and len(arcs) >= _FEWEST_DEFERRED:
             reach = cutter.radius + self.half_diagonal + arcs.drift
             x_low, y_low, x_high, y_high = arcs.box()
             self._defer(_Waiting.of(Workpiece._sweep_arcs, (arcs, z_low, z_high), cutter,
                                     self._cell_boxes(x_low - reach, y_low - reach, x_high + reach, y_high + reach)))
             return None
-        return float(arcs.length[~self._sweep_arcs(arcs, z_low, z_high, cutter)].sum())
+        may_cut = self._sweep_arcs(arcs, z_low, z_high, cutter)
+        return float(arcs.length[~may_cut].sum()) if self._waiting is None else None
 
     def _sweep_lines(self, a, b, z_low, z_high, slack, cutter: Cutter):
         """Lower the fields under straight pieces; returns which may have cut."""
@@ -252,7 +253,9 @@ class Workpiece:
         (the air statistic, which judges each piece against the field before it, needs
         every sweep in turn, so a workpiece that judges it is not deferred). What waits is
         bounded: past ``_MOST_WAITING`` pieces or ``_MOST_SWEEPS`` sweeps, the oldest are
-        applied."""
+        applied. A sweep of fewer than ``_FEWEST_DEFERRED`` moves is applied at once:
+        keeping it costs about what applying it does, and so small a sweep comes from a
+        flush before a question (a holder judged move by move), which looks near it."""
         self._waiting.append(waiting)
         while len(self._waiting) > _MOST_SWEEPS or sum(waiting.size for waiting in self._waiting) > _MOST_WAITING:
             oldest = self._waiting.pop(0).prepared(self)
@@ -263,8 +266,8 @@ class Workpiece:
         result a piece) within the XY boxes given, a cell wider on every side: the sweep
         itself keeps within the box, rounding and all. A bound that is not a number
         (a path off to infinity) takes the grid's edge."""
-        boxes = numpy.stack([*self._index_range(numpy.nan_to_num(y_low, nan=-numpy.inf), numpy.nan_to_num(y_high, nan=numpy.inf), self.y_low, self.ny),
-                             *self._index_range(numpy.nan_to_num(x_low, nan=-numpy.inf), numpy.nan_to_num(x_high, nan=numpy.inf), self.x_low, self.nx)])
+        boxes = numpy.stack([*self._index_range(numpy.fmax(y_low, -numpy.inf), numpy.fmin(y_high, numpy.inf), self.y_low, self.ny),  # fmax/fmin: NaN to the edge
+                             *self._index_range(numpy.fmax(x_low, -numpy.inf), numpy.fmin(x_high, numpy.inf), self.x_low, self.nx)])
         boxes[::2] -= 1
         boxes[1::2] += 1
         return boxes
@@ -280,10 +283,10 @@ class Workpiece:
         for waiting in self._waiting:
             if waiting.meets(window):
                 waiting = waiting.prepared(self)
-                reaching = waiting.reaching(window)
+                reaching, rest = waiting.split(window)
                 if len(reaching):
                     waiting.apply(self, reaching)
-                    waiting = waiting.without(reaching)
+                    waiting = replace(waiting, left=rest, size=len(rest))
             if waiting.size:
                 still.append(waiting)
         self._waiting = still
@@ -878,6 +881,7 @@ def _path_groups(keys, mixed):
 
 _MOST_WAITING = 1 << 19  # pieces of deferred sweeps kept at most (about 60 bytes each, with their boxes)
 _MOST_SWEEPS = 256  # deferred sweeps kept at most: a question looks at each one's box
+_FEWEST_DEFERRED = 16  # moves (or arc parts) a sweep needs to be deferred (see Workpiece._defer)
 
 
 @dataclass(frozen=True)
@@ -909,16 +913,12 @@ class _Waiting:
     def prepared(self, workpiece: "Workpiece") -> "_Waiting":
         return self if self.boxes is not None else self.sweep(workpiece, *self.parts, self.cutter)
 
-    def reaching(self, window) -> numpy.ndarray:
-        """The pieces left whose boxes meet ``window``."""
+    def split(self, window) -> tuple[numpy.ndarray, numpy.ndarray]:
+        """(reaching, rest): the pieces left whose boxes meet ``window``, and the others."""
         first_row, stop_row, first_column, stop_column = window
         boxes = self.boxes.take(self.left, axis=1)
         meets = (boxes[0] < stop_row) & (boxes[1] > first_row) & (boxes[2] < stop_column) & (boxes[3] > first_column)
-        return self.left[meets]
-
-    def without(self, applied) -> "_Waiting":
-        left = numpy.setdiff1d(self.left, applied, assume_unique=True)
-        return replace(self, left=left, size=len(left))
+        return self.left[meets], self.left[~meets]
 
     def apply(self, workpiece: "Workpiece", pieces) -> None:
         self.sweep(workpiece, *(part.take(pieces) if isinstance(part, XYArcs) else part.take(pieces, axis=0) for part in self.parts), self.cutter)

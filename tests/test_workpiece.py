@@ -1244,18 +1244,20 @@ _OPERATIONS = st.lists(st.one_of(
 
 
 @settings(max_examples=120, deadline=None)
-@given(_GRIDS, _OPERATIONS, st.sampled_from([(1 << 19, 256), (3, 2), (40, 1)]), st.data())
+@given(_GRIDS, _OPERATIONS, st.sampled_from([(1 << 19, 256, 1), (3, 2, 1), (40, 1, 1), (1 << 19, 256, 3)]), st.data())
 def test_deferred_sweeps_answer_every_rapid_and_leave_every_cell_as_sweeping_each_cut_in_turn(grid, operations, bounds, data):
     """A deferred workpiece applies a cut only where a rapid looks (or when too much
     waits): each rapid gets the verdict the workpiece that sweeps every cut at once gives,
     and once everything is applied both fields are the same to the bit; a fork's copy
     too, whatever the original cut after it. Tiny bounds on what waits apply the oldest
-    sweeps part-way through."""
+    sweeps part-way through; sweeps of one move are kept (the smallest kept otherwise is
+    larger than these), or only those of three and more."""
     from ncverify import workpiece
 
     eager, deferred = Workpiece(*grid), Workpiece(*grid, deferred=True)
     forks = []
-    with patch.object(workpiece, "_MOST_WAITING", bounds[0]), patch.object(workpiece, "_MOST_SWEEPS", bounds[1]), numpy.errstate(all="ignore"):
+    with (patch.object(workpiece, "_MOST_WAITING", bounds[0]), patch.object(workpiece, "_MOST_SWEEPS", bounds[1]),
+          patch.object(workpiece, "_FEWEST_DEFERRED", bounds[2]), numpy.errstate(all="ignore")):
         for kind, *given_ in operations:
             if kind == "lines":
                 cutter, moves = given_
@@ -1303,16 +1305,22 @@ def _cells_within(piece, start, end, reach):
 
 
 def test_a_deferred_cut_far_from_a_rapid_waits_and_one_under_it_is_applied():
-    """The rapid's question applies the cuts that reach the cells it looks at, no others."""
+    """The rapid's question applies the cuts that reach the cells it looks at, no others;
+    a cut of a few moves is applied at once."""
+    from ncverify import workpiece
+
     piece = Workpiece(BLANK, 0.5, deferred=True)
     cutter, smaller = Cutter(2.0), Cutter(1.0)
-    piece.cut([(5.0, 5.0, -2.0)], [(10.0, 5.0, -2.0)], cutter)
-    piece.cut([(30.0, 25.0, -2.0)], [(35.0, 25.0, -2.0)], cutter)
+    piece.cut([(20.0, 15.0, -2.0)], [(21.0, 15.0, -2.0)], cutter)
+    assert piece._waiting == [] and piece.upper[30, 40] == -2.0
+    with patch.object(workpiece, "_FEWEST_DEFERRED", 1):
+        piece.cut([(5.0, 5.0, -2.0)], [(10.0, 5.0, -2.0)], cutter)
+        piece.cut([(30.0, 25.0, -2.0)], [(35.0, 25.0, -2.0)], cutter)
     assert piece.rapid((5.0, 5.0, -1.0), (10.0, 5.0, -1.0), smaller).outcome == "clear"
     assert [(waiting.size, waiting.boxes) for waiting in piece._waiting] == [(1, None)]  # the far one still waits, its move not even made a piece
     assert piece.rapid((30.0, 25.0, -1.0), (35.0, 25.0, -1.0), smaller).outcome == "clear"
     assert piece._waiting == []
-    assert piece.rapid((20.0, 15.0, -1.0), (21.0, 15.0, -1.0), smaller).outcome == "hits"
+    assert piece.rapid((20.0, 20.0, -1.0), (21.0, 20.0, -1.0), smaller).outcome == "hits"
 
 
 _AIR = ("(ncverify: stock box X0:100 Y0:100 Z-20:0)\n(ncverify: tool 1 radius 4 type endmill)\nG21 G90 G17 G54\nT1 M06\nG43 H01 Z50.\n"
