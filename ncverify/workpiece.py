@@ -26,7 +26,7 @@ from __future__ import annotations
 import ctypes
 import functools
 import math
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, fields, replace
 
 import numpy
 import shapely
@@ -123,7 +123,8 @@ class Workpiece:
         self._solid = self._solid_extent(stock)
         self.lower_emptied = False  # a cut that could not be placed emptied ``lower`` (see cut_anywhere)
         self._centres = None  # see _column_centres
-        self._waiting: list[_Waiting] | None = [] if deferred else None  # sweeps not applied yet (see _defer)
+        self._waiting = _Backlog() if deferred else None  # sweeps not applied yet (see _defer)
+        self._most_waiting = memory_cap // 2  # bytes the deferred sweeps may hold
 
     def _blank(self, stock: Stock):
         """Tops of the uncut blank: cells wholly inside carry material on every point, cells
@@ -252,13 +253,13 @@ class Workpiece:
         turn leaves there. A program whose rapids stay above the blank then sweeps nothing
         (the air statistic, which judges each piece against the field before it, needs
         every sweep in turn, so a workpiece that judges it is not deferred). What waits is
-        bounded: past ``_MOST_WAITING`` pieces or ``_MOST_SWEEPS`` sweeps, the oldest are
-        applied. A sweep of fewer than ``_FEWEST_DEFERRED`` moves is applied at once:
+        bounded: past half the memory cap (128 MiB by default: a million moves and more)
+        the oldest sweeps are applied. A sweep of fewer than ``_FEWEST_DEFERRED`` moves is applied at once:
         keeping it costs about what applying it does, and so small a sweep comes from a
         flush before a question (a holder judged move by move), which looks near it."""
-        self._waiting.append(waiting)
-        while len(self._waiting) > _MOST_SWEEPS or sum(waiting.size for waiting in self._waiting) > _MOST_WAITING:
-            oldest = self._waiting.pop(0).prepared(self)
+        self._waiting.add(waiting)
+        while self._waiting.nbytes > self._most_waiting:
+            oldest = self._waiting.pop_oldest().prepared(self)
             oldest.apply(self, oldest.left)
 
     def _cell_boxes(self, x_low, y_low, x_high, y_high):
@@ -276,20 +277,9 @@ class Workpiece:
         """Apply the waiting sweeps' pieces that may reach the cells of ``rows`` and
         ``columns`` ((first, stop); the whole grid by default), so that those cells hold
         what every cut so far left (see :meth:`_defer`)."""
-        if not self._waiting:
-            return
-        window = (rows[0], self.ny if rows[1] is None else rows[1], columns[0], self.nx if columns[1] is None else columns[1])
-        still = []
-        for waiting in self._waiting:
-            if waiting.meets(window):
-                waiting = waiting.prepared(self)
-                reaching, rest = waiting.split(window)
-                if len(reaching):
-                    waiting.apply(self, reaching)
-                    waiting = replace(waiting, left=rest, size=len(rest))
-            if waiting.size:
-                still.append(waiting)
-        self._waiting = still
+        if self._waiting:
+            window = (rows[0], self.ny if rows[1] is None else rows[1], columns[0], self.nx if columns[1] is None else columns[1])
+            self._waiting.settle(self, window)
 
     def _settle_near(self, start, end, reach: float) -> None:
         """:meth:`settle` the cells within ``reach`` of the XY path from ``start`` to ``end``'s box."""
@@ -372,7 +362,7 @@ class Workpiece:
         twin = object.__new__(Workpiece)
         twin.__dict__.update(self.__dict__)
         twin.upper, twin.lower = self.upper.copy(), self.lower if self.lower_emptied else self.lower.copy()
-        twin._waiting = None if self._waiting is None else list(self._waiting)  # each _Waiting is never changed, only replaced
+        twin._waiting = None if self._waiting is None else self._waiting.copy()
         return twin
 
     def _clear_below_bottom(self, first_cell: int, end_cell: int) -> None:
@@ -879,8 +869,6 @@ def _path_groups(keys, mixed):
     return group, firsts.take(by_first)
 
 
-_MOST_WAITING = 1 << 19  # pieces of deferred sweeps kept at most (about 60 bytes each, with their boxes)
-_MOST_SWEEPS = 256  # deferred sweeps kept at most: a question looks at each one's box
 _FEWEST_DEFERRED = 16  # moves (or arc parts) a sweep needs to be deferred (see Workpiece._defer)
 
 
@@ -906,6 +894,14 @@ class _Waiting:
     def of(cls, sweep, parts: tuple, cutter: Cutter, boxes) -> "_Waiting":
         return cls(sweep, parts, cutter, _whole_box(boxes), boxes, numpy.arange(boxes.shape[1]), boxes.shape[1])
 
+    @property
+    def nbytes(self) -> int:
+        """Bytes its arrays hold (pieces applied are not freed until all are)."""
+        arrays = [getattr(part, field.name) for part in self.parts if isinstance(part, XYArcs) for field in fields(part)]
+        arrays += [part for part in self.parts if isinstance(part, numpy.ndarray)]
+        arrays += [] if self.boxes is None else [self.boxes, self.left]
+        return sum(array.nbytes for array in arrays)
+
     def meets(self, window) -> bool:
         """Does ``box`` meet ``window`` (first row, stop row, first column, stop column)?"""
         return self.box[0] < window[1] and self.box[1] > window[0] and self.box[2] < window[3] and self.box[3] > window[2]
@@ -922,6 +918,58 @@ class _Waiting:
 
     def apply(self, workpiece: "Workpiece", pieces) -> None:
         self.sweep(workpiece, *(part.take(pieces) if isinstance(part, XYArcs) else part.take(pieces, axis=0) for part in self.parts), self.cutter)
+
+
+class _Backlog:
+    """A workpiece's deferred sweeps (:class:`_Waiting`), oldest first, with their boxes in
+    one array: a question finds the sweeps its window meets in one step, however many wait
+    (a million-move program leaves hundreds of sweeps of the buffer's size)."""
+
+    def __init__(self, sweeps=(), boxes=None, nbytes: int = 0):
+        self.sweeps = list(sweeps)
+        self.boxes = numpy.empty((0, 4), numpy.int64) if boxes is None else boxes  # replaced, never written into: copies share it
+        self.nbytes = nbytes  # held by the sweeps' arrays
+
+    def __len__(self) -> int:
+        return len(self.sweeps)
+
+    def copy(self) -> "_Backlog":
+        return _Backlog(self.sweeps, self.boxes, self.nbytes)  # each _Waiting is never changed, only replaced
+
+    def add(self, waiting: "_Waiting") -> None:
+        self.sweeps.append(waiting)
+        self.boxes = numpy.concatenate([self.boxes, numpy.array([waiting.box], numpy.int64)])
+        self.nbytes += waiting.nbytes
+
+    def pop_oldest(self) -> "_Waiting":
+        self.boxes = self.boxes[1:]
+        oldest = self.sweeps.pop(0)
+        self.nbytes -= oldest.nbytes
+        return oldest
+
+    def settle(self, workpiece: "Workpiece", window) -> None:
+        """Apply the pieces that may reach ``window`` (first row, stop row, first column,
+        stop column) to ``workpiece``; what is left of their sweeps keeps waiting."""
+        first_row, stop_row, first_column, stop_column = window
+        boxes = self.boxes
+        meets = (boxes[:, 0] < stop_row) & (boxes[:, 1] > first_row) & (boxes[:, 2] < stop_column) & (boxes[:, 3] > first_column)
+        emptied = []
+        for index in numpy.flatnonzero(meets).tolist():
+            waiting = self.sweeps[index].prepared(workpiece)
+            reaching, rest = waiting.split(window)
+            if len(reaching):
+                waiting.apply(workpiece, reaching)
+            self.nbytes -= self.sweeps[index].nbytes
+            self.sweeps[index] = replace(waiting, left=rest, size=len(rest))
+            if len(rest):
+                self.nbytes += self.sweeps[index].nbytes
+            else:
+                emptied.append(index)
+        if emptied:
+            kept = numpy.ones(len(self.sweeps), bool)
+            kept[emptied] = False
+            self.sweeps = [waiting for waiting, keep in zip(self.sweeps, kept.tolist()) if keep]
+            self.boxes = self.boxes[kept]
 
 
 def _whole_box(boxes) -> tuple[int, int, int, int]:
