@@ -380,6 +380,12 @@ def active_tool_number(state, lathe: bool):
     return selected if mounted is None and type(selected) is float else None
 
 
+def compensated(state) -> bool:
+    """Is radius compensation on (G41/G42, RL/RR), or in a state that is not known? The
+    tool then runs beside the programmed path by an offset the program alone does not fix."""
+    return state.comp_side != "off"
+
+
 def active_edge(state):
     """The active SINUMERIK cutting edge (1.0 where no D word set one; a symbolic value
     when it depends on a free parameter)."""

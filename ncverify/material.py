@@ -18,7 +18,7 @@ from collections import deque
 import numpy
 
 from . import frames, geometry, workpiece, xy_arcs
-from .context import active_edge, radius_delta
+from .context import active_edge, compensated, radius_delta
 from . import turning_stock
 from .turning_stock import Turning
 from .verdict import both, hazard
@@ -73,6 +73,14 @@ class _PathPiece:
         self.piece.cut_anywhere()
         self.deepest = -math.inf
 
+    def beside_path(self, lowest: float) -> None:
+        """A cut under radius compensation: the tool's centre runs beside the programmed
+        path by an offset the program does not fix (the register's value, a wear value, a
+        stock allowance left by a larger offset), so where it cut is not known; how deep
+        is (``lowest``: the tip's lowest point, which compensation does not move)."""
+        self.piece.cut_anywhere()
+        self.deepest = min(self.deepest, lowest)
+
     def take_over(self, shared: "_PathPiece") -> None:
         """Carry on from the workpiece's twin this path shared until now."""
         self.lines, self.arcs, self.symbolic = list(shared.lines), list(shared.arcs), list(shared.symbolic)
@@ -125,6 +133,12 @@ class Material:
             mine.unplaced()
             if tool_axis_problem(state) is None:
                 mine.symbolic.append((segment.start, segment.end))
+            return
+        if compensated(state):
+            if segment.arc is None or _plane_indices(segment.arc.plane) == (0, 1, 2):  # an arc about Z keeps between its ends' heights
+                mine.beside_path(min(start[2], end[2]))
+            else:
+                mine.unplaced()
             return
         if segment.arc is not None:
             arc = segment.arc
@@ -225,6 +239,12 @@ class Material:
         mine = None if cutter is None else self._mine(state)
         if mine is None:
             return True  # a probe, or a path judged against the blank
+        if compensated(state):  # as segment() takes each move
+            if (run.kinds[cutting] == _FEED).all() or _plane_indices(run.arcs.plane) == (0, 1, 2):
+                mine.beside_path(float(numpy.minimum(starts[:, 2], ends[:, 2]).min()))
+            else:
+                mine.unplaced()
+            return True
         for _ in range(int(numpy.count_nonzero(by_radius))):  # no centre: cut anywhere, not buffered, as in segment()
             mine.unplaced()
         cutting, starts, ends = cutting[~by_radius], starts[~by_radius], ends[~by_radius]
@@ -270,6 +290,9 @@ class Material:
         known = ~(numpy.isnan(starts).any(axis=1) | numpy.isnan(ends).any(axis=1))
         if not known.all():
             self._not_placed(mine, run, feeds[~known], state)
+        if known.any() and compensated(state):  # as segment() takes each move
+            mine.beside_path(float(numpy.minimum(starts[known, 2], ends[known, 2]).min()))
+            return
         if known.any():
             mine.deepest = min(mine.deepest, float(numpy.minimum(starts[known, 2], ends[known, 2]).min()))
         sized = mine.sized(cutter)
@@ -339,9 +362,10 @@ class Material:
         """Can a non-cutting part of the tool meet material on moves whose tips go down to
         ``lowest`` (one a move)? Not where every part's bottom stays above the blank's top,
         where no material ever is: shallow cuts (most of them) are then swept in batches,
-        not move by move."""
+        not move by move. Nor under radius compensation, where the tool's place beside the
+        programmed path is not known (its cuts are not placed either: :meth:`_PathPiece.beside_path`)."""
         parts = self._holder_parts(state)
-        if not parts:
+        if not parts or compensated(state):
             return numpy.zeros(len(lowest), bool)
         return lowest + min(height for height, _, _ in parts) <= self.stock.z_range[1]
 

@@ -5,7 +5,8 @@ Every straight feed move, programmed or made by a cycle, sweeps the insert's nos
 ``$TC_DP6``), its centre placed from the cutting-edge position (``edge_position``,
 ``$TC_DP2`` of the active edge). Without the edge position nothing is surely turned away,
 so rapids over turned material stay ``unknown``; without a nose radius, at a position that
-is not known, or along an arc (the lowering keeps a lathe arc's centre in program units,
+is not known, under nose radius compensation (G41/G42: the nose runs beside the programmed
+contour by an offset the program does not fix), or along an arc (the lowering keeps a lathe arc's centre in program units,
 which mix diameters and radii), a cut may have removed material anywhere. The program's X is read as a
 diameter, as the blank check reads it, or as a radius where SINUMERIK's ``DIAMOF`` is in
 force; a point on the far side of the spindle axis is a cut that cannot be placed.
@@ -15,7 +16,7 @@ from __future__ import annotations
 import numpy
 
 from . import workpiece
-from .context import active_edge, active_tool_number
+from .context import active_edge, active_tool_number, compensated
 from .workpiece import Bar, RapidVerdict
 
 _KEY = "turned bar"
@@ -45,7 +46,7 @@ class Turning:
     def segment(self, segment, state) -> None:
         mine, insert = self._mine(state), self._insert(state)
         start, end = self._section(segment.start, state), self._section(segment.end, state)
-        if insert is None or start is None or end is None or segment.arc is not None:
+        if insert is None or start is None or end is None or segment.arc is not None or compensated(state):
             mine.bar.cut_anywhere()
             return
         self._buffer(mine, numpy.array([start]), numpy.array([end]), insert)
@@ -53,7 +54,7 @@ class Turning:
     def cut_run(self, run, feeds, state) -> None:
         """The feed moves ``feeds`` (indices) of a batch of moves."""
         mine, insert = self._mine(state), self._insert(state)
-        if insert is None or "X" not in run.axes or "Z" not in run.axes:
+        if insert is None or "X" not in run.axes or "Z" not in run.axes or compensated(state):
             mine.bar.cut_anywhere()
             return
         columns = [run.axes.index("X"), run.axes.index("Z")]

@@ -412,6 +412,51 @@ def test_without_the_edge_position_a_rapid_over_the_turned_diameter_is_unknown_n
     assert _lathe_findings(program) == {(10, "unknown")}
 
 
+def test_under_nose_radius_compensation_a_rapid_over_the_turned_diameter_is_unknown_never_passed():
+    """With G42 the nose runs beside the programmed contour, by an offset the program does
+    not fix: the rapid back over the diameter is not passed."""
+    program = _TURNED.replace("G00 X37.\nG01 Z-30. F0.2\nG01 X38.\n", "G00 X37.\nG42 G01 Z-30. F0.2\nG40 G01 X38.\n") + "M30\n"
+    assert _lathe_findings(program) == {(10, "unknown")}
+
+
+_SLOT = ("(ncverify: stock box X0:100 Y0:100 Z-20:0)\n(ncverify: tool 1 radius 5 type endmill)\nG21 G90 G17 G54\nT1 M06\nG43 H01 Z50.\n"
+         "S6000 M03\nG00 X20. Y50.\nZ2.\nG01 Z-5. F200.\n{on}G01 X40. Y50.\n{moves}{off}G01 X85. Y50.\nG00 Z2.\nG00 X60. Y50.\nG00 Z-4.\nG00 Z50.\nM30\n")
+
+
+@pytest.mark.parametrize("moves", ["G01 X80. Y50.\n",  # one move: the block path
+                                   "".join(f"G01 X{40 + step}. Y50.\n" for step in range(1, 41)),  # a batch of straight moves
+                                   "".join(f"G01 X{40 + step}. Y50.\n" for step in range(1, 5)) + "G02 X45. Y50. R0.5\n"
+                                   + "".join(f"G01 X{45 + step}. Y50.\n" for step in range(1, 36))])  # and an arc among them
+def test_a_slot_cut_under_radius_compensation_never_clears_a_rapid_down_into_its_programmed_path(moves):
+    """G42 puts the tool's centre 5 mm to the right of the programmed line (Y45, when the
+    control's offset is the tool's radius): the slot is Y40..50, and the rapid down at Y50
+    meets the uncut wall above Y50. The programmed path taken for the tool's centre said
+    the rapid was clear (it lies inside the programmed slot); the offset is not fixed by
+    the program (the register, a wear value, an allowance), so the rapid is unknown. The
+    same slot cut without compensation clears it."""
+    from ncverify import Settings, check_text
+
+    def rapid_findings(program):
+        return [(d.span.line, d.status.value) for d in check_text(program, "t.nc", Settings()).diagnostics if d.rule == "core.rapid-into-stock"]
+
+    rapid_line = 14 + moves.count("\n")
+    assert rapid_findings(_SLOT.format(on="", off="", moves=moves)) == []
+    assert rapid_findings(_SLOT.format(on="G42 D1 ", off="G40 ", moves=moves)) == [(rapid_line, "unknown")]
+
+
+def test_a_klartext_slot_cut_with_rr_never_clears_a_rapid_down_into_its_programmed_path():
+    """The same slot in Klartext: ``RR`` is compensation as G42 is, its offset the tool's
+    radius plus deltas the machine's table may hold."""
+    from ncverify import Settings, check_text
+
+    program = ("0 BEGIN PGM SLOT MM\n1 BLK FORM 0.1 Z X+0 Y+0 Z-20\n2 BLK FORM 0.2 X+100 Y+100 Z+0\n3 ; ncverify: tool 1 radius 5 type endmill\n"
+               "4 TOOL CALL 1 Z S6000\n5 L Z+50 R0 FMAX M3\n6 L X+20 Y+50 R0 FMAX\n7 L Z+2 R0 FMAX\n8 L Z-5 R0 F200\n9 L X+40 Y+50 {on} F200\n"
+               "10 L X+80 Y+50\n11 L X+85 Y+50 R0\n12 L Z+2 R0 FMAX\n13 L X+60 Y+50 R0 FMAX\n14 L Z-4 R0 FMAX\n15 L Z+50 R0 FMAX\n16 END PGM SLOT MM\n")
+    findings = {on: [(d.span.line, d.status.value) for d in check_text(program.format(on=on), "slot.h", Settings()).diagnostics
+                     if d.rule == "core.rapid-into-stock"] for on in ("R0", "RR")}
+    assert findings == {"R0": [], "RR": [(15, "unknown")]}
+
+
 # --------------------------------------------------------------------------- the holder and the shank
 
 def _holder_findings(program: str, **options):
