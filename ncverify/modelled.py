@@ -13,6 +13,7 @@ from __future__ import annotations
 import numpy
 
 from . import frames
+from .context import compensated
 from .material import tool_axis_problem
 
 TRANSLATION = "translation"
@@ -23,15 +24,17 @@ UNMODELLED_FRAME = "unmodelled frame"
 TOOL_AXIS = "tool axis"
 KINEMATICS = "kinematic transformation"
 DIAMETER = "diameter programming"
-KINDS = (TRANSLATION, ROTATION, SCALING, MIRROR, UNMODELLED_FRAME, TOOL_AXIS, KINEMATICS, DIAMETER)
+RADIUS_COMPENSATION = "radius compensation"
+KINDS = (TRANSLATION, ROTATION, SCALING, MIRROR, UNMODELLED_FRAME, TOOL_AXIS, KINEMATICS, DIAMETER, RADIUS_COMPENSATION)
 
-# Positions judged in workpiece coordinates, through the one program-to-workpiece map.
+# Positions judged in workpiece coordinates, through the one program-to-workpiece map
+# (not under radius compensation: the tool then runs beside the programmed positions).
 GEOMETRY = frozenset({TRANSLATION, ROTATION, SCALING, MIRROR})
 # Program values compared among themselves or with the tool table, as the program writes
-# them: where the part lies, how it is turned or mirrored and along which axis the tool
-# stands leave them as they are; a scaling (sizes), a kinematic transformation or diameter
-# programming (what a value means) do not.
-AS_WRITTEN = frozenset({TRANSLATION, ROTATION, MIRROR, UNMODELLED_FRAME, TOOL_AXIS})
+# them: where the part lies, how it is turned or mirrored, along which axis the tool
+# stands and how far beside the path it runs leave them as they are; a scaling (sizes), a
+# kinematic transformation or diameter programming (what a value means) do not.
+AS_WRITTEN = frozenset({TRANSLATION, ROTATION, MIRROR, UNMODELLED_FRAME, TOOL_AXIS, RADIUS_COMPENSATION})
 # Cycle sizes compared with the tool as the control cuts them: the written size times the
 # factor that scales the working plane (``common.ReportsMissingContext.workpiece_sizes``; uneven: unknown).
 SCALED_SIZES = AS_WRITTEN | {SCALING}
@@ -53,6 +56,8 @@ def active(state) -> dict[str, str]:
         found[KINEMATICS] = f"the kinematic transformation {transformation} is on"
     if state.modal.get("diameter") in ("diameter", "diameter when absolute"):
         found[DIAMETER] = "X is programmed as a diameter"
+    if compensated(state):
+        found[RADIUS_COMPENSATION] = "radius compensation is on: the tool runs beside the programmed path by an offset the program does not fix"
     return found
 
 

@@ -43,7 +43,14 @@ STATES = {
     modelled.TOOL_AXIS: lambda: _state(plane="zx"),
     modelled.KINEMATICS: lambda: _state(transformation="TRACYL (cylinder surface)"),
     modelled.DIAMETER: lambda: _state(diameter="diameter"),
+    modelled.RADIUS_COMPENSATION: lambda: _compensated("right"),
 }
+
+
+def _compensated(side: str) -> MachineState:
+    state = _state()
+    state.comp_side = side
+    return state
 
 
 def test_every_kind_of_state_is_enumerated_and_recognised_alone():

@@ -444,3 +444,53 @@ def test_the_violated_corpus_programs_name_a_witness_where_the_rounding_makes_th
 
     [finding] = findings(check_file(CORPUS / program), rule, line)
     assert finding.status is Status.VIOLATED and low <= finding.witness[parameter] < high
+
+
+# --------------------------------------------------------------------------- radius compensation
+# Under G41/G42 the tool runs beside the programmed path by the offset register's value,
+# which the program does not give: a rapid's place in the plane is not the tool's.
+
+_BESIDE = """
+    (ncverify: stock box X0:100 Y0:100 Z-20:0)
+    (ncverify: tool 1 radius 5 type endmill)
+    (ncverify: assume 0 <= #1 <= 3)
+    G21 G90 G17 G54
+    T1 M06
+    G43 H01 Z50.
+    S6000 M03
+    G00 X-10. Y-10.
+    {on}G00 X-10. Y50. Z{depth}
+    G00 X-6. Y{y}
+    G40 G00 Z50.
+    M30
+"""
+
+
+@pytest.mark.parametrize("y", ["60.", "[60. + #1]"])
+def test_a_rapid_beside_the_blank_under_radius_compensation_is_unknown_never_passed(y):
+    """Down beside the blank's side (1 mm of room for the tool's radius): clear as written,
+    concrete or proved for every allowed value; under G41 the offset may put the tool into
+    the side, so the same rapids are unknown, with the compensation named."""
+    def rapid(on):
+        result = check_text(textwrap.dedent(_BESIDE.format(on=on, depth="-5.", y=y)), "t.nc", Settings())
+        return {(d.span.line, d.status) for d in findings(result, "core.rapid-into-stock")}, findings(result, "core.rapid-into-stock")
+
+    plain, _ = rapid("")
+    assert plain <= {(11, Status.PROVED)}
+    compensated, found = rapid("G41 D1 ")
+    assert compensated and all(status is Status.UNKNOWN for _, status in compensated)
+    assert all("radius compensation" in (d.reason or "") + d.message for d in found)
+
+
+def test_a_rapid_above_the_blank_under_radius_compensation_is_still_clear():
+    """The offset acts in the plane: a rapid above the blank's top meets it nowhere."""
+    result = check_text(textwrap.dedent(_BESIDE.format(on="G41 D1 ", depth="5.", y="60.")), "t.nc", Settings())
+    assert findings(result, "core.rapid-into-stock") == []
+
+
+def test_rapids_of_a_batch_under_radius_compensation_are_judged_as_block_by_block():
+    program = textwrap.dedent(_BESIDE.format(on="G41 D1 ", depth="-5.", y="60.")).replace(
+        "G00 X-6. Y60.\n", "".join(f"G00 X-6. Y{60 + step}.\n" for step in range(30)))
+    batched, alone = (check_text(program, "t.nc", Settings(per_block_only=flag)) for flag in (False, True))
+    assert [(d.span.line, d.status) for d in findings(batched, "core.rapid-into-stock")] == \
+        [(d.span.line, d.status) for d in findings(alone, "core.rapid-into-stock")] != []

@@ -16,7 +16,7 @@ from ..ir import cycle_code
 from .. import context, frames, geometry
 from .. import modelled
 from ..check import Rule, Verdict, hazard, rule, show
-from ..context import Stock, active_edge, radius_delta
+from ..context import Stock, active_edge, compensated, radius_delta
 from ..diagnostics import Status
 from ..verdict import both
 from ..values import Condition, Sym
@@ -45,16 +45,17 @@ def _point(position: dict, stock) -> tuple | None:
     return x, y, z
 
 
-def _separated(stock, start: dict, end: dict, tool=None) -> bool:
+def _separated(stock, start: dict, end: dict, tool=None, axes=("X", "Y", "Z")) -> bool:
     """Both ends on the outer side of one face of the stock (known concrete values only),
     with room for the tool (its radius beside the sides, its length below the bottom): a
-    straight move, or a dog-leg within their box, cannot enter it."""
+    straight move, or a dog-leg within their box, cannot enter it. Only the faces across
+    ``axes`` count (under radius compensation the others' positions are not the tool's)."""
     box = geometry.stock_box(stock) or (None, None, stock.z_range)
     radius, length = tool or (0.0, 0.0)
     below_bottom = math.inf if length is None else length
     for axis, limits, below, above in (("X", box[0], radius, radius), ("Y", box[1], radius, radius), ("Z", box[2], below_bottom, 0.0)):
         a, b = start.get(axis), end.get(axis)
-        if limits is None or type(a) is not float or type(b) is not float:
+        if limits is None or type(a) is not float or type(b) is not float or axis not in axes:
             continue
         low, high = b if b < a else a, b if b > a else a  # min(a, b) and max(a, b) without the calls (asked on every rapid)
         if low >= limits[1] + above or high <= limits[0] - below:
@@ -66,6 +67,12 @@ def _separated(stock, start: dict, end: dict, tool=None) -> bool:
 # its radius and length from the tool table, standing along +Z of the workpiece. Along any
 # other tool axis the concrete check judges the tool's axis alone, and no proof is given
 # (the rule does not read modelled.TOOL_AXIS).
+
+
+def _placed_axes(state) -> tuple[str, ...]:
+    """The axes whose programmed positions are the tool's: all three, but under radius
+    compensation only the tool axis (the offset acts in the working plane)."""
+    return (state.plane_axes[2],) if compensated(state) else ("X", "Y", "Z")
 
 
 def _cylinder_tool(rule_instance, stock, state):
@@ -168,7 +175,7 @@ class RapidIntoStock(_NeedsStock):
         if state.parked or state.left_start:
             segment = self._from_start_position(segment, state)
         tool = _cylinder_tool(self, stock, state)
-        if _separated(stock, segment.start, segment.end, tool):
+        if _separated(stock, segment.start, segment.end, tool, _placed_axes(state)):
             return
         start, end = _point(segment.start, stock), _point(segment.end, stock)
         what = _ROLE_WORDS.get(segment.role, "rapid move")
@@ -186,6 +193,12 @@ class RapidIntoStock(_NeedsStock):
             self._from_unknown(stock, end, segment.span, what, state, tool)
             return
         if self._retracts(start, end, state):
+            return
+        if compensated(state):
+            self.report(self.rule_id, segment.span, f"{what} from {_where(start)} to {_where(end)} runs under radius compensation "
+                        f"({'G41' if state.comp_side == 'left' else 'G42' if state.comp_side == 'right' else 'on'}) near the blank "
+                        f"({stock.describe()}): the tool runs beside the programmed path by an offset the program does not fix "
+                        "(the register's value), so where it passes was not checked", Status.UNKNOWN, "radius compensation on")
             return
         if any(isinstance(value, Sym) for value in (*start, *end)):
             self._symbolic(stock, start, end, segment.span, what, state, tool)
@@ -267,7 +280,7 @@ class RapidIntoStock(_NeedsStock):
         stock = self.stock(run.span(int(rapids[0])), state)
         if stock is None:
             return
-        if self.checker.context.rapid_path == "dogleg" or stock.kind == "polygon" or len(run.axes) != 3:
+        if self.checker.context.rapid_path == "dogleg" or stock.kind == "polygon" or len(run.axes) != 3 or compensated(state):
             for index in rapids:
                 self.segment(run.segment(int(index)), state, run, int(index))
             return
