@@ -457,6 +457,8 @@ def modulo(a: Value, b: Value) -> Value:
     if type(a) is float and type(b) is float:
         if b == 0.0:
             raise DomainError("MOD by zero")
+        if math.isinf(a):
+            raise DomainError(f"MOD of {a:g}")  # fmod's domain error, not a value
         return math.fmod(a, b)
     return fresh("MOD")
 
