@@ -256,6 +256,8 @@ class Checker:
     def change(self, change, state) -> None:
         for handler in self._change:
             handler(change, state)
+        if change.what == "corner_rounding":
+            self.material.corner_rounded(state)
 
     def note(self, note) -> None:
         self.report(note.rule, note.span, note.message, Status(note.status), note.reason)

@@ -386,6 +386,12 @@ def compensated(state) -> bool:
     return state.comp_side != "off"
 
 
+def off_path(state) -> bool:
+    """Does each cut leave its programmed path by an amount the program does not fix:
+    radius compensation, or SINUMERIK ``RNDM`` rounding every corner?"""
+    return compensated(state) or state.corners_rounded
+
+
 def active_edge(state):
     """The active SINUMERIK cutting edge (1.0 where no D word set one; a symbolic value
     when it depends on a free parameter)."""

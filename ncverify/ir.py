@@ -232,6 +232,16 @@ class CutterComp(Op):
 
 
 @dataclass(slots=True)
+class CornerRounding(Op):
+    """A rounding or chamfer of the corner the contour turns at the end of the move before
+    (ISO ``,R``/``,C``, SINUMERIK ``RND``/``CHF``/``CHR``, Klartext ``RND``/``CHF``): the tool
+    cuts the corner off, between the move before and the move after. ``modal``: SINUMERIK
+    ``RNDM`` rounds every corner from here on (True) or no more (False); None: this corner."""
+
+    modal: bool | None = None
+
+
+@dataclass(slots=True)
 class LengthOffset(Op):
     """Tool length compensation on (plus or minus) or off."""
 

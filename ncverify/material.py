@@ -18,7 +18,7 @@ from collections import deque
 import numpy
 
 from . import frames, geometry, workpiece, xy_arcs
-from .context import active_edge, compensated, radius_delta
+from .context import active_edge, off_path, radius_delta
 from . import turning_stock
 from .turning_stock import Turning
 from .verdict import both, hazard
@@ -46,7 +46,7 @@ class _PathPiece:
     them cuts (the interpreter calls ``forked`` on rule memory when a path forks). ``piece``
     None: past the memory cap, this path is judged against the blank."""
 
-    __slots__ = ("piece", "lines", "arcs", "buffered", "sharers", "symbolic", "recent", "deepest", "sizeless")
+    __slots__ = ("piece", "lines", "arcs", "buffered", "sharers", "symbolic", "recent", "deepest", "sizeless", "last_arc", "rounded_next")
 
     def __init__(self, piece: Workpiece | None):
         self.piece, self.lines, self.arcs, self.sharers = piece, [], [], 1  # lines (in runs of moves) and arcs buffered, not cut yet
@@ -55,6 +55,8 @@ class _PathPiece:
         self.recent: deque = deque(maxlen=_RECENT)  # the last straight cuts, exactly: (start, end, cutter)
         self.deepest = math.inf  # the lowest any tool tip has cut (arcs counted when swept): below it, the blank is whole
         self.sizeless = False  # a tool of unknown size has cut (swept as its axis only)
+        self.last_arc = False  # the last cut buffered is the last arc (else the last straight move)
+        self.rounded_next = False  # the next cut starts at a rounded or chamfered corner (see Material.corner_rounded)
 
     def forked(self) -> None:
         self.sharers += 1
@@ -72,14 +74,35 @@ class _PathPiece:
         """A cut that cannot be placed: material may be gone anywhere, at any depth."""
         self.piece.cut_anywhere()
         self.deepest = -math.inf
+        self.rounded_next = False
 
     def beside_path(self, lowest: float) -> None:
-        """A cut under radius compensation: the tool's centre runs beside the programmed
-        path by an offset the program does not fix (the register's value, a wear value, a
-        stock allowance left by a larger offset), so where it cut is not known; how deep
-        is (``lowest``: the tip's lowest point, which compensation does not move)."""
+        """A cut off its programmed path: under radius compensation the tool's centre runs
+        beside it by an offset the program does not fix (the register's value, a wear
+        value, a stock allowance left by a larger offset), and at a rounded or chamfered
+        corner it cuts the corner off. Where it cut is not known; how deep is (``lowest``:
+        the tip's lowest point, which neither moves)."""
         self.piece.cut_anywhere()
         self.deepest = min(self.deepest, lowest)
+        self.rounded_next = False
+
+    def take_back_last_cut(self) -> float | None:
+        """Take the last cut out of the buffer (a flush waits for the cut after it); the
+        lowest point of its tip, or None when the buffer holds none."""
+        entries = self.arcs if self.last_arc else self.lines
+        if not entries:
+            return None
+        entry = entries.pop()
+        fields = entry[0] if self.last_arc else entry[:2]
+        starts, ends = fields[0], fields[1]
+        lowest = min(starts[-1][2], ends[-1][2])
+        if len(starts) > 1:
+            shorter = tuple(field[:-1] for field in fields)
+            entries.append((shorter, *entry[1:]) if self.last_arc else (*shorter, *entry[2:]))
+        self.buffered -= 1
+        if self.recent and not self.last_arc:
+            self.recent.pop()
+        return float(lowest)
 
     def take_over(self, shared: "_PathPiece") -> None:
         """Carry on from the workpiece's twin this path shared until now."""
@@ -87,6 +110,7 @@ class _PathPiece:
         self.buffered = shared.buffered
         self.recent = deque(shared.recent, maxlen=_RECENT)
         self.deepest, self.sizeless = shared.deepest, shared.sizeless
+        self.last_arc, self.rounded_next = shared.last_arc, shared.rounded_next
 
 
 class Material:
@@ -134,7 +158,7 @@ class Material:
             if tool_axis_problem(state) is None:
                 mine.symbolic.append((segment.start, segment.end))
             return
-        if compensated(state):
+        if off_path(state) or mine.rounded_next:
             if segment.arc is None or _plane_indices(segment.arc.plane) == (0, 1, 2):  # an arc about Z keeps between its ends' heights
                 mine.beside_path(min(start[2], end[2]))
             else:
@@ -146,20 +170,41 @@ class Material:
             if centre is None or type(centre[0]) is not float or type(centre[1]) is not float:
                 mine.unplaced()
                 return
+            self._make_room(mine)
             mine.arcs.append((([start], [end], [centre], [arc.direction == "cw"], [_plane_indices(arc.plane)]), mine.sized(cutter), self._tool_name(state)))
-            self._count_buffered(mine)
+            mine.buffered, mine.last_arc = mine.buffered + 1, True
             return
         mine.deepest = min(mine.deepest, start[2], end[2])
         cutter = mine.sized(cutter)
         mine.recent.append((start, end, cutter))
+        self._make_room(mine)
         mine.lines.append(([start], [end], cutter, self._tool_name(state)))
-        self._count_buffered(mine)
+        mine.buffered, mine.last_arc = mine.buffered + 1, False
 
-    def _count_buffered(self, mine: _PathPiece) -> None:
-        """One more move joined the buffer: sweep them all when it is full (see :meth:`_buffer`)."""
-        mine.buffered += 1
+    def _make_room(self, mine: _PathPiece) -> None:
+        """Before a move joins the buffer: sweep it when it is full. The sweep waits for the
+        move after the last one, which a rounded corner may still take back (see
+        :meth:`corner_rounded`)."""
         if mine.buffered >= _FLUSH_AT:
             self._flush(mine)
+
+    def corner_rounded(self, state) -> None:
+        """The corner at the tool's position is rounded or chamfered (ISO ``,R``/``,C``,
+        SINUMERIK ``RND``/``CHF``, Klartext ``RND``/``CHF``): the tool cuts it off, so the
+        cut that ended there and the one that starts there leave their programmed paths
+        near it, by as much as the rounding takes; both are taken as cuts off their path."""
+        if not self.modelled or other_workpiece(self.checker.context, state) is not None:
+            return
+        if self.turning is not None:
+            self.turning.corner_rounded(state)
+            return
+        mine = self._mine(state)
+        if mine is None:
+            return
+        lowest = mine.take_back_last_cut()
+        if lowest is not None:
+            mine.beside_path(lowest)
+        mine.rounded_next = True
 
     def _buffer(self, mine: _PathPiece, starts, ends, cutter: Cutter, tool: str) -> None:
         """Straight cuts join the buffer, which is swept every ``_FLUSH_AT`` moves and when a
@@ -168,18 +213,18 @@ class Material:
         a sweep) is the same on both paths. ``starts``, ``ends``: sequences of (x, y, z)."""
         for first, stop in self._flush_groups(mine, len(starts)):
             mine.lines.append((starts[first:stop], ends[first:stop], cutter, tool))
+            mine.last_arc = False
 
     def _flush_groups(self, mine: _PathPiece, count: int):
         """``count`` moves join the buffer: ``(first, stop)`` of each group the caller
         buffers, the buffer swept after each group that fills it (see :meth:`_buffer`)."""
         taken = 0
         while taken < count:
+            self._make_room(mine)
             window = min(count - taken, _FLUSH_AT - mine.buffered)
             yield taken, taken + window
             mine.buffered += window
             taken += window
-            if mine.buffered >= _FLUSH_AT:
-                self._flush(mine)
 
     def begin_run(self, run) -> None:
         """A batch of moves arrives: none of its feed moves is cut yet."""
@@ -239,7 +284,9 @@ class Material:
         mine = None if cutter is None else self._mine(state)
         if mine is None:
             return True  # a probe, or a path judged against the blank
-        if compensated(state):  # as segment() takes each move
+        if mine.rounded_next:
+            return False  # the first cut starts at a rounded corner: segment() takes it
+        if off_path(state):  # as segment() takes each move
             if (run.kinds[cutting] == _FEED).all() or _plane_indices(run.arcs.plane) == (0, 1, 2):
                 mine.beside_path(float(numpy.minimum(starts[:, 2], ends[:, 2]).min()))
             else:
@@ -267,6 +314,8 @@ class Material:
             if arc_count:
                 mine.arcs.append((tuple(field[arcs_taken:arcs_taken + arc_count] for field in arcs), sized, tool))
             arcs_taken += arc_count
+        if len(straight):
+            mine.last_arc = not bool(straight[-1])
         return True
 
     def _cut_straight(self, run, feeds, state) -> None:
@@ -290,9 +339,13 @@ class Material:
         known = ~(numpy.isnan(starts).any(axis=1) | numpy.isnan(ends).any(axis=1))
         if not known.all():
             self._not_placed(mine, run, feeds[~known], state)
-        if known.any() and compensated(state):  # as segment() takes each move
+        if known.any() and off_path(state):  # as segment() takes each move
             mine.beside_path(float(numpy.minimum(starts[known, 2], ends[known, 2]).min()))
             return
+        if known.any() and mine.rounded_next:  # the first starts at a rounded corner: as segment() takes it
+            first = int(numpy.flatnonzero(known)[0])
+            mine.beside_path(min(float(starts[first, 2]), float(ends[first, 2])))
+            known[first] = False
         if known.any():
             mine.deepest = min(mine.deepest, float(numpy.minimum(starts[known, 2], ends[known, 2]).min()))
         sized = mine.sized(cutter)
@@ -365,7 +418,7 @@ class Material:
         not move by move. Nor under radius compensation, where the tool's place beside the
         programmed path is not known (its cuts are not placed either: :meth:`_PathPiece.beside_path`)."""
         parts = self._holder_parts(state)
-        if not parts or compensated(state):
+        if not parts or off_path(state):
             return numpy.zeros(len(lowest), bool)
         return lowest + min(height for height, _, _ in parts) <= self.stock.z_range[1]
 

@@ -196,7 +196,8 @@ class Change:
     ``new`` values), ``set_position`` (G92/G50 with axis words, evaluated, in ``new``),
     ``data_setting`` (G10: axis words in ``old``, the other words in ``new``), ``transforms``
     (Klartext: the coordinate transformations active, in the order they were defined, before
-    and after), ``m_function`` (an M function rules watch, its number in ``new``)...
+    and after), ``m_function`` (an M function rules watch, its number in ``new``),
+    ``corner_rounding`` (the contour's corner at the tool's position is rounded or chamfered)...
     ``words`` holds other words of the block a rule needs, evaluated (G30 ``P``)."""
 
     what: str

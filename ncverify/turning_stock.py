@@ -16,7 +16,7 @@ from __future__ import annotations
 import numpy
 
 from . import workpiece
-from .context import active_edge, active_tool_number, compensated
+from .context import active_edge, active_tool_number, off_path
 from .workpiece import Bar, RapidVerdict
 
 _KEY = "turned bar"
@@ -27,10 +27,20 @@ _FLUSH_AT = 4096  # buffered moves per batch
 class _BarPath:
     """One path's bar and its buffered cuts, shared by forked paths until one of them cuts."""
 
-    __slots__ = ("bar", "pending", "sharers")
+    __slots__ = ("bar", "pending", "sharers", "rounded_next")
 
     def __init__(self, bar: Bar):
         self.bar, self.pending, self.sharers = bar, [], 1
+        self.rounded_next = False  # the next cut starts at a rounded or chamfered corner (see Turning.corner_rounded)
+
+    def off_corner(self, starts, ends):
+        """The moves from ``starts`` to ``ends`` less the first one when it starts at a
+        rounded corner: that one may have cut anywhere near it (the bar's bounds say so)."""
+        if not self.rounded_next or not len(starts):
+            return starts, ends
+        self.rounded_next = False
+        self.bar.cut_anywhere()
+        return starts[1:], ends[1:]
 
     def forked(self) -> None:
         self.sharers += 1
@@ -46,16 +56,18 @@ class Turning:
     def segment(self, segment, state) -> None:
         mine, insert = self._mine(state), self._insert(state)
         start, end = self._section(segment.start, state), self._section(segment.end, state)
-        if insert is None or start is None or end is None or segment.arc is not None or compensated(state):
+        if insert is None or start is None or end is None or segment.arc is not None or off_path(state):
             mine.bar.cut_anywhere()
+            mine.rounded_next = False
             return
-        self._buffer(mine, numpy.array([start]), numpy.array([end]), insert)
+        self._buffer(mine, *mine.off_corner(numpy.array([start]), numpy.array([end])), insert)
 
     def cut_run(self, run, feeds, state) -> None:
         """The feed moves ``feeds`` (indices) of a batch of moves."""
         mine, insert = self._mine(state), self._insert(state)
-        if insert is None or "X" not in run.axes or "Z" not in run.axes or compensated(state):
+        if insert is None or "X" not in run.axes or "Z" not in run.axes or off_path(state):
             mine.bar.cut_anywhere()
+            mine.rounded_next = False
             return
         columns = [run.axes.index("X"), run.axes.index("Z")]
         starts, ends = run.points[feeds][:, columns], run.points[feeds + 1][:, columns]
@@ -65,11 +77,23 @@ class Turning:
         known = ~(numpy.isnan(starts).any(axis=1) | numpy.isnan(ends).any(axis=1)) & (starts[:, 0] >= 0) & (ends[:, 0] >= 0)
         if not known.all():
             mine.bar.cut_anywhere()
-        self._buffer(mine, starts[known], ends[known], insert)
+        self._buffer(mine, *mine.off_corner(starts[known], ends[known]), insert)
 
     def finish(self, state) -> None:
         if state.rule_state.get(_KEY) is not None:
             self._flush(self._mine(state))
+
+    def corner_rounded(self, state) -> None:
+        """The corner at the tool's position is rounded or chamfered: the cut that ended
+        there (the last one buffered: a flush waits for the move after it) and the one that
+        starts there run off their programmed paths near it, so both may have cut anywhere."""
+        mine = self._mine(state)
+        if mine.pending:
+            starts, ends, insert = mine.pending.pop()
+            if len(starts) > 1:
+                mine.pending.append((starts[:-1], ends[:-1], insert))
+        mine.bar.cut_anywhere()
+        mine.rounded_next = True
 
     # -- questions
     def rapid(self, start, end, state) -> RapidVerdict | None:
@@ -104,6 +128,7 @@ class Turning:
             holder.sharers -= 1
             twin = _BarPath(Bar(self.stock))
             twin.bar.most, twin.bar.least, twin.bar.cuts, twin.pending = holder.bar.most, holder.bar.least, holder.bar.cuts, list(holder.pending)
+            twin.rounded_next = holder.rounded_next
             holder = state.rule_state[_KEY] = twin
         return holder
 
@@ -130,10 +155,12 @@ class Turning:
         return x * _x_scale(state), z
 
     def _buffer(self, mine: _BarPath, starts, ends, insert) -> None:
-        if len(starts):
-            mine.pending.append((starts, ends, insert))
+        """Buffer the moves, the buffer cut first when it is full: a flush waits for the
+        moves after the last one, which a rounded corner may still take back."""
         if sum(len(item[0]) for item in mine.pending) >= _FLUSH_AT:
             self._flush(mine)
+        if len(starts):
+            mine.pending.append((starts, ends, insert))
 
     @staticmethod
     def _flush(mine: _BarPath) -> None:

@@ -419,6 +419,12 @@ def test_under_nose_radius_compensation_a_rapid_over_the_turned_diameter_is_unkn
     assert _lathe_findings(program) == {(10, "unknown")}
 
 
+def test_a_rounded_corner_on_the_lathe_makes_the_rapid_over_the_turned_diameter_unknown():
+    """``,R`` rounds the shoulder's corner: the nose leaves the programmed contour near it."""
+    program = _TURNED.replace("G01 Z-30. F0.2\n", "G01 Z-30. F0.2 ,R0.5\n") + "M30\n"
+    assert _lathe_findings(program) == {(10, "unknown")}
+
+
 _SLOT = ("(ncverify: stock box X0:100 Y0:100 Z-20:0)\n(ncverify: tool 1 radius 5 type endmill)\nG21 G90 G17 G54\nT1 M06\nG43 H01 Z50.\n"
          "S6000 M03\nG00 X20. Y50.\nZ2.\nG01 Z-5. F200.\n{on}G01 X40. Y50.\n{moves}{off}G01 X85. Y50.\nG00 Z2.\nG00 X60. Y50.\nG00 Z-4.\nG00 Z50.\nM30\n")
 
@@ -455,6 +461,58 @@ def test_a_klartext_slot_cut_with_rr_never_clears_a_rapid_down_into_its_programm
     findings = {on: [(d.span.line, d.status.value) for d in check_text(program.format(on=on), "slot.h", Settings()).diagnostics
                      if d.rule == "core.rapid-into-stock"] for on in ("R0", "RR")}
     assert findings == {"R0": [], "RR": [(15, "unknown")]}
+
+
+_CORNER_ISO = ("(ncverify: stock box X0:100 Y0:100 Z-20:0)\n(ncverify: tool 1 radius 5 type endmill)\nG21 G90 G17 G54\nT1 M06\nG43 H01 Z50.\n"
+               "S6000 M03\nG00 X20. Y20.\nZ2.\nG01 Z-5. F200.\nG01 X80.{corner}\nG01 Y80.\nG00 Z2.\nG00 X80. Y20.\nG00 Z-4.\nG00 Z50.\nM30\n")
+_CORNER_SINUMERIK = ("; ncverify: stock box X0:100 Y0:100 Z-20:0\n; ncverify: tool 1 radius 5 type endmill\nG17 G90 G54\nT1 D1\nM6\nS6000 M3\n"
+                     "G0 X20 Y20\nG0 Z2\nG1 Z-5 F200{modal}\nG1 X80{corner}\nG1 Y80\nG0 Z2\nG0 X80 Y20\nG0 Z-4\nG0 Z50\nM30\n")
+_CORNER_KLARTEXT = ("0 BEGIN PGM C MM\n1 BLK FORM 0.1 Z X+0 Y+0 Z-20\n2 BLK FORM 0.2 X+100 Y+100 Z+0\n3 ; ncverify: tool 1 radius 5 type endmill\n"
+                    "4 TOOL CALL 1 Z S6000\n5 L Z+50 R0 FMAX M3\n6 L X+20 Y+20 R0 FMAX\n7 L Z+2 R0 FMAX\n8 L Z-5 R0 F200\n9 L X+80 Y+20 R0 F200\n{corner}"
+                    "10 L X+80 Y+80\n11 L Z+2 R0 FMAX\n12 L X+80 Y+20 R0 FMAX\n13 L Z-4 R0 FMAX\n14 L Z+50 R0 FMAX\n15 END PGM C MM\n")
+
+
+@pytest.mark.parametrize("path, program, corner, line", [
+    ("t.nc", _CORNER_ISO.format(corner=" ,C20."), "", 14), ("t.nc", _CORNER_ISO.format(corner=" ,R10."), "", 14),
+    ("t.mpf", _CORNER_SINUMERIK.format(corner=" CHF=20", modal=""), "", 14), ("t.mpf", _CORNER_SINUMERIK.format(corner=" RND=10", modal=""), "", 14),
+    ("t.mpf", _CORNER_SINUMERIK.format(corner="", modal=" RNDM=10"), "", 14),
+    ("c.h", _CORNER_KLARTEXT.format(corner="9 RND R10\n"), "", 15), ("c.h", _CORNER_KLARTEXT.format(corner="9 CHF 20\n"), "", 15)])
+def test_a_rapid_down_into_a_rounded_or_chamfered_corner_is_unknown_never_passed(path, program, corner, line):
+    """The contour turns at X80 Y20, but the corner is chamfered (20 mm) or rounded (R10):
+    the tool never got there, and the rapid down onto the programmed corner meets the
+    material it left. Sweeping the programmed lines said it was clear (the corner lies
+    inside both lines' swept tool); the two moves beside a rounded corner now may have cut
+    anywhere, so the rapid is unknown. The same contour with a sharp corner clears it."""
+    from ncverify import Settings, check_text
+
+    dialect = {"t.mpf": "sinumerik"}.get(path)
+
+    def rapid(text):
+        return [(d.span.line, d.status.value) for d in check_text(text, path, Settings(dialect=dialect)).diagnostics if d.rule == "core.rapid-into-stock"]
+
+    sharp = {"t.nc": _CORNER_ISO.format(corner=""), "t.mpf": _CORNER_SINUMERIK.format(corner="", modal=""), "c.h": _CORNER_KLARTEXT.format(corner="")}[path]
+    assert rapid(sharp) == []
+    assert rapid(program) == [(line, "unknown")]
+
+
+def test_a_rounded_corner_among_batched_moves_leaves_what_block_by_block_leaves():
+    """The corner's block ends the batch; the moves before it and after it are cut as the
+    block path cuts them (the move before it taken back from the buffer)."""
+    from ncverify import Settings, check_text
+
+    moves = "".join(f"G01 X{20 + step}.\n" for step in range(1, 60)) + "G01 X80. ,R10.\n" + "".join(f"G01 Y{20 + step}.\n" for step in range(1, 61))
+    program = _CORNER_ISO.format(corner="").replace("G01 X80.\nG01 Y80.\n", moves)
+    with tempfile.TemporaryDirectory() as folder:
+        fields, findings = [], []
+        for alone in (False, True):
+            left = Path(folder) / f"left-{alone}.npz"
+            result = check_text(program, "t.nc", Settings(per_block_only=alone, stock_out=left))
+            findings.append([(d.rule, d.status.value, d.span.line) for d in result.diagnostics])
+            with numpy.load(left) as saved:
+                fields.append((saved["upper"], saved["lower"]))
+    assert findings[0] == findings[1]
+    assert ("core.rapid-into-stock", "unknown", 132) in findings[0]  # the rapid down onto the corner
+    assert all(numpy.array_equal(batched, alone) for batched, alone in zip(*fields))
 
 
 # --------------------------------------------------------------------------- the holder and the shank

@@ -67,6 +67,7 @@ class MachineState:
     coolant: str = "off"
     comp_side: str = "off"
     comp_register: object = None
+    corners_rounded: bool = False  # SINUMERIK RNDM: every corner of the contour is rounded
     length_mode: str = "off"
     length_register: object = None
     tool_selected: object = None
@@ -191,7 +192,7 @@ class Interpreter(ControlFlow):
             observer.call_site = self.call_site
         self._handlers = {
             ir.SetModal: self._set_modal, ir.Move: self._move, ir.Dwell: self._nothing,
-            ir.CutterComp: self._cutter_comp, ir.LengthOffset: self._length_offset,
+            ir.CutterComp: self._cutter_comp, ir.CornerRounding: self._corner_rounding, ir.LengthOffset: self._length_offset,
             ir.WorkOffset: self._work_offset, ir.CoordinateShift: self._coordinate_shift, ir.SetFrame: self._set_frame,
             ir.ReferenceReturn: self._reference_return, ir.MachineMove: self._machine_move, ir.Home: self._home,
             ir.SetFeed: self._set_feed, ir.SetSpindleSpeed: self._set_spindle_speed,
@@ -793,6 +794,16 @@ class Interpreter(ControlFlow):
             return None
         old, register = self._switch_offset(op.side, op.register, op.span, "comp_side", "comp_register")
         self._change("cutter_comp", op.span, block, old, self.state.comp_side, register)
+        return None
+
+    def _corner_rounding(self, op: ir.CornerRounding, block):
+        """The corner at the tool's position is cut off (its moves leave their programmed
+        paths near it), or every corner from here on (SINUMERIK RNDM). Not in a canned
+        cycle, whose block's ISO ``,R`` is the tapping mode."""
+        if op.modal is not None:
+            self.state.corners_rounded = op.modal
+        elif self.state.cycle is None:
+            self._change("corner_rounding", op.span, block)
         return None
 
     def _length_offset(self, op: ir.LengthOffset, block):

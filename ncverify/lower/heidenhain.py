@@ -476,6 +476,7 @@ class KlartextLowering:
         start = cursor.next()
         cursor.take_name("R")
         cursor.value()
+        block.ops.append(ir.CornerRounding(start.span))
         words = self._motion_words(cursor, block)
         if words["feed"] is not None:
             block.ops.append(ir.SetFeed(cursor.rest_span(start.span), words["feed"]))

@@ -149,6 +149,9 @@ class IsoLowering:
         self._lower_codes(block, read, codes, rest, stages, path)
         for stage in stages:
             block.ops.extend(stage)
+        corner = rest.get(",R") or rest.get(",C")  # corner rounding or chamfer at this move's end (a tapping cycle's ,R: see _corner_rounding)
+        if corner is not None and any(type(op) is ir.Move for op in block.ops):
+            block.ops.append(ir.CornerRounding(self._span(read, corner.start, corner.end, path)))
 
     def _defer(self, block: ir.Block, read: ReadBlock, words: list[Word], dynamic: list[Word], path) -> None:
         """``G#3`` / ``M#5``: lower again once the interpreter knows the values."""

@@ -299,6 +299,7 @@ class SinumerikLowering:
         motion_span = None
         move_words: dict = {}
         machine_move, axis_data = supa, False  # SUPA: this block's axes in machine coordinates, like G153
+        corner = None  # RND=/CHF=/CHR=: the corner at this move's end is cut off
         for item in words:
             span = Span.on_line(read.line, item.start, item.end, path)
             name, value = item.name, item.value
@@ -334,6 +335,11 @@ class SinumerikLowering:
                     absolute.add(name)
             elif name == "CR":
                 arc["R"] = value
+            elif name in ("RND", "CHF", "CHR"):
+                corner, move_words[name] = span, value  # the contour rules read them as the move's words
+            elif name == "RNDM":
+                stages["modal"].append(ir.CornerRounding(span, modal=not (type(value) is float and value == 0.0)))
+                move_words[name] = value
             elif name == "F":
                 stages["feed"].append(ir.SetFeed(span, value))
             elif name == "S" or re.fullmatch(r"S\d", name):
@@ -382,6 +388,8 @@ class SinumerikLowering:
             if motion_span is not None:
                 move_span = move_span.cover(motion_span)
             stages["motion"].append(ir.Move(move_span, motion, targets, arc or None, move_words, frozenset(incremental), columns, frozenset(absolute)))
+            if corner is not None:
+                stages["motion"].append(ir.CornerRounding(corner))
 
     def _g_code(self, value: float, span: Span, stages: dict, block: ir.Block) -> tuple[str | None, bool]:
         key = _code_key(value)
