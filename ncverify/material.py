@@ -217,7 +217,7 @@ class Material:
 
     def _flush_groups(self, mine: _PathPiece, count: int):
         """``count`` moves join the buffer: ``(first, stop)`` of each group the caller
-        buffers, the buffer swept after each group that fills it (see :meth:`_buffer`)."""
+        buffers, the buffer swept before a group when it is full (see :meth:`_make_room`)."""
         taken = 0
         while taken < count:
             self._make_room(mine)

@@ -198,9 +198,9 @@ class Workpiece:
                                                                           high[:, 1].max() + reach)))
             self._defer(_Waiting(Workpiece._waiting_lines, (starts, ends, strays, joined), cutter, _whole_box(box), size=len(starts)))
             return None
-        a, b, z_low, z_high, slack = pieces = self._line_pieces(starts, ends, cutter, strays, joined)
+        pieces = self._line_pieces(starts, ends, cutter, strays, joined)
         air = ~self._sweep_lines(*pieces, cutter)
-        return total_length(a[air], b[air]) if self._waiting is None else None
+        return total_length(pieces[0][air], pieces[1][air]) if self._waiting is None else None
 
     def _line_pieces(self, starts, ends, cutter: Cutter, strays, joined: bool):
         """The pieces :meth:`cut` sweeps for its moves: (a, b, z low, z high, slack)."""
@@ -254,9 +254,10 @@ class Workpiece:
         (the air statistic, which judges each piece against the field before it, needs
         every sweep in turn, so a workpiece that judges it is not deferred). What waits is
         bounded: past half the memory cap (128 MiB by default: a million moves and more)
-        the oldest sweeps are applied. A sweep of fewer than ``_FEWEST_DEFERRED`` moves is applied at once:
-        keeping it costs about what applying it does, and so small a sweep comes from a
-        flush before a question (a holder judged move by move), which looks near it."""
+        the oldest sweeps are applied. A sweep of fewer than ``_FEWEST_DEFERRED`` moves is
+        applied at once: keeping it costs about what applying it does, and so small a
+        sweep comes from a flush before a question (a holder judged move by move), which
+        looks near it."""
         self._waiting.add(waiting)
         while self._waiting.nbytes > self._most_waiting:
             oldest = self._waiting.pop_oldest().prepared(self)
@@ -901,10 +902,6 @@ class _Waiting:
         arrays += [part for part in self.parts if isinstance(part, numpy.ndarray)]
         arrays += [] if self.boxes is None else [self.boxes, self.left]
         return sum(array.nbytes for array in arrays)
-
-    def meets(self, window) -> bool:
-        """Does ``box`` meet ``window`` (first row, stop row, first column, stop column)?"""
-        return self.box[0] < window[1] and self.box[1] > window[0] and self.box[2] < window[3] and self.box[3] > window[2]
 
     def prepared(self, workpiece: "Workpiece") -> "_Waiting":
         return self if self.boxes is not None else self.sweep(workpiece, *self.parts, self.cutter)

@@ -195,9 +195,9 @@ class RapidIntoStock(_NeedsStock):
         if self._retracts(start, end, state):
             return
         if compensated(state):
-            self.report(self.rule_id, segment.span, f"{what} from {_where(start)} to {_where(end)} runs under radius compensation "
-                        f"({'G41' if state.comp_side == 'left' else 'G42' if state.comp_side == 'right' else 'on'}) near the blank "
-                        f"({stock.describe()}): the tool runs beside the programmed path by an offset the program does not fix "
+            side = f" ({state.comp_side} of the path)" if state.comp_side in ("left", "right") else ""
+            self.report(self.rule_id, segment.span, f"{what} from {_where(start)} to {_where(end)} runs under radius compensation{side} near "
+                        f"the blank ({stock.describe()}): the tool runs beside the programmed path by an offset the program does not fix "
                         "(the register's value), so where it passes was not checked", Status.UNKNOWN, "radius compensation on")
             return
         if any(isinstance(value, Sym) for value in (*start, *end)):
