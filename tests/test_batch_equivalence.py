@@ -29,7 +29,8 @@ _PLAIN_BLOCK = st.tuples(
     st.one_of(st.none(), st.sampled_from(["F200.", "F0", "F50", "F1200."])),
 ).flatmap(lambda parts: st.permutations([p for p in (parts[0], parts[1], *parts[2], parts[3]) if p]).map(" ".join))
 _OTHER_BLOCK = st.sampled_from(
-    ["G91", "G90", "M05", "M03", "G41 D1", "G40", "F0", "G20", "G21", "(WALL)", "", "G02 X1. Y1. R5.", "G1", "T2 M06", "G43 H02", "G49"]
+    ["G91", "G90", "M05", "M03", "G41 D1", "G40", "F0", "G20", "G21", "(WALL)", "", "G02 X1. Y1. R5.", "G1", "T2 M06", "G43 H02", "G49",
+     "G01 X4. Y4. ,R1.", "G1 X-2. ,C0.5"]  # a rounded or chamfered corner ends the batch before it
 )
 # Arcs in the fast lowering's form between the plain blocks, and helices (an arc with a Z
 # move, a full turn): the plain blocks after one are modal arcs, never part of a batch.
@@ -53,7 +54,7 @@ _CAM_LINE = st.lists(st.sampled_from("XYZ"), unique=True, min_size=1, max_size=3
 _STREAK = st.tuples(st.sampled_from(["G0", "G1"]), st.lists(_CAM_LINE, min_size=26, max_size=45)).map(
     lambda parts: [parts[0], *parts[1]])  # long enough to be read as a batch (8 lines, then 16 more)
 _ARC_BODY = st.lists(st.one_of(_STREAK, *[st.lists(part, min_size=1, max_size=3) for part in (
-    _PLAIN_BLOCK, _ANY_ARC, _ARC_BLOCK, st.sampled_from(["G17", "G18", "G19", "G90", "G91", "G0", "G1"]))]),
+    _PLAIN_BLOCK, _ANY_ARC, _ARC_BLOCK, st.sampled_from(["G17", "G18", "G19", "G90", "G91", "G0", "G1", "G41 D1", "G40", "G1 X4. Y4. ,R1."]))]),
     min_size=6, max_size=30).map(lambda parts: [block for part in parts for block in part])
 _HEADER = st.lists(st.sampled_from(["G43 H01 Z50.", "S1000 M03", "F300."]), unique=True)
 _STOCK = ["(ncverify: stock box X-40:40 Y-40:40 Z-10:0)", "(ncverify: tool 1 radius 3 length 50 type endmill)"]
