@@ -74,6 +74,10 @@ class DialectInfo:
     machines: tuple[str, ...] = ("mill",)
     profiles_table: str | None = None  # dialects/<id>/<file> whose tables are the profiles (ISO)
     runtime: str | None = None  # the module of its run-time hooks, if it has any
+    # radius compensation offsets the tool by the radius of its own tool data (Klartext RL/RR:
+    # the called tool's R and DR; SINUMERIK G41/G42: the active edge's), not by an offset
+    # register's value on the machine (ISO and Fagor D, LinuxCNC's D naming another tool)
+    offset_is_tool_radius: bool = False
 
     def profiles(self) -> list[str]:
         """The profiles a ``--profile`` may name, sorted; none for a dialect without them."""
@@ -91,8 +95,8 @@ DIALECTS: dict[str, DialectInfo] = {info.id: info for info in (
     DialectInfo("iso", "ISO family (Mitsubishi E60/M60, Fanuc-style, Haas)", (".nc", ".ngc", ".cnc", ".tap", ".eia", ".iso"),
                 "ncverify.lower.iso", ("mill", "lathe"), "profiles.toml"),
     DialectInfo("heidenhain", "HEIDENHAIN TNC 620 Klartext", (".h", ".i"), "ncverify.lower.heidenhain",
-                runtime="ncverify.interpret.heidenhain.runtime"),
-    DialectInfo("sinumerik", "SINUMERIK 840D", (".mpf", ".spf"), "ncverify.lower.sinumerik", ("mill", "lathe")),
+                runtime="ncverify.interpret.heidenhain.runtime", offset_is_tool_radius=True),
+    DialectInfo("sinumerik", "SINUMERIK 840D", (".mpf", ".spf"), "ncverify.lower.sinumerik", ("mill", "lathe"), offset_is_tool_radius=True),
     DialectInfo("fagor", "Fagor 8060/8065", (".pim", ".pit"), "ncverify.lower.fagor", runtime="ncverify.interpret.fagor"),
     DialectInfo("linuxcnc", "LinuxCNC (RS274NGC)", (".ngc",), "ncverify.lower.linuxcnc", ("mill", "lathe")),
 )}

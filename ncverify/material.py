@@ -18,7 +18,8 @@ from collections import deque
 import numpy
 
 from . import frames, geometry, workpiece, xy_arcs
-from .context import active_edge, off_path, radius_delta
+from .context import active_edge, compensated, off_path, radius_delta
+from .dialect import DIALECTS
 from . import turning_stock
 from .turning_stock import Turning
 from .verdict import both, hazard
@@ -158,7 +159,8 @@ class Material:
             if tool_axis_problem(state) is None:
                 mine.symbolic.append((segment.start, segment.end))
             return
-        if off_path(state) or mine.rounded_next:
+        offset = self._offset(state)
+        if offset is None or mine.rounded_next:
             if segment.arc is None or _plane_indices(segment.arc.plane) == (0, 1, 2):  # an arc about Z keeps between its ends' heights
                 mine.beside_path(min(start[2], end[2]))
             else:
@@ -171,15 +173,31 @@ class Material:
                 mine.unplaced()
                 return
             self._make_room(mine)
-            mine.arcs.append((([start], [end], [centre], [arc.direction == "cw"], [_plane_indices(arc.plane)]), mine.sized(cutter), self._tool_name(state)))
+            mine.arcs.append((([start], [end], [centre], [arc.direction == "cw"], [_plane_indices(arc.plane)]), mine.sized(cutter), self._tool_name(state), offset))
             mine.buffered, mine.last_arc = mine.buffered + 1, True
             return
         mine.deepest = min(mine.deepest, start[2], end[2])
         cutter = mine.sized(cutter)
-        mine.recent.append((start, end, cutter))
+        if not offset:
+            mine.recent.append((start, end, cutter))
         self._make_room(mine)
-        mine.lines.append(([start], [end], cutter, self._tool_name(state)))
+        mine.lines.append(([start], [end], cutter, self._tool_name(state), offset))
         mine.buffered, mine.last_arc = mine.buffered + 1, False
+
+    def _offset(self, state) -> float | None:
+        """How far the tool's centre may run off the programmed path: 0 without radius
+        compensation; under it the tool's radius (its largest, with a programmed delta)
+        where the dialect offsets by the tool's own data (:attr:`DialectInfo.offset_is_tool_radius`);
+        None where the offset is a register's value the program does not give, or where
+        every corner is rounded (RNDM). Such a cut lowers ``lower`` within the offset and
+        the tool's radius of its path, and ``upper`` nowhere."""
+        if state.corners_rounded:
+            return None
+        if not compensated(state):
+            return 0.0
+        dialect = DIALECTS.get(self.checker.context.dialect or "")
+        cutter = self._cutter(state, largest=True) if dialect is not None and dialect.offset_is_tool_radius else None
+        return cutter.radius if cutter else None
 
     def _make_room(self, mine: _PathPiece) -> None:
         """Before a move joins the buffer: sweep it when it is full. The sweep waits for the
@@ -206,13 +224,13 @@ class Material:
             mine.beside_path(lowest)
         mine.rounded_next = True
 
-    def _buffer(self, mine: _PathPiece, starts, ends, cutter: Cutter, tool: str) -> None:
+    def _buffer(self, mine: _PathPiece, starts, ends, cutter: Cutter, tool: str, offset: float = 0.0) -> None:
         """Straight cuts join the buffer, which is swept every ``_FLUSH_AT`` moves and when a
         question needs the field: a batch's moves and the same moves block by block are
         swept in the same groups, so the field (the grid merges neighbouring pieces within
         a sweep) is the same on both paths. ``starts``, ``ends``: sequences of (x, y, z)."""
         for first, stop in self._flush_groups(mine, len(starts)):
-            mine.lines.append((starts[first:stop], ends[first:stop], cutter, tool))
+            mine.lines.append((starts[first:stop], ends[first:stop], cutter, tool, offset))
             mine.last_arc = False
 
     def _flush_groups(self, mine: _PathPiece, count: int):
@@ -286,7 +304,8 @@ class Material:
             return True  # a probe, or a path judged against the blank
         if mine.rounded_next:
             return False  # the first cut starts at a rounded corner: segment() takes it
-        if off_path(state):  # as segment() takes each move
+        offset = self._offset(state)
+        if offset is None:  # as segment() takes each move
             if (run.kinds[cutting] == _FEED).all() or _plane_indices(run.arcs.plane) == (0, 1, 2):
                 mine.beside_path(float(numpy.minimum(starts[:, 2], ends[:, 2]).min()))
             else:
@@ -300,7 +319,7 @@ class Material:
         sized, tool = mine.sized(cutter), self._tool_name(state)
         if straight.any():
             mine.deepest = min(mine.deepest, float(numpy.minimum(starts[straight, 2], ends[straight, 2]).min()))
-            for start, end in zip(starts[straight][-_RECENT:].tolist(), ends[straight][-_RECENT:].tolist()):
+            for start, end in zip(starts[straight][-_RECENT:].tolist(), ends[straight][-_RECENT:].tolist()) if not offset else ():
                 mine.recent.append((tuple(start), tuple(end), sized))
         arcs = (starts[~straight], ends[~straight], centres, run.kinds[cutting[~straight]] == ARC_CW,
                 numpy.tile(_plane_indices(run.arcs.plane), (len(centres), 1)))
@@ -309,10 +328,10 @@ class Material:
             lines = straight[first:stop]
             if lines.any():
                 rows = numpy.flatnonzero(lines) + first
-                mine.lines.append((starts[rows], ends[rows], sized, tool))
+                mine.lines.append((starts[rows], ends[rows], sized, tool, offset))
             arc_count = stop - first - int(numpy.count_nonzero(lines))
             if arc_count:
-                mine.arcs.append((tuple(field[arcs_taken:arcs_taken + arc_count] for field in arcs), sized, tool))
+                mine.arcs.append((tuple(field[arcs_taken:arcs_taken + arc_count] for field in arcs), sized, tool, offset))
             arcs_taken += arc_count
         if len(straight):
             mine.last_arc = not bool(straight[-1])
@@ -339,7 +358,8 @@ class Material:
         known = ~(numpy.isnan(starts).any(axis=1) | numpy.isnan(ends).any(axis=1))
         if not known.all():
             self._not_placed(mine, run, feeds[~known], state)
-        if known.any() and off_path(state):  # as segment() takes each move
+        offset = self._offset(state)
+        if known.any() and offset is None:  # as segment() takes each move
             mine.beside_path(float(numpy.minimum(starts[known, 2], ends[known, 2]).min()))
             return
         if known.any() and mine.rounded_next:  # the first starts at a rounded corner: as segment() takes it
@@ -349,7 +369,7 @@ class Material:
         if known.any():
             mine.deepest = min(mine.deepest, float(numpy.minimum(starts[known, 2], ends[known, 2]).min()))
         sized = mine.sized(cutter)
-        for start, end in zip(starts[known][-_RECENT:].tolist(), ends[known][-_RECENT:].tolist()):  # as the block-by-block path keeps them
+        for start, end in zip(starts[known][-_RECENT:].tolist(), ends[known][-_RECENT:].tolist()) if not offset else ():  # as the block path keeps them
             mine.recent.append((tuple(start), tuple(end), sized))
         starts, ends, feeds, tool = starts[known], ends[known], feeds[known], self._tool_name(state)
         done = 0
@@ -359,7 +379,7 @@ class Material:
             self._flush(mine)
             self._judge_holder(mine.piece, starts[move], ends[move], self._holder_parts(state), run.span(int(feeds[move])), state)
             done = move
-        self._buffer(mine, starts[done:], ends[done:], sized, tool)
+        self._buffer(mine, starts[done:], ends[done:], sized, tool, offset)
 
     @staticmethod
     def _not_placed(mine: _PathPiece, run, moves, state) -> None:
@@ -548,27 +568,28 @@ class Material:
         sweep a tool, not one each time the tools take turns: a post that drills each part
         after milling it swept two small batches a part, and a sweep costs a fixed time
         besides its moves."""
-        for (cutter, tool), group in _by_tool(mine.lines, 2):
+        for (cutter, tool, offset), group in _by_tool(mine.lines, 2):
             starts, ends = (_stacked(line[end] for line in group) for end in (0, 1))
-            self._sweep(mine.piece, starts, ends, cutter, 0.0, tool)
-        for (cutter, tool), group in _by_tool(mine.arcs, 1):
+            self._sweep(mine.piece, starts, ends, cutter, offset, tool)
+        for (cutter, tool, offset), group in _by_tool(mine.arcs, 1):
             fields = [arcs[0] for arcs in group]
-            self._sweep_arcs(mine, *(_stacked((arcs[field] for arcs in fields), width) for field, width in enumerate(_ARC_WIDTHS)), cutter, tool)
+            self._sweep_arcs(mine, *(_stacked((arcs[field] for arcs in fields), width) for field, width in enumerate(_ARC_WIDTHS)), cutter, tool, offset)
         mine.lines, mine.arcs, mine.buffered = [], [], 0
 
-    def _sweep_arcs(self, mine: _PathPiece, starts, ends, centres, clockwise, planes, cutter: Cutter, tool: str) -> None:
+    def _sweep_arcs(self, mine: _PathPiece, starts, ends, centres, clockwise, planes, cutter: Cutter, tool: str, offset: float) -> None:
         """Arcs and helices about the Z axis swept as arcs; the others (other planes, ends
-        off their circle) as chords within an eighth of a cell of them, each chord's
-        sagitta its stray. An arc whose end lies on its start's ray, off its circle, may
-        turn once or not at all (:func:`workpiece.unsettled_turns`): it is a cut that
-        cannot be placed."""
+        off their circle, and arcs whose tool runs ``offset`` off them under radius
+        compensation) as chords within an eighth of a cell of them, each chord's sagitta
+        (and the offset) its stray. An arc whose end lies on its start's ray, off its
+        circle, may turn once or not at all (:func:`workpiece.unsettled_turns`): it is a
+        cut that cannot be placed."""
         clockwise = clockwise.reshape(-1).astype(bool)
         unsettled = workpiece.unsettled_turns(starts, ends, centres, planes)
         if unsettled.any():
             mine.unplaced()
             settled = ~unsettled
             starts, ends, centres, clockwise, planes = starts[settled], ends[settled], centres[settled], clockwise[settled], planes[settled]
-        about_z = (planes == (0, 1, 2)).all(axis=1)
+        about_z = (planes == (0, 1, 2)).all(axis=1) & (offset == 0.0)
         about_z[about_z] = xy_arcs.measurable(starts[about_z, :2], ends[about_z, :2], centres[about_z], self.resolution, workpiece.MEASURED_REACH)
         if about_z.any():
             arcs, _ = XYArcs.of(starts[about_z], ends[about_z], centres[about_z], clockwise[about_z], _ARC_PART_CELLS * self.resolution, self.resolution)
@@ -581,7 +602,7 @@ class Material:
         rest = ~about_z
         starts, ends, sagitta, _ = workpiece.arc_chords(starts[rest], ends[rest], centres[rest], clockwise[rest], planes[rest], tolerance=self.resolution / 8.0)
         mine.deepest = min(mine.deepest, float((numpy.minimum(starts[:, 2], ends[:, 2]) - sagitta).min()))
-        self._sweep(mine.piece, starts, ends, cutter, sagitta, tool, joined=False)
+        self._sweep(mine.piece, starts, ends, cutter, sagitta + offset, tool, joined=False)
 
     def _sweep(self, piece: Workpiece, starts, ends, cutter: Cutter, stray, tool: str, joined: bool = True) -> None:
         if not len(starts):
@@ -718,9 +739,9 @@ def _plane_indices(plane: tuple[str, str, str]) -> tuple[int, int, int]:
 
 
 def _by_tool(buffered: list, key_from: int):
-    """((cutter, tool), entries) of the ``buffered`` entries, whose fields from
-    ``key_from`` on are the cutter and the tool, grouped by those in the order each first
-    comes."""
+    """((cutter, tool, offset), entries) of the ``buffered`` entries, whose fields from
+    ``key_from`` on are the cutter, the tool and the compensation's offset, grouped by those
+    in the order each first comes."""
     groups: dict[tuple, list] = {}
     for entry in buffered:
         groups.setdefault(entry[key_from:], []).append(entry)

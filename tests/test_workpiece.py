@@ -450,6 +450,29 @@ def test_a_slot_cut_under_radius_compensation_never_clears_a_rapid_down_into_its
     assert rapid_findings(_SLOT.format(on="G42 D1 ", off="G40 ", moves=moves)) == [(rapid_line, "unknown")]
 
 
+@pytest.mark.parametrize("path, program", [
+    ("slot.h", "0 BEGIN PGM SLOT MM\n1 BLK FORM 0.1 Z X+0 Y+0 Z-20\n2 BLK FORM 0.2 X+100 Y+100 Z+0\n3 ; ncverify: tool 1 radius 5 type endmill\n"
+               "4 TOOL CALL 1 Z S6000\n5 L Z+50 R0 FMAX M3\n6 L X+20 Y+50 R0 FMAX\n7 L Z+2 R0 FMAX\n8 L Z-5 R0 F200\n9 L X+40 Y+50 RR F200\n"
+               "10 L X+80 Y+50\n11 L X+85 Y+50 R0\n12 L Z+2 R0 FMAX\n13 L X+60 Y+{y} R0 FMAX\n14 L Z-4 R0 FMAX\n15 L Z+50 R0 FMAX\n16 END PGM SLOT MM\n"),
+    ("slot.mpf", "; ncverify: stock box X0:100 Y0:100 Z-20:0\n; ncverify: tool 1 radius 5 type endmill\nG17 G90 G54\nT1 D1\nM6\nS6000 M3\n"
+                 "G0 X20 Y50\nG0 Z2\nG1 Z-5 F200\nG42 G1 X40 Y50\nG1 X80 Y50\nG40 G1 X85 Y50\nG0 Z2\nG0 X60 Y{y}\nG0 Z-4\nG0 Z50\nM30\n"),
+    ("slot.nc", _SLOT.replace("G00 X60. Y50.", "G00 X60. Y{y}.").format(on="G42 D1 ", off="G40 ", moves="G01 X80. Y50.\n", y="{y}"))])
+def test_a_compensated_slot_still_shows_a_crash_away_from_it_where_the_offset_is_the_tool_s_radius(path, program):
+    """Klartext RR and SINUMERIK G42 offset the tool by its own radius, which the model
+    sweeps with: the compensated slot may have cut within two radii of its programmed
+    path, and nowhere else, so a rapid down 30 mm away still meets the blank (violated);
+    beside the programmed path it is unknown. ISO G42 offsets by the D register's value,
+    which the program does not give: both are unknown."""
+    from ncverify import Settings, check_text
+
+    def rapid(y):
+        result = check_text(program.format(y=y), path, Settings(dialect="sinumerik" if path.endswith(".mpf") else None))
+        return [status for status, rule in ((d.status.value, d.rule) for d in result.diagnostics) if rule == "core.rapid-into-stock"]
+
+    assert rapid("50") == ["unknown"]
+    assert rapid("80") == (["unknown"] if path.endswith(".nc") else ["violated"])
+
+
 def test_a_klartext_slot_cut_with_rr_never_clears_a_rapid_down_into_its_programmed_path():
     """The same slot in Klartext: ``RR`` is compensation as G42 is, its offset the tool's
     radius plus deltas the machine's table may hold."""
