@@ -185,19 +185,22 @@ class Material:
         mine.buffered, mine.last_arc = mine.buffered + 1, False
 
     def _offset(self, state) -> float | None:
-        """How far the tool's centre may run off the programmed path: 0 without radius
-        compensation; under it the tool's radius (its largest, with a programmed delta)
-        where the dialect offsets by the tool's own data (:attr:`DialectInfo.offset_is_tool_radius`);
-        None where the offset is a register's value the program does not give, or where
-        every corner is rounded (RNDM). Such a cut lowers ``lower`` within the offset and
-        the tool's radius of its path, and ``upper`` nowhere."""
+        """How far the swept tool may run off the programmed path: 0 without radius
+        compensation; under it, where the dialect offsets by the tool's own data
+        (:attr:`DialectInfo.offset_is_tool_radius`), the tool's largest radius (with a
+        programmed delta) and what that radius exceeds the swept one by. None where the
+        offset is a register's value the program does not give, or where every corner is
+        rounded (RNDM). Such a cut lowers ``lower`` within the offset and the swept radius
+        of its path, and ``upper`` nowhere (the offset is at least that radius)."""
         if state.corners_rounded:
             return None
         if not compensated(state):
             return 0.0
         dialect = DIALECTS.get(self.checker.context.dialect or "")
-        cutter = self._cutter(state, largest=True) if dialect is not None and dialect.offset_is_tool_radius else None
-        return cutter.radius if cutter else None
+        if dialect is None or not dialect.offset_is_tool_radius:
+            return None
+        largest, swept = self._cutter(state, largest=True), self._cutter(state)
+        return 2.0 * largest.radius - swept.radius if largest and swept else None
 
     def _make_room(self, mine: _PathPiece) -> None:
         """Before a move joins the buffer: sweep it when it is full. The sweep waits for the
