@@ -701,7 +701,14 @@ class MoveBatch:
     else an index into ``KINDS``; missing words are NaN; ``scaled`` marks numbers written
     without a decimal point (least input increments). ``arc_words``: the ``I J K R`` of
     each row (NaN when absent), None when the reader took no arcs; ``worded``: which rows
-    hold a word (None: all of them)."""
+    hold a word (None: all of them).
+
+    What a dialect's rows do besides (None: no row does it): ``centres_absolute``, the
+    ``I J K`` are the centre itself, not its offset from the start (Klartext ``C`` about the
+    pole); ``keeps_motion``, rows that leave the motion mode as it was (a Klartext pole and
+    the arcs about it); ``compensation_off``, rows that end radius compensation (Klartext
+    ``R0``: a batch under compensation stops before them); ``poles``, the pole a row sets
+    (NaN where it sets none), which the dialect's runtime keeps after the batch."""
 
     KINDS = ("rapid", "linear", "arc_cw", "arc_ccw")
 
@@ -718,6 +725,10 @@ class MoveBatch:
     blocks: int = 0  # rows that hold at least one word (empty lines are not blocks)
     arc_words: object = None  # numpy float64 (rows, 4)
     worded: object = None  # numpy bool (rows,)
+    centres_absolute: bool = False
+    keeps_motion: object = None  # numpy bool (rows,)
+    compensation_off: object = None  # numpy bool (rows,)
+    poles: object = None  # numpy float64 (rows, 2)
 
     @property
     def rows(self) -> int:
@@ -727,10 +738,14 @@ class MoveBatch:
         """The batch's first ``rows`` rows."""
         worded = None if self.worded is None else self.worded[:rows]
         blocks = rows if worded is None else int(worded.sum())
-        arc_words = None if self.arc_words is None else self.arc_words[:rows]
         end = int(self.line_offsets[rows]) if rows < self.rows else self.end_offset
+
+        def first(rows_of):
+            return None if rows_of is None else rows_of[:rows]
+
         return MoveBatch(self.source_offset, end, self.first_line, self.line_offsets[:rows], self.kinds[:rows], self.axes,
-                         self.values[:rows], self.scaled[:rows], self.feeds[:rows], self.feed_scaled[:rows], blocks, arc_words, worded)
+                         self.values[:rows], self.scaled[:rows], self.feeds[:rows], self.feed_scaled[:rows], blocks, first(self.arc_words),
+                         worded, self.centres_absolute, first(self.keeps_motion), first(self.compensation_off), first(self.poles))
 
 
 # --------------------------------------------------------------------------- blocks

@@ -196,3 +196,109 @@ def test_batched_and_block_by_block_runs_report_the_same(parts):
     body = [f"{number} {line}" for number, line in enumerate((line for part in parts for line in part), start=len(_HEAD))]
     text = program(body)
     assert findings(text) == findings(text, per_block_only=True)
+
+
+# ---------------------------------------------------------------------- contours: arcs, poles, compensation
+
+
+def test_arcs_by_radius_and_about_the_pole_are_read_with_their_centres_and_directions():
+    lines = [*cam_lines(4), "20 CR X+6.000 Y+40.000 R+6.000 DR-", "21 CC X+6 Y+34", "22 C X+12 Y+34 DR+ F250", "23 L X+1 Y+2 R0 F200",
+             "24 CC X-1,5 Y+2", "25 C Y+5 DR-", "26 CR X+0 R-7.5 DR+", *cam_lines(20, 27)]
+    run = run_of(lines)
+    cw, ccw = ir.MoveBatch.KINDS.index("arc_cw"), ir.MoveBatch.KINDS.index("arc_ccw")
+    assert list(run.kinds[4:11]) == [cw, -1, ccw, 1, -1, cw, ccw]
+    assert numpy.array_equal(run.arc_words[4:11], [[numpy.nan, numpy.nan, numpy.nan, 6.0], [numpy.nan] * 4, [6.0, 34.0, numpy.nan, numpy.nan],
+                                                   [numpy.nan] * 4, [numpy.nan] * 4, [-1.5, 2.0, numpy.nan, numpy.nan],
+                                                   [numpy.nan, numpy.nan, numpy.nan, -7.5]], equal_nan=True)
+    assert numpy.array_equal(run.values[4:11], [[6.0, 40.0, numpy.nan], [numpy.nan] * 3, [12.0, 34.0, numpy.nan], [1.0, 2.0, numpy.nan],
+                                                [numpy.nan] * 3, [numpy.nan, 5.0, numpy.nan], [0.0, numpy.nan, numpy.nan]], equal_nan=True)
+    assert run.centres_absolute
+    assert list(numpy.flatnonzero(run.keeps_motion)) == [5, 6, 8, 9]  # CC and C leave the motion mode alone
+    assert list(numpy.flatnonzero(run.compensation_off)) == [7]
+    assert numpy.array_equal(run.poles[4:10], [[numpy.nan] * 2, [6.0, 34.0], [numpy.nan] * 2, [numpy.nan] * 2, [-1.5, 2.0], [numpy.nan] * 2], equal_nan=True)
+    assert numpy.array_equal(run.feeds[4:8], [numpy.nan, numpy.nan, 250.0, 200.0], equal_nan=True)
+
+
+def test_an_arc_about_a_pole_set_before_the_streak_ends_it():
+    lines = [*cam_lines(20), "40 C X+5 Y+5 DR+", "41 CC X+0 Y+0", "42 C X+5 Y+0 DR-", *cam_lines(20, 43)]
+    assert run_of(lines).rows == 19  # the arc's centre is in the state, not in the text the reader sees
+    assert run_of(["41 CC X+0 Y+0", *lines[20:]]).rows == 23  # all but the last line, the pole set first
+
+
+def test_circle_lines_with_anything_else_are_not_plain():
+    for odd in ["CR X+1 Y+2 R+5", "CR X+1 Y+2 DR-", "CR R+5 DR+", "CC X+1", "CC IX+1 Y+2", "C X+1 Y+2", "C DR+", "C X+1 Y+2 DR- RR",
+                "CR X+1 Y+2 R+5 DR- FMAX", "CT X+1 Y+2", "C X+1 Y+2 DR+ M3", "CC Y+1 X+2", "CR X+1 Y+2 Z-1 R+5 DR-"]:
+        assert not is_plain_line(odd.encode()), odd
+    for plain in ["CR X+1 Y+2 R+5 DR-", "7 CR Y+2 R5 DR+ F300", "CC X+1 Y+2", "C X+1 DR-", "  12 C X+1 Y+2 DR+ F1,5\r"]:
+        assert is_plain_line(plain.encode()), plain
+
+
+_CIRCLE_NUMBER = st.floats(-60, 60, allow_nan=False).map(lambda value: f"{value:+.3f}")
+_CIRCLE_LINE = st.one_of(
+    st.tuples(st.sampled_from(["X", "Y", "XY"]), _CIRCLE_NUMBER, _CIRCLE_NUMBER, st.sampled_from(["R+", "R-", "R"]), _CIRCLE_NUMBER.map(lambda n: n[1:]),
+              st.sampled_from(["DR-", "DR+"]), st.sampled_from(["", " F400"])).map(
+        lambda p: "CR " + " ".join(f"{axis}{number}" for axis, number in zip(p[0], p[1:3])) + f" {p[3]}{p[4]} {p[5]}{p[6]}"),
+    st.tuples(_CIRCLE_NUMBER, _CIRCLE_NUMBER).map(lambda p: f"CC X{p[0]} Y{p[1]}"),
+    st.tuples(st.sampled_from(["X", "Y", "XY"]), _CIRCLE_NUMBER, _CIRCLE_NUMBER, st.sampled_from(["DR-", "DR+"]), st.sampled_from(["", " F250"])).map(
+        lambda p: "C " + " ".join(f"{axis}{number}" for axis, number in zip(p[0], p[1:3])) + f" {p[3]}{p[4]}"),
+)
+
+
+@hypothesis_settings(max_examples=200, deadline=None)
+@given(st.lists(_CIRCLE_LINE, min_size=1, max_size=6), st.sampled_from(["12 ", ""]))
+def test_a_circle_line_the_reader_takes_means_what_the_general_lowering_reads(circles, number):
+    lines = [number + line for line in ["CC X+0 Y+0", *circles]]
+    run = run_of([*lines, *cam_lines(20)])
+    assert run.rows == len(lines) + 19
+    for row, raw in enumerate(lines):
+        ops = KlartextLowering()._general(raw.encode(), 1, None).ops
+        move = next((op for op in ops if isinstance(op, (ir.Move, ir.PoleArc, ir.Pole))), None)
+        feeds = [op.value for op in ops if isinstance(op, ir.SetFeed)]
+        assert feeds == ([] if numpy.isnan(run.feeds[row]) else [run.feeds[row]]), raw
+        written = {axis: float(value) for axis, value in zip("XYZ", run.values[row]) if not numpy.isnan(value)}
+        if isinstance(move, ir.Pole):
+            assert run.kinds[row] == -1 and not written and list(run.poles[row]) == [move.words["X"], move.words["Y"]], raw
+        elif isinstance(move, ir.PoleArc):
+            assert written == {axis: move.words[axis] for axis in "XY" if axis in move.words}, raw
+            assert ir.MoveBatch.KINDS[run.kinds[row]] == ("arc_ccw" if move.words["DR"] > 0 else "arc_cw") and run.keeps_motion[row], raw
+        else:
+            assert written == move.targets and ir.MoveBatch.KINDS[run.kinds[row]] == move.kind, raw
+            assert run.arc_words[row, 3] == move.arc["R"] and not run.keeps_motion[row], raw
+
+
+_TOOL = "; ncverify: tool 1 radius 3 length 40 type endmill"
+_CONTOUR_PART = st.one_of(
+    st.lists(st.one_of(_PLAIN, _PLAIN, _CIRCLE_LINE), min_size=25, max_size=70).map(lambda lines: ["CC X+20 Y+20", *lines]),
+    st.lists(st.one_of(_PLAIN, _CIRCLE_LINE), max_size=6),
+    st.sampled_from(["L X+10 Y+10 RL F300", "L X+60 Y+10 RR F500", "L X+5 Y+5 R0", "L Z+20 R0 FMAX", "L X+30 Y+30 Z-1 RR", "M5",
+                     "CYCL DEF 10.0 ROTATION", "CYCL DEF 10.1 ROT+30", "TOOL CALL 1 X S3000", "TOOL CALL 1 Z S3000", "RND R2", "CHF 1",
+                     "CT X+5 Y+5"]).map(lambda line: [line]),
+)
+
+
+@hypothesis_settings(max_examples=80, deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large])
+@given(st.lists(_CONTOUR_PART, min_size=1, max_size=6), st.booleans())
+def test_contours_of_lines_and_arcs_under_compensation_give_the_same_findings_batched_or_block_by_block(parts, tool):
+    """Arcs by radius and about the pole, poles, R0 lines and RL/RR contours in streaks long
+    enough to be batched, with the tool's radius known (the cut stock then offsets
+    compensated cuts) or not."""
+    lines = [*([_TOOL] if tool else []), *(line for part in parts for line in part)]
+    text = program([f"{number} {line}" for number, line in enumerate(lines, start=len(_HEAD))])
+    assert findings(text) == findings(text, per_block_only=True)
+
+
+def test_a_cam_contour_under_compensation_runs_in_batches_with_its_arcs(runs_taken):
+    laps = []
+    for lap in range(30):
+        z = -0.25 * (lap + 1)
+        laps += [f"L X+0 Y+34 Z{z:+.3f}", "CC X+6 Y+34", "C X+6 Y+40 DR-", "L X+34 Y+40", "CC X+34 Y+34", "C X+40 Y+34 DR-", "L X+40 Y+6",
+                 "CR X+34 Y+0 R+6 DR-", "L X+6 Y+0", "CC X+6 Y+6", "C X+0 Y+6 DR-", "L X+0 Y+20"]
+    for laps_by_radius, rapid_down in ((False, "violated"), (True, "unknown")):  # an arc by its radius is a cut anywhere to the stock
+        body = [_TOOL, "L X-10 Y+20 R0 FMAX", "L Z+0 R0 F300", "L X+0 Y+20 RR F800", *(laps if laps_by_radius else [line for line in laps if "CR" not in line]),
+                "L X-10 Y+20 R0", "L Z+50 R0 FMAX", "L X+80 Y+80 FMAX", "L Z-1 FMAX"]  # a rapid down into the blank, away from the contour
+        text = program([f"{number} {line}" for number, line in enumerate(body, start=len(_HEAD))])
+        runs_taken.clear()
+        batched, _blocks = findings(text)
+        assert sum(runs_taken) > 300
+        assert batched == findings(text, per_block_only=True)[0]
+        assert [status for rule, _span, status, _message in batched if rule == "core.rapid-into-stock"] == [rapid_down]

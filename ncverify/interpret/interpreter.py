@@ -27,7 +27,7 @@ from .fagor import FagorState
 from .heidenhain.state import KlartextState
 from . import compiled, loop_runner, modal_call
 from .arc_geometry import arc_by_centre, arc_by_radius, arc_through, end_heading, tangent_arc, unplaced_arc
-from ..context import ToolTable
+from ..context import ToolTable, compensated
 from ..settings import Settings
 from ..source import ProgramSource, Span
 from ..trace import RUN_AXES, Arc, Change, Fault, MotionRun, Segment, any_in_row
@@ -156,6 +156,7 @@ class Interpreter(ControlFlow):
                  tools: ToolTable | None = None, parked_at_start: tuple[str, ...] = ()):
         self.cycle_models = cycle_models
         self._dialect_batch_allowed = getattr(runtime, "batch_allowed", None)
+        self._dialect_after_batch = getattr(runtime, "after_batch", None)
         self._system_variable = getattr(frontend, "system_variable", None)
         self.twins = twins
         self.assigned: dict[int, list[tuple[str, object]]] = {}  # line -> (variable, value) of assignment statements, with settings.record_values
@@ -322,7 +323,8 @@ class Interpreter(ControlFlow):
         state = self.state
         axes = run.axes
         start_point = numpy.array([_as_float(state.position.get(axis)) for axis in axes])
-        kinds = _forward_fill(run.kinds.astype(numpy.float64), -1, float(ir.MoveBatch.KINDS.index(state.modal["motion"])))
+        motion_before = float(ir.MoveBatch.KINDS.index(state.modal["motion"]))
+        kinds = _forward_fill(run.kinds.astype(numpy.float64), -1, motion_before)
         scale = self.increment / 10.0 if state.modal.get("units") == "inch" else self.increment
         written = ~numpy.isnan(run.values)
         values = numpy.where(run.scaled, run.values * scale, run.values) if run.scaled.any() else run.values
@@ -337,6 +339,7 @@ class Interpreter(ControlFlow):
             return None
         if rows < run.rows:
             run, kinds, written, points, moving_rows = run.head(rows), kinds[:rows], written[:rows], points[:rows], moving_rows[:rows]
+        modes = kinds if run.keeps_motion is None else _forward_fill(numpy.where(run.keeps_motion, -1.0, kinds), -1, motion_before)
         state.left_start = frozenset()  # a batch never runs from the start position (see _batch_allowed)
         feeds = run.feeds
         if state.modal.get("feed_mode") == "per_revolution" and self.feed_increment:
@@ -354,15 +357,18 @@ class Interpreter(ControlFlow):
             # an arc's segment is asked for by the rules and then by the material: made once
             segment_of = lru_cache(maxsize=1)(partial(_batch_segment, axes, segment_points, segment_kinds, arcs, others, block_of))
             moving_feeds = feeds[chosen]
-            self.observer.motion_run(MotionRun(axes, segment_points, segment_kinds, moving_feeds, written[chosen],
-                                               partial(_batch_span, block_of), segment_of, arcs, partial(_batch_state_at, state, segment_kinds, moving_feeds)), state)
+            motions = None if modes is kinds else [ir.MoveBatch.KINDS[int(mode)] for mode in modes[chosen]]
+            self.observer.motion_run(MotionRun(axes, segment_points, segment_kinds, moving_feeds, written[chosen], partial(_batch_span, block_of),
+                                               segment_of, arcs, partial(_batch_state_at, state, segment_kinds, moving_feeds, motions=motions)), state)
         state.position = dict(state.position, **{axis: _as_value(value) for axis, value in zip(axes, points[-1])})
         if len(moving):
             state.last_segment = segment_of(len(moving) - 1)
-        state.modal["motion"] = ir.MoveBatch.KINDS[int(kinds[-1])]
+        state.modal["motion"] = ir.MoveBatch.KINDS[int(modes[-1])]
         if not numpy.isnan(feeds[-1]):
             state.feed = float(feeds[-1])
         state.motion_seen = state.motion_seen or bool(len(moving))
+        if self._dialect_after_batch is not None:
+            self._dialect_after_batch(state, run)
         return run.end_offset
 
     def _batch_rows(self, run: ir.MoveBatch, kinds, positions, moving, arc_written) -> int:
@@ -370,10 +376,12 @@ class Interpreter(ControlFlow):
         first with centre words on a straight move, or the first arc they do not model (no
         arc words were read, a plane axis is not the batch's or is read as a diameter, the
         start or end in the plane is unknown, a frame maps program to workpiece coordinates:
-        runs are mapped as points, an arc's centre would not be). ``positions[r]``: where
-        row ``r`` starts."""
+        runs are mapped as points, an arc's centre would not be), or the first that ends radius
+        compensation while it is on. ``positions[r]``: where row ``r`` starts."""
         arc = moving & (kinds >= _FIRST_ARC_KIND)
         odd = arc_written & (kinds < _FIRST_ARC_KIND)
+        if run.compensation_off is not None and compensated(self.state):
+            odd |= run.compensation_off
         if arc.any():
             first, second, _normal = self.state.plane_axes
             if (run.arc_words is None or first not in run.axes or second not in run.axes or (self._x_scale() != 1.0 and "X" in (first, second))
@@ -395,7 +403,7 @@ class Interpreter(ControlFlow):
         words = run.arc_words[moving]
         columns = [run.axes.index(plane[0]), run.axes.index(plane[1])]
         offsets = numpy.nan_to_num(words[:, [_CENTRE_WORD[plane[0]], _CENTRE_WORD[plane[1]]]])  # an offset not written is 0
-        centres = offsets if self.state.modal.get("arc_distance") == "absolute" else points[:-1][:, columns] + offsets
+        centres = offsets if run.centres_absolute or self.state.modal.get("arc_distance") == "absolute" else points[:-1][:, columns] + offsets
         radii = words[:, _RADIUS_WORD]
         centres = numpy.where((~numpy.isnan(radii) | (kinds < _FIRST_ARC_KIND))[:, None], numpy.nan, centres)  # four times a masked assignment's speed
         return BatchArcs(plane, columns, centres, radii)
@@ -1517,7 +1525,7 @@ class GatheringObserver:
 def _batch_span(block_of, index: int) -> Span:
     """The span of a batch's ``index``-th move, as its block gives it."""
     block = block_of(index)
-    moves = [op for op in block.ops if isinstance(op, ir.Move)]
+    moves = [op for op in block.ops if isinstance(op, _BATCH_MOVES)]
     return moves[0].span if moves else block.span
 
 
@@ -1565,6 +1573,7 @@ class BatchArcs:
 
 
 _BATCH_AFTER = 4  # plain blocks in a row before the rest of the streak is read as a batch
+_BATCH_MOVES = (ir.Move, ir.PoleArc)  # the operations whose span is a batch row's move's (Klartext C: an arc about the pole)
 _WATCHED_MODAL = frozenset({"feed_mode", "spindle_mode", "path_mode"})  # groups whose codes make a Change
 
 

@@ -22,6 +22,8 @@ import math
 import re
 from dataclasses import replace
 
+import numpy
+
 from ... import ir, values
 from ...cycle_models import UNKNOWN_CYCLE, CycleModel
 from . import special, transforms
@@ -43,9 +45,27 @@ _HOLE_FAMILIES = frozenset({"drill", "tap", "thread"})
 
 
 def batch_allowed(state) -> bool:
-    """A batch of plain lines skips what each line's R0 and positioning step would do:
-    nothing while the compensation is off and no cycle waits on positions."""
-    return state.comp_side == "off" and positioning_is_inert(state)
+    """A batch of plain lines skips what each line's positioning step would do: nothing
+    while no cycle waits on positions. Its arcs about a pole run in the working plane, so
+    it must be the plane of ``CC X.. Y..``. (An ``R0`` line ends a batch under radius
+    compensation: :attr:`ir.MoveBatch.compensation_off`.)"""
+    return positioning_is_inert(state) and _plane(state)[:2] == ("X", "Y")
+
+
+def after_batch(state, run: ir.MoveBatch) -> None:
+    """Leave the Klartext state as the batch's lines leave it block by block: the last pole
+    its ``CC`` lines set (:func:`_pole_run`), and the plane point its last move reached at
+    feed (:func:`_positioned_run`)."""
+    changes = {}
+    if run.poles is not None:
+        set_at = numpy.flatnonzero(~numpy.isnan(run.poles[:, 0]))
+        if len(set_at):
+            first, second = run.poles[set_at[-1]].tolist()
+            changes.update(pole=dict(state.klartext.pole, X=first, Y=second), pole_axes=("X", "Y"))
+    moves = numpy.flatnonzero(run.kinds >= 0)
+    if len(moves):
+        changes["fed_at"] = None if run.kinds[moves[-1]] == ir.MoveBatch.KINDS.index("rapid") else _plane_point(state)
+    _put(state, **changes)
 
 
 # --------------------------------------------------------------------------- contour geometry
