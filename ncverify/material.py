@@ -168,7 +168,7 @@ class Material:
             return
         if segment.arc is not None:
             arc = segment.arc
-            centre = arc.centre
+            centre = arc.centre if arc.centre is not None else _centre_by_radius(arc, start, end)
             if centre is None or type(centre[0]) is not float or type(centre[1]) is not float:
                 mine.unplaced()
                 return
@@ -287,7 +287,9 @@ class Material:
         as the block path buffers them move by move (the same moves swept at each flush);
         False, having done nothing, where that needs more than the arrays: the lathe's
         model, the holder judged move by move, a position not known, a tool axis other than
-        Z. An arc given by its radius (whose centre is not worked out) is cut anywhere."""
+        Z. An arc given by its radius is placed as the control places it
+        (:func:`xy_arcs.radius_arc_centres`); where no circle of that radius fits, it is cut
+        anywhere."""
         if self.turning is not None or tool_axis_problem(state) is not None or any(axis not in run.axes for axis in "XYZ"):
             return False
         cutting = done + numpy.flatnonzero(run.kinds[done:stop] >= _FEED)
@@ -297,6 +299,13 @@ class Material:
         by_centre = (run.kinds[cutting] != _FEED) & ~by_radius
         if numpy.isnan(starts).any() or numpy.isnan(ends).any() or numpy.isnan(run.arcs.centres[cutting[by_centre]]).any():
             return False
+        centres = run.arcs.centres[cutting]
+        if by_radius.any():
+            in_plane = list(_plane_indices(run.arcs.plane)[:2])
+            centres = centres.copy()
+            centres[by_radius] = xy_arcs.radius_arc_centres(starts[by_radius][:, in_plane], ends[by_radius][:, in_plane], run.arcs.radii[cutting[by_radius]],
+                                                            run.kinds[cutting[by_radius]] == ARC_CW)
+            by_radius &= numpy.isnan(centres[:, 0])  # no circle of that radius fits: cut anywhere
         if len(cutting) and self._holder_reaches(state, numpy.minimum(starts[:, 2], ends[:, 2])).any():
             return False
         if not len(cutting):
@@ -316,9 +325,9 @@ class Material:
             return True
         for _ in range(int(numpy.count_nonzero(by_radius))):  # no centre: cut anywhere, not buffered, as in segment()
             mine.unplaced()
-        cutting, starts, ends = cutting[~by_radius], starts[~by_radius], ends[~by_radius]
+        cutting, starts, ends, centres = cutting[~by_radius], starts[~by_radius], ends[~by_radius], centres[~by_radius]
         straight = run.kinds[cutting] == _FEED
-        centres = run.arcs.centres[cutting[~straight]]
+        centres = centres[~straight]
         sized, tool = mine.sized(cutter), self._tool_name(state)
         if straight.any():
             mine.deepest = min(mine.deepest, float(numpy.minimum(starts[straight, 2], ends[straight, 2]).min()))
@@ -733,6 +742,17 @@ def _too_large(stock, cells: str, size: float, area: float, cap: int) -> str:
 def _mebibytes(size: float) -> str:
     mebibytes = size / 2**20
     return f"{mebibytes:,.0f} MiB" if mebibytes >= 10 else f"{mebibytes:.2g} MiB"
+
+
+def _centre_by_radius(arc, start: tuple, end: tuple) -> tuple[float, float] | None:
+    """The centre of an arc given by its radius word (:func:`xy_arcs.radius_arc_centres`),
+    None when the radius is not a number or no circle of it joins the ends."""
+    if type(arc.radius_word) is not float:
+        return None
+    first, second, _normal = _plane_indices(arc.plane)
+    centre = xy_arcs.radius_arc_centres(numpy.array([[start[first], start[second]]]), numpy.array([[end[first], end[second]]]),
+                                        numpy.array([arc.radius_word]), numpy.array([arc.direction == "cw"]))[0]
+    return None if numpy.isnan(centre[0]) else (float(centre[0]), float(centre[1]))
 
 
 @functools.lru_cache(maxsize=16)

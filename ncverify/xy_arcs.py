@@ -164,3 +164,25 @@ def length(x, y):
     several times more for its care of values past 1e154, whose squares overflow to
     infinity here: a cell that far from a path is beyond any tool's reach either way."""
     return numpy.sqrt(x * x + y * y)
+
+
+_RADIUS_SLACK = 1e-3  # mm: a radius this much short of half the chord is taken as a half circle
+
+
+def radius_arc_centres(starts, ends, radii, clockwise):
+    """The centres of arcs given by a radius word, as the controls place them (ISO and
+    Fagor ``R``, SINUMERIK ``CR=``, Klartext ``CR``): on the side of the chord that makes
+    the arc at most a half turn when the radius is positive, more when it is negative.
+    ``starts`` and ``ends``: (n, 2) points in the arcs' plane; ``radii`` signed;
+    ``clockwise`` each arc's direction. NaN where no circle of that radius joins the two
+    points (the control stops with an alarm, which the arc rules report) or they coincide."""
+    chord = ends - starts
+    half = numpy.hypot(chord[:, 0], chord[:, 1]) / 2
+    reach = numpy.abs(radii)
+    with numpy.errstate(divide="ignore", invalid="ignore"):
+        rise = numpy.sqrt(numpy.maximum(reach * reach - half * half, 0.0)) / (2 * half)  # along the chord's normal, per unit of chord
+        side = numpy.where(clockwise == (radii < 0), 1.0, -1.0)  # +1: left of the chord, where a short counterclockwise arc's centre is
+        centres = (starts + ends) / 2 + (side * rise)[:, None] * numpy.column_stack((-chord[:, 1], chord[:, 0]))
+    unplaceable = ~(half > 0) | (reach < half - _RADIUS_SLACK) | ~numpy.isfinite(centres).all(axis=1)
+    centres[unplaceable] = numpy.nan
+    return centres

@@ -302,10 +302,12 @@ def test_the_first_feed_of_a_batch_names_a_missing_feed_limit_where_the_block_pa
 
 @pytest.mark.parametrize("dialect", ["iso", "fagor"])
 def test_arcs_by_radius_in_a_batch_leave_the_cut_stock_as_block_by_block(dialect):
-    """An arc given by its radius has no centre worked out: the cut stock takes it as a cut
-    it cannot place (material may be gone anywhere) without leaving the arrays. A rapid
-    down into the pocket afterwards, and one into the blank beside it, are judged as the
-    block path judges them: the second is unknown, as the arcs may have cut anywhere."""
+    """Arcs given by their radius, some of which no circle of that radius fits (R3 across
+    a 13 mm side, as the corners fall on the second lap): the cut stock places the others
+    as the control does and takes those as cuts it cannot place (material may be gone
+    anywhere), without leaving the arrays. A rapid down into the pocket afterwards, and one
+    into the blank beside it, are judged as the block path judges them: the second is
+    unknown, as the arcs that do not fit may have cut anywhere (``test_radius_arcs``)."""
     corners = [f"G2 X{x:.1f} Y{y:.1f} R3." if step % 2 else f"G1 X{x:.1f} Y{y:.1f}"
                for step, (x, y) in enumerate([(0.0, 10.0), (3.0, 13.0), (10.0, 13.0), (13.0, 10.0), (13.0, 0.0), (10.0, -3.0), (0.0, -3.0)] * 6)]
     after = ["G0 Z5.", "G0 X6. Y5.", "G0 Z-0.5", "G0 Z5.", "G0 X30. Y30.", "G0 Z-2."]
