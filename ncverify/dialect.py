@@ -46,6 +46,9 @@ interpreter as ``DialectSetup.runtime``. The lowering never imports it. Its opti
     Whether a batch may run now, for a dialect whose plain blocks also change state of its
     own (Klartext: an M89 cycle runs at every position); without it, whenever the
     interpreter's own conditions hold.
+``after_batch(state, run) -> None``
+    Leave the dialect's own state as the batch's lines leave it block by block (Klartext:
+    the pole its ``CC`` lines set, the point last reached at feed).
 ``OPERATIONS: dict``
     The handlers of IR operations the dialect lowers to and the shared interpreter leaves to
     it, by operation type: ``run(runtime, op, block)`` with the

@@ -70,8 +70,8 @@ def is_plain_line(raw: bytes) -> bool:
 def read_plain_run(buffer, offset: int, line: int, limit: int = 1 << 20, minimum_lines: int = 16) -> ir.MoveBatch | None:
     """The plain lines from ``offset`` on (at most ``limit`` bytes) as one
     :class:`ir.MoveBatch`, its last line left out; None when fewer than ``minimum_lines``."""
-    chunk = bytes(buffer[offset : min(len(buffer), offset + limit)])
-    codes = numpy.frombuffer(chunk, dtype=numpy.uint8, count=_STREAK.match(chunk).end())
+    streak = _STREAK.match(buffer, offset, min(len(buffer), offset + limit)).end()  # found in the text itself: only the streak is copied
+    codes = numpy.frombuffer(bytes(buffer[offset:streak]), dtype=numpy.uint8)
     newlines = numpy.flatnonzero(codes == ord("\n"))
     if len(newlines) <= minimum_lines:
         return None
