@@ -42,7 +42,7 @@ _PLANE_WORDS = rb"(?:[ \t]++X" + _NUMBER + rb")?+(?:[ \t]++Y" + _NUMBER + rb")?+
 _DIRECTION = rb"[ \t]++DR[+-]"
 _COMMANDS = (
     rb"L(?=[ \t]+[XYZ])" + _PLANE_WORDS + rb"(?:[ \t]++Z" + _NUMBER + rb")?+(?:[ \t]++R0)?+(?:[ \t]++F(?:MAX|" + _UNSIGNED + rb"))?+",
-    rb"CR(?=[ \t]+[XY])" + _PLANE_WORDS + rb"[ \t]++R" + _NUMBER + _DIRECTION + _FEED_WORD,
+    rb"CR(?=[ \t]+[XY])" + _PLANE_WORDS + rb"[ \t]++R(?!0(?![0-9.,]))" + _NUMBER + _DIRECTION + _FEED_WORD,  # a bare R0 is no radius
     rb"CC[ \t]++X" + _NUMBER + rb"[ \t]++Y" + _NUMBER,
     rb"C(?=[ \t]+[XY])" + _PLANE_WORDS + _DIRECTION + _FEED_WORD,
 )
