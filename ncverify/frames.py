@@ -116,11 +116,13 @@ class Frame:
             else:
                 known = others.get(axis)
                 full[:, index] = numpy.nan if known is None else float(known)
-        linear = numpy.array(self.linear)
         mapped = numpy.empty_like(full)
-        for row in range(3):  # an axis the row does not use may be unknown (0 x NaN is not 0)
-            used = linear[row] != 0.0
-            mapped[:, row] = numpy.where(numpy.isnan(full[:, used]).any(axis=1), numpy.nan, full[:, used] @ linear[row, used] + self.offset[row])
+        for row in range(3):  # term by term in _row_value's order, so each point maps to the very floats it gives
+            total = numpy.full(len(points), float(self.offset[row]))
+            for column, coefficient in enumerate(self.linear[row]):
+                if coefficient != 0.0:  # an axis the row does not use may be unknown (0 x NaN is not 0)
+                    total = total + (full[:, column] if coefficient == 1.0 else coefficient * full[:, column])
+            mapped[:, row] = total
         result = numpy.empty((len(points), len(out_axes)))
         for index, axis in enumerate(out_axes):
             result[:, index] = mapped[:, _INDEX[axis]] if axis in _INDEX else points[:, axes.index(axis)]

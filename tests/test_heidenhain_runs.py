@@ -306,3 +306,14 @@ def test_a_cam_contour_under_compensation_runs_in_batches_with_its_arcs(runs_tak
     assert batched == findings(text, per_block_only=True)[0]
     assert [status for rule, _span, status, _message in batched if rule == "core.rapid-into-stock"] == ["violated"]
 
+
+def test_a_rapid_back_along_the_cut_just_made_under_a_rotation_is_judged_alike_batched_or_block_by_block():
+    """Found by fuzzing: under CYCL DEF 10 the batch mapped its points to the workpiece by a
+    matrix product that left one end an ulp off the block path's, so the exact check of the
+    last cuts failed there and the batch said unknown where the block path said clear."""
+    body = [_TOOL, "CYCL DEF 10.0 ROTATION", "CYCL DEF 10.1 ROT+30", "L Z+50 R0 FMAX", "L X+80 Y+30 R0 FMAX", "L Z-1 F300", "L X+80 Y+30",
+            "L X+60 Y+30", "L X+5 Y+10", "L X+2.5 Y+6", "L X+5 Y+10 FMAX", *(f"L X+{50 + step} Y+{50 + step % 3}" for step in range(20))]
+    text = program([f"{number} {line}" for number, line in enumerate(body, start=len(_HEAD))])
+    batched, _blocks = findings(text)
+    assert batched == findings(text, per_block_only=True)[0]
+    assert not [rule for rule, _span, _status, _message in batched if rule == "core.rapid-into-stock"]
