@@ -299,10 +299,9 @@ class Material:
         by_centre = (run.kinds[cutting] != _FEED) & ~by_radius
         if numpy.isnan(starts).any() or numpy.isnan(ends).any() or numpy.isnan(run.arcs.centres[cutting[by_centre]]).any():
             return False
-        centres = run.arcs.centres[cutting]
+        centres = run.arcs.centres[cutting]  # a copy (indexed by an array)
         if by_radius.any():
             in_plane = list(_plane_indices(run.arcs.plane)[:2])
-            centres = centres.copy()
             centres[by_radius] = xy_arcs.radius_arc_centres(starts[by_radius][:, in_plane], ends[by_radius][:, in_plane], run.arcs.radii[cutting[by_radius]],
                                                             run.kinds[cutting[by_radius]] == ARC_CW)
             by_radius &= numpy.isnan(centres[:, 0])  # no circle of that radius fits: cut anywhere

@@ -97,9 +97,14 @@ def read_plain_run(buffer, offset: int, line: int, limit: int = 1 << 20, minimum
     values = numpy.where((commands == _POLE)[:, None], numpy.nan, table[:, :3])  # a pole is no move
     return ir.MoveBatch(offset, offset + length, line, starts[:rows] + offset, kinds, ("X", "Y", "Z"), values,
                         numpy.zeros((rows, 3), dtype=bool), table[:, _F], numpy.zeros(rows, dtype=bool), rows, arc_words,
-                        centres_absolute=True, keeps_motion=commands >= _POLE,
-                        compensation_off=(commands == _STRAIGHT) & ~numpy.isnan(table[:, _R]),
+                        centres_absolute=True, keeps_motion=_where_any(commands >= _POLE),
+                        compensation_off=_where_any((commands == _STRAIGHT) & ~numpy.isnan(table[:, _R])),
                         poles=poles if (commands == _POLE).any() else None)
+
+
+def _where_any(rows):
+    """The rows of a mask, None when it holds none (the batch then does nothing for it)."""
+    return rows if rows.any() else None
 
 
 def _commands(codes, starts):
