@@ -57,7 +57,7 @@ def active(state) -> dict[str, str]:
     if state.modal.get("diameter") in ("diameter", "diameter when absolute"):
         found[DIAMETER] = "X is programmed as a diameter"
     if compensated(state):
-        found[RADIUS_COMPENSATION] = "radius compensation is on: the tool runs beside the programmed path by an offset the program does not fix"
+        found[RADIUS_COMPENSATION] = "radius compensation is on: the tool runs beside the programmed path, which the geometric checks do not work out"
     return found
 
 

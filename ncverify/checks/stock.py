@@ -197,8 +197,8 @@ class RapidIntoStock(_NeedsStock):
         if compensated(state):
             side = f" ({state.comp_side} of the path)" if state.comp_side in ("left", "right") else ""
             self.report(self.rule_id, segment.span, f"{what} from {_where(start)} to {_where(end)} runs under radius compensation{side} near "
-                        f"the blank ({stock.describe()}): the tool runs beside the programmed path by an offset the program does not fix "
-                        "(the register's value), so where it passes was not checked", Status.UNKNOWN, "radius compensation on")
+                        f"the blank ({stock.describe()}): the tool runs beside the programmed path, on the side and by the offset the compensation "
+                        "gives it, which this check does not work out, so where it passes was not checked", Status.UNKNOWN, "radius compensation on")
             return
         if any(isinstance(value, Sym) for value in (*start, *end)):
             self._symbolic(stock, start, end, segment.span, what, state, tool)
