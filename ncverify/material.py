@@ -386,7 +386,7 @@ class Material:
         done = 0
         for move in numpy.flatnonzero(self._holder_reaches(state, numpy.minimum(starts[:, 2], ends[:, 2]))).tolist():
             # as the block path takes them: the moves before buffered, this one judged against what they left, then buffered
-            self._buffer(mine, starts[done:move], ends[done:move], sized, tool)
+            self._buffer(mine, starts[done:move], ends[done:move], sized, tool, offset)
             self._flush(mine)
             self._judge_holder(mine.piece, starts[move], ends[move], self._holder_parts(state), run.span(int(feeds[move])), state)
             done = move
