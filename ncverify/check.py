@@ -310,7 +310,7 @@ class Checker:
         if verdict is None:
             return
         if verdict.status is Status.PROVED:
-            unread = self._unread(state, self._reads.get(rule_id, frozenset()))
+            unread = self._unread(state, self._reads.get(rule_id, frozenset()), self.context)
             if unread is not None:
                 self.report(rule_id, span, f"not proved: {unread}, which this rule does not model: {message}", Status.UNKNOWN, f"not modelled: {unread}")
                 return

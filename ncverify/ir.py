@@ -513,9 +513,10 @@ class ToolFeed(Op):
 
 @dataclass(slots=True)
 class ToolDelta(Op):
-    """The oversize a tool call adds to the tool table's radius."""
+    """The oversizes a tool call adds to the tool table's radius and length."""
 
     radius: Expr
+    length: Expr = 0.0
 
 
 @dataclass(slots=True)

@@ -22,7 +22,7 @@ from .context import active_edge, compensated, off_path, radius_delta
 from .dialect import DIALECTS
 from . import turning_stock
 from .turning_stock import Turning
-from .verdict import both, hazard
+from .verdict import both, hazard, show
 from .trace import ARC_CW
 from .xy_arcs import XYArcs
 from .workpiece import Cutter, RapidVerdict, Workpiece
@@ -142,7 +142,7 @@ class Material:
 
     # -- events, after the rules have seen them
     def segment(self, segment, state) -> None:
-        if not self.modelled or segment.kind == "rapid" or other_workpiece(self.checker.context, state) is not None:
+        if not self.modelled or segment.kind == "rapid" or off_the_blank(self.checker.context, state) is not None:
             return
         if self.turning is not None:
             self.turning.segment(segment, state)
@@ -214,7 +214,7 @@ class Material:
         SINUMERIK ``RND``/``CHF``, Klartext ``RND``/``CHF``): the tool cuts it off, so the
         cut that ended there and the one that starts there leave their programmed paths
         near it, by as much as the rounding takes; both are taken as cuts off their path."""
-        if not self.modelled or other_workpiece(self.checker.context, state) is not None:
+        if not self.modelled or off_the_blank(self.checker.context, state) is not None:
             return
         if self.turning is not None:
             self.turning.corner_rounded(state)
@@ -257,7 +257,7 @@ class Material:
         A part of a run counts where it lies in the whole run."""
         if run.whole is not None:
             upto, run = run.first + (len(run) if upto is None else upto), run.whole
-        if not self.modelled or run is not self._run or other_workpiece(self.checker.context, state) is not None:
+        if not self.modelled or run is not self._run or off_the_blank(self.checker.context, state) is not None:
             return
         stop = len(run) if upto is None else upto
         done = self._run_done
@@ -675,6 +675,49 @@ def other_workpiece(context, state) -> str | None:
         return None
     return (f"the work offset changed from {first} to {name}: a second offset usually holds another part or fixture, so the stock "
             f"(described for {first}) was not compared (if both hold the one blank, list them in [machine] one_workpiece)")
+
+
+def off_the_blank(context, state) -> str | None:
+    """Why the stock cannot be compared here: the work offset holds another workpiece
+    (:func:`other_workpiece`), or the tool's tip is not known to stand at the programmed
+    point (:func:`tip_unplaced`)."""
+    return other_workpiece(context, state) or tip_unplaced(context, state)
+
+
+def tip_unplaced(context, state) -> str | None:
+    """Why the tool's tip is not known to stand at the programmed point (mapped through the
+    frames) beyond what the frames say: state the program changed that the model does not
+    follow (a work offset or tool data it wrote, the units it switched), or a tool length
+    the control does not apply as the tool's own (:func:`length_problem`)."""
+    return state.unfollowed or length_problem(context, state)
+
+
+def length_problem(context, state) -> str | None:
+    """Why the control may not hold the tool's tip at the programmed point along the tool
+    axis: G44, the length offset of another tool's register, none at all once the tool
+    axis moved after a tool change (where the tool table gives lengths, not on a set-up
+    that touches each tool off), or a Klartext ``TOOL CALL .. DL``. None on a lathe, whose
+    offsets go with the turret's tool number."""
+    if context.lathe:
+        return None
+    mode, register, tool = state.length_mode, state.length_register, state.tool_in_spindle
+    if mode == "minus":
+        return "G44 subtracts the length offset, so the tool's tip is not at the programmed Z"
+    if mode == "plus" and type(register) is float and type(tool) is float and register not in (0.0, tool):
+        return (f"the length offset H{show(register)} is not the one of the loaded tool T{show(tool)}, so the tool's tip is off the "
+                "programmed Z by the difference of their lengths")
+    if mode == "off" and state.tool_changed and not context.lengths_by_set_up and state.plane_axes[2] not in state.parked and _has_length(context, state):
+        return "no tool length offset is in force since the tool change, so the programmed Z is the spindle's, not the tool tip's"
+    delta = state.klartext.length_delta
+    if not (type(delta) is float and delta == 0.0):
+        return f"TOOL CALL DL{show(delta)} puts the tool's tip that far from the programmed point"
+    return None
+
+
+def _has_length(context, state) -> bool:
+    """May the loaded tool have a length (not known from the tool table to be 0)?"""
+    tool = context.tools.in_spindle(state)
+    return tool is None or tool.length != 0.0
 
 
 def tool_axis_problem(state) -> str | None:

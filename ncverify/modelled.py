@@ -14,7 +14,7 @@ import numpy
 
 from . import frames
 from .context import compensated
-from .material import tool_axis_problem
+from .material import length_problem, tool_axis_problem
 
 TRANSLATION = "translation"
 ROTATION = "rotation"
@@ -25,16 +25,19 @@ TOOL_AXIS = "tool axis"
 KINEMATICS = "kinematic transformation"
 DIAMETER = "diameter programming"
 RADIUS_COMPENSATION = "radius compensation"
-KINDS = (TRANSLATION, ROTATION, SCALING, MIRROR, UNMODELLED_FRAME, TOOL_AXIS, KINEMATICS, DIAMETER, RADIUS_COMPENSATION)
+TOOL_LENGTH = "tool length"  # the tip is not held at the programmed point (material.length_problem)
+UNFOLLOWED = "data changed by the program"  # a work offset or tool data written, the units switched (MachineState.unfollowed)
+KINDS = (TRANSLATION, ROTATION, SCALING, MIRROR, UNMODELLED_FRAME, TOOL_AXIS, KINEMATICS, DIAMETER, RADIUS_COMPENSATION, TOOL_LENGTH, UNFOLLOWED)
 
 # Positions judged in workpiece coordinates, through the one program-to-workpiece map
 # (not under radius compensation: the tool then runs beside the programmed positions).
 GEOMETRY = frozenset({TRANSLATION, ROTATION, SCALING, MIRROR})
 # Program values compared among themselves or with the tool table, as the program writes
 # them: where the part lies, how it is turned or mirrored, along which axis the tool
-# stands and how far beside the path it runs leave them as they are; a scaling (sizes), a
-# kinematic transformation or diameter programming (what a value means) do not.
-AS_WRITTEN = frozenset({TRANSLATION, ROTATION, MIRROR, UNMODELLED_FRAME, TOOL_AXIS, RADIUS_COMPENSATION})
+# stands, how far beside the path it runs and how far the tip is from the programmed point
+# leave them as they are; a scaling (sizes), a kinematic transformation, diameter
+# programming (what a value means) or data the program changed (units, tool sizes) do not.
+AS_WRITTEN = frozenset({TRANSLATION, ROTATION, MIRROR, UNMODELLED_FRAME, TOOL_AXIS, RADIUS_COMPENSATION, TOOL_LENGTH})
 # Cycle sizes compared with the tool as the control cuts them: the written size times the
 # factor that scales the working plane (``common.ReportsMissingContext.workpiece_sizes``; uneven: unknown).
 SCALED_SIZES = AS_WRITTEN | {SCALING}
@@ -44,9 +47,10 @@ GEOMETRY_AND_DIAMETER = GEOMETRY | {DIAMETER}
 EVERY = frozenset(KINDS)
 
 
-def active(state) -> dict[str, str]:
+def active(state, context) -> dict[str, str]:
     """The kinds of state in force on the path (plain milling along +Z in an unshifted
-    system has none), each with the words that say so."""
+    system, with the loaded tool's own length offset, has none), each with the words that
+    say so (``context``: the checker's, for the tool table and the machine)."""
     found = _frame_kinds(frames.program_to_workpiece(state))
     problem = tool_axis_problem(state)
     if problem is not None:
@@ -58,6 +62,11 @@ def active(state) -> dict[str, str]:
         found[DIAMETER] = "X is programmed as a diameter"
     if compensated(state):
         found[RADIUS_COMPENSATION] = "radius compensation is on: the tool runs beside the programmed path, which the geometric checks do not work out"
+    length = length_problem(context, state)
+    if length is not None:
+        found[TOOL_LENGTH] = length
+    if state.unfollowed is not None:
+        found[UNFOLLOWED] = state.unfollowed
     return found
 
 
@@ -82,7 +91,7 @@ def _frame_kinds(frame) -> dict[str, str]:
     return found
 
 
-def unread(state, reads: frozenset) -> str | None:
+def unread(state, reads: frozenset, context) -> str | None:
     """Why a proof that reads ``reads`` does not hold here, or None."""
-    missing = [why for kind, why in active(state).items() if kind not in reads]
+    missing = [why for kind, why in active(state, context).items() if kind not in reads]
     return "; ".join(missing) if missing else None

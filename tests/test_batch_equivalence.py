@@ -383,7 +383,7 @@ _POST_TOOLS = ["(ncverify: tool 1 radius 3 length 50 type endmill)", "(ncverify:
 
 
 def _post_program(body: list[str], tools: bool) -> str:
-    head = ["(ncverify: stock box X-20:60 Y-20:60 Z-20:0)", *(_POST_TOOLS if tools else []), "G21 G90 G94 G17 G40 G49 G80 G54", "T1 M6", "S8000 M3", "G0 X-10. Y20. Z15."]
+    head = ["(ncverify: stock box X-20:60 Y-20:60 Z-20:0)", *(_POST_TOOLS if tools else []), "G21 G90 G94 G17 G40 G49 G80 G54", "T1 M6", "G43 H1", "S8000 M3", "G0 X-10. Y20. Z15."]
     return "\n".join(["O1000", *head, *body, "G0 Z50.", "M30"]) + "\n"
 
 

@@ -491,7 +491,7 @@ def test_annotations_are_case_insensitive():
         (NcVerify: Tool 1 Radius 3 Length 60 Type DRILL)
         (NCVERIFY: ASSUME -20 <= #1 <= -2 AND 1 <= #2 <= 5)
         G21 G90 G54
-        T1 M06
+        T1 M06 G43 H01
         G00 X10. Y10. Z50.
         G99 G81 Z#1 R#2 F100.
         G80

@@ -44,20 +44,27 @@ STATES = {
     modelled.KINEMATICS: lambda: _state(transformation="TRACYL (cylinder surface)"),
     modelled.DIAMETER: lambda: _state(diameter="diameter"),
     modelled.RADIUS_COMPENSATION: lambda: _compensated("right"),
+    modelled.TOOL_LENGTH: lambda: _with(length_mode="minus"),
+    modelled.UNFOLLOWED: lambda: _with(unfollowed="G10 L2 wrote a work offset"),
 }
 
 
-def _compensated(side: str) -> MachineState:
+def _with(**fields) -> MachineState:
     state = _state()
-    state.comp_side = side
+    for name, value in fields.items():
+        setattr(state, name, value)
     return state
+
+
+def _compensated(side: str) -> MachineState:
+    return _with(comp_side=side)
 
 
 def test_every_kind_of_state_is_enumerated_and_recognised_alone():
     assert set(STATES) == set(modelled.KINDS)
-    assert modelled.active(_state()) == {}
+    assert modelled.active(_state(), RuleContext()) == {}
     for kind, make in STATES.items():
-        assert set(modelled.active(make())) == _ACTIVE.get(kind, {kind}), kind
+        assert set(modelled.active(make(), RuleContext())) == _ACTIVE.get(kind, {kind}), kind
 
 
 # where a frame is not known, neither is the direction the tool stands in

@@ -259,7 +259,7 @@ TWO_OFFSETS = """
     (ncverify: tool 1 radius 5 length 60)
     (ncverify: assume 60 <= #1 <= 90 and -40 <= #2 <= -10)
     G21 G17 G90 G54
-    T1 M06
+    T1 M06 G43 H01
     G00 X-20. Y50. Z50. S1000 M03
     G00 Z-5.
     G00 X#2

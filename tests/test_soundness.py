@@ -89,7 +89,7 @@ def test_a_reference_return_cancels_the_local_origin():
 BRANCHES = """
     (ncverify: stock box X0:100 Y0:100 Z-20:0) (ncverify: tool 1 radius 2 length 60)
     (ncverify: assume 0 <= #1 <= 10 and 0 <= #2 <= 10)
-    G21 G90 G54 G17 T1 M06
+    G21 G90 G54 G17 T1 M06 G43 H01
     G00 X-20. Y50. Z50.
     G00 Z-5.
     #3 = -10.
@@ -309,7 +309,7 @@ BESIDE = """
     {tool}
     (ncverify: assume {low} <= #1 <= {high})
     G21 G90 G54 {plane}
-    T1 M06
+    T1 M06 G43 H01
     G00 X-30. Y50. Z50.
     G00 X[-#1]
     G00 Z-5.
@@ -345,7 +345,7 @@ def test_the_tool_body_above_a_tip_below_the_stock_touches_it():
         (ncverify: stock box X0:100 Y0:100 Z-20:0)
         (ncverify: tool 1 radius 5 length 60)
         G21 G90 G54 G17
-        T1 M06
+        T1 M06 G43 H01
         G00 X-30. Y50. Z-30.
         G00 X50.
     """))

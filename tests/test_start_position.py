@@ -19,13 +19,14 @@ from ncverify.project import ConfigError, load_project_text
 # to Z-5 past its far side: from the top of the travel (or Z20) it cuts the corner at X100.
 _ISO = """(ncverify: stock box X0:100 Y0:50 Z-20:0)
 (ncverify: tool 1 radius 5 length 50)
-T1 M06
+T1 M06 G43 H01
 G90 G00 X-20. Y25. Z5. S1000 M03
 {park}
 G90 G00 X120. Y25. Z-5.
 M30
 """
-_SINUMERIK = """; ncverify: stock box X0:100 Y0:50 Z-20:0
+_SINUMERIK = """%_N_PARK_MPF
+; ncverify: stock box X0:100 Y0:50 Z-20:0
 ; ncverify: tool 1 radius 5 length 50
 T1 D1
 M6
@@ -117,7 +118,7 @@ def test_without_a_start_position_the_first_rapid_is_unknown(tmp_path):
 
 _DIAGONAL = """(ncverify: stock box X0:100 Y0:50 Z-20:0)
 (ncverify: tool 1 radius 5 length 50)
-T1 M06
+T1 M06 G43 H01
 G90 G00 X-20. Y25. Z-5. S1000 M03
 M30
 """

@@ -189,7 +189,7 @@ def test_a_symbolic_rapid_that_can_enter_the_stock_is_violated_and_one_that_cann
         {STOCK} {TOOL}
         (ncverify: assume -3 <= #5 <= 10)
         (ncverify: assume 2 <= #6 <= 10)
-        G21 G90 G54 T1 M06
+        G21 G90 G54 T1 M06 G43 H01
         G00 X10. Y10. Z50.
         G00 Z#6
         G00 Z#5
@@ -324,7 +324,7 @@ def test_a_symbolic_rapid_down_into_the_notch_of_a_polygon_stock_is_proved():
     result = check(program(f"""
         {_L_STOCK} {TOOL}
         (ncverify: assume 5 <= #1 <= 55)
-        G21 G90 G54 T1 M06
+        G21 G90 G54 T1 M06 G43 H01
         G00 X#1 Y30. Z50.
         G00 Z-5.
         M30
@@ -337,7 +337,7 @@ def test_a_symbolic_dogleg_rapid_is_judged_on_the_box_its_ends_span():
     text = program(f"""
         {_L_STOCK} {TOOL}
         (ncverify: assume 70 <= #1 <= 90)
-        G21 G90 G54 T1 M06
+        G21 G90 G54 T1 M06 G43 H01
         G00 X30. Y30. Z-5.
         G00 X#1 Z10.
         M30

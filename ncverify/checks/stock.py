@@ -21,7 +21,7 @@ from ..diagnostics import Status
 from ..verdict import both
 from ..values import Condition, Sym
 from .common import UNKNOWN_DIAMETER_MODE, lathe_x_is_diameter
-from ..material import other_workpiece, tool_axis_problem
+from ..material import other_workpiece, tip_unplaced, tool_axis_problem
 
 _RAPID = 0  # MotionRun kind code
 _ROLE_WORDS = {
@@ -129,10 +129,12 @@ class _NeedsStock(Rule):
     rule_id = ""
     looked_at = None
 
-    def stock(self, span, state):
-        """The stock to judge against here; None when there is none (said at the end) or
-        when the work offset in force may hold another workpiece (said once per path and
-        offset)."""
+    def stock(self, span, state, tip_matters: bool = True):
+        """The stock to judge against here; None when there is none (said at the end), when
+        the work offset in force may hold another workpiece (said once per path and
+        offset), or, where ``tip_matters``, when the tool's tip is not known to stand at the
+        programmed point (:func:`~ncverify.material.tip_unplaced`, said once per path and
+        reason)."""
         stock = self.checker.context.stock
         if stock is None and self.looked_at is None:
             self.looked_at = span
@@ -142,6 +144,11 @@ class _NeedsStock(Rule):
         if elsewhere is not None:
             if self.first_time(state, (self.rule_id, "other workpiece", state.modal.get("work_offset"))):
                 self.report(self.rule_id, span, f"not checked: {elsewhere}", Status.UNKNOWN, "another work offset")
+            return None
+        unplaced = tip_unplaced(self.checker.context, state) if tip_matters else None
+        if unplaced is not None:
+            if self.first_time(state, (self.rule_id, "tip unplaced", unplaced)):
+                self.report(self.rule_id, span, f"stock not compared: {unplaced}", Status.UNKNOWN, "tool tip not placed")
             return None
         diameter = lathe_x_is_diameter(state) if stock.kind == "cylinder" else True
         if diameter is not True:
@@ -169,7 +176,7 @@ class RapidIntoStock(_NeedsStock):
     def segment(self, segment, state, run=None, index: int | None = None):
         if segment.kind != "rapid" or segment.role == "out-of-hole":
             return  # back up the hole the tool has just made: no stock there
-        stock = self.stock(segment.span, state)
+        stock = self.stock(segment.span, state, tip_matters=not _rises(segment, state))
         if stock is None:
             return
         if state.parked or state.left_start:
@@ -277,10 +284,11 @@ class RapidIntoStock(_NeedsStock):
         rapids = numpy.flatnonzero(run.kinds == _RAPID)
         if not len(rapids):
             return
-        stock = self.stock(run.span(int(rapids[0])), state)
+        stock = self.stock(run.span(int(rapids[0])), state, tip_matters=False)
         if stock is None:
             return
-        if self.checker.context.rapid_path == "dogleg" or stock.kind == "polygon" or len(run.axes) != 3 or compensated(state):
+        if (self.checker.context.rapid_path == "dogleg" or stock.kind == "polygon" or len(run.axes) != 3 or compensated(state)
+                or tip_unplaced(self.checker.context, state) is not None):
             for index in rapids:
                 self.segment(run.segment(int(index)), state, run, int(index))
             return
@@ -336,6 +344,18 @@ class RapidIntoStock(_NeedsStock):
         where = "material left by the cuts so far" if cut else "the blank"
         return (f"{what} from {_where(start)} to {_where(end)} passes through the stock ({stock.describe()}) near {_where(hit)}: "
                 f"the tool crashes into {where} at rapid")
+
+
+def _rises(segment, state) -> bool:
+    """Does the rapid only rise along the tool's axis (+Z), or not move? Wherever the tip
+    truly is, such a move takes the tool through nothing it is not in already."""
+    start, end = segment.start, segment.end
+    if tool_axis_problem(state) is not None or start.get("X") != end.get("X") or start.get("Y") != end.get("Y"):
+        return False
+    low, high = start.get("Z"), end.get("Z")
+    if high is None:
+        return "Z" in state.parked  # to the reference position, up the tool's axis
+    return type(low) is float and type(high) is float and high >= low
 
 
 @rule("core.stock-model-too-large")

@@ -54,10 +54,10 @@ def _closure(interpreter, expr):
 def compile_assignment(interpreter, op: ir.Assign):
     """A closure ``run()`` that carries out ``op`` as ``interpreter._assign`` does: a value is
     written to the table of the target's scope (:func:`values.stored` of it). Assignments
-    recorded for the editor, and to a computed variable number, go through
+    recorded for the editor, to a computed variable number, and to machine data go through
     :meth:`~ncverify.interpret.Interpreter.write_variable`."""
     value, target, span = compile_expression(interpreter, op.value), op.target, op.span
-    if not isinstance(target.name, str) or interpreter.settings.record_values:
+    if not isinstance(target.name, str) or interpreter.settings.record_values or interpreter.is_machine_data(target.name):
         write = interpreter.write_variable
         return lambda: write(target, value(span), span, assignment=True)
     name = target.name

@@ -98,6 +98,10 @@ class MachineState:
     parked: frozenset = frozenset()
     left_start: frozenset = frozenset()  # axes parked until the last move: the segment it makes starts there
     last_segment: Segment | None = None  # the last move made: a tangential arc continues it
+    # What the program changed that the model does not follow (a work offset or tool data it
+    # wrote, the units it switched), once it began moving: where the tool's tip stands on
+    # the blank is not known from then on (ncverify.modelled.UNFOLLOWED)
+    unfollowed: str | None = None
 
     def fork(self) -> "MachineState":
         twin = MachineState(**{name: getattr(self, name) for name in self.__slots__})
@@ -158,6 +162,7 @@ class Interpreter(ControlFlow):
         self._dialect_batch_allowed = getattr(runtime, "batch_allowed", None)
         self._dialect_after_batch = getattr(runtime, "after_batch", None)
         self._system_variable = getattr(frontend, "system_variable", None)
+        self._machine_data = getattr(frontend, "machine_data", None)
         self.twins = twins
         self.assigned: dict[int, list[tuple[str, object]]] = {}  # line -> (variable, value) of assignment statements, with settings.record_values
         self.tools = tools if tools is not None else ToolTable()
@@ -761,12 +766,29 @@ class Interpreter(ControlFlow):
     def write_variable(self, var: ir.Var, value, span=None, assignment: bool = False) -> None:
         name = self.variable_name(var, span)
         value = values.stored(value)
+        if self.is_machine_data(name):
+            what, before_moves = self._machine_data(name)
+            self.unfollowed(f"{name} written: the program changed {what}", before_moves)
         if assignment and self.settings.record_values and span is not None and span.path is None:
             self.assigned.setdefault(span.line, []).append((name, value))
         if self.is_local(name):
             self.state.local_variables[name] = value
         else:
             self.state.global_variables[name] = value
+
+    def is_machine_data(self, name) -> bool:
+        """Does writing variable ``name`` change machine data (a work offset, a frame, tool
+        data) that the model does not follow? (The dialect's ``machine_data``.)"""
+        return self._machine_data is not None and isinstance(name, str) and self._machine_data(name) is not None
+
+    def unfollowed(self, why: str, before_moves: bool = False) -> None:
+        """The program changed state the model does not follow (``why``): from its first move
+        on (``before_moves``: even before it), where the tool's tip stands on the blank is not
+        known for the rest of the path. Before the first move a work offset or the units are
+        set up as the stock is described, so they do not count then."""
+        state = self.state
+        if state.unfollowed is None and (before_moves or state.motion_seen):
+            state.unfollowed = why
 
     def condition(self, expr, span) -> "bool | Condition":
         value = self.evaluate(expr, span)
@@ -793,6 +815,8 @@ class Interpreter(ControlFlow):
         state.modal[op.group] = op.value
         if op.group == "units" and old != op.value:
             self._change("units", op.span, block, old, op.value)
+            if old is not None:
+                self.unfollowed(f"the units were switched from {old} to {op.value} after the first move: the stock and the tools stay as described")
         elif op.group in _WATCHED_MODAL:
             self._change(op.group, op.span, block, old, op.value)
         return None
@@ -944,7 +968,9 @@ class Interpreter(ControlFlow):
             if new:
                 self._change("set_position", op.span, block, None, new)
         elif op.kind == "data":
-            self._change("data_setting", op.span, block, op_values(op.values, self, op.span), op_values(op.words, self, op.span))
+            words = op_values(op.words, self, op.span)
+            self._change("data_setting", op.span, block, op_values(op.values, self, op.span), words)
+            self._data_written(words)
         elif op.kind == "shared_offset":  # LinuxCNC G52: sets, not adds to, the offset G92 shares
             shifted = {}
             for axis, value in op_values(op.values, self, op.span).items():
@@ -962,6 +988,17 @@ class Interpreter(ControlFlow):
             self.state.move_to(shifted)
         self._watch_workpiece()
         return None
+
+    def _data_written(self, words: dict) -> None:
+        """G10: L2 and L20 write a work offset (after the first move it moves the part in
+        program coordinates); every other L writes tool or machine data the model does not
+        read, whenever it comes."""
+        kind = words.get("L")
+        written = f"G10 L{show(kind)}" if kind is not None else "G10"
+        if type(kind) is float and kind in (2.0, 20.0):
+            self.unfollowed(f"{written} wrote a work offset")
+        else:
+            self.unfollowed(f"{written} wrote tool or machine data", before_moves=True)
 
     def _set_local_origin(self, axis: str, local):
         """Make ``local`` the G52 local origin of ``axis`` (part of the coordinate shift,

@@ -318,6 +318,8 @@ class _PassCode(StraightCode):
                 if value is None:
                     return False
                 name = step[2].target.name
+                if self.interpreter.is_machine_data(name):
+                    return False  # the block path notes what it changes
                 table = "local" if self.interpreter.is_local(name) else "global_"
                 self.effects.append(f"{table}[{self._object(name)}] = {value}")
                 self.current[name] = value

@@ -121,6 +121,11 @@ class Runtime:
         """A finding of ``rule`` at ``span``."""
         self._interp._fault(rule, span, message, status, reason)
 
+    def unfollowed(self, why: str, before_moves: bool = False) -> None:
+        """The program changed state the model does not follow
+        (:meth:`~ncverify.interpret.Interpreter.unfollowed`)."""
+        self._interp.unfollowed(why, before_moves)
+
     def unsupported(self, span, what: str) -> None:
         """A construct read but not modelled here: what depends on it answers unknown."""
         self._interp._unsupported_here(span, what)

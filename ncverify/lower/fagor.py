@@ -673,6 +673,15 @@ class FagorFrontend:
             return "local"
         return "global"
 
+    @staticmethod
+    def machine_data(name: str) -> tuple[str, bool] | None:
+        """Any ``V.`` system variable but a canned cycle's parameters (``V.C.``): what the
+        machine's variables hold the model does not follow once the program moves (see
+        :meth:`~ncverify.interpret.Interpreter.unfollowed`)."""
+        if name.upper().startswith("V.") and not name.upper().startswith("V.C."):
+            return "machine data", False
+        return None
+
     def system_variable(self, name: str, state):
         if name.startswith("$"):
             return 0.0

@@ -256,7 +256,8 @@ class KlartextLowering:
             block.ops.append(ir.ToolLength(span, False))
             block.ops.append(ir.ToolChange(span))
             block.ops.append(ir.ToolLength(span, True, number))
-            block.ops.append(ir.ToolDelta(span, words.get("DR", 0.0)))  # the call's radius delta, on top of the table's R + DR
+        if number is not None or "DR" in words or "DL" in words:  # a call without a number gives the tool in the spindle new deltas
+            block.ops.append(ir.ToolDelta(span, words.get("DR", 0.0), words.get("DL", 0.0)))  # on top of the table's R + DR, L + DL
         if axis is not None:
             block.ops.append(ir.SetModal(axis.span, "plane", _TOOL_AXIS_PLANE[axis.text]))
         if "F" in words:

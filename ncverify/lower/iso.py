@@ -706,12 +706,34 @@ class IsoFrontend:
             return value if value is not None else values.fresh(name)
         return None
 
+    def machine_data(self, name: str) -> tuple[str, bool] | None:
+        """What writing system variable ``name`` changes that the model does not follow,
+        and whether that counts before the first move (see
+        :meth:`~ncverify.interpret.Interpreter.unfollowed`); None for any other variable."""
+        return numbered_machine_data(name, _ISO_MACHINE_DATA)
+
     def label_offsets(self, buffer, label: float):
         """Offsets of lines that may carry sequence number ``label`` (the interpreter
         confirms by reading the line)."""
         pattern = re.compile(rb"(?mi)^[^\n(]*?N0*" + str(int(label)).encode() + rb"(?![0-9.])")
         for match in pattern.finditer(buffer):
             yield match.start()
+
+
+# System variables a program can write whose values the model does not follow (Fanuc-style
+# numbering, which Mitsubishi and Haas share): (first, last, what they hold, counts before
+# the first move). Tool offsets always count: the tool table gives the tools' real sizes.
+_ISO_MACHINE_DATA = ((2001, 2999, "tool offset data", True), (10001, 13999, "tool offset data", True),
+                     (5201, 5399, "a work offset", False), (7001, 7999, "a work offset", False), (14001, 19999, "a work offset", False))
+
+
+def numbered_machine_data(name: str, ranges: tuple) -> tuple[str, bool] | None:
+    """``(what, counts before the first move)`` of the range of ``ranges`` that numbered
+    variable ``name`` (``#5221``) falls in, or None."""
+    number = int(name[1:]) if name[:1] == "#" and name[1:].isdigit() else None
+    if number is None:
+        return None
+    return next(((what, before_moves) for first, last, what, before_moves in ranges if first <= number <= last), None)
 
 
 def setup(settings, detection, project) -> DialectSetup:

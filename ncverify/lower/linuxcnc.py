@@ -34,13 +34,16 @@ from ..resources import data_dir, read_table
 from ..source import Span, decode_line, finditer_all, letter_led, line_start, lines_holding
 from ..tables import CodeTable
 from ..values import VACANT
-from .iso import TOOL_UNSURE, IsoFrontend, IsoLowering
+from .iso import TOOL_UNSURE, IsoFrontend, IsoLowering, numbered_machine_data
 
 LAST_PARAMETER = 5602.0  # the highest numbered parameter
 ARGUMENTS = 30  # #1-#30 are a subroutine's arguments
 _VALUE = ir.Var("#<_value>")
 _M_CODE_WORDS = {19.0: "RQP", 61.0: "Q", 62.0: "P", 63.0: "P", 64.0: "P", 65.0: "P", 66.0: "PELQ", 67.0: "EQ", 68.0: "EQ"}
 _VACANT = ir.Var("#0")
+# The numbered parameters of the offsets (rs274ngc's parameter table): G92's (with its
+# enable flag) always count, as G92 is a shift in force; the G54-G59.3 tables once moving.
+_LINUXCNC_MACHINE_DATA = ((5210, 5219, "the G92 offset", True), (5220, 5389, "a work offset", False))
 
 # The radius difference rs274 accepts in an arc given by its centre, measured against it
 # (the differential tests): 0.02 * sqrt(2) mm in G21 and 0.002 * sqrt(2) inch in G20 (one
@@ -381,6 +384,11 @@ class LinuxcncFrontend(IsoFrontend):
             return "global" if name.startswith("#<_") else "local"
         number = name[1:]
         return "local" if number.isdigit() and 1 <= int(number) <= ARGUMENTS else "global"
+
+    def machine_data(self, name: str) -> tuple[str, bool] | None:
+        """The numbered parameters of the offsets (G92's, then G54-G59.3's, see
+        :meth:`IsoFrontend.machine_data`)."""
+        return numbered_machine_data(name, _LINUXCNC_MACHINE_DATA)
 
     def unset_is_vacant(self, name: str) -> bool:
         """A named parameter that was never set does not exist (reading it is an error)."""

@@ -518,6 +518,9 @@ _STRUCTURE_LINE = re.compile(r"^\s*(?:/\d?\s*)?(?:N\d+\s*)?(?:[A-Za-z_]\w*\s*:(?
 _READINGS_KEPT = 4096  # different line texts whose readings are kept at once
 
 
+_FRAME_TABLES = ("$P_UIFR", "$P_UBFR", "$P_CHBFR", "$P_NCBFR")  # settable frames (G54...) and base frames, by number
+
+
 class SinumerikFrontend:
     # A subprogram ends with M17 or RET (cycles manual L8555, L14068, L16610). Neither the
     # manual nor the reference says what the 840D does when a subprogram's text ends without
@@ -639,6 +642,22 @@ class SinumerikFrontend:
         machine's, read as inputs (unknown without an ``assume``), never set to 0 freely."""
         constant = _SYSTEM_CONSTANTS.get(name.upper())
         return constant if constant is not None else _REPEAT_STATE.get(name)
+
+    @staticmethod
+    def machine_data(name: str) -> tuple[str, bool] | None:
+        """What writing system variable ``name`` changes that the model does not follow (see
+        :meth:`~ncverify.interpret.Interpreter.unfollowed`): a frame in force (``$P_PFRAME``,
+        ``$P_IFRAME``...) whenever written; the settable and base frame tables and the tool
+        data (``$TC_``) once the program moves, as a program defines its tools and offsets
+        with them at its start; None for any other variable."""
+        upper = name.upper()
+        if upper.startswith("$TC_"):
+            return "tool data", False
+        if upper.startswith(_FRAME_TABLES):
+            return "a work offset (settable or base frame)", False
+        if upper.startswith("$P_") and "FRAME" in upper:
+            return "the frame in force", True
+        return None
 
     def label_offsets(self, buffer, label):
         if isinstance(label, str) and "#" in label:

@@ -261,7 +261,7 @@ def _retract_run(runner, op, block):
 
 
 def _tool_delta_run(runner, op, block):
-    _put(runner.state, radius_delta=runner.evaluate(op.radius, op.span))
+    _put(runner.state, radius_delta=runner.evaluate(op.radius, op.span), length_delta=runner.evaluate(op.length, op.span))
     return None
 
 
@@ -379,6 +379,7 @@ def _def_active(runner, op, block, number, params, cycle_model, facts: CycleFact
         return _run_at_points(runner, op, block, points, pattern=params)
     if number == 247:
         transforms.reset(runner, transforms.RESET_BY_DATUM_SETTING)  # seed L8221-8223
+        runner.unfollowed("cycle 247 activated another preset: where the part lies in it is not known")
         return None
     if number == 20:
         _put(state, sl_data=(_numbers(params), dict(op.param_spans), op.span))

@@ -102,6 +102,7 @@ class KlartextState:
     global_defaults: dict = field(default_factory=dict)  # GLOBAL DEF values PREDEF reads
     tool_feed: object = None  # the feed of the last TOOL CALL (FAUTO)
     radius_delta: object = 0.0  # the DR of the last TOOL CALL, on top of the table's R + DR
+    length_delta: object = 0.0  # its DL, on top of the table's L + DL: the tip stands DL from the programmed point
     pole: dict = field(default_factory=dict)  # the circle centre CC per axis
     pole_axes: tuple | None = None  # the two axes CC was given in
     fed_at: tuple | None = None  # the plane point the last feed move ended at

@@ -1,0 +1,197 @@
+"""State a program changes that the model does not follow makes the stock's verdicts
+``unknown``, never ``proved``: a work offset, a frame or tool data the program writes
+after it began moving (ISO ``G10`` and system variables, SINUMERIK ``$P_..FRAME`` and
+``$P_UIFR``, ``$TC_DP``, Klartext cycle 247), the units switched after the first move, and
+a tool length the control does not apply as the loaded tool's own (``G44``, the ``H`` of
+another tool, no ``G43`` since the tool change, Klartext ``DL``).
+
+Each case is a program whose rapid really runs into the blank on the control, for every
+allowed value, once the change is made; without the change the same rapid is proved clear,
+so the test fails where the change goes unseen.
+"""
+from __future__ import annotations
+
+import textwrap
+
+import pytest
+
+from ncverify import Settings, check_text
+from ncverify.diagnostics import Status
+
+ISO = """
+    %
+    O1000
+    (ncverify: stock box X0:100 Y0:100 Z-30:0)
+    (ncverify: tool 1 radius 5 length 50 type endmill)
+    (ncverify: tool 2 radius 5 length 30 type endmill)
+    (ncverify: assume 2 <= #1 <= 5)
+    G21 G17 G40 G49 G80 G90
+    T1 M06
+    G54 G00 X50. Y50. S3000 M03
+    G43 Z50. H01
+    {change}
+    G00 Z#1
+    G00 Z50.
+    M30
+    %
+"""
+ISO_CHANGES = {
+    "G10 L2 shifting G54 down in G91": "G91 G10 L2 P1 Z-20.\nG90",
+    "G10 L2 writing G54": "G10 L2 P1 Z-20.",
+    "G10 L2 writing the external offset": "G10 L2 P0 Z-20.",
+    "G10 L10 writing H01": "G10 L10 P1 R10.\nG43 Z50. H01",
+    "a G54 system variable": "#5223=-500.",
+    "a tool offset system variable": "#2001=10.",
+    "the H of another tool": "G43 Z50. H02",
+    "G44": "G44 Z50. H01",
+    "G49": "G49",
+    "inch after moves in mm": "G20",
+}
+
+SINUMERIK = """
+    %_N_PART_MPF
+    ; ncverify: assume 2 <= R1 <= 5
+    WORKPIECE(,"",,"BOX",0,0,-30,-100,0,0,100,100)
+    $TC_DP1[1,1]=120 $TC_DP6[1,1]=5 $TC_DP3[1,1]=50
+    N10 G17 G90 G54 G71
+    N20 T1 D1 M6
+    N30 S3000 M3 F400
+    N40 G0 X50 Y50 Z50
+    {change}
+    G0 Z=R1
+    G0 Z50
+    M30
+"""
+SINUMERIK_CHANGES = {
+    "the programmable frame written": "$P_PFRAME=CTRANS(Z,-20)",
+    "G54's frame written": "$P_UIFR[1]=CTRANS(Z,-20)\nG54",
+    "a component of G54's frame written": "$P_UIFR[1,Z,TR]=-20\nG54",
+    "the tool's length written": "$TC_DP3[1,1]=30",
+    "G70 after moves in mm": "G70",
+    "G700 after moves in mm": "G700",
+    "D0": "D0",
+}
+
+KLARTEXT = """
+    0  BEGIN PGM T MM
+    1  ; ncverify: tool 5 radius 5 length 60
+    2  ; ncverify: assume 2 <= Q1 <= 5
+    3  BLK FORM 0.1 Z X+0 Y+0 Z-30
+    4  BLK FORM 0.2  X+100  Y+100  Z+0
+    5  TOOL CALL 5 Z S3500 F600
+    6  L  X+50  Y+50 R0 FMAX M3
+    7  L  Z+50 R0 FMAX
+    {change}
+    8  L  Z+Q1 R0 FMAX
+    90 L  Z+100 R0 FMAX
+    99 END PGM T MM
+"""
+KLARTEXT_CHANGES = {
+    "DL in a tool call without a number": "TOOL CALL Z DL-20",
+    "DL in a numbered tool call": "TOOL CALL 5 Z S3500 DL-20",
+    "cycle 247 after moves": "CYCL DEF 247 DATUM SETTING ~\n  Q339=+4 ;DATUM NUMBER",
+}
+
+FAGOR = """
+    ; ncverify: stock box X0:100 Y0:100 Z-30:0
+    ; ncverify: tool 1 radius 5 length 60 type endmill
+    ; ncverify: assume 2 <= P1 <= 5
+    G17 G90 G54 G71
+    T1 D1 M6
+    S3000 M3
+    G0 X50 Y50 Z50
+    {change}
+    G0 Z P1
+    G0 Z50
+    M30
+"""
+FAGOR_CHANGES = {"G70 after moves in mm": "G70"}
+
+CASES = [(template, name, change, written, dialect) for template, changes, written, dialect in (
+    (ISO, ISO_CHANGES, "G00 Z#1", "iso"), (SINUMERIK, SINUMERIK_CHANGES, "G0 Z=R1", "sinumerik"),
+    (KLARTEXT, KLARTEXT_CHANGES, "L  Z+Q1", "heidenhain"), (FAGOR, FAGOR_CHANGES, "G0 Z P1", "fagor"),
+) for name, change in changes.items()]
+
+
+def _rapid_verdicts(template: str, change: str, written: str, dialect: str) -> set[Status]:
+    """The verdicts of ``core.rapid-into-stock`` on the line of the rapid ``written``."""
+    text = textwrap.dedent(template).strip().replace("{change}", change) + "\n"
+    line = next(number for number, code in enumerate(text.splitlines(), 1) if written in code)
+    result = check_text(text, "part.nc", Settings(dialect=dialect))
+    return {d.status for d in result.diagnostics if d.rule == "core.rapid-into-stock" and d.span.line == line}
+
+
+@pytest.mark.parametrize("template, written, dialect", [(ISO, "G00 Z#1", "iso"), (SINUMERIK, "G0 Z=R1", "sinumerik"),
+                                                         (KLARTEXT, "L  Z+Q1", "heidenhain"), (FAGOR, "G0 Z P1", "fagor")])
+def test_without_a_change_the_rapid_above_the_blank_is_proved(template, written, dialect):
+    assert _rapid_verdicts(template, "", written, dialect) == {Status.PROVED}
+
+
+@pytest.mark.parametrize("template, name, change, written, dialect", CASES, ids=[case[1] for case in CASES])
+def test_after_a_change_the_model_does_not_follow_the_rapid_is_unknown(template, name, change, written, dialect):
+    """The rapid to Z2..5 goes into the blank on the control after each change (the part's
+    zero 20 mm lower, a tool 20 mm longer than its offset, inches taken for mm...)."""
+    assert _rapid_verdicts(template, change, written, dialect) == {Status.UNKNOWN}
+
+
+def test_a_work_offset_written_before_the_first_move_sets_up_the_part_the_stock_describes():
+    """Offsets written before the program moves are its set-up: the stock is described in
+    them, so the rapid is still proved."""
+    text = ISO.replace("    T1 M06\n", "    G10 L2 P1 X-300. Y-200. Z-400.\n    T1 M06\n")
+    assert _rapid_verdicts(text, "", "G00 Z#1", "iso") == {Status.PROVED}
+
+
+def test_a_concrete_rapid_after_an_unfollowed_change_is_not_passed_in_silence():
+    """Without free parameters there is no proof to withhold: the stock check itself says
+    it did not compare."""
+    text = ISO.replace("G00 Z#1", "G00 Z2.")
+    assert _rapid_verdicts(text, "", "G00 Z2.", "iso") == set()
+    assert _rapid_verdicts(text, "G91 G10 L2 P1 Z-20.\nG90", "G00 Z2.", "iso") == {Status.UNKNOWN}
+
+
+def test_a_retract_up_the_tool_axis_after_g49_is_not_reported():
+    """``G49 G91 G28 Z0``, the usual end of a tool's work, only rises: nothing to say."""
+    text = ISO.replace("    G00 Z#1\n    G00 Z50.\n", "    G00 Z#1\n    G00 Z50.\n    G49 G91 G28 Z0.\n")
+    result = check_text(textwrap.dedent(text).strip() + "\n", "part.nc", Settings(dialect="iso"))
+    assert [d for d in result.diagnostics if d.rule == "core.rapid-into-stock" and d.status is not Status.PROVED] == []
+
+
+def test_a_klartext_tool_call_without_a_number_gives_its_radius_delta_to_the_tool():
+    """``TOOL CALL Z DR+3`` makes the 10 mm tool 16 mm wide: a pocket 12-20 mm wide does not
+    fit it for every width below 16."""
+    text = textwrap.dedent("""
+        0  BEGIN PGM T MM
+        1  ; ncverify: tool 5 radius 5 length 60
+        2  ; ncverify: assume 12 <= Q1 <= 20
+        3  BLK FORM 0.1 Z X+0 Y+0 Z-30
+        4  BLK FORM 0.2  X+160  Y+100  Z+0
+        5  TOOL CALL 5 Z S3500 F600
+        6  L  Z+50 R0 FMAX M3
+        7  TOOL CALL Z DR+3
+        8  CYCL DEF 251 RECTANGULAR POCKET ~
+            Q215=+0 ;MACHINING OPERATION ~
+            Q218=+60 ;FIRST SIDE LENGTH ~
+            Q219=+Q1 ;2ND SIDE LENGTH ~
+            Q220=+0 ;CORNER RADIUS ~
+            Q368=+0 ;ALLOWANCE FOR SIDE ~
+            Q224=+0 ;ANGLE OF ROTATION ~
+            Q367=+0 ;POCKET POSITION ~
+            Q207=+500 ;FEED RATE MILLING ~
+            Q351=+1 ;CLIMB OR UP-CUT ~
+            Q201=-10 ;DEPTH ~
+            Q202=+5 ;PLUNGING DEPTH ~
+            Q369=+0 ;ALLOWANCE FOR FLOOR ~
+            Q206=+150 ;FEED RATE FOR PLNGNG ~
+            Q338=+0 ;INFEED FOR FINISHING ~
+            Q200=+2 ;SET-UP CLEARANCE ~
+            Q203=+0 ;SURFACE COORDINATE ~
+            Q204=+50 ;2ND SET-UP CLEARANCE ~
+            Q370=+1 ;TOOL PATH OVERLAP ~
+            Q366=+0 ;PLUNGE ~
+            Q385=+500 ;FINISHING FEED RATE
+        9  L  X+80  Y+50 R0 FMAX M99
+        99 END PGM T MM
+    """).strip() + "\n"
+    result = check_text(text, "part.h", Settings(dialect="heidenhain"))
+    [fit] = [d for d in result.diagnostics if d.rule == "heidenhain.tool-too-large"]
+    assert fit.status is Status.VIOLATED and 12 <= fit.witness["Q1"] < 16
