@@ -274,6 +274,7 @@ class SetFrame(Op):
     values: dict[str, Expr] = field(default_factory=dict)
     layer: str | None = None  # coarse (G58) / fine (G59): replaces that part of the translation per axis
     what: str = ""  # the statement, for messages
+    group: str | None = None  # an ISO-style statement's modal group: its cancel ends only its own group's transformation
 
 
 @dataclass(slots=True)

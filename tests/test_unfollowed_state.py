@@ -195,3 +195,43 @@ def test_a_klartext_tool_call_without_a_number_gives_its_radius_delta_to_the_too
     result = check_text(text, "part.h", Settings(dialect="heidenhain"))
     [fit] = [d for d in result.diagnostics if d.rule == "heidenhain.tool-too-large"]
     assert fit.status is Status.VIOLATED and 12 <= fit.witness["Q1"] < 16
+
+
+# --------------------------------------------------------------------------- ISO transformations not modelled
+
+FANUC_FRAMES = """
+    %
+    O1000
+    (ncverify: stock box X0:100 Y0:100 Z-30:0)
+    (ncverify: tool 1 radius 5 length 50 type endmill)
+    (ncverify: assume 40 <= #1 <= 60)
+    G21 G17 G40 G49 G80 G90 G54
+    T1 M06
+    G00 X-50. Y-50.
+    G43 Z50. H01
+    {on}
+    {off}
+    G00 X-#1 Y-#1
+    G00 Z-5.
+    G00 Z50.
+    M30
+    %
+"""
+
+
+@pytest.mark.parametrize("on, off, judged", [
+    ("G68 X0 Y0 R180.", "G69", True),  # the rotation cancelled: the rapid beside the blank is proved clear
+    ("G68 X0 Y0 R180.\nG51 X0 Y0 P1000", "G50", False),  # G50 ends the scaling, not the rotation: the rapid lands on the blank
+    ("G16", "G15", True), ("G16\nG68 X0 Y0 R180.", "G15", False),
+    ("G51.1 X0 Y0", "G50.1", True), ("G51.1 X0 Y0\nG68 X0 Y0 R90.", "G50.1", False),
+])
+def test_a_cancel_ends_only_the_transformation_of_its_own_group(on, off, judged):
+    text = textwrap.dedent(FANUC_FRAMES).strip().replace("{on}", on).replace("{off}", off) + "\n"
+    line = next(number for number, code in enumerate(text.splitlines(), 1) if code == "G00 Z-5.")
+    result = check_text(text, "part.nc", Settings(dialect="iso", profile="fanuc"))
+    stock = [d for d in result.diagnostics if d.rule == "core.rapid-into-stock"]
+    if judged:
+        assert {d.status for d in stock if d.span.line == line} == {Status.PROVED}
+    else:  # said once, where the first rapid after the cancel is not placed
+        assert {d.status for d in stock if d.span.line >= line - 1} == {Status.UNKNOWN}
+    assert not [d for d in result.diagnostics if d.rule == "core.unknown-code"]  # Fanuc's own codes

@@ -54,6 +54,7 @@ class FrameStatements:
     programmable: frames.Frame = frames.IDENTITY
     layers: dict = field(default_factory=dict)
     swivel: bool = False
+    unmodelled: frozenset = frozenset()  # the modal groups of ISO-style transformations that are on and not modelled
 
 
 @dataclass(slots=True)
@@ -1038,6 +1039,8 @@ class Interpreter(ControlFlow):
         plane (CYCLE800), which is kept apart and leaves positions unknown until reset."""
         state = self.state
         statements = state.frame_statements
+        if op.group is not None:
+            return self._set_group_frame(op)
         swivel = statements.swivel
         if op.component in ("swivel", "swivel_off"):  # a tilted plane (CYCLE800): a frame of its own, kept apart from the programmable one
             swivel = op.component == "swivel"
@@ -1049,8 +1052,24 @@ class Interpreter(ControlFlow):
             why = frames.UNMODELLED.get(op.component, "")
             self._fault("core.unsupported-code", op.span, f"{op.what or 'this coordinate transformation'} is not modelled{why}: positions after it are unknown "
                         "until it is reset", "unknown", op.what or "a coordinate transformation")
-        state.frame_statements = FrameStatements(frame or frames.UNKNOWN, layers, swivel)
-        self.set_frame(frames.UNKNOWN if swivel or frame is None else frame)
+        state.frame_statements = FrameStatements(frame or frames.UNKNOWN, layers, swivel, statements.unmodelled)
+        self.set_frame(frames.UNKNOWN if swivel or frame is None or statements.unmodelled else frame)
+        return None
+
+    def _set_group_frame(self, op: ir.SetFrame):
+        """An ISO-style transformation (G68, G51, Fagor G72), which is not modelled: positions
+        are unknown while one of any group is on; a cancel (G69, G50, G72 S1) ends only the
+        transformation of its own group (G50 leaves a G68 rotation on)."""
+        statements = self.state.frame_statements
+        if op.component == "reset":
+            unmodelled = statements.unmodelled - {op.group}
+        else:
+            unmodelled = statements.unmodelled | {op.group}
+            why = frames.UNMODELLED.get(op.component, "")
+            self._fault("core.unsupported-code", op.span, f"{op.what or 'this coordinate transformation'} is not modelled{why}: positions after it are unknown "
+                        "until it is reset", "unknown", op.what or "a coordinate transformation")
+        self.state.frame_statements = replace(statements, unmodelled=unmodelled)
+        self.set_frame(frames.UNKNOWN if unmodelled or statements.swivel or statements.programmable is frames.UNKNOWN else statements.programmable)
         return None
 
     def _reference_return(self, op: ir.ReferenceReturn, block):

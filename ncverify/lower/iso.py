@@ -361,7 +361,8 @@ class IsoLowering:
         rest.clear()
         neutral = entry.get("neutral")
         cancels = neutral is not None and written and all(type(value) is float and value == neutral for value in written)
-        return ir.SetFrame(span, "reset" if cancels else entry["component"], what=f"G{code_key(word.value)} ({entry['meaning']})")
+        group = entry.get("group") if entry.get("group") not in (None, "00") else code_key(word.value)  # G72 .. G72 S1: the code is its own group
+        return ir.SetFrame(span, "reset" if cancels else entry["component"], what=f"G{code_key(word.value)} ({entry['meaning']})", group=group)
 
     def _cycle_params(self, rest, read, path, cycle_id) -> tuple[dict, dict]:
         """The words a cycle takes. For a modal hole cycle the hole position (the plane
