@@ -15,7 +15,7 @@ import textwrap
 
 import pytest
 
-from ncverify import Settings, check_text
+from ncverify import Settings, check_file, check_text
 from ncverify.diagnostics import Status
 
 ISO = """
@@ -105,7 +105,7 @@ FAGOR = """
     G0 Z50
     M30
 """
-FAGOR_CHANGES = {"G70 after moves in mm": "G70"}
+FAGOR_CHANGES = {"G70 after moves in mm": "G70", "G159=4, another zero offset": "G159=4", "a zero offset variable written": "V.A.ORGT[1].Z=-20"}
 
 CASES = [(template, name, change, written, dialect) for template, changes, written, dialect in (
     (ISO, ISO_CHANGES, "G00 Z#1", "iso"), (SINUMERIK, SINUMERIK_CHANGES, "G0 Z=R1", "sinumerik"),
@@ -152,7 +152,7 @@ def test_a_concrete_rapid_after_an_unfollowed_change_is_not_passed_in_silence():
 def test_a_retract_up_the_tool_axis_after_g49_is_not_reported():
     """``G49 G91 G28 Z0``, the usual end of a tool's work, only rises: nothing to say."""
     text = ISO.replace("    G00 Z#1\n    G00 Z50.\n", "    G00 Z#1\n    G00 Z50.\n    G49 G91 G28 Z0.\n")
-    result = check_text(textwrap.dedent(text).strip() + "\n", "part.nc", Settings(dialect="iso"))
+    result = check_text(textwrap.dedent(text).strip().replace("{change}", "") + "\n", "part.nc", Settings(dialect="iso"))
     assert [d for d in result.diagnostics if d.rule == "core.rapid-into-stock" and d.status is not Status.PROVED] == []
 
 
@@ -235,3 +235,21 @@ def test_a_cancel_ends_only_the_transformation_of_its_own_group(on, off, judged)
     else:  # said once, where the first rapid after the cancel is not placed
         assert {d.status for d in stock if d.span.line >= line - 1} == {Status.UNKNOWN}
     assert not [d for d in result.diagnostics if d.rule == "core.unknown-code"]  # Fanuc's own codes
+
+
+def test_after_a_line_that_could_not_be_read_nothing_is_proved():
+    """A line the reader could not take may have written an offset or a frame: the rapid
+    after it is not proved."""
+    assert _rapid_verdicts(ISO, "G10 L2 P1 Z{-20", "G00 Z#1", "iso") == {Status.UNKNOWN}
+
+
+def test_the_travel_is_not_compared_once_the_program_wrote_its_work_offset(tmp_path):
+    """The project file's G54 is no longer the one in force: a move that the written offset
+    takes past the travel is not passed in silence."""
+    (tmp_path / "ncverify.toml").write_text("[machine]\ntravel = { X = [-500.0, 500.0], Y = [-500.0, 500.0], Z = [-400.0, 0.0] }\n"
+                                            "work_offsets = { G54 = [0.0, 0.0, -200.0] }\n", encoding="utf-8")
+    program = tmp_path / "part.nc"
+    text = textwrap.dedent(ISO).strip().replace("{change}", "G91 G10 L2 P1 Z-300.\nG90").replace("G00 Z#1", "G00 Z2.") + "\n"
+    program.write_text(text, encoding="utf-8")
+    travel = [d for d in check_file(program, Settings()).diagnostics if d.rule == "core.travel-limit"]
+    assert [d.status for d in travel] == [Status.UNKNOWN] and "G10 L2" in travel[0].message

@@ -100,8 +100,8 @@ class MachineState:
     left_start: frozenset = frozenset()  # axes parked until the last move: the segment it makes starts there
     last_segment: Segment | None = None  # the last move made: a tangential arc continues it
     # What the program changed that the model does not follow (a work offset or tool data it
-    # wrote, the units it switched), once it began moving: where the tool's tip stands on
-    # the blank is not known from then on (ncverify.modelled.UNFOLLOWED)
+    # wrote, the units it switched, once it began moving; a line it could not read): where
+    # the tool's tip stands on the blank is not known from then on (ncverify.modelled.UNFOLLOWED)
     unfollowed: str | None = None
 
     def fork(self) -> "MachineState":
@@ -485,6 +485,8 @@ class Interpreter(ControlFlow):
         if block.notes:
             for note in block.notes:
                 self.observer.note(note)
+                if note.rule == "core.syntax":  # what the line does is not known: it may have written an offset, a frame...
+                    self.unfollowed(f"line {note.span.line} was not read ({note.message})", before_moves=True)
         if block.tape_mark and self._closes_tape(self._line_source, self._line_offset):
             self._end_of_text(self._line_source)
         self.blocks_run += 1

@@ -276,6 +276,9 @@ class FagorLowering(IsoLowering):
             self._repeat(block.ops, block.notes, line, path)
         for name, start, end in line.indexed_axes:
             span = self._span(line, start, end, path)
+            if name == "G159":  # G159=n: the n-th zero offset of the table (the form beside G159 with its number)
+                block.ops.append(ir.WorkOffset(span, "G159 (a numbered zero offset)"))
+                continue
             block.notes.append(ir.Note("core.unsupported-code", f"axis {name} (an axis with a numeric suffix) is read but not modelled", span))
             block.ops.append(ir.Unsupported(span, f"axis {name}", ("position",)))
         if line.rpt is not None:

@@ -28,9 +28,22 @@ from .iso import SyntaxProblem, Word
 _UPPER = str.maketrans("abcdefghijklmnopqrstuvwxyz", "ABCDEFGHIJKLMNOPQRSTUVWXYZ")
 _NUMBER = re.compile(r"(?:\d+\.?\d*|\.\d+)")
 _NAME = re.compile(r"[A-Z][A-Z0-9_]*")
-_V_NAME = re.compile(r"V\.[A-Z0-9_]+(?:\.[A-Z0-9_]+)*(?:\[[^\]]*\])?")
+_V_NAME = re.compile(r"V\.[A-Z0-9_]+(?:\.[A-Z0-9_]+|\[[^\]]*\])*")  # V.A.ORGT[1].Z: an index, then a field
 _LABEL = re.compile(r"N(\d+)(?![0-9.=])|\[([A-Z_][A-Z0-9_]*)\]")
 _INDEXED_AXIS = re.compile(r"([A-Z])(\d+)[ \t]*=(?!=)")
+_AXES = frozenset("XYZUVWABC")
+
+
+def _homes(line: "FagorLine") -> bool:
+    """Has the line a G74 (home search) so far?"""
+    return any(word.letter == "G" and word.value == 74.0 for word in line.words)
+
+
+def _bare(code: str, position: int) -> bool:
+    """Does no value follow at ``position`` (a blank then another word, or the line's end)?"""
+    rest = code[position:].lstrip(" \t")
+    return not rest or "A" <= rest[0] <= "Z"
+
 _FUNCTIONS = {
     "SIN": "SIN", "COS": "COS", "TAN": "TAN", "ASIN": "ASIN", "ACOS": "ACOS", "ATAN": "ATAN", "SQRT": "SQRT",
     "ABS": "ABS", "ROUND": "ROUND", "FUP": "FUP", "INT": "FIX", "LN": "LN", "EXP": "EXP",
@@ -283,6 +296,9 @@ def _read_words(result: FagorLine, code: str, position: int) -> None:
             parser.expression()
             result.indexed_axes.append((indexed.group(1) + indexed.group(2), position, parser.position))
             position = parser.position
+        elif char in _AXES and _homes(result) and _bare(code, position + 1):  # G74 X Y Z: the axes to home, without values
+            result.words.append(Word(char, 0.0, False, position, position + 1))
+            position += 1
         elif "A" <= char <= "Z":
             parser = _Expressions(code, position + 1)
             value, has_point = parser.word_value()
