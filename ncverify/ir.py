@@ -692,7 +692,7 @@ class Unsupported(Op):
     """A construct that reads fine but is not modelled: checks that depend on it answer ``unknown``."""
 
     what: str
-    affects: tuple[str, ...] = ()  # state the construct may change: "position", "offsets"...
+    affects: tuple[str, ...] = ()  # "position": where the tool is; "state": offsets, frames or tool data (MachineState.unfollowed)
 
 
 @dataclass(slots=True)

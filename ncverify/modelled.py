@@ -14,7 +14,7 @@ import numpy
 
 from . import frames
 from .context import compensated
-from .material import length_problem, tool_axis_problem
+from .material import length_problem, radius_problem, tool_axis_problem
 
 TRANSLATION = "translation"
 ROTATION = "rotation"
@@ -26,8 +26,9 @@ KINEMATICS = "kinematic transformation"
 DIAMETER = "diameter programming"
 RADIUS_COMPENSATION = "radius compensation"
 TOOL_LENGTH = "tool length"  # the tip is not held at the programmed point (material.length_problem)
+TOOL_RADIUS = "radius offset"  # compensation runs by another radius than the tool's (material.radius_problem)
 UNFOLLOWED = "data changed by the program"  # a work offset or tool data written, the units switched (MachineState.unfollowed)
-KINDS = (TRANSLATION, ROTATION, SCALING, MIRROR, UNMODELLED_FRAME, TOOL_AXIS, KINEMATICS, DIAMETER, RADIUS_COMPENSATION, TOOL_LENGTH, UNFOLLOWED)
+KINDS = (TRANSLATION, ROTATION, SCALING, MIRROR, UNMODELLED_FRAME, TOOL_AXIS, KINEMATICS, DIAMETER, RADIUS_COMPENSATION, TOOL_LENGTH, TOOL_RADIUS, UNFOLLOWED)
 
 # Positions judged in workpiece coordinates, through the one program-to-workpiece map
 # (not under radius compensation: the tool then runs beside the programmed positions).
@@ -65,6 +66,9 @@ def active(state, context) -> dict[str, str]:
     length = length_problem(context, state)
     if length is not None:
         found[TOOL_LENGTH] = length
+    radius = radius_problem(context, state)
+    if radius is not None:
+        found[TOOL_RADIUS] = radius
     if state.unfollowed is not None:
         found[UNFOLLOWED] = state.unfollowed
     return found

@@ -52,6 +52,7 @@ class Segment:
 
 
 RUN_AXES = ("X", "Y", "Z")  # the columns of a run made of moves the block path gathered (and a gathered move's first fields)
+ROTARY_AXES = frozenset("ABC")  # a rotary table's or a swivelling head's axes
 
 
 @dataclass(slots=True)

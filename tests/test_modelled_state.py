@@ -45,6 +45,7 @@ STATES = {
     modelled.DIAMETER: lambda: _state(diameter="diameter"),
     modelled.RADIUS_COMPENSATION: lambda: _compensated("right"),
     modelled.TOOL_LENGTH: lambda: _with(length_mode="minus"),
+    modelled.TOOL_RADIUS: lambda: _with(comp_side="left", comp_register=2.0, tool_in_spindle=1.0),
     modelled.UNFOLLOWED: lambda: _with(unfollowed="G10 L2 wrote a work offset"),
 }
 
@@ -68,7 +69,8 @@ def test_every_kind_of_state_is_enumerated_and_recognised_alone():
 
 
 # where a frame is not known, neither is the direction the tool stands in
-_ACTIVE = {modelled.UNMODELLED_FRAME: {modelled.UNMODELLED_FRAME, modelled.TOOL_AXIS}}
+_ACTIVE = {modelled.UNMODELLED_FRAME: {modelled.UNMODELLED_FRAME, modelled.TOOL_AXIS},
+           modelled.TOOL_RADIUS: {modelled.TOOL_RADIUS, modelled.RADIUS_COMPENSATION}}  # a radius offset is in force only under compensation
 
 
 def _offered(checker: Checker, rule_id: str, state) -> Status:

@@ -46,6 +46,12 @@ ISO_CHANGES = {
     "G44": "G44 Z50. H01",
     "G49": "G49",
     "inch after moves in mm": "G20",
+    "an H register from a free parameter": "(ncverify: assume 1 <= #2 <= 2)\nG43 Z50. H#2",
+    "G43 with no H": "G49\nG43 Z50.",
+    "a code the control table does not hold": "G05.7",
+    "a macro that is not available": "G65 P9811 Z-20.",
+    "the rotary axis turned": "G00 A180.",
+    "a radius offset of another tool": "G41 D02",
 }
 
 SINUMERIK = """
@@ -70,6 +76,11 @@ SINUMERIK_CHANGES = {
     "G70 after moves in mm": "G70",
     "G700 after moves in mm": "G700",
     "D0": "D0",
+    "a settable frame beyond G57": "G507",
+    "a programmable tool length offset": "TOFFL=-20",
+    "a synchronised action offsetting Z": "ID=1 WHENEVER TRUE DO $AA_OFF[Z]=-20",
+    "the frame turned to the tool": "TOROT",
+    "the frame turned to the workpiece": "PAROT",
 }
 
 KLARTEXT = """
@@ -90,6 +101,9 @@ KLARTEXT_CHANGES = {
     "DL in a tool call without a number": "TOOL CALL Z DL-20",
     "DL in a numbered tool call": "TOOL CALL 5 Z S3500 DL-20",
     "cycle 247 after moves": "CYCL DEF 247 DATUM SETTING ~\n  Q339=+4 ;DATUM NUMBER",
+    "a write to the tool table": "FN 17: SYSWRITE ID50 NR4 IDX5 =-20",
+    "PRESET SELECT": "PRESET SELECT #3",
+    "a datum from a table line": "TRANS DATUM TABLE TABLINE 3",
 }
 
 FAGOR = """
@@ -105,7 +119,8 @@ FAGOR = """
     G0 Z50
     M30
 """
-FAGOR_CHANGES = {"G70 after moves in mm": "G70", "G159=4, another zero offset": "G159=4", "a zero offset variable written": "V.A.ORGT[1].Z=-20"}
+FAGOR_CHANGES = {"G70 after moves in mm": "G70", "G159=4, another zero offset": "G159=4", "a zero offset variable written": "V.A.ORGT[1].Z=-20",
+                 "an offset of the tool the table does not describe": "D2"}
 
 CASES = [(template, name, change, written, dialect) for template, changes, written, dialect in (
     (ISO, ISO_CHANGES, "G00 Z#1", "iso"), (SINUMERIK, SINUMERIK_CHANGES, "G0 Z=R1", "sinumerik"),
@@ -253,3 +268,49 @@ def test_the_travel_is_not_compared_once_the_program_wrote_its_work_offset(tmp_p
     program.write_text(text, encoding="utf-8")
     travel = [d for d in check_file(program, Settings()).diagnostics if d.rule == "core.travel-limit"]
     assert [d.status for d in travel] == [Status.UNKNOWN] and "G10 L2" in travel[0].message
+
+
+def test_linuxcnc_g43_alone_keeps_the_tool_it_was_given_with_past_a_tool_change():
+    """rs274ngc: G43 without H takes the tool in the spindle then; after M6 of a longer tool
+    the offset is still the first tool's, so the rapid is not proved."""
+    text = textwrap.dedent("""
+        (ncverify: stock box X0:100 Y0:100 Z-30:0)
+        (ncverify: tool 1 radius 5 length 50)
+        (ncverify: tool 2 radius 5 length 70)
+        (ncverify: assume 2 <= #1 <= 5)
+        G21 G17 G90 G54
+        T1 M6
+        G43
+        G0 X50 Y50 Z50
+        {change}
+        G0 Z#1
+        M2
+    """).strip() + "\n"
+    assert _rapid_verdicts(text, "", "G0 Z#1", "linuxcnc") == {Status.PROVED}
+    assert _rapid_verdicts(text, "T2 M6\nG0 Z50", "G0 Z#1", "linuxcnc") == {Status.UNKNOWN}
+    assert _rapid_verdicts(text, "G43.1 Z-20\nG0 Z50", "G0 Z#1", "linuxcnc") == {Status.UNKNOWN}
+
+
+# --------------------------------------------------------------------------- the same batched and block by block
+
+_HOLDER_UNDER_G55 = "\n".join([
+    "(ncverify: stock box X0:100 Y0:100 Z-30:0)", "(ncverify: tool 2 radius 1.5875 length 50 cutting-length 8 type drill)",
+    "G21 G90 G17 G40 G80 G54", "T2 M6", "G43 H2", "S3000 M3", "G0 X10. Y10. Z10.", "G55", "G0 X50. Y10. Z5.", "G1 Z-20. F100.",
+    *(f"X{50 + (row % 2) * 0.5:.3f} Y{10 + row:.3f}" for row in range(40)), "G0 Z50.", "M30"]) + "\n"
+_WRITE_AMONG_HOLES = "\n".join([
+    "(ncverify: stock box X0:100 Y0:100 Z-30:0)", "(ncverify: tool 1 radius 3 length 50 type endmill)", "T1 M6", "G43 H1", "S3000 M3",
+    "G0 X10. Y10. Z10.", "G81 Z-5. R-2. F100.", "#5221=10.", "X20.", "G80", "M30"]) + "\n"
+
+
+@pytest.mark.parametrize("text, name", [(_HOLDER_UNDER_G55, "part.nc"), (_WRITE_AMONG_HOLES, "part.nc"), (_WRITE_AMONG_HOLES.replace(".", ""), "part.ngc")],
+                         ids=["shank under another work offset", "an offset written among gathered holes", "the same in LinuxCNC"])
+def test_where_the_stock_is_not_compared_batches_and_blocks_agree(text, name):
+    """Found by fuzzing: the shank was judged against the blank block by block under G55,
+    where no move is cut; and a write of a work offset was judged before the hole moves
+    gathered ahead of it (the crash at the R point below the top went unreported)."""
+    def findings(per_block_only):
+        result = check_text(text, name, Settings(per_block_only=per_block_only))
+        return sorted((d.rule, d.span.line, d.span.column, d.status.value, d.message) for d in result.diagnostics)
+    assert findings(False) == findings(True)
+    if "#5221" in text:
+        assert ("core.rapid-into-stock", 7, Status.VIOLATED.value) in {(rule, line, status) for rule, line, _c, status, _m in findings(False)}

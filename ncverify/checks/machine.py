@@ -79,9 +79,10 @@ class TravelLimit(ReportsMissingContext):
         if not travel:
             self.missing("core.travel-limit", span, "no machine travel limits ([machine] travel in ncverify.toml)")
             return None
-        if state.unfollowed is not None:  # the offsets (or the units) are no longer the project file's
+        written = state.unfollowed or state.set_up_written
+        if written is not None:  # the offsets (or the units) are no longer the project file's
             if self.first_time(state, ("core.travel-limit", "unfollowed")):
-                self.report("core.travel-limit", span, f"travel not compared: {state.unfollowed}", Status.UNKNOWN, "data changed by the program")
+                self.report("core.travel-limit", span, f"travel not compared: {written}", Status.UNKNOWN, "data changed by the program")
             return None
         lathe_x_scale = self._lathe_x_scale(span, state)
         name = state.modal.get("work_offset", "G54")

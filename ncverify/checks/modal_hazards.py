@@ -207,8 +207,8 @@ class LengthOffsetMotion(Rule):
             self.report("core.length-offset-minus", change.span,
                         f"G44{shown} subtracts the length offset instead of adding it: with offsets measured the usual way (a longer tool has the larger H), "
                         "the tool goes twice the offset lower than with G43, toward the part; use G43 unless the offsets were measured for G44")
-        if _block_moves_z(change.block) or not memory.get("z-at-work") or state.position.get("Z") is None:
-            return
+        if _block_moves_z(change.block) or not memory.get("z-at-work") or state.position.get("Z") is None or "given" in (old_mode, new_mode):
+            return  # (LinuxCNC G43.1/G43.2 give the offset's value: not judged here)
         was_on, is_on = old_mode in _LENGTH_CODE, new_mode in _LENGTH_CODE
         if not was_on and is_on and new_register is not None:
             self.report("core.length-offset-without-z", change.span,

@@ -398,6 +398,7 @@ class ControlFlow:
         state = self.state
         state.move_to(dict.fromkeys(state.position))
         state.feed_inherited, state.spindle = True, "inherited"  # it may set feed and spindle
+        self.unfollowed(f"program {name} was not analysed: it may have written an offset or tool data (probing and tool-setting macros do)", before_moves=True)
 
     def _macro_arguments(self, op: ir.Call) -> dict:
         arguments = {}

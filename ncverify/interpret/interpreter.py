@@ -30,7 +30,7 @@ from .arc_geometry import arc_by_centre, arc_by_radius, arc_through, end_heading
 from ..context import ToolTable, compensated
 from ..settings import Settings
 from ..source import ProgramSource, Span
-from ..trace import RUN_AXES, Arc, Change, Fault, MotionRun, Segment, any_in_row
+from ..trace import ROTARY_AXES, RUN_AXES, Arc, Change, Fault, MotionRun, Segment, any_in_row
 from ..dialect import logical_lines
 from ..values import VACANT, Condition, DomainError, Sym
 from ..verdict import evaluate_constraint, hazard, judge, show
@@ -103,6 +103,7 @@ class MachineState:
     # wrote, the units it switched, once it began moving; a line it could not read): where
     # the tool's tip stands on the blank is not known from then on (ncverify.modelled.UNFOLLOWED)
     unfollowed: str | None = None
+    set_up_written: str | None = None  # the same written before the first move: the stock is described in it, the project file's offsets are not
 
     def fork(self) -> "MachineState":
         twin = MachineState(**{name: getattr(self, name) for name in self.__slots__})
@@ -164,6 +165,7 @@ class Interpreter(ControlFlow):
         self._dialect_after_batch = getattr(runtime, "after_batch", None)
         self._system_variable = getattr(frontend, "system_variable", None)
         self._machine_data = getattr(frontend, "machine_data", None)
+        self._g43_takes_the_loaded_tool = getattr(frontend, "g43_takes_the_loaded_tool", False)
         self.twins = twins
         self.assigned: dict[int, list[tuple[str, object]]] = {}  # line -> (variable, value) of assignment statements, with settings.record_values
         self.tools = tools if tools is not None else ToolTable()
@@ -792,6 +794,8 @@ class Interpreter(ControlFlow):
         state = self.state
         if state.unfollowed is None and (before_moves or state.motion_seen):
             state.unfollowed = why
+        elif state.set_up_written is None:
+            state.set_up_written = why
 
     def condition(self, expr, span) -> "bool | Condition":
         value = self.evaluate(expr, span)
@@ -844,6 +848,8 @@ class Interpreter(ControlFlow):
     def _length_offset(self, op: ir.LengthOffset, block):
         old, register = self._switch_offset(op.mode, op.register, op.span, "length_mode", "length_register")
         state = self.state
+        if op.mode == "plus" and op.register is None and self._g43_takes_the_loaded_tool:
+            state.length_register = state.tool_in_spindle  # LinuxCNC: G43 alone takes the loaded tool's offset, and keeps it past M6
         if register == 0.0:
             state.length_mode = "off"  # H0 cancels like G49 (seed L1830)
         if op.mode == "off":
@@ -934,6 +940,8 @@ class Interpreter(ControlFlow):
     def _unsupported(self, op: ir.Unsupported, block):
         if "position" in op.affects:
             self.state.move_to(dict.fromkeys(self.state.position))
+        if "state" in op.affects:  # it may have written an offset, a frame, tool data
+            self.unfollowed(f"{op.what}: what it changes is not known", before_moves=True)
         return None
 
     def _unsupported_here(self, span, what: str) -> None:
@@ -1154,6 +1162,8 @@ class Interpreter(ControlFlow):
         state.position = end
         state.leave_start(op.targets)
         state.motion_seen = True
+        if ROTARY_AXES.intersection(op.targets):
+            self._turned(end, op.targets)
         if kind == "thread" and op.words:
             self._change("thread", op.span, block, None, op_values(op.words, self, op.span))  # G33 Q start angle, E lead
         arc = self._arc(op, kind, start) if kind in _ARC_KINDS else None
@@ -1163,6 +1173,17 @@ class Interpreter(ControlFlow):
         if modal_cycle:
             return self.cycles.modal_call(op, block)  # the MCALL cycle runs after every positioning
         return None
+
+    def _turned(self, end: dict, written) -> None:
+        """A rotary axis a move wrote stands off 0 (a whole turn) on a mill: the part on a
+        rotary table, or the head, is no longer set as the stock is described."""
+        if self.machine == "lathe":
+            return
+        for axis in ROTARY_AXES.intersection(written):
+            value = end.get(axis)
+            if not (type(value) is float and value % 360.0 == 0.0):
+                self.unfollowed(f"the rotary axis {axis} turned to {show(value)}: the part or the head is no longer set as the stock is described",
+                                before_moves=True)
 
     def _gather(self, segment: Segment, op: ir.Move, motion_before) -> bool:
         """Keep a programmed move the block path makes, to hand it on with the moves next to
@@ -1254,13 +1275,15 @@ class Interpreter(ControlFlow):
     def _keeps_moves_gathered(self, op, kind) -> bool:
         """May ``op`` run while moves are gathered? Moves decide for themselves (:meth:`_gather`);
         assignments, jumps and loop bookkeeping change no state a rule reads, except an
-        assignment to the active cutting edge; a feed word changes only the feed, which each
+        assignment to the active cutting edge or to machine data (:meth:`is_machine_data`;
+        a variable whose number is computed may be that); a feed word changes only the feed, which each
         gathered move keeps as its own (a move at a feed that is not a number is not
         gathered); a dialect's operation when its runtime says so."""
         if kind is ir.SetFeed:
             return True
         if kind in _BETWEEN_GATHERED:
-            return kind is not ir.Assign or op.target.name != ir.ACTIVE_EDGE
+            return kind is not ir.Assign or (isinstance(op.target.name, str) and op.target.name != ir.ACTIVE_EDGE
+                                             and not self.is_machine_data(op.target.name))
         inert = self._inert_between_moves.get(kind)
         return inert is not None and inert(self.state)
 

@@ -26,7 +26,7 @@ from __future__ import annotations
 import math
 
 from .. import ir
-from ..trace import RUN_AXES, Segment
+from ..trace import ROTARY_AXES, RUN_AXES, Segment
 from .compiled import StraightCode, factory
 
 _MOST_LINES = 64  # lines of a pass at most
@@ -354,6 +354,8 @@ class _PassCode(StraightCode):
             effects.append(f"modal['motion'] = {self._object(after)}")
         if not op.targets:
             return True
+        if ROTARY_AXES.intersection(op.targets):
+            return False  # the block path notes a turn of the part (Interpreter._turned)
         index, self.moves_made = self.moves_made, self.moves_made + 1
         gathered, last = self.gathered[index], self.moves_made == len(self.gathered)
         targets = {}

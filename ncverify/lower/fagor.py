@@ -322,7 +322,7 @@ class FagorLowering(IsoLowering):
             handler(self, block, statement, span)
         elif statement.keyword not in _NO_EFFECT_INSTRUCTIONS:
             block.notes.append(ir.Note("core.unsupported-code", f"#{statement.keyword} is read but not modelled; checks that depend on its effect answer unknown", span))
-            block.ops.append(ir.Unsupported(span, f"#{statement.keyword}", ("position",)))
+            block.ops.append(ir.Unsupported(span, f"#{statement.keyword}", ("position", "state")))
         return [block]
 
     # ---- # instructions

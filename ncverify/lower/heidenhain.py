@@ -36,6 +36,10 @@ _FN_ARITHMETIC = {1: "+", 2: "-", 3: "*", 4: "/"}
 _FN_CONDITION = {9: "EQ", 10: "NE", 11: "GT", 12: "LT"}
 _CONDITION_WORDS = {"EQU": "EQ", "NE": "NE", "GT": "GT", "LT": "LT"}
 # Statements that read fine but whose effect is not modelled: (affects position?, what).
+# Statements of _UNMODELLED that may change a preset, a datum, the tool data or the
+# kinematics (a probing cycle sets presets): after them nothing is placed on the blank.
+_CHANGES_STATE = frozenset({"TCH", "FUNCTION", "SPEC", "TABDATA", "PRESET", "POLARKIN", "SYSCALL"})
+_FN_WRITES = frozenset({17, 27})  # FN 17: SYSWRITE (tool data, presets...), FN 27: TABWRITE
 _UNMODELLED = {
     "TCH": (True, "TCH PROBE (a touch-probe cycle)"),
     "FUNCTION": (False, "FUNCTION"), "SPEC": (False, "SPEC FCT"), "DECLARE": (False, "DECLARE"),
@@ -194,7 +198,8 @@ class KlartextLowering:
             start = cursor.next().span
             cursor.index = len(cursor.tokens)
             span = cursor.rest_span(start)
-            block.ops.append(ir.Unsupported(span, f"{what} is read but not modelled", ("position",) if affects_position else ()))
+            affects = (("position",) if affects_position else ()) + (("state",) if word in _CHANGES_STATE else ())
+            block.ops.append(ir.Unsupported(span, f"{what} is read but not modelled", affects))
             if affects_position:
                 block.notes.append(ir.Note("core.unsupported-code", f"{what} is read but not modelled; the tool position after it is unknown, so checks that depend on it answer unknown", span))
             return
@@ -592,6 +597,8 @@ class KlartextLowering:
             block.ops.append(ir.Assign(cursor.rest_span(start), target, _function_result(function)))
             return
         cursor.index = len(cursor.tokens)  # FN 15-29 without a result: print, PLC, tables
+        if function in _FN_WRITES:
+            block.ops.append(ir.Unsupported(cursor.rest_span(start), f"FN {function} (a write to the control's data or tables)", ("state",)))
 
     @staticmethod
     def _fn_value(function: int, cursor: Cursor):

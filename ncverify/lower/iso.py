@@ -119,7 +119,7 @@ class IsoLowering:
                 entry = self.table.g_code(word.value or 0.0)
                 if entry is None:
                     block.notes.append(ir.Note("core.unknown-code", f"G{code_key(word.value or 0.0)} is not a code of this control ({self.table.profile} {self.table.machine}); its effect is not modelled", self._span(read, word.start, word.end, path)))
-                    stages[_MOTION].append(ir.Unsupported(self._span(read, word.start, word.end, path), f"G{code_key(word.value or 0.0)}", ("position",)))
+                    stages[_MOTION].append(ir.Unsupported(self._span(read, word.start, word.end, path), f"G{code_key(word.value or 0.0)}", ("position", "state")))
                     continue
                 if word.value is None:
                     block.notes.append(ir.Note("core.bare-g", "a bare 'G' is read as G00: this block moves at rapid", self._span(read, word.start, word.end, path)))
@@ -253,6 +253,9 @@ class IsoLowering:
                     rest.pop("D", None)
             elif effect == "length":
                 stages[_MODAL].append(ir.LengthOffset(span, entry["mode"], None))
+                if entry.get("takes_axes"):  # LinuxCNC G43.1 Z..: the offset's value, not a move
+                    for letter in self.axis_letters & rest.keys():
+                        rest.pop(letter)
             elif effect == "work_offset":
                 name = f"G{code_key(word.value)}"
                 if name == "G54.1":

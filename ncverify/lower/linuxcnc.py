@@ -385,6 +385,8 @@ class LinuxcncFrontend(IsoFrontend):
         number = name[1:]
         return "local" if number.isdigit() and 1 <= int(number) <= ARGUMENTS else "global"
 
+    g43_takes_the_loaded_tool = True  # G43 without H: the tool in the spindle then (rs274ngc)
+
     def machine_data(self, name: str) -> tuple[str, bool] | None:
         """The numbered parameters of the offsets (G92's, then G54-G59.3's, see
         :meth:`IsoFrontend.machine_data`)."""

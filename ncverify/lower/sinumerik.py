@@ -219,7 +219,7 @@ class SinumerikLowering:
             return _repeat_section(item, span, read.line)
         if kind == "unsupported":
             affects = () if item.name.startswith("a synchronised") or item.name.startswith("a curve") else ("position",)
-            return [ir.Unsupported(span, item.name, affects)]
+            return [ir.Unsupported(span, item.name, affects + (("state",) if item.value else ()))]
         if kind == "command" and item.name in DIAMETER_MODES:
             return [ir.SetModal(span, "diameter", DIAMETER_MODES[item.name])]
         return []  # proc, msg, workpiece, other commands: no modelled effect
@@ -395,9 +395,12 @@ class SinumerikLowering:
         key = _code_key(value)
         entry = self.g.get(key)
         if entry is None:
+            if key.isdigit() and 505 <= int(key) <= 599:  # the settable frames beyond G57
+                stages["offset"].append(ir.WorkOffset(span, f"G{key}"))
+                return None, False
             what = self.unsupported_g.get(key)
             if what is not None:
-                stages["modal"].append(ir.Unsupported(span, what, ("position", "offsets")))
+                stages["modal"].append(ir.Unsupported(span, what, ("position", "state")))
             if key == "291":
                 block.notes.append(ir.Note("core.unsupported-code", "G291 switches the control to ISO dialect mode: the blocks up to G290 are read as "
                                            "SINUMERIK here, not as ISO; what they do is not verified", span))
@@ -519,6 +522,9 @@ _READINGS_KEPT = 4096  # different line texts whose readings are kept at once
 
 
 _FRAME_TABLES = ("$P_UIFR", "$P_UBFR", "$P_CHBFR", "$P_NCBFR")  # settable frames (G54...) and base frames, by number
+# programmable tool length offsets (TOFFL, TOFF[Z], TOFFR), an axis's offset from a
+# synchronized action and the external work offset: in force where they are written
+_OFFSETS_IN_FORCE = ("TOFF", "$AA_OFF", "$AA_ETRANS")
 
 
 class SinumerikFrontend:
@@ -653,6 +659,8 @@ class SinumerikFrontend:
         upper = name.upper()
         if upper.startswith("$TC_"):
             return "tool data", False
+        if upper.startswith(_OFFSETS_IN_FORCE):
+            return "an offset in force", True
         if upper.startswith(_FRAME_TABLES):
             return "a work offset (settable or base frame)", False
         if upper.startswith("$P_") and "FRAME" in upper:

@@ -28,6 +28,9 @@ def normalize(text: str) -> str:
     return text.translate(_TWINS)
 
 
+_OFFSET_VARIABLES = ("$AA_OFF", "$AA_ETRANS", "$P_", "$TC_", "TOFF")  # what a synchronised action may write that moves the tool or the part
+
+
 @dataclass(slots=True)
 class Item:
     """One thing a block says. ``kind``: ``word`` (address ``name`` = ``value``, ``mode``
@@ -35,7 +38,8 @@ class Item:
     ``arg_spans``), ``mcall``, ``def``, ``proc``, ``if``, ``else``, ``endif``, ``while``,
     ``endwhile``, ``for``, ``endfor``, ``repeat``, ``until``, ``loop``, ``endloop``, ``goto``
     (``name`` = direction, ``value`` = label, ``condition``), ``case``, ``frame``, ``ret``,
-    ``setal``, ``msg``, ``repeat_section``, ``unsupported`` (``name`` says what)."""
+    ``setal``, ``msg``, ``repeat_section``, ``unsupported`` (``name`` says what; ``value`` True where it
+    may write an offset, a frame or tool data)."""
 
     kind: str
     start: int
@@ -405,16 +409,19 @@ class _BlockParser:
             self.block.items.append(Item("word", start, end, name))
         elif name in IGNORED_COMMANDS or name in MODAL_COMMANDS:
             self.block.items.append(Item("command", start, end, name))
+        elif name in FRAME_COMMANDS:
+            self.block.items.append(Item("unsupported", start, end, f"{name} (a frame turned to the workpiece or the tool)", True))
         else:
             self.block.items.append(Item("call", start, end, name))
 
     def last_end(self) -> int:
         return self.tokens[self.index - 1][3] if self.index else 0
 
-    def rest(self, start: int, what: str) -> None:
-        """Consume the rest of the block as one construct that is read but not modelled."""
+    def rest(self, start: int, what: str, changes_state: bool = False) -> None:
+        """Consume the rest of the block as one construct that is read but not modelled
+        (``changes_state``: it may write an offset, a frame or tool data: ``value`` True)."""
         self.index = len(self.tokens)
-        self.block.items.append(Item("unsupported", start, len(self.code.rstrip()), what))
+        self.block.items.append(Item("unsupported", start, len(self.code.rstrip()), what, changes_state))
 
     # ------------------------------------------------------------------ keywords
 
@@ -651,7 +658,8 @@ class _BlockParser:
     _kw_displof = _kw_displon = _kw_save
 
     def _synchronised(self, start):
-        self.rest(start, "a synchronised action (WHEN/WHENEVER/EVERY ... DO)")
+        writes = any(name in self.code.upper() for name in _OFFSET_VARIABLES)  # an axis offset or a frame changed beside the program
+        self.rest(start, "a synchronised action (WHEN/WHENEVER/EVERY ... DO)", writes)
 
     _kw_when = _kw_whenever = _kw_every = _kw_id = _kw_ids = _kw_do = _kw_cancel = _synchronised
 
@@ -821,8 +829,7 @@ _AXIS_NAMES = frozenset({"X", "Y", "Z", "A", "B", "C", "TR", "FI", "RT", "MI", "
 # Commands read alone that change nothing the checks model.
 IGNORED_COMMANDS = frozenset({
     "STOPRE", "SOFT", "BRISK", "DRIVE", "FFWON", "FFWOF", "COMPOF", "COMPON", "COMPCAD", "COMPCURV", "UPATH", "SPATH",
-    "CPRECON", "CPRECOF", "TRAFOOF", "TRAORI", "TRANSMIT", "TRACYL", "PAROT", "PAROTOF", "TOROT", "TOROTOF", "TOROTX",
-    "TOROTY", "TOROTZ", "TCOABS", "TCOFR", "CFC", "CFTCP", "CFIN", "SBLOF", "SBLON", "DISPLOF", "DISPLON", "SAVE",
+    "CPRECON", "CPRECOF", "TRAFOOF", "TRAORI", "TRANSMIT", "TRACYL", "PAROTOF", "TOROTOF", "TCOABS", "TCOFR", "CFC", "CFTCP", "CFIN", "SBLOF", "SBLON", "DISPLOF", "DISPLON", "SAVE",
     "WAITM", "WAITS", "WAITMC", "SPCON", "SPCOF", "NORM", "KONT", "KONTC", "KONTT", "FNORM", "FLIN", "FCUB", "BNAT",
     "BTAN", "BAUTO", "ENAT", "ETAN", "EAUTO", "ACC", "OFFN", "CUT2D", "CUT2DF", "CUT3DC", "CDON", "CDOF", "CDOF2",
     "G64", "G60", "G9", "G601", "G602", "G603", "G641", "G642", "G643", "G644", "G645", "ORIWKS", "ORIMKS", "ORIAXES",
@@ -830,6 +837,9 @@ IGNORED_COMMANDS = frozenset({
     "SUPA", "PTP", "CP", "PTPG0", "DYNNORM", "DYNPOS", "DYNROUGH", "DYNSEMIFIN", "DYNFINISH", "STARTFIFO", "STOPFIFO",
     "FIFOCTRL", "AXNAME", "REPOSA", "REPOSL", "REPOSQ", "REPOSH", "CORROF", "SYNFCT", "DELDTG", "TRAILOF", "LEADOF",
 })
+# Commands that turn the frame to the workpiece or the tool (not modelled: nothing after them is
+# placed on the blank; their ...OF cancels are ignored, as the turn is not followed anyway).
+FRAME_COMMANDS = frozenset({"PAROT", "TOROT", "TOROTX", "TOROTY", "TOROTZ", "TOFRAME", "TOFRAMEX", "TOFRAMEY", "TOFRAMEZ"})
 # Commands that set modal state the lowering turns into IR (handled there by name).
 MODAL_COMMANDS = frozenset({"CFC"})
 # Path commands written as names, modal in G group 1 with G0-G3: CIP, an arc through the

@@ -111,8 +111,8 @@ def _component(runner, op, number: int, params: dict, old, plane):
 
 
 def _shift(runner, op, params: dict, shift: dict):
-    if "#" in params:
-        row = params["#"]
+    if "#" in params or "TABLINE" in params:  # CYCL DEF 7.1 #5, TRANS DATUM TABLE TABLINE 5
+        row = params.get("#", params.get("TABLINE"))
         shown = f"{row:g}" if type(row) is float else "(a Q parameter)"
         runner.fault("core.unsupported-code", op.span, f"datum shift from row {shown} of a datum table: the table is not known here "
                       "(SEL TABLE names it on the control), so positions after it are unknown", "unknown", "datum table not known")
