@@ -281,7 +281,7 @@ class SetFrame(Op):
 class ReferenceReturn(Op):
     """A return to a machine reference point, through ``via``."""
 
-    which: str  # "home" (G28), "secondary" (G30), "from_reference" (G29), "check" (G27)
+    which: str  # "home" (G28), "secondary" (G30), "from_reference" (G29), "check" (G27), "stored" (LinuxCNC G28/G30: parameters' position)
     via: dict[str, Expr]
     words: dict[str, Expr] = field(default_factory=dict)
     incremental: frozenset[str] = frozenset()  # axes of ``via`` written incrementally (U/W)

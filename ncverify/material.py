@@ -792,7 +792,7 @@ def cutter_of(tool, radius: float) -> Cutter:
 def _cutter_shape(kind: str | None, radius: float, corner: float | None, point_angle: float | None) -> Cutter:
     if kind == "ball":
         return Cutter(radius, corner=radius)
-    if kind == "bullnose" and corner is not None:
+    if corner and (kind == "bullnose" or kind in _FLAT):  # a corner radius given to an end mill rounds its end too
         return Cutter(radius, corner=min(corner, radius))
     if kind in _POINTED and point_angle:
         return Cutter(radius, point_angle=point_angle)

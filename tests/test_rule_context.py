@@ -63,7 +63,7 @@ def test_the_tool_radius_lookup_says_once_what_is_missing():
         """
     unknown = findings(check_program(program), "core.tool-too-large")
     assert [d.reason for d in unknown] == [NO_TOOL_TABLE]
-    without_radius = findings(check_program("(ncverify: tool 1 radius 3)\n" + program.replace("T1 M06", "T2 M06")), "core.tool-too-large")
+    without_radius = findings(check_program("(ncverify: tool 1 radius 3)\n" + program.replace("T1 M06", "T2 M06").replace("D1", "D2")), "core.tool-too-large")
     assert [d.reason for d in without_radius] == ["tool T2 is not in the tool table"]
     no_radius = findings(check_program(program, project_text="[tools.1]\nlength = 50"), "core.tool-too-large")
     assert [d.reason for d in no_radius] == ["tool T1 has no radius in the tool table"]

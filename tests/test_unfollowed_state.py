@@ -17,6 +17,7 @@ import pytest
 
 from ncverify import Settings, check_file, check_text
 from ncverify.diagnostics import Status
+from test_sound_cases import KLARTEXT_251
 
 ISO = """
     %
@@ -81,6 +82,7 @@ SINUMERIK_CHANGES = {
     "a synchronised action offsetting Z": "ID=1 WHENEVER TRUE DO $AA_OFF[Z]=-20",
     "the frame turned to the tool": "TOROT",
     "the frame turned to the workpiece": "PAROT",
+    "sum and setup offsets switched on": "DL=2",
 }
 
 KLARTEXT = """
@@ -174,40 +176,8 @@ def test_a_retract_up_the_tool_axis_after_g49_is_not_reported():
 def test_a_klartext_tool_call_without_a_number_gives_its_radius_delta_to_the_tool():
     """``TOOL CALL Z DR+3`` makes the 10 mm tool 16 mm wide: a pocket 12-20 mm wide does not
     fit it for every width below 16."""
-    text = textwrap.dedent("""
-        0  BEGIN PGM T MM
-        1  ; ncverify: tool 5 radius 5 length 60
-        2  ; ncverify: assume 12 <= Q1 <= 20
-        3  BLK FORM 0.1 Z X+0 Y+0 Z-30
-        4  BLK FORM 0.2  X+160  Y+100  Z+0
-        5  TOOL CALL 5 Z S3500 F600
-        6  L  Z+50 R0 FMAX M3
-        7  TOOL CALL Z DR+3
-        8  CYCL DEF 251 RECTANGULAR POCKET ~
-            Q215=+0 ;MACHINING OPERATION ~
-            Q218=+60 ;FIRST SIDE LENGTH ~
-            Q219=+Q1 ;2ND SIDE LENGTH ~
-            Q220=+0 ;CORNER RADIUS ~
-            Q368=+0 ;ALLOWANCE FOR SIDE ~
-            Q224=+0 ;ANGLE OF ROTATION ~
-            Q367=+0 ;POCKET POSITION ~
-            Q207=+500 ;FEED RATE MILLING ~
-            Q351=+1 ;CLIMB OR UP-CUT ~
-            Q201=-10 ;DEPTH ~
-            Q202=+5 ;PLUNGING DEPTH ~
-            Q369=+0 ;ALLOWANCE FOR FLOOR ~
-            Q206=+150 ;FEED RATE FOR PLNGNG ~
-            Q338=+0 ;INFEED FOR FINISHING ~
-            Q200=+2 ;SET-UP CLEARANCE ~
-            Q203=+0 ;SURFACE COORDINATE ~
-            Q204=+50 ;2ND SET-UP CLEARANCE ~
-            Q370=+1 ;TOOL PATH OVERLAP ~
-            Q366=+0 ;PLUNGE ~
-            Q385=+500 ;FINISHING FEED RATE
-        9  L  X+80  Y+50 R0 FMAX M99
-        99 END PGM T MM
-    """).strip() + "\n"
-    result = check_text(text, "part.h", Settings(dialect="heidenhain"))
+    text = KLARTEXT_251.replace("{define}", "; ncverify: assume 12 <= Q1 <= 20").replace("5  Q2 = {size}", "5  TOOL CALL Z DR+3").replace("+Q2 ;2ND", "+Q1 ;2ND")
+    result = check_text(textwrap.dedent(text).strip() + "\n", "part.h", Settings(dialect="heidenhain"))
     [fit] = [d for d in result.diagnostics if d.rule == "heidenhain.tool-too-large"]
     assert fit.status is Status.VIOLATED and 12 <= fit.witness["Q1"] < 16
 
@@ -314,3 +284,126 @@ def test_where_the_stock_is_not_compared_batches_and_blocks_agree(text, name):
     assert findings(False) == findings(True)
     if "#5221" in text:
         assert ("core.rapid-into-stock", 7, Status.VIOLATED.value) in {(rule, line, status) for rule, line, _c, status, _m in findings(False)}
+
+
+
+# --------------------------------------------------------------------------- the third review
+
+def test_linuxcnc_g28_sends_the_axes_to_the_stored_position_not_home():
+    """rs274ngc: G28 goes to the position G28.1 stored (#5161-#5166), every axis when none is
+    named; after it no rapid is proved."""
+    text = textwrap.dedent("""
+        (ncverify: stock box X0:100 Y0:100 Z-30:0)
+        (ncverify: tool 1 radius 5 length 50 type endmill)
+        (ncverify: assume 2 <= #1 <= 5)
+        G21 G17 G90 G54
+        T1 M6
+        G43
+        G0 X50 Y50 Z5
+        G1 Z-5 F100
+        G28.1
+        G0 Z[10+#1]
+        G0 X[60+#1]
+        {change}
+        G0 X[-10-#1]
+        M2
+    """).strip() + "\n"
+    assert _rapid_verdicts(text, "", "G0 X[-10-#1]", "linuxcnc") == {Status.PROVED}
+    assert Status.PROVED not in _rapid_verdicts(text, "G28", "G0 X[-10-#1]", "linuxcnc")
+
+
+def test_linuxcnc_m61_loads_the_tool_it_names():
+    """M61 Q2 puts the 30 mm tool T2 in the spindle: beside the blank at X-10..-13 it reaches
+    into it."""
+    text = textwrap.dedent("""
+        (ncverify: stock box X0:100 Y0:100 Z-30:0)
+        (ncverify: tool 1 radius 5 length 50 type endmill)
+        (ncverify: tool 2 radius 15 length 50 type endmill)
+        (ncverify: assume 2 <= #1 <= 5)
+        G21 G17 G90 G54
+        T1 M6
+        G43
+        G0 X-20 Y50 Z50
+        {change}
+        G0 X[-8-#1]
+        G0 Z-5
+        M2
+    """).strip() + "\n"
+    assert _rapid_verdicts(text, "", "G0 Z-5", "linuxcnc") == {Status.PROVED}
+    assert _rapid_verdicts(text, "M61 Q2\nG43", "G0 Z-5", "linuxcnc") == {Status.VIOLATED}
+
+
+def test_klartext_tool_table_lengths_take_their_delta(tmp_path):
+    """TOOL.T: L + DL is the length the control uses (and R + DR, R2 + DR2)."""
+    (tmp_path / "TOOL.T").write_text("BEGIN TOOL.T MM\nT    NAME      L       R       R2      DL      DR      DR2\n"
+                                     "5    MILL_D10  +60     +5      +0      +40     +1      +0\n[END]\n", encoding="utf-8")
+    from ncverify.lower.heidenhain import read_tool_table
+    tools, _names = read_tool_table(tmp_path / "TOOL.T")
+    assert (tools[5].length, tools[5].radius) == (100.0, 6.0)
+
+
+def test_sinumerik_wear_the_program_sets_leaves_the_radius_unknown():
+    """$TC_DP15 (radius wear) is not read: the tool's radius is not taken as $TC_DP6 alone."""
+    text = textwrap.dedent("""
+        %_N_PART_MPF
+        ; ncverify: assume 6 <= R1 <= 7.5
+        WORKPIECE(,"",,"BOX",0,0,-30,-100,0,0,100,100)
+        $TC_DP1[1,1]=120 $TC_DP6[1,1]=5 $TC_DP3[1,1]=50{wear}
+        N10 G17 G90 G54 G71
+        N20 T1 D1 M6
+        N30 S3000 M3 F400
+        N40 G0 X50 Y50 Z50
+        POCKET4(10,0,1,-10,R1,50,50,3,0,0,300,200,2,1,5,,,,)
+        M30
+    """).strip() + "\n"
+    def verdicts(wear):
+        result = check_text(text.replace("{wear}", wear), "part.mpf", Settings(dialect="sinumerik"))
+        return {d.status for d in result.diagnostics if d.rule == "sinumerik.cutter-radius"}
+    assert verdicts("") == {Status.PROVED}
+    assert verdicts(" $TC_DP15[1,1]=3") == {Status.UNKNOWN}
+
+
+def test_circle_cutting_by_the_d_of_another_tool_is_not_proved():
+    """G12 offsets by its D word's register: with D02 the loaded tool's radius says nothing."""
+    text = ISO.replace("{change}\n    G00 Z#1", "G01 Z-5. F100.\n    G12 I[#1 + 4] D{register} F200.")
+    def verdicts(register):
+        result = check_text(textwrap.dedent(text.replace("{register}", register)).strip() + "\n", "part.nc", Settings(dialect="iso"))
+        return {d.status for d in result.diagnostics if d.rule == "core.tool-too-large"}
+    assert verdicts("01") == {Status.PROVED}
+    assert verdicts("02") == {Status.UNKNOWN}
+
+
+def test_an_inch_feed_is_not_compared_with_the_metric_maximum(tmp_path):
+    (tmp_path / "ncverify.toml").write_text("[machine]\nmax_feed = 5000\n", encoding="utf-8")
+    program = tmp_path / "feed.nc"
+    program.write_text(textwrap.dedent(ISO).strip().replace("{change}", "G01 Z40. F#2").replace("G21", "G20")
+                       .replace("(ncverify: assume 2 <= #1 <= 5)", "(ncverify: assume 2 <= #1 <= 5 and 1000 <= #2 <= 3000)") + "\n", encoding="utf-8")
+    feeds = [d for d in check_file(program, Settings()).diagnostics if d.rule == "core.feed-over-limit"]
+    assert [d.status for d in feeds] == [Status.UNKNOWN]
+
+
+def test_a_corner_radius_rounds_an_end_mill_s_end_in_the_cut_stock():
+    """A 10 mm end mill with a 4 mm corner leaves a fillet at the slot's wall: a thin tool's
+    rapid down into it meets material."""
+    text = textwrap.dedent("""
+        %
+        O1000
+        (ncverify: stock box X0:100 Y0:100 Z-30:0)
+        (ncverify: tool 1 radius 5 corner 4 length 50 type endmill)
+        (ncverify: tool 2 radius 0.5 length 50 type endmill)
+        G21 G17 G40 G49 G80 G90
+        T1 M06
+        G54 G00 X20. Y50. S3000 M03
+        G43 Z5. H01
+        G01 Z-10. F100.
+        G01 X80.
+        G00 Z50.
+        T2 M06
+        G00 X50. Y54.
+        G43 Z5. H02
+        G00 Z-9.5
+        G00 Z50.
+        M30
+        %
+    """).strip() + "\n"
+    assert _rapid_verdicts(text, "", "G00 Z-9.5", "iso") == {Status.VIOLATED}

@@ -257,6 +257,9 @@ class MachineLimits(ReportsMissingContext):
             self._over("core.spindle-over-limit", speed, context.machine.max_spindle, span, state,
                        "spindle speed S{value} is above the machine's maximum {limit:g} rpm", "no maximum spindle speed ([machine] max_spindle)")
         if feed is not None and state.modal.get("feed_mode", "per_minute") == "per_minute":
+            if state.modal.get("units") == "inch" and context.machine.max_feed is not None:
+                self.missing("core.feed-over-limit", span, "a feed in inches per minute, where [machine] max_feed is in mm per minute")
+                return
             self._over("core.feed-over-limit", feed, context.machine.max_feed, span, state,
                        "feed F{value} is above the machine's maximum {limit:g} per minute", "no maximum feed ([machine] max_feed)")
 

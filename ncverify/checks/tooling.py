@@ -25,6 +25,11 @@ class CircleSmallerThanTool(ReportsMissingContext):
     def cycle_run(self, run, state):
         if run.model.shape != "circle" or run.params.get("I") is None:
             return
+        register = run.params.get("D")
+        if register is not None and register != state.tool_in_spindle:  # the control offsets by D's value, the table gives T's radius
+            self.missing("core.tool-too-large", run.param_spans.get("D", run.span), f"{cycle_code(run.cycle)} offsets by the register D{show(register)}, "
+                         f"not the loaded tool T{show(state.tool_in_spindle)}'s: the radius it uses is not known")
+            return
         radius = self.spindle_tool_radius(state, run.span, "core.tool-too-large")
         sizes = None if radius is None else self.workpiece_sizes(run.params, ("I",), state, run.span, "core.tool-too-large")
         if sizes is None:

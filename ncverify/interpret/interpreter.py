@@ -823,7 +823,7 @@ class Interpreter(ControlFlow):
         if op.group == "units" and old != op.value:
             self._change("units", op.span, block, old, op.value)
             if old is not None:
-                self.unfollowed(f"the units were switched from {old} to {op.value} after the first move: the stock and the tools stay as described")
+                self.unfollowed(f"the units were switched from {old} to {op.value}: the stock, the tools and the machine's data stay as described")
         elif op.group in _WATCHED_MODAL:
             self._change(op.group, op.span, block, old, op.value)
         return None
@@ -1104,8 +1104,10 @@ class Interpreter(ControlFlow):
                      op_values({"P": op.words["P"]}, self, op.span) if "P" in op.words else {})
         if op.which in ("home", "secondary"):
             state.park(targets)  # at the machine reference point: unknown in work coordinates
-        else:
-            state.move_to(dict.fromkeys(targets))
+        else:  # "stored" (LinuxCNC): to the position its parameters hold (G28.1), every axis when none is named
+            start = state.position
+            state.move_to(dict.fromkeys(targets or [axis for axis in state.position if axis in _STORED_AXES] or "XYZ"))
+            self._emit("rapid", start, op.span, block, "reference")
         for axis in targets:  # a reference return cancels the axis's G52 local origin
             if ("local-origin", axis) in state.rule_state:
                 self._set_local_origin(axis, 0.0)
@@ -1481,6 +1483,7 @@ _RADIUS_WORD = 3
 _RUN_SEGMENT_KIND = ("rapid", "feed", "arc", "arc")
 
 
+_STORED_AXES = frozenset("XYZABC")  # the axes a LinuxCNC G28/G30 without axis words sends to their stored positions
 _GATHERED_MOVES = 4096  # moves gathered into one run at most (memory stays flat in program length)
 _SHORTEST_RUN = 32  # fewer gathered moves go on one by one: the rules' work per run outweighs their work per move
 _RUN_KIND = {"rapid": 0, "feed": 1, "arc": _FIRST_ARC_KIND}  # a segment's kind in a MotionRun (+1: a counter-clockwise arc)

@@ -1027,9 +1027,22 @@ _TOOL_COLUMNS = {"R": "radius", "L": "length", "LU": "usable_length", "LCUTS": "
                  "T-ANGLE": "point_angle"}
 
 
+def _add_delta(tool: Tool, field: str, text: str) -> None:
+    """Add a TOOL.T delta column's value to the tool's ``field`` (left alone when either is
+    not a number, or the sum is no size)."""
+    try:
+        delta = float(text.replace(",", ".") or 0)
+    except ValueError:
+        return
+    value = getattr(tool, field)
+    if value is not None and tool_value_problem(field, value + delta) is None:
+        setattr(tool, field, value + delta)
+
+
 def read_tool_table(path) -> tuple[dict[int, Tool], dict[str, float]]:
     """TOOL.T: a header line naming the columns, then one line per tool (fixed columns,
-    split here by the header's column starts). R + DR is the radius the control uses."""
+    split here by the header's column starts). R + DR, L + DL and R2 + DR2 are what the
+    control uses."""
     note_file(path)
     try:
         lines = path.read_text(encoding="utf-8", errors="replace").splitlines()
@@ -1061,12 +1074,8 @@ def read_tool_table(path) -> tuple[dict[int, Tool], dict[str, float]]:
                 continue
             if tool_value_problem(field, value) is None and (value > 0 or column in ("ANGLE", "R2", "T-ANGLE")):  # LU, LCUTS, PITCH 0: not entered
                 setattr(tool, field, value)
-        try:
-            delta = float(cells.get("DR", "0").replace(",", ".") or 0)
-        except ValueError:
-            delta = 0.0
-        if tool.radius is not None and tool_value_problem("radius", delta) is None:
-            tool.radius += delta
+        for field, column in (("radius", "DR"), ("length", "DL"), ("corner", "DR2")):  # R + DR, L + DL, R2 + DR2: what the control uses
+            _add_delta(tool, field, cells.get(column, "0"))
         tools[number] = tool
         if tool.name:
             by_name[tool.name.upper()] = float(number)

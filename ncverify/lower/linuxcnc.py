@@ -137,12 +137,14 @@ class LinuxcncLowering(IsoLowering):
                 item.value = _logical(item.value)
             elif hasattr(item, "value") and isinstance(item.value, (ir.Binary, ir.Unary, ir.Func, ir.Var)):
                 item.value = _logical(item.value)
+        tool_set = self._tool_set(read, path)
         self._drop_m_code_words(read)
         owords = [item for item in read.items if isinstance(item, OWord)]
         if not owords or read.problem:
             polar = [item for item in read.items if isinstance(item, Word) and item.letter in POLAR]
             read.items = [item for item in read.items if item not in polar]
             block = self.lower(read, path)
+            block.ops.extend(tool_set)
             if polar:
                 self._polar_unsupported(block, polar, read, path)
             self._comment_actions(block)
@@ -228,6 +230,16 @@ class LinuxcncLowering(IsoLowering):
         result = block()
         result.notes.append(ir.Note("core.syntax", f"{name} {keyword.lower()} is not an O-word statement", span))
         return [result]
+
+    def _tool_set(self, read: ReadBlock, path) -> list[ir.Op]:
+        """M61 Q..: the tool in the spindle is tool Q from now on, without a change (the
+        operations a tool change makes, for the rules that read the loaded tool)."""
+        m61 = next((item for item in read.items if isinstance(item, Word) and item.letter == "M" and item.value == 61.0), None)
+        number = next((item for item in read.items if isinstance(item, Word) and item.letter == "Q"), None)
+        if m61 is None or number is None:
+            return []
+        span = Span(read.line, m61.start + 1, read.line, number.end + 1, path)
+        return [ir.ToolSelect(span, number.value), ir.ToolChange(span)]
 
     @staticmethod
     def _drop_m_code_words(read: ReadBlock) -> None:

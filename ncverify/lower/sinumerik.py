@@ -659,7 +659,7 @@ class SinumerikFrontend:
         upper = name.upper()
         if upper.startswith("$TC_"):
             return "tool data", False
-        if upper.startswith(_OFFSETS_IN_FORCE):
+        if upper.startswith(_OFFSETS_IN_FORCE) or upper == "DL":  # DL=n: additive (sum and setup) offsets the program does not give
             return "an offset in force", True
         if upper.startswith(_FRAME_TABLES):
             return "a work offset (settable or base frame)", False
@@ -800,13 +800,21 @@ def _lines_naming(buffer: bytes, keywords: tuple):
 def _tool(number: int, data: dict) -> Tool:
     """Tool ``number`` from one edge's offset parameters: P1 type, P2 cutting-edge position,
     P3 length, P6 radius, P24 clearance angle (reference B section 3). A value outside its
-    range (``TOOL_RANGES``) is left unknown."""
+    range (``TOOL_RANGES``) is left unknown, and so are the radius and the length when
+    another parameter of the edge holds a value."""
     def checked(key, parameter):
         value = data.get(parameter)
         return None if value is None or tool_value_problem(key, value) else value
 
-    return Tool(number, type=_TOOL_TYPES.get(int(data.get(1, 0)) // 100), radius=data.get(6), length=data.get(3),
+    unread = any(value != 0.0 for parameter, value in data.items() if parameter not in _READ_EDGE_PARAMETERS)  # wear, more lengths...
+    return Tool(number, type=_TOOL_TYPES.get(int(data.get(1, 0)) // 100), radius=None if unread else data.get(6), length=None if unread else data.get(3),
                 clearance_angle=checked("clearance_angle", 24), edge_position=checked("edge_position", 2), origin="program ($TC_DP)")
+
+
+# The edge parameters read (type, edge position, length 1, radius, clearance angle); any other
+# one set to a value (lengths 2 and 3, wear such as $TC_DP12 and $TC_DP15, base dimensions) adds
+# to the radius or the length in ways not modelled, which are then not known.
+_READ_EDGE_PARAMETERS = frozenset({1, 2, 3, 6, 24})
 
 
 def _workpiece(text: str, line: int) -> Stock | None:
