@@ -407,3 +407,27 @@ def test_a_corner_radius_rounds_an_end_mill_s_end_in_the_cut_stock():
         %
     """).strip() + "\n"
     assert _rapid_verdicts(text, "", "G00 Z-9.5", "iso") == {Status.VIOLATED}
+
+
+# --------------------------------------------------------------------------- the fourth review
+
+def test_a_klartext_cycle_runs_with_its_q_parameters_as_they_are_at_the_call():
+    """CYCL DEF writes the cycle's Q parameters; a later ``Q219 = 8`` changes the pocket the
+    call mills: the 10 mm tool does not fit its 8 mm width."""
+    text = KLARTEXT_251.replace("{define}", "; ncverify: assume 20 <= Q1 <= 22").replace("{size}", "Q1")
+    def verdicts(between):
+        program = textwrap.dedent(text.replace("    7  L  X+80", f"{between}    7  L  X+80")).strip() + "\n"
+        result = check_text(program, "part.h", Settings(dialect="heidenhain"))
+        return {d.status for d in result.diagnostics if d.rule == "heidenhain.tool-too-large"}
+    assert verdicts("") == {Status.PROVED}
+    assert verdicts("    6  Q219 = 8\n") == {Status.VIOLATED}
+
+
+def test_a_klartext_feed_per_revolution_is_not_compared_with_the_maximum_feed(tmp_path):
+    """M136: F is in mm per revolution until M137."""
+    (tmp_path / "ncverify.toml").write_text("[machine]\nmax_feed = 10000\n", encoding="utf-8")
+    program = tmp_path / "part.h"
+    program.write_text(textwrap.dedent(KLARTEXT).strip().replace("{change}", "M136\n    L  X+40 Y+50 FQ2\n    M137")
+                       .replace("; ncverify: assume 2 <= Q1 <= 5", "; ncverify: assume 2 <= Q1 <= 5 and 4 <= Q2 <= 5") + "\n", encoding="utf-8")
+    feeds = [d.status for d in check_file(program, Settings()).diagnostics if d.rule == "core.feed-over-limit"]
+    assert Status.PROVED not in feeds

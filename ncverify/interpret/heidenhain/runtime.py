@@ -320,6 +320,22 @@ def _returns_between(runner, target, end: int) -> bool:
 # --------------------------------------------------------------------------- cycles
 
 
+_CYCLE_Q = re.compile(r"Q(?:[2-9]\d\d|[1-9]\d{3,})")  # Q200 on: the cycles' own parameters (the SL cycles' Q1-Q20 are judged apart)
+
+
+def _defined_cycle(state):
+    """The CALL-active cycle as a call runs it: its Q parameters are the control's global Q
+    parameters, which CYCL DEF wrote and the program may have written again since."""
+    definition = state.klartext.cycle
+    if definition is None:
+        return None
+    variables = state.global_variables
+    current = {name: variables.get(name, value) if _CYCLE_Q.fullmatch(name) else value for name, value in definition.params.items()}
+    if all(current[name] is value for name, value in definition.params.items()):
+        return definition
+    return replace(definition, params=current)
+
+
 def _define_run(runner, op: ir.CycleDefine, block):
     """CYCL DEF: a DEF-active cycle acts now, the others become the cycle the next call runs."""
     params = runner.words(op.params, op.span)
@@ -340,6 +356,9 @@ def _define_run(runner, op: ir.CycleDefine, block):
     definition = Definition(number, params, dict(op.param_spans), op.span, cycle_model)
     _put(state, cycle=definition)
     _put(state, m89=False)
+    for name, value in params.items():  # its Q parameters are the control's own: the call reads them as they are then
+        if _CYCLE_Q.fullmatch(name):
+            state.global_variables[name] = value
     if cycle_model is UNKNOWN_CYCLE:
         runner.fault("core.unsupported-code", op.span, f"cycle {number} is read but not modelled; checks that depend on its motion answer unknown",
                       "unknown", f"cycle {number}")
@@ -606,7 +625,7 @@ def _call_run(runner, op, block, params):
     """CYCL CALL / CYCL CALL PAT / CYCL CALL POS / M99 / M89 (seed L692-791)."""
     state = runner.state
     how = params.get("how", "CALL")
-    definition = state.klartext.cycle
+    definition = _defined_cycle(state)
     if how in ("M89", "M99"):
         _put(state, m89=how == "M89")
     if definition is None:
@@ -649,7 +668,7 @@ def _positioned_run(runner, op, block):
                                  "the first positioning after it must give both plane axes absolute; an incremental or single-axis move goes somewhere else (seed L5930-5940)")
     if not state.klartext.m89:
         return None
-    definition = state.klartext.cycle
+    definition = _defined_cycle(state)
     if definition is None:
         return None
     return run_cycle(runner, op, block, definition)
@@ -673,7 +692,7 @@ def _run_at_points(runner, op, block, points, feed=None, pattern: dict | None = 
     replace the machining cycle's for this and every later call, and with Q301 = 0 the
     tool moves between points at the set-up clearance only (reference B H34, H17)."""
     state = runner.state
-    definition = state.klartext.cycle
+    definition = _defined_cycle(state)
     if definition is None:
         runner.fault("heidenhain.call-without-cycle", op.span, "a pattern runs with no machining cycle defined before it: the control stops with an error")
         return None

@@ -198,5 +198,6 @@ def m_function_run(runner, op, block):
     number = op.number
     if number in (136.0, 137.0):
         common.put(runner.state, feed_per_revolution=number == 136.0)
+        runner.state.modal["feed_mode"] = "per_revolution" if number == 136.0 else "per_minute"  # what the feed rules read
     runner.change("m_function", op.span, block, None, number)
     return None
