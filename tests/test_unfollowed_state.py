@@ -130,6 +130,17 @@ CASES = [(template, name, change, written, dialect) for template, changes, writt
 ) for name, change in changes.items()]
 
 
+def _statuses(text: str, name: str, rule: str, project=None) -> set[Status]:
+    """The statuses of ``rule`` on the program ``text`` (indented as above), checked as file
+    ``name`` beside ``project``, an ncverify.toml with a maximum feed of 5,000 mm/min."""
+    if project is None:
+        return {d.status for d in check_text(textwrap.dedent(text).strip() + "\n", name).diagnostics if d.rule == rule}
+    project.write_text("[machine]\nmax_feed = 5000\n", encoding="utf-8")
+    program = project.parent / name
+    program.write_text(textwrap.dedent(text).strip() + "\n", encoding="utf-8")
+    return {d.status for d in check_file(program, Settings()).diagnostics if d.rule == rule}
+
+
 def _rapid_verdicts(template: str, change: str, written: str, dialect: str) -> set[Status]:
     """The verdicts of ``core.rapid-into-stock`` on the line of the rapid ``written``."""
     text = textwrap.dedent(template).strip().replace("{change}", change) + "\n"
@@ -366,20 +377,13 @@ def test_sinumerik_wear_the_program_sets_leaves_the_radius_unknown():
 def test_circle_cutting_by_the_d_of_another_tool_is_not_proved():
     """G12 offsets by its D word's register: with D02 the loaded tool's radius says nothing."""
     text = ISO.replace("{change}\n    G00 Z#1", "G01 Z-5. F100.\n    G12 I[#1 + 4] D{register} F200.")
-    def verdicts(register):
-        result = check_text(textwrap.dedent(text.replace("{register}", register)).strip() + "\n", "part.nc", Settings(dialect="iso"))
-        return {d.status for d in result.diagnostics if d.rule == "core.tool-too-large"}
-    assert verdicts("01") == {Status.PROVED}
-    assert verdicts("02") == {Status.UNKNOWN}
+    assert _statuses(text.replace("{register}", "01"), "part.nc", "core.tool-too-large") == {Status.PROVED}
+    assert _statuses(text.replace("{register}", "02"), "part.nc", "core.tool-too-large") == {Status.UNKNOWN}
 
 
 def test_an_inch_feed_is_not_compared_with_the_metric_maximum(tmp_path):
-    (tmp_path / "ncverify.toml").write_text("[machine]\nmax_feed = 5000\n", encoding="utf-8")
-    program = tmp_path / "feed.nc"
-    program.write_text(textwrap.dedent(ISO).strip().replace("{change}", "G01 Z40. F#2").replace("G21", "G20")
-                       .replace("(ncverify: assume 2 <= #1 <= 5)", "(ncverify: assume 2 <= #1 <= 5 and 1000 <= #2 <= 3000)") + "\n", encoding="utf-8")
-    feeds = [d for d in check_file(program, Settings()).diagnostics if d.rule == "core.feed-over-limit"]
-    assert [d.status for d in feeds] == [Status.UNKNOWN]
+    text = ISO.replace("{change}", "G01 Z40. F#2").replace("G21", "G20").replace("(ncverify: assume 2 <= #1 <= 5)", "(ncverify: assume 2 <= #1 <= 5 and 1000 <= #2 <= 3000)")
+    assert _statuses(text, "part.nc", "core.feed-over-limit", tmp_path / "ncverify.toml") == {Status.UNKNOWN}
 
 
 def test_a_corner_radius_rounds_an_end_mill_s_end_in_the_cut_stock():
@@ -415,19 +419,11 @@ def test_a_klartext_cycle_runs_with_its_q_parameters_as_they_are_at_the_call():
     """CYCL DEF writes the cycle's Q parameters; a later ``Q219 = 8`` changes the pocket the
     call mills: the 10 mm tool does not fit its 8 mm width."""
     text = KLARTEXT_251.replace("{define}", "; ncverify: assume 20 <= Q1 <= 22").replace("{size}", "Q1")
-    def verdicts(between):
-        program = textwrap.dedent(text.replace("    7  L  X+80", f"{between}    7  L  X+80")).strip() + "\n"
-        result = check_text(program, "part.h", Settings(dialect="heidenhain"))
-        return {d.status for d in result.diagnostics if d.rule == "heidenhain.tool-too-large"}
-    assert verdicts("") == {Status.PROVED}
-    assert verdicts("    6  Q219 = 8\n") == {Status.VIOLATED}
+    assert _statuses(text, "part.h", "heidenhain.tool-too-large") == {Status.PROVED}
+    assert _statuses(text.replace("    7  L  X+80", "    6  Q219 = 8\n    7  L  X+80"), "part.h", "heidenhain.tool-too-large") == {Status.VIOLATED}
 
 
 def test_a_klartext_feed_per_revolution_is_not_compared_with_the_maximum_feed(tmp_path):
     """M136: F is in mm per revolution until M137."""
-    (tmp_path / "ncverify.toml").write_text("[machine]\nmax_feed = 10000\n", encoding="utf-8")
-    program = tmp_path / "part.h"
-    program.write_text(textwrap.dedent(KLARTEXT).strip().replace("{change}", "M136\n    L  X+40 Y+50 FQ2\n    M137")
-                       .replace("; ncverify: assume 2 <= Q1 <= 5", "; ncverify: assume 2 <= Q1 <= 5 and 4 <= Q2 <= 5") + "\n", encoding="utf-8")
-    feeds = [d.status for d in check_file(program, Settings()).diagnostics if d.rule == "core.feed-over-limit"]
-    assert Status.PROVED not in feeds
+    text = KLARTEXT.replace("{change}", "M136\n    L  X+40 Y+50 FQ2\n    M137").replace("; ncverify: assume 2 <= Q1 <= 5", "; ncverify: assume 2 <= Q1 <= 5 and 4 <= Q2 <= 5")
+    assert Status.PROVED not in _statuses(text, "part.h", "core.feed-over-limit", tmp_path / "ncverify.toml")
