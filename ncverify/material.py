@@ -704,14 +704,13 @@ def length_problem(context, state) -> str | None:
     mode, register, tool = state.length_mode, state.length_register, state.tool_in_spindle
     if mode == "minus":
         return "G44 subtracts the length offset, so the tool's tip is not at the programmed Z"
-    if mode == "plus" and register != tool:
-        return _register_problem(register, tool)
-    if mode == "with_tool":
-        return _edge_problem(context, state)
     if mode == "given":
         return "the length offset in force is a value the program gave (G43.1, G43.2), not the loaded tool's length"
     if mode == "off" and state.tool_changed and not context.lengths_by_set_up and state.plane_axes[2] not in state.parked and _has_length(context, state):
         return "no tool length offset is in force since the tool change, so the programmed Z is the spindle's, not the tool tip's"
+    problem = _register_problem(register, tool) if mode == "plus" else _edge_problem(context, state) if mode == "with_tool" else None
+    if problem is not None:
+        return problem
     delta = state.klartext.length_delta
     if not (type(delta) is float and delta == 0.0):
         return f"TOOL CALL DL{show(delta)} puts the tool's tip that far from the programmed point"
@@ -721,11 +720,13 @@ def length_problem(context, state) -> str | None:
 def _register_problem(register, tool) -> str | None:
     """Why the length offset register ``register`` (G43 H..) may not hold the loaded tool
     ``tool``'s length, or None."""
+    if register is tool or (type(register) is str and register == tool):  # Klartext: the tool called by its name
+        return None
     if register is None:
         return "G43 has no H in force: the control applies H0 (no length) or a register the program did not name"
     if type(register) is not float:
         return "the length offset's H register depends on a free parameter"
-    if type(tool) is float and register != 0.0:
+    if type(tool) is float and register not in (0.0, tool):
         return (f"the length offset H{show(register)} is not the one of the loaded tool T{show(tool)}, so the tool's tip is off the "
                 "programmed Z by the difference of their lengths")
     return None
@@ -740,7 +741,7 @@ def radius_problem(context, state) -> str | None:
     if state.length_mode == "with_tool":
         return _edge_problem(context, state)
     register, tool = state.comp_register, state.tool_in_spindle
-    if register is None or register == tool:
+    if register is None or register is tool or (type(register) is float and register == tool):
         return None
     if type(register) is not float:
         return "the radius offset's D register depends on a free parameter"
@@ -753,7 +754,7 @@ def _edge_problem(context, state) -> str | None:
     """Why the active offset of the loaded tool (a SINUMERIK cutting edge, a Fagor D) may
     not be the one the tool table gives: an edge or offset the table does not describe."""
     register = state.comp_register  # Fagor: D selects the tool's offset; posts write D1 or the tool's own number
-    if register is not None and register in (1.0, state.tool_in_spindle):
+    if type(register) is float and register in (1.0, state.tool_in_spindle):
         return None
     edge, tool = (register if register is not None else active_edge(state)), context.tools.in_spindle(state)
     if type(edge) is not float:
