@@ -790,10 +790,12 @@ class Interpreter(ControlFlow):
         """The program changed state the model does not follow (``why``): from its first move
         on (``before_moves``: even before it), where the tool's tip stands on the blank is not
         known for the rest of the path. Before the first move a work offset or the units are
-        set up as the stock is described, so they do not count then."""
+        set up as the stock is described, so they do not count then; they are kept apart
+        (``set_up_written``) for the travel check, whose offsets come from the project file."""
         state = self.state
-        if state.unfollowed is None and (before_moves or state.motion_seen):
-            state.unfollowed = why
+        if before_moves or state.motion_seen:
+            if state.unfollowed is None:
+                state.unfollowed = why
         elif state.set_up_written is None:
             state.set_up_written = why
 
