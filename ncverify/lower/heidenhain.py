@@ -35,11 +35,11 @@ _TOOL_AXIS_PLANE = {"Z": "xy", "X": "yz", "Y": "zx"}
 _FN_ARITHMETIC = {1: "+", 2: "-", 3: "*", 4: "/"}
 _FN_CONDITION = {9: "EQ", 10: "NE", 11: "GT", 12: "LT"}
 _CONDITION_WORDS = {"EQU": "EQ", "NE": "NE", "GT": "GT", "LT": "LT"}
-# Statements that read fine but whose effect is not modelled: (affects position?, what).
 # Statements of _UNMODELLED that may change a preset, a datum, the tool data or the
 # kinematics (a probing cycle sets presets): after them nothing is placed on the blank.
 _CHANGES_STATE = frozenset({"TCH", "FUNCTION", "SPEC", "TABDATA", "PRESET", "POLARKIN", "SYSCALL"})
 _FN_WRITES = frozenset({17, 27})  # FN 17: SYSWRITE (tool data, presets...), FN 27: TABWRITE
+# Statements that read fine but whose effect is not modelled: (affects position?, what).
 _UNMODELLED = {
     "TCH": (True, "TCH PROBE (a touch-probe cycle)"),
     "FUNCTION": (False, "FUNCTION"), "SPEC": (False, "SPEC FCT"), "DECLARE": (False, "DECLARE"),

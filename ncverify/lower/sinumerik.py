@@ -652,8 +652,9 @@ class SinumerikFrontend:
     @staticmethod
     def machine_data(name: str) -> tuple[str, bool] | None:
         """What writing system variable ``name`` changes that the model does not follow (see
-        :meth:`~ncverify.interpret.Interpreter.unfollowed`): a frame in force (``$P_PFRAME``,
-        ``$P_IFRAME``...) whenever written; the settable and base frame tables and the tool
+        :meth:`~ncverify.interpret.Interpreter.unfollowed`): a frame or an offset in force
+        (``$P_PFRAME``, ``$P_IFRAME``..., ``TOFFL``, ``TOFF[Z]``, ``$AA_OFF``, ``$AA_ETRANS``,
+        the address ``DL``) whenever written; the settable and base frame tables and the tool
         data (``$TC_``) once the program moves, as a program defines its tools and offsets
         with them at its start; None for any other variable."""
         upper = name.upper()
