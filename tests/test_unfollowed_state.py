@@ -427,3 +427,26 @@ def test_a_klartext_feed_per_revolution_is_not_compared_with_the_maximum_feed(tm
     """M136: F is in mm per revolution until M137."""
     text = KLARTEXT.replace("{change}", "M136\n    L  X+40 Y+50 FQ2\n    M137").replace("; ncverify: assume 2 <= Q1 <= 5", "; ncverify: assume 2 <= Q1 <= 5 and 4 <= Q2 <= 5")
     assert Status.PROVED not in _statuses(text, "part.h", "core.feed-over-limit", tmp_path / "ncverify.toml")
+
+
+
+# --------------------------------------------------------------------------- the fifth review
+
+def test_a_sinumerik_var_parameter_writes_back_what_is_not_followed(tmp_path):
+    """PROC LOWER(VAR REAL H) lowers the caller's LEV by 20: the rapid to Z=LEV is not proved."""
+    (tmp_path / "LOWER.SPF").write_text("PROC LOWER(VAR REAL H)\nH=H-20\nM17\n", encoding="utf-8")
+    text = SINUMERIK.replace("{change}", "LEV=R1\n    LOWER(LEV)").replace("G0 Z=R1", "G0 Z=LEV").replace("    N10 G17", "    DEF REAL LEV\n    N10 G17")
+    program = tmp_path / "PART.MPF"
+    program.write_text(textwrap.dedent(text).strip() + "\n", encoding="utf-8")
+    verdicts = {d.status for d in check_file(program, Settings()).diagnostics if d.rule == "core.rapid-into-stock"}
+    assert verdicts == {Status.UNKNOWN}
+    (tmp_path / "LOWER.SPF").write_text("PROC LOWER(REAL H)\nH=H-20\nM17\n", encoding="utf-8")  # by value: LEV stays R1
+    assert {d.status for d in check_file(program, Settings()).diagnostics if d.rule == "core.rapid-into-stock"} == {Status.PROVED}
+
+
+def test_a_modal_macro_call_ends_the_proofs():
+    """G66: the macro (not modelled) runs at every move from here on, wherever it takes the
+    tool; positioning again does not bring the proofs back."""
+    text = textwrap.dedent(ISO).strip().replace("{change}", "G66 P9100 V-20.\nG00 X50. Y50. Z50.") + "\n"
+    stock = [d for d in check_text(text, "part.nc", Settings(dialect="iso")).diagnostics if d.rule == "core.rapid-into-stock"]
+    assert [d.status for d in stock] == [Status.UNKNOWN] and "G66" in stock[0].message

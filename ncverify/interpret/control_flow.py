@@ -415,11 +415,14 @@ class ControlFlow:
     def _proc_arguments(self, op: ir.Call, source: ProgramSource, start: int) -> dict:
         """A call by name with positional arguments (SINUMERIK ``NAME(a, b)``): the called
         program's own variables start as its formal parameters (``frontend.proc_parameters``);
-        an omitted argument is 0."""
+        an omitted argument is 0. A parameter passed by reference (``VAR``) writes back to the
+        caller's variable, which is not followed."""
         arguments = {}
-        for index, (name, _by_reference) in enumerate(self.frontend.proc_parameters(source.buffer, start)):
+        for index, (name, by_reference) in enumerate(self.frontend.proc_parameters(source.buffer, start)):
             value = self.evaluate(op.arguments.get(str(index), 0.0), op.span)
             arguments[name] = 0.0 if value is VACANT else value
+            if by_reference:
+                self.unfollowed(f"{op.program} takes {name} by reference (VAR): what it writes back to the caller's variable is not followed", before_moves=True)
         return arguments
 
     def _local_call(self, op: ir.Call, block, repeat: int):
