@@ -708,7 +708,10 @@ def length_problem(context, state) -> str | None:
         return "the length offset in force is a value the program gave (G43.1, G43.2), not the loaded tool's length"
     if mode == "off" and state.tool_changed and not context.lengths_by_set_up and state.plane_axes[2] not in state.parked and _has_length(context, state):
         return "no tool length offset is in force since the tool change, so the programmed Z is the spindle's, not the tool tip's"
-    problem = _register_problem(register, tool) if mode == "plus" else _edge_problem(context, state) if mode == "with_tool" else None
+    if mode == "plus" and register is None and tool is not None:
+        return "G43 has no H in force: the control applies H0 (no length) or a register the program did not name"
+    lengths = "the tool's tip is off the programmed Z by the difference of their lengths"
+    problem = register_problem("H", register, tool, lengths) if mode == "plus" else _edge_problem(context, state) if mode == "with_tool" else None
     if problem is not None:
         return problem
     delta = state.klartext.length_delta
@@ -717,18 +720,17 @@ def length_problem(context, state) -> str | None:
     return None
 
 
-def _register_problem(register, tool) -> str | None:
-    """Why the length offset register ``register`` (G43 H..) may not hold the loaded tool
-    ``tool``'s length, or None."""
-    if register is tool or (type(register) is str and register == tool):  # Klartext: the tool called by its name
+def register_problem(letter: str, register, tool, so: str) -> str | None:
+    """Why offset register ``letter`` ``register`` (an ISO H or D, numbered as the tools are)
+    may not hold the loaded tool ``tool``'s data (``so``: what follows then), or None: it
+    depends on a free parameter, or it is another tool's number. None where no register is
+    named, or no tool is known to be loaded (the tool's own data then answer)."""
+    if register is None or register is tool or (type(register) in (float, str) and register == tool):  # Klartext: a tool called by name
         return None
-    if register is None:
-        return "G43 has no H in force: the control applies H0 (no length) or a register the program did not name"
     if type(register) is not float:
-        return "the length offset's H register depends on a free parameter"
-    if type(tool) is float and register not in (0.0, tool):
-        return (f"the length offset H{show(register)} is not the one of the loaded tool T{show(tool)}, so the tool's tip is off the "
-                "programmed Z by the difference of their lengths")
+        return f"the offset register {letter} depends on a free parameter"
+    if type(tool) is float:
+        return f"the offset {letter}{show(register)} is not the one of the loaded tool T{show(tool)}, so {so}"
     return None
 
 
@@ -740,14 +742,7 @@ def radius_problem(context, state) -> str | None:
         return None
     if state.length_mode == "with_tool":
         return _edge_problem(context, state)
-    register, tool = state.comp_register, state.tool_in_spindle
-    if register is None or register is tool or (type(register) is float and register == tool):
-        return None
-    if type(register) is not float:
-        return "the radius offset's D register depends on a free parameter"
-    if type(tool) is float:
-        return f"the radius offset D{show(register)} is not the one of the loaded tool T{show(tool)}, so the tool runs off the path by another radius"
-    return None
+    return register_problem("D", state.comp_register, state.tool_in_spindle, "the tool runs off the path by another radius")
 
 
 def _edge_problem(context, state) -> str | None:

@@ -9,6 +9,7 @@ import numpy
 from ..ir import cycle_code
 from .. import frames, values
 from ..check import ARCS, hazard, rule, show
+from ..material import register_problem
 from .common import ReportsMissingContext
 from .. import modelled
 from ..trace import ARC_CCW, ARC_CW
@@ -25,10 +26,9 @@ class CircleSmallerThanTool(ReportsMissingContext):
     def cycle_run(self, run, state):
         if run.model.shape != "circle" or run.params.get("I") is None:
             return
-        register = run.params.get("D")
-        if register is not None and register != state.tool_in_spindle:  # the control offsets by D's value, the table gives T's radius
-            self.missing("core.tool-too-large", run.param_spans.get("D", run.span), f"{cycle_code(run.cycle)} offsets by the register D{show(register)}, "
-                         f"not the loaded tool T{show(state.tool_in_spindle)}'s: the radius it uses is not known")
+        other = register_problem("D", run.params.get("D"), state.tool_in_spindle, f"the radius {cycle_code(run.cycle)} offsets by is not known")
+        if other is not None:  # the control offsets by D's value, the table gives T's radius
+            self.missing("core.tool-too-large", run.param_spans.get("D", run.span), other)
             return
         radius = self.spindle_tool_radius(state, run.span, "core.tool-too-large")
         sizes = None if radius is None else self.workpiece_sizes(run.params, ("I",), state, run.span, "core.tool-too-large")

@@ -165,6 +165,7 @@ class Interpreter(ControlFlow):
         self._dialect_after_batch = getattr(runtime, "after_batch", None)
         self._system_variable = getattr(frontend, "system_variable", None)
         self._machine_data = getattr(frontend, "machine_data", None)
+        self._machine_names: dict[str, tuple[str, bool] | None] = {}  # _machine_data_of's answers
         self._g43_takes_the_loaded_tool = getattr(frontend, "g43_takes_the_loaded_tool", False)
         self.twins = twins
         self.assigned: dict[int, list[tuple[str, object]]] = {}  # line -> (variable, value) of assignment statements, with settings.record_values
@@ -771,8 +772,9 @@ class Interpreter(ControlFlow):
     def write_variable(self, var: ir.Var, value, span=None, assignment: bool = False) -> None:
         name = self.variable_name(var, span)
         value = values.stored(value)
-        if self.is_machine_data(name):
-            what, before_moves = self._machine_data(name)
+        data = self._machine_data_of(name)
+        if data is not None:
+            what, before_moves = data
             self.unfollowed(f"{name} written: the program changed {what}", before_moves)
         if assignment and self.settings.record_values and span is not None and span.path is None:
             self.assigned.setdefault(span.line, []).append((name, value))
@@ -784,7 +786,16 @@ class Interpreter(ControlFlow):
     def is_machine_data(self, name) -> bool:
         """Does writing variable ``name`` change machine data (a work offset, a frame, tool
         data) that the model does not follow? (The dialect's ``machine_data``.)"""
-        return self._machine_data is not None and isinstance(name, str) and self._machine_data(name) is not None
+        return isinstance(name, str) and self._machine_data_of(name) is not None
+
+    def _machine_data_of(self, name: str) -> tuple[str, bool] | None:
+        """The dialect's ``machine_data`` of ``name``, asked once per name (every assignment
+        asks)."""
+        if self._machine_data is None:
+            return None
+        if name not in self._machine_names:
+            self._machine_names[name] = self._machine_data(name)
+        return self._machine_names[name]
 
     def unfollowed(self, why: str, before_moves: bool = False) -> None:
         """The program changed state the model does not follow (``why``): from its first move
