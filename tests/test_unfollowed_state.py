@@ -12,11 +12,14 @@ so the test fails where the change goes unseen.
 from __future__ import annotations
 
 import textwrap
+from types import SimpleNamespace
 
 import pytest
 
 from ncverify import Settings, check_file, check_text
+from ncverify.checks.stock import _rises
 from ncverify.diagnostics import Status
+from ncverify.interpret.interpreter import MachineState
 from test_sound_cases import KLARTEXT_251
 
 ISO = """
@@ -450,3 +453,15 @@ def test_a_modal_macro_call_ends_the_proofs():
     text = textwrap.dedent(ISO).strip().replace("{change}", "G66 P9100 V-20.\nG00 X50. Y50. Z50.") + "\n"
     stock = [d for d in check_text(text, "part.nc", Settings(dialect="iso")).diagnostics if d.rule == "core.rapid-into-stock"]
     assert [d.status for d in stock] == [Status.UNKNOWN] and "G66" in stock[0].message
+
+
+def test_only_a_rise_from_a_known_plane_point_is_spared_the_tip_check():
+    """A rapid straight up the tool axis needs no tip; one whose X or Y is not known may
+    have gone sideways, whatever its Z did."""
+    state = MachineState(modal={"plane": "xy"})
+    def rapid(start, end):
+        return SimpleNamespace(start=start, end=end)
+    assert _rises(rapid({"X": 1.0, "Y": 2.0, "Z": 5.0}, {"X": 1.0, "Y": 2.0, "Z": 50.0}), state)
+    assert not _rises(rapid({"X": 1.0, "Y": 2.0, "Z": 5.0}, {"X": 1.0, "Y": 2.0, "Z": 4.0}), state)
+    assert not _rises(rapid({"X": None, "Y": 2.0, "Z": 5.0}, {"X": None, "Y": 2.0, "Z": 50.0}), state)
+    assert not _rises(rapid({"X": 1.0, "Y": 2.0, "Z": 5.0}, {"X": 3.0, "Y": 2.0, "Z": 50.0}), state)

@@ -348,9 +348,10 @@ class RapidIntoStock(_NeedsStock):
 
 def _rises(segment, state) -> bool:
     """Does the rapid only rise along the tool's axis (+Z), or not move? Wherever the tip
-    truly is, such a move takes the tool through nothing it is not in already."""
+    truly is, such a move takes the tool through nothing it is not in already. Not known
+    where X or Y is not (an unknown end may lie anywhere beside an unknown start)."""
     start, end = segment.start, segment.end
-    if tool_axis_problem(state) is not None or start.get("X") != end.get("X") or start.get("Y") != end.get("Y"):
+    if tool_axis_problem(state) is not None or any(start.get(axis) is None or start.get(axis) != end.get(axis) for axis in "XY"):
         return False
     low, high = start.get("Z"), end.get("Z")
     if high is None:
