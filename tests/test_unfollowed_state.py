@@ -20,6 +20,7 @@ from ncverify import Settings, check_file, check_text
 from ncverify.checks.stock import _rises
 from ncverify.diagnostics import Status
 from ncverify.interpret.interpreter import MachineState
+from ncverify.lower.sinumerik import SinumerikFrontend
 from test_sound_cases import KLARTEXT_251
 
 ISO = """
@@ -465,3 +466,9 @@ def test_only_a_rise_from_a_known_plane_point_is_spared_the_tip_check():
     assert not _rises(rapid({"X": 1.0, "Y": 2.0, "Z": 5.0}, {"X": 1.0, "Y": 2.0, "Z": 4.0}), state)
     assert not _rises(rapid({"X": None, "Y": 2.0, "Z": 5.0}, {"X": None, "Y": 2.0, "Z": 50.0}), state)
     assert not _rises(rapid({"X": 1.0, "Y": 2.0, "Z": 5.0}, {"X": 3.0, "Y": 2.0, "Z": 50.0}), state)
+
+
+def test_a_sinumerik_variable_named_like_an_offset_is_only_a_variable():
+    """TOFFL and TOFF[Z] offset the tool; a program's own TOFFSET or DLX is a variable."""
+    assert [SinumerikFrontend.machine_data(name) is not None for name in ("TOFFL", "TOFF[Z]", "$AA_OFF[Z]", "DL", "TOFFSET", "DLX", "$AA_OFFSET")] == \
+        [True, True, True, True, False, False, False]

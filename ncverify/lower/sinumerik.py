@@ -524,7 +524,7 @@ _READINGS_KEPT = 4096  # different line texts whose readings are kept at once
 _FRAME_TABLES = ("$P_UIFR", "$P_UBFR", "$P_CHBFR", "$P_NCBFR")  # settable frames (G54...) and base frames, by number
 # programmable tool length offsets (TOFFL, TOFF[Z], TOFFR), an axis's offset from a
 # synchronized action and the external work offset: in force where they are written
-_OFFSETS_IN_FORCE = ("TOFF", "$AA_OFF", "$AA_ETRANS")
+_OFFSETS_IN_FORCE = re.compile(r"(?:TOFF[LR]?|\$AA_OFF|\$AA_ETRANS|DL)(?:\[|$)")  # a name alone, or indexed
 
 
 class SinumerikFrontend:
@@ -660,7 +660,7 @@ class SinumerikFrontend:
         upper = name.upper()
         if upper.startswith("$TC_"):
             return "tool data", False
-        if upper.startswith(_OFFSETS_IN_FORCE) or upper == "DL":  # DL=n: additive (sum and setup) offsets the program does not give
+        if _OFFSETS_IN_FORCE.match(upper):  # DL=n: additive (sum and setup) offsets the program does not give
             return "an offset in force", True
         if upper.startswith(_FRAME_TABLES):
             return "a work offset (settable or base frame)", False
